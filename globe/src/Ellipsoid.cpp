@@ -1,0 +1,86 @@
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <GeographicLib/Geocentric.hpp>
+#include <GeographicLib/Geodesic.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace atmoglobe::globe {
+
+namespace {
+const GeographicLib::Geocentric& earth() { return GeographicLib::Geocentric::WGS84(); }
+const GeographicLib::Geodesic& geodesic() { return GeographicLib::Geodesic::WGS84(); }
+}  // namespace
+
+Status validateGeodetic(const Geodetic& p, const char* what) {
+  if (!std::isfinite(p.latDeg) || !std::isfinite(p.lonDeg) || !std::isfinite(p.heightMeters)) {
+    return makeError(std::string(what) + ": latitude, longitude and height must be finite numbers");
+  }
+  if (p.latDeg < -90.0 || p.latDeg > 90.0) {
+    return makeError(std::string(what) + ": latitude " + std::to_string(p.latDeg) +
+                     " deg is outside [-90, 90]");
+  }
+  return Ok{};
+}
+
+glm::dvec3 geodeticToEcef(const Geodetic& p) {
+  assert(std::isfinite(p.latDeg) && p.latDeg >= -90.0 && p.latDeg <= 90.0);
+  double x = 0, y = 0, z = 0;
+  earth().Forward(p.latDeg, p.lonDeg, p.heightMeters, x, y, z);
+  return {x, y, z};
+}
+
+Geodetic ecefToGeodetic(const glm::dvec3& ecef) {
+  Geodetic g;
+  earth().Reverse(ecef.x, ecef.y, ecef.z, g.latDeg, g.lonDeg, g.heightMeters);
+  return g;
+}
+
+glm::dmat3 enuAxes(double latDeg, double lonDeg) {
+  constexpr double kDeg = M_PI / 180.0;
+  const double sphi = std::sin(latDeg * kDeg), cphi = std::cos(latDeg * kDeg);
+  const double slam = std::sin(lonDeg * kDeg), clam = std::cos(lonDeg * kDeg);
+  const glm::dvec3 east(-slam, clam, 0.0);
+  const glm::dvec3 north(-sphi * clam, -sphi * slam, cphi);
+  const glm::dvec3 up(cphi * clam, cphi * slam, sphi);
+  return glm::dmat3(east, north, up);  // columns
+}
+
+glm::dmat4 enuToEcef(const Geodetic& origin) {
+  const glm::dmat3 r = enuAxes(origin.latDeg, origin.lonDeg);
+  glm::dmat4 m(r);
+  m[3] = glm::dvec4(geodeticToEcef(origin), 1.0);
+  return m;
+}
+
+glm::dvec3 surfaceNormal(double latDeg, double lonDeg) { return enuAxes(latDeg, lonDeg)[2]; }
+
+double wrapLongitudeDeg(double lonDeg) {
+  double w = std::fmod(lonDeg + 180.0, 360.0);
+  if (w < 0) w += 360.0;
+  return w - 180.0;
+}
+
+GeodesicPoint geodesicDirect(double latDeg, double lonDeg, double azimuthDeg, double distanceMeters) {
+  GeodesicPoint out{};
+  geodesic().Direct(latDeg, lonDeg, azimuthDeg, distanceMeters, out.latDeg, out.lonDeg, out.azimuthDeg);
+  return out;
+}
+
+GeodesicLine geodesicInverse(double lat1Deg, double lon1Deg, double lat2Deg, double lon2Deg) {
+  GeodesicLine out{};
+  geodesic().Inverse(lat1Deg, lon1Deg, lat2Deg, lon2Deg, out.distanceMeters, out.azimuth1Deg, out.azimuth2Deg);
+  return out;
+}
+
+double geocentricRadiusMeters(double latDeg) {
+  const double phi = latDeg * M_PI / 180.0;
+  const double a = kWgs84A, b = kWgs84B;
+  const double c = std::cos(phi), s = std::sin(phi);
+  const double num = (a * a * c) * (a * a * c) + (b * b * s) * (b * b * s);
+  const double den = (a * c) * (a * c) + (b * s) * (b * s);
+  return std::sqrt(num / den);
+}
+
+}  // namespace atmoglobe::globe

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages atmoglobe builds, runs and tests with.
+# Fast when everything is present: one dpkg-query, no apt call.
+set -euo pipefail
+
+PKGS=(
+  cmake g++ make pkg-config
+  libgeographiclib-dev libglfw3-dev libglm-dev libtinygltf-dev nlohmann-json3-dev
+  libnetcdf-dev libstb-dev libgtest-dev libepoxy-dev libegl-dev libgl-dev
+  libegl-mesa0 libgl1-mesa-dri libbz2-dev
+  libcli11-dev
+  proj-data proj-bin xplanet-images xvfb xauth
+)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "atmoglobe: installing missing Debian packages: ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "atmoglobe: need root (or sudo) to install: ${missing[*]}" >&2; exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

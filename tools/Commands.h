@@ -1,0 +1,28 @@
+#pragma once
+// Each subcommand registers itself on the root CLI11 app and returns how to run it.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <optional>
+#include <string_view>
+
+namespace atmoglobe::tools {
+
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;  ///< returns the process exit code
+};
+
+Command addTilesCommand(CLI::App& root);
+Command addRenderCommand(CLI::App& root);
+Command addViewCommand(CLI::App& root);
+Command addInfoCommand(CLI::App& root);
+Command addGatesCommand(CLI::App& root);
+
+/// Embedded files from assets/ (default scene...), by file name.
+std::optional<std::string_view> embeddedAsset(std::string_view fileName);
+
+/// Prints "atmoglobe <command>: <message>" to stderr and returns exit code 1.
+int fail(std::string_view command, std::string_view message);
+
+}  // namespace atmoglobe::tools
