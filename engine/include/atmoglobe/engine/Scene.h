@@ -1,0 +1,61 @@
+#pragma once
+// A scene description: what to draw and from where. GL-free (parsed and validated on the
+// CPU; the GL renderers consume it).
+//
+// JSON form (every key optional; unknown keys are errors, so typos do not pass silently):
+// {
+//   "camera":  {"lat_deg": 47, "lon_deg": 8, "height_m": 2e6,
+//               "heading_deg": 0, "pitch_deg": -90, "roll_deg": 0},
+//   "fov_deg": 60,
+//   "size":    [1280, 720],
+//   "imagery": [{"type": "pyramid", "path": "@data/earth"},      // bottom layer first
+//               {"type": "xyz", "path": "my_xyz_tiles"}],
+//   "markers": [{"lat_deg": 33.65, "lon_deg": -101.81, "height_m": 1000,
+//                "label": "KLBB", "color": [1, 0.2, 0.1], "size_px": 14}]
+// }
+// Relative paths are relative to the scene file's directory; "@data/" stands for the
+// directory of generated default data (ATMOGLOBE_DATA_DIR).
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/globe/Result.h>
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+struct Marker {
+  double latDeg = 0.0;
+  double lonDeg = 0.0;
+  double heightMeters = 0.0;        ///< above the WGS84 ellipsoid (m)
+  glm::vec3 color{1.0f, 0.2f, 0.1f};
+  float sizePx = 14.0f;             ///< sprite diameter (pixels)
+  std::string label;
+};
+
+struct ImageryLayerDescription {
+  enum class Type { Pyramid, Xyz };
+  Type type = Type::Pyramid;
+  std::string path;  ///< resolved (absolute or relative to the working directory)
+};
+
+struct SceneDescription {
+  CameraPose camera;
+  double fovYDeg = 60.0;
+  int widthPx = 1280;
+  int heightPx = 720;
+  std::vector<ImageryLayerDescription> imagery;  ///< bottom layer first
+  std::vector<Marker> markers;
+};
+
+/// Parses and validates a JSON scene. `sourceName` names it in messages; `baseDir`
+/// resolves relative paths; `dataDir` replaces a leading "@data".
+Result<SceneDescription> parseSceneJson(std::string_view json, const std::string& sourceName,
+                                        const std::string& baseDir, const std::string& dataDir);
+
+/// Reads and parses a scene file.
+Result<SceneDescription> loadSceneFile(const std::string& path, const std::string& dataDir);
+
+}  // namespace atmoglobe::engine

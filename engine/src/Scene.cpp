@@ -1,0 +1,152 @@
+#include <atmoglobe/engine/Scene.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace atmoglobe::engine {
+
+namespace {
+
+using json = nlohmann::json;
+
+Status checkKeys(const json& object, const std::set<std::string>& allowed, const std::string& where) {
+  if (!object.is_object()) return makeError(where + ": expected a JSON object");
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    if (!allowed.count(it.key())) return makeError(where + ": unknown key \"" + it.key() + "\"");
+  }
+  return Ok{};
+}
+
+Result<double> number(const json& object, const char* key, double fallback, const std::string& where) {
+  if (!object.contains(key)) return fallback;
+  const json& v = object.at(key);
+  if (!v.is_number()) return makeError(where + ": \"" + key + "\" must be a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) return makeError(where + ": \"" + key + "\" must be finite");
+  return d;
+}
+
+std::string resolvePath(const std::string& path, const std::string& baseDir, const std::string& dataDir) {
+  if (path.rfind("@data", 0) == 0) return dataDir + path.substr(5);
+  std::filesystem::path p(path);
+  if (p.is_absolute() || baseDir.empty()) return path;
+  return (std::filesystem::path(baseDir) / p).string();
+}
+
+}  // namespace
+
+Result<SceneDescription> parseSceneJson(std::string_view text, const std::string& sourceName,
+                                        const std::string& baseDir, const std::string& dataDir) {
+  json root;
+  try {
+    root = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    return makeError(sourceName + ": not valid JSON: " + e.what());
+  }
+  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers"}, sourceName); !s) {
+    return makeError(s.error());
+  }
+  SceneDescription scene;
+  if (root.contains("camera")) {
+    const json& c = root["camera"];
+    const std::string where = sourceName + ": camera";
+    if (auto s = checkKeys(c, {"lat_deg", "lon_deg", "height_m", "heading_deg", "pitch_deg", "roll_deg"}, where); !s) {
+      return makeError(s.error());
+    }
+    const std::pair<const char*, double*> fields[] = {
+        {"lat_deg", &scene.camera.latDeg},         {"lon_deg", &scene.camera.lonDeg},
+        {"height_m", &scene.camera.heightMeters},  {"heading_deg", &scene.camera.headingDeg},
+        {"pitch_deg", &scene.camera.pitchDeg},     {"roll_deg", &scene.camera.rollDeg}};
+    for (auto [key, out] : fields) {
+      auto v = number(c, key, *out, where);
+      if (!v) return makeError(v.error());
+      *out = *v;
+    }
+    if (auto s = validatePose(scene.camera); !s) return makeError(sourceName + ": " + s.error());
+  }
+  {
+    auto fov = number(root, "fov_deg", scene.fovYDeg, sourceName);
+    if (!fov) return makeError(fov.error());
+    if (*fov <= 0.0 || *fov >= 180.0) return makeError(sourceName + ": fov_deg must be in (0, 180)");
+    scene.fovYDeg = *fov;
+  }
+  if (root.contains("size")) {
+    const json& s = root["size"];
+    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer() ||
+        s[0].get<long long>() < 1 || s[1].get<long long>() < 1 || s[0].get<long long>() > 16384 ||
+        s[1].get<long long>() > 16384) {
+      return makeError(sourceName + ": size must be [width, height] with integers in 1..16384");
+    }
+    scene.widthPx = s[0].get<int>();
+    scene.heightPx = s[1].get<int>();
+  }
+  if (root.contains("imagery")) {
+    if (!root["imagery"].is_array()) return makeError(sourceName + ": imagery must be an array");
+    int i = 0;
+    for (const json& layer : root["imagery"]) {
+      const std::string where = sourceName + ": imagery[" + std::to_string(i++) + "]";
+      if (auto s = checkKeys(layer, {"type", "path"}, where); !s) return makeError(s.error());
+      if (!layer.contains("path") || !layer["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+      ImageryLayerDescription d;
+      const std::string type = layer.value("type", std::string("pyramid"));
+      if (type == "pyramid") d.type = ImageryLayerDescription::Type::Pyramid;
+      else if (type == "xyz") d.type = ImageryLayerDescription::Type::Xyz;
+      else return makeError(where + ": type must be \"pyramid\" or \"xyz\", not \"" + type + "\"");
+      d.path = resolvePath(layer["path"].get<std::string>(), baseDir, dataDir);
+      scene.imagery.push_back(d);
+    }
+  }
+  if (root.contains("markers")) {
+    if (!root["markers"].is_array()) return makeError(sourceName + ": markers must be an array");
+    int i = 0;
+    for (const json& m : root["markers"]) {
+      const std::string where = sourceName + ": markers[" + std::to_string(i++) + "]";
+      if (auto s = checkKeys(m, {"lat_deg", "lon_deg", "height_m", "label", "color", "size_px"}, where); !s) {
+        return makeError(s.error());
+      }
+      if (!m.contains("lat_deg") || !m.contains("lon_deg")) return makeError(where + ": needs lat_deg and lon_deg");
+      Marker marker;
+      auto lat = number(m, "lat_deg", 0, where), lon = number(m, "lon_deg", 0, where),
+           h = number(m, "height_m", 0, where), size = number(m, "size_px", marker.sizePx, where);
+      for (auto* r : {&lat, &lon, &h, &size}) {
+        if (!*r) return makeError(r->error());
+      }
+      marker.latDeg = *lat;
+      marker.lonDeg = *lon;
+      marker.heightMeters = *h;
+      marker.sizePx = static_cast<float>(*size);
+      if (auto s = globe::validateGeodetic({marker.latDeg, marker.lonDeg, marker.heightMeters}, where.c_str()); !s) {
+        return makeError(s.error());
+      }
+      if (marker.sizePx < 1.0f || marker.sizePx > 256.0f) return makeError(where + ": size_px must be in 1..256");
+      if (m.contains("label")) {
+        if (!m["label"].is_string()) return makeError(where + ": label must be a string");
+        marker.label = m["label"].get<std::string>();
+      }
+      if (m.contains("color")) {
+        const json& c = m["color"];
+        if (!c.is_array() || c.size() != 3 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number()) {
+          return makeError(where + ": color must be [r, g, b] with numbers in 0..1");
+        }
+        marker.color = glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>());
+      }
+      scene.markers.push_back(marker);
+    }
+  }
+  return scene;
+}
+
+Result<SceneDescription> loadSceneFile(const std::string& path, const std::string& dataDir) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path + ": cannot open scene file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parseSceneJson(s.str(), path, base, dataDir);
+}
+
+}  // namespace atmoglobe::engine
