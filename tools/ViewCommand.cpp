@@ -1,11 +1,172 @@
-// PLACEHOLDER: replaced by the real `view` subcommand.
+// atmoglobe view: the desktop globe viewer (GLFW window).
+//   left drag          orbit (move over the ground)
+//   wheel              zoom toward the point under the cursor
+//   shift + left drag  tilt (up/down) and turn (left/right)
+//   P                  save a screenshot (atmoglobe-screenshot-N.png in the working dir)
+//   R                  back to the scene's camera;  Esc/Q  quit
 #include "Commands.h"
+#include "SceneOptions.h"
+
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/ContextGL.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Image.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
 
 namespace atmoglobe::tools {
-Command addViewCommand(CLI::App& root) {
-  Command c;
-  c.app = root.add_subcommand("view", "(not implemented yet)");
-  c.run = [] { return fail("view", "not implemented yet"); };
-  return c;
+
+namespace {
+
+struct ViewOptions {
+  SceneOptions scene;
+  int frames = 0;          ///< >0: quit after this many frames (scripted use, tests)
+  std::string screenshot;  ///< with --frames: save the last frame here
+};
+
+struct Interaction {
+  engine::CameraPose pose;
+  engine::CameraPose initial;
+  bool dragging = false;
+  bool tilting = false;
+  double lastX = 0, lastY = 0;
+  double fovYDeg = 60;
+  int screenshotCount = 0;
+  bool screenshotRequested = false;
+};
+
+/// Moves the camera over the ground by a pixel delta: the ground under the view moves
+/// with the cursor (at the scale of the nadir distance).
+void orbit(Interaction& s, double dxPx, double dyPx, int heightPx) {
+  const double focal = heightPx / (2.0 * std::tan(0.5 * s.fovYDeg * M_PI / 180.0));
+  const double metersPerPixel = std::max(s.pose.heightMeters, 1.0) / focal;
+  const double h = s.pose.headingDeg * M_PI / 180.0;
+  // Screen right/up in ENU at zero pitch; dragging right moves the camera left.
+  const double east = -(dxPx * std::cos(h) + dyPx * std::sin(h)) * metersPerPixel;
+  const double north = (dyPx * std::cos(h) - dxPx * std::sin(h)) * metersPerPixel;
+  const double r = globe::kWgs84A;
+  s.pose.latDeg = std::clamp(s.pose.latDeg + north / r * 180.0 / M_PI, -89.999, 89.999);
+  const double c = std::max(std::cos(s.pose.latDeg * M_PI / 180.0), 1e-3);
+  s.pose.lonDeg = globe::wrapLongitudeDeg(s.pose.lonDeg + east / (r * c) * 180.0 / M_PI);
 }
+
+void zoomToward(Interaction& s, double xPx, double yPx, int widthPx, int heightPx, double factor) {
+  const engine::Camera camera(s.pose, s.fovYDeg, widthPx, heightPx);
+  const auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), camera.pixelRayDirection(xPx, yPx));
+  if (hit) {
+    const globe::Geodetic g = globe::ecefToGeodetic(*hit);
+    const double dLon = globe::wrapLongitudeDeg(g.lonDeg - s.pose.lonDeg);
+    s.pose.latDeg = std::clamp(s.pose.latDeg + (g.latDeg - s.pose.latDeg) * (1.0 - factor), -89.999, 89.999);
+    s.pose.lonDeg = globe::wrapLongitudeDeg(s.pose.lonDeg + dLon * (1.0 - factor));
+  }
+  s.pose.heightMeters = std::clamp(s.pose.heightMeters * factor, 1.0, 1e8);
+}
+
+int runView(const ViewOptions& o) {
+  auto scene = resolveScene(o.scene);
+  if (!scene) return fail("view", scene.error());
+  auto window = engine::WindowGL::create(scene->widthPx, scene->heightPx, "atmoglobe");
+  if (!window) return fail("view", window.error());
+  auto loader = engine::openImagery(scene->imagery, {});
+  if (!loader) return fail("view", loader.error());
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  if (!renderer) return fail("view", renderer.error());
+
+  Interaction state;
+  state.pose = state.initial = scene->camera;
+  state.fovYDeg = scene->fovYDeg;
+  GLFWwindow* w = (*window)->handle();
+  glfwSetWindowUserPointer(w, &state);
+  glfwSetMouseButtonCallback(w, [](GLFWwindow* win, int button, int action, int mods) {
+    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+    s.dragging = action == GLFW_PRESS;
+    s.tilting = s.dragging && (mods & GLFW_MOD_SHIFT);
+    glfwGetCursorPos(win, &s.lastX, &s.lastY);
+  });
+  glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) {
+    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    if (!s.dragging) return;
+    int width = 0, height = 0;
+    glfwGetWindowSize(win, &width, &height);
+    const double dx = x - s.lastX, dy = y - s.lastY;
+    s.lastX = x;
+    s.lastY = y;
+    if (s.tilting) {
+      s.pose.pitchDeg = std::clamp(s.pose.pitchDeg - dy * 0.2, -90.0, 0.0);
+      s.pose.headingDeg = std::fmod(s.pose.headingDeg + dx * 0.2 + 360.0, 360.0);
+    } else {
+      orbit(s, dx, dy, std::max(height, 1));
+    }
+  });
+  glfwSetScrollCallback(w, [](GLFWwindow* win, double, double yoff) {
+    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    int width = 0, height = 0;
+    glfwGetWindowSize(win, &width, &height);
+    double x = 0, y = 0;
+    glfwGetCursorPos(win, &x, &y);
+    zoomToward(s, x, y, std::max(width, 1), std::max(height, 1), std::pow(0.8, yoff));
+  });
+  glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
+    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    if (action != GLFW_PRESS) return;
+    if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(win, GLFW_TRUE);
+    if (key == GLFW_KEY_R) s.pose = s.initial;
+    if (key == GLFW_KEY_P) s.screenshotRequested = true;
+  });
+
+  std::unique_ptr<engine::FramebufferGL> target;
+  int frame = 0;
+  while (!glfwWindowShouldClose(w)) {
+    glfwPollEvents();
+    int fbw = 0, fbh = 0;
+    glfwGetFramebufferSize(w, &fbw, &fbh);
+    if (fbw < 1 || fbh < 1) continue;
+    if (!target || target->widthPx() != fbw || target->heightPx() != fbh) {
+      auto t = engine::FramebufferGL::create(fbw, fbh);
+      if (!t) return fail("view", t.error());
+      target = std::move(*t);
+    }
+    const engine::Camera camera(state.pose, state.fovYDeg, fbw, fbh);
+    // Our own target has a float depth buffer (reverse-Z); the window's may not.
+    target->bind();
+    (*renderer)->renderFrame(camera, scene->markers);
+    glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    ++frame;
+    const bool last = o.frames > 0 && frame >= o.frames;
+    if (state.screenshotRequested || (last && !o.screenshot.empty())) {
+      const std::string path = (last && !o.screenshot.empty())
+                                   ? o.screenshot
+                                   : "atmoglobe-screenshot-" + std::to_string(++state.screenshotCount) + ".png";
+      if (auto s = globe::writePng(path, target->readColor()); !s) return fail("view", s.error());
+      std::cout << "screenshot: " << path << std::endl;
+      state.screenshotRequested = false;
+    }
+    glfwSwapBuffers(w);
+    if (last) break;
+    if (o.frames > 0) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
+  }
+  return 0;
+}
+}  // namespace
+
+Command addViewCommand(CLI::App& root) {
+  auto options = std::make_shared<ViewOptions>();
+  CLI::App* c = root.add_subcommand("view", "Open the desktop globe viewer (needs a display; e.g. xvfb-run -a)");
+  addSceneOptions(*c, options->scene);
+  c->add_option("--frames", options->frames, "Quit after this many frames (scripted runs)");
+  c->add_option("--screenshot", options->screenshot, "With --frames: save the last frame to this PNG");
+  c->footer("Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
+            "Keys: P screenshot, R reset camera, Esc/Q quit.");
+  return {c, [options] { return runView(*options); }};
+}
+
 }  // namespace atmoglobe::tools

@@ -4,6 +4,7 @@
 #include <GeographicLib/Geodesic.hpp>
 
 #include <cmath>
+#include <utility>
 #include <string>
 
 namespace atmoglobe::globe {
@@ -81,6 +82,24 @@ double geocentricRadiusMeters(double latDeg) {
   const double num = (a * a * c) * (a * a * c) + (b * b * s) * (b * b * s);
   const double den = (a * c) * (a * c) + (b * s) * (b * s);
   return std::sqrt(num / den);
+}
+
+std::optional<glm::dvec3> intersectRayEllipsoid(const glm::dvec3& originEcef, const glm::dvec3& direction,
+                                                double heightMeters) {
+  // Scale space so the (raised) ellipsoid becomes the unit sphere, then solve the quadratic.
+  const glm::dvec3 radii(kWgs84A + heightMeters, kWgs84A + heightMeters, kWgs84B + heightMeters);
+  const glm::dvec3 o = originEcef / radii, d = direction / radii;
+  const double a = glm::dot(d, d), b = 2.0 * glm::dot(o, d), c = glm::dot(o, o) - 1.0;
+  const double disc = b * b - 4.0 * a * c;
+  if (a <= 0.0 || disc < 0.0) return std::nullopt;
+  const double sq = std::sqrt(disc);
+  // Numerically stable roots (no cancellation when b ~ sqrt(disc)).
+  const double q = -0.5 * (b + std::copysign(sq, b));
+  double t0 = q / a, t1 = (q != 0.0) ? c / q : t0;
+  if (t0 > t1) std::swap(t0, t1);
+  const double t = t0 >= 0.0 ? t0 : t1;
+  if (t < 0.0) return std::nullopt;
+  return originEcef + t * direction;
 }
 
 }  // namespace atmoglobe::globe

@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include <optional>
+
 namespace atmoglobe::globe {
 
 /// WGS84 defining constants.
@@ -72,5 +74,11 @@ GeodesicLine geodesicInverse(double lat1Deg, double lon1Deg, double lat2Deg, dou
 /// WGS84 geocentric radius at geodetic latitude `latDeg` (m):
 /// R = sqrt(((a^2 cos)^2 + (b^2 sin)^2) / ((a cos)^2 + (b sin)^2)).
 double geocentricRadiusMeters(double latDeg);
+
+/// First intersection (ECEF, m) of the ray origin + t*direction, t >= 0, with the
+/// ellipsoid raised by heightMeters (axes a+h, a+h, b+h); nullopt if it misses.
+/// `direction` need not be unit length. Used for picking (what is under the cursor).
+std::optional<glm::dvec3> intersectRayEllipsoid(const glm::dvec3& originEcef, const glm::dvec3& direction,
+                                                double heightMeters = 0.0);
 
 }  // namespace atmoglobe::globe

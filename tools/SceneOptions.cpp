@@ -1,0 +1,149 @@
+#include "SceneOptions.h"
+
+#include "Commands.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace atmoglobe::tools {
+
+void addSceneOptions(CLI::App& c, SceneOptions& o) {
+  c.add_option("scene", o.sceneFile, "Scene file (JSON; see README). Default: the embedded default scene");
+  c.add_option("--camera", o.camera,
+               "Camera LAT,LON,HEIGHT,HEADING,PITCH,ROLL: degrees, metres above the WGS84 ellipsoid, "
+               "heading clockwise from north, pitch 0 = horizontal, -90 = down (use --camera=-33,... "
+               "when the first value is negative)");
+  c.add_option("--fov", o.fovDeg, "Vertical field of view (degrees)");
+  c.add_option("--size", o.size, "Image size WxH in pixels (e.g. 1280x720)");
+  c.add_option("--imagery", o.imageryDirs,
+               "Imagery pyramid directory made by `atmoglobe tiles` (replaces the scene's layers; repeatable)");
+  c.add_option("--xyz", o.xyzDirs, "XYZ (slippy map, web mercator) directory {z}/{x}/{y}.png|jpg drawn over "
+                                   "the base imagery where it has data (repeatable)");
+  c.add_option("--marker", o.markers, "Marker LAT,LON[,HEIGHT[,LABEL]] (repeatable)");
+}
+
+std::string dataDirectory() {
+  if (const char* d = std::getenv("ATMOGLOBE_DATA_DIR"); d && *d) return d;
+  return ATMOGLOBE_DATA_DIR;
+}
+
+namespace {
+Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t minCount, std::size_t maxCount,
+                                         const std::string& what) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || errno != 0 || !std::isfinite(v)) {
+      return makeError(what + ": \"" + item + "\" is not a finite number");
+    }
+    values.push_back(v);
+  }
+  if (values.size() < minCount || values.size() > maxCount) {
+    return makeError(what + ": expected " + std::to_string(minCount) +
+                     (minCount == maxCount ? "" : ".." + std::to_string(maxCount)) + " comma-separated numbers, got " +
+                     std::to_string(values.size()));
+  }
+  return values;
+}
+}  // namespace
+
+Result<engine::CameraPose> parseCameraPose(const std::string& text) {
+  auto v = parseNumbers(text, 3, 6, "--camera");
+  if (!v) return makeError(v.error());
+  engine::CameraPose pose;
+  pose.latDeg = (*v)[0];
+  pose.lonDeg = (*v)[1];
+  pose.heightMeters = (*v)[2];
+  pose.headingDeg = v->size() > 3 ? (*v)[3] : 0.0;
+  pose.pitchDeg = v->size() > 4 ? (*v)[4] : -90.0;
+  pose.rollDeg = v->size() > 5 ? (*v)[5] : 0.0;
+  if (auto s = engine::validatePose(pose); !s) return makeError("--camera: " + s.error());
+  return pose;
+}
+
+Status parseSize(const std::string& text, int* widthPx, int* heightPx) {
+  const auto x = text.find('x');
+  char* end1 = nullptr;
+  char* end2 = nullptr;
+  if (x == std::string::npos) return makeError("--size: expected WxH, e.g. 1280x720, got \"" + text + "\"");
+  const std::string ws = text.substr(0, x), hs = text.substr(x + 1);
+  const long w = std::strtol(ws.c_str(), &end1, 10), h = std::strtol(hs.c_str(), &end2, 10);
+  if (ws.empty() || hs.empty() || *end1 || *end2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
+    return makeError("--size: expected WxH with integers in 1..16384, got \"" + text + "\"");
+  }
+  *widthPx = static_cast<int>(w);
+  *heightPx = static_cast<int>(h);
+  return Ok{};
+}
+
+Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
+  Result<engine::SceneDescription> scene = makeError("no scene");
+  if (o.sceneFile.empty()) {
+    auto text = embeddedAsset("default_scene.json");
+    if (!text) return makeError("the default scene is not embedded in this build");
+    scene = engine::parseSceneJson(*text, "default scene", "", dataDirectory());
+  } else {
+    scene = engine::loadSceneFile(o.sceneFile, dataDirectory());
+  }
+  if (!scene) return scene;
+  if (!o.camera.empty()) {
+    auto pose = parseCameraPose(o.camera);
+    if (!pose) return makeError(pose.error());
+    scene->camera = *pose;
+  }
+  if (o.fovDeg != 0.0) {
+    if (!(o.fovDeg > 0.0 && o.fovDeg < 180.0)) return makeError("--fov: must be in (0, 180) degrees");
+    scene->fovYDeg = o.fovDeg;
+  }
+  if (!o.size.empty()) {
+    if (auto s = parseSize(o.size, &scene->widthPx, &scene->heightPx); !s) return makeError(s.error());
+  }
+  if (!o.imageryDirs.empty()) {
+    scene->imagery.clear();
+    for (const std::string& d : o.imageryDirs) scene->imagery.push_back({engine::ImageryLayerDescription::Type::Pyramid, d});
+  }
+  for (const std::string& d : o.xyzDirs) scene->imagery.push_back({engine::ImageryLayerDescription::Type::Xyz, d});
+  for (const std::string& m : o.markers) {
+    // LAT,LON[,HEIGHT[,LABEL]]: the label is everything after the third comma.
+    std::string numbers = m, label;
+    std::size_t commas = 0, pos = 0;
+    for (; pos < m.size(); ++pos) {
+      if (m[pos] == ',' && ++commas == 3) break;
+    }
+    if (commas == 3) {
+      numbers = m.substr(0, pos);
+      label = m.substr(pos + 1);
+    }
+    auto v = parseNumbers(numbers, 2, 3, "--marker");
+    if (!v) return makeError(v.error());
+    engine::Marker marker;
+    marker.latDeg = (*v)[0];
+    marker.lonDeg = (*v)[1];
+    marker.heightMeters = v->size() > 2 ? (*v)[2] : 0.0;
+    marker.label = label;
+    if (auto s = globe::validateGeodetic({marker.latDeg, marker.lonDeg, marker.heightMeters}, "--marker"); !s) {
+      return makeError(s.error());
+    }
+    scene->markers.push_back(marker);
+  }
+  for (const auto& layer : scene->imagery) {
+    if (!std::filesystem::exists(layer.path)) {
+      std::string hint;
+      if (layer.path.rfind(dataDirectory(), 0) == 0) {
+        hint = " (the default imagery is built by ./run.sh, or: atmoglobe tiles "
+               "/usr/share/xplanet/images/earth.jpg -o " + dataDirectory() + "/earth)";
+      }
+      return makeError("imagery directory " + layer.path + " does not exist" + hint);
+    }
+  }
+  return scene;
+}
+
+}  // namespace atmoglobe::tools
