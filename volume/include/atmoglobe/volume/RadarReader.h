@@ -1,0 +1,49 @@
+#pragma once
+// Radar file entry point: detect the format from the file's content and read it.
+//
+// Formats: CfRadial 1.x (netCDF classic or netCDF-4), ODIM_H5 PVOL/SCAN (HDF5, read through
+// netCDF-C), NEXRAD Level II Archive II. The file name is never used to decide.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/RadarVolume.h>
+
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+enum class RadarFormat { Unknown, CfRadial, OdimH5, NexradLevel2 };
+const char* toString(RadarFormat f);
+
+/// Detects the format from the file's content:
+///   "CDF\x01" / "CDF\x02" / "CDF\x05" at offset 0 (classic netCDF)      -> CfRadial
+///   HDF5 signature "\x89HDF\r\n\x1a\n" at offset 0, 512, 1024, 2048 ...  -> opened with
+///     netCDF-C: root attribute Conventions starting "ODIM_H5", or a /what group with an
+///     `object` attribute -> OdimH5; Conventions mentioning CF/Radial or CF-Radial (also in
+///     the `version` attribute), or a root variable sweep_start_ray_index -> CfRadial
+///   "AR2V" at offset 0                                                   -> NexradLevel2
+/// Anything else (including a readable HDF5/netCDF file with neither mark) -> Unknown.
+/// Errors: the file cannot be opened or read.
+Result<RadarFormat> detectRadarFormat(const std::string& path);
+
+/// Detects the format and reads the file with the matching reader. Unknown formats are an
+/// error naming the file and its first bytes.
+Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options);
+
+/// Picks the field decoded when ReadOptions::fieldName is empty: the first of DBZH,
+/// reflectivity, REF, DBZ, DBZHC, TH, DBZH_CLEAN present, else the first field whose name
+/// starts with "reflectivity" or "DBZ", else the first field. Empty if there are no fields.
+std::string chooseDefaultField(const std::vector<FieldInfo>& fields);
+
+/// Normalises a date-time text to "YYYY-MM-DDTHH:MM:SSZ" (accepts a space or 'T' between
+/// date and time, drops fractional seconds). Returns an empty string if it does not parse.
+std::string normalizeIso8601(const std::string& text);
+
+/// The volume's metadata as one JSON object (for `atmoglobe info --json`): format, file,
+/// site {name, lat_deg, lon_deg, height_m, height_datum}, time, beam_width_deg,
+/// sweeps[] {index, index_in_file, fixed_angle_deg, fixed_angle_kind, mode, rays, gates,
+/// first_gate_m, gate_spacing_m}, fields[] {name, units}, loaded_field.
+std::string describeVolumeJson(const RadarVolume& v);
+/// The same as human-readable text, one sweep per line.
+std::string describeVolumeText(const RadarVolume& v);
+
+}  // namespace atmoglobe::volume

@@ -1,0 +1,328 @@
+#include <atmoglobe/volume/CfRadialReader.h>
+
+#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/volume/RadarReader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <optional>
+
+namespace atmoglobe::volume {
+
+namespace {
+
+/// The variable's _FillValue (or nullopt), read as double.
+std::optional<double> fillValue(const NetcdfFile& f, const NcVar& v, const char* name = "_FillValue") {
+  if (!f.hasAttribute(v.groupId, v.varId, name)) return std::nullopt;
+  auto r = f.attributeDouble(v.groupId, v.varId, name);
+  if (!r) return std::nullopt;
+  return *r;
+}
+
+bool isFillOrNaN(double x, const std::optional<double>& fill) {
+  return !std::isfinite(x) || (fill && x == *fill);
+}
+
+/// A per-sweep integer/float variable of length nSweep.
+template <class T>
+Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name, std::size_t nSweep,
+                                    int sweepDim) {
+  auto v = f.variable(f.root(), name);
+  if (!v) return makeError(v.error());
+  if (v->shape.size() != 1 || v->dimIds[0] != sweepDim)
+    return makeError(f.message("variable '" + name + "' must have the single dimension 'sweep'"));
+  if (v->shape[0] != nSweep) return makeError(f.message("variable '" + name + "' has the wrong length"));
+  return f.readAll<T>(*v);
+}
+
+/// latitude/longitude/altitude: scalar or per ray (moving platforms); returns the value
+/// for ray `ray`.
+Result<double> readSiteValue(const NetcdfFile& f, const std::string& name, int timeDim, std::size_t ray) {
+  auto v = f.variable(f.root(), name);
+  if (!v) return makeError(v.error());
+  double x = 0.0;
+  if (v->shape.empty()) {
+    if (auto st = f.readSlab<double>(*v, {}, {}, &x); !st) return makeError(st.error());
+  } else if (v->shape.size() == 1 && v->dimIds[0] == timeDim) {
+    if (auto st = f.readSlab<double>(*v, {ray}, {1}, &x); !st) return makeError(st.error());
+  } else {
+    return makeError(f.message("variable '" + name + "' must be a scalar or have the dimension 'time'"));
+  }
+  if (isFillOrNaN(x, fillValue(f, *v)))
+    return makeError(f.message("variable '" + name + "' holds no value (NaN or _FillValue)"));
+  return x;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+SweepMode modeFromText(const std::string& text) {
+  const std::string t = lower(text);
+  if (t == "rhi" || t == "manual_rhi" || t == "elevation_surveillance") return SweepMode::Rhi;
+  if (t == "azimuth_surveillance" || t == "sector" || t == "manual_ppi" || t == "ppi") return SweepMode::Ppi;
+  return SweepMode::Other;
+}
+
+double normalizeAzimuthDeg(double az) {
+  double a = std::fmod(az, 360.0);
+  if (a < 0) a += 360.0;
+  if (a >= 360.0) a -= 360.0;
+  return a;
+}
+
+/// Decodes raw values of type T to physical floats.
+template <class T>
+void decodeCf(const T* raw, std::size_t n, double scale, double offset, const std::optional<double>& fill,
+              const std::optional<double>& missing, float* out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = static_cast<double>(raw[i]);
+    if ((fill && r == *fill) || (missing && r == *missing) || std::isnan(r)) {
+      out[i] = kNoData;
+    } else {
+      out[i] = static_cast<float>(r * scale + offset);  // narrowing to the model's float storage
+    }
+  }
+}
+
+std::string readTimeText(const NetcdfFile& f) {
+  if (auto v = f.findVariable(f.root(), "time_coverage_start")) {
+    if (auto t = f.readText(*v, 0)) {
+      const std::string iso = normalizeIso8601(*t);
+      if (!iso.empty()) return iso;
+    }
+  }
+  for (const char* attr : {"time_coverage_start", "start_datetime", "start_time"}) {
+    if (f.hasAttribute(f.root(), NC_GLOBAL, attr)) {
+      if (auto t = f.attributeString(f.root(), NC_GLOBAL, attr)) {
+        const std::string iso = normalizeIso8601(*t);
+        if (!iso.empty()) return iso;
+      }
+    }
+  }
+  if (auto v = f.findVariable(f.root(), "time")) {
+    if (auto u = f.attributeString(v->groupId, v->varId, "units")) {
+      const auto pos = u->find("since ");
+      if (pos != std::string::npos) return normalizeIso8601(u->substr(pos + 6));
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<RadarVolume> readCfRadial(const std::string& path, const ReadOptions& options) {
+  auto opened = NetcdfFile::open(path);
+  if (!opened) return makeError(opened.error());
+  const NetcdfFile& f = *opened;
+  const int root = f.root();
+
+  // --- dimensions ---
+  int timeDim = -1, rangeDim = -1, sweepDim = -1;
+  const auto nTime = f.dimensionLength(root, "time", &timeDim);
+  const auto nRange = f.dimensionLength(root, "range", &rangeDim);
+  const auto nSweep = f.dimensionLength(root, "sweep", &sweepDim);
+  if (!nTime || !nRange || !nSweep) {
+    if (f.dimensionLength(root, "n_points") || f.findVariable(root, "ray_n_gates"))
+      return makeError(f.message("ragged CfRadial (n_points/ray_n_gates) is not supported"));
+    if (!f.childGroupNames(root).empty() && !nSweep && f.hasAttribute(root, NC_GLOBAL, "Conventions"))
+      return makeError(f.message("no 'time', 'range' or 'sweep' dimension (CfRadial 2 with one group per sweep is not supported)"));
+    return makeError(f.message(std::string("not a CfRadial file: missing dimension '") +
+                               (!nTime ? "time" : !nRange ? "range" : "sweep") + "'"));
+  }
+  if (*nSweep == 0) return makeError(f.message("the file holds no sweeps (sweep dimension is 0)"));
+  if (*nTime == 0) return makeError(f.message("the file holds no rays (time dimension is 0)"));
+  if (f.findVariable(root, "ray_n_gates") && f.dimensionLength(root, "n_points"))
+    return makeError(f.message("ragged CfRadial (n_points/ray_n_gates) is not supported"));
+
+  // --- sweep table ---
+  auto starts = readPerSweep<long long>(f, "sweep_start_ray_index", *nSweep, sweepDim);
+  if (!starts) return makeError(starts.error());
+  auto ends = readPerSweep<long long>(f, "sweep_end_ray_index", *nSweep, sweepDim);
+  if (!ends) return makeError(ends.error());
+  auto fixed = readPerSweep<double>(f, "fixed_angle", *nSweep, sweepDim);
+  if (!fixed) return makeError(fixed.error());
+  const auto fixedFill = fillValue(f, *f.findVariable(root, "fixed_angle"));
+  for (std::size_t s = 0; s < *nSweep; ++s) {
+    const long long a = (*starts)[s], b = (*ends)[s];
+    if (a < 0 || b < a || static_cast<std::size_t>(b) >= *nTime)
+      return makeError(f.message("sweep " + std::to_string(s) + ": ray index range [" + std::to_string(a) + ", " +
+                                 std::to_string(b) + "] is outside the " + std::to_string(*nTime) + " rays"));
+    if (isFillOrNaN((*fixed)[s], fixedFill))
+      return makeError(f.message("sweep " + std::to_string(s) + ": fixed_angle is NaN or _FillValue"));
+  }
+
+  // --- per-ray angles ---
+  auto azVar = f.variable(root, "azimuth");
+  if (!azVar) return makeError(azVar.error());
+  auto elVar = f.variable(root, "elevation");
+  if (!elVar) return makeError(elVar.error());
+  for (const NcVar* v : {&*azVar, &*elVar}) {
+    if (v->shape.size() != 1 || v->dimIds[0] != timeDim)
+      return makeError(f.message("variable '" + v->name + "' must have the single dimension 'time'"));
+  }
+  auto az = f.readAll<double>(*azVar);
+  if (!az) return makeError(az.error());
+  auto el = f.readAll<double>(*elVar);
+  if (!el) return makeError(el.error());
+  const auto azFill = fillValue(f, *azVar), elFill = fillValue(f, *elVar);
+
+  // --- gate geometry ---
+  auto rangeVar = f.variable(root, "range");
+  if (!rangeVar) return makeError(rangeVar.error());
+  if (rangeVar->shape.size() != 1 || rangeVar->dimIds[0] != rangeDim)
+    return makeError(f.message("variable 'range' must have the single dimension 'range'"));
+  auto range = f.readAll<double>(*rangeVar);
+  if (!range) return makeError(range.error());
+  if (range->empty()) return makeError(f.message("the range dimension is 0: no gates"));
+  const auto rangeFill = fillValue(f, *rangeVar);
+  for (std::size_t g = 0; g < range->size(); ++g) {
+    if (isFillOrNaN((*range)[g], rangeFill))
+      return makeError(f.message("range of gate " + std::to_string(g) + " is NaN or _FillValue"));
+  }
+  double spacing = 0.0;
+  if (range->size() > 1) {
+    spacing = (range->back() - range->front()) / static_cast<double>(range->size() - 1);
+    const double tol = std::max(0.01 * std::fabs(spacing), 0.5);
+    for (std::size_t g = 1; g < range->size(); ++g) {
+      if (std::fabs(((*range)[g] - (*range)[g - 1]) - spacing) > tol)
+        return makeError(f.message("range spacing is not uniform (gate " + std::to_string(g) +
+                                   "): non-uniform gates are not supported"));
+    }
+    if (spacing <= 0) return makeError(f.message("range does not increase"));
+  } else if (f.hasAttribute(rangeVar->groupId, rangeVar->varId, "meters_between_gates")) {
+    if (auto m = f.attributeDouble(rangeVar->groupId, rangeVar->varId, "meters_between_gates")) spacing = *m;
+  }
+
+  RadarVolume vol;
+  vol.format = "CfRadial";
+  vol.sourcePath = path;
+
+  // --- site ---
+  const std::size_t firstRay = static_cast<std::size_t>((*starts)[0]);
+  auto lat = readSiteValue(f, "latitude", timeDim, firstRay);
+  if (!lat) return makeError(lat.error());
+  auto lon = readSiteValue(f, "longitude", timeDim, firstRay);
+  if (!lon) return makeError(lon.error());
+  auto alt = readSiteValue(f, "altitude", timeDim, firstRay);
+  if (!alt) return makeError(alt.error());
+  if (*lat < -90.0 || *lat > 90.0) return makeError(f.message("latitude " + std::to_string(*lat) + " is outside [-90, 90]"));
+  if (*lon < -540.0 || *lon > 540.0) return makeError(f.message("longitude " + std::to_string(*lon) + " is outside [-540, 540]"));
+  vol.site.latDeg = *lat;
+  vol.site.lonDeg = std::remainder(*lon, 360.0);  // to [-180, 180]
+  vol.site.antennaHeightMeters = *alt;
+  vol.site.heightDatum = HeightDatum::MeanSeaLevel;
+  for (const char* attr : {"instrument_name", "site_name"}) {
+    if (f.hasAttribute(root, NC_GLOBAL, attr)) {
+      if (auto s = f.attributeString(root, NC_GLOBAL, attr); s && !s->empty()) {
+        vol.site.name = *s;
+        break;
+      }
+    }
+  }
+  vol.timeIso8601 = readTimeText(f);
+  if (auto bw = f.findVariable(root, "radar_beam_width_h"); bw && bw->shape.empty()) {
+    double x = 0;
+    if (f.readSlab<double>(*bw, {}, {}, &x) && !isFillOrNaN(x, fillValue(f, *bw)) && x > 0) vol.beamWidthDeg = x;
+  }
+
+  // --- fields: numeric (time, range) variables ---
+  std::vector<NcVar> fieldVars;
+  for (NcVar& v : f.variables(root)) {
+    if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim && ncTypeIsNumeric(v.type)) {
+      FieldInfo fi;
+      fi.name = v.name.substr(v.name.rfind('/') + 1);
+      if (f.hasAttribute(v.groupId, v.varId, "units")) {
+        if (auto u = f.attributeString(v.groupId, v.varId, "units")) fi.units = *u;
+      }
+      vol.fields.push_back(fi);
+      fieldVars.push_back(std::move(v));
+    }
+  }
+
+  // --- sweeps ---
+  auto modeVar = f.findVariable(root, "sweep_mode");
+  for (std::size_t s = 0; s < *nSweep; ++s) {
+    Sweep sw;
+    sw.indexInFile = static_cast<int>(s);
+    sw.fixedAngleDeg = (*fixed)[s];
+    sw.firstGateRangeMeters = range->front();
+    sw.gateSpacingMeters = spacing;
+    sw.gateCount = static_cast<std::uint32_t>(*nRange);
+    const auto a = static_cast<std::size_t>((*starts)[s]), b = static_cast<std::size_t>((*ends)[s]);
+    sw.azimuthDeg.reserve(b - a + 1);
+    sw.elevationDeg.reserve(b - a + 1);
+    double azMin = 1e9, azMax = -1e9, elMin = 1e9, elMax = -1e9;
+    for (std::size_t r = a; r <= b; ++r) {
+      if (isFillOrNaN((*az)[r], azFill) || isFillOrNaN((*el)[r], elFill))
+        return makeError(f.message("ray " + std::to_string(r) + " (sweep " + std::to_string(s) +
+                                   ") has no azimuth/elevation (NaN or _FillValue)"));
+      sw.azimuthDeg.push_back(static_cast<float>(normalizeAzimuthDeg((*az)[r])));
+      sw.elevationDeg.push_back(static_cast<float>((*el)[r]));
+      azMin = std::min(azMin, (*az)[r]); azMax = std::max(azMax, (*az)[r]);
+      elMin = std::min(elMin, (*el)[r]); elMax = std::max(elMax, (*el)[r]);
+    }
+    std::string modeText;
+    if (modeVar) {
+      if (auto t = f.readText(*modeVar, s)) modeText = *t;
+    }
+    if (!modeText.empty()) {
+      sw.mode = modeFromText(modeText);
+    } else {
+      sw.mode = (elMax - elMin) > (azMax - azMin) ? SweepMode::Rhi : SweepMode::Ppi;
+    }
+    vol.sweeps.push_back(std::move(sw));
+  }
+
+  // --- the one field asked for ---
+  if (!vol.fields.empty()) {
+    const std::string wanted = options.fieldName.empty() ? chooseDefaultField(vol.fields) : options.fieldName;
+    auto it = std::find_if(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == wanted; });
+    if (it == vol.fields.end()) {
+      std::string names;
+      for (const auto& fi : vol.fields) names += (names.empty() ? "" : ", ") + fi.name;
+      return makeError(f.message("no field '" + wanted + "' (fields: " + names + ")"));
+    }
+    vol.loadedField = *it;
+    if (options.loadValues) {
+      const NcVar& var = fieldVars[static_cast<std::size_t>(it - vol.fields.begin())];
+      double scale = 1.0, offset = 0.0;
+      for (auto [attr, dst] : {std::pair<const char*, double*>{"scale_factor", &scale}, {"add_offset", &offset}}) {
+        if (!f.hasAttribute(var.groupId, var.varId, attr)) continue;
+        auto r = f.attributeDouble(var.groupId, var.varId, attr);
+        if (!r) return makeError(r.error());
+        if (!std::isfinite(*r)) return makeError(f.message("variable '" + var.name + "': " + attr + " is not finite"));
+        *dst = *r;
+      }
+      const auto fill = fillValue(f, var);
+      const auto missing = fillValue(f, var, "missing_value");
+      // Everything the sweeps read, checked against what the file can hold before allocating.
+      std::size_t total = 0;
+      for (const Sweep& sw : vol.sweeps) total += sw.rayCount() * sw.gateCount;
+      if (auto ok = f.checkReadable(var, total, ncTypeSize(var.type)); !ok) return makeError(ok.error());
+      for (Sweep& sw : vol.sweeps) {
+        const std::size_t n = sw.rayCount() * sw.gateCount;
+        sw.values.resize(n);
+        const std::size_t a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
+        Status st = visitNumericType(var.type, [&](auto tag) -> Status {
+          using T = decltype(tag);
+          std::vector<T> raw(n);
+          if (auto r = f.readSlab<T>(var, {a, 0}, {sw.rayCount(), sw.gateCount}, raw.data()); !r) return r;
+          decodeCf(raw.data(), n, scale, offset, fill, missing, sw.values.data());
+          return Ok{};
+        });
+        if (!st) return makeError(st.error());
+      }
+    }
+  } else if (!options.fieldName.empty()) {
+    return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));
+  }
+
+  std::stable_sort(vol.sweeps.begin(), vol.sweeps.end(),
+                   [](const Sweep& x, const Sweep& y) { return x.fixedAngleDeg < y.fixedAngleDeg; });
+  return vol;
+}
+
+}  // namespace atmoglobe::volume

@@ -1,0 +1,352 @@
+#include <atmoglobe/volume/NetcdfFile.h>
+
+#include <netcdf_filter.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+namespace atmoglobe::volume {
+
+namespace {
+constexpr std::size_t kMaxAttributeChars = std::size_t{1} << 20;
+
+std::string ncError(int status) { return nc_strerror(status); }
+
+void trimRight(std::string& s) {
+  while (!s.empty() && (s.back() == '\0' || s.back() == ' ' || s.back() == '\n' || s.back() == '\t')) s.pop_back();
+  // Fixed-length HDF5 strings may hold a NUL before the declared end.
+  const auto nul = s.find('\0');
+  if (nul != std::string::npos) s.resize(nul);
+}
+}  // namespace
+
+std::size_t NcVar::elementCount() const {
+  std::size_t n = 1;
+  for (std::size_t d : shape) n *= d;  // overflow guarded by checkReadable()
+  return n;
+}
+
+std::size_t ncTypeSize(nc_type type) {
+  switch (type) {
+    case NC_BYTE: case NC_UBYTE: case NC_CHAR: return 1;
+    case NC_SHORT: case NC_USHORT: return 2;
+    case NC_INT: case NC_UINT: case NC_FLOAT: return 4;
+    case NC_INT64: case NC_UINT64: case NC_DOUBLE: return 8;
+    default: return 0;
+  }
+}
+
+bool ncTypeIsNumeric(nc_type type) { return type != NC_CHAR && ncTypeSize(type) != 0; }
+
+Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return makeError(path + ": cannot read file: " + ec.message());
+  int ncid = -1;
+  const int st = nc_open(path.c_str(), NC_NOWRITE, &ncid);
+  if (st != NC_NOERR) return makeError(path + ": cannot open as netCDF/HDF5: " + ncError(st));
+  int mode = 0;
+  int formatx = 0;
+  bool hdf5 = false;
+  if (nc_inq_format_extended(ncid, &formatx, &mode) == NC_NOERR) hdf5 = (formatx == NC_FORMATX_NC_HDF5);
+  return NetcdfFile(path, ncid, size, hdf5);
+}
+
+NetcdfFile::NetcdfFile(NetcdfFile&& other) noexcept
+    : path_(std::move(other.path_)), ncid_(other.ncid_), fileSize_(other.fileSize_), hdf5_(other.hdf5_) {
+  other.ncid_ = -1;
+}
+
+NetcdfFile& NetcdfFile::operator=(NetcdfFile&& other) noexcept {
+  if (this != &other) {
+    if (ncid_ >= 0) nc_close(ncid_);
+    path_ = std::move(other.path_);
+    ncid_ = other.ncid_;
+    fileSize_ = other.fileSize_;
+    hdf5_ = other.hdf5_;
+    other.ncid_ = -1;
+  }
+  return *this;
+}
+
+NetcdfFile::~NetcdfFile() {
+  if (ncid_ >= 0) nc_close(ncid_);
+}
+
+std::optional<int> NetcdfFile::findGroup(int parent, const std::string& name) const {
+  int id = -1;
+  if (nc_inq_grp_ncid(parent, name.c_str(), &id) != NC_NOERR) return std::nullopt;
+  return id;
+}
+
+std::vector<std::string> NetcdfFile::childGroupNames(int parent) const {
+  int n = 0;
+  if (nc_inq_grps(parent, &n, nullptr) != NC_NOERR || n <= 0) return {};
+  std::vector<int> ids(static_cast<std::size_t>(n));
+  if (nc_inq_grps(parent, &n, ids.data()) != NC_NOERR) return {};
+  std::vector<std::string> names;
+  names.reserve(ids.size());
+  for (int id : ids) {
+    char buf[NC_MAX_NAME + 1] = {};
+    if (nc_inq_grpname(id, buf) == NC_NOERR) names.emplace_back(buf);
+  }
+  return names;
+}
+
+std::string NetcdfFile::groupPath(int groupId) const {
+  std::size_t len = 0;
+  if (nc_inq_grpname_full(groupId, &len, nullptr) != NC_NOERR) return "?";
+  std::string s(len, '\0');
+  if (nc_inq_grpname_full(groupId, &len, s.data()) != NC_NOERR) return "?";
+  trimRight(s);
+  return s;
+}
+
+std::optional<std::size_t> NetcdfFile::dimensionLength(int group, const std::string& name, int* dimId) const {
+  int id = -1;
+  if (nc_inq_dimid(group, name.c_str(), &id) != NC_NOERR) return std::nullopt;
+  std::size_t len = 0;
+  if (nc_inq_dimlen(group, id, &len) != NC_NOERR) return std::nullopt;
+  if (dimId) *dimId = id;
+  return len;
+}
+
+std::optional<NcVar> NetcdfFile::findVariable(int group, const std::string& name) const {
+  int varId = -1;
+  if (nc_inq_varid(group, name.c_str(), &varId) != NC_NOERR) return std::nullopt;
+  NcVar v;
+  v.groupId = group;
+  v.varId = varId;
+  const std::string gp = groupPath(group);
+  v.name = (gp == "/" ? "/" : gp + "/") + name;
+  int ndims = 0;
+  if (nc_inq_var(group, varId, nullptr, &v.type, &ndims, nullptr, nullptr) != NC_NOERR || ndims < 0 ||
+      ndims > NC_MAX_VAR_DIMS)
+    return std::nullopt;
+  v.dimIds.resize(static_cast<std::size_t>(ndims));
+  if (nc_inq_vardimid(group, varId, v.dimIds.data()) != NC_NOERR) return std::nullopt;
+  for (int d : v.dimIds) {
+    std::size_t len = 0;
+    if (nc_inq_dimlen(group, d, &len) != NC_NOERR) return std::nullopt;
+    v.shape.push_back(len);
+  }
+  return v;
+}
+
+Result<NcVar> NetcdfFile::variable(int group, const std::string& name) const {
+  auto v = findVariable(group, name);
+  if (!v) {
+    const std::string gp = groupPath(group);
+    return makeError(message("required variable '" + (gp == "/" ? "" : gp) + "/" + name + "' not found"));
+  }
+  return *v;
+}
+
+std::vector<NcVar> NetcdfFile::variables(int group) const {
+  int n = 0;
+  if (nc_inq_varids(group, &n, nullptr) != NC_NOERR || n <= 0) return {};
+  std::vector<int> ids(static_cast<std::size_t>(n));
+  if (nc_inq_varids(group, &n, ids.data()) != NC_NOERR) return {};
+  std::vector<NcVar> out;
+  for (int id : ids) {
+    char buf[NC_MAX_NAME + 1] = {};
+    if (nc_inq_varname(group, id, buf) != NC_NOERR) continue;
+    if (auto v = findVariable(group, buf)) out.push_back(std::move(*v));
+  }
+  return out;
+}
+
+std::string NetcdfFile::attrLabel(int group, int varId, const std::string& name) const {
+  const std::string gp = groupPath(group);
+  std::string owner = gp;
+  if (varId != NC_GLOBAL) {
+    char buf[NC_MAX_NAME + 1] = {};
+    nc_inq_varname(group, varId, buf);
+    owner = (gp == "/" ? "/" : gp + "/") + buf;
+  }
+  return "attribute '" + owner + (owner.back() == '/' ? "" : ":") + name + "'";
+}
+
+bool NetcdfFile::hasAttribute(int group, int varId, const std::string& name) const {
+  int id = -1;
+  return nc_inq_attid(group, varId, name.c_str(), &id) == NC_NOERR;
+}
+
+Result<std::vector<double>> NetcdfFile::attributeDoubles(int group, int varId, const std::string& name,
+                                                        std::size_t maxCount) const {
+  nc_type type = NC_NAT;
+  std::size_t len = 0;
+  int st = nc_inq_att(group, varId, name.c_str(), &type, &len);
+  if (st != NC_NOERR) return makeError(message(attrLabel(group, varId, name) + " not found"));
+  if (!ncTypeIsNumeric(type)) return makeError(message(attrLabel(group, varId, name) + " is not numeric"));
+  if (len == 0 || len > maxCount)
+    return makeError(message(attrLabel(group, varId, name) + " has " + std::to_string(len) +
+                             " values, expected 1 to " + std::to_string(maxCount)));
+  std::vector<double> values(len);
+  st = nc_get_att_double(group, varId, name.c_str(), values.data());
+  if (st != NC_NOERR && st != NC_ERANGE)
+    return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
+  return values;
+}
+
+Result<double> NetcdfFile::attributeDouble(int group, int varId, const std::string& name) const {
+  auto v = attributeDoubles(group, varId, name, 1);
+  if (!v) return makeError(v.error());
+  return v->front();
+}
+
+Result<std::string> NetcdfFile::attributeString(int group, int varId, const std::string& name) const {
+  nc_type type = NC_NAT;
+  std::size_t len = 0;
+  int st = nc_inq_att(group, varId, name.c_str(), &type, &len);
+  if (st != NC_NOERR) return makeError(message(attrLabel(group, varId, name) + " not found"));
+  if (type == NC_CHAR) {
+    if (len > kMaxAttributeChars) return makeError(message(attrLabel(group, varId, name) + " is too long"));
+    std::string s(len, '\0');
+    if (len > 0 && (st = nc_get_att_text(group, varId, name.c_str(), s.data())) != NC_NOERR)
+      return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
+    trimRight(s);
+    return s;
+  }
+  if (type == NC_STRING) {
+    if (len != 1)
+      return makeError(message(attrLabel(group, varId, name) + " holds " + std::to_string(len) +
+                               " strings, expected 1"));
+    char* p = nullptr;
+    if ((st = nc_get_att_string(group, varId, name.c_str(), &p)) != NC_NOERR)
+      return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
+    std::string s = p ? std::string(p) : std::string();
+    nc_free_string(1, &p);
+    trimRight(s);
+    return s;
+  }
+  return makeError(message(attrLabel(group, varId, name) + " is not text"));
+}
+
+Status NetcdfFile::checkReadable(const NcVar& var, std::size_t elementCount, std::size_t elementBytes) const {
+  // Overflow-safe product of the requested element count with the element size.
+  if (elementCount > kMaxElementsPerRead)
+    return makeError(message("variable '" + var.name + "' claims " + std::to_string(elementCount) +
+                             " values, more than the " + std::to_string(kMaxElementsPerRead) +
+                             " a read may hold"));
+  const double bytes = static_cast<double>(elementCount) * static_cast<double>(elementBytes);
+  double factor = 1.0;
+  if (hdf5_) {
+    int storage = NC_CONTIGUOUS;
+    nc_inq_var_chunking(var.groupId, var.varId, &storage, nullptr);
+    std::size_t nfilters = 0;
+    nc_inq_var_filter_ids(var.groupId, var.varId, &nfilters, nullptr);
+    if (storage != NC_CONTIGUOUS || nfilters > 0) factor = kMaxCompressionRatio;
+  }
+  if (bytes > static_cast<double>(fileSize_) * factor)
+    return makeError(message("variable '" + var.name + "' claims " + std::to_string(elementCount) + " values (" +
+                             std::to_string(static_cast<unsigned long long>(bytes)) +
+                             " bytes), more than the " + std::to_string(fileSize_) + "-byte file can hold"));
+  return Ok{};
+}
+
+namespace {
+template <class T>
+int getVara(int g, int v, const std::size_t* s, const std::size_t* c, T* out) {
+  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>) return nc_get_vara_schar(g, v, s, c, reinterpret_cast<signed char*>(out));
+  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>) return nc_get_vara_uchar(g, v, s, c, reinterpret_cast<unsigned char*>(out));
+  else if constexpr (std::is_same_v<T, short>) return nc_get_vara_short(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, unsigned short>) return nc_get_vara_ushort(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, int>) return nc_get_vara_int(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, unsigned int>) return nc_get_vara_uint(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, long long>) return nc_get_vara_longlong(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, unsigned long long>) return nc_get_vara_ulonglong(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, float>) return nc_get_vara_float(g, v, s, c, out);
+  else if constexpr (std::is_same_v<T, double>) return nc_get_vara_double(g, v, s, c, out);
+  else static_assert(sizeof(T) == 0, "unsupported element type");
+}
+}  // namespace
+
+template <class T>
+Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& start,
+                            const std::vector<std::size_t>& count, T* out) const {
+  assert(start.size() == var.shape.size() && count.size() == var.shape.size());
+  for (std::size_t d = 0; d < var.shape.size(); ++d) {
+    if (start[d] > var.shape[d] || count[d] > var.shape[d] - start[d])
+      return makeError(message("variable '" + var.name + "': read outside its shape (dimension " +
+                               std::to_string(d) + ")"));
+  }
+  const int st = getVara(var.groupId, var.varId, start.data(), count.data(), out);
+  if (st != NC_NOERR && st != NC_ERANGE)
+    return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
+  if (st == NC_ERANGE)
+    return makeError(message("reading variable '" + var.name + "': values out of range for the reader's type"));
+  return Ok{};
+}
+
+template <class T>
+Result<std::vector<T>> NetcdfFile::readAll(const NcVar& var) const {
+  std::size_t n = 1;
+  for (std::size_t d : var.shape) {
+    if (d != 0 && n > kMaxElementsPerRead / d) {
+      return makeError(message("variable '" + var.name + "' claims more than " +
+                               std::to_string(kMaxElementsPerRead) + " values"));
+    }
+    n *= d;
+  }
+  if (auto ok = checkReadable(var, n, std::max<std::size_t>(ncTypeSize(var.type), 1)); !ok) return makeError(ok.error());
+  std::vector<T> out(n);
+  if (n == 0) return out;
+  std::vector<std::size_t> start(var.shape.size(), 0);
+  if (auto st = readSlab(var, start, var.shape, out.data()); !st) return makeError(st.error());
+  return out;
+}
+
+Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) const {
+  if (var.type == NC_CHAR) {
+    if (var.shape.empty() || var.shape.size() > 2) return makeError(message("variable '" + var.name + "' is not a text array"));
+    std::vector<std::size_t> start(var.shape.size(), 0), count = var.shape;
+    if (var.shape.size() == 2) {
+      if (row >= var.shape[0]) return makeError(message("variable '" + var.name + "': row out of range"));
+      start[0] = row;
+      count[0] = 1;
+    }
+    const std::size_t len = count.back();
+    if (len > kMaxAttributeChars) return makeError(message("variable '" + var.name + "' is too long"));
+    std::string s(len, '\0');
+    const int st = nc_get_vara_text(var.groupId, var.varId, start.data(), count.data(), s.data());
+    if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
+    trimRight(s);
+    return s;
+  }
+  if (var.type == NC_STRING) {
+    if (var.shape.size() > 1) return makeError(message("variable '" + var.name + "' is not a string array"));
+    std::vector<std::size_t> start(var.shape.size(), 0), count(var.shape.size(), 1);
+    if (var.shape.size() == 1) {
+      if (row >= var.shape[0]) return makeError(message("variable '" + var.name + "': row out of range"));
+      start[0] = row;
+    }
+    char* p = nullptr;
+    const int st = nc_get_vara_string(var.groupId, var.varId, start.data(), count.data(), &p);
+    if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
+    std::string s = p ? std::string(p) : std::string();
+    nc_free_string(1, &p);
+    trimRight(s);
+    return s;
+  }
+  return makeError(message("variable '" + var.name + "' is not text"));
+}
+
+#define ATMOGLOBE_NC_INSTANTIATE(T)                                                                   \
+  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,             \
+                                          const std::vector<std::size_t>&, T*) const;                \
+  template Result<std::vector<T>> NetcdfFile::readAll<T>(const NcVar&) const;
+ATMOGLOBE_NC_INSTANTIATE(signed char)
+ATMOGLOBE_NC_INSTANTIATE(unsigned char)
+ATMOGLOBE_NC_INSTANTIATE(short)
+ATMOGLOBE_NC_INSTANTIATE(unsigned short)
+ATMOGLOBE_NC_INSTANTIATE(int)
+ATMOGLOBE_NC_INSTANTIATE(unsigned int)
+ATMOGLOBE_NC_INSTANTIATE(long long)
+ATMOGLOBE_NC_INSTANTIATE(unsigned long long)
+ATMOGLOBE_NC_INSTANTIATE(float)
+ATMOGLOBE_NC_INSTANTIATE(double)
+#undef ATMOGLOBE_NC_INSTANTIATE
+
+}  // namespace atmoglobe::volume

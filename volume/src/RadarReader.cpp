@@ -1,0 +1,208 @@
+#include <atmoglobe/volume/RadarReader.h>
+
+#include <atmoglobe/volume/CfRadialReader.h>
+#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/volume/NexradReader.h>
+#include <atmoglobe/volume/OdimReader.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <system_error>
+
+namespace atmoglobe::volume {
+
+const char* toString(RadarFormat f) {
+  switch (f) {
+    case RadarFormat::Unknown: return "unknown";
+    case RadarFormat::CfRadial: return "CfRadial";
+    case RadarFormat::OdimH5: return "ODIM_H5";
+    case RadarFormat::NexradLevel2: return "NEXRAD Level II";
+  }
+  return "unknown";
+}
+
+namespace {
+
+constexpr std::array<unsigned char, 8> kHdf5Signature = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+
+/// HDF5 puts its superblock at 0, 512, 1024, 2048 ... (a user block before it).
+bool hasHdf5Signature(std::ifstream& in, std::uintmax_t size) {
+  for (std::uintmax_t off = 0; off + 8 <= size; off = (off == 0 ? 512 : off * 2)) {
+    std::array<unsigned char, 8> buf{};
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(off));
+    if (!in.read(reinterpret_cast<char*>(buf.data()), 8)) return false;
+    if (buf == kHdf5Signature) return true;
+  }
+  return false;
+}
+
+bool contains(const std::string& s, const char* what) { return s.find(what) != std::string::npos; }
+
+/// An HDF5/netCDF-4 file: ODIM or CfRadial from its attributes and variables.
+Result<RadarFormat> classifyHdf5(const std::string& path) {
+  auto opened = NetcdfFile::open(path);
+  if (!opened) return makeError(opened.error());
+  const NetcdfFile& f = *opened;
+  std::string conventions, version;
+  if (f.hasAttribute(f.root(), NC_GLOBAL, "Conventions")) {
+    if (auto c = f.attributeString(f.root(), NC_GLOBAL, "Conventions")) conventions = *c;
+  }
+  if (f.hasAttribute(f.root(), NC_GLOBAL, "version")) {
+    if (auto v = f.attributeString(f.root(), NC_GLOBAL, "version")) version = *v;
+  }
+  if (conventions.rfind("ODIM_H5", 0) == 0) return RadarFormat::OdimH5;
+  for (const std::string* s : {&conventions, &version}) {
+    if (contains(*s, "CF/Radial") || contains(*s, "CF-Radial") || contains(*s, "Cf/Radial")) return RadarFormat::CfRadial;
+  }
+  if (f.findVariable(f.root(), "sweep_start_ray_index")) return RadarFormat::CfRadial;
+  if (auto what = f.findGroup(f.root(), "what"); what && f.hasAttribute(*what, NC_GLOBAL, "object"))
+    return RadarFormat::OdimH5;
+  return RadarFormat::Unknown;
+}
+
+std::string firstBytesText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<char, 8> buf{};
+  in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+  const auto n = static_cast<std::size_t>(in.gcount());
+  if (n == 0) return "the file is empty";
+  std::ostringstream os;
+  os << "it starts with bytes";
+  for (std::size_t i = 0; i < n; ++i)
+    os << ' ' << std::hex << std::setw(2) << std::setfill('0') << static_cast<int>(static_cast<unsigned char>(buf[i]));
+  return os.str();
+}
+
+}  // namespace
+
+Result<RadarFormat> detectRadarFormat(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return makeError(path + ": no such file (or not a regular file)");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return makeError(path + ": cannot read file: " + ec.message());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path + ": cannot open file for reading");
+  std::array<unsigned char, 8> head{};
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  const auto n = static_cast<std::size_t>(in.gcount());
+  if (n >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' && (head[3] == 1 || head[3] == 2 || head[3] == 5))
+    return RadarFormat::CfRadial;
+  if (n >= 4 && head[0] == 'A' && head[1] == 'R' && head[2] == '2' && head[3] == 'V') return RadarFormat::NexradLevel2;
+  if (hasHdf5Signature(in, size)) return classifyHdf5(path);
+  return RadarFormat::Unknown;
+}
+
+Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options) {
+  auto format = detectRadarFormat(path);
+  if (!format) return makeError(format.error());
+  switch (*format) {
+    case RadarFormat::CfRadial: return readCfRadial(path, options);
+    case RadarFormat::OdimH5: return readOdimH5(path, options);
+    case RadarFormat::NexradLevel2: return readNexradLevel2(path, options);
+    case RadarFormat::Unknown: break;
+  }
+  return makeError(path + ": not a CfRadial, ODIM_H5 or NEXRAD Level II file (" + firstBytesText(path) + ")");
+}
+
+std::string chooseDefaultField(const std::vector<FieldInfo>& fields) {
+  if (fields.empty()) return {};
+  for (const char* name : {"DBZH", "reflectivity", "REF", "DBZ", "DBZHC", "TH", "DBZH_CLEAN"}) {
+    for (const FieldInfo& f : fields)
+      if (f.name == name) return f.name;
+  }
+  for (const FieldInfo& f : fields) {
+    if (f.name.rfind("reflectivity", 0) == 0 || f.name.rfind("DBZ", 0) == 0) return f.name;
+  }
+  return fields.front().name;
+}
+
+std::string normalizeIso8601(const std::string& text) {
+  // YYYY-MM-DD[T ]HH:MM:SS, anything after the seconds (fraction, zone "Z") ignored.
+  std::string t = text;
+  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.erase(t.begin());
+  if (t.size() < 19) return {};
+  auto digits = [&](std::size_t pos, std::size_t len) {
+    for (std::size_t i = pos; i < pos + len; ++i)
+      if (!std::isdigit(static_cast<unsigned char>(t[i]))) return false;
+    return true;
+  };
+  if (!digits(0, 4) || t[4] != '-' || !digits(5, 2) || t[7] != '-' || !digits(8, 2) || (t[10] != 'T' && t[10] != ' ') ||
+      !digits(11, 2) || t[13] != ':' || !digits(14, 2) || t[16] != ':' || !digits(17, 2))
+    return {};
+  return t.substr(0, 10) + "T" + t.substr(11, 8) + "Z";
+}
+
+namespace {
+const char* angleKind(SweepMode m) { return m == SweepMode::Rhi ? "azimuth" : "elevation"; }
+}  // namespace
+
+std::string describeVolumeJson(const RadarVolume& v) {
+  nlohmann::ordered_json j;
+  j["format"] = v.format;
+  j["file"] = v.sourcePath;
+  j["site"] = {{"name", v.site.name},
+               {"lat_deg", v.site.latDeg},
+               {"lon_deg", v.site.lonDeg},
+               {"height_m", v.site.antennaHeightMeters},
+               {"height_datum", toString(v.site.heightDatum)}};
+  j["time"] = v.timeIso8601;
+  j["beam_width_deg"] = v.beamWidthDeg > 0 ? nlohmann::ordered_json(v.beamWidthDeg) : nlohmann::ordered_json(nullptr);
+  nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < v.sweeps.size(); ++i) {
+    const Sweep& s = v.sweeps[i];
+    sweeps.push_back({{"index", i},
+                      {"index_in_file", s.indexInFile},
+                      {"fixed_angle_deg", s.fixedAngleDeg},
+                      {"fixed_angle_kind", angleKind(s.mode)},
+                      {"mode", toString(s.mode)},
+                      {"rays", s.rayCount()},
+                      {"gates", s.gateCount},
+                      {"first_gate_m", s.firstGateRangeMeters},
+                      {"gate_spacing_m", s.gateSpacingMeters}});
+  }
+  j["sweeps"] = std::move(sweeps);
+  nlohmann::ordered_json fields = nlohmann::ordered_json::array();
+  for (const FieldInfo& f : v.fields) fields.push_back({{"name", f.name}, {"units", f.units}});
+  j["fields"] = std::move(fields);
+  j["loaded_field"] = v.loadedField.name;
+  // NaN cannot be written to JSON; the readers reject NaN metadata, so dump() never fails.
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+std::string describeVolumeText(const RadarVolume& v) {
+  std::ostringstream os;
+  os << std::fixed;
+  os << "file:    " << v.sourcePath << "\n";
+  os << "format:  " << v.format << "\n";
+  os << "site:    " << (v.site.name.empty() ? "(unnamed)" : v.site.name) << std::setprecision(5) << "  lat "
+     << v.site.latDeg << " deg  lon " << v.site.lonDeg << " deg  antenna height " << std::setprecision(1)
+     << v.site.antennaHeightMeters << " m (" << toString(v.site.heightDatum) << ")\n";
+  os << "time:    " << (v.timeIso8601.empty() ? "(unknown)" : v.timeIso8601) << "\n";
+  if (v.beamWidthDeg > 0) os << "beam:    " << std::setprecision(2) << v.beamWidthDeg << " deg\n";
+  os << "sweeps:  " << v.sweeps.size() << "\n";
+  os << "  index  fixed_angle_deg  mode   rays  gates  first_gate_m  gate_spacing_m\n";
+  for (std::size_t i = 0; i < v.sweeps.size(); ++i) {
+    const Sweep& s = v.sweeps[i];
+    os << "  " << std::setw(5) << i << "  " << std::setw(15) << std::setprecision(2) << s.fixedAngleDeg
+       << (s.mode == SweepMode::Rhi ? "a" : " ") << " " << std::setw(5) << std::left << toString(s.mode)
+       << std::right << " " << std::setw(5) << s.rayCount() << "  " << std::setw(5) << s.gateCount << "  "
+       << std::setw(12) << std::setprecision(1) << s.firstGateRangeMeters << "  " << std::setw(14)
+       << std::setprecision(2) << s.gateSpacingMeters << "\n";
+  }
+  if (std::any_of(v.sweeps.begin(), v.sweeps.end(), [](const Sweep& s) { return s.mode == SweepMode::Rhi; }))
+    os << "  (a: the fixed angle of an RHI sweep is its azimuth)\n";
+  os << "fields:  " << v.fields.size() << "\n";
+  for (const FieldInfo& f : v.fields) os << "  " << f.name << (f.units.empty() ? "" : " [" + f.units + "]") << "\n";
+  return os.str();
+}
+
+}  // namespace atmoglobe::volume
