@@ -1,0 +1,115 @@
+#pragma once
+// Where a radar gate is: antenna coordinates (range, azimuth, elevation) <-> WGS84.
+//
+// The model (REFERENCE §2; Doviak & Zrnic 1993, eq. 2.28):
+//   - the beam is a circle of effective Earth radius Re = ke * R, with R either a fixed sphere
+//     radius or, by default, the WGS84 geocentric radius at the site latitude (as wradlib);
+//   - gate height h = sqrt(r^2 + (Re+h0)^2 + 2 r (Re+h0) sin(theta)) - Re, above the datum of h0;
+//   - ground (arc) distance s = Re * asin(r cos(theta) / (Re + h));
+//   - horizontal position: the WGS84 geodesic from the site with the ray's azimuth, s metres long
+//     (an ellipsoidal azimuthal-equidistant map centred on the site, as wradlib);
+//   - ECEF from (lat, lon, h) on WGS84 (GeographicLib through globe/Ellipsoid.h).
+// Heights: h0 is the antenna height above the WGS84 ellipsoid (resolveSite converts from mean sea
+// level with EGM96), so gate heights are above the ellipsoid too.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/Geoid.h>
+#include <atmoglobe/volume/RadarVolume.h>
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+/// Effective-Earth-radius beam propagation model.
+struct BeamModel {
+  double ke = 4.0 / 3.0;                    ///< refraction factor (1: straight beam over a sphere of radius R)
+  std::optional<double> earthRadiusMeters;  ///< R (m); nullopt: WGS84 geocentric radius at the site latitude
+};
+
+/// ke finite and > 0, R (if given) finite and > 0. `what` names the source for the message.
+Status validateBeamModel(const BeamModel& model, const char* what);
+
+/// Re = ke * R (m) for a site at geodetic latitude `siteLatDeg`.
+double effectiveEarthRadiusMeters(const BeamModel& model, double siteLatDeg);
+
+/// A radar site ready for geolocation: WGS84 latitude/longitude (degrees), antenna height above
+/// the WGS84 ellipsoid (m).
+struct GeolocationSite {
+  double latDeg = 0.0;
+  double lonDeg = 0.0;
+  double antennaHeightEllipsoidMeters = 0.0;
+};
+
+/// How the antenna height was brought to the ellipsoid.
+struct SiteResolution {
+  GeolocationSite site;
+  double geoidUndulationMeters = 0.0;  ///< N added to the MSL height (0 when not applied)
+  bool geoidApplied = false;
+  std::string datumNote;               ///< one line for users: which datum, which undulation
+};
+
+/// Antenna height above the ellipsoid from a RadarSite. Heights above mean sea level get the EGM96
+/// undulation (defaultEgm96Grid()) unless useGeoid is false, in which case the MSL height is used
+/// as if it were ellipsoidal (error = -N, up to about 100 m; the note says so). Errors: non-finite
+/// or out-of-range coordinates, missing geoid grid (message names the file).
+Result<SiteResolution> resolveSite(const RadarSite& site, bool useGeoid);
+/// Same with an explicit geoid grid (nullptr: no geoid conversion).
+Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid);
+
+struct GatePosition {
+  double latDeg = 0.0;        ///< WGS84 geodetic latitude (degrees)
+  double lonDeg = 0.0;        ///< longitude (degrees, [-180, 180])
+  double heightMeters = 0.0;  ///< beam-centre height above the WGS84 ellipsoid (m)
+  glm::dvec3 ecef{0.0};       ///< ECEF (m)
+};
+
+/// Beam-centre height above the datum of `antennaHeightMeters` and ground (arc) distance along
+/// the effective sphere (m), for slant range `rangeMeters` (m) at elevation `elevationDeg`
+/// (Doviak & Zrnic 2.28). Closed form; exact within the model.
+void beamHeightAndGroundDistance(double rangeMeters, double elevationDeg, double antennaHeightMeters,
+                                 double effectiveRadiusMeters, double* heightMeters,
+                                 double* groundDistanceMeters);
+
+/// Exact path: double precision, one WGS84 geodesic (GeographicLib Direct, ~15 nm) per gate.
+/// Azimuth in degrees clockwise from north, elevation in degrees, range in m (gate centre).
+/// Precondition: finite arguments, site from resolveSite, model validated.
+GatePosition geolocateGateExact(const GeolocationSite& site, const BeamModel& model, double azimuthDeg,
+                                double elevationDeg, double rangeMeters);
+
+/// Fast path for a whole sweep. ECEF (m) of every gate, ray-major (ecefOut[ray * gateCount + gate]).
+///
+/// Per ray, the gate position is a smooth function of range along the ray; it is sampled exactly
+/// (geodesic + model) at kFastChebyshevNodes Chebyshev nodes spanning the sweep's gate ranges and
+/// represented by a Chebyshev series per ECEF axis (per-ray table of coefficients). A per-gate table
+/// holds the Chebyshev basis at each gate range (shared by all rays), so the per-gate work is 3
+/// short dot products, contiguous and vectorisable. Per-ray elevations are honoured exactly.
+///
+/// Measured error against geolocateGateExact (GeolocationTest.FastPath*, bench): at most
+/// FAST_ERROR_PLACEHOLDER over every gate of the KLBB NEXRAD volume (ranges to 460 km) and over
+/// synthetic sweeps to 460 km at sites at 89.99 N/S, on the antimeridian and at elevations
+/// -1..90 deg, ke 1 and 4/3. Precondition: finite angles, site and model as for the exact path.
+void geolocateSweepFast(const GeolocationSite& site, const BeamModel& model, const Sweep& sweep,
+                        std::vector<glm::dvec3>* ecefOut);
+
+/// Number of Chebyshev nodes per ray used by geolocateSweepFast.
+inline constexpr int kFastChebyshevNodes = 12;
+/// Stated bound on |fast - exact| ECEF distance (m), checked by the tests (see above).
+inline constexpr double kFastPathMaxErrorMeters = 0.01;
+
+/// Antenna coordinates of a point relative to the site.
+struct AntennaCoordinates {
+  double rangeMeters = 0.0;   ///< slant range along the (curved) beam model (m)
+  double azimuthDeg = 0.0;    ///< [0, 360) clockwise from north (0 directly above the site)
+  double elevationDeg = 0.0;  ///< degrees above horizontal
+};
+
+/// Inverse of geolocateGateExact: ECEF point (m) -> (range, azimuth, elevation) under the same
+/// model (REFERENCE §2, rewritten with sin^2(gamma/2) to avoid cancellation). Round trip with the
+/// forward path is within 1 mm (GeolocationTest.InverseRoundTrip).
+AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model,
+                                           const glm::dvec3& ecef);
+
+}  // namespace atmoglobe::volume
