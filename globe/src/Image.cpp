@@ -1,0 +1,160 @@
+#include "atmoglobe/globe/Image.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+namespace atmoglobe::globe {
+
+ImageRGBA8 ImageRGBA8::filled(int width, int height, glm::u8vec4 fill) {
+  assert(width >= 0 && height >= 0);
+  ImageRGBA8 image;
+  image.width = width;
+  image.height = height;
+  image.pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    image.pixels[i] = fill.r;
+    image.pixels[i + 1] = fill.g;
+    image.pixels[i + 2] = fill.b;
+    image.pixels[i + 3] = fill.a;
+  }
+  return image;
+}
+
+glm::u8vec4 ImageRGBA8::at(int x, int y) const {
+  assert(x >= 0 && x < width && y >= 0 && y < height);
+  const std::uint8_t* p = &pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + x) * 4];
+  return {p[0], p[1], p[2], p[3]};
+}
+
+void ImageRGBA8::set(int x, int y, glm::u8vec4 rgba) {
+  assert(x >= 0 && x < width && y >= 0 && y < height);
+  std::uint8_t* p = &pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + x) * 4];
+  p[0] = rgba.r;
+  p[1] = rgba.g;
+  p[2] = rgba.b;
+  p[3] = rgba.a;
+}
+
+Result<ImageRGBA8> decodeImageMemory(const std::uint8_t* data, std::size_t size, const std::string& nameForErrors) {
+  if (size == 0) return makeError(nameForErrors + ": empty file, not an image");
+  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    return makeError(nameForErrors + ": file too large to decode (" + std::to_string(size) + " bytes)");
+  }
+  const int length = static_cast<int>(size);
+  int w = 0, h = 0, channels = 0;
+  // Check the header first so a huge image is refused before anything is allocated.
+  if (!stbi_info_from_memory(data, length, &w, &h, &channels)) {
+    const char* reason = stbi_failure_reason();
+    return makeError(nameForErrors + ": not a readable image (" + (reason ? reason : "unknown format") + ")");
+  }
+  if (w <= 0 || h <= 0 || static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > kMaxImagePixels) {
+    return makeError(nameForErrors + ": image of " + std::to_string(w) + " x " + std::to_string(h) +
+                     " px is larger than the " + std::to_string(kMaxImagePixels) + " px this decoder accepts");
+  }
+  stbi_uc* decoded = stbi_load_from_memory(data, length, &w, &h, &channels, 4);
+  if (!decoded) {
+    const char* reason = stbi_failure_reason();
+    return makeError(nameForErrors + ": cannot decode image (" + (reason ? reason : "unknown error") + ")");
+  }
+  ImageRGBA8 image;
+  image.width = w;
+  image.height = h;
+  image.pixels.assign(decoded, decoded + static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  stbi_image_free(decoded);
+  return image;
+}
+
+Result<ImageRGBA8> decodeImageFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return makeError(path + ": is a directory, not an image");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return makeError(path + ": cannot open (" + std::strerror(errno) + ")");
+  std::vector<std::uint8_t> bytes;
+  std::uint8_t buffer[1 << 16];
+  bool readError = false;
+  for (;;) {
+    const std::size_t n = std::fread(buffer, 1, sizeof buffer, f);
+    bytes.insert(bytes.end(), buffer, buffer + n);
+    if (n < sizeof buffer) {
+      readError = std::ferror(f) != 0;
+      break;
+    }
+    // Encoded images beyond 2 GiB are refused by decodeImageMemory anyway: stop reading early.
+    if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) break;
+  }
+  const int savedErrno = errno;
+  std::fclose(f);
+  if (readError) return makeError(path + ": read error (" + std::strerror(savedErrno) + ")");
+  return decodeImageMemory(bytes.data(), bytes.size(), path);
+}
+
+namespace {
+void appendToVector(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+}
+}  // namespace
+
+Status writePng(const std::string& path, const ImageRGBA8& image) {
+  assert(image.width > 0 && image.height > 0 &&
+         image.pixels.size() == static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4);
+  std::vector<std::uint8_t> encoded;
+  if (!stbi_write_png_to_func(appendToVector, &encoded, image.width, image.height, 4, image.pixels.data(),
+                              image.width * 4)) {
+    return makeError(path + ": PNG encoding failed");
+  }
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return makeError(tmp + ": cannot create (" + std::strerror(errno) + ")");
+  const bool written = std::fwrite(encoded.data(), 1, encoded.size(), f) == encoded.size();
+  int savedErrno = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!closed && written) savedErrno = errno;
+  if (!written || !closed) {
+    std::remove(tmp.c_str());
+    return makeError(tmp + ": write failed (" + std::strerror(savedErrno) + ")");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    savedErrno = errno;
+    std::remove(tmp.c_str());
+    return makeError(path + ": cannot rename " + tmp + " into place (" + std::strerror(savedErrno) + ")");
+  }
+  return Ok{};
+}
+
+glm::u8vec4 sampleBilinear(const ImageRGBA8& image, double u, double v) {
+  assert(image.width > 0 && image.height > 0);
+  // Continuous pixel coordinates with pixel centres at integers.
+  const double x = std::clamp(u * image.width - 0.5, 0.0, static_cast<double>(image.width - 1));
+  const double y = std::clamp(v * image.height - 0.5, 0.0, static_cast<double>(image.height - 1));
+  const int x0 = static_cast<int>(x);
+  const int y0 = static_cast<int>(y);
+  const int x1 = std::min(x0 + 1, image.width - 1);
+  const int y1 = std::min(y0 + 1, image.height - 1);
+  const double fx = x - x0;
+  const double fy = y - y0;
+  const std::size_t w = static_cast<std::size_t>(image.width);
+  const std::uint8_t* p00 = &image.pixels[(static_cast<std::size_t>(y0) * w + x0) * 4];
+  const std::uint8_t* p10 = &image.pixels[(static_cast<std::size_t>(y0) * w + x1) * 4];
+  const std::uint8_t* p01 = &image.pixels[(static_cast<std::size_t>(y1) * w + x0) * 4];
+  const std::uint8_t* p11 = &image.pixels[(static_cast<std::size_t>(y1) * w + x1) * 4];
+  glm::u8vec4 out;
+  for (int c = 0; c < 4; ++c) {
+    const double top = p00[c] + (p10[c] - p00[c]) * fx;
+    const double bottom = p01[c] + (p11[c] - p01[c]) * fx;
+    const double value = top + (bottom - top) * fy;
+    out[c] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
+  }
+  return out;
+}
+
+}  // namespace atmoglobe::globe

@@ -1,0 +1,126 @@
+// Image decoding/encoding (stb) and bilinear sampling.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "atmoglobe/globe/Image.h"
+
+namespace atmoglobe::globe {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir() {
+  const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "imagery" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+ImageRGBA8 distinctPixels(int w, int h) {
+  ImageRGBA8 image = ImageRGBA8::filled(w, h, {0, 0, 0, 0});
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      image.set(x, y, {static_cast<std::uint8_t>(x * 31 + 1), static_cast<std::uint8_t>(y * 47 + 2),
+                       static_cast<std::uint8_t>(x * y + 3), static_cast<std::uint8_t>(255 - x - y)});
+  return image;
+}
+
+TEST(ImageTest, PngRoundTripIsLosslessAndLeavesNoTmpFile) {
+  const fs::path dir = freshDir();
+  const ImageRGBA8 image = distinctPixels(7, 5);
+  EXPECT_EQ(image.byteSize(), 7u * 5u * 4u);
+  const std::string path = (dir / "a.png").string();
+  ASSERT_TRUE(writePng(path, image).ok());
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  Result<ImageRGBA8> back = decodeImageFile(path);
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(back->width, 7);
+  EXPECT_EQ(back->height, 5);
+  EXPECT_EQ(back->pixels, image.pixels);  // PNG is lossless, alpha included
+  // Row 0 is the top: pixel (0, 4) holds the last row's values.
+  EXPECT_EQ(back->at(0, 4), image.at(0, 4));
+}
+
+TEST(ImageTest, DecodesTheInstalledEarthJpeg) {
+  // Size from `file /usr/share/xplanet/images/earth.jpg`: "baseline, precision 8, 2048x1024, components 3".
+  Result<ImageRGBA8> earth = decodeImageFile("/usr/share/xplanet/images/earth.jpg");
+  ASSERT_TRUE(earth.ok()) << earth.error();
+  EXPECT_EQ(earth->width, 2048);
+  EXPECT_EQ(earth->height, 1024);
+  EXPECT_EQ(earth->at(1000, 500).a, 255);  // RGB input gets opaque alpha
+}
+
+TEST(ImageTest, MissingFileErrorNamesTheFile) {
+  const std::string path = (freshDir() / "nope.png").string();
+  Result<ImageRGBA8> r = decodeImageFile(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find(path), std::string::npos) << r.error();
+  EXPECT_NE(r.error().find("No such file"), std::string::npos) << r.error();
+}
+
+TEST(ImageTest, TextFileAndTruncatedPngAreErrorsNamingTheFile) {
+  const fs::path dir = freshDir();
+  const std::string text = (dir / "notes.png").string();
+  std::ofstream(text) << "this is not an image\n";
+  Result<ImageRGBA8> r = decodeImageFile(text);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find(text), std::string::npos) << r.error();
+
+  const std::string good = (dir / "good.png").string();
+  ASSERT_TRUE(writePng(good, distinctPixels(64, 64)).ok());
+  const auto size = fs::file_size(good);
+  const std::string cut = (dir / "cut.png").string();
+  fs::copy_file(good, cut);
+  fs::resize_file(cut, size / 2);
+  Result<ImageRGBA8> truncated = decodeImageFile(cut);
+  ASSERT_FALSE(truncated.ok());
+  EXPECT_NE(truncated.error().find(cut), std::string::npos) << truncated.error();
+
+  Result<ImageRGBA8> empty = decodeImageMemory(nullptr, 0, "empty-buffer");
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().find("empty-buffer"), std::string::npos);
+
+  Result<ImageRGBA8> directory = decodeImageFile(dir.string());
+  ASSERT_FALSE(directory.ok());
+  EXPECT_NE(directory.error().find(dir.string()), std::string::npos);
+}
+
+TEST(ImageTest, WritePngIntoMissingDirectoryIsAnError) {
+  const std::string path = (freshDir() / "no" / "such" / "dir" / "a.png").string();
+  Status s = writePng(path, distinctPixels(2, 2));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find(path), std::string::npos) << s.error();
+}
+
+TEST(ImageTest, SampleBilinearUsesPixelCentresAndClampsAtEdges) {
+  // 2 x 1 image: red channel 0 and 200. Pixel centres at u = 0.25 and 0.75 (= (i + 0.5) / 2).
+  ImageRGBA8 image = ImageRGBA8::filled(2, 1, {0, 0, 0, 255});
+  image.set(1, 0, {200, 0, 0, 255});
+  EXPECT_EQ(sampleBilinear(image, 0.25, 0.5).r, 0);
+  EXPECT_EQ(sampleBilinear(image, 0.75, 0.5).r, 200);
+  EXPECT_EQ(sampleBilinear(image, 0.5, 0.5).r, 100);     // halfway between the centres
+  EXPECT_EQ(sampleBilinear(image, 0.375, 0.5).r, 50);    // a quarter of the way
+  EXPECT_EQ(sampleBilinear(image, 0.0, 0.5).r, 0);       // left of the first centre: clamped
+  EXPECT_EQ(sampleBilinear(image, 1.0, 0.5).r, 200);     // right of the last centre: clamped
+  EXPECT_EQ(sampleBilinear(image, 0.5, 0.0).r, 100);     // v outside the single row: clamped
+
+  // 2 x 2 corners 0, 40, 80, 120 (green): the centre of the image is their mean, 60.
+  ImageRGBA8 square = ImageRGBA8::filled(2, 2, {0, 0, 0, 0});
+  square.set(1, 0, {0, 40, 0, 0});
+  square.set(0, 1, {0, 80, 0, 0});
+  square.set(1, 1, {0, 120, 0, 0});
+  EXPECT_EQ(sampleBilinear(square, 0.5, 0.5).g, 60);
+  // At (u, v) = (0.625, 0.25): x = 0.75, y = 0 -> 0.25 * 0 + 0.75 * 40 = 30.
+  EXPECT_EQ(sampleBilinear(square, 0.625, 0.25).g, 30);
+  // Rounds to nearest: 1-px ramp 0 -> 1 sampled at 0.75 of the way gives 0.75 -> 1.
+  ImageRGBA8 ramp = ImageRGBA8::filled(2, 1, {0, 0, 0, 0});
+  ramp.set(1, 0, {0, 0, 1, 0});
+  EXPECT_EQ(sampleBilinear(ramp, 0.625, 0.5).b, 1);
+  EXPECT_EQ(sampleBilinear(ramp, 0.375, 0.5).b, 0);
+}
+
+}  // namespace
+}  // namespace atmoglobe::globe
