@@ -1,0 +1,125 @@
+// Format detection from content, dispatch, default field choice, and the `info` descriptions.
+#include <atmoglobe/volume/RadarReader.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using namespace atmoglobe::volume;
+
+namespace {
+const std::string kData = std::string(ATMOGLOBE_SHARED_DATA_DIR);
+const std::string kKaSacr = kData + "/radar_cfradial/example_plot_ppi_single_sweep.nc";
+const std::string kMll = kData + "/radar_cfradial/MLL2217907250U.003.nc";
+const std::string kDow8 = kData + "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
+const std::string kAu40 = kData + "/radar_odim/40_20181220_060630.pvol.h5";
+const std::string kBewid = kData + "/radar_odim/bewid.pvol.hdf";
+const std::string kNexrad = kData + "/radar_nexrad/KLBB20160601_150025_V06";
+
+std::string tempDir() {
+  const auto d = std::filesystem::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "radar_reader";
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+}  // namespace
+
+TEST(RadarReaderDetect, RealFilesByContent) {
+  for (const auto& [path, want] : {std::pair{kKaSacr, RadarFormat::CfRadial}, {kMll, RadarFormat::CfRadial},
+                                   {kDow8, RadarFormat::CfRadial}, {kAu40, RadarFormat::OdimH5},
+                                   {kBewid, RadarFormat::OdimH5}, {kNexrad, RadarFormat::NexradLevel2}}) {
+    auto f = detectRadarFormat(path);
+    ASSERT_TRUE(f.ok()) << f.error();
+    EXPECT_EQ(*f, want) << path;
+  }
+}
+
+TEST(RadarReaderDetect, NameIsIgnored) {
+  // An ODIM file renamed .nc is still ODIM; a CfRadial file renamed .h5 is still CfRadial.
+  const std::string odimAsNc = tempDir() + "/odim_named.nc";
+  const std::string cfAsH5 = tempDir() + "/cfradial_named.h5";
+  std::filesystem::copy_file(kBewid, odimAsNc, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kMll, cfAsH5, std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(detectRadarFormat(odimAsNc).value(), RadarFormat::OdimH5);
+  EXPECT_EQ(detectRadarFormat(cfAsH5).value(), RadarFormat::CfRadial);
+  ReadOptions o;
+  o.loadValues = false;
+  auto v = readRadarVolume(odimAsNc, o);
+  ASSERT_TRUE(v.ok()) << v.error();
+  EXPECT_EQ(v->format, "ODIM_H5");
+  EXPECT_EQ(v->sweeps.size(), 11u);
+}
+
+TEST(RadarReaderDetect, MissingFileIsAnError) {
+  const std::string p = tempDir() + "/does_not_exist.h5";
+  auto f = detectRadarFormat(p);
+  ASSERT_FALSE(f.ok());
+  EXPECT_NE(f.error().find(p), std::string::npos);
+}
+
+TEST(RadarReaderDispatch, ReadsEachCfRadialAndOdimFile) {
+  for (const std::string& p : {kKaSacr, kMll, kDow8, kAu40, kBewid}) {
+    auto v = readRadarVolume(p, ReadOptions{});
+    ASSERT_TRUE(v.ok()) << v.error();
+    EXPECT_EQ(v->sourcePath, p);
+    EXPECT_FALSE(v->loadedField.name.empty()) << p;
+    for (std::size_t i = 1; i < v->sweeps.size(); ++i)
+      EXPECT_LE(v->sweeps[i - 1].fixedAngleDeg, v->sweeps[i].fixedAngleDeg) << p;  // sorted by angle
+  }
+}
+
+TEST(RadarReaderDefaultField, PrefersReflectivity) {
+  EXPECT_EQ(chooseDefaultField({{"VRADH", ""}, {"DBZH", ""}}), "DBZH");
+  EXPECT_EQ(chooseDefaultField({{"velocity", ""}, {"reflectivity_at_cor", ""}}), "reflectivity_at_cor");
+  EXPECT_EQ(chooseDefaultField({{"VEL", ""}, {"DBZHC", ""}}), "DBZHC");
+  EXPECT_EQ(chooseDefaultField({{"VEL", ""}, {"WIDTH", ""}}), "VEL");
+  EXPECT_EQ(chooseDefaultField({}), "");
+}
+
+TEST(RadarReaderTime, NormalizeIso8601) {
+  EXPECT_EQ(normalizeIso8601("2021-10-11 20:17:33.023"), "2021-10-11T20:17:33Z");
+  EXPECT_EQ(normalizeIso8601("2020-03-12T00:30:09Z"), "2020-03-12T00:30:09Z");
+  EXPECT_EQ(normalizeIso8601("2020-03-12"), "");
+  EXPECT_EQ(normalizeIso8601("garbage that is long enough"), "");
+}
+
+TEST(RadarReaderDescribe, JsonHasTheInfoFields) {
+  ReadOptions o;
+  o.loadValues = false;
+  auto v = readRadarVolume(kBewid, o);
+  ASSERT_TRUE(v.ok()) << v.error();
+  const auto j = nlohmann::json::parse(describeVolumeJson(*v));
+  EXPECT_EQ(j.at("format"), "ODIM_H5");
+  EXPECT_DOUBLE_EQ(j.at("site").at("lat_deg").get<double>(), 49.9143);
+  EXPECT_DOUBLE_EQ(j.at("site").at("lon_deg").get<double>(), 5.5056);
+  EXPECT_DOUBLE_EQ(j.at("site").at("height_m").get<double>(), 590.0);
+  EXPECT_EQ(j.at("site").at("height_datum"), "msl");
+  EXPECT_EQ(j.at("time"), "2019-06-06T00:00:16Z");
+  ASSERT_EQ(j.at("sweeps").size(), 11u);
+  EXPECT_DOUBLE_EQ(j.at("sweeps")[6].at("fixed_angle_deg").get<double>(), 4.8);
+  EXPECT_EQ(j.at("sweeps")[6].at("gates").get<int>(), 500);
+  EXPECT_EQ(j.at("sweeps")[6].at("rays").get<int>(), 360);
+  EXPECT_DOUBLE_EQ(j.at("sweeps")[6].at("first_gate_m").get<double>(), 125.0);
+  EXPECT_DOUBLE_EQ(j.at("sweeps")[6].at("gate_spacing_m").get<double>(), 250.0);
+  EXPECT_EQ(j.at("sweeps")[6].at("mode"), "PPI");
+  ASSERT_EQ(j.at("fields").size(), 1u);
+  EXPECT_EQ(j.at("fields")[0].at("name"), "DBZH");
+  EXPECT_EQ(j.at("fields")[0].at("units"), "dBZ");
+}
+
+TEST(RadarReaderDescribe, TextNamesRhiAndUnits) {
+  ReadOptions o;
+  o.loadValues = false;
+  auto v = readRadarVolume(kDow8, o);
+  ASSERT_TRUE(v.ok()) << v.error();
+  const std::string t = describeVolumeText(*v);
+  EXPECT_NE(t.find("CfRadial"), std::string::npos) << t;
+  EXPECT_NE(t.find("RHI"), std::string::npos) << t;
+  EXPECT_NE(t.find("DBZHC [dBZ]"), std::string::npos) << t;
+  EXPECT_NE(t.find("2021-10-11T20:17:33Z"), std::string::npos) << t;
+  const auto j = nlohmann::json::parse(describeVolumeJson(*v));
+  EXPECT_EQ(j.at("sweeps")[0].at("mode"), "RHI");
+  EXPECT_EQ(j.at("sweeps")[0].at("fixed_angle_kind"), "azimuth");
+}
