@@ -8,6 +8,7 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -35,6 +36,10 @@ int runRender(const RenderOptions& o) {
   engine::SceneFrameStats stats;
   auto image = (*renderer)->renderToImage(camera, scene->markers, **target, 64, &stats);
   if (!image) return fail("render", image.error());
+  const std::filesystem::path parent = std::filesystem::path(o.output).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (ec) return fail("render", parent.string() + ": cannot create directory: " + ec.message());
   if (auto s = globe::writePng(o.output, *image); !s) return fail("render", s.error());
   if (o.stats) {
     std::cerr << "renderer: " << (*context)->describe() << "\n"

@@ -45,9 +45,10 @@ class GlobeRendererGL {
   bool lastFrameComplete() const { return lastFrameComplete_; }
   globe::TileImageLoader& loader() { return *loader_; }
 
+  struct MeshGL;     ///< GPU mesh of one tile (private to the .cpp)
+  struct TextureGL;  ///< GPU imagery of one tile (private to the .cpp)
+
  private:
-  struct MeshGL;
-  struct TextureGL;
   GlobeRendererGL() = default;
   const TextureGL* findTexture(const globe::TileId& imageryTile, double priority, GlobeFrameStats& stats,
                                bool* pending);
