@@ -12,10 +12,21 @@ namespace {
 const glm::dvec3 kRadii(kWgs84A, kWgs84A, kWgs84B);
 
 /// Angle (rad) between two non-zero vectors; atan2 keeps it accurate for tiny angles.
-double angleBetween(const glm::dvec3& u, const glm::dvec3& v) {
-  return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+/// Squared chord between two unit vectors: increases with the angle between them, which is
+/// 2 asin(chord / 2) (accurate for tiny angles, unlike acos of a dot product).
+double chordSq(const glm::dvec3& u, const glm::dvec3& v) {
+  const glm::dvec3 d = u - v;
+  return glm::dot(d, d);
 }
+double angleFromChordSq(double c2) { return 2.0 * std::asin(std::min(1.0, 0.5 * std::sqrt(c2))); }
 }  // namespace
+
+glm::dvec3 ecefFromSinCos(double sinLat, double cosLat, double sinLon, double cosLon, double heightMeters) {
+  constexpr double e2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
+  const double n = kWgs84A / std::sqrt(1.0 - e2 * sinLat * sinLat);
+  const double r = (n + heightMeters) * cosLat;
+  return {r * cosLon, r * sinLon, (n * (1.0 - e2) + heightMeters) * sinLat};
+}
 
 glm::dvec3 ecefToScaledSpace(const glm::dvec3& ecef) { return ecef / kRadii; }
 glm::dvec3 scaledSpaceToEcef(const glm::dvec3& scaled) { return scaled * kRadii; }
@@ -52,33 +63,41 @@ std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightM
   const double northDeg = std::min(r.northDeg + 0.5 * stepDeg, 90.0);
   const double latStepDeg = (northDeg - southDeg) / kSamples;
 
-  auto direction = [&](double latDeg, double lonDeg) {
-    return glm::normalize(ecefToScaledSpace(geodeticToEcef({latDeg, lonDeg, topHeight})));
+  // Sines and cosines of the sample rows/columns (k even) and of the cell centres (k odd).
+  constexpr double kDegToRad = M_PI / 180.0;
+  double sinLat[2 * kSamples + 1], cosLat[2 * kSamples + 1], sinLon[2 * kSamples + 1], cosLon[2 * kSamples + 1];
+  for (int k = 0; k <= 2 * kSamples; ++k) {
+    const double lat = (northDeg - 0.5 * latStepDeg * k) * kDegToRad, lon = (r.westDeg + 0.5 * stepDeg * k) * kDegToRad;
+    sinLat[k] = std::sin(lat), cosLat[k] = std::cos(lat), sinLon[k] = std::sin(lon), cosLon[k] = std::cos(lon);
+  }
+  auto direction = [&](int j2, int i2) {  // half-step indices
+    return glm::normalize(ecefToScaledSpace(ecefFromSinCos(sinLat[j2], cosLat[j2], sinLon[i2], cosLon[i2], topHeight)));
   };
   glm::dvec3 dirs[kSamples + 1][kSamples + 1];
   for (int j = 0; j <= kSamples; ++j) {
-    for (int i = 0; i <= kSamples; ++i) dirs[j][i] = direction(northDeg - latStepDeg * j, r.westDeg + stepDeg * i);
+    for (int i = 0; i <= kSamples; ++i) dirs[j][i] = direction(2 * j, 2 * i);
   }
   // rho: how far (angle) any sample cell's corners are from that cell's centre direction.
-  double rho = 0.0;
+  double rhoChordSq = 0.0;
   for (int j = 0; j < kSamples; ++j) {
     for (int i = 0; i < kSamples; ++i) {
-      const glm::dvec3 centre = direction(northDeg - latStepDeg * (j + 0.5), r.westDeg + stepDeg * (i + 0.5));
-      for (int k = 0; k < 4; ++k) rho = std::max(rho, angleBetween(centre, dirs[j + (k >> 1)][i + (k & 1)]));
+      const glm::dvec3 centre = direction(2 * j + 1, 2 * i + 1);
+      for (int k = 0; k < 4; ++k) rhoChordSq = std::max(rhoChordSq, chordSq(centre, dirs[j + (k >> 1)][i + (k & 1)]));
     }
   }
+  const double rho = angleFromChordSq(rhoChordSq);
   constexpr double kHalfPi = 1.5707963267948966;
   if (rho >= kHalfPi) return std::nullopt;
   // Every point of the tile surface at topHeight has scaled radius <= 1 + topHeight/b.
   const double sampleRadius = (1.0 + topHeight / kWgs84B) / std::cos(rho);
   const double horizonAngle = std::acos(1.0 / sampleRadius);  // angular radius of C(sample)
 
-  const glm::dvec3 d = direction(0.5 * (r.northDeg + r.southDeg), 0.5 * (r.westDeg + r.eastDeg));
-  double maxAngle = 0.0;
+  const glm::dvec3 d = direction(kSamples, kSamples);  // the middle of the (padded) grid
+  double maxChordSq = 0.0;
   for (auto& row : dirs) {
-    for (const glm::dvec3& s : row) maxAngle = std::max(maxAngle, angleBetween(s, d));
+    for (const glm::dvec3& s : row) maxChordSq = std::max(maxChordSq, chordSq(s, d));
   }
-  const double total = maxAngle + horizonAngle;
+  const double total = angleFromChordSq(maxChordSq) + horizonAngle;
   // Keep well away from 90 degrees, where the point runs off to infinity.
   if (total >= kHalfPi - 1e-6) return std::nullopt;
   const double magnitude = 1.0 / std::cos(total);

@@ -16,22 +16,11 @@ constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  ///< first eccentricity squared
 constexpr double kMinDistanceMeters = 1e-3;
 
-/// Geodetic -> ECEF from precomputed sines/cosines (the textbook N(phi) formula, the same
-/// one GeographicLib's Forward uses); for the many samples of the bounding sphere.
-glm::dvec3 ecefFromTrig(double sinLat, double cosLat, double sinLon, double cosLon, double heightMeters) {
-  const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * sinLat * sinLat);
-  const double r = (n + heightMeters) * cosLat;
-  return {r * cosLon, r * sinLon, (n * (1.0 - kWgs84E2) + heightMeters) * sinLat};
-}
-
-double angleBetween(const glm::dvec3& u, const glm::dvec3& v) {
-  return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
-}
-
-/// Direction of the scaled-space image of the surface point (latDeg, lonDeg, 0).
-glm::dvec3 scaledDirection(double latDeg, double lonDeg) {
-  const double lat = latDeg * kDegToRad, lon = lonDeg * kDegToRad;
-  return glm::normalize(ecefToScaledSpace(ecefFromTrig(std::sin(lat), std::cos(lat), std::sin(lon), std::cos(lon), 0.0)));
+/// Squared chord between two unit vectors: increases with the angle between them, which is
+/// 2 asin(chord / 2) (accurate for tiny angles, unlike acos of a dot product).
+double chordSq(const glm::dvec3& u, const glm::dvec3& v) {
+  const glm::dvec3 d = u - v;
+  return glm::dot(d, d);
 }
 
 /// Longitude difference to - from folded into [0, 360).
@@ -47,22 +36,30 @@ double chordSagBoundMeters(const TileId& t, int segments) {
   assert(isValid(t) && segments >= 1);
   const GeoRectangle r = tileRectangle(t);
   const double stepDeg = (r.eastDeg - r.westDeg) / segments;
-  // Cells of one row are congruent (rotation about the axis): one cell per row suffices.
-  double rho = 0.0;
+  // Cells of one row are congruent (rotation about the axis): one cell per row suffices,
+  // the one between longitudes 0 and step.
+  const double sinStep = std::sin(stepDeg * kDegToRad), cosStep = std::cos(stepDeg * kDegToRad);
+  auto rowDirections = [&](int j, glm::dvec3& west, glm::dvec3& east) {
+    const double lat = (r.northDeg - stepDeg * j) * kDegToRad;
+    const double sinLat = std::sin(lat), cosLat = std::cos(lat);
+    west = glm::normalize(ecefToScaledSpace(ecefFromSinCos(sinLat, cosLat, 0.0, 1.0, 0.0)));
+    east = glm::normalize(ecefToScaledSpace(ecefFromSinCos(sinLat, cosLat, sinStep, cosStep, 0.0)));
+  };
+  double rhoChordSq = 0.0;  // squared chord 2 sin(rho/2) of the largest corner angle
+  glm::dvec3 nw, ne, sw, se;
+  rowDirections(0, nw, ne);
   for (int j = 0; j < segments; ++j) {
-    const double northDeg = r.northDeg - stepDeg * j;
-    const double southDeg = northDeg - stepDeg;
-    const glm::dvec3 corners[4] = {scaledDirection(northDeg, 0.0), scaledDirection(northDeg, stepDeg),
-                                   scaledDirection(southDeg, 0.0), scaledDirection(southDeg, stepDeg)};
-    const glm::dvec3 sum = corners[0] + corners[1] + corners[2] + corners[3];
+    rowDirections(j + 1, sw, se);
+    const glm::dvec3 sum = nw + ne + sw + se;
     if (glm::length(sum) < 1e-9) return kWgs84A;  // corners spread over a half-space
     const glm::dvec3 centre = glm::normalize(sum);
-    for (const glm::dvec3& c : corners) rho = std::max(rho, angleBetween(centre, c));
+    for (const glm::dvec3& c : {nw, ne, sw, se}) rhoChordSq = std::max(rhoChordSq, chordSq(centre, c));
+    nw = sw;
+    ne = se;
   }
-  if (rho >= 0.5 * M_PI) return kWgs84A;
-  // 1 - cos(rho) = 2 sin^2(rho/2): no cancellation for tiny cells.
-  const double s = std::sin(0.5 * rho);
-  return kWgs84A * 2.0 * s * s;
+  if (rhoChordSq >= 2.0) return kWgs84A;  // rho >= 90 degrees
+  // a (1 - cos(rho)) = a 2 sin^2(rho/2) = a chord^2 / 2: no cancellation for tiny cells.
+  return kWgs84A * 0.5 * rhoChordSq;
 }
 
 double geometricErrorMeters(const TileId& t, const SelectionOptions& options) {
@@ -125,11 +122,20 @@ TileBounds computeTileBounds(const TileId& t, double minHeightMeters, double max
     sinLon[k] = std::sin(lon);
     cosLon[k] = std::cos(lon);
   }
+  // Per row and height: the distance from the axis and z (prime-vertical radius N(lat)).
+  double axial[2][kCells + 1], zs[2][kCells + 1];
+  const double heights[2] = {lowHeight, highHeight};
+  for (int j = 0; j <= kCells; ++j) {
+    const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * sinLat[j] * sinLat[j]);
+    for (int k = 0; k < 2; ++k) {
+      axial[k][j] = (n + heights[k]) * cosLat[j];
+      zs[k][j] = (n * (1.0 - kWgs84E2) + heights[k]) * sinLat[j];
+    }
+  }
   auto forEachSample = [&](auto&& f) {
-    for (int j = 0; j <= kCells; ++j) {
-      for (int i = 0; i <= kCells; ++i) {
-        f(ecefFromTrig(sinLat[j], cosLat[j], sinLon[i], cosLon[i], lowHeight));
-        f(ecefFromTrig(sinLat[j], cosLat[j], sinLon[i], cosLon[i], highHeight));
+    for (int k = 0; k < 2; ++k) {
+      for (int j = 0; j <= kCells; ++j) {
+        for (int i = 0; i <= kCells; ++i) f(glm::dvec3(axial[k][j] * cosLon[i], axial[k][j] * sinLon[i], zs[k][j]));
       }
     }
   };

@@ -28,6 +28,13 @@
 
 namespace atmoglobe::globe {
 
+/// Geodetic -> ECEF (m) from the sine and cosine of latitude and longitude and the height
+/// (m): the textbook prime-vertical-radius formula GeographicLib's Forward also uses. For
+/// loops over grids where the sines are computed once per row/column; it differs from
+/// geodeticToEcef only by the rounding of the caller's sines (at 90 deg, cos(pi/2) in
+/// radians is 6e-17, not 0: a 4e-10 m offset).
+glm::dvec3 ecefFromSinCos(double sinLat, double cosLat, double sinLon, double cosLon, double heightMeters);
+
 /// ECEF (m) -> scaled space (ECEF divided by (a, a, b); dimensionless).
 glm::dvec3 ecefToScaledSpace(const glm::dvec3& ecef);
 /// Scaled space -> ECEF (m).

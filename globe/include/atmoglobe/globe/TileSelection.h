@@ -40,7 +40,7 @@ struct TileBounds {
 /// to the centre is convex along each normal, so its maximum over heights is at an end),
 /// plus the longest path from any point of a sample cell to its nearest corner (half a
 /// meridian step plus half a parallel step, at radius a^2/b + maxHeight). The margin is
-/// 2-4 % of the radius for small tiles.
+/// about 9 % of the radius (it is first order in the 1/32 sample step).
 TileBounds computeTileBounds(const TileId& t, double minHeightMeters = -500.0, double maxHeightMeters = 100.0);
 /// The same, for a mesh built with `meshSegments` segments (its skirts hang
 /// skirtDepthMeters(t, meshSegments) below the surface).
@@ -95,8 +95,8 @@ double geometricErrorMeters(const TileId& t, const SelectionOptions& options);
 /// cell lie within angle rho of the cell's centre direction, so every point of their
 /// convex hull lies at radius >= cos(rho); scaling back stretches lengths by at most a,
 /// so the gap is <= a (1 - cos(rho)), rho maximised over the cells of the tile (the ones
-/// nearest the equator). a when rho >= 90 degrees. Measured: the true sag is 85-100 % of
-/// this bound for 16 segments.
+/// nearest the equator). a when rho >= 90 degrees. Measured (TileMeshTest): the vertices of
+/// the four children come within 98-100 % of this bound, 16 segments, levels 0 to 18.
 double chordSagBoundMeters(const TileId& t, int segments);
 
 }  // namespace atmoglobe::globe
