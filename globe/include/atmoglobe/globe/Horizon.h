@@ -61,9 +61,10 @@ bool isOccludedByEllipsoid(const glm::dvec3& eyeEcef, const glm::dvec3& pointEce
 /// cell's centre direction and its corners; that puts the convex hull of the samples
 /// radially outside the whole tile surface up to maxHeight. Then m = 1 / cos(max angle to
 /// the tile's centre direction + acos(1/F)). Points below the ellipsoid are always hidden,
-/// so minHeightMeters only matters through maxHeight < 0 (treated as 0). Conservative: the
-/// point lies a little higher than the tightest one (F - 1 is about rho^2/2: ~1e-4 at
-/// level 6, 15 m equivalent height at level 10).
+/// so minHeightMeters only matters through maxHeight < 0 (treated as 0). Conservative, and
+/// measured for heights 0: the point is ~1.46x as high above the tile as a point whose
+/// horizon just reaches the tile's corners (19 m vs 13 m at level 10, 1.2 m vs 0.8 m at
+/// level 12). Cost ~4 us.
 std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightMeters, double maxHeightMeters);
 
 }  // namespace atmoglobe::globe
