@@ -1,11 +1,190 @@
-// PLACEHOLDER: replaced by the real `gates` subcommand.
+// `atmoglobe gates FILE [--field NAME] [--sweep K] [--model exact|fast] [--ke X] [--no-geoid]
+//  [-o FILE.csv]`: one CSV row per gate with its WGS84 position, for users' own accuracy checks.
 #include "Commands.h"
 
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/RadarReader.h>
+
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+
 namespace atmoglobe::tools {
+
+namespace {
+
+struct GatesOptions {
+  std::string file;
+  std::string field;
+  std::optional<int> sweep;
+  std::string model = "exact";
+  double ke = 4.0 / 3.0;
+  std::optional<double> earthRadiusMeters;
+  bool noGeoid = false;
+  std::string output;
+};
+
+// Appends a number in fixed notation with `decimals` digits (locale-independent).
+void appendFixed(std::string& line, double v, int decimals) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  line.append(buf, r.ptr);
+}
+
+void appendValue(std::string& line, float v) {
+  if (volume::isNoData(v)) return;                    // empty: no data
+  if (volume::isNoEcho(v)) { line += "-inf"; return; }  // measured, nothing detected
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
+  line.append(buf, r.ptr);
+}
+
+int runGates(const GatesOptions& o) {
+  const char* cmd = "gates";
+  volume::BeamModel model;
+  model.ke = o.ke;
+  model.earthRadiusMeters = o.earthRadiusMeters;
+  if (Status s = volume::validateBeamModel(model, "--ke/--earth-radius"); !s) return fail(cmd, s.error());
+
+  volume::ReadOptions ro;
+  ro.fieldName = o.field;
+  Result<volume::RadarVolume> vol = volume::readRadarVolume(o.file, ro);
+  if (!vol) return fail(cmd, vol.error());
+  if (o.sweep && (*o.sweep < 0 || static_cast<std::size_t>(*o.sweep) >= vol->sweeps.size())) {
+    return fail(cmd, o.file + ": --sweep " + std::to_string(*o.sweep) + " out of range (the volume has " +
+                         std::to_string(vol->sweeps.size()) + " sweeps with field " + vol->loadedField.name + ")");
+  }
+  Result<volume::SiteResolution> site = volume::resolveSite(vol->site, !o.noGeoid);
+  if (!site) return fail(cmd, o.file + ": " + site.error());
+  char latLon[96];
+  std::snprintf(latLon, sizeof latLon, "%.6f, %.6f", site->site.latDeg, site->site.lonDeg);
+  std::cerr << "atmoglobe gates: " << o.file << ": site " << latLon << "; "
+            << site->datumNote << "; heights in the CSV are above the WGS84 ellipsoid; model " << o.model << ", ke "
+            << model.ke << ", R "
+            << (model.earthRadiusMeters ? std::to_string(*model.earthRadiusMeters) + " m"
+                                        : "WGS84 geocentric radius at the site")
+            << "; field " << vol->loadedField.name << (vol->loadedField.units.empty() ? "" : " [" + vol->loadedField.units + "]")
+            << "\n";
+
+  // Output: stdout, or a temporary file renamed into place once complete.
+  std::FILE* out = stdout;
+  std::string tmp;
+  if (!o.output.empty() && o.output != "-") {
+    tmp = o.output + ".tmp" + std::to_string(::getpid());
+    out = std::fopen(tmp.c_str(), "wb");
+    if (!out) return fail(cmd, o.output + ": cannot create output file");
+  }
+  auto abandon = [&](const std::string& message) {
+    if (out != stdout) {
+      std::fclose(out);
+      std::remove(tmp.c_str());
+    }
+    return fail(cmd, message);
+  };
+
+  std::string line;
+  line.reserve(1 << 16);
+  line += "sweep,ray,gate,azimuth_deg,elevation_deg,range_m,lat_deg,lon_deg,height_m,ecef_x,ecef_y,ecef_z,value\n";
+  std::vector<glm::dvec3> fast;
+  for (std::size_t k = 0; k < vol->sweeps.size(); ++k) {
+    if (o.sweep && static_cast<std::size_t>(*o.sweep) != k) continue;
+    const volume::Sweep& sw = vol->sweeps[k];
+    const bool useFast = o.model == "fast";
+    if (useFast) volume::geolocateSweepFast(site->site, model, sw, &fast);
+    for (std::size_t i = 0; i < sw.rayCount(); ++i) {
+      for (std::uint32_t g = 0; g < sw.gateCount; ++g) {
+        const double range = sw.gateRangeMeters(g);
+        volume::GatePosition p;
+        if (useFast) {
+          p.ecef = fast[i * sw.gateCount + g];
+          const globe::Geodetic geo = globe::ecefToGeodetic(p.ecef);
+          p.latDeg = geo.latDeg, p.lonDeg = geo.lonDeg, p.heightMeters = geo.heightMeters;
+        } else {
+          p = volume::geolocateGateExact(site->site, model, sw.azimuthDeg[i], sw.elevationDeg[i], range);
+        }
+        line += std::to_string(k);
+        line += ',';
+        line += std::to_string(i);
+        line += ',';
+        line += std::to_string(g);
+        line += ',';
+        appendFixed(line, sw.azimuthDeg[i], 4);
+        line += ',';
+        appendFixed(line, sw.elevationDeg[i], 4);
+        line += ',';
+        appendFixed(line, range, 3);
+        line += ',';
+        appendFixed(line, p.latDeg, 9);  // 1e-9 deg ~ 0.1 mm
+        line += ',';
+        appendFixed(line, p.lonDeg, 9);
+        line += ',';
+        appendFixed(line, p.heightMeters, 4);
+        for (int c = 0; c < 3; ++c) {
+          line += ',';
+          appendFixed(line, p.ecef[c], 4);
+        }
+        line += ',';
+        if (!sw.values.empty()) appendValue(line, sw.value(i, g));
+        line += '\n';
+        if (line.size() > (1 << 16) - 512) {
+          if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) return abandon(o.output + ": write error");
+          line.clear();
+        }
+      }
+    }
+  }
+  if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) return abandon(o.output + ": write error");
+  if (out == stdout) {
+    std::fflush(out);
+    return 0;
+  }
+  if (std::fclose(out) != 0) {
+    std::remove(tmp.c_str());
+    return fail(cmd, o.output + ": write error");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, o.output, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    return fail(cmd, o.output + ": cannot rename the finished file into place: " + ec.message());
+  }
+  return 0;
+}
+
+}  // namespace
+
 Command addGatesCommand(CLI::App& root) {
+  auto o = std::make_shared<GatesOptions>();
   Command c;
-  c.app = root.add_subcommand("gates", "(not implemented yet)");
-  c.run = [] { return fail("gates", "not implemented yet"); };
+  c.app = root.add_subcommand(
+      "gates",
+      "One CSV row per gate with its WGS84 position.\n"
+      "Columns: sweep,ray,gate,azimuth_deg,elevation_deg,range_m,lat_deg,lon_deg,height_m,ecef_x,ecef_y,ecef_z,value\n"
+      "  sweep: index in the volume's sweep list (sorted by fixed angle, as `atmoglobe info` lists them);\n"
+      "  range_m: slant range of the gate centre; height_m: above the WGS84 ellipsoid; ecef_*: metres.\n"
+      "  value: the field in its units; EMPTY where there is no data (not measured, range folded);\n"
+      "  the token -inf where the gate was measured but nothing was detected (below threshold).\n"
+      "Model: effective Earth radius ke*R (Doviak & Zrnic 2.28), WGS84 geodesic from the site; the antenna\n"
+      "height above mean sea level is converted with the EGM96 geoid (see stderr) unless --no-geoid.");
+  c.app->add_option("file", o->file, "radar file (CfRadial, ODIM_H5, NEXRAD Level II)")->required();
+  c.app->add_option("--field", o->field, "field to write (default: reflectivity)");
+  c.app->add_option("--sweep", o->sweep, "only sweep K (0-based, as listed by `atmoglobe info`)");
+  c.app->add_option("--model", o->model, "exact: one geodesic per gate; fast: per-ray Chebyshev series (<= 1 cm)")
+      ->check(CLI::IsMember({"exact", "fast"}));
+  c.app->add_option("--ke", o->ke, "effective Earth radius factor (default 4/3; 1 = no refraction)");
+  c.app->add_option("--earth-radius", o->earthRadiusMeters,
+                    "Earth radius R in metres (default: WGS84 geocentric radius at the site latitude)");
+  c.app->add_flag("--no-geoid", o->noGeoid, "use the file's antenna height as ellipsoidal height (no EGM96 conversion)");
+  c.app->add_option("-o,--output", o->output, "CSV file to write (default: standard output)");
+  c.run = [o] { return runGates(*o); };
   return c;
 }
+
 }  // namespace atmoglobe::tools
