@@ -10,6 +10,7 @@ PKGS=(
   libegl-mesa0 libgl1-mesa-dri libbz2-dev
   libcli11-dev
   proj-data proj-bin xplanet-images xvfb xauth
+  opencollada-tools libxml2-utils nodejs unzip
 )
 
 missing=()
