@@ -116,7 +116,11 @@ std::string readTimeText(const NetcdfFile& f) {
 Result<RadarVolume> readCfRadial(const std::string& path, const ReadOptions& options) {
   auto opened = NetcdfFile::open(path);
   if (!opened) return makeError(opened.error());
-  const NetcdfFile& f = *opened;
+  return readCfRadial(*opened, options);
+}
+
+Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options) {
+  const std::string& path = f.path();
   const int root = f.root();
 
   // --- dimensions ---

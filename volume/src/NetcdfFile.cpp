@@ -45,7 +45,11 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   if (ec) return makeError(path + ": cannot read file: " + ec.message());
   int ncid = -1;
   const int st = nc_open(path.c_str(), NC_NOWRITE, &ncid);
-  if (st != NC_NOERR) return makeError(path + ": cannot open as netCDF/HDF5: " + ncError(st));
+  if (st != NC_NOERR) {
+    const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
+    return makeError(path + ": cannot open as netCDF/HDF5: " + ncError(st) +
+                     (corrupt ? " (the file may be truncated or corrupt)" : ""));
+  }
   int mode = 0;
   int formatx = 0;
   bool hdf5 = false;

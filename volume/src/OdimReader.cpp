@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 
@@ -45,13 +46,19 @@ std::optional<double> optionalDouble(const NetcdfFile& f, const GroupChain& chai
   return *v;
 }
 
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
 /// A count attribute (nbins, nrays): an integer in [1, maxValue].
 Result<std::size_t> requiredCount(const NetcdfFile& f, const GroupChain& chain, const std::string& name,
                                   const std::string& where, double maxValue) {
   auto v = requiredDouble(f, chain, name, where);
   if (!v) return makeError(v.error());
   if (*v < 1.0 || *v > maxValue || std::floor(*v) != *v)
-    return makeError(f.message(where + ": attribute '" + name + "' = " + std::to_string(*v) +
+    return makeError(f.message(where + ": attribute '" + name + "' = " + formatNumber(*v) +
                                " is not a count in [1, " + std::to_string(static_cast<long long>(maxValue)) + "]"));
   return static_cast<std::size_t>(*v);
 }
@@ -120,8 +127,22 @@ struct DataGroup {
   int groupId = -1;   ///< dataM
   int whatId = -1;    ///< dataM/what
   std::string quantity;
-  NcVar var;          ///< dataM/data
+  std::string path;   ///< "/datasetN/dataM" for messages
 };
+
+/// dataM/data, checked to be a numeric array shaped (nrays, nbins) as /datasetN/where says.
+Result<NcVar> dataArray(const NetcdfFile& f, const DataGroup& dg, const Sweep& sw, const std::string& datasetPath) {
+  auto var = f.variable(dg.groupId, "data");
+  if (!var) return makeError(var.error());
+  if (var->shape.size() != 2 || var->shape[0] != sw.rayCount() || var->shape[1] != sw.gateCount) {
+    std::string shape;
+    for (std::size_t d : var->shape) shape += (shape.empty() ? "" : " x ") + std::to_string(d);
+    return makeError(f.message("'" + var->name + "' is " + shape + " but " + datasetPath + "/where says nrays = " +
+                               std::to_string(sw.rayCount()) + ", nbins = " + std::to_string(sw.gateCount)));
+  }
+  if (!ncTypeIsNumeric(var->type)) return makeError(f.message("'" + var->name + "' is not numeric"));
+  return var;
+}
 
 }  // namespace
 
@@ -141,7 +162,11 @@ std::string odimQuantityUnits(const std::string& q) {
 Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& options) {
   auto opened = NetcdfFile::open(path);
   if (!opened) return makeError(opened.error());
-  const NetcdfFile& f = *opened;
+  return readOdimH5(*opened, options);
+}
+
+Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) {
+  const std::string& path = f.path();
   const int root = f.root();
 
   const int rootWhat = childOr(f, root, "what");
@@ -264,16 +289,7 @@ Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& optio
       auto q = f.attributeString(*qg, NC_GLOBAL, "quantity");
       if (!q) return makeError(q.error());
       dg.quantity = *q;
-      auto var = f.variable(dg.groupId, "data");
-      if (!var) return makeError(var.error());
-      if (var->shape.size() != 2 || var->shape[0] != nr || var->shape[1] != *nbins) {
-        std::string shape;
-        for (std::size_t d : var->shape) shape += (shape.empty() ? "" : " x ") + std::to_string(d);
-        return makeError(f.message("'" + var->name + "' is " + shape + " but " + where + "/where says nrays = " +
-                                   std::to_string(nr) + ", nbins = " + std::to_string(*nbins)));
-      }
-      if (!ncTypeIsNumeric(var->type)) return makeError(f.message("'" + var->name + "' is not numeric"));
-      dg.var = std::move(*var);
+      dg.path = where + "/" + dataName;
       if (std::none_of(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == dg.quantity; }))
         vol.fields.push_back(FieldInfo{dg.quantity, odimQuantityUnits(dg.quantity)});
       groups.push_back(std::move(dg));
@@ -291,33 +307,36 @@ Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& optio
       return makeError(f.message("no quantity '" + wanted + "' (quantities: " + names + ")"));
     }
     vol.loadedField = *it;
-    if (options.loadValues) {
-      for (std::size_t s = 0; s < vol.sweeps.size(); ++s) {
-        Sweep& sw = vol.sweeps[s];
-        const std::size_t n = sw.rayCount() * sw.gateCount;
-        const auto dg = std::find_if(dataBySweep[s].begin(), dataBySweep[s].end(),
-                                     [&](const DataGroup& d) { return d.quantity == wanted; });
-        if (dg == dataBySweep[s].end()) {
-          sw.values.assign(n, kNoData);  // this sweep did not measure the quantity
-          continue;
-        }
-        if (auto ok = f.checkReadable(dg->var, n, ncTypeSize(dg->var.type)); !ok) return makeError(ok.error());
-        const int dsId = *f.findGroup(root, datasets[s].second);
-        const GroupChain chain{dg->whatId, childOr(f, dsId, "what"), rootWhat};
-        const double gain = optionalDouble(f, chain, "gain").value_or(1.0);
-        const double offset = optionalDouble(f, chain, "offset").value_or(0.0);
-        const auto nodata = optionalDouble(f, chain, "nodata");
-        const auto undetect = optionalDouble(f, chain, "undetect");
-        sw.values.resize(n);
-        Status st = visitNumericType(dg->var.type, [&](auto tag) -> Status {
-          using T = decltype(tag);
-          std::vector<T> raw(n);
-          if (auto r = f.readSlab<T>(dg->var, {0, 0}, {sw.rayCount(), sw.gateCount}, raw.data()); !r) return r;
-          decodeOdim(raw.data(), n, gain, offset, nodata, undetect, sw.values.data());
-          return Ok{};
-        });
-        if (!st) return makeError(st.error());
+    // The arrays of the chosen quantity are checked against the sweep geometry even for a
+    // metadata-only read (cheap: no data is read); the others are never touched.
+    for (std::size_t s = 0; s < vol.sweeps.size(); ++s) {
+      Sweep& sw = vol.sweeps[s];
+      const std::size_t n = sw.rayCount() * sw.gateCount;
+      const auto dg = std::find_if(dataBySweep[s].begin(), dataBySweep[s].end(),
+                                   [&](const DataGroup& d) { return d.quantity == wanted; });
+      if (dg == dataBySweep[s].end()) {
+        if (options.loadValues) sw.values.assign(n, kNoData);  // this sweep did not measure the quantity
+        continue;
       }
+      auto var = dataArray(f, *dg, sw, "/" + datasets[s].second);
+      if (!var) return makeError(var.error());
+      if (!options.loadValues) continue;
+      if (auto ok = f.checkReadable(*var, n, ncTypeSize(var->type)); !ok) return makeError(ok.error());
+      const int dsId = *f.findGroup(root, datasets[s].second);
+      const GroupChain chain{dg->whatId, childOr(f, dsId, "what"), rootWhat};
+      const double gain = optionalDouble(f, chain, "gain").value_or(1.0);
+      const double offset = optionalDouble(f, chain, "offset").value_or(0.0);
+      const auto nodata = optionalDouble(f, chain, "nodata");
+      const auto undetect = optionalDouble(f, chain, "undetect");
+      sw.values.resize(n);
+      Status st = visitNumericType(var->type, [&](auto tag) -> Status {
+        using T = decltype(tag);
+        std::vector<T> raw(n);
+        if (auto r = f.readSlab<T>(*var, {0, 0}, {sw.rayCount(), sw.gateCount}, raw.data()); !r) return r;
+        decodeOdim(raw.data(), n, gain, offset, nodata, undetect, sw.values.data());
+        return Ok{};
+      });
+      if (!st) return makeError(st.error());
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no quantity '" + options.fieldName + "': the file holds no dataM groups"));

@@ -47,11 +47,8 @@ bool hasHdf5Signature(std::ifstream& in, std::uintmax_t size) {
 
 bool contains(const std::string& s, const char* what) { return s.find(what) != std::string::npos; }
 
-/// An HDF5/netCDF-4 file: ODIM or CfRadial from its attributes and variables.
-Result<RadarFormat> classifyHdf5(const std::string& path) {
-  auto opened = NetcdfFile::open(path);
-  if (!opened) return makeError(opened.error());
-  const NetcdfFile& f = *opened;
+/// An open HDF5/netCDF-4 file: ODIM or CfRadial from its attributes and variables.
+RadarFormat classifyHdf5(const NetcdfFile& f) {
   std::string conventions, version;
   if (f.hasAttribute(f.root(), NC_GLOBAL, "Conventions")) {
     if (auto c = f.attributeString(f.root(), NC_GLOBAL, "Conventions")) conventions = *c;
@@ -66,6 +63,26 @@ Result<RadarFormat> classifyHdf5(const std::string& path) {
   if (f.findVariable(f.root(), "sweep_start_ray_index")) return RadarFormat::CfRadial;
   if (auto what = f.findGroup(f.root(), "what"); what && f.hasAttribute(*what, NC_GLOBAL, "object"))
     return RadarFormat::OdimH5;
+  return RadarFormat::Unknown;
+}
+
+/// What the first bytes say. HDF5 files need classifyHdf5() to tell ODIM from CfRadial;
+/// they come back as Unknown with *hdf5 = true.
+Result<RadarFormat> detectByMagic(const std::string& path, bool* hdf5) {
+  *hdf5 = false;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return makeError(path + ": no such file (or not a regular file)");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return makeError(path + ": cannot read file: " + ec.message());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path + ": cannot open file for reading");
+  std::array<unsigned char, 8> head{};
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  const auto n = static_cast<std::size_t>(in.gcount());
+  if (n >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' && (head[3] == 1 || head[3] == 2 || head[3] == 5))
+    return RadarFormat::CfRadial;
+  if (n >= 4 && head[0] == 'A' && head[1] == 'R' && head[2] == '2' && head[3] == 'V') return RadarFormat::NexradLevel2;
+  *hdf5 = hasHdf5Signature(in, size);
   return RadarFormat::Unknown;
 }
 
@@ -85,25 +102,30 @@ std::string firstBytesText(const std::string& path) {
 }  // namespace
 
 Result<RadarFormat> detectRadarFormat(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return makeError(path + ": no such file (or not a regular file)");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return makeError(path + ": cannot read file: " + ec.message());
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return makeError(path + ": cannot open file for reading");
-  std::array<unsigned char, 8> head{};
-  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
-  const auto n = static_cast<std::size_t>(in.gcount());
-  if (n >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' && (head[3] == 1 || head[3] == 2 || head[3] == 5))
-    return RadarFormat::CfRadial;
-  if (n >= 4 && head[0] == 'A' && head[1] == 'R' && head[2] == '2' && head[3] == 'V') return RadarFormat::NexradLevel2;
-  if (hasHdf5Signature(in, size)) return classifyHdf5(path);
-  return RadarFormat::Unknown;
+  bool hdf5 = false;
+  auto magic = detectByMagic(path, &hdf5);
+  if (!magic || !hdf5) return magic;
+  auto opened = NetcdfFile::open(path);
+  if (!opened) return makeError(opened.error());
+  return classifyHdf5(*opened);
 }
 
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options) {
-  auto format = detectRadarFormat(path);
+  bool hdf5 = false;
+  auto format = detectByMagic(path, &hdf5);
   if (!format) return makeError(format.error());
+  if (hdf5) {
+    // Opened once: classified and read through the same handle.
+    auto opened = NetcdfFile::open(path);
+    if (!opened) return makeError(opened.error());
+    switch (classifyHdf5(*opened)) {
+      case RadarFormat::CfRadial: return readCfRadial(*opened, options);
+      case RadarFormat::OdimH5: return readOdimH5(*opened, options);
+      default:
+        return makeError(path + ": an HDF5/netCDF-4 file that is neither ODIM_H5 (no Conventions \"ODIM_H5/...\" "
+                                "or /what:object) nor CfRadial (no CF/Radial Conventions or sweep_start_ray_index)");
+    }
+  }
   switch (*format) {
     case RadarFormat::CfRadial: return readCfRadial(path, options);
     case RadarFormat::OdimH5: return readOdimH5(path, options);
