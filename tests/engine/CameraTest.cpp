@@ -50,22 +50,23 @@ TEST(Camera, HeadingTurnsClockwiseFromNorth) {
   EXPECT_LT(q->x, 200.0);
 }
 
-TEST(Camera, PitchZeroIsHorizontalAndPositiveRollTurnsImageClockwise) {
+TEST(Camera, PitchZeroIsHorizontalAndPositiveRollBanksRight) {
   const CameraPose level{10.0, 20.0, 50.0, 0.0, 0.0, 0.0};
   const Camera c(level, 60.0, 400, 400);
   const glm::dmat3 enu = atmoglobe::globe::enuAxes(10.0, 20.0);
   EXPECT_NEAR(glm::dot(c.forwardEcef(), enu[2]), 0.0, 1e-12);  // horizontal
   EXPECT_NEAR(glm::dot(c.forwardEcef(), enu[1]), 1.0, 1e-12);  // north
   // A point up and ahead: with +30 deg roll the camera's right side goes down, so a
-  // point straight above the view centre appears up and to the RIGHT (clockwise).
+  // point straight above the view centre appears up and to the LEFT (content turns
+  // counter-clockwise by 30 deg).
   CameraPose rolled = level;
   rolled.rollDeg = 30.0;
   const Camera r(rolled, 60.0, 400, 400);
   const auto p = r.projectToPixel(r.eyeEcef() + 1000.0 * enu[1] + 200.0 * enu[2]);
   ASSERT_TRUE(p);
-  EXPECT_GT(p->x, 200.0);
+  EXPECT_LT(p->x, 200.0);
   EXPECT_LT(p->y, 200.0);
-  const double angle = std::atan2(p->x - 200.0, 200.0 - p->y) * 180.0 / M_PI;
+  const double angle = std::atan2(200.0 - p->x, 200.0 - p->y) * 180.0 / M_PI;
   EXPECT_NEAR(angle, 30.0, 1e-9);
 }
 

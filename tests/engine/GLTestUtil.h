@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-namespace atmoglobe::testing {
+namespace atmoglobe::testutil {
 
 /// The headless context, created on first use and kept for the whole run (GL tests in
 /// one executable run sequentially on the main thread).
@@ -64,4 +64,4 @@ inline glm::dvec3 blockMean(const globe::ImageRGBA8& image, int cx, int cy, int 
   return sum / static_cast<double>(n);
 }
 
-}  // namespace atmoglobe::testing
+}  // namespace atmoglobe::testutil

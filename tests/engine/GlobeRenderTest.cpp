@@ -22,8 +22,8 @@ using engine::CameraPose;
 class GlobeRender : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    testing::glContext();
-    auto source = globe::decodeImageFile(testing::kWorldImage);
+    testutil::glContext();
+    auto source = globe::decodeImageFile(testutil::kWorldImage);
     ASSERT_TRUE(source) << source.error();
     source_ = new globe::ImageRGBA8(std::move(*source));
   }
@@ -33,7 +33,7 @@ class GlobeRender : public ::testing::Test {
   }
 
   void SetUp() override {
-    auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testing::worldPyramidDir()}}, {});
+    auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
     ASSERT_TRUE(loader) << loader.error();
     auto r = engine::SceneRendererGL::create(*loader);
     ASSERT_TRUE(r) << r.error();
@@ -86,7 +86,7 @@ TEST_F(GlobeRender, StraightDownShowsTheSourceColourOfThePlace) {
                           {"Antarctic ice", -80.0, 60.0}};
   for (const Place& p : places) {
     const globe::ImageRGBA8 img = render(CameraPose{p.lat, p.lon, 5e5, 0.0, -90.0, 0.0}, 128, 128);
-    const glm::dvec3 got = testing::blockMean(img, 64, 64, 4);
+    const glm::dvec3 got = testutil::blockMean(img, 64, 64, 4);
     const double halfLatDeg = 4.5 * (5e5 * std::tan(15.0 * M_PI / 180.0) / 64.0) / 111320.0;
     const double halfLonDeg = halfLatDeg / std::cos(p.lat * M_PI / 180.0);
     const glm::dvec3 want = sourceMean(p.lat - halfLatDeg, p.lat + halfLatDeg, p.lon - halfLonDeg, p.lon + halfLonDeg);
@@ -112,7 +112,7 @@ TEST_F(GlobeRender, PolesAreCoveredWithoutHole) {
       }
     }
     EXPECT_EQ(black, 0) << "pole " << lat;
-    const glm::dvec3 centre = testing::blockMean(img, 48, 48, 2);
+    const glm::dvec3 centre = testutil::blockMean(img, 48, 48, 2);
     const glm::dvec3 want = sourceMean(lat > 0 ? 89.5 : -90.0, lat > 0 ? 90.0 : -89.5, -180.0, 180.0);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], want[c], 12.0) << "pole " << lat;
   }
@@ -128,7 +128,7 @@ TEST_F(GlobeRender, AntimeridianIsSeamless) {
     const auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), camera.pixelRayDirection(x + 0.5, 32.5));
     ASSERT_TRUE(hit);
     const globe::Geodetic g = globe::ecefToGeodetic(*hit);
-    const glm::dvec3 got = testing::blockMean(img, x, 32, 1);
+    const glm::dvec3 got = testutil::blockMean(img, x, 32, 1);
     const double d = 0.15;  // ~1.5 image pixels of ground
     const glm::dvec3 want = sourceMean(g.latDeg - d, g.latDeg + d, g.lonDeg - d, g.lonDeg + d);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 12.0) << "column " << x << " lon " << g.lonDeg;

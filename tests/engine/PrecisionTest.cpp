@@ -29,7 +29,7 @@ constexpr int kSize = 256;
 class Precision : public ::testing::Test {
  protected:
   void SetUp() override {
-    testing::glContext();
+    testutil::glContext();
     auto fb = engine::FramebufferGL::create(kSize, kSize);
     ASSERT_TRUE(fb) << fb.error();
     fb_ = std::move(*fb);
@@ -107,7 +107,9 @@ TEST_F(Precision, PointLandsOnPredictedPixelAtPolesAntimeridianAndHeights) {
     const glm::dvec2 measured = renderCentroid(camera, m);
     EXPECT_NEAR(measured.x, predicted->x, 0.5) << c.name << " at " << c.heightMeters << " m";
     EXPECT_NEAR(measured.y, predicted->y, 0.5) << c.name << " at " << c.heightMeters << " m";
-    if (c.heightMeters <= 1e7) EXPECT_GT(glm::length(*predicted - glm::dvec2(kSize / 2.0)), 20.0);
+    if (c.heightMeters <= 1e7) {
+      EXPECT_GT(glm::length(*predicted - glm::dvec2(kSize / 2.0)), 20.0);
+    }
   }
 }
 
@@ -131,7 +133,9 @@ TEST_F(Precision, OneMillimetreCameraMoveGivesThePredictedSubPixelShift) {
       const glm::dvec2 measuredShift = renderCentroid(b, m) - renderCentroid(a, m);
       EXPECT_NEAR(measuredShift.x, predictedShift.x, 0.01) << "height " << height << " lat " << lat;
       EXPECT_NEAR(measuredShift.y, predictedShift.y, 0.01) << "height " << height << " lat " << lat;
-      if (height == 10.0) EXPECT_GT(std::abs(predictedShift.x) + std::abs(predictedShift.y), 0.015);
+      if (height == 10.0) {
+        EXPECT_GT(std::abs(predictedShift.x) + std::abs(predictedShift.y), 0.015);
+      }
     }
   }
 }
