@@ -117,6 +117,8 @@ Result<std::optional<ImageRGBA8>> XyzMercatorLayer::tileImage(const TileId& t) c
   const GeoRectangle r = tileRectangle(t);
   const double sizeDeg = r.eastDeg - r.westDeg;
   bool anyData = false;
+  MercatorTileId lastKey{-1, 0, 0};
+  const ImageRGBA8* lastImage = nullptr;
   for (int j = 0; j < kTileSizePx; ++j) {
     const double latDeg = r.northDeg - (j + 0.5) * sizeDeg / kTileSizePx;
     if (std::abs(latDeg) > kWebMercatorMaxLatDeg) continue;
@@ -130,14 +132,18 @@ Result<std::optional<ImageRGBA8>> XyzMercatorLayer::tileImage(const TileId& t) c
         const double fx = std::clamp(std::floor(mx * n), 0.0, maxIndex);
         const double fy = std::clamp(std::floor(my * n), 0.0, maxIndex);
         const MercatorTileId m{z, static_cast<std::uint32_t>(fx), static_cast<std::uint32_t>(fy)};
-        auto found = local.find(m);
-        if (found == local.end()) {
-          Result<std::shared_ptr<const ImageRGBA8>> loaded = loadTile(m);
-          if (!loaded) return makeError(loaded.error());
-          found = local.emplace(m, *loaded).first;
+        if (!(m == lastKey)) {  // neighbouring pixels mostly share a tile: skip the hash lookup
+          auto found = local.find(m);
+          if (found == local.end()) {
+            Result<std::shared_ptr<const ImageRGBA8>> loaded = loadTile(m);
+            if (!loaded) return makeError(loaded.error());
+            found = local.emplace(m, *loaded).first;
+          }
+          lastKey = m;
+          lastImage = found->second.get();
         }
-        if (!found->second) continue;  // missing at this zoom: try the ancestor
-        out.set(i, j, sampleBilinear(*found->second, mx * n - fx, my * n - fy));
+        if (!lastImage) continue;  // missing at this zoom: try the ancestor
+        out.set(i, j, sampleBilinear(*lastImage, mx * n - fx, my * n - fy));
         anyData = true;
         break;
       }
