@@ -80,10 +80,14 @@ class HalfLayer : public ImageryLayer {
 
 TEST(TileImageLoaderTest, ReturnsNullptrThenTheImageAfterWaitIdle) {
   auto layer = std::make_shared<FakeLayer>(glm::u8vec4{10, 20, 30, 0});
+  layer->gate();  // holds the worker inside the first tileImage call until open()
   TileImageLoader loader({layer}, {});
   const TileId t{2, 5, 1};
   EXPECT_EQ(loader.request(t, 1.0), nullptr);
-  EXPECT_EQ(loader.request(t, 1.0), nullptr);  // queued once
+  layer->waitForCalls(1);
+  EXPECT_EQ(loader.request(t, 1.0), nullptr);  // in flight: not queued a second time
+  EXPECT_FALSE(loader.idle());
+  layer->open();
   loader.waitIdle();
   EXPECT_TRUE(loader.idle());
   std::shared_ptr<const ImageRGBA8> image = loader.request(t, 1.0);
