@@ -2,6 +2,7 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/NexradReader.h>
+#include <atmoglobe/volume/RadarReader.h>
 
 #include <gtest/gtest.h>
 
@@ -260,6 +261,24 @@ TEST(Geolocation, FastPathWithinStatedBoundOnNexradVolume) {
   EXPECT_GT(gates, 5'000'000u);  // every gate of the REF volume was compared
   EXPECT_LE(worst, kFastPathMaxErrorMeters);
   std::printf("fast path worst error over %zu NEXRAD gates: %.3g m\n", gates, worst);
+}
+
+TEST(Geolocation, FastPathWithinStatedBoundOnOdimAndCfRadialVolumes) {
+  // Every gate of every sweep of the other real files (read through format detection).
+  const char* files[] = {"radar_odim/40_20181220_060630.pvol.h5", "radar_odim/bewid.pvol.hdf",
+                         "radar_cfradial/MLL2217907250U.003.nc", "radar_cfradial/example_plot_ppi_single_sweep.nc",
+                         "radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc"};
+  for (const char* f : files) {
+    const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/" + f;
+    Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
+    ASSERT_TRUE(vol.ok()) << vol.error();
+    Result<SiteResolution> site = resolveSite(vol->site, true);
+    ASSERT_TRUE(site.ok()) << site.error();
+    double worst = 0;
+    for (const Sweep& sweep : vol->sweeps) worst = std::max(worst, maxFastError(site->site, BeamModel{}, sweep));
+    EXPECT_LE(worst, kFastPathMaxErrorMeters) << f;
+    std::printf("fast path worst error, %s: %.3g m\n", f, worst);
+  }
 }
 
 // --- Site resolution: MSL -> ellipsoid with EGM96, or off.

@@ -1,0 +1,218 @@
+// bench_radar_read_geolocate: radar read time against the I/O floor, and gate geolocation speed.
+//
+//   bench_radar_read_geolocate [--runs N] [DATA_DIR]
+//
+// 1. For every radar file under DATA_DIR/radar_{nexrad,odim,cfradial}: median wall time of
+//    readRadarVolume (default field, values decoded) over N runs, next to the "floor": the same
+//    bytes read with plain library calls and nothing else (NEXRAD: read the file + libbz2
+//    BZ2_bzBuffToBuffDecompress of every record; netCDF/HDF5: nc_open + nc_get_var of the loaded
+//    field's variables in their stored type + nc_close).
+// 2. Gate geolocation over every gate of the NEXRAD REF volume: gates per second for the exact
+//    path (geolocateGateExact) and the fast path (geolocateSweepFast), and the fast path's maximum
+//    ECEF distance from the exact result.
+// Prints a Markdown table (docs/bench-radar.md holds a copy and the command).
+#include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/RadarReader.h>
+
+#include <bzlib.h>
+#include <netcdf.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+#include <vector>
+
+using namespace atmoglobe;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double medianSeconds(int runs, const std::function<bool()>& f) {
+  std::vector<double> t;
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = Clock::now();
+    if (!f()) return -1.0;
+    t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+// Floor for NEXRAD: read the file, decompress every record with the one-shot libbz2 call.
+bool nexradFloor(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> file{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  static std::vector<char> out(16 << 20);
+  std::size_t pos = 24;
+  while (pos + 4 <= file.size()) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&file[pos]);
+    const auto control = static_cast<std::int32_t>((std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) |
+                                                   (std::uint32_t{p[2]} << 8) | p[3]);
+    const std::size_t len = static_cast<std::size_t>(control < 0 ? -static_cast<std::int64_t>(control) : control);
+    pos += 4;
+    if (len > file.size() - pos) return false;
+    unsigned outLen = static_cast<unsigned>(out.size());
+    if (BZ2_bzBuffToBuffDecompress(out.data(), &outLen, &file[pos], static_cast<unsigned>(len), 0, 0) != BZ_OK) return false;
+    pos += len;
+    if (control < 0) break;
+  }
+  return true;
+}
+
+bool readVar(int ncid, int varid, std::vector<char>* buf) {
+  int ndims = 0;
+  nc_type type;
+  int dims[NC_MAX_VAR_DIMS];
+  if (nc_inq_var(ncid, varid, nullptr, &type, &ndims, dims, nullptr) != NC_NOERR) return false;
+  std::size_t count = 1, len = 0;
+  for (int d = 0; d < ndims; ++d) {
+    if (nc_inq_dimlen(ncid, dims[d], &len) != NC_NOERR) return false;
+    count *= len;
+  }
+  std::size_t typeSize = 0;
+  if (nc_inq_type(ncid, type, nullptr, &typeSize) != NC_NOERR) return false;
+  buf->resize(count * typeSize);
+  return nc_get_var(ncid, varid, buf->data()) == NC_NOERR;
+}
+
+std::string textAttribute(int ncid, int varid, const char* name) {
+  std::size_t len = 0;
+  if (nc_inq_attlen(ncid, varid, name, &len) != NC_NOERR || len > 4096) return {};
+  nc_type type;
+  if (nc_inq_atttype(ncid, varid, name, &type) != NC_NOERR) return {};
+  if (type == NC_CHAR) {
+    std::string s(len, '\0');
+    if (nc_get_att_text(ncid, varid, name, s.data()) != NC_NOERR) return {};
+    while (!s.empty() && s.back() == '\0') s.pop_back();
+    return s;
+  }
+  if (type == NC_STRING) {
+    std::vector<char*> v(len);
+    if (nc_get_att_string(ncid, varid, name, v.data()) != NC_NOERR || len == 0) return {};
+    std::string s = v[0] ? v[0] : "";
+    nc_free_string(len, v.data());
+    return s;
+  }
+  return {};
+}
+
+// Floor for netCDF/HDF5: open, read the loaded field's arrays raw, close.
+bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
+  int ncid = 0;
+  if (nc_open(path.c_str(), NC_NOWRITE, &ncid) != NC_NOERR) return false;
+  std::vector<char> buf;
+  bool ok = true;
+  if (!odim) {
+    int varid = 0;
+    ok = nc_inq_varid(ncid, field.c_str(), &varid) == NC_NOERR && readVar(ncid, varid, &buf);
+  } else {
+    for (int n = 1; ok; ++n) {
+      int ds = 0;
+      if (nc_inq_grp_ncid(ncid, ("dataset" + std::to_string(n)).c_str(), &ds) != NC_NOERR) break;
+      for (int m = 1;; ++m) {
+        int data = 0, what = 0, varid = 0;
+        if (nc_inq_grp_ncid(ds, ("data" + std::to_string(m)).c_str(), &data) != NC_NOERR) break;
+        if (nc_inq_grp_ncid(data, "what", &what) != NC_NOERR) continue;
+        if (textAttribute(what, NC_GLOBAL, "quantity") != field) continue;
+        ok = nc_inq_varid(data, "data", &varid) == NC_NOERR && readVar(data, varid, &buf);
+        break;
+      }
+    }
+  }
+  nc_close(ncid);
+  return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 7;
+  std::string dataDir = ATMOGLOBE_SHARED_DATA_DIR;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
+      runs = std::max(5, std::atoi(argv[++i]));
+    } else {
+      dataDir = argv[i];
+    }
+  }
+  std::printf("## Read time (median of %d runs)\n\n", runs);
+  std::printf("| file | format | field | read (ms) | floor (ms) | read / floor |\n|---|---|---|---|---|---|\n");
+  for (const char* sub : {"radar_nexrad", "radar_odim", "radar_cfradial"}) {
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(dataDir) / sub, ec)) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      const std::string path = f.string();
+      Result<volume::RadarVolume> probe = volume::readRadarVolume(path, {});
+      if (!probe) {
+        std::printf("| %s | error: %s | | | | |\n", f.filename().c_str(), probe.error().c_str());
+        continue;
+      }
+      const std::string field = probe->loadedField.name;
+      const double read = medianSeconds(runs, [&] { return volume::readRadarVolume(path, {}).ok(); });
+      std::function<bool()> floorFn;
+      if (probe->format == "NEXRAD Level II") {
+        floorFn = [&] { return nexradFloor(path); };
+      } else {
+        const bool odim = probe->format.rfind("ODIM", 0) == 0;
+        floorFn = [&, odim] { return netcdfFloor(path, field, odim); };
+      }
+      const double floor = medianSeconds(runs, floorFn);
+      std::printf("| %s | %s | %s | %.1f | %.1f | %.2f |\n", f.filename().c_str(), probe->format.c_str(), field.c_str(),
+                  read * 1e3, floor * 1e3, floor > 0 ? read / floor : 0.0);
+    }
+  }
+
+  // Geolocation over the NEXRAD REF volume.
+  const std::string nexrad = dataDir + "/radar_nexrad/KLBB20160601_150025_V06";
+  Result<volume::RadarVolume> vol = volume::readRadarVolume(nexrad, {});
+  if (!vol) {
+    std::fprintf(stderr, "%s\n", vol.error().c_str());
+    return 1;
+  }
+  Result<volume::SiteResolution> site = volume::resolveSite(vol->site, true);
+  if (!site) {
+    std::fprintf(stderr, "%s\n", site.error().c_str());
+    return 1;
+  }
+  const volume::BeamModel model;
+  std::size_t gates = 0;
+  double maxRange = 0;
+  for (const volume::Sweep& s : vol->sweeps) {
+    gates += s.rayCount() * s.gateCount;
+    maxRange = std::max(maxRange, s.gateRangeMeters(s.gateCount - 1));
+  }
+  std::vector<std::vector<glm::dvec3>> exact(vol->sweeps.size()), fast(vol->sweeps.size());
+  const double exactSeconds = medianSeconds(3, [&] {
+    for (std::size_t k = 0; k < vol->sweeps.size(); ++k) {
+      const volume::Sweep& s = vol->sweeps[k];
+      exact[k].resize(s.rayCount() * s.gateCount);
+      for (std::size_t i = 0; i < s.rayCount(); ++i)
+        for (std::uint32_t g = 0; g < s.gateCount; ++g)
+          exact[k][i * s.gateCount + g] =
+              volume::geolocateGateExact(site->site, model, s.azimuthDeg[i], s.elevationDeg[i], s.gateRangeMeters(g)).ecef;
+    }
+    return true;
+  });
+  const double fastSeconds = medianSeconds(runs, [&] {
+    for (std::size_t k = 0; k < vol->sweeps.size(); ++k) volume::geolocateSweepFast(site->site, model, vol->sweeps[k], &fast[k]);
+    return true;
+  });
+  double maxError = 0;
+  for (std::size_t k = 0; k < vol->sweeps.size(); ++k)
+    for (std::size_t j = 0; j < exact[k].size(); ++j) maxError = std::max(maxError, glm::length(fast[k][j] - exact[k][j]));
+  std::printf("\n## Gate geolocation (KLBB REF volume: %zu gates, ranges to %.1f km, ke 4/3, WGS84 site radius)\n\n", gates,
+              maxRange / 1e3);
+  std::printf("| path | time (ms) | gates/s | speed-up | max error vs exact |\n|---|---|---|---|---|\n");
+  std::printf("| exact (median of 3) | %.1f | %.3g | 1.0 | 0 (reference) |\n", exactSeconds * 1e3, static_cast<double>(gates) / exactSeconds);
+  std::printf("| fast (median of %d) | %.1f | %.3g | %.1f | %.3g m |\n", runs, fastSeconds * 1e3, static_cast<double>(gates) / fastSeconds,
+              exactSeconds / fastSeconds, maxError);
+  return 0;
+}
