@@ -61,15 +61,33 @@ std::string isoTime(std::uint32_t julianDay, std::uint32_t msOfDay) {
   return buf;
 }
 
-// One cut (elevation number) being collected.
+// One cut (elevation number) being collected. Values are stored directly in the sweep layout
+// (ray-major, `stride` gates a ray, kNoData padding) so the finished array is moved, not copied.
 struct Cut {
   int elevationNumber = 0;
   std::vector<float> azimuthDeg, elevationDeg;
-  std::vector<std::size_t> rayOffset;        // into values
-  std::vector<std::uint32_t> rayGates;       // gates this ray holds for the field (0: lacks it)
-  std::vector<float> values;
+  std::vector<float> values;  // rows of `stride` gates, one per ray seen so far
+  std::uint32_t stride = 0;   // largest gate count of the field in this cut
   double firstGateMeters = 0, gateSpacingMeters = 0;
   bool hasField = false;
+
+  // Makes room for a row of `gates` values for ray `ray` (rows before it already exist or are
+  // created as no data) and returns it, filled with kNoData.
+  float* row(std::size_t ray, std::uint32_t gates) {
+    if (gates > stride) {
+      std::vector<float> wider;
+      wider.reserve(std::max<std::size_t>(360, ray + 1) * gates);
+      wider.assign(ray * gates, kNoData);
+      for (std::size_t r = 0; stride > 0 && r < values.size() / stride; ++r) {
+        std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(r * stride), stride,
+                    wider.begin() + static_cast<std::ptrdiff_t>(r * gates));
+      }
+      values = std::move(wider);
+      stride = gates;
+    }
+    values.resize((ray + 1) * stride, kNoData);
+    return values.data() + ray * stride;
+  }
 };
 
 class Parser {
@@ -166,7 +184,7 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
     return fail(record, where + ": " + std::to_string(blockCount) + " data blocks do not fit the message");
   }
   Cut& cut = cuts[elevationNumber];
-  if (cut.azimuthDeg.empty() && cut.rayOffset.empty()) {
+  if (cut.azimuthDeg.empty()) {
     cut.elevationNumber = elevationNumber;
     cutOrder.push_back(elevationNumber);
   }
@@ -174,8 +192,7 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
   if (az < 0) az += 360.0f;
   cut.azimuthDeg.push_back(az);
   cut.elevationDeg.push_back(elevation);
-  cut.rayOffset.push_back(cut.values.size());
-  std::uint32_t rayGates = 0;
+  const std::size_t rayIndex = cut.azimuthDeg.size() - 1;
 
   for (std::size_t b = 0; b < blockCount; ++b) {
     const std::size_t ptr = be32(body + kRadialHeaderBytes + b * 4);
@@ -225,12 +242,11 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
         return fail(record, where + ": moment " + name + " gate geometry changes within elevation cut " +
                                 std::to_string(elevationNumber));
       }
-      rayGates = gates;
-      if (loadValues_) {
+      if (!loadValues_) {
+        cut.stride = std::max(cut.stride, gates);
+      } else {
         const unsigned char* raw = block + kMomentHeaderBytes;
-        const std::size_t start = cut.values.size();
-        cut.values.resize(start + gates);
-        float* out = cut.values.data() + start;
+        float* out = cut.row(rayIndex, gates);
         if (wordBits == 8) {
           std::array<float, 256> lut;
           lut[0] = kNoEcho;
@@ -246,7 +262,7 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
       }
     }
   }
-  cut.rayGates.push_back(rayGates);
+  if (loadValues_ && cut.stride > 0) cut.row(rayIndex, 0);  // pads a ray without the field
   return Ok{};
 }
 
@@ -367,7 +383,7 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
     sw.mode = SweepMode::Ppi;
     sw.firstGateRangeMeters = cut.firstGateMeters;
     sw.gateSpacingMeters = cut.gateSpacingMeters;
-    sw.gateCount = *std::max_element(cut.rayGates.begin(), cut.rayGates.end());
+    sw.gateCount = cut.stride;
     sw.azimuthDeg = std::move(cut.azimuthDeg);
     sw.elevationDeg = std::move(cut.elevationDeg);
     if (number >= 1 && static_cast<std::size_t>(number) <= parser.vcpAnglesDeg.size() && parser.vcpAnglesDeg[number - 1] > 0) {
@@ -378,13 +394,8 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
       sw.fixedAngleDeg = sum / static_cast<double>(sw.elevationDeg.size());
     }
     if (options.loadValues) {
-      const std::size_t rays = sw.azimuthDeg.size();
-      sw.values.assign(rays * sw.gateCount, kNoData);
-      for (std::size_t r = 0; r < rays; ++r) {
-        std::copy_n(cut.values.begin() + static_cast<std::ptrdiff_t>(cut.rayOffset[r]), cut.rayGates[r],
-                    sw.values.begin() + static_cast<std::ptrdiff_t>(r * sw.gateCount));
-      }
-      std::vector<float>().swap(cut.values);
+      sw.values = std::move(cut.values);
+      sw.values.resize(sw.rayCount() * sw.gateCount, kNoData);  // trailing rays without the field
     }
     vol.sweeps.push_back(std::move(sw));
   }
