@@ -22,10 +22,19 @@ int main(int argc, char** argv) {
   commands.push_back(addViewCommand(app));
   commands.push_back(addInfoCommand(app));
   commands.push_back(addGatesCommand(app));
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    for (const Command& c : commands) known = known || c.app->get_name() == argv[1];
+    if (!known) {
+      std::cerr << "atmoglobe: unknown command \"" << argv[1] << "\" (see atmoglobe --help)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Help and version exit 0; every usage error exits 2 (bad input files exit 1).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   for (const Command& c : commands) {
     if (c.app && c.app->parsed()) return c.run();

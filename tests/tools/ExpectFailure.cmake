@@ -1,0 +1,13 @@
+# Runs CMD ARGS; passes if it exits non-zero (not by a signal) and its output matches REGEX.
+execute_process(COMMAND ${CMD} ${ARGS} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("exit: ${rc}\nstdout: ${out}\nstderr: ${err}")
+if(rc EQUAL 0)
+  message(FATAL_ERROR "expected a non-zero exit")
+endif()
+if(NOT rc MATCHES "^[0-9]+$")
+  message(FATAL_ERROR "the command crashed: ${rc}")
+endif()
+string(REGEX MATCH "${REGEX}" found "${out}${err}")
+if(NOT found)
+  message(FATAL_ERROR "expected the message to match: ${REGEX}")
+endif()
