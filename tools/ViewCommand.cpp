@@ -8,6 +8,7 @@
 #include "SceneOptions.h"
 
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/CameraController.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
@@ -43,33 +44,6 @@ struct Interaction {
   bool screenshotRequested = false;
 };
 
-/// Moves the camera over the ground by a pixel delta: the ground under the view moves
-/// with the cursor (at the scale of the nadir distance).
-void orbit(Interaction& s, double dxPx, double dyPx, int heightPx) {
-  const double focal = heightPx / (2.0 * std::tan(0.5 * s.fovYDeg * M_PI / 180.0));
-  const double metersPerPixel = std::max(s.pose.heightMeters, 1.0) / focal;
-  const double h = s.pose.headingDeg * M_PI / 180.0;
-  // Screen right/up in ENU at zero pitch; dragging right moves the camera left.
-  const double east = -(dxPx * std::cos(h) + dyPx * std::sin(h)) * metersPerPixel;
-  const double north = (dyPx * std::cos(h) - dxPx * std::sin(h)) * metersPerPixel;
-  const double r = globe::kWgs84A;
-  s.pose.latDeg = std::clamp(s.pose.latDeg + north / r * 180.0 / M_PI, -89.999, 89.999);
-  const double c = std::max(std::cos(s.pose.latDeg * M_PI / 180.0), 1e-3);
-  s.pose.lonDeg = globe::wrapLongitudeDeg(s.pose.lonDeg + east / (r * c) * 180.0 / M_PI);
-}
-
-void zoomToward(Interaction& s, double xPx, double yPx, int widthPx, int heightPx, double factor) {
-  const engine::Camera camera(s.pose, s.fovYDeg, widthPx, heightPx);
-  const auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), camera.pixelRayDirection(xPx, yPx));
-  if (hit) {
-    const globe::Geodetic g = globe::ecefToGeodetic(*hit);
-    const double dLon = globe::wrapLongitudeDeg(g.lonDeg - s.pose.lonDeg);
-    s.pose.latDeg = std::clamp(s.pose.latDeg + (g.latDeg - s.pose.latDeg) * (1.0 - factor), -89.999, 89.999);
-    s.pose.lonDeg = globe::wrapLongitudeDeg(s.pose.lonDeg + dLon * (1.0 - factor));
-  }
-  s.pose.heightMeters = std::clamp(s.pose.heightMeters * factor, 1.0, 1e8);
-}
-
 int runView(const ViewOptions& o) {
   auto scene = resolveScene(o.scene);
   if (!scene) return fail("view", scene.error());
@@ -101,10 +75,9 @@ int runView(const ViewOptions& o) {
     s.lastX = x;
     s.lastY = y;
     if (s.tilting) {
-      s.pose.pitchDeg = std::clamp(s.pose.pitchDeg - dy * 0.2, -90.0, 0.0);
-      s.pose.headingDeg = std::fmod(s.pose.headingDeg + dx * 0.2 + 360.0, 360.0);
+      engine::tiltByPixels(s.pose, dx, dy);
     } else {
-      orbit(s, dx, dy, std::max(height, 1));
+      engine::orbitByPixels(s.pose, s.fovYDeg, std::max(height, 1), dx, dy);
     }
   });
   glfwSetScrollCallback(w, [](GLFWwindow* win, double, double yoff) {
@@ -113,7 +86,7 @@ int runView(const ViewOptions& o) {
     glfwGetWindowSize(win, &width, &height);
     double x = 0, y = 0;
     glfwGetCursorPos(win, &x, &y);
-    zoomToward(s, x, y, std::max(width, 1), std::max(height, 1), std::pow(0.8, yoff));
+    engine::zoomTowardPixel(s.pose, s.fovYDeg, std::max(width, 1), std::max(height, 1), x, y, std::pow(0.8, yoff));
   });
   glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));

@@ -8,8 +8,9 @@
 //      heading: degrees clockwise from north (0 = north, 90 = east), about local up;
 //      pitch:   degrees above the local horizontal (0 = horizontal, -90 = straight down,
 //               +90 = straight up);
-//      roll:    degrees about the viewing direction; positive rolls the image
-//               clockwise as the viewer sees it (the camera's right side goes down).
+//      roll:    degrees about the viewing direction; positive banks the camera to the
+//               right like an aircraft (its right side goes down), so the picture's
+//               content turns counter-clockwise.
 //    With pitch -90 and heading 0 the camera looks straight down with north at the top
 //    of the image and east to the right.
 //  - fovYDeg: vertical field of view (degrees). The horizontal one follows from the
