@@ -1,6 +1,7 @@
 // COLLADA 1.4.1 encoder for the radar cones (Z_UP, metres, ENU at the antenna).
 #include <atmoglobe/volume/ConeExport.h>
 
+#include <cctype>
 #include <charconv>
 #include <cstdio>
 #include <ctime>
@@ -29,6 +30,15 @@ std::string xmlEscape(std::string_view in) {
         if (static_cast<unsigned char>(c) >= 0x20 || c == '\t' || c == '\n') out += c;
     }
   }
+  return out;
+}
+
+// COLLADA's name attributes are xs:NCName: letters, digits, '_', '-', '.', not starting with a
+// digit, '-' or '.'. Anything else becomes '_'.
+std::string ncName(std::string_view in) {
+  std::string out;
+  if (in.empty() || !(std::isalpha(static_cast<unsigned char>(in[0])) || in[0] == '_')) out.push_back('_');
+  for (char c : in) out.push_back(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ? c : '_');
   return out;
 }
 
@@ -128,13 +138,13 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
     }
     s += "</p>\n        </triangles>\n      </mesh>\n    </geometry>\n";
   }
-  s += "  </library_geometries>\n  <library_visual_scenes>\n    <visual_scene id=\"scene\" name=\"" + xmlEscape(scene.title) + "\">\n";
+  s += "  </library_geometries>\n  <library_visual_scenes>\n    <visual_scene id=\"scene\" name=\"" + ncName(scene.title) + "\">\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
     const Cone& cone = scene.cones[cones[k]];
     const std::string stem = sweepStem(cone.sweepIndex);
     char name[96];
-    std::snprintf(name, sizeof name, "%s elevation %.2f deg", stem.c_str(), cone.mesh.elevationDeg);
-    s += "      <node id=\"node-" + stem + "\" name=\"" + xmlEscape(name) + "\">\n";
+    std::snprintf(name, sizeof name, "%s_elevation_%.2f_deg", stem.c_str(), cone.mesh.elevationDeg);
+    s += "      <node id=\"node-" + stem + "\" name=\"" + ncName(name) + "\">\n";
     s += "        <instance_geometry url=\"#geom-" + stem + "\"><bind_material><technique_common>"
          "<instance_material symbol=\"material\" target=\"#mat-" + stem +
          "\"><bind_vertex_input semantic=\"UVSET0\" input_semantic=\"TEXCOORD\" input_set=\"0\"/></instance_material>"
