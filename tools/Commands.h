@@ -18,6 +18,7 @@ Command addRenderCommand(CLI::App& root);
 Command addViewCommand(CLI::App& root);
 Command addInfoCommand(CLI::App& root);
 Command addGatesCommand(CLI::App& root);
+Command addExportConesCommand(CLI::App& root);
 
 /// Embedded files from assets/ (default scene...), by file name.
 std::optional<std::string_view> embeddedAsset(std::string_view fileName);
