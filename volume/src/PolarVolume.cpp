@@ -1,0 +1,276 @@
+// The polar render layout and the sampling rule (PolarVolume.h). Double precision: this is
+// the definition the GPU marcher is measured against.
+#include <atmoglobe/volume/PolarVolume.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+namespace atmoglobe::volume {
+namespace {
+
+double wrap360(double deg) {
+  double a = std::fmod(deg, 360.0);
+  if (a < 0.0) a += 360.0;
+  return a >= 360.0 ? 0.0 : a;  // fmod(-1e-17) + 360 rounds to 360
+}
+
+// A sweep "has the field" when values were decoded for it: rays, gates and the value array.
+bool sweepHasField(const Sweep& s) {
+  return s.rayCount() > 0 && s.gateCount > 0 && s.values.size() == s.rayCount() * s.gateCount;
+}
+
+// round() of the rule: floor(x + 0.5) (halves go up; GLSL's round() leaves halves to the
+// implementation, floor(x + 0.5) does not).
+double roundHalfUp(double x) { return std::floor(x + 0.5); }
+
+// Ray coordinate a in [0, n) of azimuth az (wrapped to [0, 360)), piecewise linear between
+// adjacent ray centres, cyclic between the last and the first ray.
+double rayCoordinate(const PolarSweepLayout& s, double az) {
+  const std::vector<float>& a = s.azimuthDeg;
+  const int n = s.rayCount;
+  // First ray with azimuth > az; the ray before it is the one at or below.
+  const auto it = std::upper_bound(a.begin(), a.end(), az, [](double x, float v) { return x < static_cast<double>(v); });
+  const int above = static_cast<int>(it - a.begin());
+  const double first = static_cast<double>(a.front());
+  const double last = static_cast<double>(a.back());
+  const double wrapSpan = first + 360.0 - last;  // > 0: azimuths are distinct and in [0, 360)
+  if (above == 0) return (n - 1) + (az + 360.0 - last) / wrapSpan;  // before the first ray
+  if (above == n) return (n - 1) + (az - last) / wrapSpan;          // after the last ray
+  const double lo = static_cast<double>(a[static_cast<std::size_t>(above - 1)]);
+  const double hi = static_cast<double>(a[static_cast<std::size_t>(above)]);
+  return (above - 1) + (az - lo) / (hi - lo);
+}
+
+struct Accumulator {
+  double echoWeight = 0.0;
+  double noEchoWeight = 0.0;
+  double weightedSum = 0.0;
+  void add(float v, double w) {
+    if (isMeasuredValue(v)) {
+      echoWeight += w;
+      weightedSum += w * static_cast<double>(v);
+    } else if (isNoEcho(v)) {
+      noEchoWeight += w;
+    }  // NoData: counts for nothing
+  }
+};
+
+// Adds sweep k's texels at (r, az) with total weight `sweepWeight` to `acc`.
+void accumulateSweep(const PolarVolume& v, int k, double rangeMeters, double az, double sweepWeight,
+                     Interpolation interpolation, Accumulator* acc) {
+  const PolarSweepLayout& s = v.sweeps[static_cast<std::size_t>(k)];
+  const double g = (rangeMeters - s.firstGateRangeMeters) / s.gateSpacingMeters;
+  if (!(g >= -0.5 && g <= s.gateCount - 0.5)) return;  // outside the gates: all NoData
+  const double a = rayCoordinate(s, az);
+  const int n = s.rayCount;
+  const int lastGate = s.gateCount - 1;
+  if (interpolation == Interpolation::Nearest) {
+    const int ray = static_cast<int>(roundHalfUp(a)) % n;
+    const int gate = std::clamp(static_cast<int>(roundHalfUp(g)), 0, lastGate);
+    acc->add(v.value(k, ray, gate), sweepWeight);
+    return;
+  }
+  const double a0 = std::floor(a);
+  const double g0 = std::floor(g);
+  const double fa = a - a0;
+  const double fg = g - g0;
+  const int ray0 = static_cast<int>(a0) % n;
+  const int ray1 = (ray0 + 1) % n;
+  const int gate0 = std::clamp(static_cast<int>(g0), 0, lastGate);
+  const int gate1 = std::clamp(static_cast<int>(g0) + 1, 0, lastGate);
+  acc->add(v.value(k, ray0, gate0), sweepWeight * (1.0 - fa) * (1.0 - fg));
+  acc->add(v.value(k, ray0, gate1), sweepWeight * (1.0 - fa) * fg);
+  acc->add(v.value(k, ray1, gate0), sweepWeight * fa * (1.0 - fg));
+  acc->add(v.value(k, ray1, gate1), sweepWeight * fa * fg);
+}
+
+}  // namespace
+
+Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam) {
+  const std::string& file = volume.sourcePath.empty() ? std::string("(volume)") : volume.sourcePath;
+  Status beamOk = validateBeamModel(beam, file.c_str());
+  if (!beamOk) return makeError(beamOk.error());
+  if (!std::isfinite(site.site.latDeg) || !std::isfinite(site.site.lonDeg) ||
+      !std::isfinite(site.site.antennaHeightEllipsoidMeters))
+    return makeError(file + ": radar site has non-finite coordinates");
+
+  // PPI sweeps, in the volume's order (sorted by fixed angle, file order for equal angles).
+  std::vector<const Sweep*> ppi;
+  bool anyRhi = false;
+  for (const Sweep& s : volume.sweeps) {
+    if (s.mode == SweepMode::Rhi) anyRhi = true;
+    if (s.mode == SweepMode::Ppi) ppi.push_back(&s);
+  }
+  if (ppi.empty()) {
+    if (anyRhi)
+      return makeError(file + ": RHI volumes cannot be volume-rendered yet; export or `gates` them");
+    return makeError(file + ": no PPI sweep to volume-render");
+  }
+  if (volume.loadedField.name.empty())
+    return makeError(file + ": no field values loaded (read with ReadOptions::loadValues)");
+  for (const Sweep* s : ppi)
+    if (!std::isfinite(s->fixedAngleDeg))
+      return makeError(file + ": sweep " + std::to_string(s->indexInFile) + " has a non-finite fixed angle");
+  std::stable_sort(ppi.begin(), ppi.end(),
+                   [](const Sweep* a, const Sweep* b) { return a->fixedAngleDeg < b->fixedAngleDeg; });
+
+  // Split cuts: equal fixed angles (within kSameAngleDeg) keep the first sweep that has the field.
+  constexpr double kSameAngleDeg = 1e-3;
+  std::vector<const Sweep*> kept;
+  for (const Sweep* s : ppi) {
+    if (!sweepHasField(*s)) continue;
+    if (!kept.empty() && s->fixedAngleDeg - kept.back()->fixedAngleDeg < kSameAngleDeg) continue;
+    kept.push_back(s);
+  }
+  if (kept.empty()) return makeError(file + ": no PPI sweep holds values of field " + volume.loadedField.name);
+
+  PolarVolume out;
+  out.sourcePath = volume.sourcePath;
+  out.fieldName = volume.loadedField.name;
+  out.fieldUnits = volume.loadedField.units;
+  out.site = site.site;
+  out.beam = beam;
+  out.beamWidthDeg = (std::isfinite(volume.beamWidthDeg) && volume.beamWidthDeg > 0.0) ? volume.beamWidthDeg : 1.0;
+
+  // Per sweep: rays sorted by azimuth (stable), equal azimuths keep the first ray.
+  std::vector<std::vector<std::uint32_t>> rayOrder(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const Sweep& s = *kept[k];
+    const std::string where = file + ": sweep " + std::to_string(s.indexInFile);
+    if (!std::isfinite(s.firstGateRangeMeters) || !std::isfinite(s.gateSpacingMeters) || !(s.gateSpacingMeters > 0.0))
+      return makeError(where + " has a non-finite or non-positive gate geometry");
+    std::vector<double> az(s.rayCount());
+    for (std::size_t r = 0; r < s.rayCount(); ++r) {
+      if (!std::isfinite(s.azimuthDeg[r])) return makeError(where + " has a non-finite ray azimuth");
+      // Wrapped in float so that the stored (float) azimuths are exactly what was sorted.
+      az[r] = static_cast<double>(static_cast<float>(wrap360(static_cast<double>(s.azimuthDeg[r]))));
+      if (az[r] >= 360.0) az[r] = 0.0;
+    }
+    std::vector<std::uint32_t> order(s.rayCount());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return az[a] < az[b]; });
+    std::vector<std::uint32_t> unique;
+    PolarSweepLayout layout;
+    for (std::uint32_t r : order) {
+      if (!unique.empty() && az[r] == az[unique.back()]) continue;
+      unique.push_back(r);
+      layout.azimuthDeg.push_back(static_cast<float>(az[r]));
+    }
+    layout.elevationDeg = s.fixedAngleDeg;
+    layout.firstGateRangeMeters = s.firstGateRangeMeters;
+    layout.gateSpacingMeters = s.gateSpacingMeters;
+    layout.gateCount = static_cast<int>(s.gateCount);
+    layout.rayCount = static_cast<int>(unique.size());
+    out.maxRays = std::max(out.maxRays, layout.rayCount);
+    out.maxGates = std::max(out.maxGates, layout.gateCount);
+    out.maxRangeMeters = std::max(out.maxRangeMeters, s.firstGateRangeMeters +
+                                                          (s.gateCount - 1) * s.gateSpacingMeters +
+                                                          0.5 * s.gateSpacingMeters);
+    out.sweeps.push_back(std::move(layout));
+    rayOrder[k] = std::move(unique);
+  }
+  if (!(out.maxRangeMeters > 0.0)) return makeError(file + ": the gates end at or before the antenna");
+
+  // The padded array: bounded so that odd sweep shapes cannot ask for an unbounded allocation.
+  constexpr std::size_t kMaxValues = std::size_t{1} << 28;  // 1 GiB of float
+  const std::size_t total = out.sweeps.size() * static_cast<std::size_t>(out.maxRays) * static_cast<std::size_t>(out.maxGates);
+  if (total > kMaxValues) {
+    std::ostringstream msg;
+    msg << file << ": the polar layout would need " << total << " values (" << out.sweeps.size() << " sweeps x "
+        << out.maxRays << " rays x " << out.maxGates << " gates), more than the limit of " << kMaxValues;
+    return makeError(msg.str());
+  }
+  out.values.assign(total, kNoData);
+  float lo = std::numeric_limits<float>::infinity(), hi = -std::numeric_limits<float>::infinity();
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const Sweep& s = *kept[k];
+    for (std::size_t row = 0; row < rayOrder[k].size(); ++row) {
+      const float* src = s.values.data() + static_cast<std::size_t>(rayOrder[k][row]) * s.gateCount;
+      float* dst = out.values.data() + (k * static_cast<std::size_t>(out.maxRays) + row) * static_cast<std::size_t>(out.maxGates);
+      std::copy(src, src + s.gateCount, dst);
+      for (std::uint32_t g = 0; g < s.gateCount; ++g)
+        if (isMeasuredValue(src[g])) {
+          lo = std::min(lo, src[g]);
+          hi = std::max(hi, src[g]);
+        }
+    }
+  }
+  if (lo <= hi) {
+    out.minValue = lo;
+    out.maxValue = hi;
+  }
+  return out;
+}
+
+PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg,
+                        Interpolation interpolation) {
+  assert(!v.sweeps.empty());
+  PolarSample out;
+  if (!std::isfinite(rangeMeters) || !std::isfinite(azimuthDeg) || !std::isfinite(elevationDeg)) return out;
+  const int n = static_cast<int>(v.sweeps.size());
+  const double hb = 0.5 * v.beamWidthDeg;
+  const double e0 = v.sweeps.front().elevationDeg;
+  const double eTop = v.sweeps.back().elevationDeg;
+  if (elevationDeg < e0 - hb || elevationDeg > eTop + hb) return out;  // below the lowest beam / cone of silence
+  const double az = wrap360(azimuthDeg);
+
+  Accumulator acc;
+  if (interpolation == Interpolation::Nearest) {
+    int best = 0;
+    for (int k = 1; k < n; ++k)  // strict <: ties keep the lower sweep
+      if (std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(k)].elevationDeg) <
+          std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(best)].elevationDeg))
+        best = k;
+    accumulateSweep(v, best, rangeMeters, az, 1.0, interpolation, &acc);
+  } else if (elevationDeg <= e0) {
+    accumulateSweep(v, 0, rangeMeters, az, 1.0, interpolation, &acc);
+  } else if (elevationDeg >= eTop) {
+    accumulateSweep(v, n - 1, rangeMeters, az, 1.0, interpolation, &acc);
+  } else {
+    // k with e_k <= el < e_{k+1}
+    int k = 0;
+    while (k + 1 < n && v.sweeps[static_cast<std::size_t>(k + 1)].elevationDeg <= elevationDeg) ++k;
+    const double ek = v.sweeps[static_cast<std::size_t>(k)].elevationDeg;
+    const double ek1 = v.sweeps[static_cast<std::size_t>(k + 1)].elevationDeg;
+    const double t = (elevationDeg - ek) / (ek1 - ek);
+    accumulateSweep(v, k, rangeMeters, az, 1.0 - t, interpolation, &acc);
+    accumulateSweep(v, k + 1, rangeMeters, az, t, interpolation, &acc);
+  }
+  if (acc.echoWeight >= 0.5) {
+    out.state = PolarSample::State::Echo;
+    out.value = acc.weightedSum / acc.echoWeight;
+  } else if (acc.echoWeight + acc.noEchoWeight >= 0.5) {
+    out.state = PolarSample::State::NoEcho;
+  }
+  return out;
+}
+
+double cartesianEquivalentBytes(const PolarVolume& v, double bytesPerVoxel) {
+  if (v.sweeps.empty()) return 0.0;
+  double spacing = std::numeric_limits<double>::infinity();
+  for (const PolarSweepLayout& s : v.sweeps) spacing = std::min(spacing, s.gateSpacingMeters);
+  const double re = effectiveEarthRadiusMeters(v.beam, v.site.latDeg);
+  const double hb = 0.5 * v.beamWidthDeg;
+  // Vertical extent: from the lowest to the highest beam edge over every sweep's gates,
+  // relative to the antenna (heights from the beam model, Doviak & Zrnic 2.28).
+  double top = 0.0, bottom = 0.0;
+  for (const PolarSweepLayout& s : v.sweeps) {
+    const double rMax = s.firstGateRangeMeters + (s.gateCount - 0.5) * s.gateSpacingMeters;
+    for (double r : {0.0, rMax}) {
+      double h = 0.0, ground = 0.0;
+      beamHeightAndGroundDistance(r, std::min(90.0, s.elevationDeg + hb), 0.0, re, &h, &ground);
+      top = std::max(top, h);
+      beamHeightAndGroundDistance(r, std::max(-90.0, s.elevationDeg - hb), 0.0, re, &h, &ground);
+      bottom = std::min(bottom, h);
+    }
+  }
+  const double nxy = std::ceil(2.0 * v.maxRangeMeters / spacing);
+  const double nz = std::max(1.0, std::ceil((top - bottom) / spacing));
+  return nxy * nxy * nz * bytesPerVoxel;
+}
+
+}  // namespace atmoglobe::volume
