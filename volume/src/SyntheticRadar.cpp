@@ -1,0 +1,548 @@
+#include <atmoglobe/volume/SyntheticRadar.h>
+
+#include <atmoglobe/volume/Geolocation.h>
+
+#include <netcdf.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fcntl.h>
+#include <filesystem>
+#include <numbers>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace atmoglobe::volume {
+
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kDbzScale = 0.01;  // DBZ scale_factor (dB per count)
+constexpr short kDbzFill = -32768;  // DBZ _FillValue
+constexpr int kMaxGates = 4096;
+constexpr int kMaxRays = 3600;
+
+// SplitMix64 (Steele, Lea & Flood 2014): a counter-based generator, so each gate's noise depends
+// only on (seed, gate index) and not on evaluation order.
+std::uint64_t splitMix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+double unitFromBits(std::uint64_t bits) {  // (0, 1]
+  return (static_cast<double>(bits >> 11) + 1.0) * (1.0 / 9007199254740992.0);
+}
+
+// Standard normal from two hashed uniforms (Box-Muller); portable, unlike std::normal_distribution.
+double gaussian(std::uint64_t seed, std::uint64_t index) {
+  const double u1 = unitFromBits(splitMix64(seed ^ splitMix64(2 * index)));
+  const double u2 = unitFromBits(splitMix64(seed ^ splitMix64(2 * index + 1)));
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+// Adds a component given in dBZ to a linear reflectivity sum (mm^6 m^-3). Components below
+// -20 dBZ change the total by < 0.01 dB wherever anything visible is present: skipped.
+void addDbz(double& linearZ, double dbz) {
+  if (dbz > -20.0) linearZ += std::pow(10.0, dbz / 10.0);
+}
+
+// Texture phases for the stratiform region, from the seed.
+struct Texture {
+  double phase[3];
+};
+
+Texture textureFor(std::uint64_t seed) {
+  Texture t{};
+  for (int i = 0; i < 3; ++i)
+    t.phase[i] = 2.0 * std::numbers::pi * unitFromBits(splitMix64(seed * 7919u + static_cast<std::uint64_t>(i)));
+  return t;
+}
+
+// The storm model in km (x east, y north, relative to the site; z above MSL). See the header.
+double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, double y, double z) {
+  const double cx = o.stormEastKm, cy = o.stormNorthKm;
+  // Shear / storm-motion direction: towards bearing 60 deg (ENE), typical of southern Plains supercells.
+  const double ux = std::sin(60.0 * kDegToRad), uy = std::cos(60.0 * kDegToRad);
+  // Inflow side (updraft, weak-echo region): bearing 135 deg (SE) from the core.
+  const double vx = std::sin(135.0 * kDegToRad), vy = std::cos(135.0 * kDegToRad);
+  double linearZ = 0.0;
+
+  // 1. Core, tilted downshear by 0.35 km per km above 1 km; ~64 dBZ at the surface, slowly
+  //    weakening to 7 km, then quickly: 18 dBZ at ~12.8 km, 5 dBZ at ~13.5 km (echo top).
+  const double tilt = 0.35 * std::max(z - 1.0, 0.0);
+  const double kx = cx + tilt * ux, ky = cy + tilt * uy;
+  const double dCore = std::hypot(x - kx, y - ky);
+  {
+    const double zc = std::max(z, 0.0);
+    const double vert = zc < 7.0 ? -0.6 * zc : -4.2 - 1.3 * (zc - 7.0) * (zc - 7.0);
+    double core = 64.0 + vert - 22.0 * (dCore / 4.0) * (dCore / 4.0);
+    // 2. Bounded weak-echo region: the updraft 3 km to the SE of the core at each height,
+    //    a hole of up to 28 dB between ~1.5 and 7 km.
+    const double wx = kx + 3.0 * vx, wy = ky + 3.0 * vy;
+    const double dUp = std::hypot(x - wx, y - wy);
+    if (dUp < 6.0) {
+      const double zw = (z - 4.0) / 2.0;
+      core -= 28.0 * std::exp(-(dUp / 1.8) * (dUp / 1.8)) * std::exp(-zw * zw);
+    }
+    addDbz(linearZ, core);
+
+    // 3. Hook: below ~3 km, a spiral arc around the low-level updraft from its west (bearing
+    //    270) cyclonically through south to bearing 150, radius 3.5 -> 2.5 km, 52 -> 40 dBZ.
+    if (z < 4.5 && dUp < 8.0) {
+      double bearing = std::atan2(x - wx, y - wy) / kDegToRad;  // degrees clockwise from north
+      if (bearing < 0) bearing += 360.0;
+      const double b = std::clamp(bearing, 150.0, 270.0);
+      const double f = (270.0 - b) / 120.0;  // 0 at the root, 1 at the tip
+      const double arcR = 3.5 - 1.0 * f;
+      const double ax = wx + arcR * std::sin(b * kDegToRad), ay = wy + arcR * std::cos(b * kDegToRad);
+      const double dArc = std::hypot(x - ax, y - ay);
+      const double zh = std::max(z - 2.0, 0.0);
+      addDbz(linearZ, 52.0 - 12.0 * f - 18.0 * dArc * dArc - 6.0 * zh * zh);
+    }
+  }
+
+  // 4. Anvil: from the core top downwind (bearing 60) for ~80 km at 9-12 km, widening
+  //    from 6 km; 24 dBZ near the core, 15 dBZ at 80 km.
+  {
+    const double ox = cx + 0.35 * 11.0 * ux, oy = cy + 0.35 * 11.0 * uy;
+    const double a = (x - ox) * ux + (y - oy) * uy;
+    const double c = -(x - ox) * uy + (y - oy) * ux;
+    const double w = 6.0 + 0.35 * std::max(a, 0.0);
+    const double zv = (z - 10.5) / 1.3;
+    double anvil = 24.0 - 9.0 * std::max(a, 0.0) / 80.0 - 12.0 * (c / w) * (c / w) - 10.0 * zv * zv;
+    if (a < 0) anvil -= 2.0 * a * a;
+    addDbz(linearZ, anvil);
+  }
+
+  // 5. Stratiform area north of the storm (centre +(-5, +45) km), an ellipse 40 x 22 km along
+  //    bearing 30, 20-35 dBZ with cellular texture; bright band at the 0 C level (3.8 km).
+  {
+    const double sx = cx - 5.0, sy = cy + 45.0;
+    const double px = std::sin(30.0 * kDegToRad), py = std::cos(30.0 * kDegToRad);
+    const double a = ((x - sx) * px + (y - sy) * py) / 40.0;
+    const double c = (-(x - sx) * py + (y - sy) * px) / 22.0;
+    const double q2 = a * a + c * c;
+    if (q2 < 3.0) {
+      const double texture = 2.0 * std::sin(x / 9.0 * 2.0 * std::numbers::pi + tex.phase[0]) +
+                             1.5 * std::sin(y / 13.0 * 2.0 * std::numbers::pi + tex.phase[1]) +
+                             1.0 * std::sin((x + y) / 17.0 * 2.0 * std::numbers::pi + tex.phase[2]);
+      const double base = 31.0 - 11.0 * q2 + texture;
+      constexpr double kZeroCKm = 3.8;
+      const double dz = z - kZeroCKm;
+      double strat = base + 8.0 * std::exp(-(dz / 0.22) * (dz / 0.22));  // bright band
+      if (dz > 0) strat += (-7.0 - 3.5 * dz) * (1.0 - std::exp(-(dz / 0.3) * (dz / 0.3)));  // snow above
+      addDbz(linearZ, strat);
+    }
+  }
+  return linearZ > 0.0 ? 10.0 * std::log10(linearZ) : -std::numeric_limits<double>::infinity();
+}
+
+std::string dbText(double v) {  // "5", "7.5": as a person writes it
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string osError(const std::string& path, const char* what, int err) {
+  return path + ": " + what + ": " + std::strerror(err);
+}
+
+// netCDF-C call wrapper: on failure, an error naming the file and what was being written.
+class NcWriter {
+ public:
+  NcWriter(std::string path, int ncid) : path_(std::move(path)), ncid_(ncid) {}
+  bool ok() const { return err_.empty(); }
+  const std::string& error() const { return err_; }
+  void check(int status, const std::string& what) {
+    if (status != NC_NOERR && err_.empty()) err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
+  }
+  void text(int varid, const char* name, const std::string& value) {
+    check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
+  }
+  int var(const char* name, nc_type type, std::vector<int> dims) {
+    int id = -1;
+    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id), name);
+    return id;
+  }
+  int ncid() const { return ncid_; }
+
+ private:
+  std::string path_;
+  int ncid_;
+  std::string err_;
+};
+
+bool parseIsoUtc(const std::string& s, std::tm* out) {
+  int y, mo, d, h, mi, sec;
+  char tail = 0;
+  if (s.size() != 20 || std::sscanf(s.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%c", &y, &mo, &d, &h, &mi, &sec, &tail) != 7 ||
+      tail != 'Z')
+    return false;
+  if (mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || sec > 60 || y < 1900) return false;
+  *out = std::tm{};
+  out->tm_year = y - 1900;
+  out->tm_mon = mo - 1;
+  out->tm_mday = d;
+  out->tm_hour = h;
+  out->tm_min = mi;
+  out->tm_sec = sec;
+  return true;
+}
+
+std::string isoPlusSeconds(const std::string& iso, double seconds) {
+  std::tm t{};
+  if (!parseIsoUtc(iso, &t)) return iso;
+  const std::time_t base = timegm(&t);
+  const std::time_t end = base + static_cast<std::time_t>(std::lround(seconds));
+  std::tm e{};
+  gmtime_r(&end, &e);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &e);
+  return buf;
+}
+
+std::size_t gateCountFor(const SyntheticRadarOptions& o) {
+  return static_cast<std::size_t>(std::floor((o.maxRangeMeters - o.firstGateRangeMeters) / o.gateSpacingMeters + 1e-9)) + 1;
+}
+
+struct Geometry {
+  std::size_t nSweep, nRay, nGate;
+};
+
+// Writes everything to an open netCDF-4 file. Returns the error text or "".
+std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geometry& g, const std::vector<short>& dbz,
+                          const std::vector<float>& az, const std::vector<float>& el, const std::vector<double>& timeSec) {
+  const int nc = w.ncid();
+  const std::size_t nTime = g.nSweep * g.nRay;
+  const std::string endTime = isoPlusSeconds(o.startTimeIso8601, static_cast<double>(g.nSweep) * o.sweepSeconds);
+
+  // --- global attributes (CfRadial 1.4 §4.1) ---
+  const std::string synthetic =
+      "SYNTHETIC data generated by atmoglobe (atmoglobe synth): an analytic supercell and stratiform "
+      "reflectivity model sampled at real gate positions; not a measurement.";
+  w.text(NC_GLOBAL, "Conventions", "CF/Radial instrument_parameters");
+  w.text(NC_GLOBAL, "version", "1.4");
+  w.text(NC_GLOBAL, "title", "SYNTHETIC radar volume (atmoglobe), " + o.siteId + " VCP 212 geometry");
+  w.text(NC_GLOBAL, "institution", "atmoglobe (synthetic data)");
+  w.text(NC_GLOBAL, "references", "CfRadial 1.4 (NCAR/EOL); NEXRAD VCP 212 elevation angles");
+  w.text(NC_GLOBAL, "source", synthetic);
+  w.text(NC_GLOBAL, "history", "written by atmoglobe synth, seed " + std::to_string(o.seed));
+  w.text(NC_GLOBAL, "comment",
+         synthetic + " Gates below " + dbText(o.minEchoDbz) +
+             " dBZ (no echo) are stored as the DBZ _FillValue: CfRadial 1.x has no code for "
+             "'measured, nothing detected'.");
+  w.text(NC_GLOBAL, "instrument_name", o.siteId);
+  w.text(NC_GLOBAL, "site_name", o.siteId);
+  w.text(NC_GLOBAL, "scan_name", "VCP 212 (synthetic)");
+  int scanId = 212;
+  w.check(nc_put_att_int(nc, NC_GLOBAL, "scan_id", NC_INT, 1, &scanId), "scan_id");
+  w.text(NC_GLOBAL, "platform_is_mobile", "false");
+  w.text(NC_GLOBAL, "n_gates_vary", "false");
+  w.text(NC_GLOBAL, "ray_times_increase", "true");
+  w.text(NC_GLOBAL, "field_names", "DBZ");
+  w.text(NC_GLOBAL, "time_coverage_start", o.startTimeIso8601);
+  w.text(NC_GLOBAL, "time_coverage_end", endTime);
+
+  // --- dimensions ---
+  int dTime = -1, dRange = -1, dSweep = -1, dStr = -1;
+  constexpr std::size_t kStrLen = 32;
+  w.check(nc_def_dim(nc, "time", nTime, &dTime), "dimension time");
+  w.check(nc_def_dim(nc, "range", g.nGate, &dRange), "dimension range");
+  w.check(nc_def_dim(nc, "sweep", g.nSweep, &dSweep), "dimension sweep");
+  w.check(nc_def_dim(nc, "string_length", kStrLen, &dStr), "dimension string_length");
+  if (!w.ok()) return w.error();
+
+  // --- variables ---
+  const int vVolume = w.var("volume_number", NC_INT, {});
+  w.text(vVolume, "long_name", "data_volume_index_number");
+  const int vPlatform = w.var("platform_type", NC_CHAR, {dStr});
+  w.text(vPlatform, "long_name", "platform_type");
+  const int vInstType = w.var("instrument_type", NC_CHAR, {dStr});
+  w.text(vInstType, "long_name", "type_of_instrument");
+  const int vAxis = w.var("primary_axis", NC_CHAR, {dStr});
+  w.text(vAxis, "long_name", "primary_axis_of_rotation");
+  const int vTcs = w.var("time_coverage_start", NC_CHAR, {dStr});
+  w.text(vTcs, "long_name", "data_volume_start_time_utc");
+  w.text(vTcs, "comment", "ray times are relative to start time in secs");
+  const int vTce = w.var("time_coverage_end", NC_CHAR, {dStr});
+  w.text(vTce, "long_name", "data_volume_end_time_utc");
+
+  const int vLat = w.var("latitude", NC_DOUBLE, {});
+  w.text(vLat, "long_name", "latitude");
+  w.text(vLat, "units", "degrees_north");
+  w.text(vLat, "standard_name", "latitude");
+  const int vLon = w.var("longitude", NC_DOUBLE, {});
+  w.text(vLon, "long_name", "longitude");
+  w.text(vLon, "units", "degrees_east");
+  w.text(vLon, "standard_name", "longitude");
+  const int vAlt = w.var("altitude", NC_DOUBLE, {});
+  w.text(vAlt, "long_name", "altitude");
+  w.text(vAlt, "units", "meters");
+  w.text(vAlt, "positive", "up");
+  w.text(vAlt, "comment", "antenna (feedhorn) height above mean sea level");
+
+  const int vSweepNum = w.var("sweep_number", NC_INT, {dSweep});
+  w.text(vSweepNum, "long_name", "sweep_index_number_0_based");
+  const int vSweepMode = w.var("sweep_mode", NC_CHAR, {dSweep, dStr});
+  w.text(vSweepMode, "long_name", "scan_mode_for_sweep");
+  w.text(vSweepMode, "options", "sector, coplane, rhi, vertical_pointing, idle, azimuth_surveillance, elevation_surveillance, sunscan, pointing, manual_ppi, manual_rhi");
+  const int vFixed = w.var("fixed_angle", NC_FLOAT, {dSweep});
+  w.text(vFixed, "long_name", "ray_target_fixed_angle");
+  w.text(vFixed, "units", "degrees");
+  const int vStart = w.var("sweep_start_ray_index", NC_INT, {dSweep});
+  w.text(vStart, "long_name", "index_of_first_ray_in_sweep");
+  const int vEnd = w.var("sweep_end_ray_index", NC_INT, {dSweep});
+  w.text(vEnd, "long_name", "index_of_last_ray_in_sweep");
+
+  const int vTime = w.var("time", NC_DOUBLE, {dTime});
+  w.text(vTime, "standard_name", "time");
+  w.text(vTime, "long_name", "time_in_seconds_since_volume_start");
+  w.text(vTime, "units", "seconds since " + o.startTimeIso8601);
+  w.text(vTime, "calendar", "gregorian");
+  const int vRange = w.var("range", NC_FLOAT, {dRange});
+  w.text(vRange, "long_name", "range_to_center_of_measurement_volume");
+  w.text(vRange, "standard_name", "projection_range_coordinate");
+  w.text(vRange, "units", "meters");
+  w.text(vRange, "axis", "radial_range_coordinate");
+  w.text(vRange, "spacing_is_constant", "true");
+  const float firstGate = static_cast<float>(o.firstGateRangeMeters), spacing = static_cast<float>(o.gateSpacingMeters);
+  w.check(nc_put_att_float(nc, vRange, "meters_to_center_of_first_gate", NC_FLOAT, 1, &firstGate), "range attributes");
+  w.check(nc_put_att_float(nc, vRange, "meters_between_gates", NC_FLOAT, 1, &spacing), "range attributes");
+  const int vAz = w.var("azimuth", NC_FLOAT, {dTime});
+  w.text(vAz, "long_name", "ray_azimuth_angle");
+  w.text(vAz, "units", "degrees");
+  const int vEl = w.var("elevation", NC_FLOAT, {dTime});
+  w.text(vEl, "long_name", "ray_elevation_angle");
+  w.text(vEl, "units", "degrees");
+  w.text(vEl, "positive", "up");
+
+  const int vBwH = w.var("radar_beam_width_h", NC_FLOAT, {});
+  w.text(vBwH, "long_name", "half_power_radar_beam_width_h_channel");
+  w.text(vBwH, "units", "degrees");
+  w.text(vBwH, "meta_group", "radar_parameters");
+  const int vBwV = w.var("radar_beam_width_v", NC_FLOAT, {});
+  w.text(vBwV, "long_name", "half_power_radar_beam_width_v_channel");
+  w.text(vBwV, "units", "degrees");
+  w.text(vBwV, "meta_group", "radar_parameters");
+
+  const int vDbz = w.var("DBZ", NC_SHORT, {dTime, dRange});
+  w.text(vDbz, "long_name", "equivalent_reflectivity_factor");
+  w.text(vDbz, "standard_name", "equivalent_reflectivity_factor");
+  w.text(vDbz, "units", "dBZ");
+  const float scale = static_cast<float>(kDbzScale), offset = 0.0f;
+  w.check(nc_put_att_float(nc, vDbz, "scale_factor", NC_FLOAT, 1, &scale), "DBZ scale_factor");
+  w.check(nc_put_att_float(nc, vDbz, "add_offset", NC_FLOAT, 1, &offset), "DBZ add_offset");
+  short fill = kDbzFill;
+  w.check(nc_def_var_fill(nc, vDbz, 0, &fill), "DBZ _FillValue");
+  w.text(vDbz, "coordinates", "elevation azimuth range");
+  w.text(vDbz, "comment", "SYNTHETIC (atmoglobe analytic storm model, seed " + std::to_string(o.seed) +
+                              "). _FillValue marks gates below " + dbText(o.minEchoDbz) +
+                              " dBZ: no echo (CfRadial cannot say 'no echo' otherwise).");
+  if (o.deflateLevel > 0) {
+    w.check(nc_def_var_chunking(nc, vDbz, NC_CHUNKED, std::vector<std::size_t>{g.nRay, g.nGate}.data()), "DBZ chunking");
+    w.check(nc_def_var_deflate(nc, vDbz, 1, 1, o.deflateLevel), "DBZ deflate");
+  }
+  w.check(nc_enddef(nc), "end of definitions");
+  if (!w.ok()) return w.error();
+
+  // --- data ---
+  auto putText = [&](int varid, std::size_t row, bool is2d, const std::string& s) {
+    std::string padded = s.substr(0, kStrLen);
+    padded.resize(kStrLen, '\0');
+    if (is2d) {
+      const std::size_t start[2] = {row, 0}, count[2] = {1, kStrLen};
+      w.check(nc_put_vara_text(nc, varid, start, count, padded.data()), "text variable");
+    } else {
+      const std::size_t start[1] = {0}, count[1] = {kStrLen};
+      w.check(nc_put_vara_text(nc, varid, start, count, padded.data()), "text variable");
+    }
+  };
+  int volumeNumber = 0;
+  w.check(nc_put_var_int(nc, vVolume, &volumeNumber), "volume_number");
+  putText(vPlatform, 0, false, "fixed");
+  putText(vInstType, 0, false, "radar");
+  putText(vAxis, 0, false, "axis_z");
+  putText(vTcs, 0, false, o.startTimeIso8601);
+  putText(vTce, 0, false, endTime);
+  w.check(nc_put_var_double(nc, vLat, &o.siteLatDeg), "latitude");
+  w.check(nc_put_var_double(nc, vLon, &o.siteLonDeg), "longitude");
+  w.check(nc_put_var_double(nc, vAlt, &o.antennaAltitudeMslMeters), "altitude");
+  std::vector<int> sweepNumber(g.nSweep), starts(g.nSweep), ends(g.nSweep);
+  std::vector<float> fixed(g.nSweep);
+  for (std::size_t s = 0; s < g.nSweep; ++s) {
+    sweepNumber[s] = static_cast<int>(s);
+    starts[s] = static_cast<int>(s * g.nRay);
+    ends[s] = static_cast<int>((s + 1) * g.nRay - 1);
+    fixed[s] = static_cast<float>(o.elevationsDeg[s]);
+    putText(vSweepMode, s, true, "azimuth_surveillance");
+  }
+  w.check(nc_put_var_int(nc, vSweepNum, sweepNumber.data()), "sweep_number");
+  w.check(nc_put_var_float(nc, vFixed, fixed.data()), "fixed_angle");
+  w.check(nc_put_var_int(nc, vStart, starts.data()), "sweep_start_ray_index");
+  w.check(nc_put_var_int(nc, vEnd, ends.data()), "sweep_end_ray_index");
+  w.check(nc_put_var_double(nc, vTime, timeSec.data()), "time");
+  std::vector<float> range(g.nGate);
+  for (std::size_t k = 0; k < g.nGate; ++k)
+    range[k] = static_cast<float>(o.firstGateRangeMeters + static_cast<double>(k) * o.gateSpacingMeters);
+  w.check(nc_put_var_float(nc, vRange, range.data()), "range");
+  w.check(nc_put_var_float(nc, vAz, az.data()), "azimuth");
+  w.check(nc_put_var_float(nc, vEl, el.data()), "elevation");
+  const float bw = static_cast<float>(o.beamWidthDeg);
+  w.check(nc_put_var_float(nc, vBwH, &bw), "radar_beam_width_h");
+  w.check(nc_put_var_float(nc, vBwV, &bw), "radar_beam_width_v");
+  w.check(nc_put_var_short(nc, vDbz, dbz.data()), "DBZ");
+  return w.ok() ? std::string() : w.error();
+}
+
+}  // namespace
+
+Status validateSyntheticRadarOptions(const SyntheticRadarOptions& o) {
+  auto bad = [](const std::string& what) { return makeError("synthetic radar: " + what); };
+  if (o.siteId.empty() || o.siteId.size() > 31) return bad("site id must have 1..31 characters");
+  if (!(o.siteLatDeg >= -90.0 && o.siteLatDeg <= 90.0)) return bad("site latitude " + std::to_string(o.siteLatDeg) + " is outside [-90, 90]");
+  if (!(o.siteLonDeg >= -180.0 && o.siteLonDeg <= 180.0)) return bad("site longitude " + std::to_string(o.siteLonDeg) + " is outside [-180, 180]");
+  if (!(std::fabs(o.antennaAltitudeMslMeters) <= 10000.0)) return bad("antenna altitude must be within +-10000 m");
+  if (!(std::fabs(o.stormEastKm) <= 1000.0 && std::fabs(o.stormNorthKm) <= 1000.0)) return bad("storm offset must be within +-1000 km");
+  if (!(o.noiseDbz >= 0.0 && o.noiseDbz <= 20.0)) return bad("noise must be in [0, 20] dB");
+  if (!(o.minEchoDbz >= -30.0 && o.minEchoDbz <= 60.0)) return bad("minimum echo must be in [-30, 60] dBZ");
+  if (o.elevationsDeg.empty() || o.elevationsDeg.size() > 64) return bad("1..64 elevation angles needed");
+  for (double e : o.elevationsDeg)
+    if (!(e >= -2.0 && e <= 90.0)) return bad("elevation " + std::to_string(e) + " deg is outside [-2, 90]");
+  if (o.raysPerSweep < 1 || o.raysPerSweep > kMaxRays) return bad("rays per sweep must be in [1, 3600]");
+  if (!(o.firstGateRangeMeters >= 0.0 && o.gateSpacingMeters >= 1.0 && o.maxRangeMeters > o.firstGateRangeMeters &&
+        o.maxRangeMeters <= 1.0e6))
+    return bad("gate geometry: need first gate >= 0, spacing >= 1 m, first < max range <= 1000 km");
+  if (gateCountFor(o) > static_cast<std::size_t>(kMaxGates)) return bad("more than 4096 gates per ray");
+  if (!(o.beamWidthDeg > 0.0 && o.beamWidthDeg <= 10.0)) return bad("beam width must be in (0, 10] deg");
+  if (!(o.sweepSeconds > 0.0 && o.sweepSeconds <= 3600.0)) return bad("sweep duration must be in (0, 3600] s");
+  std::tm t{};
+  if (!parseIsoUtc(o.startTimeIso8601, &t)) return bad("start time '" + o.startTimeIso8601 + "' is not YYYY-MM-DDTHH:MM:SSZ");
+  if (o.deflateLevel < 0 || o.deflateLevel > 9) return bad("deflate level must be 0..9");
+  return Ok{};
+}
+
+double syntheticStormDbz(const SyntheticRadarOptions& options, double eastMeters, double northMeters,
+                         double heightMslMeters) {
+  return stormDbzKm(options, textureFor(options.seed), eastMeters / 1000.0, northMeters / 1000.0,
+                    heightMslMeters / 1000.0);
+}
+
+Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptions& o, SyntheticRadarSummary* summary) {
+  if (auto st = validateSyntheticRadarOptions(o); !st) return st;
+  const Geometry g{o.elevationsDeg.size(), static_cast<std::size_t>(o.raysPerSweep), gateCountFor(o)};
+  const std::size_t nTime = g.nSweep * g.nRay;
+
+  // --- rays: angles and times; each sweep starts 37 rays further round (real sweeps start anywhere) ---
+  std::vector<float> az(nTime), el(nTime);
+  std::vector<double> timeSec(nTime);
+  const double rayDeg = 360.0 / static_cast<double>(g.nRay);
+  for (std::size_t s = 0; s < g.nSweep; ++s) {
+    const std::size_t startRay = (s * 37) % g.nRay;
+    for (std::size_t k = 0; k < g.nRay; ++k) {
+      const std::size_t i = s * g.nRay + k;
+      az[i] = static_cast<float>((static_cast<double>((startRay + k) % g.nRay) + 0.5) * rayDeg);
+      el[i] = static_cast<float>(o.elevationsDeg[s]);
+      timeSec[i] = o.sweepSeconds * (static_cast<double>(s) + (static_cast<double>(k) + 0.5) / static_cast<double>(g.nRay));
+    }
+  }
+
+  // --- values: beam-centre height and ground distance per (sweep, gate), position per ray ---
+  BeamModel model;  // 4/3, WGS84 radius at the site latitude
+  const double re = effectiveEarthRadiusMeters(model, o.siteLatDeg);
+  const Texture tex = textureFor(o.seed);
+  std::vector<short> dbz(nTime * g.nGate, kDbzFill);
+  SyntheticRadarSummary sum;
+  sum.sweeps = g.nSweep;
+  sum.raysPerSweep = g.nRay;
+  sum.gatesPerRay = g.nGate;
+  std::vector<double> heightKm(g.nGate), groundKm(g.nGate);
+  for (std::size_t s = 0; s < g.nSweep; ++s) {
+    for (std::size_t k = 0; k < g.nGate; ++k) {
+      double h = 0, sd = 0;
+      // Uses the stored (float) angle, so the file's geometry and the values agree exactly.
+      beamHeightAndGroundDistance(o.firstGateRangeMeters + static_cast<double>(k) * o.gateSpacingMeters,
+                                  static_cast<double>(el[s * g.nRay]), o.antennaAltitudeMslMeters, re, &h, &sd);
+      heightKm[k] = h / 1000.0;
+      groundKm[k] = sd / 1000.0;
+    }
+    for (std::size_t r = 0; r < g.nRay; ++r) {
+      const std::size_t ray = s * g.nRay + r;
+      const double a = static_cast<double>(az[ray]) * kDegToRad;
+      const double sa = std::sin(a), ca = std::cos(a);
+      for (std::size_t k = 0; k < g.nGate; ++k) {
+        const double x = groundKm[k] * sa, y = groundKm[k] * ca;
+        double v = stormDbzKm(o, tex, x, y, heightKm[k]);
+        if (!std::isfinite(v)) continue;
+        const std::size_t idx = ray * g.nGate + k;
+        if (o.noiseDbz > 0) v += o.noiseDbz * gaussian(o.seed, idx);
+        if (v < o.minEchoDbz) continue;
+        const double raw = std::clamp(std::round(v / kDbzScale), -32767.0, 32767.0);
+        dbz[idx] = static_cast<short>(raw);
+        ++sum.echoGates;
+        const double stored = raw * kDbzScale;
+        if (stored > sum.maxDbz) {
+          sum.maxDbz = stored;
+          sum.maxEastKm = x;
+          sum.maxNorthKm = y;
+          sum.maxHeightMslMeters = heightKm[k] * 1000.0;
+        }
+      }
+    }
+  }
+
+  // --- atomic write: hidden temporary beside the target, then rename ---
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path p(path);
+  if (p.filename().empty()) return makeError(path + ": not a file name");
+  std::string name = ".";
+  name.append(p.filename().string());
+  name.append(".tmp");
+  name.append(std::to_string(::getpid()));
+  name.push_back('-');
+  name.append(std::to_string(counter.fetch_add(1)));
+  const std::string temp = (p.parent_path() / name).string();
+  // Create it ourselves first: the OS reason (permission, missing directory) is clearer than HDF5's.
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) return makeError(osError(path, "cannot create file in its directory", errno));
+  ::close(fd);
+  int ncid = -1;
+  if (const int st = nc_create(temp.c_str(), NC_NETCDF4 | NC_CLOBBER, &ncid); st != NC_NOERR) {
+    ::unlink(temp.c_str());
+    return makeError(path + ": cannot create netCDF-4 file: " + nc_strerror(st));
+  }
+  NcWriter w(path, ncid);
+  std::string err = writeContents(w, o, g, dbz, az, el, timeSec);
+  if (const int st = nc_close(ncid); st != NC_NOERR && err.empty())
+    err = path + ": netCDF close failed: " + nc_strerror(st);
+  if (err.empty()) {
+    const int rfd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
+    if (rfd < 0 || ::fsync(rfd) != 0) err = osError(path, "fsync failed", errno);
+    if (rfd >= 0) ::close(rfd);
+  }
+  if (err.empty() && ::rename(temp.c_str(), path.c_str()) != 0) err = osError(path, "rename into place failed", errno);
+  if (!err.empty()) {
+    ::unlink(temp.c_str());
+    return makeError(err);
+  }
+  {  // make the rename durable (failure here does not undo it: not an error)
+    const std::string dir = p.parent_path().empty() ? std::string(".") : p.parent_path().string();
+    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      ::fsync(dfd);
+      ::close(dfd);
+    }
+  }
+  std::error_code ec;
+  sum.fileBytes = std::filesystem::file_size(path, ec);
+  if (summary) *summary = sum;
+  return Ok{};
+}
+
+}  // namespace atmoglobe::volume
