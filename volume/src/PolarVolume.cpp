@@ -2,6 +2,8 @@
 // the definition the GPU marcher is measured against.
 #include <atmoglobe/volume/PolarVolume.h>
 
+#include <atmoglobe/globe/Ellipsoid.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -174,6 +176,23 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
     rayOrder[k] = std::move(unique);
   }
   if (!(out.maxRangeMeters > 0.0)) return makeError(file + ": the gates end at or before the antenna");
+  {
+    const glm::dvec3 antenna = globe::geodeticToEcef(
+        globe::Geodetic{out.site.latDeg, out.site.lonDeg, out.site.antennaHeightEllipsoidMeters});
+    const double hb = 0.5 * out.beamWidthDeg;
+    const double elLo = std::max(-90.0, out.sweeps.front().elevationDeg - hb);
+    const double elHi = std::min(90.0, out.sweeps.back().elevationDeg + hb);
+    double farthest = out.maxRangeMeters;
+    const int steps = std::max(1, static_cast<int>(std::ceil((elHi - elLo) / 0.05)));
+    for (int i = 0; i <= steps; ++i) {
+      const double el = elLo + (elHi - elLo) * i / steps;
+      for (int k = 0; k < 8; ++k) {
+        const GatePosition p = geolocateGateExact(out.site, out.beam, 45.0 * k, el, out.maxRangeMeters);
+        farthest = std::max(farthest, glm::length(p.ecef - antenna));
+      }
+    }
+    out.clipRadiusMeters = farthest * 1.001;
+  }
 
   // The padded array: bounded so that odd sweep shapes cannot ask for an unbounded allocation.
   constexpr std::size_t kMaxValues = std::size_t{1} << 28;  // 1 GiB of float

@@ -82,7 +82,7 @@ glm::dvec4 shadeIso(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
 glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3& dir, bool occlude) {
   const VolumeRenderSettings& st = ctx.settings;
   const double step = st.stepMeters;
-  const Span span = intersectSphere(eye, dir, ctx.antennaEcef, ctx.volume.maxRangeMeters);
+  const Span span = intersectSphere(eye, dir, ctx.antennaEcef, ctx.volume.clipRadiusMeters);
   if (span.tExit < span.tEnter || span.tExit < 0.0) return glm::dvec4(0.0);
   double tLimit = std::numeric_limits<double>::infinity();
   if (occlude) {

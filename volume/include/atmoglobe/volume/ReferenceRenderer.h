@@ -8,8 +8,9 @@
 // Per pixel (see renderReference for the full rule):
 //   ray from the eye through the pixel centre; samples at t_i = (i + 0.5) * step (metres from
 //   the eye, so the sample grid is anchored at the eye, not at the volume's entry point) for
-//   every i whose t_i lies inside the ray's intersection with the sphere of radius maxRange
-//   around the antenna and before the ray's first hit of the WGS84 ellipsoid.
+//   every i whose t_i lies inside the ray's intersection with the sphere of radius
+//   clipRadiusMeters (PolarVolume.h; the brief said maxRange, which cuts the far top of the
+//   shell, see docs/volume-rendering.md) around the antenna and before the ray's first hit of the WGS84 ellipsoid.
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/TransferFunction.h>
 
@@ -65,8 +66,8 @@ struct VolumeImage {
 
 /// Renders `volume` with the double-precision reference rule. For each pixel:
 ///  - samples at t_i = (i + 0.5) * stepMeters along the unit ray from the eye, for every i with
-///    tEnter <= t_i <= tExit (the ray's intersection with the sphere of radius maxRangeMeters
-///    around the antenna, ECEF) and, if occludeByEllipsoid, t_i < the ray's first hit of the
+///    tEnter <= t_i <= tExit (the ray's intersection with the sphere of radius
+///    volume.clipRadiusMeters around the antenna, ECEF) and, if occludeByEllipsoid, t_i < the ray's first hit of the
 ///    WGS84 ellipsoid (globe::intersectRayEllipsoid);
 ///  - each sample: antennaCoordinatesExact -> samplePolar(settings.interpolation);
 ///  - DVR: for Echo samples c = classify(value), a_s = correctedOpacity(c.a, step), front to back

@@ -1,0 +1,112 @@
+#pragma once
+// A radar volume prepared for rendering in its own polar geometry, and the sampling rule
+// that the GPU marcher (engine: RadarVolumeRendererGL + shaders/radar_march.frag) and the
+// CPU reference renderer (ReferenceRenderer.h) both implement. GL-free.
+//
+// Layout (what the GPU gets, no Cartesian resampling):
+//  - PPI sweeps only, sorted by elevation; sweeps with the same fixed angle (NEXRAD split
+//    cuts) keep the first one that has the field.
+//  - values: one layer per sweep, rows = rays sorted by azimuth, columns = gates, padded to
+//    maxRays x maxGates (padding is "no data"). Sentinels as in RadarVolume.h: NaN = no data,
+//    -inf = no echo, finite = measured value.
+//  - Per sweep: elevation, first-gate range, gate spacing, gate count, ray count and the
+//    sorted ray azimuths.
+//
+// SAMPLING RULE at antenna coordinates (range r, azimuth az, elevation el):
+//  1. Vertical: with sweeps e_0 < ... < e_{n-1} and half beam width hb = beamWidthDeg / 2:
+//     el < e_0 - hb or el > e_{n-1} + hb -> NoData (the cone of silence and the space below
+//     the lowest beam stay empty).
+//     Nearest: the single sweep k minimising |el - e_k| (ties: the lower one), weight 1.
+//     Linear: el <= e_0 -> sweep 0 alone; el >= e_{n-1} -> the top sweep alone; otherwise
+//     k with e_k <= el < e_{k+1}, weights (1 - t, t), t = (el - e_k) / (e_{k+1} - e_k).
+//  2. In sweep k: gate coordinate g = (r - firstGateRange_k) / gateSpacing_k (gate centres at
+//     integers). g < -0.5 or g > gateCount_k - 0.5 -> every texel of this sweep is NoData.
+//     Ray coordinate a in [0, rayCount_k): piecewise linear in azimuth between adjacent ray
+//     centres (cyclic across 0/360: between the last and the first ray a runs from n-1 to n,
+//     and n is ray 0). So irregular azimuth spacing is handled by azimuth, not by index.
+//     Nearest: texel (round(a) mod n, clamp(round(g), 0, count-1)).
+//     Linear: the 4 texels (floor(a), floor(a)+1 mod n) x (floor(g), floor(g)+1), gate
+//     indices clamped to [0, count-1], bilinear weights.
+//  3. Combining the texels (1 for nearest; up to 8 for linear, each with its total weight
+//     w_i = sweep weight x bilinear weight, sum 1):
+//       echoWeight = sum of w_i over measured values; measuredWeight = echoWeight + sum of
+//       w_i over no-echo texels.
+//       echoWeight >= 0.5 -> Echo, value = sum(w_i v_i over measured) / echoWeight;
+//       else measuredWeight >= 0.5 -> NoEcho; else NoData.
+//
+// TRANSFER FUNCTION (DVR): colour and opacity come from a ColorTable (RGBA, alpha 0..255);
+// the table's alpha is the opacity accumulated over `opacityReferenceMeters` of path. For a
+// step of s metres the sample's opacity is alpha_s = 1 - (1 - alpha)^(s / reference)
+// (opacity correction for step length). NoEcho and NoData contribute nothing.
+// Compositing: front to back, premultiplied colour; early termination at alpha >= 0.99.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/RadarVolume.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+struct PolarSweepLayout {
+  double elevationDeg = 0.0;          ///< fixed angle of the sweep (degrees)
+  double firstGateRangeMeters = 0.0;  ///< centre of gate 0 (m)
+  double gateSpacingMeters = 0.0;     ///< (m), > 0
+  int gateCount = 0;
+  int rayCount = 0;
+  std::vector<float> azimuthDeg;      ///< rayCount sorted ray-centre azimuths in [0, 360)
+};
+
+struct PolarVolume {
+  std::string sourcePath;
+  std::string fieldName;
+  std::string fieldUnits;
+  GeolocationSite site;               ///< antenna on the WGS84 ellipsoid (after resolveSite)
+  BeamModel beam;
+  double beamWidthDeg = 1.0;          ///< used for the vertical extent (file value, else 1 deg)
+  std::vector<PolarSweepLayout> sweeps;  ///< sorted by elevation, strictly increasing
+  int maxRays = 0;
+  int maxGates = 0;
+  std::vector<float> values;          ///< [sweep][ray][gate], sweeps.size() * maxRays * maxGates
+  double maxRangeMeters = 0.0;        ///< largest gate-centre range + half a gate, over sweeps
+  /// (Addition, reference renderer) Radius (m, ECEF straight-line distance from the antenna) of
+  /// a sphere that holds every point whose beam-model range is <= maxRangeMeters within the
+  /// vertical extent [e_0 - hb, e_{n-1} + hb]. Larger than maxRangeMeters because the model's
+  /// range is a chord of the effective (4/3) Earth, not of the true one: for KLBB the top beam
+  /// edge at 460 km lies ~1.5 km beyond a sphere of radius maxRange. Rays are clipped to this
+  /// sphere (an acceleration bound only: samplePolar decides what is inside). Computed by
+  /// buildPolarVolume from the exact forward geolocation at maxRange over the elevations (0.05
+  /// deg grid, both ends) and 8 azimuths, times 1.001.
+  double clipRadiusMeters = 0.0;
+  float minValue = 0.0f, maxValue = 0.0f;  ///< range of measured values
+
+  float value(int sweep, int ray, int gate) const {
+    return values[(static_cast<std::size_t>(sweep) * maxRays + ray) * maxGates + gate];
+  }
+  std::size_t byteSize() const { return values.size() * sizeof(float); }
+};
+
+/// Builds the render layout from a read volume (with values loaded). Errors: no PPI sweep
+/// (e.g. an RHI file: "RHI volumes cannot be volume-rendered yet; export or `gates` them"),
+/// no values loaded, non-finite geometry.
+Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam);
+
+enum class Interpolation { Nearest, Linear };
+
+struct PolarSample {
+  enum class State { NoData, NoEcho, Echo };
+  State state = State::NoData;
+  double value = 0.0;  ///< valid when state == Echo
+};
+
+/// The sampling rule above, in double precision. Azimuth any value (wrapped to [0, 360)).
+PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg,
+                        Interpolation interpolation);
+
+/// Bytes a Cartesian grid would need to hold this volume at the radar's near-range
+/// resolution (the finest gate spacing, in x, y and z, over the box enclosing maxRange and
+/// the top beam's height), at `bytesPerVoxel`. For the comparison the issue asks for.
+double cartesianEquivalentBytes(const PolarVolume& v, double bytesPerVoxel);
+
+}  // namespace atmoglobe::volume
