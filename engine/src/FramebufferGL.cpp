@@ -5,7 +5,7 @@
 
 namespace atmoglobe::engine {
 
-Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int heightPx) {
+Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int heightPx, GLenum colorFormat) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
   if (widthPx < 1 || heightPx < 1 || widthPx > maxSize || heightPx > maxSize) {
@@ -16,12 +16,21 @@ Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int he
   fb->width_ = widthPx;
   fb->height_ = heightPx;
   glCreateFramebuffers(1, &fb->fbo_);
-  glCreateRenderbuffers(1, &fb->color_);
-  glNamedRenderbufferStorage(fb->color_, GL_RGBA8, widthPx, heightPx);
-  glCreateRenderbuffers(1, &fb->depth_);
-  glNamedRenderbufferStorage(fb->depth_, GL_DEPTH_COMPONENT32F, widthPx, heightPx);
-  glNamedFramebufferRenderbuffer(fb->fbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, fb->color_);
-  glNamedFramebufferRenderbuffer(fb->fbo_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, fb->depth_);
+  // Textures (not renderbuffers) so later passes can sample the globe's colour and depth.
+  glCreateTextures(GL_TEXTURE_2D, 1, &fb->color_);
+  glTextureStorage2D(fb->color_, 1, colorFormat, widthPx, heightPx);
+  glCreateTextures(GL_TEXTURE_2D, 1, &fb->depth_);
+  glTextureStorage2D(fb->depth_, 1, GL_DEPTH_COMPONENT32F, widthPx, heightPx);
+  for (GLuint t : {fb->color_, fb->depth_}) {
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  glTextureParameteri(fb->depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(fb->depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glNamedFramebufferTexture(fb->fbo_, GL_COLOR_ATTACHMENT0, fb->color_, 0);
+  glNamedFramebufferTexture(fb->fbo_, GL_DEPTH_ATTACHMENT, fb->depth_, 0);
   if (glCheckNamedFramebufferStatus(fb->fbo_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     return makeError("framebuffer " + std::to_string(widthPx) + "x" + std::to_string(heightPx) + " is incomplete");
   }
@@ -30,8 +39,8 @@ Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int he
 
 FramebufferGL::~FramebufferGL() {
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
-  if (color_) glDeleteRenderbuffers(1, &color_);
-  if (depth_) glDeleteRenderbuffers(1, &depth_);
+  if (color_) glDeleteTextures(1, &color_);
+  if (depth_) glDeleteTextures(1, &depth_);
 }
 
 void FramebufferGL::bind() const {

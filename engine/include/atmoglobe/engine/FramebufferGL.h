@@ -1,5 +1,6 @@
 #pragma once
-// An offscreen render target: RGBA8 colour + 32-bit float depth (for reverse-Z).
+// An offscreen render target: colour (RGBA8 by default) + 32-bit float depth (for reverse-Z),
+// both textures so later passes can sample them.
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/Result.h>
 
@@ -11,7 +12,7 @@ namespace atmoglobe::engine {
 
 class FramebufferGL {
  public:
-  static Result<std::unique_ptr<FramebufferGL>> create(int widthPx, int heightPx);
+  static Result<std::unique_ptr<FramebufferGL>> create(int widthPx, int heightPx, GLenum colorFormat = GL_RGBA8);
   ~FramebufferGL();
   FramebufferGL(const FramebufferGL&) = delete;
   FramebufferGL& operator=(const FramebufferGL&) = delete;
@@ -20,6 +21,8 @@ class FramebufferGL {
   int widthPx() const { return width_; }
   int heightPx() const { return height_; }
   GLuint id() const { return fbo_; }
+  GLuint colorTexture() const { return color_; }
+  GLuint depthTexture() const { return depth_; }
   /// Reads the colour buffer back; row 0 of the image is the TOP of the picture.
   globe::ImageRGBA8 readColor() const;
 

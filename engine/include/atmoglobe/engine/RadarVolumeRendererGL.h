@@ -1,0 +1,101 @@
+#pragma once
+// Radar volumes ray-marched on the GPU in their own polar geometry (no Cartesian
+// resampling): RadarVolumeGL holds the sweeps as texture layers in their native
+// (ray, gate) layout; RadarVolumeRendererGL marches them (shaders/radar_march.frag) into a
+// volume image, optionally at a lower resolution, and lays it over the globe. The sampling
+// rule and transfer function are those of volume/PolarVolume.h and TransferFunction.h, the
+// same as the CPU reference renderer (volume/ReferenceRenderer.h).
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+
+#include <epoxy/gl.h>
+
+#include <memory>
+
+namespace atmoglobe::engine {
+
+/// How the marcher maps a point to antenna coordinates.
+enum class BeamApproximation {
+  /// The effective-Earth model (ke, R from the volume's BeamModel) on a local sphere whose
+  /// radius is the ellipsoid's normal-section radius in the sample's azimuth; float32.
+  /// Its error against the exact inverse is measured by RadarMarchTest.
+  EffectiveEarthLocalSphere,
+  /// Straight lines from the antenna, no Earth curvature, no refraction (what several open
+  /// 3-D radar viewers do); for comparison only.
+  StraightLine,
+};
+
+struct RadarRenderOptions {
+  volume::VolumeRenderSettings render;  ///< mode, interpolation, step, transfer, iso, termination
+  double imageScale = 1.0;              ///< volume image resolution relative to the frame (0.1..1)
+  BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;
+  bool skipEmptySpace = true;           ///< coarse max grid: jump over blocks that cannot contribute
+};
+
+/// The reference renderer's camera for an engine camera (same convention, plain data).
+volume::RenderCamera referenceCameraFor(const Camera& camera);
+
+/// The GPU copy of one PolarVolume.
+class RadarVolumeGL {
+ public:
+  static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume);
+  ~RadarVolumeGL();
+  RadarVolumeGL(const RadarVolumeGL&) = delete;
+  RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
+
+  const volume::PolarVolume& polar() const { return *polar_; }
+  /// GPU bytes of all textures (values, azimuths, lookup, coarse grid).
+  std::size_t gpuBytes() const { return gpuBytes_; }
+
+  static constexpr int kCoarseGates = 16;  ///< gates per coarse block
+  static constexpr int kCoarseRays = 8;    ///< rays per coarse block
+  static constexpr int kAzimuthLookupBins = 720;
+  static constexpr int kMaxSweeps = 32;
+
+ private:
+  friend class RadarVolumeRendererGL;
+  RadarVolumeGL() = default;
+  std::shared_ptr<const volume::PolarVolume> polar_;
+  GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;
+  std::size_t gpuBytes_ = 0;
+};
+
+class RadarVolumeRendererGL {
+ public:
+  static Result<std::unique_ptr<RadarVolumeRendererGL>> create();
+  ~RadarVolumeRendererGL();
+
+  /// Marches `volume` for `camera` into an internal RGBA16F image at options.imageScale,
+  /// occluded by `globeDepthTexture` (reverse-Z depth of the frame), and blends it
+  /// (premultiplied) into `target`. Leaves `target` bound.
+  void draw(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
+            const FramebufferGL& target);
+
+  /// Debug/measurement: for each pixel, the antenna coordinates (range m, azimuth deg,
+  /// elevation deg) the shader computes for the point at distance tMeters along the pixel's
+  /// ray. RGBA32F read back, row 0 = top.
+  std::vector<glm::vec4> antennaCoordinatesAt(const Camera& camera, const RadarVolumeGL& volume,
+                                              BeamApproximation beam, double tMeters);
+
+  /// The last volume image (premultiplied RGBA, float), row 0 = top.
+  std::vector<glm::vec4> readVolumeImage() const;
+
+ private:
+  RadarVolumeRendererGL() = default;
+  void setUniforms(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
+                   GLuint depthTexture, int widthPx, int heightPx);
+  void ensureTarget(int widthPx, int heightPx, GLenum format);
+
+  ShaderProgramGL march_;
+  ShaderProgramGL composite_;
+  GLuint vao_ = 0;
+  GLuint transfer_ = 0;
+  std::unique_ptr<FramebufferGL> volumeTarget_;
+  GLenum volumeFormat_ = 0;
+  GLuint emptyDepth_ = 0;
+};
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,341 @@
+#include <atmoglobe/engine/RadarVolumeRendererGL.h>
+
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace atmoglobe::engine {
+
+namespace {
+
+constexpr int kTransferEntries = 4096;
+
+/// Lowest value stored in the coarse grid for "nothing measured here".
+constexpr float kCoarseEmpty = -60000.0f;
+
+std::vector<float> coarseMaxGrid(const volume::PolarVolume& v, int blocksX, int blocksY) {
+  const int n = static_cast<int>(v.sweeps.size());
+  std::vector<float> raw(static_cast<std::size_t>(blocksX) * blocksY * n, kCoarseEmpty);
+  for (int k = 0; k < n; ++k) {
+    const auto& s = v.sweeps[k];
+    for (int ray = 0; ray < s.rayCount; ++ray) {
+      for (int gate = 0; gate < s.gateCount; ++gate) {
+        const float x = v.value(k, ray, gate);
+        if (!std::isfinite(x)) continue;
+        float& cell = raw[(static_cast<std::size_t>(k) * blocksY + ray / RadarVolumeGL::kCoarseRays) * blocksX +
+                          gate / RadarVolumeGL::kCoarseGates];
+        cell = std::max(cell, x);
+      }
+    }
+  }
+  // Dilate by one block in gates, rays (cyclic) and sweeps, so a jump shorter than one
+  // block in every direction never passes over a block that could contribute.
+  std::vector<float> out(raw.size(), kCoarseEmpty);
+  for (int k = 0; k < n; ++k) {
+    for (int by = 0; by < blocksY; ++by) {
+      for (int bx = 0; bx < blocksX; ++bx) {
+        float m = kCoarseEmpty;
+        for (int dk = -1; dk <= 1; ++dk) {
+          const int kk = k + dk;
+          if (kk < 0 || kk >= n) continue;
+          for (int dy = -1; dy <= 1; ++dy) {
+            const int yy = (by + dy + blocksY) % blocksY;
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xx = bx + dx;
+              if (xx < 0 || xx >= blocksX) continue;
+              m = std::max(m, raw[(static_cast<std::size_t>(kk) * blocksY + yy) * blocksX + xx]);
+            }
+          }
+        }
+        out[(static_cast<std::size_t>(k) * blocksY + by) * blocksX + bx] = m;
+      }
+    }
+  }
+  return out;
+}
+
+GLuint makeTexture(GLenum target) {
+  GLuint t = 0;
+  glCreateTextures(target, 1, &t);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace
+
+volume::RenderCamera referenceCameraFor(const Camera& camera) {
+  volume::RenderCamera c;
+  c.eyeEcef = camera.eyeEcef();
+  c.cameraToEcef = camera.cameraToEcef();
+  c.focalLengthPx = camera.focalLengthPx();
+  c.widthPx = camera.widthPx();
+  c.heightPx = camera.heightPx();
+  return c;
+}
+
+Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::PolarVolume& v) {
+  const int n = static_cast<int>(v.sweeps.size());
+  if (n < 1 || n > kMaxSweeps) {
+    return makeError(v.sourcePath + ": " + std::to_string(n) + " sweeps; the renderer takes 1.." +
+                     std::to_string(kMaxSweeps));
+  }
+  GLint maxSize = 0, maxLayers = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  if (v.maxGates > maxSize || v.maxRays > maxSize || n > maxLayers) {
+    return makeError(v.sourcePath + ": " + std::to_string(v.maxGates) + " gates x " + std::to_string(v.maxRays) +
+                     " rays exceed the GPU's texture size " + std::to_string(maxSize));
+  }
+  std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
+  gl->polar_ = std::make_shared<volume::PolarVolume>(v);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+
+  // Values: one layer per sweep, native (ray, gate) layout; half floats keep NaN and -inf.
+  gl->values_ = makeTexture(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(gl->values_, 1, GL_R16F, v.maxGates, v.maxRays, n);
+  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, v.maxGates, v.maxRays, n, GL_RED, GL_FLOAT, v.values.data());
+  gl->gpuBytes_ += static_cast<std::size_t>(v.maxGates) * v.maxRays * n * 2;
+
+  // Sorted ray azimuths per sweep, and a 0.5-degree lookup of the last ray at or before.
+  std::vector<float> az(static_cast<std::size_t>(v.maxRays) * n, 0.0f);
+  std::vector<std::int32_t> lookup(static_cast<std::size_t>(kAzimuthLookupBins) * n, -1);
+  for (int k = 0; k < n; ++k) {
+    const auto& s = v.sweeps[k];
+    std::copy(s.azimuthDeg.begin(), s.azimuthDeg.end(), az.begin() + static_cast<std::ptrdiff_t>(k) * v.maxRays);
+    int last = -1;
+    for (int b = 0; b < kAzimuthLookupBins; ++b) {
+      const double start = b * 360.0 / kAzimuthLookupBins;
+      while (last + 1 < s.rayCount && s.azimuthDeg[last + 1] <= start) ++last;
+      lookup[static_cast<std::size_t>(k) * kAzimuthLookupBins + b] = last;
+    }
+  }
+  gl->azimuths_ = makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(gl->azimuths_, 1, GL_R32F, v.maxRays, n);
+  glTextureSubImage2D(gl->azimuths_, 0, 0, 0, v.maxRays, n, GL_RED, GL_FLOAT, az.data());
+  gl->lookup_ = makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(gl->lookup_, 1, GL_R32I, kAzimuthLookupBins, n);
+  glTextureSubImage2D(gl->lookup_, 0, 0, 0, kAzimuthLookupBins, n, GL_RED_INTEGER, GL_INT, lookup.data());
+  gl->gpuBytes_ += az.size() * 4 + lookup.size() * 4;
+
+  // Coarse max grid for empty-space skipping.
+  const int bx = (v.maxGates + kCoarseGates - 1) / kCoarseGates, by = (v.maxRays + kCoarseRays - 1) / kCoarseRays;
+  const std::vector<float> coarse = coarseMaxGrid(v, bx, by);
+  gl->coarse_ = makeTexture(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(gl->coarse_, 1, GL_R16F, bx, by, n);
+  glTextureSubImage3D(gl->coarse_, 0, 0, 0, 0, bx, by, n, GL_RED, GL_FLOAT, coarse.data());
+  gl->gpuBytes_ += coarse.size() * 2;
+  return gl;
+}
+
+RadarVolumeGL::~RadarVolumeGL() {
+  for (GLuint t : {values_, azimuths_, lookup_, coarse_}) {
+    if (t) glDeleteTextures(1, &t);
+  }
+}
+
+Result<std::unique_ptr<RadarVolumeRendererGL>> RadarVolumeRendererGL::create() {
+  auto march = ShaderProgramGL::create("fullscreen.vert", "radar_march.frag");
+  if (!march) return makeError(march.error());
+  auto composite = ShaderProgramGL::create("fullscreen.vert", "composite.frag");
+  if (!composite) return makeError(composite.error());
+  std::unique_ptr<RadarVolumeRendererGL> r(new RadarVolumeRendererGL());
+  r->march_ = std::move(*march);
+  r->composite_ = std::move(*composite);
+  glCreateVertexArrays(1, &r->vao_);
+  r->transfer_ = makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(r->transfer_, 1, GL_RGBA32F, kTransferEntries, 1);
+  // A 1x1 "nothing drawn" depth (0 = infinitely far in reverse-Z) for volume-only renders.
+  r->emptyDepth_ = makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(r->emptyDepth_, 1, GL_R32F, 1, 1);
+  const float zero = 0.0f;
+  glTextureSubImage2D(r->emptyDepth_, 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &zero);
+  return r;
+}
+
+RadarVolumeRendererGL::~RadarVolumeRendererGL() {
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  if (transfer_) glDeleteTextures(1, &transfer_);
+  if (emptyDepth_) glDeleteTextures(1, &emptyDepth_);
+}
+
+void RadarVolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
+  if (volumeTarget_ && volumeTarget_->widthPx() == widthPx && volumeTarget_->heightPx() == heightPx &&
+      volumeFormat_ == format) {
+    return;
+  }
+  auto t = FramebufferGL::create(widthPx, heightPx, format);
+  assert(t);
+  volumeTarget_ = std::move(*t);
+  volumeFormat_ = format;
+}
+
+void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeGL& gl,
+                                        const RadarRenderOptions& options, GLuint depthTexture, int widthPx,
+                                        int heightPx) {
+  const volume::PolarVolume& v = gl.polar();
+  const volume::VolumeRenderSettings& rs = options.render;
+  const GLuint p = march_.id();
+  march_.use();
+  const int n = static_cast<int>(v.sweeps.size());
+  std::vector<glm::vec4> geom(n);
+  std::vector<GLint> rays(n);
+  double minGap = 90.0, minSpacing = 1e30;
+  for (int k = 0; k < n; ++k) {
+    const auto& s = v.sweeps[k];
+    // Narrowed to float: angles (1e-7 deg), ranges (< 1 mm at 1000 km).
+    geom[k] = glm::vec4(static_cast<float>(s.elevationDeg), static_cast<float>(s.firstGateRangeMeters),
+                        static_cast<float>(s.gateSpacingMeters), static_cast<float>(s.gateCount));
+    rays[k] = s.rayCount;
+    minSpacing = std::min(minSpacing, s.gateSpacingMeters);
+    if (k > 0) minGap = std::min(minGap, s.elevationDeg - v.sweeps[k - 1].elevationDeg);
+  }
+  int maxRays = 1;
+  for (const auto& s : v.sweeps) maxRays = std::max(maxRays, s.rayCount);
+  glUniform1f(glGetUniformLocation(p, "u_minGateSpacing"), static_cast<float>(minSpacing));
+  glUniform1i(glGetUniformLocation(p, "u_maxRayCount"), maxRays);
+  glUniform1f(glGetUniformLocation(p, "u_minSweepGapDeg"), static_cast<float>(n > 1 ? minGap : 90.0));
+  glUniform4fv(glGetUniformLocation(p, "u_sweepGeom"), n, glm::value_ptr(geom[0]));
+  glUniform1iv(glGetUniformLocation(p, "u_sweepRays"), n, rays.data());
+  glUniform1i(glGetUniformLocation(p, "u_sweepCount"), n);
+  const double halfBeam = 0.5 * v.beamWidthDeg;
+  glUniform1f(glGetUniformLocation(p, "u_halfBeamDeg"), static_cast<float>(halfBeam));
+  // Clip sphere: holds every point within maxRange along the bent beams (PolarVolume.h).
+  const double clipRadius = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
+  glUniform1f(glGetUniformLocation(p, "u_maxRange"), static_cast<float>(clipRadius));
+
+  // Earth model at the site.
+  const double latRad = v.site.latDeg * M_PI / 180.0;
+  const double e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
+  const double w2 = 1.0 - e2 * std::sin(latRad) * std::sin(latRad);
+  const double primeVertical = globe::kWgs84A / std::sqrt(w2);
+  const double meridional = globe::kWgs84A * (1.0 - e2) / (w2 * std::sqrt(w2));
+  const double radius = v.beam.earthRadiusMeters.value_or(globe::geocentricRadiusMeters(v.site.latDeg));
+  const double effective = v.beam.ke * radius;
+  // Straight-line elevation band holding every beam: a beam bends by at most
+  // r / (2R) * |1 - 1/ke| radians against a straight line out to r (plus 0.05 deg slack).
+  const bool straight = options.beam == BeamApproximation::StraightLine;
+  const double bendDeg = straight ? 0.0 : clipRadius / (2.0 * radius) * std::abs(1.0 - 1.0 / v.beam.ke) * 180.0 / M_PI;
+  const double lo = v.sweeps.front().elevationDeg - halfBeam - bendDeg - 0.05;
+  const double hi = v.sweeps.back().elevationDeg + halfBeam + bendDeg + 0.05;
+  glUniform2f(glGetUniformLocation(p, "u_straightElevationClipDeg"), static_cast<float>(std::max(lo, -90.0)),
+              static_cast<float>(std::min(hi, 90.0)));
+  glUniform2i(glGetUniformLocation(p, "u_coarseBlock"), RadarVolumeGL::kCoarseGates, RadarVolumeGL::kCoarseRays);
+  const glm::dmat3 enu = globe::enuAxes(v.site.latDeg, v.site.lonDeg);
+  const glm::mat3 ecefToEnu = glm::mat3(glm::transpose(enu));
+  glUniformMatrix3fv(glGetUniformLocation(p, "u_ecefToEnu"), 1, GL_FALSE, glm::value_ptr(ecefToEnu));
+  glUniform1f(glGetUniformLocation(p, "u_h0"), static_cast<float>(v.site.antennaHeightEllipsoidMeters));
+  glUniform1f(glGetUniformLocation(p, "u_meridionalRadius"), static_cast<float>(meridional));
+  glUniform1f(glGetUniformLocation(p, "u_primeVerticalRadius"), static_cast<float>(primeVertical));
+  glUniform1f(glGetUniformLocation(p, "u_effectiveRadius"), static_cast<float>(effective));
+  glUniform1i(glGetUniformLocation(p, "u_beamModel"), straight ? 1 : 0);
+
+  // Camera relative to the antenna: subtracted in double, then narrowed.
+  const glm::dvec3 site = globe::geodeticToEcef({v.site.latDeg, v.site.lonDeg, v.site.antennaHeightEllipsoidMeters});
+  const glm::vec3 eyeRelSite = glm::vec3(camera.eyeEcef() - site);
+  glUniform3fv(glGetUniformLocation(p, "u_eyeRelSite"), 1, glm::value_ptr(eyeRelSite));
+  const glm::mat3 cameraToEcef = glm::mat3(camera.cameraToEcef());
+  glUniformMatrix3fv(glGetUniformLocation(p, "u_cameraToEcef"), 1, GL_FALSE, glm::value_ptr(cameraToEcef));
+  glUniform1f(glGetUniformLocation(p, "u_focalPx"), static_cast<float>(camera.focalLengthPx()));
+  glUniform2f(glGetUniformLocation(p, "u_imageSizePx"), static_cast<float>(camera.widthPx()),
+              static_cast<float>(camera.heightPx()));
+  glUniform1f(glGetUniformLocation(p, "u_near"), static_cast<float>(camera.nearMeters()));
+  (void)widthPx;
+  (void)heightPx;
+
+  const int mode = rs.mode == volume::VolumeRenderMode::Dvr ? 0 : rs.mode == volume::VolumeRenderMode::Mip ? 1 : 2;
+  glUniform1i(glGetUniformLocation(p, "u_mode"), mode);
+  glUniform1i(glGetUniformLocation(p, "u_interpolation"), rs.interpolation == volume::Interpolation::Nearest ? 0 : 1);
+  glUniform1f(glGetUniformLocation(p, "u_step"), static_cast<float>(rs.stepMeters));
+  glUniform1f(glGetUniformLocation(p, "u_opacityReference"), static_cast<float>(rs.transfer.opacityReferenceMeters));
+  glUniform1f(glGetUniformLocation(p, "u_isoValue"), static_cast<float>(rs.isoValue));
+  glUniform1f(glGetUniformLocation(p, "u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
+  glUniform1i(glGetUniformLocation(p, "u_skipEmpty"), options.skipEmptySpace ? 1 : 0);
+  glUniform1f(glGetUniformLocation(p, "u_opacityZeroValue"), static_cast<float>(rs.transfer.opacityZeroValue));
+
+  // Transfer function tabulated over the volume's value range (4096 entries; the value is
+  // quantised to (max - min) / 4096, ~0.03 dBZ for reflectivity).
+  const double tfLo = std::min<double>(v.minValue, rs.isoValue) - 1.0;
+  const double tfHi = std::max<double>(v.maxValue, rs.isoValue) + 1.0;
+  std::vector<glm::vec4> table(kTransferEntries);
+  for (int i = 0; i < kTransferEntries; ++i) {
+    const double value = tfLo + (i + 0.5) / kTransferEntries * (tfHi - tfLo);
+    table[i] = glm::vec4(rs.transfer.classify(value));
+  }
+  glTextureSubImage2D(transfer_, 0, 0, 0, kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
+  glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
+
+  const GLuint textures[] = {gl.values_, gl.azimuths_, gl.lookup_, gl.coarse_, transfer_, depthTexture};
+  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_coarseMax", "u_transfer", "u_globeDepth"};
+  for (int i = 0; i < 6; ++i) {
+    glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
+    glUniform1i(glGetUniformLocation(p, names[i]), i);
+  }
+}
+
+void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
+                                 const FramebufferGL& target) {
+  const double scale = std::clamp(options.imageScale, 0.05, 1.0);
+  const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
+  const int h = std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)));
+  ensureTarget(w, h, GL_RGBA16F);
+  volumeTarget_->bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  setUniforms(camera, volume, options, target.depthTexture(), w, h);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  target.bind();
+  composite_.use();
+  glBindTextureUnit(0, volumeTarget_->colorTexture());
+  glUniform1i(composite_.uniform("u_volume"), 0);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+}
+
+std::vector<glm::vec4> RadarVolumeRendererGL::readVolumeImage() const {
+  std::vector<glm::vec4> out;
+  if (!volumeTarget_) return out;
+  const int w = volumeTarget_->widthPx(), h = volumeTarget_->heightPx();
+  std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
+  glGetTextureImage(volumeTarget_->colorTexture(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
+                    raw.data());
+  out.resize(raw.size());
+  for (int y = 0; y < h; ++y) {
+    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w, w, out.begin() + static_cast<std::ptrdiff_t>(y) * w);
+  }
+  return out;
+}
+
+std::vector<glm::vec4> RadarVolumeRendererGL::antennaCoordinatesAt(const Camera& camera, const RadarVolumeGL& volume,
+                                                                   BeamApproximation beam, double tMeters) {
+  ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);
+  volumeTarget_->bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  RadarRenderOptions options;
+  options.beam = beam;
+  setUniforms(camera, volume, options, emptyDepth_, camera.widthPx(), camera.heightPx());
+  glUniform1i(march_.uniform("u_mode"), 3);
+  glUniform1f(march_.uniform("u_debugT"), static_cast<float>(tMeters));
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glEnable(GL_DEPTH_TEST);
+  return readVolumeImage();
+}
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,369 @@
+// Ray marcher for radar volumes in their own polar geometry (spec: volume/PolarVolume.h).
+//
+// Positions are float32 relative to the antenna (site ECEF subtracted in double on the CPU).
+// Each sample: site-relative ECEF -> (range, azimuth, elevation) by the beam model, then the
+// sampling rule of PolarVolume.h (sweeps bracketing the elevation, rays by azimuth, gates by
+// range; nearest or linear), then the transfer function. Samples sit at t_i = (i + 0.5) * step
+// from the eye (the same positions as the CPU reference), only inside the volume's shell:
+// the max-range sphere and the band of straight elevations that contains every beam
+// (widened by the beam's bending), and before the globe's depth.
+#define MAX_SWEEPS 32
+#define AZ_LOOKUP_BINS 720
+
+in vec2 v_uv;
+
+uniform sampler2DArray u_values;    // R16F: [sweep] rays x gates; NaN no data, -inf no echo
+uniform sampler2D u_azimuths;       // R32F: row = sweep, x = ray (sorted azimuths, degrees)
+uniform isampler2D u_azLookup;      // R32I: row = sweep, x = 0.5 deg bin: last ray with az <= bin start, -1 none
+uniform sampler2DArray u_coarseMax; // R16F: dilated max of measured values per block (-inf: none)
+uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]
+uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
+
+uniform vec4 u_sweepGeom[MAX_SWEEPS];  // elevationDeg, firstGateRange, gateSpacing, gateCount
+uniform int u_sweepRays[MAX_SWEEPS];
+uniform int u_sweepCount;
+uniform float u_halfBeamDeg;
+uniform float u_maxRange;
+uniform vec2 u_straightElevationClipDeg;  // straight-line elevation band that holds every beam
+uniform ivec2 u_coarseBlock;               // gates, rays per coarse block
+uniform float u_minGateSpacing;            // smallest gate spacing over sweeps (m)
+uniform int u_maxRayCount;                 // largest ray count over sweeps
+uniform float u_minSweepGapDeg;            // smallest elevation step between sweeps
+
+uniform mat3 u_ecefToEnu;    // rows: east, north, up at the site
+uniform float u_h0;          // antenna height above the ellipsoid (m)
+uniform float u_meridionalRadius;  // M at the site (m)
+uniform float u_primeVerticalRadius;  // N at the site (m)
+uniform float u_effectiveRadius;   // Re = ke * R (m)
+uniform int u_beamModel;           // 0: effective-Earth (4/3) on the local sphere, 1: straight lines
+
+uniform vec3 u_eyeRelSite;         // eye - site, ECEF (m), from double
+uniform mat3 u_cameraToEcef;
+uniform float u_focalPx;           // of the full-resolution image
+uniform vec2 u_imageSizePx;        // full resolution
+uniform float u_near;
+
+uniform int u_mode;                // 0 DVR, 1 MIP, 2 isosurface, 3 debug: antenna coordinates at u_debugT
+uniform int u_interpolation;       // 0 nearest, 1 linear
+uniform float u_step;
+uniform vec2 u_tfRange;
+uniform float u_opacityReference;
+uniform float u_isoValue;
+uniform float u_earlyTermination;
+uniform int u_skipEmpty;
+uniform float u_opacityZeroValue;
+uniform float u_debugT;
+
+layout(location = 0) out vec4 o_color;
+
+const int NO_DATA = 0;
+const int NO_ECHO = 1;
+const int ECHO = 2;
+
+// --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
+vec3 antennaCoordinates(vec3 p) {
+  vec3 l = u_ecefToEnu * p;  // east, north, up
+  float dh = length(l.xy);
+  float az = degrees(atan(l.x, l.y));
+  if (az < 0.0) az += 360.0;
+  if (u_beamModel == 1) {
+    float r = length(l);
+    return vec3(r, az, degrees(asin(clamp(l.z / max(r, 1e-6), -1.0, 1.0))));
+  }
+  // Local sphere with the ellipsoid's normal-section radius in this azimuth (Euler).
+  float ca = dh > 0.0 ? l.y / dh : 1.0, sa = dh > 0.0 ? l.x / dh : 0.0;
+  float rAlpha = 1.0 / (ca * ca / u_meridionalRadius + sa * sa / u_primeVerticalRadius);
+  float rc = rAlpha + u_h0;
+  float w = l.z + rc;
+  float dl = sqrt(dh * dh + w * w);
+  float h = u_h0 + (dh * dh + l.z * l.z + 2.0 * l.z * rc) / (dl + rc);  // |d| - rc without cancellation
+  float s = rAlpha * atan(dh, w);
+  // Effective-Earth beam inverse (REFERENCE §2) in the cancellation-free form.
+  float re = u_effectiveRadius;
+  float gamma = s / re;
+  float rho1 = re + u_h0, rho2 = re + h;
+  float sg = sin(0.5 * gamma);
+  float dz = h - u_h0;
+  float r = sqrt(dz * dz + 4.0 * rho1 * rho2 * sg * sg);
+  float el = degrees(atan(dz - 2.0 * rho2 * sg * sg, rho2 * sin(gamma)));
+  return vec3(r, az, el);
+}
+
+// --- the sampling rule (PolarVolume.h) ---------------------------------------------------
+float rayCoordinate(int k, float az) {
+  int n = u_sweepRays[k];
+  int bin = clamp(int(az / (360.0 / float(AZ_LOOKUP_BINS))), 0, AZ_LOOKUP_BINS - 1);
+  int i = texelFetch(u_azLookup, ivec2(bin, k), 0).r;
+  for (int it = 0; it < 16 && i + 1 < n && texelFetch(u_azimuths, ivec2(i + 1, k), 0).r <= az; ++it) ++i;
+  float first = texelFetch(u_azimuths, ivec2(0, k), 0).r;
+  float last = texelFetch(u_azimuths, ivec2(n - 1, k), 0).r;
+  if (i < 0) {  // before the first ray: between the last ray (one turn earlier) and ray 0
+    float a0 = last - 360.0;
+    return float(n - 1) + (az - a0) / max(first - a0, 1e-6);
+  }
+  if (i >= n - 1) return float(n - 1) + (az - last) / max(first + 360.0 - last, 1e-6);
+  float ai = texelFetch(u_azimuths, ivec2(i, k), 0).r;
+  float aj = texelFetch(u_azimuths, ivec2(i + 1, k), 0).r;
+  return float(i) + (az - ai) / max(aj - ai, 1e-6);
+}
+
+void accumulate(float v, float w, inout float echoW, inout float measuredW, inout float sumV) {
+  if (isnan(v)) return;
+  measuredW += w;
+  if (!isinf(v)) {
+    echoW += w;
+    sumV += w * v;
+  }
+}
+
+void sampleSweep(int k, float w, vec3 rae, inout float echoW, inout float measuredW, inout float sumV) {
+  vec4 g = u_sweepGeom[k];
+  float gc = (rae.x - g.y) / g.z;
+  if (gc < -0.5 || gc > g.w - 0.5) return;  // outside this sweep's gates: no data
+  int n = u_sweepRays[k];
+  int count = int(g.w);
+  float a = rayCoordinate(k, rae.y);
+  if (u_interpolation == 0) {
+    int ray = int(floor(a + 0.5)) % n;
+    int gate = clamp(int(floor(gc + 0.5)), 0, count - 1);
+    accumulate(texelFetch(u_values, ivec3(gate, ray, k), 0).r, w, echoW, measuredW, sumV);
+    return;
+  }
+  float fa = floor(a), fg = floor(gc);
+  float ta = a - fa, tg = gc - fg;
+  int r0 = int(fa) % n, r1 = (int(fa) + 1) % n;
+  int g0 = clamp(int(fg), 0, count - 1), g1 = clamp(int(fg) + 1, 0, count - 1);
+  accumulate(texelFetch(u_values, ivec3(g0, r0, k), 0).r, w * (1.0 - ta) * (1.0 - tg), echoW, measuredW, sumV);
+  accumulate(texelFetch(u_values, ivec3(g1, r0, k), 0).r, w * (1.0 - ta) * tg, echoW, measuredW, sumV);
+  accumulate(texelFetch(u_values, ivec3(g0, r1, k), 0).r, w * ta * (1.0 - tg), echoW, measuredW, sumV);
+  accumulate(texelFetch(u_values, ivec3(g1, r1, k), 0).r, w * ta * tg, echoW, measuredW, sumV);
+}
+
+// Brackets the elevation: sweeps (k0, k1) with weights (1 - t, t); k0 < 0: outside.
+ivec2 bracket(float el, out float t) {
+  t = 0.0;
+  int n = u_sweepCount;
+  float e0 = u_sweepGeom[0].x, en = u_sweepGeom[n - 1].x;
+  if (el < e0 - u_halfBeamDeg || el > en + u_halfBeamDeg) return ivec2(-1);
+  if (u_interpolation == 0) {
+    int best = 0;
+    for (int k = 1; k < n; ++k) {
+      if (abs(el - u_sweepGeom[k].x) < abs(el - u_sweepGeom[best].x)) best = k;
+    }
+    return ivec2(best, best);
+  }
+  if (el <= e0) return ivec2(0, 0);
+  if (el >= en) return ivec2(n - 1, n - 1);
+  int k = 0;
+  while (k + 1 < n - 1 && u_sweepGeom[k + 1].x <= el) ++k;
+  t = (el - u_sweepGeom[k].x) / (u_sweepGeom[k + 1].x - u_sweepGeom[k].x);
+  return ivec2(k, k + 1);
+}
+
+int samplePolar(vec3 rae, out float value) {
+  value = 0.0;
+  float t;
+  ivec2 ks = bracket(rae.z, t);
+  if (ks.x < 0) return NO_DATA;
+  float echoW = 0.0, measuredW = 0.0, sumV = 0.0;
+  if (ks.x == ks.y) {
+    sampleSweep(ks.x, 1.0, rae, echoW, measuredW, sumV);
+  } else {
+    sampleSweep(ks.x, 1.0 - t, rae, echoW, measuredW, sumV);
+    sampleSweep(ks.y, t, rae, echoW, measuredW, sumV);
+  }
+  if (echoW >= 0.5) {
+    value = sumV / echoW;
+    return ECHO;
+  }
+  return measuredW >= 0.5 ? NO_ECHO : NO_DATA;
+}
+
+// Largest measured value in the (dilated) coarse blocks around this sample, over the sweeps
+// that bracket it and their neighbours: below the transfer function's zero-opacity value
+// means nothing around here can contribute.
+float coarseMax(vec3 rae) {
+  float t;
+  ivec2 ks = bracket(rae.z, t);
+  if (ks.x < 0) return -1e30;
+  float m = -1e30;
+  for (int k = ks.x; k <= ks.y; ++k) {
+    vec4 g = u_sweepGeom[k];
+    int gate = clamp(int((rae.x - g.y) / g.z + 0.5), 0, int(g.w) - 1);
+    int ray = clamp(int(rayCoordinate(k, rae.y) + 0.5) % u_sweepRays[k], 0, u_sweepRays[k] - 1);
+    m = max(m, texelFetch(u_coarseMax, ivec3(gate / u_coarseBlock.x, ray / u_coarseBlock.y, k), 0).r);
+  }
+  return m;
+}
+
+vec4 classify(float v) {
+  float x = (v - u_tfRange.x) / (u_tfRange.y - u_tfRange.x);
+  int i = clamp(int(x * 4096.0), 0, 4095);
+  return texelFetch(u_transfer, ivec2(i, 0), 0);
+}
+
+// --- clipping: ray vs sphere and the band of straight elevations --------------------------
+vec2 sphereInterval(vec3 o, vec3 d, float radius) {
+  float b = dot(o, d);
+  float c = dot(o, o) - radius * radius;
+  float disc = b * b - c;
+  if (disc < 0.0) return vec2(1.0, 0.0);
+  float sq = sqrt(disc);
+  return vec2(-b - sq, -b + sq);
+}
+
+// sin(straight elevation) along the ray has at most one extremum, so the set where it lies in
+// [sinLo, sinHi] is at most two intervals; breakpoints are roots of (u0 + t du)^2 = s^2 |p|^2.
+int coneRoots(vec3 o, vec3 d, float s, inout float roots[6], int count) {
+  float u0 = o.z, du = d.z;
+  float A = du * du - s * s;
+  float B = 2.0 * (u0 * du - s * s * dot(o, d));
+  float C = u0 * u0 - s * s * dot(o, o);
+  if (abs(A) < 1e-12) {
+    if (abs(B) > 1e-12) roots[count++] = -C / B;
+    return count;
+  }
+  float disc = B * B - 4.0 * A * C;
+  if (disc < 0.0) return count;
+  float sq = sqrt(disc);
+  float q = -0.5 * (B + (B >= 0.0 ? sq : -sq));
+  roots[count++] = q / A;
+  if (q != 0.0) roots[count++] = C / q;
+  return count;
+}
+
+bool insideBand(vec3 p) {
+  float r = length(p);
+  if (r < 1e-3) return true;
+  float s = p.z / r;
+  return s >= sin(radians(u_straightElevationClipDeg.x)) && s <= sin(radians(u_straightElevationClipDeg.y));
+}
+
+void main() {
+  vec2 pixel = vec2(v_uv.x * u_imageSizePx.x, (1.0 - v_uv.y) * u_imageSizePx.y);  // from the top
+  vec3 dirEye = vec3((pixel.x - 0.5 * u_imageSizePx.x) / u_focalPx, (0.5 * u_imageSizePx.y - pixel.y) / u_focalPx, -1.0);
+  vec3 dir = normalize(u_cameraToEcef * dirEye);
+
+  if (u_mode == 3) {
+    o_color = vec4(antennaCoordinates(u_eyeRelSite + u_debugT * dir), 1.0);
+    return;
+  }
+
+  // The globe hides what is behind it: reverse-Z depth = near / view distance.
+  float depth = texture(u_globeDepth, v_uv).r;
+  float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
+
+  vec2 span = sphereInterval(u_eyeRelSite, dir, u_maxRange);
+  span.x = max(span.x, 0.0);
+  span.y = min(span.y, tGround);
+  o_color = vec4(0.0);
+  if (span.x >= span.y) return;
+
+  // Split [span] at the elevation-band boundaries (in the site's ENU frame).
+  vec3 oL = u_ecefToEnu * u_eyeRelSite, dL = u_ecefToEnu * dir;
+  float cuts[6];
+  int nc = 0;
+  nc = coneRoots(oL, dL, sin(radians(u_straightElevationClipDeg.x)), cuts, nc);
+  nc = coneRoots(oL, dL, sin(radians(u_straightElevationClipDeg.y)), cuts, nc);
+  float bounds[8];
+  int nb = 0;
+  bounds[nb++] = span.x;
+  for (int i = 0; i < nc; ++i) {
+    if (cuts[i] > span.x && cuts[i] < span.y) bounds[nb++] = cuts[i];
+  }
+  bounds[nb++] = span.y;
+  for (int i = 1; i < nb; ++i) {  // insertion sort (<= 6 entries)
+    float v = bounds[i];
+    int j = i - 1;
+    while (j >= 0 && bounds[j] > v) {
+      bounds[j + 1] = bounds[j];
+      --j;
+    }
+    bounds[j + 1] = v;
+  }
+
+  vec4 acc = vec4(0.0);
+  float maxValue = -1e30;
+  bool hit = false;
+  float hitT = 0.0;
+  for (int seg = 0; seg + 1 < nb && !hit; ++seg) {
+    float a = bounds[seg], b = bounds[seg + 1];
+    if (b - a <= 0.0 || !insideBand(oL + 0.5 * (a + b) * dL)) continue;
+    int i = int(ceil(a / u_step - 0.5));
+    int iEnd = int(floor(b / u_step - 0.5));
+    for (; i <= iEnd; ++i) {
+      float t = (float(i) + 0.5) * u_step;
+      vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
+      if (u_skipEmpty == 1) {
+        // Nothing in the (dilated) blocks around here can change the result: DVR needs a
+        // value above the zero-opacity one, MIP one above the maximum so far, the
+        // isosurface one at or above the iso value.
+        float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? maxValue : u_isoValue);
+        if (coarseMax(rae) < threshold) {
+          // Jump by half the block's smallest extent (range, azimuth, elevation) here, in
+          // whole steps so the samples stay on the t_i grid.
+          float gateExtent = float(u_coarseBlock.x) * u_minGateSpacing;
+          float azExtent = rae.x * radians(float(u_coarseBlock.y) * 360.0 / float(u_maxRayCount));
+          float elExtent = rae.x * radians(u_minSweepGapDeg);
+          float jump = 0.5 * min(gateExtent, min(azExtent, elExtent));
+          i += max(0, int(jump / u_step) - 1);
+          continue;
+        }
+      }
+      float v;
+      int state = samplePolar(rae, v);
+      if (u_mode == 0) {
+        if (state != ECHO) continue;
+        vec4 c = classify(v);
+        float alpha = 1.0 - pow(max(1.0 - c.a, 0.0), u_step / u_opacityReference);
+        acc.rgb += (1.0 - acc.a) * alpha * c.rgb;
+        acc.a += (1.0 - acc.a) * alpha;
+        if (acc.a >= u_earlyTermination) break;
+      } else if (u_mode == 1) {
+        if (state == ECHO) maxValue = max(maxValue, v);
+      } else if (u_mode == 2) {
+        float vv = state == ECHO ? v : -1e30;
+        if (vv >= u_isoValue) {
+          // Bisection between the previous sample position and this one.
+          float lo = t - u_step, hi = t;
+          for (int it = 0; it < 8; ++it) {
+            float mid = 0.5 * (lo + hi);
+            float vm;
+            int sm = samplePolar(antennaCoordinates(u_eyeRelSite + mid * dir), vm);
+            if (sm == ECHO && vm >= u_isoValue) hi = mid; else lo = mid;
+          }
+          hitT = hi;
+          hit = true;
+          break;
+        }
+      }
+    }
+    if (u_mode == 0 && acc.a >= u_earlyTermination) break;
+  }
+
+  if (u_mode == 0) {
+    o_color = acc;
+  } else if (u_mode == 1) {
+    if (maxValue > -1e29) {
+      vec4 c = classify(maxValue);
+      o_color = vec4(c.rgb * c.a, c.a);
+    }
+  } else if (u_mode == 2 && hit) {
+    vec3 p = u_eyeRelSite + hitT * dir;
+    float h = 0.5 * u_step;
+    vec3 grad;
+    for (int axis = 0; axis < 3; ++axis) {
+      vec3 e = vec3(0.0);
+      e[axis] = h;
+      float vp, vm;
+      int sp = samplePolar(antennaCoordinates(p + e), vp);
+      int sm = samplePolar(antennaCoordinates(p - e), vm);
+      if (sp != ECHO) vp = u_opacityZeroValue;
+      if (sm != ECHO) vm = u_opacityZeroValue;
+      grad[axis] = (vp - vm) / (2.0 * h);
+    }
+    vec3 n = length(grad) > 0.0 ? -normalize(grad) : -dir;
+    vec4 c = classify(u_isoValue);
+    o_color = vec4(c.rgb * (0.3 + 0.7 * abs(dot(n, dir))), 1.0);
+  }
+}
