@@ -1,12 +1,15 @@
 // bench_radar_read_geolocate: radar read time against the I/O floor, and gate geolocation speed.
 //
-//   bench_radar_read_geolocate [--runs N] [DATA_DIR]
+//   bench_radar_read_geolocate [--runs N] [--read-only] [DATA_DIR]
+//
+// --read-only: part 1 only (no geolocation).
 //
 // 1. For every radar file under DATA_DIR/radar_{nexrad,odim,cfradial}: median wall time of
 //    readRadarVolume (default field, values decoded) over N runs, next to the "floor": the same
 //    bytes read with plain library calls and nothing else (NEXRAD: read the file + libbz2
 //    BZ2_bzBuffToBuffDecompress of every record; netCDF/HDF5: nc_open + nc_get_var of the loaded
-//    field's variables in their stored type + nc_close).
+//    field's variables in their stored type, each into its own buffer held to the end as the
+//    reader holds every sweep + nc_close). Read and floor runs alternate.
 // 2. Gate geolocation over every gate of the NEXRAD REF volume: gates per second for the exact
 //    path (geolocateGateExact) and the fast path (geolocateSweepFast), and the fast path's maximum
 //    ECEF distance from the exact result.
@@ -42,6 +45,21 @@ double medianSeconds(int runs, const std::function<bool()>& f) {
   }
   std::sort(t.begin(), t.end());
   return t[t.size() / 2];
+}
+
+// Medians of a and b over `runs` alternating runs each (a, b, a, b ...); -1 if a run fails.
+std::pair<double, double> medianSecondsPair(int runs, const std::function<bool()>& a, const std::function<bool()>& b) {
+  std::vector<double> ta, tb;
+  for (int i = 0; i < runs; ++i) {
+    for (auto [f, t] : {std::pair{&a, &ta}, std::pair{&b, &tb}}) {
+      const auto t0 = Clock::now();
+      if (!(*f)()) return {-1.0, -1.0};
+      t->push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+  }
+  std::sort(ta.begin(), ta.end());
+  std::sort(tb.begin(), tb.end());
+  return {ta[ta.size() / 2], tb[tb.size() / 2]};
 }
 
 // Floor for NEXRAD: read the file, decompress every record with the one-shot libbz2 call.
@@ -106,11 +124,12 @@ std::string textAttribute(int ncid, int varid, const char* name) {
 bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
   int ncid = 0;
   if (nc_open(path.c_str(), NC_NOWRITE, &ncid) != NC_NOERR) return false;
-  std::vector<char> buf;
+  // Every array read is kept until the end, as the reader keeps every sweep.
+  std::vector<std::vector<char>> arrays;
   bool ok = true;
   if (!odim) {
     int varid = 0;
-    ok = nc_inq_varid(ncid, field.c_str(), &varid) == NC_NOERR && readVar(ncid, varid, &buf);
+    ok = nc_inq_varid(ncid, field.c_str(), &varid) == NC_NOERR && readVar(ncid, varid, &arrays.emplace_back());
   } else {
     for (int n = 1; ok; ++n) {
       int ds = 0;
@@ -120,7 +139,7 @@ bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
         if (nc_inq_grp_ncid(ds, ("data" + std::to_string(m)).c_str(), &data) != NC_NOERR) break;
         if (nc_inq_grp_ncid(data, "what", &what) != NC_NOERR) continue;
         if (textAttribute(what, NC_GLOBAL, "quantity") != field) continue;
-        ok = nc_inq_varid(data, "data", &varid) == NC_NOERR && readVar(data, varid, &buf);
+        ok = nc_inq_varid(data, "data", &varid) == NC_NOERR && readVar(data, varid, &arrays.emplace_back());
         break;
       }
     }
@@ -129,19 +148,10 @@ bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
   return ok;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  int runs = 7;
-  std::string dataDir = ATMOGLOBE_SHARED_DATA_DIR;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
-      runs = std::max(5, std::atoi(argv[++i]));
-    } else {
-      dataDir = argv[i];
-    }
-  }
-  std::printf("## Read time (median of %d runs)\n\n", runs);
+// Median read and floor times for every radar file. The read and floor runs alternate
+// (read, floor, read, floor ...) so that a change in machine load hits both alike.
+void readTable(const std::string& dataDir, int runs) {
+  std::printf("## Read time (median of %d runs, read and floor alternating)\n\n", runs);
   std::printf("| file | format | field | read (ms) | floor (ms) | read / floor |\n|---|---|---|---|---|---|\n");
   for (const char* sub : {"radar_nexrad", "radar_odim", "radar_cfradial"}) {
     std::vector<std::filesystem::path> files;
@@ -150,25 +160,50 @@ int main(int argc, char** argv) {
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
       const std::string path = f.string();
-      Result<volume::RadarVolume> probe = volume::readRadarVolume(path, {});
-      if (!probe) {
-        std::printf("| %s | error: %s | | | | |\n", f.filename().c_str(), probe.error().c_str());
-        continue;
+      std::string format, field;
+      {
+        // The probe's volume is not held during the timed runs.
+        Result<volume::RadarVolume> probe = volume::readRadarVolume(path, {});
+        if (!probe) {
+          std::printf("| %s | error: %s | | | | |\n", f.filename().c_str(), probe.error().c_str());
+          continue;
+        }
+        format = probe->format;
+        field = probe->loadedField.name;
       }
-      const std::string field = probe->loadedField.name;
-      const double read = medianSeconds(runs, [&] { return volume::readRadarVolume(path, {}).ok(); });
       std::function<bool()> floorFn;
-      if (probe->format == "NEXRAD Level II") {
+      if (format == "NEXRAD Level II") {
         floorFn = [&] { return nexradFloor(path); };
       } else {
-        const bool odim = probe->format.rfind("ODIM", 0) == 0;
+        const bool odim = format.rfind("ODIM", 0) == 0;
         floorFn = [&, odim] { return netcdfFloor(path, field, odim); };
       }
-      const double floor = medianSeconds(runs, floorFn);
-      std::printf("| %s | %s | %s | %.1f | %.1f | %.2f |\n", f.filename().c_str(), probe->format.c_str(), field.c_str(),
-                  read * 1e3, floor * 1e3, floor > 0 ? read / floor : 0.0);
+      const auto [read, floor] = medianSecondsPair(runs, [&] { return volume::readRadarVolume(path, {}).ok(); }, floorFn);
+      std::printf("| %s | %s | %s | %.1f | %.1f | %.2f |\n", f.filename().c_str(),
+                  format.c_str(), field.c_str(), read * 1e3, floor * 1e3, floor > 0 ? read / floor : 0.0);
     }
   }
+  std::printf("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 7;
+  bool readOnly = false;
+  std::string dataDir = ATMOGLOBE_SHARED_DATA_DIR;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
+      runs = std::max(5, std::atoi(argv[++i]));
+    } else if (std::strcmp(argv[i], "--read-only") == 0) {
+      readOnly = true;
+    } else {
+      dataDir = argv[i];
+    }
+  }
+  readTable(dataDir, runs);
+
+  if (readOnly) return 0;
 
   // Geolocation over the NEXRAD REF volume.
   const std::string nexrad = dataDir + "/radar_nexrad/KLBB20160601_150025_V06";

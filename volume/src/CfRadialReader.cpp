@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace atmoglobe::volume {
@@ -73,19 +74,17 @@ double normalizeAzimuthDeg(double az) {
   return a;
 }
 
-/// Decodes raw values of type T to physical floats.
-template <class T>
-void decodeCf(const T* raw, std::size_t n, double scale, double offset, const std::optional<double>& fill,
-              const std::optional<double>& missing, float* out) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = static_cast<double>(raw[i]);
-    if ((fill && r == *fill) || (missing && r == *missing) || std::isnan(r)) {
-      out[i] = kNoData;
-    } else {
-      out[i] = static_cast<float>(r * scale + offset);  // narrowing to the model's float storage
-    }
+/// Decodes one raw value (as double) to its physical float: _FillValue, missing_value and
+/// NaN -> kNoData, else raw * scale + offset. An absent fill/missing value is NaN here,
+/// which no raw value compares equal to.
+struct CfDecoder {
+  double scale = 1.0, offset = 0.0, fill = std::numeric_limits<double>::quiet_NaN(),
+         missing = std::numeric_limits<double>::quiet_NaN();
+  float operator()(double r) const {
+    if (r == fill || r == missing || std::isnan(r)) return kNoData;
+    return static_cast<float>(r * scale + offset);  // narrowing to the model's float storage
   }
-}
+};
 
 std::string readTimeText(const NetcdfFile& f) {
   if (auto v = f.findVariable(f.root(), "time_coverage_start")) {
@@ -300,25 +299,30 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
         if (!std::isfinite(*r)) return makeError(f.message("variable '" + var.name + "': " + attr + " is not finite"));
         *dst = *r;
       }
-      const auto fill = fillValue(f, var);
-      const auto missing = fillValue(f, var, "missing_value");
+      CfDecoder decoder;
+      decoder.scale = scale;
+      decoder.offset = offset;
+      if (const auto fill = fillValue(f, var)) decoder.fill = *fill;
+      if (const auto missing = fillValue(f, var, "missing_value")) decoder.missing = *missing;
       // Everything the sweeps read, checked against what the file can hold before allocating.
       std::size_t total = 0;
       for (const Sweep& sw : vol.sweeps) total += sw.rayCount() * sw.gateCount;
       if (auto ok = f.checkReadable(var, total, ncTypeSize(var.type)); !ok) return makeError(ok.error());
-      for (Sweep& sw : vol.sweeps) {
-        const std::size_t n = sw.rayCount() * sw.gateCount;
-        sw.values.resize(n);
-        const std::size_t a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
-        Status st = visitNumericType(var.type, [&](auto tag) -> Status {
-          using T = decltype(tag);
-          std::vector<T> raw(n);
-          if (auto r = f.readSlab<T>(var, {a, 0}, {sw.rayCount(), sw.gateCount}, raw.data()); !r) return r;
-          decodeCf(raw.data(), n, scale, offset, fill, missing, sw.values.data());
-          return Ok{};
-        });
-        if (!st) return makeError(st.error());
-      }
+      // One read per sweep, decoded in place in the sweep's values (no raw buffer); chunks
+      // that straddle two sweeps come from netCDF-C's chunk cache the second time.
+      Status st = visitNumericType(var.type, [&](auto tag) -> Status {
+        using T = decltype(tag);
+        const RawDecoder<T, CfDecoder> rawDecoder(decoder, total);
+        for (Sweep& sw : vol.sweeps) {
+          const std::size_t n = sw.rayCount() * sw.gateCount;
+          sw.values.resize(n);
+          const auto a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
+          if (auto r = readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n); !r)
+            return r;
+        }
+        return Ok{};
+      });
+      if (!st) return makeError(st.error());
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));

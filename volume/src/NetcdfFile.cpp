@@ -116,26 +116,34 @@ std::optional<std::size_t> NetcdfFile::dimensionLength(int group, const std::str
   return len;
 }
 
-std::optional<NcVar> NetcdfFile::findVariable(int group, const std::string& name) const {
-  int varId = -1;
-  if (nc_inq_varid(group, name.c_str(), &varId) != NC_NOERR) return std::nullopt;
+namespace {
+/// The NcVar of variable `varId` (named `name`) in `group`, whose path is `groupPath`.
+/// One nc_inq_var for type, rank and dimension ids, one nc_inq_dimlen per dimension.
+std::optional<NcVar> describeVariable(int group, int varId, const char* name, const std::string& groupPath) {
   NcVar v;
   v.groupId = group;
   v.varId = varId;
-  const std::string gp = groupPath(group);
-  v.name = (gp == "/" ? "/" : gp + "/") + name;
+  v.name = (groupPath == "/" ? "/" : groupPath + "/") + name;
   int ndims = 0;
-  if (nc_inq_var(group, varId, nullptr, &v.type, &ndims, nullptr, nullptr) != NC_NOERR || ndims < 0 ||
+  int dimIds[NC_MAX_VAR_DIMS];
+  if (nc_inq_var(group, varId, nullptr, &v.type, &ndims, dimIds, nullptr) != NC_NOERR || ndims < 0 ||
       ndims > NC_MAX_VAR_DIMS)
     return std::nullopt;
-  v.dimIds.resize(static_cast<std::size_t>(ndims));
-  if (nc_inq_vardimid(group, varId, v.dimIds.data()) != NC_NOERR) return std::nullopt;
+  v.dimIds.assign(dimIds, dimIds + ndims);
+  v.shape.reserve(v.dimIds.size());
   for (int d : v.dimIds) {
     std::size_t len = 0;
     if (nc_inq_dimlen(group, d, &len) != NC_NOERR) return std::nullopt;
     v.shape.push_back(len);
   }
   return v;
+}
+}  // namespace
+
+std::optional<NcVar> NetcdfFile::findVariable(int group, const std::string& name) const {
+  int varId = -1;
+  if (nc_inq_varid(group, name.c_str(), &varId) != NC_NOERR) return std::nullopt;
+  return describeVariable(group, varId, name.c_str(), groupPath(group));
 }
 
 Result<NcVar> NetcdfFile::variable(int group, const std::string& name) const {
@@ -152,11 +160,13 @@ std::vector<NcVar> NetcdfFile::variables(int group) const {
   if (nc_inq_varids(group, &n, nullptr) != NC_NOERR || n <= 0) return {};
   std::vector<int> ids(static_cast<std::size_t>(n));
   if (nc_inq_varids(group, &n, ids.data()) != NC_NOERR) return {};
+  const std::string gp = groupPath(group);
   std::vector<NcVar> out;
+  out.reserve(ids.size());
   for (int id : ids) {
     char buf[NC_MAX_NAME + 1] = {};
     if (nc_inq_varname(group, id, buf) != NC_NOERR) continue;
-    if (auto v = findVariable(group, buf)) out.push_back(std::move(*v));
+    if (auto v = describeVariable(group, id, buf, gp)) out.push_back(std::move(*v));
   }
   return out;
 }

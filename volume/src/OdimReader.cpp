@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <memory>
 #include <map>
 #include <optional>
 
@@ -99,22 +101,19 @@ std::string siteName(const std::string& source) {
   return source;
 }
 
-template <class T>
-void decodeOdim(const T* raw, std::size_t n, double gain, double offset, std::optional<double> nodata,
-                std::optional<double> undetect, float* out) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = static_cast<double>(raw[i]);
-    if (nodata && r == *nodata) {
-      out[i] = kNoData;
-    } else if (undetect && r == *undetect) {
-      out[i] = kNoEcho;
-    } else if (std::isnan(r)) {
-      out[i] = kNoData;
-    } else {
-      out[i] = static_cast<float>(gain * r + offset);  // narrowing to the model's float storage
-    }
+/// Decodes one raw value (as double): nodata -> kNoData, undetect -> kNoEcho (nodata wins
+/// when they are equal), NaN -> kNoData, else gain * raw + offset. An absent nodata/undetect
+/// is NaN here, which no raw value compares equal to.
+struct OdimDecoder {
+  double gain = 1.0, offset = 0.0, nodata = std::numeric_limits<double>::quiet_NaN(),
+         undetect = std::numeric_limits<double>::quiet_NaN();
+  float operator()(double r) const {
+    if (r == nodata) return kNoData;
+    if (r == undetect) return kNoEcho;
+    if (std::isnan(r)) return kNoData;
+    return static_cast<float>(gain * r + offset);  // narrowing to the model's float storage
   }
-}
+};
 
 double wrap360(double a) {
   double x = std::fmod(a, 360.0);
@@ -324,17 +323,16 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       if (auto ok = f.checkReadable(*var, n, ncTypeSize(var->type)); !ok) return makeError(ok.error());
       const int dsId = *f.findGroup(root, datasets[s].second);
       const GroupChain chain{dg->whatId, childOr(f, dsId, "what"), rootWhat};
-      const double gain = optionalDouble(f, chain, "gain").value_or(1.0);
-      const double offset = optionalDouble(f, chain, "offset").value_or(0.0);
-      const auto nodata = optionalDouble(f, chain, "nodata");
-      const auto undetect = optionalDouble(f, chain, "undetect");
+      OdimDecoder decoder;
+      decoder.gain = optionalDouble(f, chain, "gain").value_or(1.0);
+      decoder.offset = optionalDouble(f, chain, "offset").value_or(0.0);
+      if (const auto nodata = optionalDouble(f, chain, "nodata")) decoder.nodata = *nodata;
+      if (const auto undetect = optionalDouble(f, chain, "undetect")) decoder.undetect = *undetect;
       sw.values.resize(n);
       Status st = visitNumericType(var->type, [&](auto tag) -> Status {
         using T = decltype(tag);
-        std::vector<T> raw(n);
-        if (auto r = f.readSlab<T>(*var, {0, 0}, {sw.rayCount(), sw.gateCount}, raw.data()); !r) return r;
-        decodeOdim(raw.data(), n, gain, offset, nodata, undetect, sw.values.data());
-        return Ok{};
+        const RawDecoder<T, OdimDecoder> rawDecoder(decoder, n);
+        return readSlabDecoded(f, *var, {0, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
       });
       if (!st) return makeError(st.error());
     }

@@ -11,10 +11,14 @@
 
 #include <netcdf.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace atmoglobe::volume {
@@ -133,6 +137,72 @@ Status visitNumericType(nc_type type, F&& f) {
     case NC_FLOAT: return f(0.0f);
     case NC_DOUBLE: return f(0.0);
     default: return makeError("not a numeric netCDF type");
+  }
+}
+
+/// Decodes raw values of type T to floats: out[i] = one(static_cast<double>(raw[i])), where
+/// `one` maps a raw value (as double) to its decoded float (scale/offset, fill -> kNoData ...).
+/// For 8-bit types, and for 16-bit integer types when at least 65536 values are to be
+/// decoded so that the table pays for itself, `one` is evaluated once per possible raw value
+/// into a lookup table that apply() then indexes: bit-identical to calling `one` per element,
+/// without the per-element double arithmetic. Other types call `one` per element (inlined).
+template <class T, class F>
+class RawDecoder {
+ public:
+  RawDecoder(const F& one, std::size_t valueCount) : one_(one) {
+    if constexpr (kTableable) {
+      if (sizeof(T) == 1 || valueCount >= kValues) {
+        table_.resize(kValues);
+        for (std::size_t u = 0; u < kValues; ++u) table_[u] = one_(static_cast<double>(static_cast<T>(static_cast<U>(u))));
+      }
+    }
+  }
+  void apply(const T* raw, std::size_t n, float* out) const {
+    if constexpr (kTableable) {
+      if (!table_.empty()) {
+        const float* table = table_.data();
+        for (std::size_t i = 0; i < n; ++i) out[i] = table[static_cast<U>(raw[i])];
+        return;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) out[i] = one_(static_cast<double>(raw[i]));
+  }
+
+ private:
+  static constexpr bool kTableable = std::is_integral_v<T> && (sizeof(T) == 1 || sizeof(T) == 2);
+  using U = std::make_unsigned_t<std::conditional_t<kTableable, T, unsigned char>>;
+  static constexpr std::size_t kValues = std::size_t{1} << (8 * sizeof(U));
+  F one_;
+  std::vector<float> table_;
+};
+
+/// Reads the hyperslab (start, count) of `var` in its stored type T and decodes its n values
+/// (n = product of count) into out[0, n) with `decoder`. When T is no wider than a float, no
+/// raw buffer is allocated: the raw values are read into the upper part of `out` and decoded
+/// front to back through a small stack block (out[i] ends at byte 4(i+1), at or below where
+/// raw value i+1 starts, so no raw value is overwritten before it is decoded); only 8-byte
+/// types need a separate raw buffer. Same errors as readSlab().
+template <class T, class F>
+Status readSlabDecoded(const NetcdfFile& f, const NcVar& var, const std::vector<std::size_t>& start,
+                       const std::vector<std::size_t>& count, const RawDecoder<T, F>& decoder, float* out,
+                       std::size_t n) {
+  if constexpr (sizeof(T) <= sizeof(float)) {
+    auto* bytes = reinterpret_cast<unsigned char*>(out);
+    const std::size_t rawOffset = (sizeof(float) - sizeof(T)) * n;  // a multiple of sizeof(T)
+    if (auto st = f.readSlab<T>(var, start, count, reinterpret_cast<T*>(bytes + rawOffset)); !st) return st;
+    constexpr std::size_t kBlock = 2048;
+    T block[kBlock];
+    for (std::size_t i = 0; i < n; i += kBlock) {
+      const std::size_t m = std::min(kBlock, n - i);
+      std::memcpy(block, bytes + rawOffset + i * sizeof(T), m * sizeof(T));
+      decoder.apply(block, m, out + i);
+    }
+    return Ok{};
+  } else {
+    std::unique_ptr<T[]> raw(new T[n]);  // uninitialised: the read fills it
+    if (auto st = f.readSlab<T>(var, start, count, raw.get()); !st) return st;
+    decoder.apply(raw.get(), n, out);
+    return Ok{};
   }
 }
 
