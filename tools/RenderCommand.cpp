@@ -30,11 +30,13 @@ int runRender(const RenderOptions& o) {
   if (!loader) return fail("render", loader.error());
   auto renderer = engine::SceneRendererGL::create(*loader);
   if (!renderer) return fail("render", renderer.error());
+  std::vector<engine::Marker> markers = scene->markers;
+  if (auto s = populateScene(**renderer, *scene, &markers); !s) return fail("render", s.error());
   auto target = engine::FramebufferGL::create(scene->widthPx, scene->heightPx);
   if (!target) return fail("render", target.error());
   const engine::Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
   engine::SceneFrameStats stats;
-  auto image = (*renderer)->renderToImage(camera, scene->markers, **target, 64, &stats);
+  auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
   if (!image) return fail("render", image.error());
   const std::filesystem::path parent = std::filesystem::path(o.output).parent_path();
   std::error_code ec;

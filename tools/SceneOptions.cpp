@@ -2,6 +2,11 @@
 
 #include "Commands.h"
 
+#include <atmoglobe/volume/Geoid.h>
+#include <atmoglobe/volume/StationList.h>
+
+#include <iostream>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -23,6 +28,20 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--xyz", o.xyzDirs, "XYZ (slippy map, web mercator) directory {z}/{x}/{y}.png|jpg drawn over "
                                    "the base imagery where it has data (repeatable)");
   c.add_option("--marker", o.markers, "Marker LAT,LON[,HEIGHT[,LABEL]] (repeatable)");
+  c.add_option("--stations", o.stations, "Station list to draw as markers: CSV (header with id, lat, lon[, elevation]) "
+                                         "or JSON (array of objects, or id -> object)");
+  auto* g = c.add_option_group("Radar volumes",
+                               "Each option below is given once (all radars) or once per --radar, in order");
+  g->add_option("--radar", o.radars, "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable)");
+  g->add_option("--field", o.fields, "Field to render (default: reflectivity)");
+  g->add_option("--colors", o.colors, "Colour table: NWS, cividis or a GR/WCT .pal file");
+  g->add_option("--mode", o.modes, "dvr (volume rendering), mip (maximum intensity) or iso (isosurface)");
+  g->add_option("--step", o.steps, "Ray-march step (m); default 250");
+  g->add_option("--interpolation", o.interpolations, "nearest or linear (default)");
+  g->add_option("--image-scale", o.imageScales, "Volume image resolution relative to the frame, 0.05..1 (default 1)");
+  g->add_option("--iso", o.isoValues, "Isosurface value (field units; default 40)");
+  g->add_option("--beam", o.beams, "Beam model: 4/3 (default) or straight");
+  g->add_flag("--no-geoid", o.noGeoid, "Take antenna heights as ellipsoidal (no EGM96 conversion)");
 }
 
 std::string dataDirectory() {
@@ -53,6 +72,32 @@ Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t mi
   return values;
 }
 }  // namespace
+
+Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
+                     std::vector<engine::Marker>* markers) {
+  for (const engine::RadarLayerDescription& d : scene.radars) {
+    auto layer = renderer.addRadar(d);
+    if (!layer) return makeError(layer.error());
+    std::cerr << d.path << ": " << (*layer)->datumNote << "\n";
+  }
+  if (!scene.stationsPath.empty()) {
+    auto stations = volume::readStationList(scene.stationsPath);
+    if (!stations) return makeError(stations.error());
+    const auto& geoid = volume::defaultEgm96Grid();
+    for (const volume::Station& s : *stations) {
+      engine::Marker m;
+      m.latDeg = s.latDeg;
+      m.lonDeg = s.lonDeg;
+      // Station elevations are above mean sea level; markers sit on the ellipsoid's scale.
+      m.heightMeters = s.elevationMeters + (geoid ? geoid->undulationMeters(s.latDeg, s.lonDeg) : 0.0);
+      m.color = glm::vec3(1.0f, 0.85f, 0.1f);
+      m.sizePx = 9.0f;
+      m.label = s.id;
+      markers->push_back(m);
+    }
+  }
+  return Ok{};
+}
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text) {
   auto v = parseNumbers(text, 3, 6, "--camera");
@@ -132,6 +177,32 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       return makeError(s.error());
     }
     scene->markers.push_back(marker);
+  }
+  if (!o.stations.empty()) scene->stationsPath = o.stations;
+  const std::size_t nr = o.radars.size();
+  auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) -> Status {
+    if (values.empty()) return Ok{};
+    if (values.size() != 1 && values.size() != nr) {
+      return makeError(std::string(name) + ": give it once or once per --radar (" + std::to_string(nr) + ")");
+    }
+    out = values.size() == 1 ? values[0] : values[i];
+    return Ok{};
+  };
+  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty())) {
+    return makeError("--field/--colors/--mode/--step need a --radar");
+  }
+  for (std::size_t i = 0; i < nr; ++i) {
+    engine::RadarLayerDescription d;
+    d.path = o.radars[i];
+    d.useGeoid = !o.noGeoid;
+    for (const Status& st : {pick(o.fields, "--field", i, d.field), pick(o.colors, "--colors", i, d.colors),
+                             pick(o.modes, "--mode", i, d.mode), pick(o.interpolations, "--interpolation", i, d.interpolation),
+                             pick(o.beams, "--beam", i, d.beam), pick(o.steps, "--step", i, d.stepMeters),
+                             pick(o.imageScales, "--image-scale", i, d.imageScale), pick(o.isoValues, "--iso", i, d.isoValue)}) {
+      if (!st) return makeError(st.error());
+    }
+    if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return makeError(st.error());
+    scene->radars.push_back(d);
   }
   for (const auto& layer : scene->imagery) {
     if (!std::filesystem::exists(layer.path)) {

@@ -2,6 +2,7 @@
 // Options shared by `render` and `view`: a scene file (or the embedded default scene)
 // and command-line overrides of its camera, field of view, size and imagery.
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/globe/Result.h>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +20,13 @@ struct SceneOptions {
   std::vector<std::string> imageryDirs;
   std::vector<std::string> xyzDirs;
   std::vector<std::string> markers;  ///< "LAT,LON[,HEIGHT[,LABEL]]"
+  std::string stations;              ///< station list file (CSV or JSON)
+  // Radar volumes: one entry per --radar; each per-radar option is given once (applies to
+  // every radar) or once per radar, in order.
+  std::vector<std::string> radars;
+  std::vector<std::string> fields, colors, modes, interpolations, beams;
+  std::vector<double> steps, imageScales, isoValues;
+  bool noGeoid = false;
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
@@ -28,6 +36,12 @@ std::string dataDirectory();
 
 /// The scene to render: the file (or the embedded default), then the overrides.
 Result<engine::SceneDescription> resolveScene(const SceneOptions& options);
+
+/// Loads what the scene needs beyond imagery into the renderer: radar volumes (their site
+/// markers included) and the station list as markers (appended to `markers`). Prints the
+/// vertical datum used for each radar to stderr.
+Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
+                     std::vector<engine::Marker>* markers);
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text);
 Status parseSize(const std::string& text, int* widthPx, int* heightPx);

@@ -53,6 +53,8 @@ int runView(const ViewOptions& o) {
   if (!loader) return fail("view", loader.error());
   auto renderer = engine::SceneRendererGL::create(*loader);
   if (!renderer) return fail("view", renderer.error());
+  std::vector<engine::Marker> markers = scene->markers;
+  if (auto s = populateScene(**renderer, *scene, &markers); !s) return fail("view", s.error());
 
   Interaction state;
   state.pose = state.initial = scene->camera;
@@ -110,8 +112,7 @@ int runView(const ViewOptions& o) {
     }
     const engine::Camera camera(state.pose, state.fovYDeg, fbw, fbh);
     // Our own target has a float depth buffer (reverse-Z); the window's may not.
-    target->bind();
-    (*renderer)->renderFrame(camera, scene->markers);
+    (*renderer)->renderFrame(camera, markers, *target);
     glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     ++frame;
     const bool last = o.frames > 0 && frame >= o.frames;

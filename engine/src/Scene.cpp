@@ -47,7 +47,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   } catch (const json::parse_error& e) {
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
-  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers"}, sourceName); !s) {
+  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "stations"}, sourceName);
+      !s) {
     return makeError(s.error());
   }
   SceneDescription scene;
@@ -137,7 +138,65 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       scene.markers.push_back(marker);
     }
   }
+  if (root.contains("stations")) {
+    if (!root["stations"].is_string()) return makeError(sourceName + ": stations must be a file path");
+    scene.stationsPath = resolvePath(root["stations"].get<std::string>(), baseDir, dataDir);
+  }
+  if (root.contains("radars")) {
+    if (!root["radars"].is_array()) return makeError(sourceName + ": radars must be an array");
+    int i = 0;
+    for (const json& r : root["radars"]) {
+      const std::string where = sourceName + ": radars[" + std::to_string(i++) + "]";
+      if (auto s = checkKeys(r, {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
+                                 "beam", "label", "geoid"},
+                             where);
+          !s) {
+        return makeError(s.error());
+      }
+      RadarLayerDescription d;
+      if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+      d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
+      for (auto [key, out] : {std::pair<const char*, std::string*>{"field", &d.field}, {"colors", &d.colors},
+                              {"mode", &d.mode}, {"interpolation", &d.interpolation}, {"beam", &d.beam},
+                              {"label", &d.label}}) {
+        if (!r.contains(key)) continue;
+        if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
+        *out = r[key].get<std::string>();
+      }
+      if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
+        d.colors = resolvePath(d.colors, baseDir, dataDir);
+      }
+      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters}, {"image_scale", &d.imageScale},
+                              {"iso_dbz", &d.isoValue}}) {
+        auto v = number(r, key, *out, where);
+        if (!v) return makeError(v.error());
+        *out = *v;
+      }
+      if (r.contains("geoid")) {
+        if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
+        d.useGeoid = r["geoid"].get<bool>();
+      }
+      if (auto s = validateRadarLayer(d, where); !s) return makeError(s.error());
+      scene.radars.push_back(d);
+    }
+  }
   return scene;
+}
+
+Status validateRadarLayer(const RadarLayerDescription& d, const std::string& where) {
+  if (d.mode != "dvr" && d.mode != "mip" && d.mode != "iso") {
+    return makeError(where + ": mode must be dvr, mip or iso, not \"" + d.mode + "\"");
+  }
+  if (d.interpolation != "nearest" && d.interpolation != "linear") {
+    return makeError(where + ": interpolation must be nearest or linear, not \"" + d.interpolation + "\"");
+  }
+  if (d.beam != "4/3" && d.beam != "straight") {
+    return makeError(where + ": beam must be \"4/3\" or \"straight\", not \"" + d.beam + "\"");
+  }
+  if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e5)) return makeError(where + ": step must be in 1..100000 m");
+  if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
+  if (!std::isfinite(d.isoValue)) return makeError(where + ": iso value must be finite");
+  return Ok{};
 }
 
 Result<SceneDescription> loadSceneFile(const std::string& path, const std::string& dataDir) {

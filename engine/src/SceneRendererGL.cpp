@@ -2,6 +2,8 @@
 
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
+#include <atmoglobe/volume/ColorTable.h>
+#include <atmoglobe/volume/RadarReader.h>
 
 #include <chrono>
 
@@ -24,6 +26,27 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
   return std::make_shared<globe::TileImageLoader>(std::move(opened), options);
 }
 
+Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
+  RadarRenderOptions o;
+  o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
+                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
+                                    : volume::VolumeRenderMode::Dvr;
+  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
+  o.render.stepMeters = d.stepMeters;
+  o.render.isoValue = d.isoValue;
+  o.render.transfer = volume::defaultReflectivityTransfer();
+  if (d.colors == "cividis") {
+    o.render.transfer.colors = volume::cividisTable(-10.0, 70.0);
+  } else if (d.colors != "NWS" && d.colors != "nws") {
+    auto table = volume::readPalFile(d.colors);
+    if (!table) return makeError(table.error());
+    o.render.transfer.colors = *table;
+  }
+  o.imageScale = d.imageScale;
+  o.beam = d.beam == "straight" ? BeamApproximation::StraightLine : BeamApproximation::EffectiveEarthLocalSphere;
+  return o;
+}
+
 Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr<globe::TileImageLoader> loader,
                                                                  const GlobeRenderOptions& globeOptions) {
   std::unique_ptr<SceneRendererGL> r(new SceneRendererGL());
@@ -33,12 +56,44 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
   auto m = MarkerRendererGL::create(MarkerStyle::Disc);
   if (!m) return makeError(m.error());
   r->markers_ = std::move(*m);
+  auto rv = RadarVolumeRendererGL::create();
+  if (!rv) return makeError(rv.error());
+  r->radarRenderer_ = std::move(*rv);
   return r;
 }
 
-SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::vector<Marker>& markers) {
+Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
+  auto options = radarRenderOptions(d);
+  if (!options) return makeError(options.error());
+  volume::ReadOptions read;
+  read.fieldName = d.field;
+  auto radar = volume::readRadarVolume(d.path, read);
+  if (!radar) return makeError(radar.error());
+  auto site = volume::resolveSite(radar->site, d.useGeoid);
+  if (!site) return makeError(d.path + ": " + site.error());
+  auto polar = volume::buildPolarVolume(*radar, *site, volume::BeamModel{});
+  if (!polar) return makeError(polar.error());
+  auto gl = RadarVolumeGL::create(*polar);
+  if (!gl) return makeError(gl.error());
+  RadarLayerGL layer;
+  layer.volume = std::move(*gl);
+  layer.options = *options;
+  layer.datumNote = site->datumNote;
+  layer.siteMarker.latDeg = site->site.latDeg;
+  layer.siteMarker.lonDeg = site->site.lonDeg;
+  layer.siteMarker.heightMeters = site->site.antennaHeightEllipsoidMeters;
+  layer.siteMarker.color = glm::vec3(1.0f, 1.0f, 1.0f);
+  layer.siteMarker.sizePx = 12.0f;
+  layer.siteMarker.label = d.label.empty() ? radar->site.name : d.label;
+  radars_.push_back(std::move(layer));
+  return &radars_.back();
+}
+
+SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::vector<Marker>& markers,
+                                             const FramebufferGL& target) {
   const auto start = std::chrono::steady_clock::now();
   SceneFrameStats stats;
+  target.bind();
   // Reverse-Z: depth = near / distance in [0, 1]; 0 is infinitely far.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glEnable(GL_DEPTH_TEST);
@@ -49,7 +104,12 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glDisable(GL_CULL_FACE);
   stats.globe = globe_->draw(camera);
-  markers_->draw(camera, markers);
+  std::vector<Marker> all = markers;
+  for (const RadarLayerGL& radar : radars_) {
+    radarRenderer_->draw(camera, *radar.volume, radar.options, target);
+    all.push_back(radar.siteMarker);
+  }
+  markers_->draw(camera, all);
   stats.cpuMilliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
@@ -61,13 +121,15 @@ Result<globe::ImageRGBA8> SceneRendererGL::renderToImage(const Camera& camera, c
   if (camera.widthPx() != target.widthPx() || camera.heightPx() != target.heightPx()) {
     return makeError("camera image size does not match the render target");
   }
-  target.bind();
   SceneFrameStats stats;
+  // Bring the imagery in with globe-only passes (cheap), then draw the whole frame once.
   for (int pass = 0; pass < maxPasses; ++pass) {
-    stats = renderFrame(camera, markers);
+    target.bind();
+    stats.globe = globe_->draw(camera);
     if (globe_->lastFrameComplete()) break;
     globe_->loader().waitIdle();  // decoding happens on the loader's threads
   }
+  stats = renderFrame(camera, markers, target);
   glFinish();
   if (lastStats) *lastStats = stats;
   for (const std::string& e : globe_->loader().takeErrors()) {

@@ -98,8 +98,7 @@ int main(int argc, char** argv) {
     std::vector<double> times;
     for (int f = 0; f < frames; ++f) {
       const auto t0 = Clock::now();
-      (*target).get()->bind();
-      stats = (*renderer)->renderFrame(camera, {});
+      stats = (*renderer)->renderFrame(camera, {}, **target);
       glFinish();
       times.push_back(ms(Clock::now() - t0));
     }

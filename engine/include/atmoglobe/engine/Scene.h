@@ -11,7 +11,11 @@
 //   "imagery": [{"type": "pyramid", "path": "@data/earth"},      // bottom layer first
 //               {"type": "xyz", "path": "my_xyz_tiles"}],
 //   "markers": [{"lat_deg": 33.65, "lon_deg": -101.81, "height_m": 1000,
-//                "label": "KLBB", "color": [1, 0.2, 0.1], "size_px": 14}]
+//                "label": "KLBB", "color": [1, 0.2, 0.1], "size_px": 14}],
+//   "stations": "stations.csv",                                // CSV or JSON station list
+//   "radars":  [{"path": "KLBB.ar2v", "field": "REF", "colors": "NWS", "mode": "dvr",
+//                "interpolation": "linear", "step_m": 250, "image_scale": 1.0,
+//                "iso_dbz": 40, "beam": "4/3", "label": "KLBB"}]
 // }
 // Relative paths are relative to the scene file's directory; "@data/" stands for the
 // directory of generated default data (ATMOGLOBE_DATA_DIR).
@@ -41,6 +45,21 @@ struct ImageryLayerDescription {
   std::string path;  ///< resolved (absolute or relative to the working directory)
 };
 
+/// A radar volume to ray-march (see RadarVolumeRendererGL.h for the knobs).
+struct RadarLayerDescription {
+  std::string path;                 ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
+  std::string field;                ///< empty: the reflectivity field
+  std::string colors = "NWS";       ///< "NWS", "cividis" or a .pal file
+  std::string mode = "dvr";         ///< dvr | mip | iso
+  std::string interpolation = "linear";  ///< nearest | linear
+  double stepMeters = 250.0;
+  double imageScale = 1.0;
+  double isoValue = 40.0;
+  std::string beam = "4/3";         ///< "4/3" (effective Earth) or "straight"
+  std::string label;                ///< site marker label; empty: the site name from the file
+  bool useGeoid = true;
+};
+
 struct SceneDescription {
   CameraPose camera;
   double fovYDeg = 60.0;
@@ -48,7 +67,12 @@ struct SceneDescription {
   int heightPx = 720;
   std::vector<ImageryLayerDescription> imagery;  ///< bottom layer first
   std::vector<Marker> markers;
+  std::vector<RadarLayerDescription> radars;
+  std::string stationsPath;  ///< station list drawn as markers (empty: none)
 };
+
+/// Checks the enumerated fields of a radar layer (mode, interpolation, beam, step, scale).
+Status validateRadarLayer(const RadarLayerDescription& radar, const std::string& where);
 
 /// Parses and validates a JSON scene. `sourceName` names it in messages; `baseDir`
 /// resolves relative paths; `dataDir` replaces a leading "@data".

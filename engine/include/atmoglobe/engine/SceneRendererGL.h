@@ -1,10 +1,12 @@
 #pragma once
-// Renders a SceneDescription: globe, then markers, with reverse-Z depth. The render loop
-// for headless images waits until every tile has the imagery it wants.
+// Renders a scene: the globe, then radar volumes (ray-marched, occluded by the globe's
+// depth), then markers (stations and radar sites). The headless render loop waits until
+// every tile has the imagery it wants.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/GlobeRendererGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
+#include <atmoglobe/engine/RadarVolumeRendererGL.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/TileImageLoader.h>
@@ -18,17 +20,32 @@ namespace atmoglobe::engine {
 Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<ImageryLayerDescription>& layers,
                                                            const globe::TileImageLoaderOptions& options);
 
+/// Render options of a radar layer description (colour table read here: .pal errors).
+Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& description);
+
 struct SceneFrameStats {
   GlobeFrameStats globe;
   double cpuMilliseconds = 0.0;  ///< time to issue the frame (without waiting for the GPU)
+};
+
+/// A radar loaded for rendering: its GPU volume, its options and its site marker.
+struct RadarLayerGL {
+  std::unique_ptr<RadarVolumeGL> volume;
+  RadarRenderOptions options;
+  Marker siteMarker;
+  std::string datumNote;  ///< which vertical datum / geoid undulation was used
 };
 
 class SceneRendererGL {
  public:
   static Result<std::unique_ptr<SceneRendererGL>> create(std::shared_ptr<globe::TileImageLoader> loader,
                                                          const GlobeRenderOptions& globeOptions = {});
-  /// Clears and draws into the bound framebuffer (viewport set by the caller).
-  SceneFrameStats renderFrame(const Camera& camera, const std::vector<Marker>& markers);
+  /// Reads, places and uploads a radar volume (the only field asked for is decoded).
+  Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
+  std::vector<RadarLayerGL>& radars() { return radars_; }
+
+  /// Clears `target` and draws the frame into it.
+  SceneFrameStats renderFrame(const Camera& camera, const std::vector<Marker>& markers, const FramebufferGL& target);
   /// Renders until the imagery for this view is complete (or `maxPasses` passes), then
   /// reads the image back.
   Result<globe::ImageRGBA8> renderToImage(const Camera& camera, const std::vector<Marker>& markers,
@@ -40,6 +57,8 @@ class SceneRendererGL {
   SceneRendererGL() = default;
   std::unique_ptr<GlobeRendererGL> globe_;
   std::unique_ptr<MarkerRendererGL> markers_;
+  std::unique_ptr<RadarVolumeRendererGL> radarRenderer_;
+  std::vector<RadarLayerGL> radars_;
 };
 
 }  // namespace atmoglobe::engine
