@@ -161,10 +161,10 @@ TEST(SyntheticRadar, MaximumIsNearTheRequestedStormCentre) {
               std::hypot(o.stormEastKm, o.stormNorthKm) * 1000.0, cLat, cLon);
   double distMeters = 0;
   geod.Inverse(cLat, cLon, p.latDeg, p.lonDeg, distMeters);
-  // 3 km: the core falls 22 dB per (d/4 km)^2, so +4 sigma of 1-dB noise can lift a gate at most
-  // 1.7 km from the centre to the top; the core tilts < 0.4 km below 2 km; rays are 1.1 km apart
+  // 4 km: the core falls 22 dB per (d/6 km)^2, so +4 sigma of 1-dB noise can lift a gate at most
+  // 2.6 km from the axis to the top; the axis tilts < 0.4 km below 2 km; rays are 1.1 km apart
   // at 62 km (half: 0.55 km). A misplaced storm (wrong sign, swapped axes) misses by > 70 km.
-  EXPECT_LT(distMeters, 3000.0) << "max " << best << " dBZ at " << p.latDeg << ", " << p.lonDeg;
+  EXPECT_LT(distMeters, 4000.0) << "max " << best << " dBZ at " << p.latDeg << ", " << p.lonDeg;
   EXPECT_LT(p.heightMeters - o.antennaAltitudeMslMeters, 3000.0);  // low-level maximum
 }
 
@@ -243,11 +243,11 @@ TEST(SyntheticRadar, StormModelHasCoreAnvilWeakEchoRegionAndBrightBand) {
   EXPECT_GE(coreTop(12000.0), 18.0);
   EXPECT_LT(coreTop(14000.0), 18.0);
   EXPECT_LT(coreTop(15000.0), 5.0);
-  // Weak-echo region: at 4 km, 3 km SE of the core axis, >= 15 dB weaker than at the same
-  // distance NW of it (the hole is 28 dB deep at its centre).
+  // Weak-echo region: at 4 km, 5 km SE of the core axis, >= 15 dB weaker than at the same
+  // distance NW of it (the hole is 30 dB deep at its centre).
   const double t4 = 0.35 * 3000.0;
   const double ax = cx + t4 * std::sin(M_PI / 3), ay = cy + t4 * std::cos(M_PI / 3);
-  const double d = 3000.0 / std::sqrt(2.0);
+  const double d = 5000.0 / std::sqrt(2.0);
   EXPECT_GE(syntheticStormDbz(o, ax - d, ay + d, 4000.0) - syntheticStormDbz(o, ax + d, ay - d, 4000.0), 15.0);
   // Anvil: 40 km downwind at 10.5 km: 15-25 dBZ; nothing at 10.5 km 40 km upwind.
   const double down = syntheticStormDbz(o, cx + 40000.0 * std::sin(M_PI / 3), cy + 40000.0 * std::cos(M_PI / 3), 10500.0);
@@ -298,7 +298,8 @@ TEST(SyntheticRadar, FileFollowsCfRadialConventions) {
     for (int i = 0; i < nd; ++i) {
       char n[NC_MAX_NAME + 1];
       nc_inq_dimname(nc, ids[i], n);
-      dims += (i ? "," : "") + std::string(n);
+      if (i) dims.push_back(',');  // not ("," + string): GCC 12 misreports -Wrestrict on that
+      dims.append(n);
     }
     return dims;
   };

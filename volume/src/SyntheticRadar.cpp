@@ -76,35 +76,51 @@ double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, 
 
   // 1. Core, tilted downshear by 0.35 km per km above 1 km; ~64 dBZ at the surface, slowly
   //    weakening to 7 km, then quickly: 18 dBZ at ~12.8 km, 5 dBZ at ~13.5 km (echo top).
+  //    Horizontal: -22 dB at 6 km from the axis (50 dBZ within ~4.8 km, echo within ~10 km).
   const double tilt = 0.35 * std::max(z - 1.0, 0.0);
   const double kx = cx + tilt * ux, ky = cy + tilt * uy;
   const double dCore = std::hypot(x - kx, y - ky);
   {
     const double zc = std::max(z, 0.0);
     const double vert = zc < 7.0 ? -0.6 * zc : -4.2 - 1.3 * (zc - 7.0) * (zc - 7.0);
-    double core = 64.0 + vert - 22.0 * (dCore / 4.0) * (dCore / 4.0);
-    // 2. Bounded weak-echo region: the updraft 3 km to the SE of the core at each height,
-    //    a hole of up to 28 dB between ~1.5 and 7 km.
-    const double wx = kx + 3.0 * vx, wy = ky + 3.0 * vy;
+    double core = 64.0 + vert - 22.0 * (dCore / 6.0) * (dCore / 6.0);
+    // 2. Bounded weak-echo region: the updraft 5 km to the SE of the core axis at each height,
+    //    a hole of up to 30 dB, 2.5 km across, between ~1.5 and 7 km (under the overhang).
+    const double wx = kx + 5.0 * vx, wy = ky + 5.0 * vy;
     const double dUp = std::hypot(x - wx, y - wy);
-    if (dUp < 6.0) {
+    if (dUp < 8.0) {
       const double zw = (z - 4.0) / 2.0;
-      core -= 28.0 * std::exp(-(dUp / 1.8) * (dUp / 1.8)) * std::exp(-zw * zw);
+      core -= 30.0 * std::exp(-(dUp / 2.5) * (dUp / 2.5)) * std::exp(-zw * zw);
     }
     addDbz(linearZ, core);
 
     // 3. Hook: below ~3 km, a spiral arc around the low-level updraft from its west (bearing
-    //    270) cyclonically through south to bearing 150, radius 3.5 -> 2.5 km, 52 -> 40 dBZ.
-    if (z < 4.5 && dUp < 8.0) {
+    //    270) cyclonically through south to bearing 150, radius 4.5 -> 3 km, 52 -> 40 dBZ.
+    if (z < 5.0 && dUp < 10.0) {
       double bearing = std::atan2(x - wx, y - wy) / kDegToRad;  // degrees clockwise from north
       if (bearing < 0) bearing += 360.0;
       const double b = std::clamp(bearing, 150.0, 270.0);
       const double f = (270.0 - b) / 120.0;  // 0 at the root, 1 at the tip
-      const double arcR = 3.5 - 1.0 * f;
+      const double arcR = 4.5 - 1.5 * f;
       const double ax = wx + arcR * std::sin(b * kDegToRad), ay = wy + arcR * std::cos(b * kDegToRad);
       const double dArc = std::hypot(x - ax, y - ay);
       const double zh = std::max(z - 2.0, 0.0);
-      addDbz(linearZ, 52.0 - 12.0 * f - 18.0 * dArc * dArc - 6.0 * zh * zh);
+      addDbz(linearZ, 52.0 - 12.0 * f - 10.0 * dArc * dArc - 6.0 * zh * zh);
+    }
+  }
+
+  // 3b. Forward-flank precipitation: from the core towards bearing 45 for ~35 km, 45 -> 30 dBZ,
+  //     widening from 5 km, below ~7 km (the classic supercell's comma head).
+  {
+    const double fx = std::sin(45.0 * kDegToRad), fy = std::cos(45.0 * kDegToRad);
+    const double a = (x - cx) * fx + (y - cy) * fy;
+    const double c = -(x - cx) * fy + (y - cy) * fx;
+    if (a > -10.0 && a < 80.0 && std::fabs(c) < 40.0) {
+      const double w = 5.0 + 0.15 * std::max(a, 0.0);
+      const double zt = std::max(z - 6.0, 0.0);
+      double ffd = 45.0 - 15.0 * std::max(a, 0.0) / 35.0 - 20.0 * (c / w) * (c / w) - 2.0 * zt * zt;
+      if (a < 0) ffd -= 1.0 * a * a;
+      addDbz(linearZ, ffd);
     }
   }
 

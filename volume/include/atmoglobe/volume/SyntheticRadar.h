@@ -15,7 +15,7 @@
 //   ground elevation 369.7224 m (1213 ft) + tower height 15.0 m -> antenna 384.7224 m above MSL.
 //
 // The storm: an analytic 3-D reflectivity model (syntheticStormDbz) evaluated at each gate's
-// beam centre: a tilted supercell core (~64 dBZ, echo top ~13 km), a bounded weak-echo region
+// beam centre: a tilted supercell core (~64 dBZ, echo top ~13 km), a forward-flank precipitation area, a bounded weak-echo region
 // and a low-level hook on the updraft side, an anvil spreading downwind at 9-12 km (15-25 dBZ),
 // and a stratiform area (20-35 dBZ) with a bright band at the 0 C level (3.8 km), plus
 // Gaussian noise. Components add in linear reflectivity (mm^6 m^-3), as echoes do.
