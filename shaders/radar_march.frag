@@ -15,7 +15,7 @@ in vec2 v_uv;
 uniform sampler2DArray u_values;    // R16F: [sweep] rays x gates; NaN no data, -inf no echo
 uniform sampler2D u_azimuths;       // R32F: row = sweep, x = ray (sorted azimuths, degrees)
 uniform isampler2D u_azLookup;      // R32I: row = sweep, x = 0.5 deg bin: last ray with az <= bin start, -1 none
-uniform sampler2DArray u_coarseMax; // R16F: dilated max of measured values per block (-inf: none)
+uniform sampler2D u_coarseMax;      // R16F: max over sweeps of measured values per block, dilated
 uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
 
@@ -25,10 +25,7 @@ uniform int u_sweepCount;
 uniform float u_halfBeamDeg;
 uniform float u_maxRange;
 uniform vec2 u_straightElevationClipDeg;  // straight-line elevation band that holds every beam
-uniform ivec2 u_coarseBlock;               // gates, rays per coarse block
-uniform float u_minGateSpacing;            // smallest gate spacing over sweeps (m)
-uniform int u_maxRayCount;                 // largest ray count over sweeps
-uniform float u_minSweepGapDeg;            // smallest elevation step between sweeps
+uniform vec3 u_coarse;                     // coarse grid: range origin (m), bin length (m), bin width (deg)
 
 uniform mat3 u_ecefToEnu;    // rows: east, north, up at the site
 uniform float u_h0;          // antenna height above the ellipsoid (m)
@@ -53,6 +50,7 @@ uniform float u_earlyTermination;
 uniform int u_skipEmpty;
 uniform float u_opacityZeroValue;
 uniform float u_debugT;
+uniform float u_mipVisibleMin;
 
 layout(location = 0) out vec4 o_color;
 
@@ -179,21 +177,17 @@ int samplePolar(vec3 rae, out float value) {
   return measuredW >= 0.5 ? NO_ECHO : NO_DATA;
 }
 
-// Largest measured value in the (dilated) coarse blocks around this sample, over the sweeps
-// that bracket it and their neighbours: below the transfer function's zero-opacity value
-// means nothing around here can contribute.
+// Largest measured value, over all sweeps, in the (dilated) coarse block around this
+// sample's (range, azimuth): below the threshold nothing around here can contribute.
 float coarseMax(vec3 rae) {
-  float t;
-  ivec2 ks = bracket(rae.z, t);
-  if (ks.x < 0) return -1e30;
-  float m = -1e30;
-  for (int k = ks.x; k <= ks.y; ++k) {
-    vec4 g = u_sweepGeom[k];
-    int gate = clamp(int((rae.x - g.y) / g.z + 0.5), 0, int(g.w) - 1);
-    int ray = clamp(int(rayCoordinate(k, rae.y) + 0.5) % u_sweepRays[k], 0, u_sweepRays[k] - 1);
-    m = max(m, texelFetch(u_coarseMax, ivec3(gate / u_coarseBlock.x, ray / u_coarseBlock.y, k), 0).r);
+  if (rae.z < u_sweepGeom[0].x - u_halfBeamDeg || rae.z > u_sweepGeom[u_sweepCount - 1].x + u_halfBeamDeg) {
+    return -1e30;  // outside the shell vertically
   }
-  return m;
+  ivec2 size = textureSize(u_coarseMax, 0);
+  int rb = int(floor((rae.x - u_coarse.x) / u_coarse.y));
+  if (rb < 0 || rb >= size.x) return -1e30;  // outside every sweep's gates
+  int ab = clamp(int(rae.y / u_coarse.z), 0, size.y - 1);
+  return texelFetch(u_coarseMax, ivec2(rb, ab), 0).r;
 }
 
 vec4 classify(float v) {
@@ -298,14 +292,11 @@ void main() {
         // Nothing in the (dilated) blocks around here can change the result: DVR needs a
         // value above the zero-opacity one, MIP one above the maximum so far, the
         // isosurface one at or above the iso value.
-        float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? maxValue : u_isoValue);
+        float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? max(maxValue, u_mipVisibleMin) : u_isoValue);
         if (coarseMax(rae) < threshold) {
           // Jump by half the block's smallest extent (range, azimuth, elevation) here, in
           // whole steps so the samples stay on the t_i grid.
-          float gateExtent = float(u_coarseBlock.x) * u_minGateSpacing;
-          float azExtent = rae.x * radians(float(u_coarseBlock.y) * 360.0 / float(u_maxRayCount));
-          float elExtent = rae.x * radians(u_minSweepGapDeg);
-          float jump = 0.5 * min(gateExtent, min(azExtent, elExtent));
+          float jump = 0.5 * min(u_coarse.y, rae.x * radians(u_coarse.z));
           i += max(0, int(jump / u_step) - 1);
           continue;
         }

@@ -17,45 +17,63 @@ constexpr int kTransferEntries = 4096;
 /// Lowest value stored in the coarse grid for "nothing measured here".
 constexpr float kCoarseEmpty = -60000.0f;
 
-std::vector<float> coarseMaxGrid(const volume::PolarVolume& v, int blocksX, int blocksY) {
-  const int n = static_cast<int>(v.sweeps.size());
-  std::vector<float> raw(static_cast<std::size_t>(blocksX) * blocksY * n, kCoarseEmpty);
-  for (int k = 0; k < n; ++k) {
+/// The coarse grid for empty-space skipping, in physical (range, azimuth) bins shared by all
+/// sweeps: each bin holds the max measured value of every gate whose centre falls in it, over
+/// every sweep (so elevation never limits a jump), then dilated by one bin in range and
+/// azimuth (cyclic), which covers the reach of gate/ray interpolation (bins are wider than a
+/// gate and a ray). A jump shorter than one bin in range and in azimuth therefore never
+/// passes over a sample that could contribute.
+struct CoarseGrid {
+  int binsRange = 0, binsAzimuth = 0;
+  double originMeters = 0.0, binRangeMeters = 0.0, binAzimuthDeg = 0.0;
+  std::vector<float> values;  ///< [azimuth bin][range bin]
+};
+
+CoarseGrid coarseMaxGrid(const volume::PolarVolume& v) {
+  CoarseGrid c;
+  double minSpacing = 1e30, origin = 1e30, maxRange = 0.0;
+  int maxRays = 1;
+  for (const auto& s : v.sweeps) {
+    minSpacing = std::min(minSpacing, s.gateSpacingMeters);
+    origin = std::min(origin, s.firstGateRangeMeters - 0.5 * s.gateSpacingMeters);
+    maxRange = std::max(maxRange, s.firstGateRangeMeters + (s.gateCount + 0.5) * s.gateSpacingMeters);
+    maxRays = std::max(maxRays, s.rayCount);
+  }
+  c.originMeters = origin;
+  c.binRangeMeters = RadarVolumeGL::kCoarseGates * minSpacing;
+  c.binsRange = std::max(1, static_cast<int>(std::ceil((maxRange - origin) / c.binRangeMeters)));
+  c.binsAzimuth = std::max(1, maxRays / RadarVolumeGL::kCoarseRays);
+  c.binAzimuthDeg = 360.0 / c.binsAzimuth;
+  std::vector<float> raw(static_cast<std::size_t>(c.binsRange) * c.binsAzimuth, kCoarseEmpty);
+  for (int k = 0; k < static_cast<int>(v.sweeps.size()); ++k) {
     const auto& s = v.sweeps[k];
     for (int ray = 0; ray < s.rayCount; ++ray) {
+      const int ab = std::clamp(static_cast<int>(s.azimuthDeg[ray] / c.binAzimuthDeg), 0, c.binsAzimuth - 1);
       for (int gate = 0; gate < s.gateCount; ++gate) {
         const float x = v.value(k, ray, gate);
         if (!std::isfinite(x)) continue;
-        float& cell = raw[(static_cast<std::size_t>(k) * blocksY + ray / RadarVolumeGL::kCoarseRays) * blocksX +
-                          gate / RadarVolumeGL::kCoarseGates];
+        const double r = s.firstGateRangeMeters + gate * s.gateSpacingMeters;
+        const int rb = std::clamp(static_cast<int>((r - origin) / c.binRangeMeters), 0, c.binsRange - 1);
+        float& cell = raw[static_cast<std::size_t>(ab) * c.binsRange + rb];
         cell = std::max(cell, x);
       }
     }
   }
-  // Dilate by one block in gates, rays (cyclic) and sweeps, so a jump shorter than one
-  // block in every direction never passes over a block that could contribute.
-  std::vector<float> out(raw.size(), kCoarseEmpty);
-  for (int k = 0; k < n; ++k) {
-    for (int by = 0; by < blocksY; ++by) {
-      for (int bx = 0; bx < blocksX; ++bx) {
-        float m = kCoarseEmpty;
-        for (int dk = -1; dk <= 1; ++dk) {
-          const int kk = k + dk;
-          if (kk < 0 || kk >= n) continue;
-          for (int dy = -1; dy <= 1; ++dy) {
-            const int yy = (by + dy + blocksY) % blocksY;
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int xx = bx + dx;
-              if (xx < 0 || xx >= blocksX) continue;
-              m = std::max(m, raw[(static_cast<std::size_t>(kk) * blocksY + yy) * blocksX + xx]);
-            }
-          }
+  c.values.assign(raw.size(), kCoarseEmpty);
+  for (int ab = 0; ab < c.binsAzimuth; ++ab) {
+    for (int rb = 0; rb < c.binsRange; ++rb) {
+      float m = kCoarseEmpty;
+      for (int da = -1; da <= 1; ++da) {
+        const int aa = (ab + da + c.binsAzimuth) % c.binsAzimuth;
+        for (int dr = -1; dr <= 1; ++dr) {
+          const int rr = rb + dr;
+          if (rr >= 0 && rr < c.binsRange) m = std::max(m, raw[static_cast<std::size_t>(aa) * c.binsRange + rr]);
         }
-        out[(static_cast<std::size_t>(k) * blocksY + by) * blocksX + bx] = m;
       }
+      c.values[static_cast<std::size_t>(ab) * c.binsRange + rb] = m;
     }
   }
-  return out;
+  return c;
 }
 
 GLuint makeTexture(GLenum target) {
@@ -125,12 +143,14 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   gl->gpuBytes_ += az.size() * 4 + lookup.size() * 4;
 
   // Coarse max grid for empty-space skipping.
-  const int bx = (v.maxGates + kCoarseGates - 1) / kCoarseGates, by = (v.maxRays + kCoarseRays - 1) / kCoarseRays;
-  const std::vector<float> coarse = coarseMaxGrid(v, bx, by);
-  gl->coarse_ = makeTexture(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(gl->coarse_, 1, GL_R16F, bx, by, n);
-  glTextureSubImage3D(gl->coarse_, 0, 0, 0, 0, bx, by, n, GL_RED, GL_FLOAT, coarse.data());
-  gl->gpuBytes_ += coarse.size() * 2;
+  const CoarseGrid coarse = coarseMaxGrid(v);
+  gl->coarseOriginMeters_ = coarse.originMeters;
+  gl->coarseBinRangeMeters_ = coarse.binRangeMeters;
+  gl->coarseBinAzimuthDeg_ = coarse.binAzimuthDeg;
+  gl->coarse_ = makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(gl->coarse_, 1, GL_R16F, coarse.binsRange, coarse.binsAzimuth);
+  glTextureSubImage2D(gl->coarse_, 0, 0, 0, coarse.binsRange, coarse.binsAzimuth, GL_RED, GL_FLOAT, coarse.values.data());
+  gl->gpuBytes_ += coarse.values.size() * 2;
   return gl;
 }
 
@@ -196,11 +216,8 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
     minSpacing = std::min(minSpacing, s.gateSpacingMeters);
     if (k > 0) minGap = std::min(minGap, s.elevationDeg - v.sweeps[k - 1].elevationDeg);
   }
-  int maxRays = 1;
-  for (const auto& s : v.sweeps) maxRays = std::max(maxRays, s.rayCount);
-  glUniform1f(glGetUniformLocation(p, "u_minGateSpacing"), static_cast<float>(minSpacing));
-  glUniform1i(glGetUniformLocation(p, "u_maxRayCount"), maxRays);
-  glUniform1f(glGetUniformLocation(p, "u_minSweepGapDeg"), static_cast<float>(n > 1 ? minGap : 90.0));
+  (void)minGap;
+  (void)minSpacing;
   glUniform4fv(glGetUniformLocation(p, "u_sweepGeom"), n, glm::value_ptr(geom[0]));
   glUniform1iv(glGetUniformLocation(p, "u_sweepRays"), n, rays.data());
   glUniform1i(glGetUniformLocation(p, "u_sweepCount"), n);
@@ -226,7 +243,8 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const double hi = v.sweeps.back().elevationDeg + halfBeam + bendDeg + 0.05;
   glUniform2f(glGetUniformLocation(p, "u_straightElevationClipDeg"), static_cast<float>(std::max(lo, -90.0)),
               static_cast<float>(std::min(hi, 90.0)));
-  glUniform2i(glGetUniformLocation(p, "u_coarseBlock"), RadarVolumeGL::kCoarseGates, RadarVolumeGL::kCoarseRays);
+  glUniform3f(glGetUniformLocation(p, "u_coarse"), static_cast<float>(gl.coarseOriginMeters_),
+              static_cast<float>(gl.coarseBinRangeMeters_), static_cast<float>(gl.coarseBinAzimuthDeg_));
   const glm::dmat3 enu = globe::enuAxes(v.site.latDeg, v.site.lonDeg);
   const glm::mat3 ecefToEnu = glm::mat3(glm::transpose(enu));
   glUniformMatrix3fv(glGetUniformLocation(p, "u_ecefToEnu"), 1, GL_FALSE, glm::value_ptr(ecefToEnu));
@@ -257,6 +275,11 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform1f(glGetUniformLocation(p, "u_isoValue"), static_cast<float>(rs.isoValue));
   glUniform1f(glGetUniformLocation(p, "u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
   glUniform1i(glGetUniformLocation(p, "u_skipEmpty"), options.skipEmptySpace ? 1 : 0);
+  // MIP: a maximum below the colour table's first stop is transparent, so blocks below it
+  // can be skipped too.
+  const auto& stops = rs.transfer.colors.stops();
+  const double firstVisible = stops.empty() ? -1e30 : (stops.front().value - rs.transfer.colors.offset()) / rs.transfer.colors.scale();
+  glUniform1f(glGetUniformLocation(p, "u_mipVisibleMin"), static_cast<float>(firstVisible));
   glUniform1f(glGetUniformLocation(p, "u_opacityZeroValue"), static_cast<float>(rs.transfer.opacityZeroValue));
 
   // Transfer function tabulated over the volume's value range (4096 entries; the value is

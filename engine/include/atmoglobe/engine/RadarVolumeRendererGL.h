@@ -50,8 +50,8 @@ class RadarVolumeGL {
   /// GPU bytes of all textures (values, azimuths, lookup, coarse grid).
   std::size_t gpuBytes() const { return gpuBytes_; }
 
-  static constexpr int kCoarseGates = 16;  ///< gates per coarse block
-  static constexpr int kCoarseRays = 8;    ///< rays per coarse block
+  static constexpr int kCoarseGates = 32;  ///< coarse bin length in the finest gate spacings
+  static constexpr int kCoarseRays = 8;    ///< coarse bin width in rays of the densest sweep
   static constexpr int kAzimuthLookupBins = 720;
   static constexpr int kMaxSweeps = 32;
 
@@ -60,6 +60,7 @@ class RadarVolumeGL {
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
   GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;
+  double coarseOriginMeters_ = 0.0, coarseBinRangeMeters_ = 1.0, coarseBinAzimuthDeg_ = 1.0;
   std::size_t gpuBytes_ = 0;
 };
 

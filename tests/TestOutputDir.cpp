@@ -1,0 +1,41 @@
+#include "TestOutputDir.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace atmoglobe_test {
+
+namespace {
+std::string executableName() {
+  std::ifstream comm("/proc/self/comm");
+  std::string name;
+  std::getline(comm, name);
+  return name.empty() ? "test" : name;
+}
+
+void removeIfPassed() {
+  const auto* unit = ::testing::UnitTest::GetInstance();
+  if (unit && unit->Passed() && !std::getenv("ATMOGLOBE_KEEP_TEST_OUTPUT")) {
+    std::error_code ec;
+    std::filesystem::remove_all(outputDir(), ec);
+  }
+}
+}  // namespace
+
+const std::string& outputDir() {
+  // Never destroyed: the atexit handler below still needs it after static destructors ran.
+  static const std::string* dir = [] {
+    auto* d = new std::string(std::string(ATMOGLOBE_TEST_OUTPUT_BASE) + "/" + executableName() + "-" +
+                              std::to_string(static_cast<long>(::getpid())));
+    std::filesystem::create_directories(*d);
+    std::atexit(removeIfPassed);
+    return d;
+  }();
+  return *dir;
+}
+
+}  // namespace atmoglobe_test
