@@ -22,16 +22,20 @@ class MarkerRendererGL {
  public:
   static Result<std::unique_ptr<MarkerRendererGL>> create(MarkerStyle style);
   ~MarkerRendererGL();
-  /// Draws into the bound framebuffer, depth-tested against what is already there.
+  /// Draws into the bound framebuffer, depth-tested against what is already there, with
+  /// each marker's label (stb_easy_font, 2x scale) beside it at the marker's depth.
   /// depthLift > 1 moves each marker's depth toward the eye by that factor (a marker on
   /// the ground then wins against the ground it sits on).
   void draw(const Camera& camera, const std::vector<Marker>& markers, float depthLift = 1.001f);
 
  private:
   MarkerRendererGL() = default;
+  void drawLabels(const Camera& camera, const std::vector<Marker>& markers, float depthLift);
   MarkerStyle style_ = MarkerStyle::Disc;
   ShaderProgramGL program_;
+  ShaderProgramGL labelProgram_;
   GLuint vao_ = 0, vbo_ = 0;
+  GLuint labelVao_ = 0, labelVbo_ = 0;
 };
 
 }  // namespace atmoglobe::engine
