@@ -42,7 +42,20 @@ struct Interaction {
   double fovYDeg = 60;
   int screenshotCount = 0;
   bool screenshotRequested = false;
+  double lastInputSeconds = -1e9;  ///< glfwGetTime() of the last camera change
+  bool dirty = true;               ///< the picture must be redrawn
 };
+
+/// While the camera moves (input in the last kSettleSeconds) volumes are marched at
+/// kMovingImageScale of their resolution; once it rests, one full-quality frame is drawn
+/// and nothing more until something changes.
+constexpr double kSettleSeconds = 0.3;
+constexpr double kMovingImageScale = 0.25;
+
+void touched(Interaction& s) {
+  s.lastInputSeconds = glfwGetTime();
+  s.dirty = true;
+}
 
 int runView(const ViewOptions& o) {
   auto scene = resolveScene(o.scene);
@@ -76,6 +89,7 @@ int runView(const ViewOptions& o) {
     const double dx = x - s.lastX, dy = y - s.lastY;
     s.lastX = x;
     s.lastY = y;
+    touched(s);
     if (s.tilting) {
       engine::tiltByPixels(s.pose, dx, dy);
     } else {
@@ -88,20 +102,41 @@ int runView(const ViewOptions& o) {
     glfwGetWindowSize(win, &width, &height);
     double x = 0, y = 0;
     glfwGetCursorPos(win, &x, &y);
+    touched(s);
     engine::zoomTowardPixel(s.pose, s.fovYDeg, std::max(width, 1), std::max(height, 1), x, y, std::pow(0.8, yoff));
   });
   glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
     if (action != GLFW_PRESS) return;
     if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(win, GLFW_TRUE);
-    if (key == GLFW_KEY_R) s.pose = s.initial;
-    if (key == GLFW_KEY_P) s.screenshotRequested = true;
+    if (key == GLFW_KEY_R) {
+      s.pose = s.initial;
+      touched(s);
+    }
+    if (key == GLFW_KEY_P) {
+      s.screenshotRequested = true;
+      s.dirty = true;
+    }
   });
 
+  std::vector<double> fullImageScale;
+  for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
   std::unique_ptr<engine::FramebufferGL> target;
   int frame = 0;
+  bool wasMoving = false;
   while (!glfwWindowShouldClose(w)) {
+    const bool moving = glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
+    if (!state.dirty && !moving && !wasMoving && (*renderer)->globe().lastFrameComplete() && o.frames == 0) {
+      glfwWaitEventsTimeout(0.1);  // nothing to redraw: sleep until input
+      continue;
+    }
     glfwPollEvents();
+    auto& radars = (*renderer)->radars();
+    for (std::size_t i = 0; i < radars.size(); ++i) {
+      radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
+    }
+    wasMoving = moving;
+    state.dirty = false;
     int fbw = 0, fbh = 0;
     glfwGetFramebufferSize(w, &fbw, &fbh);
     if (fbw < 1 || fbh < 1) continue;
