@@ -32,7 +32,8 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                                          "or JSON (array of objects, or id -> object)");
   auto* g = c.add_option_group("Radar volumes",
                                "Each option below is given once (all radars) or once per --radar, in order");
-  g->add_option("--radar", o.radars, "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable)");
+  g->add_option("--radar", o.radars,
+                "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars)");
   g->add_option("--field", o.fields, "Field to render (default: reflectivity)");
   g->add_option("--colors", o.colors, "Colour table: NWS, cividis or a GR/WCT .pal file");
   g->add_option("--mode", o.modes, "dvr (volume rendering), mip (maximum intensity) or iso (isosurface)");
@@ -191,6 +192,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty())) {
     return makeError("--field/--colors/--mode/--step need a --radar");
   }
+  if (nr > 0) scene->radars.clear();  // like --imagery, --radar replaces the scene's radars
   for (std::size_t i = 0; i < nr; ++i) {
     engine::RadarLayerDescription d;
     d.path = o.radars[i];
