@@ -83,3 +83,59 @@ TEST(GoldenImage, GlobeViewsMatchReviewedImages) {
     }
   }
 }
+
+TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
+  // Real volumes (../shared/data) ray-marched over the globe, DVR and MIP: same tolerance
+  // rule as above (mean |diff| <= 1, <= 0.5 % of pixels off by more than 24).
+  testutil::glContext();
+  auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+  ASSERT_TRUE(loader) << loader.error();
+  struct RadarCase {
+    const char* name;
+    const char* file;
+    const char* mode;
+    engine::CameraPose pose;
+  };
+  const std::string data = ATMOGLOBE_SHARED_DATA_DIR;
+  const RadarCase cases[] = {
+      {"radar_klbb_dvr", "/radar_nexrad/KLBB20160601_150025_V06", "dvr", {31.9, -101.81, 1.5e5, 0.0, -35.0, 0.0}},
+      {"radar_au40_mip", "/radar_odim/40_20181220_060630.pvol.h5", "mip", {-37.2, 149.0, 1.2e5, 20.0, -40.0, 0.0}},
+  };
+  const int w = 200, h = 112;
+  auto fb = engine::FramebufferGL::create(w, h);
+  ASSERT_TRUE(fb);
+  for (const RadarCase& c : cases) {
+    auto renderer = engine::SceneRendererGL::create(*loader);
+    ASSERT_TRUE(renderer) << renderer.error();
+    engine::RadarLayerDescription d;
+    d.path = data + c.file;
+    d.mode = c.mode;
+    auto layer = (*renderer)->addRadar(d);
+    ASSERT_TRUE(layer) << layer.error();
+    const engine::Camera camera(c.pose, 50.0, w, h);
+    auto actual = (*renderer)->renderToImage(camera, {}, **fb);
+    ASSERT_TRUE(actual) << actual.error();
+    const std::string goldenPath = std::string(ATMOGLOBE_SOURCE_DIR) + "/tests/golden/" + c.name + ".png";
+    const std::string actualPath = testutil::testOutputDir() + "/" + c.name + ".actual.png";
+    ASSERT_TRUE(globe::writePng(actualPath, *actual));
+    auto golden = globe::decodeImageFile(goldenPath);
+    if (!golden || golden->width != w || golden->height != h) {
+      ADD_FAILURE() << (golden ? goldenPath + ": wrong size" : golden.error()) << " (review " << actualPath
+                    << ", then tests/promote-golden.sh)";
+      continue;
+    }
+    double sumAbs = 0.0;
+    int bad = 0;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const glm::ivec3 d3 = glm::abs(glm::ivec3(glm::ivec4(actual->at(x, y))) - glm::ivec3(glm::ivec4(golden->at(x, y))));
+        sumAbs += d3.r + d3.g + d3.b;
+        if (std::max({d3.r, d3.g, d3.b}) > 24) ++bad;
+      }
+    }
+    const double meanAbs = sumAbs / (3.0 * w * h);
+    const double badFraction = static_cast<double>(bad) / (w * h);
+    EXPECT_LE(meanAbs, 1.0) << c.name << " (actual " << actualPath << ")";
+    EXPECT_LE(badFraction, 0.005) << c.name << " (actual " << actualPath << ")";
+  }
+}
