@@ -30,6 +30,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--marker", o.markers, "Marker LAT,LON[,HEIGHT[,LABEL]] (repeatable)");
   c.add_option("--stations", o.stations, "Station list to draw as markers: CSV (header with id, lat, lon[, elevation]) "
                                          "or JSON (array of objects, or id -> object)");
+  c.add_option("--cones", o.models, "A cone export (.glb from `atmoglobe export-cones`) to draw at its place (repeatable)");
   auto* g = c.add_option_group("Radar volumes",
                                "Each option below is given once (all radars) or once per --radar, in order");
   g->add_option("--radar", o.radars,
@@ -80,6 +81,9 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
     auto layer = renderer.addRadar(d);
     if (!layer) return makeError(layer.error());
     std::cerr << d.path << ": " << (*layer)->datumNote << "\n";
+  }
+  for (const std::string& m : scene.models) {
+    if (auto st = renderer.addModel(m); !st) return makeError(st.error());
   }
   if (!scene.stationsPath.empty()) {
     auto stations = volume::readStationList(scene.stationsPath);
@@ -180,6 +184,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     scene->markers.push_back(marker);
   }
   if (!o.stations.empty()) scene->stationsPath = o.stations;
+  for (const std::string& m : o.models) scene->models.push_back(m);
   const std::size_t nr = o.radars.size();
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) -> Status {
     if (values.empty()) return Ok{};

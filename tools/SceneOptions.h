@@ -21,6 +21,7 @@ struct SceneOptions {
   std::vector<std::string> xyzDirs;
   std::vector<std::string> markers;  ///< "LAT,LON[,HEIGHT[,LABEL]]"
   std::string stations;              ///< station list file (CSV or JSON)
+  std::vector<std::string> models;   ///< .glb cone exports to draw
   // Radar volumes: one entry per --radar; each per-radar option is given once (applies to
   // every radar) or once per radar, in order.
   std::vector<std::string> radars;

@@ -62,6 +62,13 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
   return r;
 }
 
+Status SceneRendererGL::addModel(const std::string& glbPath) {
+  auto model = GltfModelRendererGL::load(glbPath);
+  if (!model) return makeError(model.error());
+  models_.push_back(std::move(*model));
+  return Ok{};
+}
+
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   auto options = radarRenderOptions(d);
   if (!options) return makeError(options.error());
@@ -104,6 +111,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glDisable(GL_CULL_FACE);
   stats.globe = globe_->draw(camera);
+  for (const auto& model : models_) model->draw(camera);
   std::vector<Marker> all = markers;
   for (const RadarLayerGL& radar : radars_) {
     radarRenderer_->draw(camera, *radar.volume, radar.options, target);

@@ -69,6 +69,7 @@ struct SceneDescription {
   std::vector<Marker> markers;
   std::vector<RadarLayerDescription> radars;
   std::string stationsPath;  ///< station list drawn as markers (empty: none)
+  std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
 };
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, step, scale).

@@ -5,6 +5,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/GlobeRendererGL.h>
+#include <atmoglobe/engine/GltfModelRendererGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeRendererGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -43,6 +44,8 @@ class SceneRendererGL {
   /// Reads, places and uploads a radar volume (the only field asked for is decoded).
   Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
   std::vector<RadarLayerGL>& radars() { return radars_; }
+  /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
+  Status addModel(const std::string& glbPath);
 
   /// Clears `target` and draws the frame into it.
   SceneFrameStats renderFrame(const Camera& camera, const std::vector<Marker>& markers, const FramebufferGL& target);
@@ -59,6 +62,7 @@ class SceneRendererGL {
   std::unique_ptr<MarkerRendererGL> markers_;
   std::unique_ptr<RadarVolumeRendererGL> radarRenderer_;
   std::vector<RadarLayerGL> radars_;
+  std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
 };
 
 }  // namespace atmoglobe::engine
