@@ -1,0 +1,17 @@
+# Runs CMD ARGS; passes if it exits 0 and its standard output matches every regex in REGEXES
+# (a ;-list), or, with OUTPUT_FILE, that file's content does.
+execute_process(COMMAND ${CMD} ${ARGS} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(OUTPUT_FILE)
+  file(READ "${OUTPUT_FILE}" out LIMIT 200000)
+endif()
+string(SUBSTRING "${out}" 0 600 head)
+message("exit: ${rc}\nstdout (start): ${head}\nstderr: ${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "expected exit 0")
+endif()
+foreach(re IN LISTS REGEXES)
+  string(REGEX MATCH "${re}" found "${out}")
+  if(NOT found)
+    message(FATAL_ERROR "output does not match: ${re}")
+  endif()
+endforeach()
