@@ -19,9 +19,14 @@
 
 #include <bzlib.h>
 #include <netcdf.h>
+#include <dlfcn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -29,6 +34,7 @@
 #include <functional>
 #include <iterator>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using namespace atmoglobe;
@@ -47,19 +53,37 @@ double medianSeconds(int runs, const std::function<bool()>& f) {
   return t[t.size() / 2];
 }
 
-// Medians of a and b over `runs` alternating runs each (a, b, a, b ...); -1 if a run fails.
-std::pair<double, double> medianSecondsPair(int runs, const std::function<bool()>& a, const std::function<bool()>& b) {
+// Minor page faults of this process so far (first touches of fresh pages).
+long minorFaults() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_minflt;
+}
+
+struct PairTiming {
+  double aSeconds = -1.0, bSeconds = -1.0;  // medians; -1 if a run failed
+  long aFaults = 0, bFaults = 0;            // minor page faults per run (mean)
+};
+
+// Medians of a and b over `runs` alternating runs each (a, b, a, b ...).
+// `afterB` runs after each run of b, outside the timing.
+PairTiming medianSecondsPair(int runs, const std::function<bool()>& a, const std::function<bool()>& b,
+                             const std::function<void()>& afterB) {
   std::vector<double> ta, tb;
+  long fa = 0, fb = 0;
   for (int i = 0; i < runs; ++i) {
-    for (auto [f, t] : {std::pair{&a, &ta}, std::pair{&b, &tb}}) {
+    for (auto [f, t, faults] : {std::tuple{&a, &ta, &fa}, std::tuple{&b, &tb, &fb}}) {
+      const long f0 = minorFaults();
       const auto t0 = Clock::now();
-      if (!(*f)()) return {-1.0, -1.0};
+      if (!(*f)()) return {};
       t->push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+      *faults += minorFaults() - f0;
     }
+    if (afterB) afterB();
   }
   std::sort(ta.begin(), ta.end());
   std::sort(tb.begin(), tb.end());
-  return {ta[ta.size() / 2], tb[tb.size() / 2]};
+  return {ta[ta.size() / 2], tb[tb.size() / 2], fa / runs, fb / runs};
 }
 
 // Floor for NEXRAD: read the file, decompress every record with the one-shot libbz2 call.
@@ -120,6 +144,27 @@ std::string textAttribute(int ncid, int varid, const char* name) {
   return {};
 }
 
+// netCDF-C 4.9.0 over HDF5 1.10.8 leaves one HDF5 attribute id open per ODIM data array on every
+// nc_open, and HDF5 scans all open attribute ids on each attribute open, so leaked ids slow down
+// every later attribute read in the process. The reader closes the ones of its own file
+// (NetcdfFile); after each floor run, outside its timing, this closes the ones the floor's plain
+// netCDF-C calls left, so that neither side's runs inherit the other's leak. Safe here: nothing
+// else in this process holds an HDF5 attribute open between runs.
+void closeLeakedHdf5Attributes() {
+  using hid_t = std::int64_t;  // HDF5 >= 1.10
+  static auto count = reinterpret_cast<long (*)(hid_t, unsigned)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_count"));
+  static auto ids = reinterpret_cast<long (*)(hid_t, unsigned, std::size_t, hid_t*)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_ids"));
+  static auto close = reinterpret_cast<int (*)(hid_t)>(dlsym(RTLD_DEFAULT, "H5Aclose"));
+  if (!count || !ids || !close) return;
+  constexpr hid_t kAllFiles = 0x001F;  // H5F_OBJ_ALL
+  constexpr unsigned kAttr = 0x0010u;  // H5F_OBJ_ATTR
+  const long n = count(kAllFiles, kAttr);
+  if (n <= 0) return;
+  std::vector<hid_t> open(static_cast<std::size_t>(n));
+  const long got = ids(kAllFiles, kAttr, open.size(), open.data());
+  for (long i = 0; i < got && i < n; ++i) close(open[static_cast<std::size_t>(i)]);
+}
+
 // Floor for netCDF/HDF5: open, read the loaded field's arrays raw, close.
 bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
   int ncid = 0;
@@ -149,23 +194,39 @@ bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
 }
 
 // Median read and floor times for every radar file. The read and floor runs alternate
-// (read, floor, read, floor ...) so that a change in machine load hits both alike.
+// (read, floor, read, floor ...) so that a change in machine load hits both alike. Each file is
+// measured in its own child process (fork), so that what one file's runs leave behind (heap
+// growth and malloc's raised mmap threshold after NEXRAD, library state) does not change the
+// next file's figures; until 2026-11-22 one process measured every file in turn.
 void readTable(const std::string& dataDir, int runs) {
   std::printf("## Read time (median of %d runs, read and floor alternating)\n\n", runs);
-  std::printf("| file | format | field | read (ms) | floor (ms) | read / floor |\n|---|---|---|---|---|---|\n");
+  std::printf("| file | format | field | read (ms) | floor (ms) | read / floor | page faults per read / floor |\n"
+              "|---|---|---|---|---|---|---|\n");
   for (const char* sub : {"radar_nexrad", "radar_odim", "radar_cfradial"}) {
     std::vector<std::filesystem::path> files;
     std::error_code ec;
     for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(dataDir) / sub, ec)) files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
+      std::fflush(stdout);
+      const pid_t child = fork();
+      if (child > 0) {
+        int status = 0;
+        waitpid(child, &status, 0);
+        continue;
+      }
+      if (child < 0) std::perror("fork (measuring in this process)");
       const std::string path = f.string();
       std::string format, field;
       {
         // The probe's volume is not held during the timed runs.
         Result<volume::RadarVolume> probe = volume::readRadarVolume(path, {});
         if (!probe) {
-          std::printf("| %s | error: %s | | | | |\n", f.filename().c_str(), probe.error().c_str());
+          std::printf("| %s | error: %s | | | | | |\n", f.filename().c_str(), probe.error().c_str());
+          if (child == 0) {
+            std::fflush(stdout);
+            _exit(0);
+          }
           continue;
         }
         format = probe->format;
@@ -178,9 +239,15 @@ void readTable(const std::string& dataDir, int runs) {
         const bool odim = format.rfind("ODIM", 0) == 0;
         floorFn = [&, odim] { return netcdfFloor(path, field, odim); };
       }
-      const auto [read, floor] = medianSecondsPair(runs, [&] { return volume::readRadarVolume(path, {}).ok(); }, floorFn);
-      std::printf("| %s | %s | %s | %.1f | %.1f | %.2f |\n", f.filename().c_str(),
-                  format.c_str(), field.c_str(), read * 1e3, floor * 1e3, floor > 0 ? read / floor : 0.0);
+      const PairTiming t = medianSecondsPair(runs, [&] { return volume::readRadarVolume(path, {}).ok(); }, floorFn,
+                                             closeLeakedHdf5Attributes);
+      std::printf("| %s | %s | %s | %.1f | %.1f | %.2f | %ld / %ld |\n", f.filename().c_str(), format.c_str(),
+                  field.c_str(), t.aSeconds * 1e3, t.bSeconds * 1e3, t.bSeconds > 0 ? t.aSeconds / t.bSeconds : 0.0,
+                  t.aFaults, t.bFaults);
+      if (child == 0) {
+        std::fflush(stdout);
+        _exit(0);
+      }
     }
   }
   std::printf("\n");

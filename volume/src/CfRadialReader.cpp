@@ -1,6 +1,7 @@
 #include <atmoglobe/volume/CfRadialReader.h>
 
 #include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/volume/PageAllocator.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <algorithm>
@@ -315,7 +316,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
         const RawDecoder<T, CfDecoder> rawDecoder(decoder, total);
         for (Sweep& sw : vol.sweeps) {
           const std::size_t n = sw.rayCount() * sw.gateCount;
-          sw.values.resize(n);
+          assignPopulated(sw.values, n, 0.0f);
           const auto a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
           if (auto r = readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n); !r)
             return r;

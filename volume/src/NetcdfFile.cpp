@@ -2,7 +2,10 @@
 
 #include <netcdf_filter.h>
 
+#include <dlfcn.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <system_error>
 
@@ -12,6 +15,56 @@ namespace {
 constexpr std::size_t kMaxAttributeChars = std::size_t{1} << 20;
 
 std::string ncError(int status) { return nc_strerror(status); }
+
+// --- Work-around for an HDF5 identifier leak under netCDF-C ---
+// Measured with netCDF-C 4.9.0 over HDF5 1.10.8: every nc_open of an ODIM_H5 file leaves one
+// HDF5 attribute identifier (and one datatype identifier) open per dataset whose CLASS
+// attribute is not DIMENSION_SCALE (ODIM's CLASS="IMAGE"): 112 per open of a 112-dataset
+// volume, still open after nc_close. HDF5 scans every open attribute identifier of the process
+// on each attribute open (twice), so each leaked identifier makes every later attribute read
+// of every file slower (after 23 opens of that volume, one MLL CfRadial read took ~4x as long).
+// NetcdfFile therefore notes the HDF5 file identifier that nc_open created and, just before
+// nc_close, closes the attribute identifiers still open through it (netCDF-C holds none open
+// between calls: a fresh open of a CfRadial file shows 0). The HDF5 functions are looked up
+// at run time in the HDF5 library that netCDF-C already loaded, so the build does not change
+// and a netCDF-C built without HDF5 just skips this. hid_t is 64-bit from HDF5 1.10 on: older
+// versions are skipped.
+namespace h5 {
+using hid_t = std::int64_t;
+constexpr unsigned kObjFile = 0x0001u, kObjAttr = 0x0010u, kObjLocal = 0x0020u;
+constexpr hid_t kObjAll = 0x001F;  // H5F_OBJ_ALL as a file id: every open file
+struct Api {
+  long (*getObjCount)(hid_t, unsigned) = nullptr;                      // H5Fget_obj_count (ssize_t)
+  long (*getObjIds)(hid_t, unsigned, std::size_t, hid_t*) = nullptr;  // H5Fget_obj_ids (ssize_t)
+  int (*attrClose)(hid_t) = nullptr;                                  // H5Aclose
+  bool ok() const { return getObjCount && getObjIds && attrClose; }
+};
+const Api& api() {
+  static const Api a = [] {
+    Api r;
+    using Version = int (*)(unsigned*, unsigned*, unsigned*);
+    auto version = reinterpret_cast<Version>(dlsym(RTLD_DEFAULT, "H5get_libversion"));
+    unsigned major = 0, minor = 0, release = 0;
+    if (!version || version(&major, &minor, &release) < 0 || major < 1 || (major == 1 && minor < 10)) return r;
+    r.getObjCount = reinterpret_cast<decltype(r.getObjCount)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_count"));
+    r.getObjIds = reinterpret_cast<decltype(r.getObjIds)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_ids"));
+    r.attrClose = reinterpret_cast<decltype(r.attrClose)>(dlsym(RTLD_DEFAULT, "H5Aclose"));
+    return r;
+  }();
+  return a;
+}
+/// Ids of the open objects of `types` in `file` (kObjAll: all files).
+std::vector<hid_t> openIds(hid_t file, unsigned types) {
+  const Api& a = api();
+  if (!a.ok()) return {};
+  const long n = a.getObjCount(file, types);
+  if (n <= 0) return {};
+  std::vector<hid_t> ids(static_cast<std::size_t>(n));
+  const long got = a.getObjIds(file, types, ids.size(), ids.data());
+  ids.resize(got > 0 ? std::min(ids.size(), static_cast<std::size_t>(got)) : 0);
+  return ids;
+}
+}  // namespace h5
 
 void trimRight(std::string& s) {
   while (!s.empty() && (s.back() == '\0' || s.back() == ' ' || s.back() == '\n' || s.back() == '\t')) s.pop_back();
@@ -44,6 +97,8 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) return makeError(path + ": cannot read file: " + ec.message());
   int ncid = -1;
+  std::vector<h5::hid_t> filesBefore = h5::openIds(h5::kObjAll, h5::kObjFile);
+  std::sort(filesBefore.begin(), filesBefore.end());
   const int st = nc_open(path.c_str(), NC_NOWRITE, &ncid);
   if (st != NC_NOERR) {
     const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
@@ -54,29 +109,53 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   int formatx = 0;
   bool hdf5 = false;
   if (nc_inq_format_extended(ncid, &formatx, &mode) == NC_NOERR) hdf5 = (formatx == NC_FORMATX_NC_HDF5);
-  return NetcdfFile(path, ncid, size, hdf5);
+  NetcdfFile file(path, ncid, size, hdf5);
+  if (hdf5) {
+    // The one HDF5 file id that nc_open added is this file's (see closeLeakedAttributes()).
+    std::vector<h5::hid_t> added;
+    for (h5::hid_t id : h5::openIds(h5::kObjAll, h5::kObjFile))
+      if (!std::binary_search(filesBefore.begin(), filesBefore.end(), id)) added.push_back(id);
+    if (added.size() == 1) file.hdf5FileId_ = added.front();
+  }
+  return file;
+}
+
+void NetcdfFile::closeLeakedAttributes() {
+  if (hdf5FileId_ < 0) return;
+  const h5::Api& a = h5::api();
+  for (h5::hid_t id : h5::openIds(hdf5FileId_, h5::kObjAttr | h5::kObjLocal)) a.attrClose(id);
+  hdf5FileId_ = -1;
+}
+
+void NetcdfFile::close() {
+  if (ncid_ < 0) return;
+  closeLeakedAttributes();
+  nc_close(ncid_);
+  ncid_ = -1;
 }
 
 NetcdfFile::NetcdfFile(NetcdfFile&& other) noexcept
-    : path_(std::move(other.path_)), ncid_(other.ncid_), fileSize_(other.fileSize_), hdf5_(other.hdf5_) {
+    : path_(std::move(other.path_)), ncid_(other.ncid_), fileSize_(other.fileSize_), hdf5_(other.hdf5_),
+      hdf5FileId_(other.hdf5FileId_) {
   other.ncid_ = -1;
+  other.hdf5FileId_ = -1;
 }
 
 NetcdfFile& NetcdfFile::operator=(NetcdfFile&& other) noexcept {
   if (this != &other) {
-    if (ncid_ >= 0) nc_close(ncid_);
+    close();
     path_ = std::move(other.path_);
     ncid_ = other.ncid_;
     fileSize_ = other.fileSize_;
     hdf5_ = other.hdf5_;
+    hdf5FileId_ = other.hdf5FileId_;
     other.ncid_ = -1;
+    other.hdf5FileId_ = -1;
   }
   return *this;
 }
 
-NetcdfFile::~NetcdfFile() {
-  if (ncid_ >= 0) nc_close(ncid_);
-}
+NetcdfFile::~NetcdfFile() { close(); }
 
 std::optional<int> NetcdfFile::findGroup(int parent, const std::string& name) const {
   int id = -1;

@@ -1,6 +1,7 @@
 #include <atmoglobe/volume/OdimReader.h>
 
 #include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/volume/PageAllocator.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <algorithm>
@@ -328,7 +329,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       decoder.offset = optionalDouble(f, chain, "offset").value_or(0.0);
       if (const auto nodata = optionalDouble(f, chain, "nodata")) decoder.nodata = *nodata;
       if (const auto undetect = optionalDouble(f, chain, "undetect")) decoder.undetect = *undetect;
-      sw.values.resize(n);
+      assignPopulated(sw.values, n, 0.0f);
       Status st = visitNumericType(var->type, [&](auto tag) -> Status {
         using T = decltype(tag);
         const RawDecoder<T, OdimDecoder> rawDecoder(decoder, n);

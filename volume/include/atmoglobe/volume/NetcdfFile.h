@@ -114,11 +114,17 @@ class NetcdfFile {
   NetcdfFile(std::string path, int ncid, std::uintmax_t size, bool hdf5)
       : path_(std::move(path)), ncid_(ncid), fileSize_(size), hdf5_(hdf5) {}
   std::string attrLabel(int group, int varId, const std::string& name) const;
+  /// Closes the HDF5 attribute identifiers that netCDF-C left open through this file (a leak
+  /// of netCDF-C 4.9 / HDF5 1.10 on datasets with a non-dimension-scale CLASS attribute, e.g.
+  /// every ODIM data array; see NetcdfFile.cpp), then nc_close.
+  void closeLeakedAttributes();
+  void close();
 
   std::string path_;
   int ncid_ = -1;
   std::uintmax_t fileSize_ = 0;
   bool hdf5_ = false;
+  std::int64_t hdf5FileId_ = -1;  ///< HDF5 file id that nc_open created (-1: unknown / not HDF5)
 };
 
 /// Calls f(T{}) with T the C++ type matching a numeric netCDF type (the readers read a
