@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -62,6 +63,44 @@ inline glm::dvec3 blockMean(const globe::ImageRGBA8& image, int cx, int cy, int 
     }
   }
   return sum / static_cast<double>(n);
+}
+
+/// Compares a rendered frame with tests/golden/<name>.png (the rule and its justification are
+/// in GoldenImageTest.cpp): mean |diff| <= 1 per channel and at most 0.5 % of pixels off by
+/// more than 24. Writes <name>.actual.png (and .diff.png on failure) to the test output
+/// directory and adds a failure naming them.
+inline void expectMatchesGolden(const std::string& name, const globe::ImageRGBA8& actual) {
+  const std::string goldenPath = std::string(ATMOGLOBE_SOURCE_DIR) + "/tests/golden/" + name + ".png";
+  const std::string actualPath = testOutputDir() + "/" + name + ".actual.png";
+  ASSERT_TRUE(globe::writePng(actualPath, actual));
+  auto golden = globe::decodeImageFile(goldenPath);
+  if (!golden || golden->width != actual.width || golden->height != actual.height) {
+    ADD_FAILURE() << (golden ? goldenPath + ": wrong size" : golden.error()) << " (review " << actualPath
+                  << ", then tests/promote-golden.sh)";
+    return;
+  }
+  const int w = actual.width, h = actual.height;
+  globe::ImageRGBA8 diff = globe::ImageRGBA8::filled(w, h, {0, 0, 0, 255});
+  double sumAbs = 0.0;
+  int bad = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const glm::ivec3 d = glm::abs(glm::ivec3(glm::ivec4(actual.at(x, y))) - glm::ivec3(glm::ivec4(golden->at(x, y))));
+      sumAbs += d.r + d.g + d.b;
+      const int m = std::max({d.r, d.g, d.b});
+      if (m > 24) ++bad;
+      const auto v = static_cast<std::uint8_t>(std::min(255, m * 8));
+      diff.set(x, y, {v, v, v, 255});
+    }
+  }
+  const double meanAbs = sumAbs / (3.0 * w * h);
+  const double badFraction = static_cast<double>(bad) / (w * h);
+  if (meanAbs > 1.0 || badFraction > 0.005) {
+    const std::string diffPath = testOutputDir() + "/" + name + ".diff.png";
+    EXPECT_TRUE(globe::writePng(diffPath, diff));
+    ADD_FAILURE() << name << ": mean |diff| " << meanAbs << ", pixels off by >24: " << 100.0 * badFraction
+                  << " %; actual " << actualPath << ", diff " << diffPath;
+  }
 }
 
 }  // namespace atmoglobe::testutil

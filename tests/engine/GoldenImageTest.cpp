@@ -49,38 +49,7 @@ TEST(GoldenImage, GlobeViewsMatchReviewedImages) {
     const engine::Camera camera(c.pose, c.fovDeg, w, h);
     auto actual = (*renderer)->renderToImage(camera, {}, **fb);
     ASSERT_TRUE(actual) << actual.error();
-    const std::string goldenPath = std::string(ATMOGLOBE_SOURCE_DIR) + "/tests/golden/" + c.name + ".png";
-    const std::string actualPath = testutil::testOutputDir() + "/" + c.name + ".actual.png";
-    ASSERT_TRUE(globe::writePng(actualPath, *actual));
-    auto golden = globe::decodeImageFile(goldenPath);
-    if (!golden || golden->width != w || golden->height != h) {
-      ADD_FAILURE() << (golden ? goldenPath + ": wrong size" : golden.error()) << " (review " << actualPath
-                    << ", then tests/promote-golden.sh)";
-      continue;
-    }
-    globe::ImageRGBA8 diff = globe::ImageRGBA8::filled(w, h, {0, 0, 0, 255});
-    double sumAbs = 0.0;
-    int bad = 0;
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const glm::ivec4 a(actual->at(x, y)), g(golden->at(x, y));
-        const glm::ivec3 d = glm::abs(glm::ivec3(a) - glm::ivec3(g));
-        sumAbs += d.r + d.g + d.b;
-        const int m = std::max({d.r, d.g, d.b});
-        if (m > 24) ++bad;
-        const auto v = static_cast<std::uint8_t>(std::min(255, m * 8));
-        diff.set(x, y, {v, v, v, 255});
-      }
-    }
-    const double meanAbs = sumAbs / (3.0 * w * h);
-    const double badFraction = static_cast<double>(bad) / (w * h);
-    const bool pass = meanAbs <= 1.0 && badFraction <= 0.005;
-    if (!pass) {
-      const std::string diffPath = testutil::testOutputDir() + "/" + c.name + ".diff.png";
-      EXPECT_TRUE(globe::writePng(diffPath, diff));
-      ADD_FAILURE() << c.name << ": mean |diff| " << meanAbs << ", pixels off by >24: " << 100.0 * badFraction
-                    << " %; actual " << actualPath << ", diff " << diffPath;
-    }
+    testutil::expectMatchesGolden(c.name, *actual);
   }
 }
 
@@ -115,27 +84,6 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
     const engine::Camera camera(c.pose, 50.0, w, h);
     auto actual = (*renderer)->renderToImage(camera, {}, **fb);
     ASSERT_TRUE(actual) << actual.error();
-    const std::string goldenPath = std::string(ATMOGLOBE_SOURCE_DIR) + "/tests/golden/" + c.name + ".png";
-    const std::string actualPath = testutil::testOutputDir() + "/" + c.name + ".actual.png";
-    ASSERT_TRUE(globe::writePng(actualPath, *actual));
-    auto golden = globe::decodeImageFile(goldenPath);
-    if (!golden || golden->width != w || golden->height != h) {
-      ADD_FAILURE() << (golden ? goldenPath + ": wrong size" : golden.error()) << " (review " << actualPath
-                    << ", then tests/promote-golden.sh)";
-      continue;
-    }
-    double sumAbs = 0.0;
-    int bad = 0;
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const glm::ivec3 d3 = glm::abs(glm::ivec3(glm::ivec4(actual->at(x, y))) - glm::ivec3(glm::ivec4(golden->at(x, y))));
-        sumAbs += d3.r + d3.g + d3.b;
-        if (std::max({d3.r, d3.g, d3.b}) > 24) ++bad;
-      }
-    }
-    const double meanAbs = sumAbs / (3.0 * w * h);
-    const double badFraction = static_cast<double>(bad) / (w * h);
-    EXPECT_LE(meanAbs, 1.0) << c.name << " (actual " << actualPath << ")";
-    EXPECT_LE(badFraction, 0.005) << c.name << " (actual " << actualPath << ")";
+    testutil::expectMatchesGolden(c.name, *actual);
   }
 }
