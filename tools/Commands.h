@@ -20,6 +20,7 @@ Command addInfoCommand(CLI::App& root);
 Command addGatesCommand(CLI::App& root);
 Command addExportConesCommand(CLI::App& root);
 Command addSynthCommand(CLI::App& root);
+Command addBenchCommand(CLI::App& root);
 
 /// Embedded files from assets/ (default scene...), by file name.
 std::optional<std::string_view> embeddedAsset(std::string_view fileName);
