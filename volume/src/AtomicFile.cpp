@@ -25,17 +25,9 @@ std::string parentDir(const std::string& path) {
 
 // Writes a temporary beside `path`; returns its name or an error (nothing left behind).
 Result<std::string> writeTemp(const std::string& path, std::string_view bytes) {
-  static std::atomic<unsigned> counter{0};
-  const std::filesystem::path p(path);
-  if (p.filename().empty()) return makeError(path + ": not a file name");
-  // Hidden name in the same directory (GCC 12 misreports -Wrestrict on "." + std::string: append).
-  std::string name = ".";
-  name.append(p.filename().string());
-  name.append(".tmp");
-  name.append(std::to_string(::getpid()));
-  name.push_back('-');
-  name.append(std::to_string(counter.fetch_add(1)));
-  const std::string temp = (p.parent_path() / name).string();
+  auto tempName = temporaryPathBeside(path);
+  if (!tempName) return tempName;
+  const std::string temp = *tempName;
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) return makeError(osError(path, "cannot create file in its directory", errno));
   const char* data = bytes.data();
@@ -76,6 +68,38 @@ void syncDir(const std::string& path) {
 }
 
 }  // namespace
+
+Result<std::string> temporaryPathBeside(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path p(path);
+  if (p.filename().empty()) return makeError(path + ": not a file name");
+  // Hidden name in the same directory (GCC 12 misreports -Wrestrict on "." + std::string: append).
+  std::string name = ".";
+  name.append(p.filename().string());
+  name.append(".tmp");
+  name.append(std::to_string(::getpid()));
+  name.push_back('-');
+  name.append(std::to_string(counter.fetch_add(1)));
+  return (p.parent_path() / name).string();
+}
+
+Status commitTemporary(const std::string& tempPath, const std::string& path) {
+  const int fd = ::open(tempPath.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    const int err = errno;
+    if (fd >= 0) ::close(fd);
+    ::unlink(tempPath.c_str());
+    return makeError(osError(path, "fsync failed", err));
+  }
+  ::close(fd);
+  if (::rename(tempPath.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(tempPath.c_str());
+    return makeError(osError(path, "rename into place failed", err));
+  }
+  syncDir(path);
+  return Ok{};
+}
 
 Status writeFileAtomic(const std::string& path, std::string_view bytes) {
   AtomicFileSet set;

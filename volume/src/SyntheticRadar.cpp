@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/SyntheticRadar.h>
 
+#include <atmoglobe/volume/AtomicFile.h>
+
 #include <atmoglobe/volume/Geolocation.h>
 
 #include <netcdf.h>
@@ -513,17 +515,10 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
     }
   }
 
-  // --- atomic write: hidden temporary beside the target, then rename ---
-  static std::atomic<unsigned> counter{0};
-  const std::filesystem::path p(path);
-  if (p.filename().empty()) return makeError(path + ": not a file name");
-  std::string name = ".";
-  name.append(p.filename().string());
-  name.append(".tmp");
-  name.append(std::to_string(::getpid()));
-  name.push_back('-');
-  name.append(std::to_string(counter.fetch_add(1)));
-  const std::string temp = (p.parent_path() / name).string();
+  // --- atomic write: hidden temporary beside the target, then rename (AtomicFile.h) ---
+  auto tempName = temporaryPathBeside(path);
+  if (!tempName) return makeError(tempName.error());
+  const std::string temp = *tempName;
   // Create it ourselves first: the OS reason (permission, missing directory) is clearer than HDF5's.
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) return makeError(osError(path, "cannot create file in its directory", errno));
@@ -537,24 +532,11 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
   std::string err = writeContents(w, o, g, dbz, az, el, timeSec);
   if (const int st = nc_close(ncid); st != NC_NOERR && err.empty())
     err = path + ": netCDF close failed: " + nc_strerror(st);
-  if (err.empty()) {
-    const int rfd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
-    if (rfd < 0 || ::fsync(rfd) != 0) err = osError(path, "fsync failed", errno);
-    if (rfd >= 0) ::close(rfd);
-  }
-  if (err.empty() && ::rename(temp.c_str(), path.c_str()) != 0) err = osError(path, "rename into place failed", errno);
   if (!err.empty()) {
     ::unlink(temp.c_str());
     return makeError(err);
   }
-  {  // make the rename durable (failure here does not undo it: not an error)
-    const std::string dir = p.parent_path().empty() ? std::string(".") : p.parent_path().string();
-    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-      ::fsync(dfd);
-      ::close(dfd);
-    }
-  }
+  if (Status st = commitTemporary(temp, path); !st) return st;
   std::error_code ec;
   sum.fileBytes = std::filesystem::file_size(path, ec);
   if (summary) *summary = sum;

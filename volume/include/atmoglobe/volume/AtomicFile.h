@@ -12,6 +12,14 @@
 
 namespace atmoglobe::volume {
 
+/// A hidden temporary name beside `path` (same directory, unique per process and call), for
+/// writers that create the file themselves (e.g. through netCDF-C). Error if path has no name.
+Result<std::string> temporaryPathBeside(const std::string& path);
+
+/// Completes such a write: fsyncs `tempPath`, renames it over `path`, fsyncs the directory.
+/// On failure the temporary is removed and `path` is untouched; errors name `path`.
+Status commitTemporary(const std::string& tempPath, const std::string& path);
+
 /// Writes `bytes` to `path` atomically (temp + fsync + rename + fsync of the directory).
 /// Errors name the path and the OS reason (strerror).
 Status writeFileAtomic(const std::string& path, std::string_view bytes);
