@@ -51,6 +51,7 @@ struct BenchOptions {
   double referenceStepMeters = 100.0;
   int threads = 0;  // 0: hardware concurrency
   bool peer = true;
+  bool referenceOnly = false;
   std::string peerScript;
 };
 
@@ -307,9 +308,10 @@ double median(std::vector<double> v) {
 /// composite: for imageScale < 1 that is the marcher's small image upsampled bilinearly by the
 /// composite pass, exactly what a user sees.
 GpuRun timeGpu(engine::RadarVolumeRendererGL& r, const engine::Camera& camera, const BenchVolume& v,
-               const engine::RadarRenderOptions& o, engine::FramebufferGL& target, int frames) {
+               const engine::RadarRenderOptions& o, engine::FramebufferGL& target, int frames,
+               bool warmUp = true) {
   std::vector<double> ms;
-  for (int f = -1; f < frames; ++f) {
+  for (int f = warmUp ? -1 : 0; f < frames; ++f) {
     const auto t0 = Clock::now();
     target.bind();
     glClearDepth(0.0);
@@ -575,7 +577,7 @@ nlohmann::json transferJson(const volume::TransferFunction& tf) {
     colors.push_back({v0, s.start.r / 255.0, s.start.g / 255.0, s.start.b / 255.0});
     if (i + 1 < stops.size()) {
       const double v1 = (stops[i + 1].value - tf.colors.offset()) / tf.colors.scale();
-      colors.push_back({v1 - 1e-3, s.end.r / 255.0, s.end.g / 255.0, s.end.b / 255.0});
+      colors.push_back({v1 - 1e-2, s.end.r / 255.0, s.end.g / 255.0, s.end.b / 255.0});
     }
   }
   return {{"colors", colors},
@@ -606,11 +608,19 @@ int runBench(const BenchOptions& o) {
   fs::create_directories(fs::path(o.outDir) / "reference-cache", ec);
   if (ec) return fail("bench", o.outDir + ": cannot create directory: " + ec.message());
 
-  auto context = engine::HeadlessContextGL::create();
-  if (!context) return fail("bench", context.error());
-  const std::string glName = (*context)->describe();
-  auto renderer = engine::RadarVolumeRendererGL::create();
-  if (!renderer) return fail("bench", renderer.error());
+  // --reference-only: no GL at all (fills the reference cache, e.g. on a many-core machine).
+  std::unique_ptr<engine::HeadlessContextGL> context;
+  std::unique_ptr<engine::RadarVolumeRendererGL> renderer;
+  std::string glName = "none";
+  if (!o.referenceOnly) {
+    auto c = engine::HeadlessContextGL::create();
+    if (!c) return fail("bench", c.error());
+    context = std::move(*c);
+    glName = context->describe();
+    auto r = engine::RadarVolumeRendererGL::create();
+    if (!r) return fail("bench", r.error());
+    renderer = std::move(*r);
+  }
 
   // Volumes.
   std::vector<std::unique_ptr<BenchVolume>> volumes;
@@ -621,13 +631,14 @@ int runBench(const BenchOptions& o) {
     const std::string path = (fs::path(o.dataDir) / rel).string();
     auto v = loadVolume(key, path);
     if (!v) return fail("bench", v.error());
-    auto gl = engine::RadarVolumeGL::create(v->polar);
-    if (!gl) return fail("bench", path + ": " + gl.error());
-    v->gl = std::move(*gl);
+    if (!o.referenceOnly) {
+      auto gl = engine::RadarVolumeGL::create(v->polar);
+      if (!gl) return fail("bench", path + ": " + gl.error());
+      v->gl = std::move(*gl);
+    }
     volumes.push_back(std::make_unique<BenchVolume>(std::move(*v)));
     std::cout << key << ": " << path << ", field " << volumes.back()->polar.fieldName << ", "
-              << volumes.back()->polar.sweeps.size() << " sweeps, GPU " << static_cast<double>(volumes.back()->gl->gpuBytes()) / 1e6
-              << " MB\n";
+              << volumes.back()->polar.sweeps.size() << " sweeps\n";
   }
 
   // Views: oblique (200 km out, 100 km up, looking at the antenna) and straight down from 400 km.
@@ -662,6 +673,19 @@ int runBench(const BenchOptions& o) {
   refs.dir = fs::path(o.outDir) / "reference-cache";
   refs.threads = threads;
 
+  if (o.referenceOnly) {
+    for (const BenchView& view : views) {
+      for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso})
+        refs.get(view, w, h, referenceSettings(mode, o.referenceStepMeters));
+      if (!o.quick) {
+        refs.get(view, 80, 45, referenceSettings(volume::VolumeRenderMode::Dvr, o.referenceStepMeters));
+        refs.get(view, 80, 45, referenceSettings(volume::VolumeRenderMode::Dvr, o.referenceStepMeters / 2.0));
+      }
+    }
+    std::cout << "references: " << refs.rendered << " rendered (" << refs.secondsRendering << " s), " << refs.cached
+              << " cached, in " << refs.dir.string() << "\n";
+    return 0;
+  }
   auto target = engine::FramebufferGL::create(w, h);
   if (!target) return fail("bench", target.error());
   std::vector<Row> rows;
@@ -678,7 +702,7 @@ int runBench(const BenchOptions& o) {
       }
     }
     for (const Cell& c : cells) {
-      const GpuRun run = timeGpu(**renderer, camera, *view.volume, optionsFor(c), **target, o.frames);
+      const GpuRun run = timeGpu(*renderer, camera, *view.volume, optionsFor(c), **target, o.frames);
       Row r;
       r.view = view.name;
       r.volume = view.volume->key;
@@ -706,9 +730,14 @@ int runBench(const BenchOptions& o) {
   {
     auto bigTarget = engine::FramebufferGL::create(1280, 720);
     if (!bigTarget) return fail("bench", bigTarget.error());
+    // On a software rasteriser (llvmpipe) one 1280x720 frame takes minutes: time the first view
+    // only, with one frame.
+    const bool software = glName.find("llvmpipe") != std::string::npos || glName.find("softpipe") != std::string::npos;
     for (const BenchView& view : views) {
       const engine::Camera camera(view.pose, view.fovYDeg, 1280, 720);
-      big.push_back({view.name, timeGpu(**renderer, camera, *view.volume, optionsFor(Cell{}), **bigTarget, o.frames).medianMs});
+      big.push_back({view.name + (software ? " (1 frame, software GL)" : ""),
+                     timeGpu(*renderer, camera, *view.volume, optionsFor(Cell{}), **bigTarget, software ? 1 : o.frames, !software).medianMs});
+      if (software) break;
     }
   }
 
@@ -989,6 +1018,7 @@ Command addBenchCommand(CLI::App& root) {
   c->add_option("--reference-step", o->referenceStepMeters, "Reference renderer step (m)")->check(CLI::Range(10.0, 1000.0));
   c->add_option("--threads", o->threads, "Threads for the reference and the resampling (0: all)")->check(CLI::Range(0, 256));
   c->add_flag("!--no-peer", o->peer, "Skip the VTK peer");
+  c->add_flag("--reference-only", o->referenceOnly, "Only render the reference images into the cache (no GL)");
   c->add_option("--peer-script", o->peerScript, "Path of tools/bench/vtk_peer.py");
   return {c, [o] { return runBench(*o); }};
 }
