@@ -15,7 +15,7 @@ in vec2 v_uv;
 uniform sampler2DArray u_values;    // R16F: [sweep] rays x gates; NaN no data, -inf no echo
 uniform sampler2D u_azimuths;       // R32F: row = sweep, x = ray (sorted azimuths, degrees)
 uniform isampler2D u_azLookup;      // R32I: row = sweep, x = 0.5 deg bin: last ray with az <= bin start, -1 none
-uniform sampler2D u_coarseMax;      // R16F: max over sweeps of measured values per block, dilated
+uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
 uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
 
@@ -25,7 +25,9 @@ uniform int u_sweepCount;
 uniform float u_halfBeamDeg;
 uniform float u_maxRange;
 uniform vec2 u_straightElevationClipDeg;  // straight-line elevation band that holds every beam
-uniform vec3 u_coarse;                     // coarse grid: range origin (m), bin length (m), bin width (deg)
+uniform vec3 u_gridMinEnu;                 // the grid box's lower corner (m, ENU)
+uniform vec3 u_gridCellSize;               // (m)
+uniform ivec3 u_gridCells;
 
 uniform mat3 u_ecefToEnu;    // rows: east, north, up at the site
 uniform float u_h0;          // antenna height above the ellipsoid (m)
@@ -177,17 +179,32 @@ int samplePolar(vec3 rae, out float value) {
   return measuredW >= 0.5 ? NO_ECHO : NO_DATA;
 }
 
-// Largest measured value, over all sweeps, in the (dilated) coarse block around this
-// sample's (range, azimuth): below the threshold nothing around here can contribute.
-float coarseMax(vec3 rae) {
-  if (rae.z < u_sweepGeom[0].x - u_halfBeamDeg || rae.z > u_sweepGeom[u_sweepCount - 1].x + u_halfBeamDeg) {
-    return -1e30;  // outside the shell vertically
-  }
-  ivec2 size = textureSize(u_coarseMax, 0);
-  int rb = int(floor((rae.x - u_coarse.x) / u_coarse.y));
-  if (rb < 0 || rb >= size.x) return -1e30;  // outside every sweep's gates
-  int ab = clamp(int(rae.y / u_coarse.z), 0, size.y - 1);
-  return texelFetch(u_coarseMax, ivec2(rb, ab), 0).r;
+// Empty-space skipping: the largest value any sample in this grid cell can see, and the
+// ray parameter where the ray leaves the cell (slab method in ENU).
+float gridMax(vec3 l, out ivec3 cell) {
+  cell = ivec3(floor((l - u_gridMinEnu) / u_gridCellSize));
+  if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, u_gridCells))) return -1e30;
+  return texelFetch(u_grid, cell, 0).r;
+}
+
+// Where the ray next enters the grid box after t (or `end` if it never does).
+float gridEntry(vec3 oL, vec3 dL, float t, float end) {
+  vec3 lo = u_gridMinEnu, hi = u_gridMinEnu + vec3(u_gridCells) * u_gridCellSize;
+  vec3 inv = 1.0 / dL;
+  vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
+  float tNear = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
+  float tFar = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
+  if (tNear > tFar || tFar < t) return end;
+  return max(tNear, t);
+}
+
+float cellExit(vec3 oL, vec3 dL, ivec3 cell) {
+  vec3 lo = u_gridMinEnu + vec3(cell) * u_gridCellSize;
+  vec3 hi = lo + u_gridCellSize;
+  vec3 inv = 1.0 / dL;
+  vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
+  vec3 tFar = max(t0, t1);
+  return min(tFar.x, min(tFar.y, tFar.z));
 }
 
 vec4 classify(float v) {
@@ -287,20 +304,22 @@ void main() {
     int iEnd = int(floor(b / u_step - 0.5));
     for (; i <= iEnd; ++i) {
       float t = (float(i) + 0.5) * u_step;
-      vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
       if (u_skipEmpty == 1) {
-        // Nothing in the (dilated) blocks around here can change the result: DVR needs a
-        // value above the zero-opacity one, MIP one above the maximum so far, the
-        // isosurface one at or above the iso value.
+        // Nothing in this cell can change the result (DVR: nothing above the zero-opacity
+        // value; MIP: nothing above the maximum so far or the first visible colour;
+        // isosurface: nothing at or above the iso value): jump to the first sample after the
+        // cell, staying on the t_i grid.
         float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? max(maxValue, u_mipVisibleMin) : u_isoValue);
-        if (coarseMax(rae) < threshold) {
-          // Jump by half the block's smallest extent (range, azimuth, elevation) here, in
-          // whole steps so the samples stay on the t_i grid.
-          float jump = 0.5 * min(u_coarse.y, rae.x * radians(u_coarse.z));
-          i += max(0, int(jump / u_step) - 1);
+        ivec3 cell;
+        if (gridMax(oL + t * dL, cell) < threshold) {
+          bool outside = any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, u_gridCells));
+          float tOut = outside ? gridEntry(oL, dL, t, b) : cellExit(oL, dL, cell);
+          if (!(tOut > t)) tOut = t;  // degenerate slab (NaN): no jump
+          i = max(i, int(ceil(tOut / u_step - 0.5)) - 1);
           continue;
         }
       }
+      vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
       float v;
       int state = samplePolar(rae, v);
       if (u_mode == 0) {

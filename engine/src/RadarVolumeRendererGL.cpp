@@ -14,66 +14,106 @@ namespace {
 
 constexpr int kTransferEntries = 4096;
 
-/// Lowest value stored in the coarse grid for "nothing measured here".
+/// Lowest value stored in the occupancy grid for "nothing measured here".
 constexpr float kCoarseEmpty = -60000.0f;
 
-/// The coarse grid for empty-space skipping, in physical (range, azimuth) bins shared by all
-/// sweeps: each bin holds the max measured value of every gate whose centre falls in it, over
-/// every sweep (so elevation never limits a jump), then dilated by one bin in range and
-/// azimuth (cyclic), which covers the reach of gate/ray interpolation (bins are wider than a
-/// gate and a ray). A jump shorter than one bin in range and in azimuth therefore never
-/// passes over a sample that could contribute.
-struct CoarseGrid {
-  int binsRange = 0, binsAzimuth = 0;
-  double originMeters = 0.0, binRangeMeters = 0.0, binAzimuthDeg = 0.0;
-  std::vector<float> values;  ///< [azimuth bin][range bin]
+/// Beam-model position in the site's ENU frame (m) of (range, azimuth, elevation): the
+/// effective-Earth height/ground distance (Doviak & Zrnic 2.28) placed on the local sphere of
+/// the ellipsoid's normal-section radius in that azimuth; the forward twin of the shader's
+/// inverse (metres off the exact path: far below the grid's cells, which are kilometres).
+glm::dvec3 beamEnu(double rangeM, double azDeg, double elDeg, double h0, double effectiveRadius,
+                   double meridional, double primeVertical) {
+  const double el = elDeg * M_PI / 180.0, az = azDeg * M_PI / 180.0;
+  const double re = effectiveRadius;
+  const double h = std::sqrt(rangeM * rangeM + (re + h0) * (re + h0) + 2.0 * rangeM * (re + h0) * std::sin(el)) - re;
+  const double s = re * std::asin(std::clamp(rangeM * std::cos(el) / (re + h), -1.0, 1.0));
+  const double ca = std::cos(az), sa = std::sin(az);
+  const double rAlpha = 1.0 / (ca * ca / meridional + sa * sa / primeVertical);
+  const double psi = s / rAlpha, d = rAlpha + h;
+  const double horizontal = d * std::sin(psi);
+  return {horizontal * sa, horizontal * ca, d * std::cos(psi) - (rAlpha + h0)};
+}
+
+/// The empty-space grid: a box in the site's ENU frame holding, per cell, the largest
+/// measured value that any sample inside the cell can be interpolated from. Built per block
+/// of 4 rays x 8 gates of each sweep: the block's value support (its gates +-1, its rays +-1,
+/// from the sweep below to the sweep above, +- half a beam at the ends) is bounded by the box
+/// of its corner positions, dilated by one cell. Conservative: a cell below a threshold holds
+/// no sample at or above it, so the marcher may jump across it.
+struct OccupancyGrid {
+  glm::ivec3 cells{1};
+  glm::dvec3 minEnu{0.0}, cellSize{1.0};
+  std::vector<float> values;  ///< [z][y][x]
 };
 
-CoarseGrid coarseMaxGrid(const volume::PolarVolume& v) {
-  CoarseGrid c;
-  double minSpacing = 1e30, origin = 1e30, maxRange = 0.0;
-  int maxRays = 1;
-  for (const auto& s : v.sweeps) {
-    minSpacing = std::min(minSpacing, s.gateSpacingMeters);
-    origin = std::min(origin, s.firstGateRangeMeters - 0.5 * s.gateSpacingMeters);
-    maxRange = std::max(maxRange, s.firstGateRangeMeters + (s.gateCount + 0.5) * s.gateSpacingMeters);
-    maxRays = std::max(maxRays, s.rayCount);
-  }
-  c.originMeters = origin;
-  c.binRangeMeters = RadarVolumeGL::kCoarseGates * minSpacing;
-  c.binsRange = std::max(1, static_cast<int>(std::ceil((maxRange - origin) / c.binRangeMeters)));
-  c.binsAzimuth = std::max(1, maxRays / RadarVolumeGL::kCoarseRays);
-  c.binAzimuthDeg = 360.0 / c.binsAzimuth;
-  std::vector<float> raw(static_cast<std::size_t>(c.binsRange) * c.binsAzimuth, kCoarseEmpty);
-  for (int k = 0; k < static_cast<int>(v.sweeps.size()); ++k) {
+OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effectiveRadius, double meridional,
+                            double primeVertical) {
+  const int n = static_cast<int>(v.sweeps.size());
+  const double hb = 0.5 * v.beamWidthDeg;
+  struct Box { glm::dvec3 lo, hi; float value; };
+  std::vector<Box> boxes;
+  glm::dvec3 lo(1e30), hi(-1e30);
+  constexpr int kRays = 4, kGates = 8;
+  for (int k = 0; k < n; ++k) {
     const auto& s = v.sweeps[k];
-    for (int ray = 0; ray < s.rayCount; ++ray) {
-      const int ab = std::clamp(static_cast<int>(s.azimuthDeg[ray] / c.binAzimuthDeg), 0, c.binsAzimuth - 1);
-      for (int gate = 0; gate < s.gateCount; ++gate) {
-        const float x = v.value(k, ray, gate);
-        if (!std::isfinite(x)) continue;
-        const double r = s.firstGateRangeMeters + gate * s.gateSpacingMeters;
-        const int rb = std::clamp(static_cast<int>((r - origin) / c.binRangeMeters), 0, c.binsRange - 1);
-        float& cell = raw[static_cast<std::size_t>(ab) * c.binsRange + rb];
-        cell = std::max(cell, x);
+    const double elLo = k > 0 ? v.sweeps[k - 1].elevationDeg : s.elevationDeg - hb;
+    const double elHi = k + 1 < n ? v.sweeps[k + 1].elevationDeg : s.elevationDeg + hb;
+    for (int r0 = 0; r0 < s.rayCount; r0 += kRays) {
+      for (int g0 = 0; g0 < s.gateCount; g0 += kGates) {
+        float m = kCoarseEmpty;
+        for (int ray = r0; ray < std::min(r0 + kRays, s.rayCount); ++ray) {
+          for (int gate = g0; gate < std::min(g0 + kGates, s.gateCount); ++gate) {
+            const float x = v.value(k, ray, gate);
+            if (std::isfinite(x)) m = std::max(m, x);
+          }
+        }
+        if (m == kCoarseEmpty) continue;
+        // Support: one gate and one ray beyond the block on each side (linear interpolation).
+        const double rA = std::max(0.0, s.firstGateRangeMeters + (g0 - 1.0) * s.gateSpacingMeters);
+        const double rB = s.firstGateRangeMeters + (std::min(g0 + kGates, s.gateCount) + 0.5) * s.gateSpacingMeters;
+        const double azA = s.azimuthDeg[(r0 + s.rayCount - 1) % s.rayCount];
+        double azB = s.azimuthDeg[std::min(r0 + kRays, s.rayCount) % s.rayCount];
+        if (azB <= azA) azB += 360.0;
+        Box b{glm::dvec3(1e30), glm::dvec3(-1e30), m};
+        for (double r : {rA, 0.5 * (rA + rB), rB}) {
+          for (double az : {azA, 0.5 * (azA + azB), azB}) {
+            for (double el : {elLo, 0.5 * (elLo + elHi), elHi}) {
+              const glm::dvec3 p = beamEnu(r, az, el, h0, effectiveRadius, meridional, primeVertical);
+              b.lo = glm::min(b.lo, p);
+              b.hi = glm::max(b.hi, p);
+            }
+          }
+        }
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+        boxes.push_back(b);
       }
     }
   }
-  c.values.assign(raw.size(), kCoarseEmpty);
-  for (int ab = 0; ab < c.binsAzimuth; ++ab) {
-    for (int rb = 0; rb < c.binsRange; ++rb) {
-      float m = kCoarseEmpty;
-      for (int da = -1; da <= 1; ++da) {
-        const int aa = (ab + da + c.binsAzimuth) % c.binsAzimuth;
-        for (int dr = -1; dr <= 1; ++dr) {
-          const int rr = rb + dr;
-          if (rr >= 0 && rr < c.binsRange) m = std::max(m, raw[static_cast<std::size_t>(aa) * c.binsRange + rr]);
+  OccupancyGrid grid;
+  if (boxes.empty()) {
+    grid.values.assign(1, kCoarseEmpty);
+    return grid;
+  }
+  grid.cells = glm::ivec3(128, 128, 64);
+  grid.cellSize = (hi - lo) / glm::dvec3(grid.cells - 2) + 1e-3;  // one spare cell on each side
+  grid.minEnu = lo - grid.cellSize;
+  grid.values.assign(static_cast<std::size_t>(grid.cells.x) * grid.cells.y * grid.cells.z, kCoarseEmpty);
+  for (const Box& b : boxes) {
+    // Dilated by one cell: the box of sampled support points bounds the curved support only
+    // up to its bulge between them, which is far smaller than a cell.
+    const glm::ivec3 c0 = glm::max(glm::ivec3(glm::floor((b.lo - grid.minEnu) / grid.cellSize)) - 1, glm::ivec3(0));
+    const glm::ivec3 c1 = glm::min(glm::ivec3(glm::floor((b.hi - grid.minEnu) / grid.cellSize)) + 1, grid.cells - 1);
+    for (int z = c0.z; z <= c1.z; ++z) {
+      for (int y = c0.y; y <= c1.y; ++y) {
+        for (int x = c0.x; x <= c1.x; ++x) {
+          float& cell = grid.values[(static_cast<std::size_t>(z) * grid.cells.y + y) * grid.cells.x + x];
+          cell = std::max(cell, b.value);
         }
       }
-      c.values[static_cast<std::size_t>(ab) * c.binsRange + rb] = m;
     }
   }
-  return c;
+  return grid;
 }
 
 GLuint makeTexture(GLenum target) {
@@ -142,15 +182,24 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   glTextureSubImage2D(gl->lookup_, 0, 0, 0, kAzimuthLookupBins, n, GL_RED_INTEGER, GL_INT, lookup.data());
   gl->gpuBytes_ += az.size() * 4 + lookup.size() * 4;
 
-  // Coarse max grid for empty-space skipping.
-  const CoarseGrid coarse = coarseMaxGrid(v);
-  gl->coarseOriginMeters_ = coarse.originMeters;
-  gl->coarseBinRangeMeters_ = coarse.binRangeMeters;
-  gl->coarseBinAzimuthDeg_ = coarse.binAzimuthDeg;
-  gl->coarse_ = makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(gl->coarse_, 1, GL_R16F, coarse.binsRange, coarse.binsAzimuth);
-  glTextureSubImage2D(gl->coarse_, 0, 0, 0, coarse.binsRange, coarse.binsAzimuth, GL_RED, GL_FLOAT, coarse.values.data());
-  gl->gpuBytes_ += coarse.values.size() * 2;
+  // Empty-space grid in the site's ENU frame.
+  {
+    const double latRad = v.site.latDeg * M_PI / 180.0;
+    const double e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
+    const double w2 = 1.0 - e2 * std::sin(latRad) * std::sin(latRad);
+    const double radius = v.beam.earthRadiusMeters.value_or(globe::geocentricRadiusMeters(v.site.latDeg));
+    const OccupancyGrid grid = occupancyGrid(v, v.site.antennaHeightEllipsoidMeters, v.beam.ke * radius,
+                                             globe::kWgs84A * (1.0 - e2) / (w2 * std::sqrt(w2)),
+                                             globe::kWgs84A / std::sqrt(w2));
+    gl->gridMinEnu_ = glm::vec3(grid.minEnu);
+    gl->gridCellSize_ = glm::vec3(grid.cellSize);
+    gl->gridCells_ = grid.cells;
+    gl->coarse_ = makeTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(gl->coarse_, 1, GL_R16F, grid.cells.x, grid.cells.y, grid.cells.z);
+    glTextureSubImage3D(gl->coarse_, 0, 0, 0, 0, grid.cells.x, grid.cells.y, grid.cells.z, GL_RED, GL_FLOAT,
+                        grid.values.data());
+    gl->gpuBytes_ += grid.values.size() * 2;
+  }
   return gl;
 }
 
@@ -243,8 +292,9 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const double hi = v.sweeps.back().elevationDeg + halfBeam + bendDeg + 0.05;
   glUniform2f(glGetUniformLocation(p, "u_straightElevationClipDeg"), static_cast<float>(std::max(lo, -90.0)),
               static_cast<float>(std::min(hi, 90.0)));
-  glUniform3f(glGetUniformLocation(p, "u_coarse"), static_cast<float>(gl.coarseOriginMeters_),
-              static_cast<float>(gl.coarseBinRangeMeters_), static_cast<float>(gl.coarseBinAzimuthDeg_));
+  glUniform3fv(glGetUniformLocation(p, "u_gridMinEnu"), 1, glm::value_ptr(gl.gridMinEnu_));
+  glUniform3fv(glGetUniformLocation(p, "u_gridCellSize"), 1, glm::value_ptr(gl.gridCellSize_));
+  glUniform3iv(glGetUniformLocation(p, "u_gridCells"), 1, glm::value_ptr(gl.gridCells_));
   const glm::dmat3 enu = globe::enuAxes(v.site.latDeg, v.site.lonDeg);
   const glm::mat3 ecefToEnu = glm::mat3(glm::transpose(enu));
   glUniformMatrix3fv(glGetUniformLocation(p, "u_ecefToEnu"), 1, GL_FALSE, glm::value_ptr(ecefToEnu));
@@ -295,7 +345,7 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
 
   const GLuint textures[] = {gl.values_, gl.azimuths_, gl.lookup_, gl.coarse_, transfer_, depthTexture};
-  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_coarseMax", "u_transfer", "u_globeDepth"};
+  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_grid", "u_transfer", "u_globeDepth"};
   for (int i = 0; i < 6; ++i) {
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);

@@ -32,7 +32,7 @@ struct RadarRenderOptions {
   volume::VolumeRenderSettings render;  ///< mode, interpolation, step, transfer, iso, termination
   double imageScale = 1.0;              ///< volume image resolution relative to the frame (0.1..1)
   BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;
-  bool skipEmptySpace = true;           ///< coarse max grid: jump over blocks that cannot contribute
+  bool skipEmptySpace = true;           ///< jump over cells of the ENU max grid that cannot contribute
 };
 
 /// The reference renderer's camera for an engine camera (same convention, plain data).
@@ -47,11 +47,9 @@ class RadarVolumeGL {
   RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
 
   const volume::PolarVolume& polar() const { return *polar_; }
-  /// GPU bytes of all textures (values, azimuths, lookup, coarse grid).
+  /// GPU bytes of all textures (values, azimuths, lookup, empty-space grid).
   std::size_t gpuBytes() const { return gpuBytes_; }
 
-  static constexpr int kCoarseGates = 32;  ///< coarse bin length in the finest gate spacings
-  static constexpr int kCoarseRays = 8;    ///< coarse bin width in rays of the densest sweep
   static constexpr int kAzimuthLookupBins = 720;
   static constexpr int kMaxSweeps = 32;
 
@@ -59,8 +57,9 @@ class RadarVolumeGL {
   friend class RadarVolumeRendererGL;
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
-  GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;
-  double coarseOriginMeters_ = 0.0, coarseBinRangeMeters_ = 1.0, coarseBinAzimuthDeg_ = 1.0;
+  GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;  // coarse_: the empty-space grid
+  glm::vec3 gridMinEnu_{0.0f}, gridCellSize_{1.0f};  ///< empty-space grid in the site's ENU frame (m)
+  glm::ivec3 gridCells_{1};
   std::size_t gpuBytes_ = 0;
 };
 
