@@ -282,13 +282,9 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
 
   // --- the one field asked for ---
   if (!vol.fields.empty()) {
-    const std::string wanted = options.fieldName.empty() ? chooseDefaultField(vol.fields) : options.fieldName;
-    auto it = std::find_if(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == wanted; });
-    if (it == vol.fields.end()) {
-      std::string names;
-      for (const auto& fi : vol.fields) names += (names.empty() ? "" : ", ") + fi.name;
-      return makeError(f.message("no field '" + wanted + "' (fields: " + names + ")"));
-    }
+    auto selected = selectField(vol.fields, options.fieldName);
+    if (!selected) return makeError(f.message(selected.error()));
+    const auto it = vol.fields.begin() + static_cast<std::ptrdiff_t>(*selected);
     vol.loadedField = *it;
     if (options.loadValues) {
       const NcVar& var = fieldVars[static_cast<std::size_t>(it - vol.fields.begin())];

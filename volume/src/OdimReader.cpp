@@ -299,13 +299,9 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
   }
 
   if (!vol.fields.empty()) {
-    const std::string wanted = options.fieldName.empty() ? chooseDefaultField(vol.fields) : options.fieldName;
-    auto it = std::find_if(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == wanted; });
-    if (it == vol.fields.end()) {
-      std::string names;
-      for (const auto& fi : vol.fields) names += (names.empty() ? "" : ", ") + fi.name;
-      return makeError(f.message("no quantity '" + wanted + "' (quantities: " + names + ")"));
-    }
+    auto selected = selectField(vol.fields, options.fieldName, "quantity");
+    if (!selected) return makeError(f.message(selected.error()));
+    const auto it = vol.fields.begin() + static_cast<std::ptrdiff_t>(*selected);
     vol.loadedField = *it;
     // The arrays of the chosen quantity are checked against the sweep geometry even for a
     // metadata-only read (cheap: no data is read); the others are never touched.
@@ -313,7 +309,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       Sweep& sw = vol.sweeps[s];
       const std::size_t n = sw.rayCount() * sw.gateCount;
       const auto dg = std::find_if(dataBySweep[s].begin(), dataBySweep[s].end(),
-                                   [&](const DataGroup& d) { return d.quantity == wanted; });
+                                   [&](const DataGroup& d) { return d.quantity == it->name; });
       if (dg == dataBySweep[s].end()) {
         if (options.loadValues) sw.values.assign(n, kNoData);  // this sweep did not measure the quantity
         continue;

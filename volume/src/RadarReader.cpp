@@ -135,6 +135,17 @@ Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& 
   return makeError(path + ": not a CfRadial, ODIM_H5 or NEXRAD Level II file (" + firstBytesText(path) + ")");
 }
 
+Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std::string& requested,
+                                const std::string& noun) {
+  const std::string wanted = requested.empty() ? chooseDefaultField(fields) : requested;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (fields[i].name == wanted) return i;
+  }
+  std::string names;
+  for (const auto& fi : fields) names += (names.empty() ? "" : ", ") + fi.name;
+  return makeError("no " + noun + " '" + wanted + "' (the file has: " + names + ")");
+}
+
 std::string chooseDefaultField(const std::vector<FieldInfo>& fields) {
   if (fields.empty()) return {};
   for (const char* name : {"DBZH", "reflectivity", "REF", "DBZ", "DBZHC", "TH", "DBZH_CLEAN"}) {

@@ -34,6 +34,12 @@ Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& 
 /// starts with "reflectivity" or "DBZ", else the first field. Empty if there are no fields.
 std::string chooseDefaultField(const std::vector<FieldInfo>& fields);
 
+/// Index in `fields` of the field to load: `requested`, or chooseDefaultField when it is
+/// empty. Precondition: `fields` not empty. The error (without the file name) lists the
+/// fields the file has: "no <noun> 'X' (the file has: A, B)".
+Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std::string& requested,
+                                const std::string& noun = "field");
+
 /// Normalises a date-time text to "YYYY-MM-DDTHH:MM:SSZ" (accepts a space or 'T' between
 /// date and time, drops fractional seconds). Returns an empty string if it does not parse.
 std::string normalizeIso8601(const std::string& text);
