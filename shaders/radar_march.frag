@@ -9,12 +9,15 @@
 // (widened by the beam's bending), and before the globe's depth.
 #define MAX_SWEEPS 32
 #define AZ_LOOKUP_BINS 720
+#define ELEVATION_BINS 2048
 
 in vec2 v_uv;
 
 uniform sampler2DArray u_values;    // R16F: [sweep] rays x gates; NaN no data, -inf no echo
 uniform sampler2D u_azimuths;       // R32F: row = sweep, x = ray (sorted azimuths, degrees)
 uniform isampler2D u_azLookup;      // R32I: row = sweep, x = 0.5 deg bin: last ray with az <= bin start, -1 none
+uniform isampler2D u_elLookup;      // R32I, ELEVATION_BINS x 1: last sweep with elevation <= bin start, -1 none
+uniform vec2 u_elLookupRange;       // elevations (deg) of the table's first bin start and last bin end
 uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
 uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
@@ -94,16 +97,21 @@ float rayCoordinate(int k, float az) {
   int n = u_sweepRays[k];
   int bin = clamp(int(az / (360.0 / float(AZ_LOOKUP_BINS))), 0, AZ_LOOKUP_BINS - 1);
   int i = texelFetch(u_azLookup, ivec2(bin, k), 0).r;
-  for (int it = 0; it < 16 && i + 1 < n && texelFetch(u_azimuths, ivec2(i + 1, k), 0).r <= az; ++it) ++i;
-  float first = texelFetch(u_azimuths, ivec2(0, k), 0).r;
-  float last = texelFetch(u_azimuths, ivec2(n - 1, k), 0).r;
-  if (i < 0) {  // before the first ray: between the last ray (one turn earlier) and ray 0
-    float a0 = last - 360.0;
-    return float(n - 1) + (az - a0) / max(first - a0, 1e-6);
+  float ai = i >= 0 ? texelFetch(u_azimuths, ivec2(i, k), 0).r : 0.0;
+  float aj = i + 1 < n ? texelFetch(u_azimuths, ivec2(i + 1, k), 0).r : 1e30;
+  for (int it = 0; it < 16 && aj <= az; ++it) {  // the bin can hold several ray centres
+    ++i;
+    ai = aj;
+    aj = i + 1 < n ? texelFetch(u_azimuths, ivec2(i + 1, k), 0).r : 1e30;
   }
-  if (i >= n - 1) return float(n - 1) + (az - last) / max(first + 360.0 - last, 1e-6);
-  float ai = texelFetch(u_azimuths, ivec2(i, k), 0).r;
-  float aj = texelFetch(u_azimuths, ivec2(i + 1, k), 0).r;
+  if (i < 0) {  // before the first ray: between the last ray (one turn earlier) and ray 0
+    float a0 = texelFetch(u_azimuths, ivec2(n - 1, k), 0).r - 360.0;
+    return float(n - 1) + (az - a0) / max(aj - a0, 1e-6);
+  }
+  if (i >= n - 1) {  // after the last ray: towards ray 0 one turn later
+    float first = texelFetch(u_azimuths, ivec2(0, k), 0).r + 360.0;
+    return float(n - 1) + (az - ai) / max(first - ai, 1e-6);
+  }
   return float(i) + (az - ai) / max(aj - ai, 1e-6);
 }
 
@@ -140,22 +148,30 @@ void sampleSweep(int k, float w, vec3 rae, inout float echoW, inout float measur
 }
 
 // Brackets the elevation: sweeps (k0, k1) with weights (1 - t, t); k0 < 0: outside.
+// The elevation lookup table gives the last sweep at or below the bin's start; at most a
+// few sweeps can start inside one bin, so the scan after it is short.
+int sweepAtOrBelow(float el) {
+  int n = u_sweepCount;
+  int bin = clamp(int((el - u_elLookupRange.x) / (u_elLookupRange.y - u_elLookupRange.x) * float(ELEVATION_BINS)), 0,
+                  ELEVATION_BINS - 1);
+  int k = texelFetch(u_elLookup, ivec2(bin, 0), 0).r;
+  for (int it = 0; it < MAX_SWEEPS && k + 1 < n && u_sweepGeom[k + 1].x <= el; ++it) ++k;
+  return k;
+}
+
 ivec2 bracket(float el, out float t) {
   t = 0.0;
   int n = u_sweepCount;
   float e0 = u_sweepGeom[0].x, en = u_sweepGeom[n - 1].x;
   if (el < e0 - u_halfBeamDeg || el > en + u_halfBeamDeg) return ivec2(-1);
-  if (u_interpolation == 0) {
-    int best = 0;
-    for (int k = 1; k < n; ++k) {
-      if (abs(el - u_sweepGeom[k].x) < abs(el - u_sweepGeom[best].x)) best = k;
-    }
-    return ivec2(best, best);
-  }
   if (el <= e0) return ivec2(0, 0);
   if (el >= en) return ivec2(n - 1, n - 1);
-  int k = 0;
-  while (k + 1 < n - 1 && u_sweepGeom[k + 1].x <= el) ++k;
+  int k = sweepAtOrBelow(el);  // e_k <= el < e_{k+1}
+  if (u_interpolation == 0) {
+    // Nearest: the lower one on ties.
+    int best = abs(el - u_sweepGeom[k + 1].x) < abs(el - u_sweepGeom[k].x) ? k + 1 : k;
+    return ivec2(best, best);
+  }
   t = (el - u_sweepGeom[k].x) / (u_sweepGeom[k + 1].x - u_sweepGeom[k].x);
   return ivec2(k, k + 1);
 }

@@ -180,6 +180,25 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   gl->lookup_ = makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(gl->lookup_, 1, GL_R32I, kAzimuthLookupBins, n);
   glTextureSubImage2D(gl->lookup_, 0, 0, 0, kAzimuthLookupBins, n, GL_RED_INTEGER, GL_INT, lookup.data());
+  // Elevation -> last sweep at or below, over the shell's elevations.
+  {
+    const double hb = 0.5 * v.beamWidthDeg;
+    gl->elLookupRange_ = glm::vec2(static_cast<float>(v.sweeps.front().elevationDeg - hb),
+                                   static_cast<float>(v.sweeps.back().elevationDeg + hb));
+    std::vector<std::int32_t> el(kElevationBins, -1);
+    int last = -1;
+    for (int b = 0; b < kElevationBins; ++b) {
+      // The bin start as the shader computes it (float), so the table never points above.
+      const float start = gl->elLookupRange_.x + (gl->elLookupRange_.y - gl->elLookupRange_.x) * static_cast<float>(b) /
+                                                     static_cast<float>(kElevationBins);
+      while (last + 1 < n && static_cast<float>(v.sweeps[last + 1].elevationDeg) <= start) ++last;
+      el[b] = last;
+    }
+    gl->elLookup_ = makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(gl->elLookup_, 1, GL_R32I, kElevationBins, 1);
+    glTextureSubImage2D(gl->elLookup_, 0, 0, 0, kElevationBins, 1, GL_RED_INTEGER, GL_INT, el.data());
+    gl->gpuBytes_ += el.size() * 4;
+  }
   gl->gpuBytes_ += az.size() * 4 + lookup.size() * 4;
 
   // Empty-space grid in the site's ENU frame.
@@ -204,7 +223,7 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
 }
 
 RadarVolumeGL::~RadarVolumeGL() {
-  for (GLuint t : {values_, azimuths_, lookup_, coarse_}) {
+  for (GLuint t : {values_, azimuths_, lookup_, coarse_, elLookup_}) {
     if (t) glDeleteTextures(1, &t);
   }
 }
@@ -344,9 +363,10 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glTextureSubImage2D(transfer_, 0, 0, 0, kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
   glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
 
-  const GLuint textures[] = {gl.values_, gl.azimuths_, gl.lookup_, gl.coarse_, transfer_, depthTexture};
-  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_grid", "u_transfer", "u_globeDepth"};
-  for (int i = 0; i < 6; ++i) {
+  glUniform2fv(glGetUniformLocation(p, "u_elLookupRange"), 1, glm::value_ptr(gl.elLookupRange_));
+  const GLuint textures[] = {gl.values_, gl.azimuths_, gl.lookup_, gl.coarse_, transfer_, depthTexture, gl.elLookup_};
+  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup"};
+  for (int i = 0; i < 7; ++i) {
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);
   }

@@ -51,6 +51,7 @@ class RadarVolumeGL {
   std::size_t gpuBytes() const { return gpuBytes_; }
 
   static constexpr int kAzimuthLookupBins = 720;
+  static constexpr int kElevationBins = 2048;  ///< must match ELEVATION_BINS in radar_march.frag
   static constexpr int kMaxSweeps = 32;
 
  private:
@@ -58,6 +59,8 @@ class RadarVolumeGL {
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
   GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;  // coarse_: the empty-space grid
+  GLuint elLookup_ = 0;
+  glm::vec2 elLookupRange_{0.0f, 1.0f};
   glm::vec3 gridMinEnu_{0.0f}, gridCellSize_{1.0f};  ///< empty-space grid in the site's ENU frame (m)
   glm::ivec3 gridCells_{1};
   std::size_t gpuBytes_ = 0;
