@@ -38,4 +38,12 @@ const std::string& outputDir() {
   return *dir;
 }
 
+std::string freshTestDir(const std::string& group) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path dir = std::filesystem::path(outputDir()) / group / (info ? info->name() : "no-test");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
 }  // namespace atmoglobe_test

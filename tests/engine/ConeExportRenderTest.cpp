@@ -58,13 +58,7 @@ TEST(ConeExportRender, ExportedGlbDrawsAtTheGeolocatedPlace) {
   ASSERT_TRUE(predicted);
   auto fb = engine::FramebufferGL::create(160, 160);
   ASSERT_TRUE(fb);
-  (*fb)->bind();
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-  glClearColor(0, 0, 0, 1);
-  glClearDepth(0.0);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GREATER);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  testutil::beginReverseZ(**fb);
   (*model)->draw(camera);
   const globe::ImageRGBA8 image = (*fb)->readColor();
   double sx = 0, sy = 0, n = 0;

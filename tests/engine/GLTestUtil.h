@@ -2,6 +2,7 @@
 // Shared by the GL tests: one headless EGL context per test executable, image helpers,
 // and the default imagery pyramid built once from the Debian world image.
 #include <atmoglobe/engine/ContextGL.h>
+#include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
 
@@ -49,6 +50,18 @@ inline std::string worldPyramidDir() {
     return d;
   }();
   return dir;
+}
+
+/// Binds `fb` and clears it for reverse-Z drawing (depth 0 = infinitely far, GL_GREATER),
+/// colour black, as the scene renderer does.
+inline void beginReverseZ(const engine::FramebufferGL& fb) {
+  fb.bind();
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(0.0);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 
 /// Mean of the RGB channels of image over the square block of half-size r around (cx, cy).

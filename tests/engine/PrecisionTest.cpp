@@ -40,13 +40,7 @@ class Precision : public ::testing::Test {
 
   /// Renders one marker and returns the intensity-weighted centroid of the red channel.
   glm::dvec2 renderCentroid(const Camera& camera, const engine::Marker& marker) {
-    fb_->bind();
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glClearColor(0, 0, 0, 1);
-    glClearDepth(0.0);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    testutil::beginReverseZ(*fb_);
     markers_->draw(camera, {marker});
     const globe::ImageRGBA8 image = fb_->readColor();
     double sx = 0, sy = 0, sw = 0;

@@ -11,13 +11,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir() {
-  const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "imagery" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshDir() { return atmoglobe_test::freshTestDir("imagery"); }
 
 ImageRGBA8 distinctPixels(int w, int h) {
   ImageRGBA8 image = ImageRGBA8::filled(w, h, {0, 0, 0, 0});

@@ -13,13 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir() {
-  const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "imagery" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshDir() { return atmoglobe_test::freshTestDir("imagery"); }
 
 /// Colour of the 45 x 45 deg region holding (lonDeg, latDeg): 8 columns from -180, 4 rows from +90.
 glm::u8vec4 regionColour(double lonDeg, double latDeg, std::uint8_t blue = 200) {

@@ -196,13 +196,7 @@ TEST(TileImageLoaderTest, ManyWorkersProduceEveryTileAndCacheRespectsBudget) {
   EXPECT_EQ(s.cacheEvictions, 22u);
 }
 
-fs::path freshDir() {
-  const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "imagery" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshDir() { return atmoglobe_test::freshTestDir("imagery"); }
 
 TEST(TileImageLoaderTest, CorruptTileFileGivesAnErrorMessageNotACrash) {
   const fs::path dir = freshDir();

@@ -21,13 +21,7 @@ constexpr double kHalfWorldM = 20037508.342789;
 constexpr double kRow1NorthLatDeg = 66.5132604431;
 const glm::u8vec4 kBlue{0, 0, 255, 255}, kGreen{0, 255, 0, 255}, kRed{255, 0, 0, 255};
 
-fs::path freshDir() {
-  const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "imagery" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshDir() { return atmoglobe_test::freshTestDir("imagery"); }
 
 void writeTile(const fs::path& root, int z, int x, int y, const ImageRGBA8& image) {
   const fs::path d = root / std::to_string(z) / std::to_string(x);
