@@ -4,6 +4,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "VertexLayoutGL.h"
+
 #include <algorithm>
 
 namespace atmoglobe::engine {
@@ -80,12 +82,8 @@ std::shared_ptr<GlobeRendererGL::MeshGL> uploadMesh(const globe::TileMesh& mesh)
                        mesh.indices.data(), 0);
   glVertexArrayVertexBuffer(gl->vao, 0, gl->vbo, 0, sizeof(Vertex));
   glVertexArrayElementBuffer(gl->vao, gl->ibo);
-  glEnableVertexArrayAttrib(gl->vao, 0);
-  glVertexArrayAttribFormat(gl->vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-  glVertexArrayAttribBinding(gl->vao, 0, 0);
-  glEnableVertexArrayAttrib(gl->vao, 1);
-  glVertexArrayAttribFormat(gl->vao, 1, 2, GL_FLOAT, GL_FALSE, offsetof(Vertex, texCoord));
-  glVertexArrayAttribBinding(gl->vao, 1, 0);
+  floatAttributeGL(gl->vao, 0, 3, offsetof(Vertex, position));
+  floatAttributeGL(gl->vao, 1, 2, offsetof(Vertex, texCoord));
   gl->bytes = vertices.size() * sizeof(Vertex) + mesh.indices.size() * sizeof(std::uint32_t);
   return gl;
 }

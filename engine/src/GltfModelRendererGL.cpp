@@ -4,6 +4,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "VertexLayoutGL.h"
+
 #include <cstring>
 
 namespace atmoglobe::engine {
@@ -109,12 +111,8 @@ Result<std::unique_ptr<GltfModelRendererGL>> GltfModelRendererGL::load(const std
       glNamedBufferStorage(p.ibo, static_cast<GLsizeiptr>(indices.size() * 4), indices.data(), 0);
       glVertexArrayVertexBuffer(p.vao, 0, p.vbo, 0, 5 * sizeof(float));
       glVertexArrayElementBuffer(p.vao, p.ibo);
-      glEnableVertexArrayAttrib(p.vao, 0);
-      glVertexArrayAttribFormat(p.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-      glVertexArrayAttribBinding(p.vao, 0, 0);
-      glEnableVertexArrayAttrib(p.vao, 1);
-      glVertexArrayAttribFormat(p.vao, 1, 2, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
-      glVertexArrayAttribBinding(p.vao, 1, 0);
+      floatAttributeGL(p.vao, 0, 3, 0);
+      floatAttributeGL(p.vao, 1, 2, 3 * sizeof(float));
       if (prim.material >= 0) {
         const auto& mat = model.materials[static_cast<std::size_t>(prim.material)];
         const auto& f = mat.pbrMetallicRoughness.baseColorFactor;

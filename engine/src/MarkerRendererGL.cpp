@@ -2,6 +2,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "VertexLayoutGL.h"
+
 #include <stb/stb_easy_font.h>
 
 #include <cmath>
@@ -27,27 +29,17 @@ Result<std::unique_ptr<MarkerRendererGL>> MarkerRendererGL::create(MarkerStyle s
   glCreateVertexArrays(1, &r->vao_);
   glCreateBuffers(1, &r->vbo_);
   glVertexArrayVertexBuffer(r->vao_, 0, r->vbo_, 0, sizeof(MarkerVertex));
-  glEnableVertexArrayAttrib(r->vao_, 0);
-  glVertexArrayAttribFormat(r->vao_, 0, 3, GL_FLOAT, GL_FALSE, offsetof(MarkerVertex, positionRelEye));
-  glVertexArrayAttribBinding(r->vao_, 0, 0);
-  glEnableVertexArrayAttrib(r->vao_, 1);
-  glVertexArrayAttribFormat(r->vao_, 1, 4, GL_FLOAT, GL_FALSE, offsetof(MarkerVertex, color));
-  glVertexArrayAttribBinding(r->vao_, 1, 0);
-  glEnableVertexArrayAttrib(r->vao_, 2);
-  glVertexArrayAttribFormat(r->vao_, 2, 1, GL_FLOAT, GL_FALSE, offsetof(MarkerVertex, sizePx));
-  glVertexArrayAttribBinding(r->vao_, 2, 0);
+  floatAttributeGL(r->vao_, 0, 3, offsetof(MarkerVertex, positionRelEye));
+  floatAttributeGL(r->vao_, 1, 4, offsetof(MarkerVertex, color));
+  floatAttributeGL(r->vao_, 2, 1, offsetof(MarkerVertex, sizePx));
   auto labels = ShaderProgramGL::create("label.vert", "label.frag");
   if (!labels) return makeError(labels.error());
   r->labelProgram_ = std::move(*labels);
   glCreateVertexArrays(1, &r->labelVao_);
   glCreateBuffers(1, &r->labelVbo_);
   glVertexArrayVertexBuffer(r->labelVao_, 0, r->labelVbo_, 0, sizeof(float) * 7);
-  glEnableVertexArrayAttrib(r->labelVao_, 0);
-  glVertexArrayAttribFormat(r->labelVao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(r->labelVao_, 0, 0);
-  glEnableVertexArrayAttrib(r->labelVao_, 1);
-  glVertexArrayAttribFormat(r->labelVao_, 1, 4, GL_FLOAT, GL_FALSE, sizeof(float) * 3);
-  glVertexArrayAttribBinding(r->labelVao_, 1, 0);
+  floatAttributeGL(r->labelVao_, 0, 3, 0);
+  floatAttributeGL(r->labelVao_, 1, 4, sizeof(float) * 3);
   return r;
 }
 
