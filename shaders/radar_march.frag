@@ -8,14 +8,14 @@
 // the max-range sphere and the band of straight elevations that contains every beam
 // (widened by the beam's bending), and before the globe's depth.
 #define MAX_SWEEPS 32
-#define AZ_LOOKUP_BINS 720
+#define RAY_TABLE_BINS 8192
 #define ELEVATION_BINS 2048
 
 in vec2 v_uv;
 
-uniform sampler2DArray u_values;    // R16F: [sweep] rays x gates; NaN no data, -inf no echo
-uniform sampler2D u_azimuths;       // R32F: row = sweep, x = ray (sorted azimuths, degrees)
-uniform isampler2D u_azLookup;      // R32I: row = sweep, x = 0.5 deg bin: last ray with az <= bin start, -1 none
+uniform sampler2DArray u_values;    // RG16F, linear: [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
+uniform vec2 u_valuesInvSize;       // 1 / (gates + 1, rays + 1) of a layer
+uniform sampler1DArray u_rayTable;  // R32F, linear: [sweep] ray coordinate at azimuth j * 360 / RAY_TABLE_BINS
 uniform isampler2D u_elLookup;      // R32I, ELEVATION_BINS x 1: last sweep with elevation <= bin start, -1 none
 uniform vec2 u_elLookupRange;       // elevations (deg) of the table's first bin start and last bin end
 uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
@@ -59,9 +59,8 @@ uniform float u_mipVisibleMin;
 
 layout(location = 0) out vec4 o_color;
 
-const int NO_DATA = 0;
-const int NO_ECHO = 1;
-const int ECHO = 2;
+const int NOT_ECHO = 0;
+const int ECHO = 1;
 
 // --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
 vec3 antennaCoordinates(vec3 p) {
@@ -93,58 +92,33 @@ vec3 antennaCoordinates(vec3 p) {
 }
 
 // --- the sampling rule (PolarVolume.h) ---------------------------------------------------
+// Ray coordinate in [-1, n): the sweep's table interpolated linearly (volume::rayCoordinateTable;
+// below 0 it lies between the last ray and ray 0).
 float rayCoordinate(int k, float az) {
-  int n = u_sweepRays[k];
-  int bin = clamp(int(az / (360.0 / float(AZ_LOOKUP_BINS))), 0, AZ_LOOKUP_BINS - 1);
-  int i = texelFetch(u_azLookup, ivec2(bin, k), 0).r;
-  float ai = i >= 0 ? texelFetch(u_azimuths, ivec2(i, k), 0).r : 0.0;
-  float aj = i + 1 < n ? texelFetch(u_azimuths, ivec2(i + 1, k), 0).r : 1e30;
-  for (int it = 0; it < 16 && aj <= az; ++it) {  // the bin can hold several ray centres
-    ++i;
-    ai = aj;
-    aj = i + 1 < n ? texelFetch(u_azimuths, ivec2(i + 1, k), 0).r : 1e30;
-  }
-  if (i < 0) {  // before the first ray: between the last ray (one turn earlier) and ray 0
-    float a0 = texelFetch(u_azimuths, ivec2(n - 1, k), 0).r - 360.0;
-    return float(n - 1) + (az - a0) / max(aj - a0, 1e-6);
-  }
-  if (i >= n - 1) {  // after the last ray: towards ray 0 one turn later
-    float first = texelFetch(u_azimuths, ivec2(0, k), 0).r + 360.0;
-    return float(n - 1) + (az - ai) / max(first - ai, 1e-6);
-  }
-  return float(i) + (az - ai) / max(aj - ai, 1e-6);
+  float u = (az * (float(RAY_TABLE_BINS) / 360.0) + 0.5) / float(RAY_TABLE_BINS + 1);
+  return textureLod(u_rayTable, vec2(u, float(k)), 0.0).r;
 }
 
-void accumulate(float v, float w, inout float echoW, inout float measuredW, inout float sumV) {
-  if (isnan(v)) return;
-  measuredW += w;
-  if (!isinf(v)) {
-    echoW += w;
-    sumV += w * v;
-  }
-}
-
-void sampleSweep(int k, float w, vec3 rae, inout float echoW, inout float measuredW, inout float sumV) {
+// Adds sweep k's contribution with weight w: echo weight and weighted sum of echo values.
+void sampleSweep(int k, float w, vec3 rae, inout float echoW, inout float sumV) {
   vec4 g = u_sweepGeom[k];
   float gc = (rae.x - g.y) / g.z;
   if (gc < -0.5 || gc > g.w - 0.5) return;  // outside this sweep's gates: no data
   int n = u_sweepRays[k];
-  int count = int(g.w);
   float a = rayCoordinate(k, rae.y);
+  vec2 texel;
   if (u_interpolation == 0) {
-    int ray = int(floor(a + 0.5)) % n;
-    int gate = clamp(int(floor(gc + 0.5)), 0, count - 1);
-    accumulate(texelFetch(u_values, ivec3(gate, ray, k), 0).r, w, echoW, measuredW, sumV);
-    return;
+    int ray = int(floor(a + 0.5));
+    ray = ray < 0 ? ray + n : ray % n;
+    int gate = clamp(int(floor(gc + 0.5)), 0, int(g.w) - 1);
+    texel = texelFetch(u_values, ivec3(gate, ray, k), 0).rg;
+  } else {
+    // Bilinear over (gate, ray) in one fetch; row n repeats ray 0, column gateCount the last gate.
+    float y = a < 0.0 ? a + float(n) : a;
+    texel = textureLod(u_values, vec3((gc + 0.5) * u_valuesInvSize.x, (y + 0.5) * u_valuesInvSize.y, float(k)), 0.0).rg;
   }
-  float fa = floor(a), fg = floor(gc);
-  float ta = a - fa, tg = gc - fg;
-  int r0 = int(fa) % n, r1 = (int(fa) + 1) % n;
-  int g0 = clamp(int(fg), 0, count - 1), g1 = clamp(int(fg) + 1, 0, count - 1);
-  accumulate(texelFetch(u_values, ivec3(g0, r0, k), 0).r, w * (1.0 - ta) * (1.0 - tg), echoW, measuredW, sumV);
-  accumulate(texelFetch(u_values, ivec3(g1, r0, k), 0).r, w * (1.0 - ta) * tg, echoW, measuredW, sumV);
-  accumulate(texelFetch(u_values, ivec3(g0, r1, k), 0).r, w * ta * (1.0 - tg), echoW, measuredW, sumV);
-  accumulate(texelFetch(u_values, ivec3(g1, r1, k), 0).r, w * ta * tg, echoW, measuredW, sumV);
+  sumV += w * texel.x;
+  echoW += w * texel.y;
 }
 
 // Brackets the elevation: sweeps (k0, k1) with weights (1 - t, t); k0 < 0: outside.
@@ -176,23 +150,24 @@ ivec2 bracket(float el, out float t) {
   return ivec2(k, k + 1);
 }
 
+// ECHO with its value, or NOT_ECHO (no echo or no data: the image treats both alike).
 int samplePolar(vec3 rae, out float value) {
   value = 0.0;
   float t;
   ivec2 ks = bracket(rae.z, t);
-  if (ks.x < 0) return NO_DATA;
-  float echoW = 0.0, measuredW = 0.0, sumV = 0.0;
+  if (ks.x < 0) return NOT_ECHO;
+  float echoW = 0.0, sumV = 0.0;
   if (ks.x == ks.y) {
-    sampleSweep(ks.x, 1.0, rae, echoW, measuredW, sumV);
+    sampleSweep(ks.x, 1.0, rae, echoW, sumV);
   } else {
-    sampleSweep(ks.x, 1.0 - t, rae, echoW, measuredW, sumV);
-    sampleSweep(ks.y, t, rae, echoW, measuredW, sumV);
+    sampleSweep(ks.x, 1.0 - t, rae, echoW, sumV);
+    sampleSweep(ks.y, t, rae, echoW, sumV);
   }
   if (echoW >= 0.5) {
     value = sumV / echoW;
     return ECHO;
   }
-  return measuredW >= 0.5 ? NO_ECHO : NO_DATA;
+  return NOT_ECHO;
 }
 
 // Empty-space skipping: the largest value any sample in this grid cell can see, and the

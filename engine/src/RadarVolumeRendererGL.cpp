@@ -116,11 +116,11 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
   return grid;
 }
 
-GLuint makeTexture(GLenum target) {
+GLuint makeTexture(GLenum target, GLint filter = GL_NEAREST) {
   GLuint t = 0;
   glCreateTextures(target, 1, &t);
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, filter);
   glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   return t;
@@ -147,7 +147,7 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   GLint maxSize = 0, maxLayers = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-  if (v.maxGates > maxSize || v.maxRays > maxSize || n > maxLayers) {
+  if (v.maxGates + 1 > maxSize || v.maxRays + 1 > maxSize || kRayTableBins + 1 > maxSize || n > maxLayers) {
     return makeError(v.sourcePath + ": " + std::to_string(v.maxGates) + " gates x " + std::to_string(v.maxRays) +
                      " rays exceed the GPU's texture size " + std::to_string(maxSize));
   }
@@ -155,31 +155,47 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   gl->polar_ = std::make_shared<volume::PolarVolume>(v);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
 
-  // Values: one layer per sweep, native (ray, gate) layout; half floats keep NaN and -inf.
-  gl->values_ = makeTexture(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(gl->values_, 1, GL_R16F, v.maxGates, v.maxRays, n);
-  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, v.maxGates, v.maxRays, n, GL_RED, GL_FLOAT, v.values.data());
-  gl->gpuBytes_ += static_cast<std::size_t>(v.maxGates) * v.maxRays * n * 2;
-
-  // Sorted ray azimuths per sweep, and a 0.5-degree lookup of the last ray at or before.
-  std::vector<float> az(static_cast<std::size_t>(v.maxRays) * n, 0.0f);
-  std::vector<std::int32_t> lookup(static_cast<std::size_t>(kAzimuthLookupBins) * n, -1);
-  for (int k = 0; k < n; ++k) {
-    const auto& s = v.sweeps[k];
-    std::copy(s.azimuthDeg.begin(), s.azimuthDeg.end(), az.begin() + static_cast<std::ptrdiff_t>(k) * v.maxRays);
-    int last = -1;
-    for (int b = 0; b < kAzimuthLookupBins; ++b) {
-      const double start = b * 360.0 / kAzimuthLookupBins;
-      while (last + 1 < s.rayCount && s.azimuthDeg[last + 1] <= start) ++last;
-      lookup[static_cast<std::size_t>(k) * kAzimuthLookupBins + b] = last;
+  // Values: one layer per sweep, native (ray, gate) layout, RG16F = (value if echo else 0,
+  // 1 if echo else 0). Bilinear filtering of these two channels gives exactly the rule's
+  // weighted sum of echo values and its echo weight (PolarVolume.h, step 3) in one fetch
+  // instead of four, with the rule's clamping and azimuth wrap made by padding: column
+  // gateCount repeats the last gate and row rayCount repeats ray 0. No data and no echo are
+  // both (0, 0): they contribute nothing in every mode, so the image does not depend on the
+  // distinction (the CPU volume keeps it: `gates`, `info`, the reference renderer).
+  {
+    const int w = v.maxGates + 1, h = v.maxRays + 1;
+    std::vector<glm::vec2> texels(static_cast<std::size_t>(w) * h * n, glm::vec2(0.0f));
+    for (int k = 0; k < n; ++k) {
+      const auto& s = v.sweeps[k];
+      for (int row = 0; row <= s.rayCount; ++row) {
+        const int ray = row % s.rayCount;
+        for (int col = 0; col <= s.gateCount; ++col) {
+          const float value = v.value(k, ray, std::min(col, s.gateCount - 1));
+          const bool echo = volume::isMeasuredValue(value);
+          texels[(static_cast<std::size_t>(k) * h + row) * w + col] = glm::vec2(echo ? value : 0.0f, echo ? 1.0f : 0.0f);
+        }
+      }
     }
+    gl->values_ = makeTexture(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+    glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
+    glTextureSubImage3D(gl->values_, 0, 0, 0, 0, w, h, n, GL_RG, GL_FLOAT, texels.data());
+    gl->valuesSize_ = glm::vec2(static_cast<float>(w), static_cast<float>(h));
+    gl->gpuBytes_ += texels.size() * 4;  // two half floats per texel
   }
-  gl->azimuths_ = makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(gl->azimuths_, 1, GL_R32F, v.maxRays, n);
-  glTextureSubImage2D(gl->azimuths_, 0, 0, 0, v.maxRays, n, GL_RED, GL_FLOAT, az.data());
-  gl->lookup_ = makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(gl->lookup_, 1, GL_R32I, kAzimuthLookupBins, n);
-  glTextureSubImage2D(gl->lookup_, 0, 0, 0, kAzimuthLookupBins, n, GL_RED_INTEGER, GL_INT, lookup.data());
+
+  // Azimuth -> ray coordinate per sweep (volume::rayCoordinateTable), linearly filtered.
+  {
+    std::vector<float> table;
+    table.reserve(static_cast<std::size_t>(kRayTableBins + 1) * n);
+    for (int k = 0; k < n; ++k) {
+      const std::vector<float> row = volume::rayCoordinateTable(v.sweeps[k], kRayTableBins);
+      table.insert(table.end(), row.begin(), row.end());
+    }
+    gl->rayTable_ = makeTexture(GL_TEXTURE_1D_ARRAY, GL_LINEAR);
+    glTextureStorage2D(gl->rayTable_, 1, GL_R32F, kRayTableBins + 1, n);
+    glTextureSubImage2D(gl->rayTable_, 0, 0, 0, kRayTableBins + 1, n, GL_RED, GL_FLOAT, table.data());
+    gl->gpuBytes_ += table.size() * 4;
+  }
   // Elevation -> last sweep at or below, over the shell's elevations.
   {
     const double hb = 0.5 * v.beamWidthDeg;
@@ -199,7 +215,6 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
     glTextureSubImage2D(gl->elLookup_, 0, 0, 0, kElevationBins, 1, GL_RED_INTEGER, GL_INT, el.data());
     gl->gpuBytes_ += el.size() * 4;
   }
-  gl->gpuBytes_ += az.size() * 4 + lookup.size() * 4;
 
   // Empty-space grid in the site's ENU frame.
   {
@@ -223,7 +238,7 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
 }
 
 RadarVolumeGL::~RadarVolumeGL() {
-  for (GLuint t : {values_, azimuths_, lookup_, coarse_, elLookup_}) {
+  for (GLuint t : {values_, rayTable_, coarse_, elLookup_}) {
     if (t) glDeleteTextures(1, &t);
   }
 }
@@ -364,9 +379,10 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
 
   glUniform2fv(glGetUniformLocation(p, "u_elLookupRange"), 1, glm::value_ptr(gl.elLookupRange_));
-  const GLuint textures[] = {gl.values_, gl.azimuths_, gl.lookup_, gl.coarse_, transfer_, depthTexture, gl.elLookup_};
-  const char* names[] = {"u_values", "u_azimuths", "u_azLookup", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup"};
-  for (int i = 0; i < 7; ++i) {
+  glUniform2f(glGetUniformLocation(p, "u_valuesInvSize"), 1.0f / gl.valuesSize_.x, 1.0f / gl.valuesSize_.y);
+  const GLuint textures[] = {gl.values_, gl.rayTable_, gl.coarse_, transfer_, depthTexture, gl.elLookup_};
+  const char* names[] = {"u_values", "u_rayTable", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup"};
+  for (int i = 0; i < 6; ++i) {
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);
   }

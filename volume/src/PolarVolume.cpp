@@ -29,24 +29,6 @@ bool sweepHasField(const Sweep& s) {
 // implementation, floor(x + 0.5) does not).
 double roundHalfUp(double x) { return std::floor(x + 0.5); }
 
-// Ray coordinate a in [0, n) of azimuth az (wrapped to [0, 360)), piecewise linear between
-// adjacent ray centres, cyclic between the last and the first ray.
-double rayCoordinate(const PolarSweepLayout& s, double az) {
-  const std::vector<float>& a = s.azimuthDeg;
-  const int n = s.rayCount;
-  // First ray with azimuth > az; the ray before it is the one at or below.
-  const auto it = std::upper_bound(a.begin(), a.end(), az, [](double x, float v) { return x < static_cast<double>(v); });
-  const int above = static_cast<int>(it - a.begin());
-  const double first = static_cast<double>(a.front());
-  const double last = static_cast<double>(a.back());
-  const double wrapSpan = first + 360.0 - last;  // > 0: azimuths are distinct and in [0, 360)
-  if (above == 0) return (n - 1) + (az + 360.0 - last) / wrapSpan;  // before the first ray
-  if (above == n) return (n - 1) + (az - last) / wrapSpan;          // after the last ray
-  const double lo = static_cast<double>(a[static_cast<std::size_t>(above - 1)]);
-  const double hi = static_cast<double>(a[static_cast<std::size_t>(above)]);
-  return (above - 1) + (az - lo) / (hi - lo);
-}
-
 struct Accumulator {
   double echoWeight = 0.0;
   double noEchoWeight = 0.0;
@@ -91,6 +73,44 @@ void accumulateSweep(const PolarVolume& v, int k, double rangeMeters, double az,
 }
 
 }  // namespace
+
+double rayCoordinate(const PolarSweepLayout& s, double azimuthDeg) {
+  const double az = wrap360(azimuthDeg);
+  const std::vector<float>& a = s.azimuthDeg;
+  const int n = s.rayCount;
+  // First ray with azimuth > az; the ray before it is the one at or below.
+  const auto it = std::upper_bound(a.begin(), a.end(), az, [](double x, float v) { return x < static_cast<double>(v); });
+  const int above = static_cast<int>(it - a.begin());
+  const double first = static_cast<double>(a.front());
+  const double last = static_cast<double>(a.back());
+  const double wrapSpan = first + 360.0 - last;  // > 0: azimuths are distinct and in [0, 360)
+  if (above == 0) return (n - 1) + (az + 360.0 - last) / wrapSpan;  // before the first ray
+  if (above == n) return (n - 1) + (az - last) / wrapSpan;          // after the last ray
+  const double lo = static_cast<double>(a[static_cast<std::size_t>(above - 1)]);
+  const double hi = static_cast<double>(a[static_cast<std::size_t>(above)]);
+  return (above - 1) + (az - lo) / (hi - lo);
+}
+
+std::vector<float> rayCoordinateTable(const PolarSweepLayout& s, int bins) {
+  std::vector<float> table(static_cast<std::size_t>(bins) + 1);
+  const double n = s.rayCount;
+  [[maybe_unused]] double previous = -2.0;
+  for (int j = 0; j <= bins; ++j) {
+    const double az = 360.0 * j / bins;
+    double a = rayCoordinate(s, az);  // in [0, n): between the last ray and ray 0 it is >= n - 1
+    // Continuous and increasing over [0, 360]: before the first ray (one turn earlier) the
+    // coordinate is a - n in [-1, 0); at 360 it is the value at 0 plus n.
+    if (j == bins) {
+      a = static_cast<double>(table.front()) + n;
+    } else if (az < static_cast<double>(s.azimuthDeg.front())) {
+      a -= n;
+    }
+    assert(a >= previous);
+    previous = a;
+    table[static_cast<std::size_t>(j)] = static_cast<float>(a);
+  }
+  return table;
+}
 
 Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam) {
   const std::string& file = volume.sourcePath.empty() ? std::string("(volume)") : volume.sourcePath;

@@ -47,10 +47,11 @@ class RadarVolumeGL {
   RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
 
   const volume::PolarVolume& polar() const { return *polar_; }
-  /// GPU bytes of all textures (values, azimuths, lookup, empty-space grid).
+  /// GPU bytes of all textures (values, azimuth tables, elevation lookup, empty-space grid).
   std::size_t gpuBytes() const { return gpuBytes_; }
 
-  static constexpr int kAzimuthLookupBins = 720;
+  /// Azimuth table resolution (360 / 8192 = 0.044 deg); must match RAY_TABLE_BINS in radar_march.frag.
+  static constexpr int kRayTableBins = 8192;
   static constexpr int kElevationBins = 2048;  ///< must match ELEVATION_BINS in radar_march.frag
   static constexpr int kMaxSweeps = 32;
 
@@ -58,7 +59,8 @@ class RadarVolumeGL {
   friend class RadarVolumeRendererGL;
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
-  GLuint values_ = 0, azimuths_ = 0, lookup_ = 0, coarse_ = 0;  // coarse_: the empty-space grid
+  GLuint values_ = 0, rayTable_ = 0, coarse_ = 0;  // coarse_: the empty-space grid
+  glm::vec2 valuesSize_{1.0f};                    ///< texels per layer (gates + 1, rays + 1)
   GLuint elLookup_ = 0;
   glm::vec2 elLookupRange_{0.0f, 1.0f};
   glm::vec3 gridMinEnu_{0.0f}, gridCellSize_{1.0f};  ///< empty-space grid in the site's ENU frame (m)
