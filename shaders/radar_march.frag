@@ -294,22 +294,26 @@ void main() {
     int i = int(ceil(a / u_step - 0.5));
     int iEnd = int(floor(b / u_step - 0.5));
     for (; i <= iEnd; ++i) {
-      float t = (float(i) + 0.5) * u_step;
       if (u_skipEmpty == 1) {
-        // Nothing in this cell can change the result (DVR: nothing above the zero-opacity
-        // value; MIP: nothing above the maximum so far or the first visible colour;
-        // isosurface: nothing at or above the iso value): jump to the first sample after the
-        // cell, staying on the t_i grid.
+        // While nothing in the sample's cell can change the result (DVR: nothing above the
+        // zero-opacity value; MIP: nothing above the maximum so far or the first visible
+        // colour; isosurface: nothing at or above the iso value), jump to the first sample
+        // after the cell, staying on the t_i grid. An inner loop, so that on SIMD hardware
+        // the lanes of a group skip together and then sample together (one loop doing either
+        // per iteration pays for both whenever the lanes disagree).
         float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? max(maxValue, u_mipVisibleMin) : u_isoValue);
-        ivec3 cell;
-        if (gridMax(oL + t * dL, cell) < threshold) {
+        while (i <= iEnd) {
+          float ts = (float(i) + 0.5) * u_step;
+          ivec3 cell;
+          if (gridMax(oL + ts * dL, cell) >= threshold) break;
           bool outside = any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, u_gridCells));
-          float tOut = outside ? gridEntry(oL, dL, t, b) : cellExit(oL, dL, cell);
-          if (!(tOut > t)) tOut = t;  // degenerate slab (NaN): no jump
-          i = max(i, int(ceil(tOut / u_step - 0.5)) - 1);
-          continue;
+          float tOut = outside ? gridEntry(oL, dL, ts, b) : cellExit(oL, dL, cell);
+          if (!(tOut > ts)) tOut = ts;  // degenerate slab (NaN): no jump
+          i = max(i + 1, int(ceil(tOut / u_step - 0.5)));
         }
+        if (i > iEnd) break;
       }
+      float t = (float(i) + 0.5) * u_step;
       vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
       float v;
       int state = samplePolar(rae, v);

@@ -95,7 +95,9 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
     grid.values.assign(1, kCoarseEmpty);
     return grid;
   }
-  grid.cells = glm::ivec3(128, 128, 64);
+  // 256 x 256 x 64 cells (8 MB of R16F; KLBB: 3.6 x 3.6 km x ~300 m): the fastest of
+  // 64..384 x 64..384 x 32..128 in `atmoglobe bench --quick` (llvmpipe, docs/bench-volume.md).
+  grid.cells = glm::ivec3(256, 256, 64);
   grid.cellSize = (hi - lo) / glm::dvec3(grid.cells - 2) + 1e-3;  // one spare cell on each side
   grid.minEnu = lo - grid.cellSize;
   grid.values.assign(static_cast<std::size_t>(grid.cells.x) * grid.cells.y * grid.cells.z, kCoarseEmpty);
