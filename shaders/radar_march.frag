@@ -13,13 +13,13 @@
 
 in vec2 v_uv;
 
-uniform sampler2DArray u_values;    // RG16F, linear: [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
+uniform sampler2DArray u_values;    // RG16F, linear (nearest sampler for nearest interpolation): [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
 uniform vec2 u_valuesInvSize;       // 1 / (gates + 1, rays + 1) of a layer
 uniform sampler1DArray u_rayTable;  // R32F, linear: [sweep] ray coordinate at azimuth j * 360 / RAY_TABLE_BINS
 uniform isampler2D u_elLookup;      // R32I, ELEVATION_BINS x 1: last sweep with elevation <= bin start, -1 none
 uniform vec2 u_elLookupRange;       // elevations (deg) of the table's first bin start and last bin end
 uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
-uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]
+uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]; DVR: alpha per step
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
 
 uniform vec4 u_sweepGeom[MAX_SWEEPS];  // elevationDeg, firstGateRange, gateSpacing, gateCount
@@ -49,7 +49,6 @@ uniform int u_mode;                // 0 DVR, 1 MIP, 2 isosurface, 3 debug: anten
 uniform int u_interpolation;       // 0 nearest, 1 linear
 uniform float u_step;
 uniform vec2 u_tfRange;
-uniform float u_opacityReference;
 uniform float u_isoValue;
 uniform float u_earlyTermination;
 uniform int u_skipEmpty;
@@ -105,18 +104,11 @@ void sampleSweep(int k, float w, vec3 rae, inout float echoW, inout float sumV) 
   float gc = (rae.x - g.y) / g.z;
   if (gc < -0.5 || gc > g.w - 0.5) return;  // outside this sweep's gates: no data
   int n = u_sweepRays[k];
+  // One fetch: bilinear over (gate, ray) with the linear filter, or the nearest texel (round)
+  // when the host binds a nearest sampler; row n repeats ray 0, column gateCount the last gate.
   float a = rayCoordinate(k, rae.y);
-  vec2 texel;
-  if (u_interpolation == 0) {
-    int ray = int(floor(a + 0.5));
-    ray = ray < 0 ? ray + n : ray % n;
-    int gate = clamp(int(floor(gc + 0.5)), 0, int(g.w) - 1);
-    texel = texelFetch(u_values, ivec3(gate, ray, k), 0).rg;
-  } else {
-    // Bilinear over (gate, ray) in one fetch; row n repeats ray 0, column gateCount the last gate.
-    float y = a < 0.0 ? a + float(n) : a;
-    texel = textureLod(u_values, vec3((gc + 0.5) * u_valuesInvSize.x, (y + 0.5) * u_valuesInvSize.y, float(k)), 0.0).rg;
-  }
+  float y = a < 0.0 ? a + float(n) : a;
+  vec2 texel = textureLod(u_values, vec3((gc + 0.5) * u_valuesInvSize.x, (y + 0.5) * u_valuesInvSize.y, float(k)), 0.0).rg;
   sumV += w * texel.x;
   echoW += w * texel.y;
 }
@@ -320,7 +312,7 @@ void main() {
       if (u_mode == 0) {
         if (state != ECHO) continue;
         vec4 c = classify(v);
-        float alpha = 1.0 - pow(max(1.0 - c.a, 0.0), u_step / u_opacityReference);
+        float alpha = c.a;  // corrected for the step length on the CPU (setUniforms)
         acc.rgb += (1.0 - acc.a) * alpha * c.rgb;
         acc.a += (1.0 - acc.a) * alpha;
         if (acc.a >= u_earlyTermination) break;

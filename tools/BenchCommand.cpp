@@ -701,6 +701,9 @@ int runBench(const BenchOptions& o) {
         return fail("bench", s.error());
       }
     }
+    // Settle the view first (the first frames after a switch of volume or size run slower on
+    // llvmpipe: in earlier runs the first cell's median came out 2x its neighbours').
+    timeGpu(*renderer, camera, *view.volume, optionsFor(cells.front()), **target, 3);
     for (const Cell& c : cells) {
       const GpuRun run = timeGpu(*renderer, camera, *view.volume, optionsFor(c), **target, o.frames);
       Row r;

@@ -254,6 +254,9 @@ Result<std::unique_ptr<RadarVolumeRendererGL>> RadarVolumeRendererGL::create() {
   r->march_ = std::move(*march);
   r->composite_ = std::move(*composite);
   glCreateVertexArrays(1, &r->vao_);
+  glCreateSamplers(1, &r->nearestSampler_);
+  for (GLenum filter : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glSamplerParameteri(r->nearestSampler_, filter, GL_NEAREST);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glSamplerParameteri(r->nearestSampler_, wrap, GL_CLAMP_TO_EDGE);
   r->transfer_ = makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(r->transfer_, 1, GL_RGBA32F, kTransferEntries, 1);
   // A 1x1 "nothing drawn" depth (0 = infinitely far in reverse-Z) for volume-only renders.
@@ -268,6 +271,7 @@ RadarVolumeRendererGL::~RadarVolumeRendererGL() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (transfer_) glDeleteTextures(1, &transfer_);
   if (emptyDepth_) glDeleteTextures(1, &emptyDepth_);
+  if (nearestSampler_) glDeleteSamplers(1, &nearestSampler_);
 }
 
 void RadarVolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
@@ -357,7 +361,6 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform1i(glGetUniformLocation(p, "u_mode"), mode);
   glUniform1i(glGetUniformLocation(p, "u_interpolation"), rs.interpolation == volume::Interpolation::Nearest ? 0 : 1);
   glUniform1f(glGetUniformLocation(p, "u_step"), static_cast<float>(rs.stepMeters));
-  glUniform1f(glGetUniformLocation(p, "u_opacityReference"), static_cast<float>(rs.transfer.opacityReferenceMeters));
   glUniform1f(glGetUniformLocation(p, "u_isoValue"), static_cast<float>(rs.isoValue));
   glUniform1f(glGetUniformLocation(p, "u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
   glUniform1i(glGetUniformLocation(p, "u_skipEmpty"), options.skipEmptySpace ? 1 : 0);
@@ -372,10 +375,15 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   // quantised to (max - min) / 4096, ~0.03 dBZ for reflectivity).
   const double tfLo = std::min<double>(v.minValue, rs.isoValue) - 1.0;
   const double tfHi = std::max<double>(v.maxValue, rs.isoValue) + 1.0;
+  // For DVR the opacity is already corrected for the step (1 - (1 - alpha)^(step / reference),
+  // in double here instead of a pow per sample on the GPU); MIP and iso use the table's alpha.
   std::vector<glm::vec4> table(kTransferEntries);
+  const double stepRatio = rs.stepMeters / rs.transfer.opacityReferenceMeters;
   for (int i = 0; i < kTransferEntries; ++i) {
     const double value = tfLo + (i + 0.5) / kTransferEntries * (tfHi - tfLo);
-    table[i] = glm::vec4(rs.transfer.classify(value));
+    glm::dvec4 c = rs.transfer.classify(value);
+    if (mode == 0) c.a = 1.0 - std::pow(std::max(1.0 - c.a, 0.0), stepRatio);
+    table[i] = glm::vec4(c);
   }
   glTextureSubImage2D(transfer_, 0, 0, 0, kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
   glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
@@ -388,6 +396,9 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);
   }
+  // Nearest: the same fetch through a nearest-filtering sampler picks texel (round(a), round(g)),
+  // the rule's nearest texel (the padding row and column give the wrap and the clamp).
+  glBindSampler(0, rs.interpolation == volume::Interpolation::Nearest ? nearestSampler_ : 0);
 }
 
 void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
@@ -404,6 +415,7 @@ void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volu
   setUniforms(camera, volume, options, target.depthTexture(), w, h);
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindSampler(0, 0);
 
   target.bind();
   composite_.use();
@@ -444,6 +456,7 @@ std::vector<glm::vec4> RadarVolumeRendererGL::antennaCoordinatesAt(const Camera&
   glUniform1f(march_.uniform("u_debugT"), static_cast<float>(tMeters));
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindSampler(0, 0);
   glBindVertexArray(0);
   glEnable(GL_DEPTH_TEST);
   return readVolumeImage();

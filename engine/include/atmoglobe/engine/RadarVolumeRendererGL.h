@@ -98,6 +98,7 @@ class RadarVolumeRendererGL {
   ShaderProgramGL composite_;
   GLuint vao_ = 0;
   GLuint transfer_ = 0;
+  GLuint nearestSampler_ = 0;  ///< for the values texture with --interpolation nearest (its own filter is linear)
   std::unique_ptr<FramebufferGL> volumeTarget_;
   GLenum volumeFormat_ = 0;
   GLuint emptyDepth_ = 0;
