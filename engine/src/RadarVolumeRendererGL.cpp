@@ -38,7 +38,7 @@ glm::dvec3 beamEnu(double rangeM, double azDeg, double elDeg, double h0, double 
 /// measured value that any sample inside the cell can be interpolated from. Built per block
 /// of 4 rays x 8 gates of each sweep: the block's value support (its gates +-1, its rays +-1,
 /// from the sweep below to the sweep above, +- half a beam at the ends) is bounded by the box
-/// of its corner positions, dilated by one cell. Conservative: a cell below a threshold holds
+/// of 27 points on it, dilated by the support's largest bulge between them. Conservative: a cell below a threshold holds
 /// no sample at or above it, so the marcher may jump across it.
 struct OccupancyGrid {
   glm::ivec3 cells{1};
@@ -84,6 +84,17 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
             }
           }
         }
+        // Between the sampled points the support bulges out of their box by at most the
+        // sagitta of an arc of radius rB over the whole azimuth span plus that over the whole
+        // elevation span (each r (1 - cos(span / 2)); the points are half a span apart, so this
+        // is 4x the second-order bound), plus the beam's own curvature from the antenna to rB
+        // (rB^2 / (8 Re)), plus 50 m for float rounding of the shader's cell lookup (ENU
+        // positions to ~0.05 m at 500 km). KLBB: 40-600 m, against cells of 3.6 km x 300 m.
+        const double azSpanRad = (azB - azA) * M_PI / 180.0, elSpanRad = (elHi - elLo) * M_PI / 180.0;
+        const double bulge = rB * (2.0 - std::cos(0.5 * azSpanRad) - std::cos(0.5 * elSpanRad)) +
+                             rB * rB / (8.0 * effectiveRadius) + 50.0;
+        b.lo -= glm::dvec3(bulge);
+        b.hi += glm::dvec3(bulge);
         lo = glm::min(lo, b.lo);
         hi = glm::max(hi, b.hi);
         boxes.push_back(b);
@@ -102,10 +113,9 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
   grid.minEnu = lo - grid.cellSize;
   grid.values.assign(static_cast<std::size_t>(grid.cells.x) * grid.cells.y * grid.cells.z, kCoarseEmpty);
   for (const Box& b : boxes) {
-    // Dilated by one cell: the box of sampled support points bounds the curved support only
-    // up to its bulge between them, which is far smaller than a cell.
-    const glm::ivec3 c0 = glm::max(glm::ivec3(glm::floor((b.lo - grid.minEnu) / grid.cellSize)) - 1, glm::ivec3(0));
-    const glm::ivec3 c1 = glm::min(glm::ivec3(glm::floor((b.hi - grid.minEnu) / grid.cellSize)) + 1, grid.cells - 1);
+    // Every cell the (bulge-dilated) box touches.
+    const glm::ivec3 c0 = glm::max(glm::ivec3(glm::floor((b.lo - grid.minEnu) / grid.cellSize)), glm::ivec3(0));
+    const glm::ivec3 c1 = glm::min(glm::ivec3(glm::floor((b.hi - grid.minEnu) / grid.cellSize)), grid.cells - 1);
     for (int z = c0.z; z <= c1.z; ++z) {
       for (int y = c0.y; y <= c1.y; ++y) {
         for (int x = c0.x; x <= c1.x; ++x) {
