@@ -3,7 +3,8 @@
 // that the GPU marcher (engine: RadarVolumeRendererGL + shaders/radar_march.frag) and the
 // CPU reference renderer (ReferenceRenderer.h) both implement. GL-free.
 //
-// Layout (what the GPU gets, no Cartesian resampling):
+// Layout (what the GPU gets, no Cartesian resampling; the engine packs the values as
+// (echo value, echo flag) pairs and the azimuths as rayCoordinateTable, docs/volume-rendering.md):
 //  - PPI sweeps only, sorted by elevation; sweeps with the same fixed angle (NEXRAD split
 //    cuts) keep the first one that has the field.
 //  - values: one layer per sweep, rows = rays sorted by azimuth, columns = gates, padded to
