@@ -36,7 +36,7 @@ glm::dvec3 beamEnu(double rangeM, double azDeg, double elDeg, double h0, double 
 
 /// The empty-space grid: a box in the site's ENU frame holding, per cell, the largest
 /// measured value that any sample inside the cell can be interpolated from. Built per block
-/// of 4 rays x 8 gates of each sweep: the block's value support (its gates +-1, its rays +-1,
+/// of 2 rays x 4 gates of each sweep: the block's value support (its gates +-1, its rays +-1,
 /// from the sweep below to the sweep above, +- half a beam at the ends) is bounded by the box
 /// of 27 points on it, dilated by the support's largest bulge between them. Conservative: a cell below a threshold holds
 /// no sample at or above it, so the marcher may jump across it.
@@ -53,7 +53,7 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
   struct Box { glm::dvec3 lo, hi; float value; };
   std::vector<Box> boxes;
   glm::dvec3 lo(1e30), hi(-1e30);
-  constexpr int kRays = 4, kGates = 8;
+  constexpr int kRays = 2, kGates = 4;
   for (int k = 0; k < n; ++k) {
     const auto& s = v.sweeps[k];
     const double elLo = k > 0 ? v.sweeps[k - 1].elevationDeg : s.elevationDeg - hb;
