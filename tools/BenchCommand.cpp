@@ -884,10 +884,13 @@ int runBench(const BenchOptions& o) {
       const int rc = std::system(cmd.c_str());
       peerGrids[v->key] = g;
       std::ifstream rin(resultFile);
-      if (rc != 0 || !rin) {
-        peerNote += "VTK peer for " + v->key + " failed (exit " + std::to_string(rc) + "); ";
-        continue;
+      if (rc != 0) {
+        // The script rewrites its result after every mapper and view, so what finished before
+        // a crash (VTK aborts the process, e.g. on a lost X connection) is still reported.
+        peerNote += "VTK peer for " + v->key + " failed (exit " + std::to_string(rc) + ")" +
+                    (rin ? "; the runs that finished before are below" : "") + "; ";
       }
+      if (!rin) continue;
       nlohmann::json res;
       try {
         rin >> res;

@@ -11,6 +11,7 @@ vtkSmartVolumeMapper): one warm-up render (uploads the grid), then `frames` time
 black) for the bench to compare with its reference. Needs Debian's python3-vtk9 and numpy.
 """
 import json
+import os
 import resource
 import statistics
 import sys
@@ -137,8 +138,14 @@ def main():
                              "note": f"failed: {e}"})
             print(f"vtk_peer: {view['name']} {mapper_name}: {runs[-1]['median_ms']:.1f} ms {runs[-1]['note']}",
                   flush=True)
+            write_result(result_path, job, runs)  # after every run: a later abort keeps these
         win.Finalize()
         del win, ren, volume, mapper
+    write_result(result_path, job, runs)
+
+
+def write_result(result_path, job, runs):
+    """Writes the result file atomically (temporary file, then rename)."""
     result = {
         "vtk_version": vtk.vtkVersion.GetVTKVersion(),
         "opengl": "",
@@ -146,8 +153,10 @@ def main():
         "grid_bytes": int(np.prod(job["grid"]["dims"])) * 4,
         "runs": runs,
     }
-    with open(result_path, "w") as f:
+    tmp = result_path + ".tmp"
+    with open(tmp, "w") as f:
         json.dump(result, f, indent=2)
+    os.replace(tmp, result_path)
 
 
 if __name__ == "__main__":
