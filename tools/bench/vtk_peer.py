@@ -83,6 +83,10 @@ def main():
     prop = make_property(job["transfer"])
     frames = int(job.get("frames", 5))
     runs = []
+    # One window (one X connection) for all mappers: opening a window per mapper lost the X
+    # connection now and then on the third ("bad X server connection", VTK aborts).
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
     for mapper_name in ("gpu", "fixed_point", "smart"):
         mapper = make_mapper(mapper_name, job["sample_distance_m"])
         mapper.SetInputData(img)
@@ -92,8 +96,6 @@ def main():
         ren = vtk.vtkRenderer()
         ren.SetBackground(0, 0, 0)
         ren.AddVolume(volume)
-        win = vtk.vtkRenderWindow()
-        win.SetOffScreenRendering(1)
         win.AddRenderer(ren)
         for view in job["views"]:
             win.SetSize(view["width"], view["height"])
@@ -139,8 +141,10 @@ def main():
             print(f"vtk_peer: {view['name']} {mapper_name}: {runs[-1]['median_ms']:.1f} ms {runs[-1]['note']}",
                   flush=True)
             write_result(result_path, job, runs)  # after every run: a later abort keeps these
-        win.Finalize()
-        del win, ren, volume, mapper
+        mapper.ReleaseGraphicsResources(win)
+        win.RemoveRenderer(ren)
+        del ren, volume, mapper
+    win.Finalize()
     write_result(result_path, job, runs)
 
 
