@@ -82,9 +82,13 @@ struct VolumeImage {
 ///    stepMeters / 2 (zero gradient: shade 1). Pixel = (classify(isoValue).rgb * (0.3 + 0.7
 ///    |dot(n, dir)|), 1). No crossing: transparent.
 /// Rows are split over `threads` std::threads (row y goes to thread y mod threads); the result
-/// does not depend on the thread count. Cost: one antennaCoordinatesExact (~1 us) per sample.
+/// does not depend on the thread count. Cost: one antennaCoordinatesExact (~1 us) per sample,
+/// except where `rejectOutsideShell` proves a sample NoData by its straight-line elevation
+/// (outside the band of beam elevations widened by the beam's bending and 0.25 deg; see
+/// ReferenceRenderer.cpp): an acceleration only, the image is bit-identical (tested).
 VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings,
-                            const RenderCamera& camera, bool occludeByEllipsoid = true, int threads = 2);
+                            const RenderCamera& camera, bool occludeByEllipsoid = true, int threads = 2,
+                            bool rejectOutsideShell = true);
 
 /// The colour of one ray (premultiplied RGBA) by the rule of renderReference.
 glm::dvec4 renderReferenceRay(const PolarVolume& volume, const VolumeRenderSettings& settings,
