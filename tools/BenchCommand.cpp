@@ -940,7 +940,7 @@ int runBench(const BenchOptions& o) {
     md << "Machine: " << machineLine(glName) << "\n\n";
     md << "Image " << w << "x" << h << " px, " << o.frames << " timed frames per cell (median, glFinish after each, "
        << "frames taken round-robin over the cells after one untimed round), volume only over black (no globe). Error against the CPU reference (double, exact "
-       << "inverse, linear, step " << fmt(o.referenceStepMeters) << " m, full resolution, no empty-space skipping): "
+       << "inverse, linear, step " << fmt(o.referenceStepMeters) << " m, full resolution, no empty-space skipping; only samples proven outside the shell skip the inverse, bit-identical): "
        << "mean / max absolute difference in 8-bit steps over RGB, PSNR in dB. For image scale < 1 the frame is the "
        << "small image upsampled bilinearly by the composite pass (what the user sees).\n\n";
     md << "## Volumes\n\n| volume | file | field | sweeps | GPU bytes | Cartesian grid at near-range resolution (float32) | ratio |\n|---|---|---|---|---|---|---|\n";
