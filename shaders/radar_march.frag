@@ -10,6 +10,7 @@
 #define MAX_SWEEPS 32
 #define RAY_TABLE_BINS 8192
 #define ELEVATION_BINS 2048
+#define GRID_BLOCK 8
 
 in vec2 v_uv;
 
@@ -19,6 +20,7 @@ uniform sampler1DArray u_rayTable;  // R32F, linear: [sweep] ray coordinate at a
 uniform isampler2D u_elLookup;      // R32I, ELEVATION_BINS x 1: last sweep with elevation <= bin start, -1 none
 uniform vec2 u_elLookupRange;       // elevations (deg) of the table's first bin start and last bin end
 uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
+uniform sampler3D u_gridBlocks;     // R16F: the same per block of GRID_BLOCK^3 cells
 uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]; DVR: alpha per step
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
 
@@ -181,9 +183,10 @@ float gridEntry(vec3 oL, vec3 dL, float t, float end) {
   return max(tNear, t);
 }
 
-float cellExit(vec3 oL, vec3 dL, ivec3 cell) {
+// Where the ray leaves the box of `size` cells starting at cell `cell`.
+float cellExit(vec3 oL, vec3 dL, ivec3 cell, float size) {
   vec3 lo = u_gridMinEnu + vec3(cell) * u_gridCellSize;
-  vec3 hi = lo + u_gridCellSize;
+  vec3 hi = lo + size * u_gridCellSize;
   vec3 inv = 1.0 / dL;
   vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
   vec3 tFar = max(t0, t1);
@@ -297,9 +300,17 @@ void main() {
         while (i <= iEnd) {
           float ts = (float(i) + 0.5) * u_step;
           ivec3 cell;
+          float tOut;
           if (gridMax(oL + ts * dL, cell) >= threshold) break;
           bool outside = any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, u_gridCells));
-          float tOut = outside ? gridEntry(oL, dL, ts, b) : cellExit(oL, dL, cell);
+          if (outside) {
+            tOut = gridEntry(oL, dL, ts, b);
+          } else {
+            // A whole block below the threshold: leave the block, not just the cell.
+            ivec3 block = cell / GRID_BLOCK;
+            tOut = texelFetch(u_gridBlocks, block, 0).r < threshold ? cellExit(oL, dL, block * GRID_BLOCK, float(GRID_BLOCK))
+                                                                    : cellExit(oL, dL, cell, 1.0);
+          }
           if (!(tOut > ts)) tOut = ts;  // degenerate slab (NaN): no jump
           i = max(i + 1, int(ceil(tOut / u_step - 0.5)));
         }

@@ -107,7 +107,7 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
     return grid;
   }
   // 256 x 256 x 64 cells (8 MB of R16F; KLBB: 3.6 x 3.6 km x ~300 m): the fastest of
-  // 64..384 x 64..384 x 32..128 in `atmoglobe bench --quick` (llvmpipe, docs/bench-volume.md).
+  // 64..384 x 64..384 x 32..128 in `atmoglobe bench` (llvmpipe, docs/bench-volume.md).
   grid.cells = glm::ivec3(256, 256, 64);
   grid.cellSize = (hi - lo) / glm::dvec3(grid.cells - 2) + 1e-3;  // one spare cell on each side
   grid.minEnu = lo - grid.cellSize;
@@ -245,12 +245,28 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
     glTextureSubImage3D(gl->coarse_, 0, 0, 0, 0, grid.cells.x, grid.cells.y, grid.cells.z, GL_RED, GL_FLOAT,
                         grid.values.data());
     gl->gpuBytes_ += grid.values.size() * 2;
+    // Its second level: the max over blocks of kGridBlock^3 cells, so that a ray crosses a large
+    // empty region in a few jumps instead of one per cell.
+    const glm::ivec3 blocks = (grid.cells + (kGridBlock - 1)) / kGridBlock;
+    std::vector<float> coarse(static_cast<std::size_t>(blocks.x) * blocks.y * blocks.z, kCoarseEmpty);
+    for (int z = 0; z < grid.cells.z; ++z) {
+      for (int y = 0; y < grid.cells.y; ++y) {
+        for (int x = 0; x < grid.cells.x; ++x) {
+          float& b = coarse[(static_cast<std::size_t>(z / kGridBlock) * blocks.y + y / kGridBlock) * blocks.x + x / kGridBlock];
+          b = std::max(b, grid.values[(static_cast<std::size_t>(z) * grid.cells.y + y) * grid.cells.x + x]);
+        }
+      }
+    }
+    gl->blocks_ = makeTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(gl->blocks_, 1, GL_R16F, blocks.x, blocks.y, blocks.z);
+    glTextureSubImage3D(gl->blocks_, 0, 0, 0, 0, blocks.x, blocks.y, blocks.z, GL_RED, GL_FLOAT, coarse.data());
+    gl->gpuBytes_ += coarse.size() * 2;
   }
   return gl;
 }
 
 RadarVolumeGL::~RadarVolumeGL() {
-  for (GLuint t : {values_, rayTable_, coarse_, elLookup_}) {
+  for (GLuint t : {values_, rayTable_, coarse_, blocks_, elLookup_}) {
     if (t) glDeleteTextures(1, &t);
   }
 }
@@ -400,9 +416,9 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
 
   glUniform2fv(glGetUniformLocation(p, "u_elLookupRange"), 1, glm::value_ptr(gl.elLookupRange_));
   glUniform2f(glGetUniformLocation(p, "u_valuesInvSize"), 1.0f / gl.valuesSize_.x, 1.0f / gl.valuesSize_.y);
-  const GLuint textures[] = {gl.values_, gl.rayTable_, gl.coarse_, transfer_, depthTexture, gl.elLookup_};
-  const char* names[] = {"u_values", "u_rayTable", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup"};
-  for (int i = 0; i < 6; ++i) {
+  const GLuint textures[] = {gl.values_, gl.rayTable_, gl.coarse_, transfer_, depthTexture, gl.elLookup_, gl.blocks_};
+  const char* names[] = {"u_values", "u_rayTable", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup", "u_gridBlocks"};
+  for (int i = 0; i < 7; ++i) {
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);
   }

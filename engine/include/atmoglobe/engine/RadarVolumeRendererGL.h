@@ -54,12 +54,14 @@ class RadarVolumeGL {
   static constexpr int kRayTableBins = 8192;
   static constexpr int kElevationBins = 2048;  ///< must match ELEVATION_BINS in radar_march.frag
   static constexpr int kMaxSweeps = 32;
+  static constexpr int kGridBlock = 8;  ///< must match GRID_BLOCK in radar_march.frag
 
  private:
   friend class RadarVolumeRendererGL;
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
   GLuint values_ = 0, rayTable_ = 0, coarse_ = 0;  // coarse_: the empty-space grid
+  GLuint blocks_ = 0;                               ///< its max over kGridBlock^3 cells
   glm::vec2 valuesSize_{1.0f};                    ///< texels per layer (gates + 1, rays + 1)
   GLuint elLookup_ = 0;
   glm::vec2 elLookupRange_{0.0f, 1.0f};
