@@ -14,6 +14,27 @@
 
 in vec2 v_uv;
 
+// Variant constants: one program per combination, compiled on first use
+// (RadarVolumeRendererGL::marchProgram). On llvmpipe, branches on uniforms cost as much as
+// running both sides, so specialising them away is 1.6-1.8x faster (docs/bench-volume.md).
+#ifndef MARCH_MODE
+#define MARCH_MODE 0
+#endif
+#ifndef MARCH_INTERPOLATION
+#define MARCH_INTERPOLATION 1
+#endif
+#ifndef MARCH_BEAM
+#define MARCH_BEAM 0
+#endif
+#ifndef MARCH_SKIP_EMPTY
+#define MARCH_SKIP_EMPTY 1
+#endif
+const int kMode = MARCH_MODE;                    // 0 DVR, 1 MIP, 2 isosurface, 3 debug: antenna coordinates at u_debugT
+const int kInterpolation = MARCH_INTERPOLATION;  // 0 nearest, 1 linear
+const int kBeamModel = MARCH_BEAM;               // 0: effective-Earth (4/3) on the local sphere, 1: straight lines
+const int kSkipEmpty = MARCH_SKIP_EMPTY;         // 1: jump over cells of the empty-space grid that cannot contribute
+
+
 uniform sampler2DArray u_values;    // RG16F, linear (nearest sampler for nearest interpolation): [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
 uniform vec2 u_valuesInvSize;       // 1 / (gates + 1, rays + 1) of a layer
 uniform sampler1DArray u_rayTable;  // R32F, linear: [sweep] ray coordinate at azimuth j * 360 / RAY_TABLE_BINS
@@ -39,7 +60,6 @@ uniform float u_h0;          // antenna height above the ellipsoid (m)
 uniform float u_meridionalRadius;  // M at the site (m)
 uniform float u_primeVerticalRadius;  // N at the site (m)
 uniform float u_effectiveRadius;   // Re = ke * R (m)
-uniform int u_beamModel;           // 0: effective-Earth (4/3) on the local sphere, 1: straight lines
 
 uniform vec3 u_eyeRelSite;         // eye - site, ECEF (m), from double
 uniform mat3 u_cameraToEcef;
@@ -47,13 +67,10 @@ uniform float u_focalPx;           // of the full-resolution image
 uniform vec2 u_imageSizePx;        // full resolution
 uniform float u_near;
 
-uniform int u_mode;                // 0 DVR, 1 MIP, 2 isosurface, 3 debug: antenna coordinates at u_debugT
-uniform int u_interpolation;       // 0 nearest, 1 linear
 uniform float u_step;
 uniform vec2 u_tfRange;
 uniform float u_isoValue;
 uniform float u_earlyTermination;
-uniform int u_skipEmpty;
 uniform float u_opacityZeroValue;
 uniform float u_debugT;
 uniform float u_mipVisibleMin;
@@ -69,7 +86,7 @@ vec3 antennaCoordinates(vec3 p) {
   float dh = length(l.xy);
   float az = degrees(atan(l.x, l.y));
   if (az < 0.0) az += 360.0;
-  if (u_beamModel == 1) {
+  if (kBeamModel == 1) {
     float r = length(l);
     return vec3(r, az, degrees(asin(clamp(l.z / max(r, 1e-6), -1.0, 1.0))));
   }
@@ -135,7 +152,7 @@ ivec2 bracket(float el, out float t) {
   if (el <= e0) return ivec2(0, 0);
   if (el >= en) return ivec2(n - 1, n - 1);
   int k = sweepAtOrBelow(el);  // e_k <= el < e_{k+1}
-  if (u_interpolation == 0) {
+  if (kInterpolation == 0) {
     // Nearest: the lower one on ties.
     int best = abs(el - u_sweepGeom[k + 1].x) < abs(el - u_sweepGeom[k].x) ? k + 1 : k;
     return ivec2(best, best);
@@ -241,7 +258,7 @@ void main() {
   vec3 dirEye = vec3((pixel.x - 0.5 * u_imageSizePx.x) / u_focalPx, (0.5 * u_imageSizePx.y - pixel.y) / u_focalPx, -1.0);
   vec3 dir = normalize(u_cameraToEcef * dirEye);
 
-  if (u_mode == 3) {
+  if (kMode == 3) {
     o_color = vec4(antennaCoordinates(u_eyeRelSite + u_debugT * dir), 1.0);
     return;
   }
@@ -289,14 +306,14 @@ void main() {
     int i = int(ceil(a / u_step - 0.5));
     int iEnd = int(floor(b / u_step - 0.5));
     for (; i <= iEnd; ++i) {
-      if (u_skipEmpty == 1) {
+      if (kSkipEmpty == 1) {
         // While nothing in the sample's cell can change the result (DVR: nothing above the
         // zero-opacity value; MIP: nothing above the maximum so far or the first visible
         // colour; isosurface: nothing at or above the iso value), jump to the first sample
         // after the cell, staying on the t_i grid. An inner loop, so that on SIMD hardware
         // the lanes of a group skip together and then sample together (one loop doing either
         // per iteration pays for both whenever the lanes disagree).
-        float threshold = u_mode == 0 ? u_opacityZeroValue : (u_mode == 1 ? max(maxValue, u_mipVisibleMin) : u_isoValue);
+        float threshold = kMode == 0 ? u_opacityZeroValue : (kMode == 1 ? max(maxValue, u_mipVisibleMin) : u_isoValue);
         while (i <= iEnd) {
           float ts = (float(i) + 0.5) * u_step;
           ivec3 cell;
@@ -320,16 +337,16 @@ void main() {
       vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
       float v;
       int state = samplePolar(rae, v);
-      if (u_mode == 0) {
+      if (kMode == 0) {
         if (state != ECHO) continue;
         vec4 c = classify(v);
         float alpha = c.a;  // corrected for the step length on the CPU (setUniforms)
         acc.rgb += (1.0 - acc.a) * alpha * c.rgb;
         acc.a += (1.0 - acc.a) * alpha;
         if (acc.a >= u_earlyTermination) break;
-      } else if (u_mode == 1) {
+      } else if (kMode == 1) {
         if (state == ECHO) maxValue = max(maxValue, v);
-      } else if (u_mode == 2) {
+      } else if (kMode == 2) {
         float vv = state == ECHO ? v : -1e30;
         if (vv >= u_isoValue) {
           // Bisection between the previous sample position and this one.
@@ -346,17 +363,17 @@ void main() {
         }
       }
     }
-    if (u_mode == 0 && acc.a >= u_earlyTermination) break;
+    if (kMode == 0 && acc.a >= u_earlyTermination) break;
   }
 
-  if (u_mode == 0) {
+  if (kMode == 0) {
     o_color = acc;
-  } else if (u_mode == 1) {
+  } else if (kMode == 1) {
     if (maxValue > -1e29) {
       vec4 c = classify(maxValue);
       o_color = vec4(c.rgb * c.a, c.a);
     }
-  } else if (u_mode == 2 && hit) {
+  } else if (kMode == 2 && hit) {
     vec3 p = u_eyeRelSite + hitT * dir;
     float h = 0.5 * u_step;
     vec3 grad;

@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -272,13 +273,12 @@ RadarVolumeGL::~RadarVolumeGL() {
 }
 
 Result<std::unique_ptr<RadarVolumeRendererGL>> RadarVolumeRendererGL::create() {
-  auto march = ShaderProgramGL::create("fullscreen.vert", "radar_march.frag");
-  if (!march) return makeError(march.error());
   auto composite = ShaderProgramGL::create("fullscreen.vert", "composite.frag");
   if (!composite) return makeError(composite.error());
   std::unique_ptr<RadarVolumeRendererGL> r(new RadarVolumeRendererGL());
-  r->march_ = std::move(*march);
   r->composite_ = std::move(*composite);
+  // The default variant now, so that a broken shader is an error here, not a missing volume.
+  if (!r->marchProgram(0, 1, 0, 1)) return makeError("radar_march.frag: " + r->marchErrors_.begin()->second);
   glCreateVertexArrays(1, &r->vao_);
   glCreateSamplers(1, &r->nearestSampler_);
   for (GLenum filter : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glSamplerParameteri(r->nearestSampler_, filter, GL_NEAREST);
@@ -300,6 +300,23 @@ RadarVolumeRendererGL::~RadarVolumeRendererGL() {
   if (nearestSampler_) glDeleteSamplers(1, &nearestSampler_);
 }
 
+const ShaderProgramGL* RadarVolumeRendererGL::marchProgram(int mode, int interpolation, int beam, int skipEmpty) {
+  const int key = ((mode * 2 + interpolation) * 2 + beam) * 2 + skipEmpty;
+  if (auto it = marchPrograms_.find(key); it != marchPrograms_.end()) return &it->second;
+  if (marchErrors_.count(key)) return nullptr;
+  auto program = ShaderProgramGL::create(
+      "fullscreen.vert", "radar_march.frag",
+      {"MARCH_MODE " + std::to_string(mode), "MARCH_INTERPOLATION " + std::to_string(interpolation),
+       "MARCH_BEAM " + std::to_string(beam), "MARCH_SKIP_EMPTY " + std::to_string(skipEmpty)});
+  if (!program) {
+    marchErrors_[key] = program.error();
+    std::fprintf(stderr, "radar_march.frag variant (mode %d, interpolation %d, beam %d, skip %d): %s\n", mode,
+                 interpolation, beam, skipEmpty, program.error().c_str());
+    return nullptr;
+  }
+  return &marchPrograms_.emplace(key, std::move(*program)).first->second;
+}
+
 void RadarVolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
   if (volumeTarget_ && volumeTarget_->widthPx() == widthPx && volumeTarget_->heightPx() == heightPx &&
       volumeFormat_ == format) {
@@ -311,13 +328,17 @@ void RadarVolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum forma
   volumeFormat_ = format;
 }
 
-void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeGL& gl,
+bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeGL& gl,
                                         const RadarRenderOptions& options, GLuint depthTexture, int widthPx,
-                                        int heightPx) {
+                                        int heightPx, bool debugMode) {
   const volume::PolarVolume& v = gl.polar();
   const volume::VolumeRenderSettings& rs = options.render;
-  const GLuint p = march_.id();
-  march_.use();
+  const int mode = rs.mode == volume::VolumeRenderMode::Dvr ? 0 : rs.mode == volume::VolumeRenderMode::Mip ? 1 : 2;
+  march_ = marchProgram(debugMode ? 3 : mode, rs.interpolation == volume::Interpolation::Nearest ? 0 : 1,
+                        options.beam == BeamApproximation::StraightLine ? 1 : 0, options.skipEmptySpace ? 1 : 0);
+  if (!march_) return false;
+  const GLuint p = march_->id();
+  march_->use();
   const int n = static_cast<int>(v.sweeps.size());
   std::vector<glm::vec4> geom(n);
   std::vector<GLint> rays(n);
@@ -368,7 +389,6 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform1f(glGetUniformLocation(p, "u_meridionalRadius"), static_cast<float>(meridional));
   glUniform1f(glGetUniformLocation(p, "u_primeVerticalRadius"), static_cast<float>(primeVertical));
   glUniform1f(glGetUniformLocation(p, "u_effectiveRadius"), static_cast<float>(effective));
-  glUniform1i(glGetUniformLocation(p, "u_beamModel"), straight ? 1 : 0);
 
   // Camera relative to the antenna: subtracted in double, then narrowed.
   const glm::dvec3 site = globe::geodeticToEcef({v.site.latDeg, v.site.lonDeg, v.site.antennaHeightEllipsoidMeters});
@@ -383,13 +403,9 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   (void)widthPx;
   (void)heightPx;
 
-  const int mode = rs.mode == volume::VolumeRenderMode::Dvr ? 0 : rs.mode == volume::VolumeRenderMode::Mip ? 1 : 2;
-  glUniform1i(glGetUniformLocation(p, "u_mode"), mode);
-  glUniform1i(glGetUniformLocation(p, "u_interpolation"), rs.interpolation == volume::Interpolation::Nearest ? 0 : 1);
   glUniform1f(glGetUniformLocation(p, "u_step"), static_cast<float>(rs.stepMeters));
   glUniform1f(glGetUniformLocation(p, "u_isoValue"), static_cast<float>(rs.isoValue));
   glUniform1f(glGetUniformLocation(p, "u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
-  glUniform1i(glGetUniformLocation(p, "u_skipEmpty"), options.skipEmptySpace ? 1 : 0);
   // MIP: a maximum below the colour table's first stop is transparent, so blocks below it
   // can be skipped too.
   const auto& stops = rs.transfer.colors.stops();
@@ -425,6 +441,7 @@ void RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   // Nearest: the same fetch through a nearest-filtering sampler picks texel (round(a), round(g)),
   // the rule's nearest texel (the padding row and column give the wrap and the clamp).
   glBindSampler(0, rs.interpolation == volume::Interpolation::Nearest ? nearestSampler_ : 0);
+  return true;
 }
 
 void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
@@ -438,7 +455,12 @@ void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volu
   glDisable(GL_BLEND);
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
-  setUniforms(camera, volume, options, target.depthTexture(), w, h);
+  if (!setUniforms(camera, volume, options, target.depthTexture(), w, h)) {
+    // The variant failed to compile (reported on stderr): leave the target as it was.
+    target.bind();
+    glEnable(GL_DEPTH_TEST);
+    return;
+  }
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindSampler(0, 0);
@@ -477,9 +499,11 @@ std::vector<glm::vec4> RadarVolumeRendererGL::antennaCoordinatesAt(const Camera&
   glDisable(GL_BLEND);
   RadarRenderOptions options;
   options.beam = beam;
-  setUniforms(camera, volume, options, emptyDepth_, camera.widthPx(), camera.heightPx());
-  glUniform1i(march_.uniform("u_mode"), 3);
-  glUniform1f(march_.uniform("u_debugT"), static_cast<float>(tMeters));
+  if (!setUniforms(camera, volume, options, emptyDepth_, camera.widthPx(), camera.heightPx(), true)) {
+    glEnable(GL_DEPTH_TEST);
+    return {};
+  }
+  glUniform1f(march_->uniform("u_debugT"), static_cast<float>(tMeters));
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindSampler(0, 0);

@@ -142,6 +142,19 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
   EXPECT_GT(std::abs(straight[24 * 64 + 32].z - exact.elevationDeg), 10.0 * maxEl);
 }
 
+// The marcher is specialised per (mode, interpolation, beam, skipping) and compiled on first
+// use: every one of the 32 variants must compile and link (the other tests draw most of them).
+TEST_F(RadarMarch, EveryMarchVariantCompiles) {
+  auto renderer = engine::RadarVolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  for (int mode = 0; mode < 4; ++mode)
+    for (int interpolation = 0; interpolation < 2; ++interpolation)
+      for (int beam = 0; beam < 2; ++beam)
+        for (int skip = 0; skip < 2; ++skip)
+          EXPECT_NE((*renderer)->marchProgram(mode, interpolation, beam, skip), nullptr)
+              << mode << " " << interpolation << " " << beam << " " << skip;
+}
+
 TEST_F(RadarMarch, GpuMatchesTheReferenceInEveryMode) {
   const volume::PolarVolume pv = polar(syntheticRadar(storm));
   auto gl = engine::RadarVolumeGL::create(pv);

@@ -13,6 +13,7 @@
 
 #include <epoxy/gl.h>
 
+#include <map>
 #include <memory>
 
 namespace atmoglobe::engine {
@@ -92,11 +93,22 @@ class RadarVolumeRendererGL {
 
  private:
   RadarVolumeRendererGL() = default;
-  void setUniforms(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
-                   GLuint depthTexture, int widthPx, int heightPx);
+  /// Binds the march program variant for `options` (or the debug variant when `debugMode`)
+  /// and sets its uniforms and textures; false if that variant failed to compile (reported once).
+  bool setUniforms(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
+                   GLuint depthTexture, int widthPx, int heightPx, bool debugMode = false);
   void ensureTarget(int widthPx, int heightPx, GLenum format);
 
-  ShaderProgramGL march_;
+ public:
+  /// The march program specialised for mode (0 DVR, 1 MIP, 2 iso, 3 debug), interpolation
+  /// (0 nearest, 1 linear), beam (0 4/3-Earth, 1 straight) and empty-space skipping (0/1):
+  /// compiled on first use and kept. Null with the compile log on stderr (once) if it fails.
+  const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty);
+
+ private:
+  std::map<int, ShaderProgramGL> marchPrograms_;
+  std::map<int, std::string> marchErrors_;
+  const ShaderProgramGL* march_ = nullptr;  ///< the variant of the current draw
   ShaderProgramGL composite_;
   GLuint vao_ = 0;
   GLuint transfer_ = 0;
