@@ -167,13 +167,11 @@ int samplePolar(vec3 rae, out float value) {
   float t;
   ivec2 ks = bracket(rae.z, t);
   if (ks.x < 0) return NOT_ECHO;
+  // Two calls always (a single sweep is the pair (k, k) with t = 0): one code path for all SIMD
+  // lanes instead of one- and two-sweep branches that a mixed group would both run.
   float echoW = 0.0, sumV = 0.0;
-  if (ks.x == ks.y) {
-    sampleSweep(ks.x, 1.0, rae, echoW, sumV);
-  } else {
-    sampleSweep(ks.x, 1.0 - t, rae, echoW, sumV);
-    sampleSweep(ks.y, t, rae, echoW, sumV);
-  }
+  sampleSweep(ks.x, 1.0 - t, rae, echoW, sumV);
+  sampleSweep(ks.y, t, rae, echoW, sumV);
   if (echoW >= 0.5) {
     value = sumV / echoW;
     return ECHO;
