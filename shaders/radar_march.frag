@@ -187,6 +187,16 @@ float gridMax(vec3 l, out ivec3 cell) {
   return texelFetch(u_grid, cell, 0).r;
 }
 
+// The ray's parameter interval inside the grid box (empty: x > y).
+vec2 gridBoxInterval(vec3 oL, vec3 dL) {
+  vec3 lo = u_gridMinEnu, hi = u_gridMinEnu + vec3(u_gridCells) * u_gridCellSize;
+  vec3 inv = 1.0 / dL;
+  vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
+  float tNear = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
+  float tFar = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
+  return vec2(tNear, tFar);
+}
+
 // Where the ray next enters the grid box after t (or `end` if it never does).
 float gridEntry(vec3 oL, vec3 dL, float t, float end) {
   vec3 lo = u_gridMinEnu, hi = u_gridMinEnu + vec3(u_gridCells) * u_gridCellSize;
@@ -301,6 +311,14 @@ void main() {
   for (int seg = 0; seg + 1 < nb && !hit; ++seg) {
     float a = bounds[seg], b = bounds[seg + 1];
     if (b - a <= 0.0 || !insideBand(oL + 0.5 * (a + b) * dL)) continue;
+    if (kSkipEmpty == 1) {
+      // Outside the grid's box every sample is empty (the box holds every measured gate's
+      // support): march only across the box, so the skip loop below rarely meets "outside".
+      vec2 box = gridBoxInterval(oL, dL);
+      a = max(a, box.x);
+      b = min(b, box.y);
+      if (!(a <= b)) continue;
+    }
     int i = int(ceil(a / u_step - 0.5));
     int iEnd = int(floor(b / u_step - 0.5));
     for (; i <= iEnd; ++i) {
