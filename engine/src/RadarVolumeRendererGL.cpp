@@ -2,6 +2,7 @@
 
 #include <atmoglobe/globe/Ellipsoid.h>
 
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
@@ -177,23 +178,26 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   // distinction (the CPU volume keeps it: `gates`, `info`, the reference renderer).
   {
     const int w = v.maxGates + 1, h = v.maxRays + 1;
-    std::vector<glm::vec2> texels(static_cast<std::size_t>(w) * h * n, glm::vec2(0.0f));
+    gl->values_ = makeTexture(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+    glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
+    // Converted to half floats here and uploaded a layer at a time: the staging buffer is one
+    // layer (KLBB: 5.3 MB), not the whole volume as float pairs.
+    std::vector<std::uint32_t> layer(static_cast<std::size_t>(w) * h);
     for (int k = 0; k < n; ++k) {
       const auto& s = v.sweeps[k];
+      std::fill(layer.begin(), layer.end(), 0u);  // (0, 0): no echo / no data / padding
       for (int row = 0; row <= s.rayCount; ++row) {
         const int ray = row % s.rayCount;
         for (int col = 0; col <= s.gateCount; ++col) {
           const float value = v.value(k, ray, std::min(col, s.gateCount - 1));
-          const bool echo = volume::isMeasuredValue(value);
-          texels[(static_cast<std::size_t>(k) * h + row) * w + col] = glm::vec2(echo ? value : 0.0f, echo ? 1.0f : 0.0f);
+          if (volume::isMeasuredValue(value))
+            layer[static_cast<std::size_t>(row) * w + col] = glm::packHalf2x16(glm::vec2(value, 1.0f));
         }
       }
+      glTextureSubImage3D(gl->values_, 0, 0, 0, k, w, h, 1, GL_RG, GL_HALF_FLOAT, layer.data());
     }
-    gl->values_ = makeTexture(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
-    glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
-    glTextureSubImage3D(gl->values_, 0, 0, 0, 0, w, h, n, GL_RG, GL_FLOAT, texels.data());
     gl->valuesSize_ = glm::vec2(static_cast<float>(w), static_cast<float>(h));
-    gl->gpuBytes_ += texels.size() * 4;  // two half floats per texel
+    gl->gpuBytes_ += layer.size() * 4 * static_cast<std::size_t>(n);  // two half floats per texel
   }
 
   // Azimuth -> ray coordinate per sweep (volume::rayCoordinateTable), linearly filtered.
