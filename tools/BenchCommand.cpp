@@ -651,7 +651,7 @@ int runBench(const BenchOptions& o) {
 
   // The grid.
   const int w = o.quick ? 160 : 320, h = o.quick ? 90 : 180;
-  std::vector<double> steps = {125.0, 250.0, 500.0, 1000.0, 2000.0};
+  std::vector<double> steps = {125.0, 250.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0};
   std::vector<double> scales = {1.0, 0.5, 0.25};
   if (o.quick) steps = {250.0, 1000.0}, scales = {1.0, 0.5};
   std::vector<Cell> cells;
