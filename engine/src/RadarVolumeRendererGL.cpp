@@ -108,9 +108,10 @@ OccupancyGrid occupancyGrid(const volume::PolarVolume& v, double h0, double effe
     grid.values.assign(1, kCoarseEmpty);
     return grid;
   }
-  // 256 x 256 x 64 cells (8 MB of R16F; KLBB: 3.6 x 3.6 km x ~300 m): the fastest of
-  // 64..384 x 64..384 x 32..128 in `atmoglobe bench` (llvmpipe, docs/bench-volume.md).
-  grid.cells = glm::ivec3(256, 256, 64);
+  // 256 x 256 x 32 cells (4 MB of R16F; KLBB: 3.6 x 3.6 km x ~600 m): the fastest of
+  // 64..384 x 64..384 x 32..128 in `atmoglobe bench` (llvmpipe, docs/bench-volume.md; with the
+  // second grid level 32 layers beat 48 and 64 by 3-6 %).
+  grid.cells = glm::ivec3(256, 256, 32);
   grid.cellSize = (hi - lo) / glm::dvec3(grid.cells - 2) + 1e-3;  // one spare cell on each side
   grid.minEnu = lo - grid.cellSize;
   grid.values.assign(static_cast<std::size_t>(grid.cells.x) * grid.cells.y * grid.cells.z, kCoarseEmpty);
