@@ -199,13 +199,9 @@ vec2 gridBoxInterval(vec3 oL, vec3 dL) {
 
 // Where the ray next enters the grid box after t (or `end` if it never does).
 float gridEntry(vec3 oL, vec3 dL, float t, float end) {
-  vec3 lo = u_gridMinEnu, hi = u_gridMinEnu + vec3(u_gridCells) * u_gridCellSize;
-  vec3 inv = 1.0 / dL;
-  vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
-  float tNear = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
-  float tFar = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-  if (tNear > tFar || tFar < t) return end;
-  return max(tNear, t);
+  vec2 box = gridBoxInterval(oL, dL);
+  if (box.x > box.y || box.y < t) return end;
+  return max(box.x, t);
 }
 
 // Where the ray leaves the box of `size` cells starting at cell `cell`.

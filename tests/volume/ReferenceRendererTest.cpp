@@ -437,15 +437,20 @@ TEST(ReferenceRenderer, IsoSurfaceOfARangeRamp) {
   EXPECT_GE(oblique.g, 0.3 * expected.g - 1e-12);
 }
 
+// The real KLBB volume (NEXRAD Level II) of the shared data, laid out for rendering.
+Result<PolarVolume> klbbPolarVolume() {
+  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
+  Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
+  if (!vol.ok()) return makeError(vol.error());
+  Result<SiteResolution> site = resolveSite(vol->site, true);
+  if (!site.ok()) return makeError(site.error());
+  return buildPolarVolume(*vol, *site, BeamModel{});
+}
+
 // The real volume: KLBB (NEXRAD Level II), 64 x 36 DVR from 300 km south at 150 km height, looking
 // north and down at the site. Non-empty, NaN-free; the time is printed for the bench budget.
 TEST(ReferenceRenderer, RealNexradVolumeSmoke) {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
-  Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
-  ASSERT_TRUE(vol.ok()) << vol.error();
-  Result<SiteResolution> site = resolveSite(vol->site, true);
-  ASSERT_TRUE(site.ok()) << site.error();
-  Result<PolarVolume> pv = buildPolarVolume(*vol, *site, BeamModel{});
+  Result<PolarVolume> pv = klbbPolarVolume();
   ASSERT_TRUE(pv.ok()) << pv.error();
   const GeolocationSite& s = pv->site;
   const globe::GeodesicPoint g = globe::geodesicDirect(s.latDeg, s.lonDeg, 180.0, 300e3);
@@ -464,17 +469,23 @@ TEST(ReferenceRenderer, RealNexradVolumeSmoke) {
   EXPECT_GT(lit, 20);
 }
 
+// Bit-identical images, and not an empty one (an empty image would prove nothing).
+void expectIdenticalAndLit(const VolumeImage& a, const VolumeImage& b, const std::string& what) {
+  ASSERT_EQ(a.rgbaPremultiplied.size(), b.rgbaPremultiplied.size()) << what;
+  int lit = 0;
+  for (std::size_t i = 0; i < a.rgbaPremultiplied.size(); ++i) {
+    ASSERT_EQ(a.rgbaPremultiplied[i], b.rgbaPremultiplied[i]) << what << ", pixel " << i;
+    lit += a.rgbaPremultiplied[i].a > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(lit, 0) << what;
+}
+
 // The shell pre-rejection is an acceleration only: on the real KLBB volume, from outside (oblique,
 // straight down), from inside the shell and from the antenna itself, in every mode, and with
 // other beam models (ke 1 and 2 on the uniform test volume), the image with rejection is
 // bit-identical to the image without. The speed-up is printed.
 TEST(ReferenceRenderer, ShellRejectionChangesNoPixel) {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
-  Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
-  ASSERT_TRUE(vol.ok()) << vol.error();
-  Result<SiteResolution> site = resolveSite(vol->site, true);
-  ASSERT_TRUE(site.ok()) << site.error();
-  Result<PolarVolume> pv = buildPolarVolume(*vol, *site, BeamModel{});
+  Result<PolarVolume> pv = klbbPolarVolume();
   ASSERT_TRUE(pv.ok()) << pv.error();
   const GeolocationSite& s = pv->site;
   const glm::dvec3 antenna = antennaEcef(s);
@@ -502,12 +513,7 @@ TEST(ReferenceRenderer, ShellRejectionChangesNoPixel) {
       const auto t2 = std::chrono::steady_clock::now();
       withS += std::chrono::duration<double>(t1 - t0).count();
       withoutS += std::chrono::duration<double>(t2 - t1).count();
-      int lit = 0;
-      for (std::size_t i = 0; i < a.rgbaPremultiplied.size(); ++i) {
-        ASSERT_EQ(a.rgbaPremultiplied[i], b.rgbaPremultiplied[i]) << name << " mode " << static_cast<int>(mode) << " pixel " << i;
-        lit += a.rgbaPremultiplied[i].a > 0.0 ? 1 : 0;
-      }
-      EXPECT_GT(lit, 0) << name << " mode " << static_cast<int>(mode) << ": an empty image would prove nothing";
+      expectIdenticalAndLit(a, b, name + " mode " + std::to_string(static_cast<int>(mode)));
     }
   }
   std::printf("KLBB reference with shell rejection %.2f s, without %.2f s (%.1fx)\n", withS, withoutS, withoutS / withS);
@@ -523,12 +529,7 @@ TEST(ReferenceRenderer, ShellRejectionChangesNoPixel) {
     const RenderCamera cam = makeLookAtCamera(site0 + 20e3 * e0[2] - 150e3 * e0[1], site0, e0[2], 60.0, 32, 24);
     const VolumeImage a = renderReference(v, st, cam, true, 2, true);
     const VolumeImage b = renderReference(v, st, cam, true, 2, false);
-    int lit = 0;
-    for (std::size_t i = 0; i < a.rgbaPremultiplied.size(); ++i) {
-      ASSERT_EQ(a.rgbaPremultiplied[i], b.rgbaPremultiplied[i]) << "ke " << ke << " pixel " << i;
-      lit += a.rgbaPremultiplied[i].a > 0.0 ? 1 : 0;
-    }
-    EXPECT_GT(lit, 0) << "ke " << ke;
+    expectIdenticalAndLit(a, b, "ke " + std::to_string(ke));
   }
 }
 

@@ -91,6 +91,11 @@ class RadarVolumeRendererGL {
   /// The last volume image (premultiplied RGBA, float), row 0 = top.
   std::vector<glm::vec4> readVolumeImage() const;
 
+  /// The march program specialised for mode (0 DVR, 1 MIP, 2 iso, 3 debug), interpolation
+  /// (0 nearest, 1 linear), beam (0 4/3-Earth, 1 straight) and empty-space skipping (0/1):
+  /// compiled on first use and kept. Null with the compile log on stderr (once) if it fails.
+  const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty);
+
  private:
   RadarVolumeRendererGL() = default;
   /// Binds the march program variant for `options` (or the debug variant when `debugMode`)
@@ -99,13 +104,6 @@ class RadarVolumeRendererGL {
                    GLuint depthTexture, int widthPx, int heightPx, bool debugMode = false);
   void ensureTarget(int widthPx, int heightPx, GLenum format);
 
- public:
-  /// The march program specialised for mode (0 DVR, 1 MIP, 2 iso, 3 debug), interpolation
-  /// (0 nearest, 1 linear), beam (0 4/3-Earth, 1 straight) and empty-space skipping (0/1):
-  /// compiled on first use and kept. Null with the compile log on stderr (once) if it fails.
-  const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty);
-
- private:
   std::map<int, ShaderProgramGL> marchPrograms_;
   std::map<int, std::string> marchErrors_;
   const ShaderProgramGL* march_ = nullptr;  ///< the variant of the current draw
