@@ -50,7 +50,7 @@ uniform int u_sweepRays[MAX_SWEEPS];
 uniform int u_sweepCount;
 uniform float u_halfBeamDeg;
 uniform float u_maxRange;
-uniform vec2 u_straightElevationClipDeg;  // straight-line elevation band that holds every beam
+uniform vec2 u_straightElevationClipSin;  // sin of the straight-line elevation band that holds every beam
 uniform vec3 u_gridMinEnu;                 // the grid box's lower corner (m, ENU)
 uniform vec3 u_gridCellSize;               // (m)
 uniform ivec3 u_gridCells;
@@ -197,13 +197,6 @@ vec2 gridBoxInterval(vec3 oL, vec3 dL) {
   return vec2(tNear, tFar);
 }
 
-// Where the ray next enters the grid box after t (or `end` if it never does).
-float gridEntry(vec3 oL, vec3 dL, float t, float end) {
-  vec2 box = gridBoxInterval(oL, dL);
-  if (box.x > box.y || box.y < t) return end;
-  return max(box.x, t);
-}
-
 // Where the ray leaves the box of `size` cells starting at cell `cell`.
 float cellExit(vec3 oL, vec3 dL, ivec3 cell, float size) {
   vec3 lo = u_gridMinEnu + vec3(cell) * u_gridCellSize;
@@ -231,30 +224,49 @@ vec2 sphereInterval(vec3 o, vec3 d, float radius) {
 }
 
 // sin(straight elevation) along the ray has at most one extremum, so the set where it lies in
-// [sinLo, sinHi] is at most two intervals; breakpoints are roots of (u0 + t du)^2 = s^2 |p|^2.
-int coneRoots(vec3 o, vec3 d, float s, inout float roots[6], int count) {
+// [sinLo, sinHi] is at most two intervals; breakpoints are roots of (u0 + t du)^2 = s^2 |p|^2
+// (the cone of elevation asin(s) or its mirror). Up to two roots; a missing one is -1e30, which
+// the caller clamps onto the span's start (an empty piece). No arrays: on llvmpipe a
+// dynamically indexed array is a per-lane scatter/gather through memory, and the set-up written
+// with arrays and an insertion sort cost more than the whole march on a top-down view.
+vec2 coneRoots(vec3 o, vec3 d, float s) {
   float u0 = o.z, du = d.z;
-  float A = du * du - s * s;
+  float A = du * du - s * s;  // |d| = 1
   float B = 2.0 * (u0 * du - s * s * dot(o, d));
   float C = u0 * u0 - s * s * dot(o, o);
+  vec2 roots = vec2(-1e30);
   if (abs(A) < 1e-12) {
-    if (abs(B) > 1e-12) roots[count++] = -C / B;
-    return count;
+    if (abs(B) > 1e-12) roots.x = -C / B;
+    return roots;
   }
   float disc = B * B - 4.0 * A * C;
-  if (disc < 0.0) return count;
+  if (disc < 0.0) return roots;
   float sq = sqrt(disc);
   float q = -0.5 * (B + (B >= 0.0 ? sq : -sq));
-  roots[count++] = q / A;
-  if (q != 0.0) roots[count++] = C / q;
-  return count;
+  roots.x = q / A;
+  if (q != 0.0) roots.y = C / q;
+  return roots;
+}
+
+void orderPair(inout float a, inout float b) {
+  float lo = min(a, b);
+  b = max(a, b);
+  a = lo;
 }
 
 bool insideBand(vec3 p) {
   float r = length(p);
   if (r < 1e-3) return true;
   float s = p.z / r;
-  return s >= sin(radians(u_straightElevationClipDeg.x)) && s <= sin(radians(u_straightElevationClipDeg.y));
+  return s >= u_straightElevationClipSin.x && s <= u_straightElevationClipSin.y;
+}
+
+// Widens [a, b] by the piece [p0, p1] of the ray if it lies inside the band.
+void extendInBand(vec3 oL, vec3 dL, float p0, float p1, inout float a, inout float b) {
+  if (p1 > p0 && insideBand(oL + 0.5 * (p0 + p1) * dL)) {
+    a = min(a, p0);
+    b = max(b, p1);
+  }
 }
 
 void main() {
@@ -268,7 +280,7 @@ void main() {
   }
 
   // The globe hides what is behind it: reverse-Z depth = near / view distance.
-  float depth = texture(u_globeDepth, v_uv).r;
+  float depth = textureLod(u_globeDepth, v_uv, 0.0).r;
   float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
 
   vec2 span = sphereInterval(u_eyeRelSite, dir, u_maxRange);
@@ -277,44 +289,39 @@ void main() {
   o_color = vec4(0.0);
   if (span.x >= span.y) return;
 
-  // Split [span] at the elevation-band boundaries (in the site's ENU frame).
+  // Split [span] at the elevation-band boundaries (in the site's ENU frame): four cuts, clamped
+  // into the span and put in order by a sorting network, give five pieces.
   vec3 oL = u_ecefToEnu * u_eyeRelSite, dL = u_ecefToEnu * dir;
-  float cuts[6];
-  int nc = 0;
-  nc = coneRoots(oL, dL, sin(radians(u_straightElevationClipDeg.x)), cuts, nc);
-  nc = coneRoots(oL, dL, sin(radians(u_straightElevationClipDeg.y)), cuts, nc);
-  float bounds[8];
-  int nb = 0;
-  bounds[nb++] = span.x;
-  for (int i = 0; i < nc; ++i) {
-    if (cuts[i] > span.x && cuts[i] < span.y) bounds[nb++] = cuts[i];
-  }
-  bounds[nb++] = span.y;
-  for (int i = 1; i < nb; ++i) {  // insertion sort (<= 6 entries)
-    float v = bounds[i];
-    int j = i - 1;
-    while (j >= 0 && bounds[j] > v) {
-      bounds[j + 1] = bounds[j];
-      --j;
-    }
-    bounds[j + 1] = v;
-  }
+  vec4 cuts = clamp(vec4(coneRoots(oL, dL, u_straightElevationClipSin.x), coneRoots(oL, dL, u_straightElevationClipSin.y)),
+                    span.x, span.y);
+  float c0 = cuts.x, c1 = cuts.y, c2 = cuts.z, c3 = cuts.w;
+  orderPair(c0, c1);
+  orderPair(c2, c3);
+  orderPair(c0, c2);
+  orderPair(c1, c3);
+  orderPair(c1, c2);
+  // Outside the grid's box every sample is empty (the box holds every measured gate's support):
+  // with skipping on, march only across the box.
+  vec2 box = kSkipEmpty == 1 ? gridBoxInterval(oL, dL) : vec2(-1e30, 1e30);
 
   vec4 acc = vec4(0.0);
   float maxValue = -1e30;
   bool hit = false;
   float hitT = 0.0;
-  for (int seg = 0; seg + 1 < nb && !hit; ++seg) {
-    float a = bounds[seg], b = bounds[seg + 1];
-    if (b - a <= 0.0 || !insideBand(oL + 0.5 * (a + b) * dL)) continue;
-    if (kSkipEmpty == 1) {
-      // Outside the grid's box every sample is empty (the box holds every measured gate's
-      // support): march only across the box, so the skip loop below rarely meets "outside".
-      vec2 box = gridBoxInterval(oL, dL);
-      a = max(a, box.x);
-      b = min(b, box.y);
-      if (!(a <= b)) continue;
-    }
+  // March from the first piece inside the band to the end of the last one, in one loop: the
+  // samples in a gap between two pieces (the cone of silence above the antenna) are outside
+  // every beam, so they add nothing, and the empty-space grid skips them. One loop, because
+  // llvmpipe runs a loop's whole body at least once even when no lane enters it: a loop per
+  // piece cost 7 ms of a 16 ms top-down frame (docs/bench-volume.md).
+  float a = 1e30, b = -1e30;
+  extendInBand(oL, dL, span.x, c0, a, b);
+  extendInBand(oL, dL, c0, c1, a, b);
+  extendInBand(oL, dL, c1, c2, a, b);
+  extendInBand(oL, dL, c2, c3, a, b);
+  extendInBand(oL, dL, c3, span.y, a, b);
+  a = max(a, box.x);
+  b = min(b, box.y);
+  if (a <= b) {
     int i = int(ceil(a / u_step - 0.5));
     int iEnd = int(floor(b / u_step - 0.5));
     for (; i <= iEnd; ++i) {
@@ -333,7 +340,8 @@ void main() {
           if (gridMax(oL + ts * dL, cell) >= threshold) break;
           bool outside = any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, u_gridCells));
           if (outside) {
-            tOut = gridEntry(oL, dL, ts, b);
+            // Where the ray next enters the box after ts (b if it never does).
+            tOut = box.x > box.y || box.y < ts ? b : max(box.x, ts);
           } else {
             // A whole block below the threshold: leave the block, not just the cell.
             ivec3 block = cell / GRID_BLOCK;
@@ -375,7 +383,6 @@ void main() {
         }
       }
     }
-    if (kMode == 0 && acc.a >= u_earlyTermination) break;
   }
 
   if (kMode == 0) {

@@ -53,6 +53,8 @@ struct BenchOptions {
   bool peer = true;
   bool referenceOnly = false;
   std::string peerScript;
+  std::vector<std::string> viewNames;  // empty: every view
+  std::vector<double> stepsMeters;     // empty: the standard grid
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -648,12 +650,26 @@ int runBench(const BenchOptions& o) {
     views.push_back(obliqueView(v->key + "-oblique", *v, bearing, 200e3, 100e3));
     if (!o.quick) views.push_back(topDownView(v->key + "-down", *v, 400e3));
   }
+  if (!o.viewNames.empty()) {
+    std::vector<BenchView> chosen;
+    for (const std::string& name : o.viewNames) {
+      auto it = std::find_if(views.begin(), views.end(), [&](const BenchView& v) { return v.name == name; });
+      if (it == views.end()) {
+        std::string known;
+        for (const BenchView& v : views) known += (known.empty() ? "" : ", ") + v.name;
+        return fail("bench", "--view " + name + ": no such view (views: " + known + ")");
+      }
+      chosen.push_back(*it);
+    }
+    views = std::move(chosen);
+  }
 
   // The grid.
   const int w = o.quick ? 160 : 320, h = o.quick ? 90 : 180;
   std::vector<double> steps = {125.0, 250.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0};
   std::vector<double> scales = {1.0, 0.5, 0.25};
   if (o.quick) steps = {250.0, 1000.0}, scales = {1.0, 0.5};
+  if (!o.stepsMeters.empty()) steps = o.stepsMeters;
   std::vector<Cell> cells;
   for (double step : steps)
     for (double scale : scales)
@@ -1036,6 +1052,9 @@ Command addBenchCommand(CLI::App& root) {
   c->add_flag("!--no-peer", o->peer, "Skip the VTK peer");
   c->add_flag("--reference-only", o->referenceOnly, "Only render the reference images into the cache (no GL)");
   c->add_option("--peer-script", o->peerScript, "Path of tools/bench/vtk_peer.py");
+  c->add_option("--view", o->viewNames, "Only this view (repeatable): KLBB-oblique, KLBB-down, AU40-oblique, AU40-down");
+  c->add_option("--steps", o->stepsMeters, "Only these DVR step sizes (m), e.g. --steps 250 1000")
+      ->check(CLI::Range(10.0, 20000.0));
   return {c, [o] { return runBench(*o); }};
 }
 

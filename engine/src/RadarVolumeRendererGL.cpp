@@ -382,8 +382,8 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const double bendDeg = straight ? 0.0 : clipRadius / (2.0 * radius) * std::abs(1.0 - 1.0 / v.beam.ke) * 180.0 / M_PI;
   const double lo = v.sweeps.front().elevationDeg - halfBeam - bendDeg - 0.05;
   const double hi = v.sweeps.back().elevationDeg + halfBeam + bendDeg + 0.05;
-  glUniform2f(glGetUniformLocation(p, "u_straightElevationClipDeg"), static_cast<float>(std::max(lo, -90.0)),
-              static_cast<float>(std::min(hi, 90.0)));
+  glUniform2f(glGetUniformLocation(p, "u_straightElevationClipSin"), static_cast<float>(std::sin(std::max(lo, -90.0) * M_PI / 180.0)),
+              static_cast<float>(std::sin(std::min(hi, 90.0) * M_PI / 180.0)));
   glUniform3fv(glGetUniformLocation(p, "u_gridMinEnu"), 1, glm::value_ptr(gl.gridMinEnu_));
   glUniform3fv(glGetUniformLocation(p, "u_gridCellSize"), 1, glm::value_ptr(gl.gridCellSize_));
   glUniform3iv(glGetUniformLocation(p, "u_gridCells"), 1, glm::value_ptr(gl.gridCells_));
