@@ -624,12 +624,27 @@ int runBench(const BenchOptions& o) {
     renderer = std::move(*r);
   }
 
-  // Volumes.
+  // --view names, checked before anything is loaded.
+  const std::vector<std::string> knownViews = o.quick ? std::vector<std::string>{"KLBB-oblique"}
+                                                      : std::vector<std::string>{"KLBB-oblique", "KLBB-down", "AU40-oblique", "AU40-down"};
+  for (const std::string& name : o.viewNames) {
+    if (std::find(knownViews.begin(), knownViews.end(), name) == knownViews.end()) {
+      std::string known;
+      for (const std::string& k : knownViews) known += (known.empty() ? "" : ", ") + k;
+      return fail("bench", "--view " + name + ": no such view (views" + (o.quick ? " with --quick" : "") + ": " + known + ")");
+    }
+  }
+  auto wanted = [&](const std::string& view) {
+    return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
+  };
+
+  // Volumes (only those a chosen view shows).
   std::vector<std::unique_ptr<BenchVolume>> volumes;
   const std::vector<std::pair<std::string, std::string>> files = {
       {"KLBB", "radar_nexrad/KLBB20160601_150025_V06"}, {"AU40", "radar_odim/40_20181220_060630.pvol.h5"}};
   for (const auto& [key, rel] : files) {
     if (o.quick && key != "KLBB") continue;
+    if (!wanted(key + "-oblique") && !wanted(key + "-down")) continue;
     const std::string path = (fs::path(o.dataDir) / rel).string();
     auto v = loadVolume(key, path);
     if (!v) return fail("bench", v.error());
@@ -650,19 +665,7 @@ int runBench(const BenchOptions& o) {
     views.push_back(obliqueView(v->key + "-oblique", *v, bearing, 200e3, 100e3));
     if (!o.quick) views.push_back(topDownView(v->key + "-down", *v, 400e3));
   }
-  if (!o.viewNames.empty()) {
-    std::vector<BenchView> chosen;
-    for (const std::string& name : o.viewNames) {
-      auto it = std::find_if(views.begin(), views.end(), [&](const BenchView& v) { return v.name == name; });
-      if (it == views.end()) {
-        std::string known;
-        for (const BenchView& v : views) known += (known.empty() ? "" : ", ") + v.name;
-        return fail("bench", "--view " + name + ": no such view (views: " + known + ")");
-      }
-      chosen.push_back(*it);
-    }
-    views = std::move(chosen);
-  }
+  std::erase_if(views, [&](const BenchView& v) { return !wanted(v.name); });
 
   // The grid.
   const int w = o.quick ? 160 : 320, h = o.quick ? 90 : 180;

@@ -334,8 +334,7 @@ void RadarVolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum forma
 }
 
 bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeGL& gl,
-                                        const RadarRenderOptions& options, GLuint depthTexture, int widthPx,
-                                        int heightPx, bool debugMode) {
+                                        const RadarRenderOptions& options, GLuint depthTexture, bool debugMode) {
   const volume::PolarVolume& v = gl.polar();
   const volume::VolumeRenderSettings& rs = options.render;
   const int mode = rs.mode == volume::VolumeRenderMode::Dvr ? 0 : rs.mode == volume::VolumeRenderMode::Mip ? 1 : 2;
@@ -347,18 +346,13 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const int n = static_cast<int>(v.sweeps.size());
   std::vector<glm::vec4> geom(n);
   std::vector<GLint> rays(n);
-  double minGap = 90.0, minSpacing = 1e30;
   for (int k = 0; k < n; ++k) {
     const auto& s = v.sweeps[k];
     // Narrowed to float: angles (1e-7 deg), ranges (< 1 mm at 1000 km).
     geom[k] = glm::vec4(static_cast<float>(s.elevationDeg), static_cast<float>(s.firstGateRangeMeters),
                         static_cast<float>(s.gateSpacingMeters), static_cast<float>(s.gateCount));
     rays[k] = s.rayCount;
-    minSpacing = std::min(minSpacing, s.gateSpacingMeters);
-    if (k > 0) minGap = std::min(minGap, s.elevationDeg - v.sweeps[k - 1].elevationDeg);
   }
-  (void)minGap;
-  (void)minSpacing;
   glUniform4fv(glGetUniformLocation(p, "u_sweepGeom"), n, glm::value_ptr(geom[0]));
   glUniform1iv(glGetUniformLocation(p, "u_sweepRays"), n, rays.data());
   glUniform1i(glGetUniformLocation(p, "u_sweepCount"), n);
@@ -405,8 +399,6 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   glUniform2f(glGetUniformLocation(p, "u_imageSizePx"), static_cast<float>(camera.widthPx()),
               static_cast<float>(camera.heightPx()));
   glUniform1f(glGetUniformLocation(p, "u_near"), static_cast<float>(camera.nearMeters()));
-  (void)widthPx;
-  (void)heightPx;
 
   glUniform1f(glGetUniformLocation(p, "u_step"), static_cast<float>(rs.stepMeters));
   glUniform1f(glGetUniformLocation(p, "u_isoValue"), static_cast<float>(rs.isoValue));
@@ -460,7 +452,7 @@ void RadarVolumeRendererGL::draw(const Camera& camera, const RadarVolumeGL& volu
   glDisable(GL_BLEND);
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
-  if (!setUniforms(camera, volume, options, target.depthTexture(), w, h)) {
+  if (!setUniforms(camera, volume, options, target.depthTexture())) {
     // The variant failed to compile (reported on stderr): leave the target as it was.
     target.bind();
     glEnable(GL_DEPTH_TEST);
@@ -504,7 +496,7 @@ std::vector<glm::vec4> RadarVolumeRendererGL::antennaCoordinatesAt(const Camera&
   glDisable(GL_BLEND);
   RadarRenderOptions options;
   options.beam = beam;
-  if (!setUniforms(camera, volume, options, emptyDepth_, camera.widthPx(), camera.heightPx(), true)) {
+  if (!setUniforms(camera, volume, options, emptyDepth_, true)) {
     glEnable(GL_DEPTH_TEST);
     return {};
   }

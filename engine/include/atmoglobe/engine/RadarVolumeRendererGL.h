@@ -101,7 +101,7 @@ class RadarVolumeRendererGL {
   /// Binds the march program variant for `options` (or the debug variant when `debugMode`)
   /// and sets its uniforms and textures; false if that variant failed to compile (reported once).
   bool setUniforms(const Camera& camera, const RadarVolumeGL& volume, const RadarRenderOptions& options,
-                   GLuint depthTexture, int widthPx, int heightPx, bool debugMode = false);
+                   GLuint depthTexture, bool debugMode = false);
   void ensureTarget(int widthPx, int heightPx, GLenum format);
 
   std::map<int, ShaderProgramGL> marchPrograms_;
