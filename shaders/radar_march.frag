@@ -29,10 +29,15 @@ in vec2 v_uv;
 #ifndef MARCH_SKIP_EMPTY
 #define MARCH_SKIP_EMPTY 1
 #endif
+#ifndef MARCH_PREINTEGRATED
+#define MARCH_PREINTEGRATED 0
+#endif
 const int kMode = MARCH_MODE;                    // 0 DVR, 1 MIP, 2 isosurface, 3 debug: antenna coordinates at u_debugT
 const int kInterpolation = MARCH_INTERPOLATION;  // 0 nearest, 1 linear
 const int kBeamModel = MARCH_BEAM;               // 0: effective-Earth (4/3) on the local sphere, 1: straight lines
 const int kSkipEmpty = MARCH_SKIP_EMPTY;         // 1: jump over cells of the empty-space grid that cannot contribute
+const int kPreintegrated = MARCH_PREINTEGRATED;  // DVR only. 0: each sample classified alone (post-classification);
+                                                 // 1: each pair of neighbouring samples as a linear segment (u_tfIntegral)
 
 
 uniform sampler2DArray u_values;    // RG16F, linear (nearest sampler for nearest interpolation): [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
@@ -42,7 +47,9 @@ uniform isampler2D u_elLookup;      // R32I, ELEVATION_BINS x 1: last sweep with
 uniform vec2 u_elLookupRange;       // elevations (deg) of the table's first bin start and last bin end
 uniform sampler3D u_grid;           // R16F: per cell of a box in the site's ENU frame, the largest value a sample there can see
 uniform sampler3D u_gridBlocks;     // R16F: the same per block of GRID_BLOCK^3 cells
-uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]; DVR: alpha per step
+uniform sampler2D u_transfer;       // RGBA32F, 4096 x 1: classify() over [u_tfRange.x, u_tfRange.y]; DVR: alpha per step,
+                                    // pre-integrated DVR: (rgb, extinction per metre)
+uniform sampler2D u_tfIntegral;     // RGBA32F, (4096 + 1) x 1, linear: volume::transferIntegralTable over u_tfRange
 uniform sampler2D u_globeDepth;     // reverse-Z depth of the globe pass (full resolution)
 
 uniform vec4 u_sweepGeom[MAX_SWEEPS];  // elevationDeg, firstGateRange, gateSpacing, gateCount
@@ -213,6 +220,45 @@ vec4 classify(float v) {
   return texelFetch(u_transfer, ivec2(i, 0), 0);
 }
 
+// Pre-integrated classification (volume::transferIntegralTable): the cumulative integrals
+// (of extinction * colour, of extinction) at a value, interpolated linearly between bin edges.
+vec4 tfIntegral(float v) {
+  float x = (v - u_tfRange.x) / (u_tfRange.y - u_tfRange.x) * 4096.0;
+  return textureLod(u_tfIntegral, vec2((x + 0.5) / 4097.0, 0.5), 0.0);
+}
+
+// Premultiplied colour and opacity of a path of `lengthMeters` with constant classification
+// c = (rgb, extinction per metre).
+vec4 constantPath(vec4 c, float lengthMeters) {
+  float alpha = 1.0 - exp(-c.a * lengthMeters);
+  return vec4(c.rgb * alpha, alpha);
+}
+
+// The same for one step along which the value goes linearly from v0 (front) to v1 (back):
+// exact optical depth from the integral table; colour = the extinction-weighted mean colour
+// times the opacity. Below 0.05 field units of change the table's difference quotient loses
+// float precision, and the path is taken as the mean of its ends' classifications.
+vec4 linearPath(float v0, vec4 i0, vec4 c0, float v1, vec4 i1, vec4 c1) {
+  float dv = v1 - v0;
+  vec3 emission;
+  float tau;
+  if (abs(dv) > 0.05) {
+    tau = u_step * (i1.a - i0.a) / dv;
+    emission = u_step * (i1.rgb - i0.rgb) / dv;
+  } else {
+    tau = u_step * 0.5 * (c0.a + c1.a);
+    emission = u_step * 0.5 * (c0.rgb * c0.a + c1.rgb * c1.a);
+  }
+  tau = max(tau, 0.0);
+  float alpha = 1.0 - exp(-tau);
+  return vec4(tau > 1e-9 ? emission * (alpha / tau) : emission, alpha);
+}
+
+void composite(inout vec4 acc, vec4 premultiplied) {
+  acc.rgb += (1.0 - acc.a) * premultiplied.rgb;
+  acc.a += (1.0 - acc.a) * premultiplied.a;
+}
+
 // --- clipping: ray vs sphere and the band of straight elevations --------------------------
 vec2 sphereInterval(vec3 o, vec3 d, float radius) {
   float b = dot(o, d);
@@ -305,6 +351,14 @@ void main() {
   vec2 box = kSkipEmpty == 1 ? gridBoxInterval(oL, dL) : vec2(-1e30, 1e30);
 
   vec4 acc = vec4(0.0);
+  // Pre-integrated DVR: the last sample taken (index, echo, value, integrals, classification).
+  // A run of echo samples i..j stands for the path from t_i - step/2 to t_j + step/2, like the
+  // post-classified samples it replaces: half a step of constant classification at each end,
+  // a linear segment between neighbours.
+  int prevIndex = -2;
+  bool prevEcho = false;
+  float prevV = 0.0;
+  vec4 prevIntegral = vec4(0.0), prevC = vec4(0.0);
   float maxValue = -1e30;
   bool hit = false;
   float hitT = 0.0;
@@ -357,7 +411,22 @@ void main() {
       vec3 rae = antennaCoordinates(u_eyeRelSite + t * dir);
       float v;
       int state = samplePolar(rae, v);
-      if (kMode == 0) {
+      if (kMode == 0 && kPreintegrated == 1) {
+        bool echo = state == ECHO;
+        vec4 c = classify(v);
+        vec4 integral = tfIntegral(v);
+        bool adjacent = prevEcho && echo && i == prevIndex + 1;
+        // A run ends (this sample is not echo, or empty cells were skipped since the last one):
+        // the last sample's half step.
+        if (prevEcho && !adjacent) composite(acc, constantPath(prevC, 0.5 * u_step));
+        if (echo) composite(acc, adjacent ? linearPath(prevV, prevIntegral, prevC, v, integral, c) : constantPath(c, 0.5 * u_step));
+        prevIndex = i;
+        prevEcho = echo;
+        prevV = v;
+        prevIntegral = integral;
+        prevC = c;
+        if (acc.a >= u_earlyTermination) break;
+      } else if (kMode == 0) {
         if (state != ECHO) continue;
         vec4 c = classify(v);
         float alpha = c.a;  // corrected for the step length on the CPU (setUniforms)
@@ -386,6 +455,7 @@ void main() {
   }
 
   if (kMode == 0) {
+    if (kPreintegrated == 1 && prevEcho && acc.a < u_earlyTermination) composite(acc, constantPath(prevC, 0.5 * u_step));
     o_color = acc;
   } else if (kMode == 1) {
     if (maxValue > -1e29) {

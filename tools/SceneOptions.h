@@ -25,7 +25,7 @@ struct SceneOptions {
   // Radar volumes: one entry per --radar; each per-radar option is given once (applies to
   // every radar) or once per radar, in order.
   std::vector<std::string> radars;
-  std::vector<std::string> fields, colors, modes, interpolations, beams;
+  std::vector<std::string> fields, colors, modes, interpolations, beams, classifications;
   std::vector<double> steps, imageScales, isoValues;
   bool noGeoid = false;
 };

@@ -290,6 +290,8 @@ Result<std::unique_ptr<RadarVolumeRendererGL>> RadarVolumeRendererGL::create() {
   for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glSamplerParameteri(r->nearestSampler_, wrap, GL_CLAMP_TO_EDGE);
   r->transfer_ = makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(r->transfer_, 1, GL_RGBA32F, kTransferEntries, 1);
+  r->transferIntegral_ = makeTexture(GL_TEXTURE_2D, GL_LINEAR);
+  glTextureStorage2D(r->transferIntegral_, 1, GL_RGBA32F, kTransferEntries + 1, 1);
   // A 1x1 "nothing drawn" depth (0 = infinitely far in reverse-Z) for volume-only renders.
   r->emptyDepth_ = makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(r->emptyDepth_, 1, GL_R32F, 1, 1);
@@ -301,22 +303,25 @@ Result<std::unique_ptr<RadarVolumeRendererGL>> RadarVolumeRendererGL::create() {
 RadarVolumeRendererGL::~RadarVolumeRendererGL() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (transfer_) glDeleteTextures(1, &transfer_);
+  if (transferIntegral_) glDeleteTextures(1, &transferIntegral_);
   if (emptyDepth_) glDeleteTextures(1, &emptyDepth_);
   if (nearestSampler_) glDeleteSamplers(1, &nearestSampler_);
 }
 
-const ShaderProgramGL* RadarVolumeRendererGL::marchProgram(int mode, int interpolation, int beam, int skipEmpty) {
-  const int key = ((mode * 2 + interpolation) * 2 + beam) * 2 + skipEmpty;
+const ShaderProgramGL* RadarVolumeRendererGL::marchProgram(int mode, int interpolation, int beam, int skipEmpty,
+                                                          int preintegrated) {
+  const int key = (((mode * 2 + interpolation) * 2 + beam) * 2 + skipEmpty) * 2 + preintegrated;
   if (auto it = marchPrograms_.find(key); it != marchPrograms_.end()) return &it->second;
   if (marchErrors_.count(key)) return nullptr;
   auto program = ShaderProgramGL::create(
       "fullscreen.vert", "radar_march.frag",
       {"MARCH_MODE " + std::to_string(mode), "MARCH_INTERPOLATION " + std::to_string(interpolation),
-       "MARCH_BEAM " + std::to_string(beam), "MARCH_SKIP_EMPTY " + std::to_string(skipEmpty)});
+       "MARCH_BEAM " + std::to_string(beam), "MARCH_SKIP_EMPTY " + std::to_string(skipEmpty),
+       "MARCH_PREINTEGRATED " + std::to_string(preintegrated)});
   if (!program) {
     marchErrors_[key] = program.error();
-    std::fprintf(stderr, "radar_march.frag variant (mode %d, interpolation %d, beam %d, skip %d): %s\n", mode,
-                 interpolation, beam, skipEmpty, program.error().c_str());
+    std::fprintf(stderr, "radar_march.frag variant (mode %d, interpolation %d, beam %d, skip %d, preintegrated %d): %s\n",
+                 mode, interpolation, beam, skipEmpty, preintegrated, program.error().c_str());
     return nullptr;
   }
   return &marchPrograms_.emplace(key, std::move(*program)).first->second;
@@ -338,8 +343,10 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const volume::PolarVolume& v = gl.polar();
   const volume::VolumeRenderSettings& rs = options.render;
   const int mode = rs.mode == volume::VolumeRenderMode::Dvr ? 0 : rs.mode == volume::VolumeRenderMode::Mip ? 1 : 2;
+  const bool preintegrated = !debugMode && mode == 0 && options.classification == Classification::Preintegrated;
   march_ = marchProgram(debugMode ? 3 : mode, rs.interpolation == volume::Interpolation::Nearest ? 0 : 1,
-                        options.beam == BeamApproximation::StraightLine ? 1 : 0, options.skipEmptySpace ? 1 : 0);
+                        options.beam == BeamApproximation::StraightLine ? 1 : 0, options.skipEmptySpace ? 1 : 0,
+                        preintegrated ? 1 : 0);
   if (!march_) return false;
   const GLuint p = march_->id();
   march_->use();
@@ -415,23 +422,36 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   const double tfLo = std::min<double>(v.minValue, rs.isoValue) - 1.0;
   const double tfHi = std::max<double>(v.maxValue, rs.isoValue) + 1.0;
   // For DVR the opacity is already corrected for the step (1 - (1 - alpha)^(step / reference),
-  // in double here instead of a pow per sample on the GPU); MIP and iso use the table's alpha.
+  // in double here instead of a pow per sample on the GPU); pre-integrated DVR takes the
+  // extinction per metre instead (the shader needs paths of a step and of half a step) and the
+  // cumulative integrals; MIP and iso use the table's alpha.
   std::vector<glm::vec4> table(kTransferEntries);
   const double stepRatio = rs.stepMeters / rs.transfer.opacityReferenceMeters;
   for (int i = 0; i < kTransferEntries; ++i) {
     const double value = tfLo + (i + 0.5) / kTransferEntries * (tfHi - tfLo);
     glm::dvec4 c = rs.transfer.classify(value);
-    if (mode == 0) c.a = 1.0 - std::pow(std::max(1.0 - c.a, 0.0), stepRatio);
+    if (preintegrated) {
+      c.a = rs.transfer.extinctionPerMeter(c.a);
+    } else if (mode == 0) {
+      c.a = 1.0 - std::pow(std::max(1.0 - c.a, 0.0), stepRatio);
+    }
     table[i] = glm::vec4(c);
   }
   glTextureSubImage2D(transfer_, 0, 0, 0, kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
+  if (preintegrated) {
+    const std::vector<glm::dvec4> integral = volume::transferIntegralTable(rs.transfer, tfLo, tfHi, kTransferEntries);
+    const std::vector<glm::vec4> narrowed(integral.begin(), integral.end());
+    glTextureSubImage2D(transferIntegral_, 0, 0, 0, kTransferEntries + 1, 1, GL_RGBA, GL_FLOAT, narrowed.data());
+  }
   glUniform2f(glGetUniformLocation(p, "u_tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
 
   glUniform2fv(glGetUniformLocation(p, "u_elLookupRange"), 1, glm::value_ptr(gl.elLookupRange_));
   glUniform2f(glGetUniformLocation(p, "u_valuesInvSize"), 1.0f / gl.valuesSize_.x, 1.0f / gl.valuesSize_.y);
-  const GLuint textures[] = {gl.values_, gl.rayTable_, gl.coarse_, transfer_, depthTexture, gl.elLookup_, gl.blocks_};
-  const char* names[] = {"u_values", "u_rayTable", "u_grid", "u_transfer", "u_globeDepth", "u_elLookup", "u_gridBlocks"};
-  for (int i = 0; i < 7; ++i) {
+  const GLuint textures[] = {gl.values_,   gl.rayTable_, gl.coarse_, transfer_, depthTexture, gl.elLookup_, gl.blocks_,
+                             transferIntegral_};
+  const char* names[] = {"u_values",   "u_rayTable",   "u_grid",       "u_transfer",
+                         "u_globeDepth", "u_elLookup", "u_gridBlocks", "u_tfIntegral"};
+  for (int i = 0; i < 8; ++i) {
     glBindTextureUnit(static_cast<GLuint>(i), textures[i]);
     glUniform1i(glGetUniformLocation(p, names[i]), i);
   }

@@ -148,7 +148,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     for (const json& r : root["radars"]) {
       const std::string where = sourceName + ": radars[" + std::to_string(i++) + "]";
       if (auto s = checkKeys(r, {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
-                                 "beam", "label", "geoid"},
+                                 "beam", "classification", "label", "geoid"},
                              where);
           !s) {
         return makeError(s.error());
@@ -158,7 +158,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
       for (auto [key, out] : {std::pair<const char*, std::string*>{"field", &d.field}, {"colors", &d.colors},
                               {"mode", &d.mode}, {"interpolation", &d.interpolation}, {"beam", &d.beam},
-                              {"label", &d.label}}) {
+                              {"classification", &d.classification}, {"label", &d.label}}) {
         if (!r.contains(key)) continue;
         if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
         *out = r[key].get<std::string>();
@@ -192,6 +192,9 @@ Status validateRadarLayer(const RadarLayerDescription& d, const std::string& whe
   }
   if (d.beam != "4/3" && d.beam != "straight") {
     return makeError(where + ": beam must be \"4/3\" or \"straight\", not \"" + d.beam + "\"");
+  }
+  if (d.classification != "point" && d.classification != "preintegrated") {
+    return makeError(where + ": classification must be point or preintegrated, not \"" + d.classification + "\"");
   }
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e5)) return makeError(where + ": step must be in 1..100000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");

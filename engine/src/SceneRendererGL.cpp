@@ -44,6 +44,7 @@ Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
   }
   o.imageScale = d.imageScale;
   o.beam = d.beam == "straight" ? BeamApproximation::StraightLine : BeamApproximation::EffectiveEarthLocalSphere;
+  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
   return o;
 }
 

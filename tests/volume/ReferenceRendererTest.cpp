@@ -94,6 +94,38 @@ TEST(TransferFunction, ClassifyAndOpacityCorrection) {
   EXPECT_EQ(tf.correctedOpacity(0.0, 10.0), 0.0);
 }
 
+
+TEST(TransferFunction, ExtinctionAndIntegralTable) {
+  const TransferFunction tf = defaultReflectivityTransfer();
+  // 0.8 per 1000 m -> -ln(0.2) / 1000 per metre, and a 250 m path has the corrected opacity.
+  const double sigma = tf.extinctionPerMeter(0.8);
+  EXPECT_NEAR(sigma, -std::log(0.2) / 1000.0, 1e-18);
+  EXPECT_NEAR(1.0 - std::exp(-sigma * 250.0), tf.correctedOpacity(0.8, 250.0), 1e-15);
+  EXPECT_EQ(tf.extinctionPerMeter(0.0), 0.0);
+  EXPECT_TRUE(std::isfinite(tf.extinctionPerMeter(1.0)));  // opaque: clamped, not infinite
+
+  // Over [0, 100] dBZ in 400 bins of 0.25 dBZ (bin centres never on a colour-band edge).
+  const std::vector<glm::dvec4> table = transferIntegralTable(tf, 0.0, 100.0, 400);
+  ASSERT_EQ(table.size(), 401u);
+  EXPECT_EQ(table[0], glm::dvec4(0.0));
+  // Below the zero-opacity value (10 dBZ = edge 40) nothing accumulates.
+  EXPECT_EQ(table[40], glm::dvec4(0.0));
+  // Between two edges above the full-opacity value (60 dBZ) the slope of the extinction
+  // integral is the constant extinction, and of the colour integral extinction * colour.
+  const double perBin = 0.25;
+  for (int k = 261; k < 279; ++k) {  // 65.25 .. 69.75 dBZ
+    const glm::dvec4 c = tf.classify((k + 0.5) * perBin);
+    EXPECT_NEAR((table[k + 1].a - table[k].a) / perBin, sigma, 1e-15) << k;
+    EXPECT_NEAR((table[k + 1].r - table[k].r) / perBin, sigma * c.r, 1e-15) << k;
+  }
+  // Monotone in the extinction integral, and the total equals the sum over bin centres.
+  double sum = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    EXPECT_LE(table[k].a, table[k + 1].a);
+    sum += tf.extinctionPerMeter(tf.classify((k + 0.5) * perBin).a) * perBin;
+  }
+  EXPECT_NEAR(table[400].a, sum, 1e-15);
+}
 // --- Image comparison, worked by hand.
 TEST(ReferenceRenderer, CompareImages) {
   VolumeImage a;

@@ -24,6 +24,22 @@ double TransferFunction::correctedOpacity(double alpha, double stepMeters) const
   return 1.0 - std::pow(1.0 - a, stepMeters / opacityReferenceMeters);
 }
 
+double TransferFunction::extinctionPerMeter(double alpha) const {
+  const double a = std::clamp(alpha, 0.0, 1.0 - 1e-6);
+  return -std::log1p(-a) / opacityReferenceMeters;
+}
+
+std::vector<glm::dvec4> transferIntegralTable(const TransferFunction& tf, double lo, double hi, int bins) {
+  std::vector<glm::dvec4> table(static_cast<std::size_t>(std::max(bins, 1)) + 1, glm::dvec4(0.0));
+  const double width = (hi - lo) / bins;
+  for (int k = 0; k < bins; ++k) {
+    const glm::dvec4 c = tf.classify(lo + (k + 0.5) * width);
+    const double sigma = tf.extinctionPerMeter(c.a);
+    table[k + 1] = table[k] + glm::dvec4(glm::dvec3(c) * sigma * width, sigma * width);
+  }
+  return table;
+}
+
 TransferFunction defaultReflectivityTransfer() {
   TransferFunction tf;
   tf.colors = nwsReflectivityTable();

@@ -29,11 +29,18 @@ enum class BeamApproximation {
   StraightLine,
 };
 
+/// How DVR classifies the field between samples.
+enum class Classification {
+  Point,          ///< each sample alone, over one step (post-classification; what the reference does at 100 m)
+  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity (volume::transferIntegralTable)
+};
+
 struct RadarRenderOptions {
   volume::VolumeRenderSettings render;  ///< mode, interpolation, step, transfer, iso, termination
   double imageScale = 1.0;              ///< volume image resolution relative to the frame (0.1..1)
   BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;
   bool skipEmptySpace = true;           ///< jump over cells of the ENU max grid that cannot contribute
+  Classification classification = Classification::Point;  ///< DVR only
 };
 
 /// The reference renderer's camera for an engine camera (same convention, plain data).
@@ -94,7 +101,7 @@ class RadarVolumeRendererGL {
   /// The march program specialised for mode (0 DVR, 1 MIP, 2 iso, 3 debug), interpolation
   /// (0 nearest, 1 linear), beam (0 4/3-Earth, 1 straight) and empty-space skipping (0/1):
   /// compiled on first use and kept. Null with the compile log on stderr (once) if it fails.
-  const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty);
+  const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty, int preintegrated = 0);
 
  private:
   RadarVolumeRendererGL() = default;
@@ -110,6 +117,7 @@ class RadarVolumeRendererGL {
   ShaderProgramGL composite_;
   GLuint vao_ = 0;
   GLuint transfer_ = 0;
+  GLuint transferIntegral_ = 0;  ///< pre-integrated DVR: volume::transferIntegralTable, linear filter
   GLuint nearestSampler_ = 0;  ///< for the values texture with --interpolation nearest (its own filter is linear)
   std::unique_ptr<FramebufferGL> volumeTarget_;
   GLenum volumeFormat_ = 0;

@@ -15,7 +15,7 @@
 //   "stations": "stations.csv",                                // CSV or JSON station list
 //   "radars":  [{"path": "KLBB.ar2v", "field": "REF", "colors": "NWS", "mode": "dvr",
 //                "interpolation": "linear", "step_m": 250, "image_scale": 1.0,
-//                "iso_dbz": 40, "beam": "4/3", "label": "KLBB"}]
+//                "iso_dbz": 40, "beam": "4/3", "classification": "point", "label": "KLBB"}]
 // }
 // Relative paths are relative to the scene file's directory; "@data/" stands for the
 // directory of generated default data (ATMOGLOBE_DATA_DIR).
@@ -56,6 +56,7 @@ struct RadarLayerDescription {
   double imageScale = 1.0;
   double isoValue = 40.0;
   std::string beam = "4/3";         ///< "4/3" (effective Earth) or "straight"
+  std::string classification = "point";  ///< DVR: "point" or "preintegrated" (RadarRenderOptions::classification)
   std::string label;                ///< site marker label; empty: the site name from the file
   bool useGeoid = true;
 };
@@ -72,7 +73,7 @@ struct SceneDescription {
   std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
 };
 
-/// Checks the enumerated fields of a radar layer (mode, interpolation, beam, step, scale).
+/// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).
 Status validateRadarLayer(const RadarLayerDescription& radar, const std::string& where);
 
 /// Parses and validates a JSON scene. `sourceName` names it in messages; `baseDir`

@@ -13,6 +13,8 @@
 
 #include <glm/glm.hpp>
 
+#include <vector>
+
 namespace atmoglobe::volume {
 
 struct TransferFunction {
@@ -31,7 +33,27 @@ struct TransferFunction {
   /// Opacity of a step of `stepMeters` (m) for an opacity `alpha` per reference length:
   /// 1 - (1 - alpha)^(stepMeters / opacityReferenceMeters); alpha clamped to [0, 1]. Exact.
   double correctedOpacity(double alpha, double stepMeters) const;
+
+  /// Extinction coefficient (1/m) of an opacity `alpha` per reference length:
+  /// -ln(1 - alpha) / opacityReferenceMeters, so that a path of s metres has opacity
+  /// 1 - exp(-extinction * s) = correctedOpacity(alpha, s). alpha is clamped to [0, 1 - 1e-6]
+  /// (an opaque entry becomes optical depth 13.8 per reference length).
+  double extinctionPerMeter(double alpha) const;
 };
+
+/// Cumulative integrals over the value, for pre-integrated classification of linear segments
+/// (the GPU marcher's `--classification preintegrated`). The range [lo, hi] is cut into `bins`
+/// equal bins classified at their centre values (as the engine's point table is); entry k,
+/// k = 0..bins, holds over [lo, lo + k (hi - lo) / bins]
+///   rgb: integral of extinction(v) * colour(v) dv,   a: integral of extinction(v) dv
+/// (extinction in 1/m, v in field units). A path of length d along which the value goes
+/// linearly from v0 to v1 then has the optical depth tau = d (A(v1) - A(v0)) / (v1 - v0)
+/// exactly for this piecewise-constant classification, A being the table interpolated
+/// linearly; its colour is approximated by the extinction-weighted mean colour times the
+/// opacity 1 - exp(-tau) (exact when the colour is constant along the path; the error of the
+/// approximation is measured against the CPU reference in docs/bench-volume.md).
+/// Requires bins >= 1 and hi > lo.
+std::vector<glm::dvec4> transferIntegralTable(const TransferFunction& tf, double lo, double hi, int bins);
 
 /// NWS reflectivity colours (nwsReflectivityTable), opacity ramp 10 dBZ -> 60 dBZ, 0.8 per km.
 TransferFunction defaultReflectivityTransfer();
