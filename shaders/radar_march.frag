@@ -236,13 +236,15 @@ vec4 constantPath(vec4 c, float lengthMeters) {
 
 // The same for one step along which the value goes linearly from v0 (front) to v1 (back):
 // exact optical depth from the integral table; colour = the extinction-weighted mean colour
-// times the opacity. Below 0.05 field units of change the table's difference quotient loses
-// float precision, and the path is taken as the mean of its ends' classifications.
+// times the opacity. Below a change of 1e-4 of the table's value range (0.013 dBZ for
+// reflectivity) the table's difference quotient loses float precision (its integrals carry a
+// relative error of ~1e-7 of the whole range), and the path is taken as the mean of its ends'
+// classifications.
 vec4 linearPath(float v0, vec4 i0, vec4 c0, float v1, vec4 i1, vec4 c1) {
   float dv = v1 - v0;
   vec3 emission;
   float tau;
-  if (abs(dv) > 0.05) {
+  if (abs(dv) > 1e-4 * (u_tfRange.y - u_tfRange.x)) {
     tau = u_step * (i1.a - i0.a) / dv;
     emission = u_step * (i1.rgb - i0.rgb) / dv;
   } else {
@@ -366,7 +368,7 @@ void main() {
   // samples in a gap between two pieces (the cone of silence above the antenna) are outside
   // every beam, so they add nothing, and the empty-space grid skips them. One loop, because
   // llvmpipe runs a loop's whole body at least once even when no lane enters it: a loop per
-  // piece cost 7 ms of a 16 ms top-down frame (docs/bench-volume.md).
+  // piece cost 7 ms of a 16-17 ms top-down frame (docs/bench-volume.md).
   float a = 1e30, b = -1e30;
   extendInBand(oL, dL, span.x, c0, a, b);
   extendInBand(oL, dL, c0, c1, a, b);
@@ -412,7 +414,10 @@ void main() {
       float v;
       int state = samplePolar(rae, v);
       if (kMode == 0 && kPreintegrated == 1) {
-        bool echo = state == ECHO;
+        // A run is made of echo samples above the zero-opacity value: the samples the empty-space
+        // grid may skip are all at or below it, so the runs, and the picture, do not depend on
+        // whether skipping is on.
+        bool echo = state == ECHO && v > u_opacityZeroValue;
         vec4 c = classify(v);
         vec4 integral = tfIntegral(v);
         bool adjacent = prevEcho && echo && i == prevIndex + 1;

@@ -618,20 +618,6 @@ int runBench(const BenchOptions& o) {
   fs::create_directories(fs::path(o.outDir) / "reference-cache", ec);
   if (ec) return fail("bench", o.outDir + ": cannot create directory: " + ec.message());
 
-  // --reference-only: no GL at all (fills the reference cache, e.g. on a many-core machine).
-  std::unique_ptr<engine::HeadlessContextGL> context;
-  std::unique_ptr<engine::RadarVolumeRendererGL> renderer;
-  std::string glName = "none";
-  if (!o.referenceOnly) {
-    auto c = engine::HeadlessContextGL::create();
-    if (!c) return fail("bench", c.error());
-    context = std::move(*c);
-    glName = context->describe();
-    auto r = engine::RadarVolumeRendererGL::create();
-    if (!r) return fail("bench", r.error());
-    renderer = std::move(*r);
-  }
-
   // --view names, checked before anything is loaded.
   const std::vector<std::string> knownViews = o.quick ? std::vector<std::string>{"KLBB-oblique"}
                                                       : std::vector<std::string>{"KLBB-oblique", "KLBB-down", "AU40-oblique", "AU40-down"};
@@ -645,6 +631,20 @@ int runBench(const BenchOptions& o) {
   auto wanted = [&](const std::string& view) {
     return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
   };
+
+  // --reference-only: no GL at all (fills the reference cache, e.g. on a many-core machine).
+  std::unique_ptr<engine::HeadlessContextGL> context;
+  std::unique_ptr<engine::RadarVolumeRendererGL> renderer;
+  std::string glName = "none";
+  if (!o.referenceOnly) {
+    auto c = engine::HeadlessContextGL::create();
+    if (!c) return fail("bench", c.error());
+    context = std::move(*c);
+    glName = context->describe();
+    auto r = engine::RadarVolumeRendererGL::create();
+    if (!r) return fail("bench", r.error());
+    renderer = std::move(*r);
+  }
 
   // Volumes (only those a chosen view shows).
   std::vector<std::unique_ptr<BenchVolume>> volumes;
@@ -680,7 +680,11 @@ int runBench(const BenchOptions& o) {
   std::vector<double> steps = {125.0, 250.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0};
   std::vector<double> scales = {1.0, 0.5, 0.25};
   if (o.quick) steps = {250.0, 1000.0}, scales = {1.0, 0.5};
-  if (!o.stepsMeters.empty()) steps = o.stepsMeters;
+  if (!o.stepsMeters.empty()) {
+    steps = o.stepsMeters;
+    std::sort(steps.begin(), steps.end());
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+  }
   std::vector<Cell> cells;
   for (double step : steps)
     for (double scale : scales)
@@ -811,7 +815,8 @@ int runBench(const BenchOptions& o) {
     for (const Row& r : rows) {
       csv << r.view << "," << r.volume << "," << modeName(r.cell.mode) << "," << r.cell.stepMeters << ","
           << r.cell.imageScale << "," << interpName(r.cell.interpolation) << "," << beamName(r.cell.beam) << ","
-          << classificationName(r.cell.classification) << "," << r.widthPx << "," << r.heightPx << "," << fmt(r.medianMs, 5) << "," << fmt(r.error.meanAbs, 5) << ","
+          << (r.cell.mode == volume::VolumeRenderMode::Dvr ? classificationName(r.cell.classification) : "-") << ","
+          << r.widthPx << "," << r.heightPx << "," << fmt(r.medianMs, 5) << "," << fmt(r.error.meanAbs, 5) << ","
           << fmt(r.error.maxAbs, 5) << "," << fmt(r.error.psnrDb, 5) << "," << (isEngineDefault(r.cell) ? 1 : 0)
           << "\n";
     }
