@@ -45,7 +45,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   g->add_option("--beam", o.beams, "Beam model: 4/3 (default) or straight");
   g->add_option("--classification", o.classifications,
                 "DVR between samples: point (default; each sample over one step) or preintegrated (neighbouring "
-                "samples as a linear segment: lower error at any step for 7-12 % more time)");
+                "samples as a linear segment: lower error at any step for 5-12 % more time)");
   g->add_flag("--no-geoid", o.noGeoid, "Take antenna heights as ellipsoidal (no EGM96 conversion)");
 }
 
