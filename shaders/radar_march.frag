@@ -433,10 +433,8 @@ void main() {
         if (acc.a >= u_earlyTermination) break;
       } else if (kMode == 0) {
         if (state != ECHO) continue;
-        vec4 c = classify(v);
-        float alpha = c.a;  // corrected for the step length on the CPU (setUniforms)
-        acc.rgb += (1.0 - acc.a) * alpha * c.rgb;
-        acc.a += (1.0 - acc.a) * alpha;
+        vec4 c = classify(v);  // alpha corrected for the step length on the CPU (setUniforms)
+        composite(acc, vec4(c.a * c.rgb, c.a));
         if (acc.a >= u_earlyTermination) break;
       } else if (kMode == 1) {
         if (state == ECHO) maxValue = max(maxValue, v);

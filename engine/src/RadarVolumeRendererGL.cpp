@@ -426,14 +426,13 @@ bool RadarVolumeRendererGL::setUniforms(const Camera& camera, const RadarVolumeG
   // extinction per metre instead (the shader needs paths of a step and of half a step) and the
   // cumulative integrals; MIP and iso use the table's alpha.
   std::vector<glm::vec4> table(kTransferEntries);
-  const double stepRatio = rs.stepMeters / rs.transfer.opacityReferenceMeters;
   for (int i = 0; i < kTransferEntries; ++i) {
     const double value = tfLo + (i + 0.5) / kTransferEntries * (tfHi - tfLo);
     glm::dvec4 c = rs.transfer.classify(value);
     if (preintegrated) {
       c.a = rs.transfer.extinctionPerMeter(c.a);
     } else if (mode == 0) {
-      c.a = 1.0 - std::pow(std::max(1.0 - c.a, 0.0), stepRatio);
+      c.a = rs.transfer.correctedOpacity(c.a, rs.stepMeters);
     }
     table[i] = glm::vec4(c);
   }

@@ -100,7 +100,8 @@ class RadarVolumeRendererGL {
 
   /// The march program specialised for mode (0 DVR, 1 MIP, 2 iso, 3 debug), interpolation
   /// (0 nearest, 1 linear), beam (0 4/3-Earth, 1 straight), empty-space skipping (0/1) and,
-  /// for DVR, classification (0 point, 1 pre-integrated): compiled on first use and kept. Null with the compile log on stderr (once) if it fails.
+  /// for DVR, classification (0 point, 1 pre-integrated): compiled on first use and kept. Null
+  /// with the compile log on stderr (once) if it fails.
   const ShaderProgramGL* marchProgram(int mode, int interpolation, int beam, int skipEmpty, int preintegrated = 0);
 
  private:
