@@ -82,15 +82,15 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
                      std::vector<engine::Marker>* markers) {
   for (const engine::RadarLayerDescription& d : scene.radars) {
     auto layer = renderer.addRadar(d);
-    if (!layer) return makeError(layer.error());
+    if (!layer) return layer.forwardError();
     std::cerr << d.path << ": " << (*layer)->datumNote << "\n";
   }
   for (const std::string& m : scene.models) {
-    if (auto st = renderer.addModel(m); !st) return makeError(st.error());
+    if (auto st = renderer.addModel(m); !st) return st.forwardError();
   }
   if (!scene.stationsPath.empty()) {
     auto stations = volume::readStationList(scene.stationsPath);
-    if (!stations) return makeError(stations.error());
+    if (!stations) return stations.forwardError();
     const auto& geoid = volume::defaultEgm96Grid();
     for (const volume::Station& s : *stations) {
       engine::Marker m;
@@ -109,7 +109,7 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text) {
   auto v = parseNumbers(text, 3, 6, "--camera");
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   engine::CameraPose pose;
   pose.latDeg = (*v)[0];
   pose.lonDeg = (*v)[1];
@@ -148,7 +148,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (!scene) return scene;
   if (!o.camera.empty()) {
     auto pose = parseCameraPose(o.camera);
-    if (!pose) return makeError(pose.error());
+    if (!pose) return pose.forwardError();
     scene->camera = *pose;
   }
   if (o.fovDeg != 0.0) {
@@ -156,7 +156,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     scene->fovYDeg = o.fovDeg;
   }
   if (!o.size.empty()) {
-    if (auto s = parseSize(o.size, &scene->widthPx, &scene->heightPx); !s) return makeError(s.error());
+    if (auto s = parseSize(o.size, &scene->widthPx, &scene->heightPx); !s) return s.forwardError();
   }
   if (!o.imageryDirs.empty()) {
     scene->imagery.clear();
@@ -175,14 +175,14 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       label = m.substr(pos + 1);
     }
     auto v = parseNumbers(numbers, 2, 3, "--marker");
-    if (!v) return makeError(v.error());
+    if (!v) return v.forwardError();
     engine::Marker marker;
     marker.latDeg = (*v)[0];
     marker.lonDeg = (*v)[1];
     marker.heightMeters = v->size() > 2 ? (*v)[2] : 0.0;
     marker.label = label;
     if (auto s = globe::validateGeodetic({marker.latDeg, marker.lonDeg, marker.heightMeters}, "--marker"); !s) {
-      return makeError(s.error());
+      return s.forwardError();
     }
     scene->markers.push_back(marker);
   }
@@ -212,9 +212,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
                              pick(o.beams, "--beam", i, d.beam), pick(o.classifications, "--classification", i, d.classification),
                              pick(o.steps, "--step", i, d.stepMeters),
                              pick(o.imageScales, "--image-scale", i, d.imageScale), pick(o.isoValues, "--iso", i, d.isoValue)}) {
-      if (!st) return makeError(st.error());
+      if (!st) return st.forwardError();
     }
-    if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return makeError(st.error());
+    if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return st.forwardError();
     scene->radars.push_back(d);
   }
   for (const auto& layer : scene->imagery) {

@@ -44,7 +44,7 @@ std::shared_ptr<GlobeRendererGL::MeshGL> uploadMesh(const globe::TileMesh& mesh)
 Result<std::unique_ptr<GlobeRendererGL>> GlobeRendererGL::create(std::shared_ptr<globe::TileImageLoader> loader,
                                                                  const GlobeRenderOptions& options) {
   auto program = ShaderProgramGL::create("globe.vert", "globe.frag");
-  if (!program) return makeError(program.error());
+  if (!program) return program.forwardError();
   std::unique_ptr<GlobeRendererGL> r(new GlobeRendererGL());
   r->loader_ = std::move(loader);
   r->options_ = options;

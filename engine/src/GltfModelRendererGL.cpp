@@ -49,7 +49,7 @@ Result<std::unique_ptr<GltfModelRendererGL>> GltfModelRendererGL::load(const std
     return makeError(path + ": not a readable glTF binary: " + (err.empty() ? "unknown error" : err));
   }
   auto program = ShaderProgramGL::create("globe.vert", "model.frag");
-  if (!program) return makeError(program.error());
+  if (!program) return program.forwardError();
   std::unique_ptr<GltfModelRendererGL> r(new GltfModelRendererGL());
   r->program_ = std::move(*program);
   // glTF Y-up Earth-fixed -> ECEF (the 3D Tiles y-up to z-up rotation): (x, y, z) -> (x, -z, y).

@@ -22,7 +22,7 @@ Result<std::unique_ptr<MarkerRendererGL>> MarkerRendererGL::create(MarkerStyle s
   std::vector<std::string> defines;
   if (style == MarkerStyle::Disc) defines.push_back("MARKER_RIM");
   auto program = ShaderProgramGL::create("marker.vert", "marker.frag", defines);
-  if (!program) return makeError(program.error());
+  if (!program) return program.forwardError();
   std::unique_ptr<MarkerRendererGL> r(new MarkerRendererGL());
   r->style_ = style;
   r->program_ = std::move(*program);
@@ -33,7 +33,7 @@ Result<std::unique_ptr<MarkerRendererGL>> MarkerRendererGL::create(MarkerStyle s
   floatAttributeGL(r->vao_, 1, 4, offsetof(MarkerVertex, color));
   floatAttributeGL(r->vao_, 2, 1, offsetof(MarkerVertex, sizePx));
   auto labels = ShaderProgramGL::create("label.vert", "label.frag");
-  if (!labels) return makeError(labels.error());
+  if (!labels) return labels.forwardError();
   r->labelProgram_ = std::move(*labels);
   glCreateVertexArrays(1, &r->labelVao_);
   glCreateBuffers(1, &r->labelVbo_);

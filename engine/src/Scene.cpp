@@ -49,14 +49,14 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   }
   if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "stations"}, sourceName);
       !s) {
-    return makeError(s.error());
+    return s.forwardError();
   }
   SceneDescription scene;
   if (root.contains("camera")) {
     const json& c = root["camera"];
     const std::string where = sourceName + ": camera";
     if (auto s = checkKeys(c, {"lat_deg", "lon_deg", "height_m", "heading_deg", "pitch_deg", "roll_deg"}, where); !s) {
-      return makeError(s.error());
+      return s.forwardError();
     }
     const std::pair<const char*, double*> fields[] = {
         {"lat_deg", &scene.camera.latDeg},         {"lon_deg", &scene.camera.lonDeg},
@@ -64,14 +64,14 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
         {"pitch_deg", &scene.camera.pitchDeg},     {"roll_deg", &scene.camera.rollDeg}};
     for (auto [key, out] : fields) {
       auto v = number(c, key, *out, where);
-      if (!v) return makeError(v.error());
+      if (!v) return v.forwardError();
       *out = *v;
     }
     if (auto s = validatePose(scene.camera); !s) return makeError(sourceName + ": " + s.error());
   }
   {
     auto fov = number(root, "fov_deg", scene.fovYDeg, sourceName);
-    if (!fov) return makeError(fov.error());
+    if (!fov) return fov.forwardError();
     if (*fov <= 0.0 || *fov >= 180.0) return makeError(sourceName + ": fov_deg must be in (0, 180)");
     scene.fovYDeg = *fov;
   }
@@ -90,7 +90,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     int i = 0;
     for (const json& layer : root["imagery"]) {
       const std::string where = sourceName + ": imagery[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(layer, {"type", "path"}, where); !s) return makeError(s.error());
+      if (auto s = checkKeys(layer, {"type", "path"}, where); !s) return s.forwardError();
       if (!layer.contains("path") || !layer["path"].is_string()) return makeError(where + ": needs a \"path\" string");
       ImageryLayerDescription d;
       const std::string type = layer.value("type", std::string("pyramid"));
@@ -107,7 +107,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     for (const json& m : root["markers"]) {
       const std::string where = sourceName + ": markers[" + std::to_string(i++) + "]";
       if (auto s = checkKeys(m, {"lat_deg", "lon_deg", "height_m", "label", "color", "size_px"}, where); !s) {
-        return makeError(s.error());
+        return s.forwardError();
       }
       if (!m.contains("lat_deg") || !m.contains("lon_deg")) return makeError(where + ": needs lat_deg and lon_deg");
       Marker marker;
@@ -121,7 +121,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       marker.heightMeters = *h;
       marker.sizePx = static_cast<float>(*size);
       if (auto s = globe::validateGeodetic({marker.latDeg, marker.lonDeg, marker.heightMeters}, where.c_str()); !s) {
-        return makeError(s.error());
+        return s.forwardError();
       }
       if (marker.sizePx < 1.0f || marker.sizePx > 256.0f) return makeError(where + ": size_px must be in 1..256");
       if (m.contains("label")) {
@@ -151,7 +151,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
                                  "beam", "classification", "label", "geoid"},
                              where);
           !s) {
-        return makeError(s.error());
+        return s.forwardError();
       }
       RadarLayerDescription d;
       if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
@@ -169,14 +169,14 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters}, {"image_scale", &d.imageScale},
                               {"iso_dbz", &d.isoValue}}) {
         auto v = number(r, key, *out, where);
-        if (!v) return makeError(v.error());
+        if (!v) return v.forwardError();
         *out = *v;
       }
       if (r.contains("geoid")) {
         if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
         d.useGeoid = r["geoid"].get<bool>();
       }
-      if (auto s = validateRadarLayer(d, where); !s) return makeError(s.error());
+      if (auto s = validateRadarLayer(d, where); !s) return s.forwardError();
       scene.radars.push_back(d);
     }
   }

@@ -24,7 +24,7 @@ Result<std::string> loadShaderSource(std::string_view fileName) {
 namespace {
 Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::vector<std::string>& defines) {
   auto source = loadShaderSource(fileName);
-  if (!source) return makeError(source.error());
+  if (!source) return source.forwardError();
   std::string text = "#version 450 core\n";
   for (const std::string& d : defines) text += "#define " + d + "\n";
   text += "#line 1\n";
@@ -50,11 +50,11 @@ Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::
 Result<ShaderProgramGL> ShaderProgramGL::create(std::string_view vertexFile, std::string_view fragmentFile,
                                                 const std::vector<std::string>& defines) {
   auto vs = compileStage(GL_VERTEX_SHADER, vertexFile, defines);
-  if (!vs) return makeError(vs.error());
+  if (!vs) return vs.forwardError();
   auto fs = compileStage(GL_FRAGMENT_SHADER, fragmentFile, defines);
   if (!fs) {
     glDeleteShader(*vs);
-    return makeError(fs.error());
+    return fs.forwardError();
   }
   ShaderProgramGL program;
   program.id_ = glCreateProgram();

@@ -138,7 +138,7 @@ Status install(const fs::path& tmp, const fs::path& out) {
   // Move the old pyramid aside (renaming a directory over an empty one is allowed), put the
   // new one in place, then delete the old one.
   Result<fs::path> old = makeTempDir(out.string() + ".old-");
-  if (!old) return makeError(old.error());
+  if (!old) return old.forwardError();
   fs::rename(out, *old, ec);
   if (ec) {
     fs::remove(*old);
@@ -175,7 +175,7 @@ Status buildPyramid(const std::string& imagePath, const std::string& outDir, con
                      std::to_string(kMaxPyramidLevel));
   }
   Result<ImageRGBA8> source = decodeImageFile(imagePath);
-  if (!source) return makeError(source.error());
+  if (!source) return source.forwardError();
   const int w = source->width, h = source->height;
   if (std::abs(w - 2 * h) > 1) {
     return makeError(imagePath + ": not an equirectangular world image: " + std::to_string(w) + " x " +
@@ -199,7 +199,7 @@ Status buildPyramid(const std::string& imagePath, const std::string& outDir, con
   info.source = fs::path(imagePath).filename().string();
 
   Result<fs::path> tmp = makeTempDir(out.string() + ".tmp-");
-  if (!tmp) return makeError(tmp.error());
+  if (!tmp) return tmp.forwardError();
   auto fail = [&](Status s) {
     std::error_code ignored;
     fs::remove_all(*tmp, ignored);
@@ -258,7 +258,7 @@ Result<PyramidInfo> readPyramidInfo(const std::string& dir) {
 
 Result<std::shared_ptr<GeographicPyramidLayer>> GeographicPyramidLayer::open(const std::string& dir) {
   Result<PyramidInfo> info = readPyramidInfo(dir);
-  if (!info) return makeError(info.error());
+  if (!info) return info.forwardError();
   return std::shared_ptr<GeographicPyramidLayer>(new GeographicPyramidLayer(normalizedDir(dir).string(), *info));
 }
 
@@ -275,7 +275,7 @@ Result<std::shared_ptr<const ImageRGBA8>> GeographicPyramidLayer::loadStoredTile
   std::error_code ec;
   if (!fs::exists(path, ec)) return std::shared_ptr<const ImageRGBA8>{};
   Result<ImageRGBA8> image = decodeImageFile(path);
-  if (!image) return makeError(image.error());
+  if (!image) return image.forwardError();
   if (image->width != kTileSizePx || image->height != kTileSizePx) {
     return makeError(path + ": tile is " + std::to_string(image->width) + " x " + std::to_string(image->height) +
                      " px, expected " + std::to_string(kTileSizePx) + " x " + std::to_string(kTileSizePx));
@@ -287,7 +287,7 @@ Result<std::optional<ImageRGBA8>> GeographicPyramidLayer::tileImage(const TileId
   assert(isValid(t));
   if (t.level <= info_.maxLevel) {
     Result<std::shared_ptr<const ImageRGBA8>> stored = loadStoredTile(t);
-    if (!stored) return makeError(stored.error());
+    if (!stored) return stored.forwardError();
     if (!*stored) return std::optional<ImageRGBA8>{};
     return std::optional<ImageRGBA8>{**stored};
   }
@@ -300,7 +300,7 @@ Result<std::optional<ImageRGBA8>> GeographicPyramidLayer::tileImage(const TileId
   if (!ancestor) {
     // Decoded outside the lock; two threads may decode the same ancestor at once (harmless).
     Result<std::shared_ptr<const ImageRGBA8>> stored = loadStoredTile(a);
-    if (!stored) return makeError(stored.error());
+    if (!stored) return stored.forwardError();
     if (!*stored) return std::optional<ImageRGBA8>{};
     ancestor = *stored;
     std::lock_guard lock(mutex_);

@@ -92,7 +92,7 @@ Result<std::shared_ptr<const ImageRGBA8>> XyzMercatorLayer::loadTile(const Merca
   const std::string path = findTileFile(m);
   if (!path.empty()) {
     Result<ImageRGBA8> decoded = decodeImageFile(path);
-    if (!decoded) return makeError(decoded.error());
+    if (!decoded) return decoded.forwardError();
     image = std::make_shared<const ImageRGBA8>(std::move(*decoded));
   }
   std::lock_guard lock(mutex_);
@@ -136,7 +136,7 @@ Result<std::optional<ImageRGBA8>> XyzMercatorLayer::tileImage(const TileId& t) c
           auto found = local.find(m);
           if (found == local.end()) {
             Result<std::shared_ptr<const ImageRGBA8>> loaded = loadTile(m);
-            if (!loaded) return makeError(loaded.error());
+            if (!loaded) return loaded.forwardError();
             found = local.emplace(m, *loaded).first;
           }
           lastKey = m;

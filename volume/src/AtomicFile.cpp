@@ -117,7 +117,7 @@ Status AtomicFileSet::add(const std::string& path, std::string_view bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) return makeError(path + ": is a directory");
   Result<std::string> temp = writeTemp(path, bytes);
-  if (!temp) return makeError(temp.error());
+  if (!temp) return temp.forwardError();
   entries_.push_back(Entry{path, std::move(temp.value()), false});
   return Ok{};
 }

@@ -31,7 +31,7 @@ template <class T>
 Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name, std::size_t nSweep,
                                     int sweepDim) {
   auto v = f.variable(f.root(), name);
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   if (v->shape.size() != 1 || v->dimIds[0] != sweepDim)
     return makeError(f.message("variable '" + name + "' must have the single dimension 'sweep'"));
   if (v->shape[0] != nSweep) return makeError(f.message("variable '" + name + "' has the wrong length"));
@@ -42,12 +42,12 @@ Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name
 /// for ray `ray`.
 Result<double> readSiteValue(const NetcdfFile& f, const std::string& name, int timeDim, std::size_t ray) {
   auto v = f.variable(f.root(), name);
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   double x = 0.0;
   if (v->shape.empty()) {
-    if (auto st = f.readSlab<double>(*v, {}, {}, &x); !st) return makeError(st.error());
+    if (auto st = f.readSlab<double>(*v, {}, {}, &x); !st) return st.forwardError();
   } else if (v->shape.size() == 1 && v->dimIds[0] == timeDim) {
-    if (auto st = f.readSlab<double>(*v, {ray}, {1}, &x); !st) return makeError(st.error());
+    if (auto st = f.readSlab<double>(*v, {ray}, {1}, &x); !st) return st.forwardError();
   } else {
     return makeError(f.message("variable '" + name + "' must be a scalar or have the dimension 'time'"));
   }
@@ -115,7 +115,7 @@ std::string readTimeText(const NetcdfFile& f) {
 
 Result<RadarVolume> readCfRadial(const std::string& path, const ReadOptions& options) {
   auto opened = NetcdfFile::open(path);
-  if (!opened) return makeError(opened.error());
+  if (!opened) return opened.forwardError();
   return readCfRadial(*opened, options);
 }
 
@@ -143,11 +143,11 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
 
   // --- sweep table ---
   auto starts = readPerSweep<long long>(f, "sweep_start_ray_index", *nSweep, sweepDim);
-  if (!starts) return makeError(starts.error());
+  if (!starts) return starts.forwardError();
   auto ends = readPerSweep<long long>(f, "sweep_end_ray_index", *nSweep, sweepDim);
-  if (!ends) return makeError(ends.error());
+  if (!ends) return ends.forwardError();
   auto fixed = readPerSweep<double>(f, "fixed_angle", *nSweep, sweepDim);
-  if (!fixed) return makeError(fixed.error());
+  if (!fixed) return fixed.forwardError();
   const auto fixedFill = fillValue(f, *f.findVariable(root, "fixed_angle"));
   for (std::size_t s = 0; s < *nSweep; ++s) {
     const long long a = (*starts)[s], b = (*ends)[s];
@@ -160,26 +160,26 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
 
   // --- per-ray angles ---
   auto azVar = f.variable(root, "azimuth");
-  if (!azVar) return makeError(azVar.error());
+  if (!azVar) return azVar.forwardError();
   auto elVar = f.variable(root, "elevation");
-  if (!elVar) return makeError(elVar.error());
+  if (!elVar) return elVar.forwardError();
   for (const NcVar* v : {&*azVar, &*elVar}) {
     if (v->shape.size() != 1 || v->dimIds[0] != timeDim)
       return makeError(f.message("variable '" + v->name + "' must have the single dimension 'time'"));
   }
   auto az = f.readAll<double>(*azVar);
-  if (!az) return makeError(az.error());
+  if (!az) return az.forwardError();
   auto el = f.readAll<double>(*elVar);
-  if (!el) return makeError(el.error());
+  if (!el) return el.forwardError();
   const auto azFill = fillValue(f, *azVar), elFill = fillValue(f, *elVar);
 
   // --- gate geometry ---
   auto rangeVar = f.variable(root, "range");
-  if (!rangeVar) return makeError(rangeVar.error());
+  if (!rangeVar) return rangeVar.forwardError();
   if (rangeVar->shape.size() != 1 || rangeVar->dimIds[0] != rangeDim)
     return makeError(f.message("variable 'range' must have the single dimension 'range'"));
   auto range = f.readAll<double>(*rangeVar);
-  if (!range) return makeError(range.error());
+  if (!range) return range.forwardError();
   if (range->empty()) return makeError(f.message("the range dimension is 0: no gates"));
   const auto rangeFill = fillValue(f, *rangeVar);
   for (std::size_t g = 0; g < range->size(); ++g) {
@@ -207,11 +207,11 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
   // --- site ---
   const std::size_t firstRay = static_cast<std::size_t>((*starts)[0]);
   auto lat = readSiteValue(f, "latitude", timeDim, firstRay);
-  if (!lat) return makeError(lat.error());
+  if (!lat) return lat.forwardError();
   auto lon = readSiteValue(f, "longitude", timeDim, firstRay);
-  if (!lon) return makeError(lon.error());
+  if (!lon) return lon.forwardError();
   auto alt = readSiteValue(f, "altitude", timeDim, firstRay);
-  if (!alt) return makeError(alt.error());
+  if (!alt) return alt.forwardError();
   if (*lat < -90.0 || *lat > 90.0) return makeError(f.message("latitude " + std::to_string(*lat) + " is outside [-90, 90]"));
   if (*lon < -540.0 || *lon > 540.0) return makeError(f.message("longitude " + std::to_string(*lon) + " is outside [-540, 540]"));
   vol.site.latDeg = *lat;
@@ -292,7 +292,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
       for (auto [attr, dst] : {std::pair<const char*, double*>{"scale_factor", &scale}, {"add_offset", &offset}}) {
         if (!f.hasAttribute(var.groupId, var.varId, attr)) continue;
         auto r = f.attributeDouble(var.groupId, var.varId, attr);
-        if (!r) return makeError(r.error());
+        if (!r) return r.forwardError();
         if (!std::isfinite(*r)) return makeError(f.message("variable '" + var.name + "': " + attr + " is not finite"));
         *dst = *r;
       }
@@ -304,7 +304,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
       // Everything the sweeps read, checked against what the file can hold before allocating.
       std::size_t total = 0;
       for (const Sweep& sw : vol.sweeps) total += sw.rayCount() * sw.gateCount;
-      if (auto ok = f.checkReadable(var, total, ncTypeSize(var.type)); !ok) return makeError(ok.error());
+      if (auto ok = f.checkReadable(var, total, ncTypeSize(var.type)); !ok) return ok.forwardError();
       // One read per sweep, decoded in place in the sweep's values (no raw buffer); chunks
       // that straddle two sweeps come from netCDF-C's chunk cache the second time.
       Status st = visitNumericType(var.type, [&](auto tag) -> Status {
@@ -319,7 +319,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
         }
         return Ok{};
       });
-      if (!st) return makeError(st.error());
+      if (!st) return st.forwardError();
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));

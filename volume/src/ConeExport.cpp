@@ -53,7 +53,7 @@ Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& co
   if (colors.empty()) return makeError("colour table '" + colors.name() + "' has no entries");
   if (!(options.maxRangeMeters > 0.0)) return makeError("--max-range must be positive");
   if (!options.mesh.straight) {
-    if (Status s = validateBeamModel(options.mesh.beam, "beam model"); !s) return makeError(s.error());
+    if (Status s = validateBeamModel(options.mesh.beam, "beam model"); !s) return s.forwardError();
   }
   std::vector<std::size_t> chosen;
   if (options.sweepIndices.empty()) {
@@ -73,7 +73,7 @@ Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& co
     }
   }
   for (std::size_t k : chosen) {
-    if (Status s = checkSweep(volume, k); !s) return makeError(s.error());
+    if (Status s = checkSweep(volume, k); !s) return s.forwardError();
   }
 
   ConeScene scene;
@@ -130,7 +130,7 @@ Result<ConeFormat> coneFormatFromPath(const std::string& path) {
 
 Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::string& outPath) {
   Result<ConeFormat> format = coneFormatFromPath(outPath);
-  if (!format) return makeError(format.error());
+  if (!format) return format.forwardError();
   const std::filesystem::path out(outPath);
   const std::string stem = out.stem().string();
   const std::filesystem::path dir = out.parent_path();
@@ -149,7 +149,8 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
   switch (format.value()) {
     case ConeFormat::Glb:
     case ConeFormat::Gltf: {
-      if (Status s = add(out, encodeConesGltf(scene, format.value() == ConeFormat::Glb, true)); !s) return makeError(s.error());
+      Status s = add(out, encodeConesGltf(scene, format.value() == ConeFormat::Glb, true));
+      if (!s) return s.forwardError();
       break;
     }
     case ConeFormat::Collada: {
@@ -157,9 +158,9 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
       for (const Cone& c : scene.cones) {
         const std::string png = stem + "_" + sweepStem(c.sweepIndex) + ".png";
         uris.push_back(png);
-        if (Status s = add(dir / png, pngOf(c)); !s) return makeError(s.error());
+        if (Status s = add(dir / png, pngOf(c)); !s) return s.forwardError();
       }
-      if (Status s = add(out, encodeConesCollada(scene, all, uris)); !s) return makeError(s.error());
+      if (Status s = add(out, encodeConesCollada(scene, all, uris)); !s) return s.forwardError();
       break;
     }
     case ConeFormat::Kml: {
@@ -170,12 +171,12 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
       std::vector<std::string> hrefs;
       for (const Cone& c : scene.cones) {
         const std::string st = sweepStem(c.sweepIndex);
-        if (Status s = add(dir / sub / (st + ".png"), pngOf(c)); !s) return makeError(s.error());
+        if (Status s = add(dir / sub / (st + ".png"), pngOf(c)); !s) return s.forwardError();
         if (Status s = add(dir / sub / (st + ".dae"), encodeConesCollada(scene, {static_cast<std::size_t>(&c - scene.cones.data())}, {st + ".png"})); !s)
-          return makeError(s.error());
+          return s.forwardError();
         hrefs.push_back(sub + "/" + st + ".dae");
       }
-      if (Status s = add(out, encodeConesKml(scene, hrefs)); !s) return makeError(s.error());
+      if (Status s = add(out, encodeConesKml(scene, hrefs)); !s) return s.forwardError();
       break;
     }
     case ConeFormat::Kmz: {
@@ -198,7 +199,7 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
       break;
     }
   }
-  if (Status s = files.commit(); !s) return makeError(s.error());
+  if (Status s = files.commit(); !s) return s.forwardError();
   return written;
 }
 
@@ -209,9 +210,9 @@ Result<std::vector<std::string>> exportConesTileset(const ConeScene& scene, cons
   const std::filesystem::path d(dir);
   AtomicFileSet files;
   const std::string glb = (d / "cones.glb").string(), json = (d / "tileset.json").string();
-  if (Status s = files.add(glb, encodeConesGltf(scene, true, false)); !s) return makeError(s.error());
-  if (Status s = files.add(json, encodeConesTileset(scene, "cones.glb")); !s) return makeError(s.error());
-  if (Status s = files.commit(); !s) return makeError(s.error());
+  if (Status s = files.add(glb, encodeConesGltf(scene, true, false)); !s) return s.forwardError();
+  if (Status s = files.add(json, encodeConesTileset(scene, "cones.glb")); !s) return s.forwardError();
+  if (Status s = files.commit(); !s) return s.forwardError();
   return std::vector<std::string>{glb, json};
 }
 

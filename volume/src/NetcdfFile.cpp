@@ -285,7 +285,7 @@ Result<std::vector<double>> NetcdfFile::attributeDoubles(int group, int varId, c
 
 Result<double> NetcdfFile::attributeDouble(int group, int varId, const std::string& name) const {
   auto v = attributeDoubles(group, varId, name, 1);
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   return v->front();
 }
 
@@ -383,11 +383,11 @@ Result<std::vector<T>> NetcdfFile::readAll(const NcVar& var) const {
     }
     n *= d;
   }
-  if (auto ok = checkReadable(var, n, std::max<std::size_t>(ncTypeSize(var.type), 1)); !ok) return makeError(ok.error());
+  if (auto ok = checkReadable(var, n, std::max<std::size_t>(ncTypeSize(var.type), 1)); !ok) return ok.forwardError();
   std::vector<T> out(n);
   if (n == 0) return out;
   std::vector<std::size_t> start(var.shape.size(), 0);
-  if (auto st = readSlab(var, start, var.shape, out.data()); !st) return makeError(st.error());
+  if (auto st = readSlab(var, start, var.shape, out.data()); !st) return st.forwardError();
   return out;
 }
 

@@ -326,10 +326,10 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
     const unsigned char* data = &file[pos];
     if (length >= 3 && std::memcmp(data, "BZh", 3) == 0) {
       std::size_t produced = 0;
-      if (Status s = decompressRecord(path, record, data, length, &buffer, &produced); !s) return makeError(s.error());
-      if (Status s = parser.parseRecord(buffer.data(), produced, record); !s) return makeError(s.error());
+      if (Status s = decompressRecord(path, record, data, length, &buffer, &produced); !s) return s.forwardError();
+      if (Status s = parser.parseRecord(buffer.data(), produced, record); !s) return s.forwardError();
     } else {
-      if (Status s = parser.parseRecord(data, length, record); !s) return makeError(s.error());
+      if (Status s = parser.parseRecord(data, length, record); !s) return s.forwardError();
     }
     pos += length;
     ++record;

@@ -36,7 +36,7 @@ Result<double> requiredDouble(const NetcdfFile& f, const GroupChain& chain, cons
   const auto g = findAttrGroup(f, chain, name);
   if (!g) return makeError(f.message(where + ": required ODIM attribute '" + name + "' not found"));
   auto v = f.attributeDouble(*g, NC_GLOBAL, name);
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   if (!std::isfinite(*v)) return makeError(f.message(where + ": attribute '" + name + "' is not finite"));
   return *v;
 }
@@ -59,7 +59,7 @@ std::string formatNumber(double v) {
 Result<std::size_t> requiredCount(const NetcdfFile& f, const GroupChain& chain, const std::string& name,
                                   const std::string& where, double maxValue) {
   auto v = requiredDouble(f, chain, name, where);
-  if (!v) return makeError(v.error());
+  if (!v) return v.forwardError();
   if (*v < 1.0 || *v > maxValue || std::floor(*v) != *v)
     return makeError(f.message(where + ": attribute '" + name + "' = " + formatNumber(*v) +
                                " is not a count in [1, " + std::to_string(static_cast<long long>(maxValue)) + "]"));
@@ -133,7 +133,7 @@ struct DataGroup {
 /// dataM/data, checked to be a numeric array shaped (nrays, nbins) as /datasetN/where says.
 Result<NcVar> dataArray(const NetcdfFile& f, const DataGroup& dg, const Sweep& sw, const std::string& datasetPath) {
   auto var = f.variable(dg.groupId, "data");
-  if (!var) return makeError(var.error());
+  if (!var) return var.forwardError();
   if (var->shape.size() != 2 || var->shape[0] != sw.rayCount() || var->shape[1] != sw.gateCount) {
     std::string shape;
     for (std::size_t d : var->shape) shape += (shape.empty() ? "" : " x ") + std::to_string(d);
@@ -161,7 +161,7 @@ std::string odimQuantityUnits(const std::string& q) {
 
 Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& options) {
   auto opened = NetcdfFile::open(path);
-  if (!opened) return makeError(opened.error());
+  if (!opened) return opened.forwardError();
   return readOdimH5(*opened, options);
 }
 
@@ -175,7 +175,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
   if (rootWhat < 0) return makeError(f.message("not an ODIM_H5 file: no /what group"));
   if (rootWhere < 0) return makeError(f.message("ODIM_H5: no /where group (radar position)"));
   auto object = f.attributeString(rootWhat, NC_GLOBAL, "object");
-  if (!object) return makeError(object.error());
+  if (!object) return object.forwardError();
   if (*object != "PVOL" && *object != "SCAN")
     return makeError(f.message("ODIM object '" + *object + "' is not a polar volume (PVOL) or scan (SCAN)"));
 
@@ -183,11 +183,11 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
   vol.format = "ODIM_H5";
   vol.sourcePath = path;
   auto lat = requiredDouble(f, {rootWhere}, "lat", "/where");
-  if (!lat) return makeError(lat.error());
+  if (!lat) return lat.forwardError();
   auto lon = requiredDouble(f, {rootWhere}, "lon", "/where");
-  if (!lon) return makeError(lon.error());
+  if (!lon) return lon.forwardError();
   auto height = requiredDouble(f, {rootWhere}, "height", "/where");
-  if (!height) return makeError(height.error());
+  if (!height) return height.forwardError();
   if (*lat < -90.0 || *lat > 90.0) return makeError(f.message("/where/lat " + std::to_string(*lat) + " is outside [-90, 90]"));
   if (*lon < -540.0 || *lon > 540.0) return makeError(f.message("/where/lon " + std::to_string(*lon) + " is outside [-540, 540]"));
   vol.site.latDeg = *lat;
@@ -219,15 +219,15 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     if (dsWhere < 0) return makeError(f.message(where + ": no 'where' group (sweep geometry)"));
 
     auto nbins = requiredCount(f, {dsWhere}, "nbins", where + "/where", kMaxBins);
-    if (!nbins) return makeError(nbins.error());
+    if (!nbins) return nbins.forwardError();
     auto nrays = requiredCount(f, {dsWhere}, "nrays", where + "/where", kMaxRays);
-    if (!nrays) return makeError(nrays.error());
+    if (!nrays) return nrays.forwardError();
     auto elangle = requiredDouble(f, {dsWhere}, "elangle", where + "/where");
-    if (!elangle) return makeError(elangle.error());
+    if (!elangle) return elangle.forwardError();
     auto rstart = requiredDouble(f, {dsWhere}, "rstart", where + "/where");
-    if (!rstart) return makeError(rstart.error());
+    if (!rstart) return rstart.forwardError();
     auto rscale = requiredDouble(f, {dsWhere}, "rscale", where + "/where");
-    if (!rscale) return makeError(rscale.error());
+    if (!rscale) return rscale.forwardError();
     if (*elangle < -90.0 || *elangle > 90.0)
       return makeError(f.message(where + "/where: elangle " + std::to_string(*elangle) + " is outside [-90, 90]"));
     if (*rscale <= 0.0) return makeError(f.message(where + "/where: rscale must be positive"));
@@ -248,8 +248,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     if (dsHow >= 0 && f.hasAttribute(dsHow, NC_GLOBAL, "startazA") && f.hasAttribute(dsHow, NC_GLOBAL, "stopazA")) {
       auto a = f.attributeDoubles(dsHow, NC_GLOBAL, "startazA", nr);
       auto b = f.attributeDoubles(dsHow, NC_GLOBAL, "stopazA", nr);
-      if (!a) return makeError(a.error());
-      if (!b) return makeError(b.error());
+      if (!a) return a.forwardError();
+      if (!b) return b.forwardError();
       if (a->size() != nr || b->size() != nr)
         return makeError(f.message(where + "/how: startazA/stopazA do not hold nrays = " + std::to_string(nr) + " values"));
       for (std::size_t i = 0; i < nr; ++i) {
@@ -269,7 +269,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     sw.elevationDeg.assign(nr, static_cast<float>(*elangle));
     if (dsHow >= 0 && f.hasAttribute(dsHow, NC_GLOBAL, "elangles")) {
       auto e = f.attributeDoubles(dsHow, NC_GLOBAL, "elangles", nr);
-      if (!e) return makeError(e.error());
+      if (!e) return e.forwardError();
       if (e->size() != nr)
         return makeError(f.message(where + "/how: elangles does not hold nrays = " + std::to_string(nr) + " values"));
       for (std::size_t i = 0; i < nr; ++i) {
@@ -287,7 +287,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       const auto qg = findAttrGroup(f, {dg.whatId, dsWhat}, "quantity");
       if (!qg) return makeError(f.message(where + "/" + dataName + ": no 'quantity' attribute"));
       auto q = f.attributeString(*qg, NC_GLOBAL, "quantity");
-      if (!q) return makeError(q.error());
+      if (!q) return q.forwardError();
       dg.quantity = *q;
       dg.path = where + "/" + dataName;
       if (std::none_of(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == dg.quantity; }))
@@ -315,9 +315,9 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
         continue;
       }
       auto var = dataArray(f, *dg, sw, "/" + datasets[s].second);
-      if (!var) return makeError(var.error());
+      if (!var) return var.forwardError();
       if (!options.loadValues) continue;
-      if (auto ok = f.checkReadable(*var, n, ncTypeSize(var->type)); !ok) return makeError(ok.error());
+      if (auto ok = f.checkReadable(*var, n, ncTypeSize(var->type)); !ok) return ok.forwardError();
       const int dsId = *f.findGroup(root, datasets[s].second);
       const GroupChain chain{dg->whatId, childOr(f, dsId, "what"), rootWhat};
       OdimDecoder decoder;
@@ -331,7 +331,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
         const RawDecoder<T, OdimDecoder> rawDecoder(decoder, n);
         return readSlabDecoded(f, *var, {0, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
       });
-      if (!st) return makeError(st.error());
+      if (!st) return st.forwardError();
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no quantity '" + options.fieldName + "': the file holds no dataM groups"));

@@ -106,18 +106,18 @@ Result<RadarFormat> detectRadarFormat(const std::string& path) {
   auto magic = detectByMagic(path, &hdf5);
   if (!magic || !hdf5) return magic;
   auto opened = NetcdfFile::open(path);
-  if (!opened) return makeError(opened.error());
+  if (!opened) return opened.forwardError();
   return classifyHdf5(*opened);
 }
 
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options) {
   bool hdf5 = false;
   auto format = detectByMagic(path, &hdf5);
-  if (!format) return makeError(format.error());
+  if (!format) return format.forwardError();
   if (hdf5) {
     // Opened once: classified and read through the same handle.
     auto opened = NetcdfFile::open(path);
-    if (!opened) return makeError(opened.error());
+    if (!opened) return opened.forwardError();
     switch (classifyHdf5(*opened)) {
       case RadarFormat::CfRadial: return readCfRadial(*opened, options);
       case RadarFormat::OdimH5: return readOdimH5(*opened, options);

@@ -517,7 +517,7 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
 
   // --- atomic write: hidden temporary beside the target, then rename (AtomicFile.h) ---
   auto tempName = temporaryPathBeside(path);
-  if (!tempName) return makeError(tempName.error());
+  if (!tempName) return tempName.forwardError();
   const std::string temp = *tempName;
   // Create it ourselves first: the OS reason (permission, missing directory) is clearer than HDF5's.
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);

@@ -5,6 +5,11 @@
 // the bottom of the dependency graph). Bad input (files, scene descriptions, tiles,
 // out-of-range coordinates) is reported through Result, never by throwing; the CLI
 // prints the message and exits non-zero. Programmer misuse is an assert.
+//
+// Passing a failure on unchanged, whatever the caller's own Result type:
+//   auto grid = readGrid(path);
+//   if (!grid) return grid.forwardError();
+// Adding context is spelled out: `return makeError(path + ": " + grid.error());`.
 #include <cassert>
 #include <string>
 #include <utility>
@@ -34,6 +39,11 @@ class [[nodiscard]] Result {
   T* operator->() { return &value(); }
 
   const std::string& error() const { assert(!ok()); return std::get<Error>(m_).message; }
+
+  /// The error, to return as-is from a function with any Result type (the message is not
+  /// touched). Copies from an lvalue; moves from an rvalue. Only for a failed Result.
+  Error forwardError() const& { assert(!ok()); return std::get<Error>(m_); }
+  Error forwardError() && { assert(!ok()); return std::get<Error>(std::move(m_)); }
 
  private:
   std::variant<T, Error> m_;
