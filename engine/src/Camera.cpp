@@ -1,14 +1,12 @@
 #include <atmoglobe/engine/Camera.h>
 
+#include <atmoglobe/globe/Angles.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace atmoglobe::engine {
-
-namespace {
-constexpr double kDegToRad = M_PI / 180.0;
-}
 
 Status validatePose(const CameraPose& p) {
   const double values[] = {p.latDeg, p.lonDeg, p.heightMeters, p.headingDeg, p.pitchDeg, p.rollDeg};
@@ -32,7 +30,8 @@ Camera::Camera(const CameraPose& pose, double fovYDeg, int widthPx, int heightPx
   assert(fovYDeg > 0.0 && fovYDeg < 180.0 && widthPx >= 1 && heightPx >= 1);
   eyeEcef_ = globe::geodeticToEcef({pose.latDeg, pose.lonDeg, pose.heightMeters});
   const glm::dmat3 enu = globe::enuAxes(pose.latDeg, pose.lonDeg);
-  const double h = pose.headingDeg * kDegToRad, p = pose.pitchDeg * kDegToRad, r = pose.rollDeg * kDegToRad;
+  const double h = degreesToRadians(pose.headingDeg), p = degreesToRadians(pose.pitchDeg);
+  const double r = degreesToRadians(pose.rollDeg);
   // In ENU components. right/up at zero roll: right is horizontal, up = right x forward.
   const glm::dvec3 forward(std::sin(h) * std::cos(p), std::cos(h) * std::cos(p), std::sin(p));
   const glm::dvec3 right0(std::cos(h), -std::sin(h), 0.0);
@@ -49,10 +48,10 @@ Camera::Camera(const CameraPose& pose, double fovYDeg, int widthPx, int heightPx
 
 glm::dmat4 Camera::viewRotation() const { return glm::dmat4(glm::transpose(cameraToEcef_)); }
 
-double Camera::focalLengthPx() const { return heightPx_ / (2.0 * std::tan(0.5 * fovYDeg_ * kDegToRad)); }
+double Camera::focalLengthPx() const { return heightPx_ / (2.0 * std::tan(degreesToRadians(0.5 * fovYDeg_))); }
 
 glm::dmat4 Camera::projection() const {
-  const double f = 1.0 / std::tan(0.5 * fovYDeg_ * kDegToRad);
+  const double f = 1.0 / std::tan(degreesToRadians(0.5 * fovYDeg_));
   const double aspect = static_cast<double>(widthPx_) / heightPx_;
   glm::dmat4 m(0.0);
   m[0][0] = f / aspect;
@@ -87,7 +86,7 @@ globe::ViewState Camera::viewState() const {
   globe::ViewState v;
   v.eyeEcef = eyeEcef_;
   v.pixelsPerRadian = focalLengthPx();
-  const double tanY = std::tan(0.5 * fovYDeg_ * kDegToRad);
+  const double tanY = std::tan(degreesToRadians(0.5 * fovYDeg_));
   const double tanX = tanY * widthPx_ / heightPx_;
   const glm::dvec3 fwd = forwardEcef(), right = rightEcef(), up = upEcef();
   auto plane = [&](const glm::dvec3& normal) {

@@ -1,5 +1,6 @@
 #include <atmoglobe/engine/CameraController.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <algorithm>
@@ -8,14 +9,13 @@
 namespace atmoglobe::engine {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kMaxLatDeg = 89.999;  // keep heading well defined
 }  // namespace
 
 void orbitByPixels(CameraPose& pose, double fovYDeg, int heightPx, double dxPx, double dyPx) {
-  const double focal = heightPx / (2.0 * std::tan(0.5 * fovYDeg * kDeg));
+  const double focal = heightPx / (2.0 * std::tan(degreesToRadians(0.5 * fovYDeg)));
   const double metersPerPixel = std::max(pose.heightMeters, kMinControllerHeightMeters) / focal;
-  const double h = pose.headingDeg * kDeg;
+  const double h = degreesToRadians(pose.headingDeg);
   // Screen right is (cos h, -sin h) in (east, north); screen down is -(sin h, cos h).
   // Dragging right/down moves the ground right/down, i.e. the camera left/up.
   const double east = (-dxPx * std::cos(h) + dyPx * std::sin(h)) * metersPerPixel;
@@ -24,7 +24,7 @@ void orbitByPixels(CameraPose& pose, double fovYDeg, int heightPx, double dxPx, 
   const double distance = std::hypot(east, north);
   if (distance <= 0.0) return;
   const globe::GeodesicPoint p =
-      globe::geodesicDirect(pose.latDeg, pose.lonDeg, std::atan2(east, north) / kDeg, distance);
+      globe::geodesicDirect(pose.latDeg, pose.lonDeg, radiansToDegrees(std::atan2(east, north)), distance);
   pose.latDeg = std::clamp(p.latDeg, -kMaxLatDeg, kMaxLatDeg);
   pose.lonDeg = globe::wrapLongitudeDeg(p.lonDeg);
 }

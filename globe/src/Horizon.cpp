@@ -1,5 +1,6 @@
 #include <atmoglobe/globe/Horizon.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <algorithm>
@@ -64,10 +65,10 @@ std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightM
   const double latStepDeg = (northDeg - southDeg) / kSamples;
 
   // Sines and cosines of the sample rows/columns (k even) and of the cell centres (k odd).
-  constexpr double kDegToRad = M_PI / 180.0;
   double sinLat[2 * kSamples + 1], cosLat[2 * kSamples + 1], sinLon[2 * kSamples + 1], cosLon[2 * kSamples + 1];
   for (int k = 0; k <= 2 * kSamples; ++k) {
-    const double lat = (northDeg - 0.5 * latStepDeg * k) * kDegToRad, lon = (r.westDeg + 0.5 * stepDeg * k) * kDegToRad;
+    const double lat = degreesToRadians(northDeg - 0.5 * latStepDeg * k);
+    const double lon = degreesToRadians(r.westDeg + 0.5 * stepDeg * k);
     sinLat[k] = std::sin(lat), cosLat[k] = std::cos(lat), sinLon[k] = std::sin(lon), cosLon[k] = std::cos(lon);
   }
   auto direction = [&](int j2, int i2) {  // half-step indices
@@ -86,8 +87,7 @@ std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightM
     }
   }
   const double rho = angleFromChordSq(rhoChordSq);
-  constexpr double kHalfPi = 1.5707963267948966;
-  if (rho >= kHalfPi) return std::nullopt;
+  if (rho >= kPi / 2.0) return std::nullopt;
   // Every point of the tile surface at topHeight has scaled radius <= 1 + topHeight/b.
   const double sampleRadius = (1.0 + topHeight / kWgs84B) / std::cos(rho);
   const double horizonAngle = std::acos(1.0 / sampleRadius);  // angular radius of C(sample)
@@ -99,7 +99,7 @@ std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightM
   }
   const double total = angleFromChordSq(maxChordSq) + horizonAngle;
   // Keep well away from 90 degrees, where the point runs off to infinity.
-  if (total >= kHalfPi - 1e-6) return std::nullopt;
+  if (total >= kPi / 2.0 - 1e-6) return std::nullopt;
   const double magnitude = 1.0 / std::cos(total);
   return scaledSpaceToEcef(d * magnitude);
 }

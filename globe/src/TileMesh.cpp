@@ -1,5 +1,6 @@
 #include <atmoglobe/globe/TileMesh.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/TileSelection.h>
 
@@ -16,7 +17,7 @@ double skirtDepthMeters(const TileId& t, int segments) {
   const TileId equatorial{coarseLevel, 0u, coarseLevel == 0 ? 0u : tileRows(coarseLevel) / 2u - 1u};
   const double sagMeters = chordSagBoundMeters(equatorial, segments);
   const GeoRectangle r = tileRectangle(t);
-  const double tileWidthMeters = kWgs84A * (r.eastDeg - r.westDeg) * (M_PI / 180.0);
+  const double tileWidthMeters = kWgs84A * degreesToRadians(r.eastDeg - r.westDeg);
   constexpr double kFloatUlpRelative = 1.0 / 8388608.0;  // 2^-23
   return std::max(sagMeters, 4.0 * kFloatUlpRelative * tileWidthMeters);
 }

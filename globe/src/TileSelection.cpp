@@ -1,5 +1,6 @@
 #include <atmoglobe/globe/TileSelection.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Horizon.h>
 #include <atmoglobe/globe/TileMesh.h>
@@ -12,7 +13,6 @@ namespace atmoglobe::globe {
 
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  ///< first eccentricity squared
 constexpr double kMinDistanceMeters = 1e-3;
 
@@ -38,9 +38,9 @@ double chordSagBoundMeters(const TileId& t, int segments) {
   const double stepDeg = (r.eastDeg - r.westDeg) / segments;
   // Cells of one row are congruent (rotation about the axis): one cell per row suffices,
   // the one between longitudes 0 and step.
-  const double sinStep = std::sin(stepDeg * kDegToRad), cosStep = std::cos(stepDeg * kDegToRad);
+  const double sinStep = std::sin(degreesToRadians(stepDeg)), cosStep = std::cos(degreesToRadians(stepDeg));
   auto rowDirections = [&](int j, glm::dvec3& west, glm::dvec3& east) {
-    const double lat = (r.northDeg - stepDeg * j) * kDegToRad;
+    const double lat = degreesToRadians(r.northDeg - stepDeg * j);
     const double sinLat = std::sin(lat), cosLat = std::cos(lat);
     west = glm::normalize(ecefToScaledSpace(ecefFromSinCos(sinLat, cosLat, 0.0, 1.0, 0.0)));
     east = glm::normalize(ecefToScaledSpace(ecefFromSinCos(sinLat, cosLat, sinStep, cosStep, 0.0)));
@@ -67,10 +67,11 @@ double geometricErrorMeters(const TileId& t, const SelectionOptions& options) {
   double error = chordSagBoundMeters(t, options.meshSegments);
   if (t.level < options.imageryMaxLevel) {
     const GeoRectangle r = tileRectangle(t);
-    const double sizeRad = (r.eastDeg - r.westDeg) * kDegToRad;
-    const double poleward = std::max(std::abs(r.northDeg), std::abs(r.southDeg)) * kDegToRad;
-    const double equatorward =
-        (r.southDeg <= 0.0 && r.northDeg >= 0.0) ? 0.0 : std::min(std::abs(r.northDeg), std::abs(r.southDeg)) * kDegToRad;
+    const double sizeRad = degreesToRadians(r.eastDeg - r.westDeg);
+    const double poleward = degreesToRadians(std::max(std::abs(r.northDeg), std::abs(r.southDeg)));
+    const double equatorward = (r.southDeg <= 0.0 && r.northDeg >= 0.0)
+                                   ? 0.0
+                                   : degreesToRadians(std::min(std::abs(r.northDeg), std::abs(r.southDeg)));
     auto w = [](double lat) { return std::sqrt(1.0 - kWgs84E2 * std::sin(lat) * std::sin(lat)); };
     const double meridianRadius = kWgs84A * (1.0 - kWgs84E2) / (w(poleward) * w(poleward) * w(poleward));
     const double parallelRadius = kWgs84A / w(equatorward) * std::cos(equatorward);
@@ -116,7 +117,7 @@ TileBounds computeTileBounds(const TileId& t, double minHeightMeters, double max
 
   double sinLat[kCells + 1], cosLat[kCells + 1], sinLon[kCells + 1], cosLon[kCells + 1];
   for (int k = 0; k <= kCells; ++k) {
-    const double lat = (r.northDeg - stepDeg * k) * kDegToRad, lon = (r.westDeg + stepDeg * k) * kDegToRad;
+    const double lat = degreesToRadians(r.northDeg - stepDeg * k), lon = degreesToRadians(r.westDeg + stepDeg * k);
     sinLat[k] = std::sin(lat);
     cosLat[k] = std::cos(lat);
     sinLon[k] = std::sin(lon);
@@ -156,8 +157,8 @@ TileBounds computeTileBounds(const TileId& t, double minHeightMeters, double max
   const double equatorward =
       (r.southDeg <= 0.0 && r.northDeg >= 0.0) ? 0.0 : std::min(std::abs(r.northDeg), std::abs(r.southDeg));
   const double radiusBound = kWgs84A * kWgs84A / kWgs84B + std::max(highHeight, 0.0);
-  const double stepRad = stepDeg * kDegToRad;
-  const double margin = 0.5 * radiusBound * stepRad * (1.0 + std::cos(equatorward * kDegToRad));
+  const double stepRad = degreesToRadians(stepDeg);
+  const double margin = 0.5 * radiusBound * stepRad * (1.0 + std::cos(degreesToRadians(equatorward)));
   b.sphereRadiusMeters = std::sqrt(maxDistSq) + margin;
   b.horizonPointEcef = horizonCullingPoint(t, minHeightMeters, maxHeightMeters);
   return b;

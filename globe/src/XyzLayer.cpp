@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <unordered_map>
 
+#include "atmoglobe/globe/Angles.h"
 #include "atmoglobe/globe/ImageryPyramid.h"
 
 namespace atmoglobe::globe {
@@ -14,7 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kMissingTileBytes = 64;  // what a "no such file" cache entry is charged
 
 /// Parses a directory name made only of decimal digits; -1 otherwise.
@@ -37,12 +37,12 @@ bool hasNumericSubdirectory(const fs::path& dir) {
 }  // namespace
 
 glm::dvec2 webMercatorNormalized(double lonDeg, double latDeg) {
-  const double phi = latDeg * kPi / 180.0;
+  const double phi = degreesToRadians(latDeg);
   return {(lonDeg + 180.0) / 360.0, 0.5 - std::log(std::tan(kPi / 4.0 + phi / 2.0)) / (2.0 * kPi)};
 }
 
 glm::dvec2 webMercatorNormalizedToLonLat(double x, double y) {
-  return {x * 360.0 - 180.0, std::atan(std::sinh(kPi * (1.0 - 2.0 * y))) * 180.0 / kPi};
+  return {x * 360.0 - 180.0, radiansToDegrees(std::atan(std::sinh(kPi * (1.0 - 2.0 * y))))};
 }
 
 Result<std::shared_ptr<XyzMercatorLayer>> XyzMercatorLayer::open(const std::string& dir, std::size_t cacheBudgetBytes) {

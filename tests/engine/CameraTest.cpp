@@ -1,5 +1,6 @@
 // The camera convention (README "Camera"), checked in double without a GL context.
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ TEST(Camera, PitchZeroIsHorizontalAndPositiveRollBanksRight) {
   ASSERT_TRUE(p);
   EXPECT_LT(p->x, 200.0);
   EXPECT_LT(p->y, 200.0);
-  const double angle = std::atan2(200.0 - p->x, 200.0 - p->y) * 180.0 / M_PI;
+  const double angle = atmoglobe::radiansToDegrees(std::atan2(200.0 - p->x, 200.0 - p->y));
   EXPECT_NEAR(angle, 30.0, 1e-9);
 }
 
@@ -120,5 +121,5 @@ TEST(Camera, FrustumPlanesAcceptVisiblePointsAndRejectOthers) {
   EXPECT_FALSE(inside(c.eyeEcef() + 1e4 * c.pixelRayDirection(-40.0, 240.0)));
   EXPECT_FALSE(inside(c.eyeEcef() + 1e4 * c.pixelRayDirection(320.0, 530.0)));
   EXPECT_FALSE(inside(c.eyeEcef() - 1e4 * c.forwardEcef()));
-  EXPECT_NEAR(view.pixelsPerRadian, 480.0 / (2.0 * std::tan(M_PI / 6.0)), 1e-9);
+  EXPECT_NEAR(view.pixelsPerRadian, 480.0 / (2.0 * std::tan(atmoglobe::kPi / 6.0)), 1e-9);
 }

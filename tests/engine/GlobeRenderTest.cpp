@@ -6,6 +6,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <gtest/gtest.h>
@@ -87,8 +88,8 @@ TEST_F(GlobeRender, StraightDownShowsTheSourceColourOfThePlace) {
   for (const Place& p : places) {
     const globe::ImageRGBA8 img = render(CameraPose{p.lat, p.lon, 5e5, 0.0, -90.0, 0.0}, 128, 128);
     const glm::dvec3 got = testutil::blockMean(img, 64, 64, 4);
-    const double halfLatDeg = 4.5 * (5e5 * std::tan(15.0 * M_PI / 180.0) / 64.0) / 111320.0;
-    const double halfLonDeg = halfLatDeg / std::cos(p.lat * M_PI / 180.0);
+    const double halfLatDeg = 4.5 * (5e5 * std::tan(degreesToRadians(15.0)) / 64.0) / 111320.0;
+    const double halfLonDeg = halfLatDeg / std::cos(degreesToRadians(p.lat));
     const glm::dvec3 want = sourceMean(p.lat - halfLatDeg, p.lat + halfLatDeg, p.lon - halfLonDeg, p.lon + halfLonDeg);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 8.0) << p.name << " channel " << c;
   }

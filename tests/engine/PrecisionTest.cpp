@@ -12,6 +12,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <gtest/gtest.h>
@@ -119,7 +120,7 @@ TEST_F(Precision, OneMillimetreCameraMoveGivesThePredictedSubPixelShift) {
       const engine::Marker m = markerNear(pose, 0.2 * height);
       // Move the eye 1 mm east, keeping the orientation (tiny pose change in longitude).
       CameraPose moved = pose;
-      const double metersPerDegLon = M_PI / 180.0 * globe::kWgs84A * std::cos(lat * M_PI / 180.0);
+      const double metersPerDegLon = degreesToRadians(1.0) * globe::kWgs84A * std::cos(degreesToRadians(lat));
       moved.lonDeg += 1e-3 / metersPerDegLon;
       const Camera b(moved, 60.0, kSize, kSize);
       const glm::dvec3 p = globe::geodeticToEcef({m.latDeg, m.lonDeg, 0.0});

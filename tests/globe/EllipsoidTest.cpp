@@ -1,6 +1,8 @@
 // Tests of the WGS84 wrapper (globe/Ellipsoid.h) against PROJ and by round trips.
 #include <atmoglobe/globe/Ellipsoid.h>
 
+#include <atmoglobe/globe/Angles.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 namespace atmoglobe::globe {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 // Reference values from PROJ 9 (Debian proj-bin), an implementation independent of
 // GeographicLib:   echo "LAT LON H" | cs2cs -d 6 EPSG:4979 EPSG:4978
@@ -22,7 +23,7 @@ struct ForwardCase {
   glm::dvec3 ecef;
 };
 const ForwardCase kForwardCases[] = {
-    {{45.0, 7.0, 1000.0}, {4484619.277606, 550642.008818, 4488055.515647}},      // REFERENCE.md section 1
+    {{45.0, 7.0, 1000.0}, {4484619.277606, 550642.008818, 4488055.515647}},      // cs2cs, as above
     {{90.0, 0.0, 0.0}, {0.0, 0.0, 6356752.314245}},                               // north pole
     {{-90.0, 0.0, 0.0}, {0.0, 0.0, -6356752.314245}},                             // south pole
     {{90.0, 45.0, 1000.0}, {0.0, 0.0, 6357752.314245}},                           // north pole, any longitude
@@ -108,13 +109,14 @@ TEST(EllipsoidTest, RoundTripOverRandomPoints) {
     const double hErr = std::abs(g.heightMeters - p.heightMeters);
     // A latitude error of d rad moves the point by at least d * (b^2/a + h) (smallest
     // meridian radius of curvature b^2/a).
-    const double latErrMeters = std::abs(g.latDeg - p.latDeg) * kDeg * (kWgs84B * kWgs84B / kWgs84A + p.heightMeters);
+    const double latErrMeters =
+        degreesToRadians(std::abs(g.latDeg - p.latDeg)) * (kWgs84B * kWgs84B / kWgs84A + p.heightMeters);
     ASSERT_LE(posErr, tol) << p.latDeg << " " << p.lonDeg << " " << p.heightMeters;
     ASSERT_LE(hErr, tol) << p.latDeg << " " << p.lonDeg << " " << p.heightMeters;
     ASSERT_LE(latErrMeters, tol) << p.latDeg << " " << p.lonDeg << " " << p.heightMeters;
     if (std::abs(p.latDeg) < 90.0) {
       const double dLon = std::remainder(g.lonDeg - p.lonDeg, 360.0);
-      const double lonErrMeters = std::abs(dLon) * kDeg * glm::length(glm::dvec2(e));
+      const double lonErrMeters = degreesToRadians(std::abs(dLon)) * glm::length(glm::dvec2(e));
       ASSERT_LE(lonErrMeters, tol) << p.latDeg << " " << p.lonDeg << " " << p.heightMeters;
     }
     worstRatio = std::max(worstRatio, posErr / tol);
@@ -138,7 +140,8 @@ TEST(EllipsoidTest, ValidateGeodeticRejectsBadInput) {
   }
 }
 
-// REFERENCE.md section 2: wradlib's test fixture gives 6365631.51753728 m at 50 deg.
+// wradlib's georef tests (test_get_earth_radius in wradlib/tests/test_georef.py) give
+// 6365631.51753728 m at 50 deg.
 // Printed with 8 decimals (+-5e-9 m); double evaluation of the formula ~1e-9 m.
 TEST(EllipsoidTest, GeocentricRadiusAt50Deg) {
   EXPECT_NEAR(geocentricRadiusMeters(50.0), 6365631.51753728, 1e-8);

@@ -2,6 +2,7 @@
 // of geometricErrorMeters (globe/TileSelection.h).
 #include <atmoglobe/globe/TileMesh.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/TileSelection.h>
 
@@ -81,8 +82,8 @@ TEST(TileMeshTest, TexCoordsSpanTheUnitSquare) {
   // the parallel).
   const GeoRectangle r = tileRectangle({5, 40, 6});
   const double rounding = vertexRoundingMeters(m);
-  const double latTolDeg = rounding / (kWgs84B * kWgs84B / kWgs84A) * 180.0 / M_PI;
-  const double lonTolDeg = rounding / (kWgs84B * std::cos(r.northDeg * M_PI / 180.0)) * 180.0 / M_PI;
+  const double latTolDeg = radiansToDegrees(rounding / (kWgs84B * kWgs84B / kWgs84A));
+  const double lonTolDeg = radiansToDegrees(rounding / (kWgs84B * std::cos(degreesToRadians(r.northDeg))));
   EXPECT_NEAR(nw.latDeg, r.northDeg, latTolDeg);
   EXPECT_NEAR(nw.lonDeg, r.westDeg, lonTolDeg);
   EXPECT_NEAR(sw.latDeg, r.southDeg, latTolDeg);

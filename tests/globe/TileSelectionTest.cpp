@@ -3,6 +3,7 @@
 // here, independently of the engine.
 #include <atmoglobe/globe/TileSelection.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Horizon.h>
 #include <atmoglobe/globe/TileMesh.h>
@@ -21,7 +22,6 @@
 namespace atmoglobe::globe {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 struct Camera {
   glm::dvec3 eye, forward, right, up;
@@ -36,7 +36,7 @@ Camera makeCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dv
   c.forward = glm::normalize(target - eye);
   c.right = glm::normalize(glm::cross(c.forward, upHint));
   c.up = glm::cross(c.right, c.forward);
-  c.tanHalfFovY = std::tan(0.5 * fovYDeg * kDeg);
+  c.tanHalfFovY = std::tan(degreesToRadians(0.5 * fovYDeg));
   c.aspect = aspect;
   c.heightPx = heightPx;
   return c;
@@ -195,7 +195,7 @@ TEST(TileSelectionTest, TilesBehindTheEarthAreHorizonCulled) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int k = 0; k < 500; ++k) {
     const double lat = 29.0 * u(rng), lon = 29.0 * u(rng);
-    if (std::acos(std::cos(lat * kDeg) * std::cos(lon * kDeg)) > 29.0 * kDeg) continue;
+    if (std::acos(std::cos(degreesToRadians(lat)) * std::cos(degreesToRadians(lon))) > degreesToRadians(29.0)) continue;
     int containing = 0;
     for (const TileId& t : tiles) containing += tileAt(lat, lon, t.level) == t ? 1 : 0;
     EXPECT_EQ(containing, 1) << lat << " " << lon;
@@ -294,9 +294,9 @@ TEST(TileSelectionTest, NadirLevelIncreasesAsTheCameraComesDown) {
     // The hand estimate.
     int estimate = 0;
     for (;; ++estimate) {
-      const double cell = M_PI / std::ldexp(1.0, estimate) / 16.0;
-      double err = kWgs84A * cell * cell * (1.0 + std::pow(std::cos(lat * kDeg), 2)) / 8.0;
-      if (estimate < options.imageryMaxLevel) err = std::max(err, kWgs84A * M_PI / std::ldexp(1.0, estimate) / 256.0);
+      const double cell = kPi / std::ldexp(1.0, estimate) / 16.0;
+      double err = kWgs84A * cell * cell * (1.0 + std::pow(std::cos(degreesToRadians(lat)), 2)) / 8.0;
+      if (estimate < options.imageryMaxLevel) err = std::max(err, kWgs84A * kPi / std::ldexp(1.0, estimate) / 256.0);
       if (err * view.pixelsPerRadian / h <= options.maxScreenSpaceErrorPx) break;
     }
     EXPECT_NEAR(level, estimate, 1) << "height " << h;
@@ -393,7 +393,7 @@ TEST(TileSelectionHorizonTest, CullingPointHiddenImpliesTileHidden) {
     }
     const GeoRectangle r = tileRectangle(t);
     // An eye anywhere (uniform direction), 1 m to 1e8 m up.
-    const double eyeLat = std::asin(2.0 * u(rng) - 1.0) / kDeg;
+    const double eyeLat = radiansToDegrees(std::asin(2.0 * u(rng) - 1.0));
     const double eyeLon = 360.0 * u(rng) - 180.0;
     const glm::dvec3 eye = geodeticToEcef({eyeLat, eyeLon, std::pow(10.0, 8.0 * u(rng))});
     ++tested;

@@ -1,5 +1,6 @@
 // Cone meshes: vertices on the beam surface, rim at the geolocated last gate, texture mapping
 // by azimuth, triangle budget.
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/ConeExport.h>
@@ -12,14 +13,11 @@
 
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 
 using namespace atmoglobe;
 using namespace atmoglobe::volume;
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A PPI sweep with `rays` rays at slightly irregular azimuths (jitter up to +-0.2 of the spacing),
 // gates first + g * spacing, values cycling through -10..70 dBZ with no-echo and no-data holes.
@@ -70,7 +68,7 @@ Inverse inverseBeam(const GeolocationSite& site, double ke, const glm::dvec3& ec
   const double re = ke * globe::geocentricRadiusMeters(site.latDeg);
   const double gamma = line.distanceMeters / re;
   const double rho1 = re + site.antennaHeightEllipsoidMeters, rho2 = re + g.heightMeters;
-  return {std::atan2(rho2 * std::cos(gamma) - rho1, rho2 * std::sin(gamma)) / kDeg, line.azimuth1Deg,
+  return {radiansToDegrees(std::atan2(rho2 * std::cos(gamma) - rho1, rho2 * std::sin(gamma))), line.azimuth1Deg,
           line.distanceMeters};
 }
 
@@ -169,7 +167,8 @@ TEST(ConeMesh, StraightConeIsTheFlatFormula) {
   const ConeMesh mesh = buildConeMesh(site, sw, img, opt);
   for (std::size_t c = 0; c < mesh.columnAzimuthDeg.size(); c += 7) {
     for (std::size_t k = 0; k < mesh.rowRangeMeters.size(); ++k) {
-      const double r = mesh.rowRangeMeters[k], az = mesh.columnAzimuthDeg[c] * kDeg, el = 2.4 * kDeg;
+      const double r = mesh.rowRangeMeters[k];
+      const double az = degreesToRadians(mesh.columnAzimuthDeg[c]), el = degreesToRadians(2.4);
       const glm::dvec3 want(r * std::cos(el) * std::sin(az), r * std::cos(el) * std::cos(az), r * std::sin(el));
       EXPECT_LT(glm::length(glm::dvec3(mesh.positionsEnu[mesh.vertexIndex(c, k)]) - want), 0.02);
     }

@@ -11,6 +11,7 @@
 //    centred azimuthal-equidistant plane with GeographicLib Geodesic::Inverse; the writer does
 //    neither (it uses the closed-form ground distance and s sin az, s cos az).
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
@@ -157,7 +158,7 @@ TEST(SyntheticRadar, MaximumIsNearTheRequestedStormCentre) {
   // The requested centre: the geodesic from the site with azimuth atan2(E, N), length hypot(E, N).
   const auto& geod = GeographicLib::Geodesic::WGS84();
   double cLat = 0, cLon = 0;
-  geod.Direct(o.siteLatDeg, o.siteLonDeg, std::atan2(o.stormEastKm, o.stormNorthKm) * 180.0 / M_PI,
+  geod.Direct(o.siteLatDeg, o.siteLonDeg, radiansToDegrees(std::atan2(o.stormEastKm, o.stormNorthKm)),
               std::hypot(o.stormEastKm, o.stormNorthKm) * 1000.0, cLat, cLon);
   double distMeters = 0;
   geod.Inverse(cLat, cLon, p.latDeg, p.lonDeg, distMeters);
@@ -205,7 +206,7 @@ TEST(SyntheticRadar, ValuesAreTheModelAtGeolocatedGatePositions) {
                                                   sw.gateRangeMeters(g));
         double s12 = 0, azi1 = 0, azi2 = 0;
         geod.Inverse(o.siteLatDeg, o.siteLonDeg, p.latDeg, p.lonDeg, s12, azi1, azi2);
-        const double east = s12 * std::sin(azi1 * M_PI / 180.0), north = s12 * std::cos(azi1 * M_PI / 180.0);
+        const double east = s12 * std::sin(degreesToRadians(azi1)), north = s12 * std::cos(degreesToRadians(azi1));
         const double model = syntheticStormDbz(o, east, north, p.heightMeters);
         const float got = sw.value(r, g);
         // Stored in 0.01-dB counts (rounding: 0.005 dB) as float (< 1e-5 dB at < 100 dBZ); the two
@@ -238,7 +239,7 @@ TEST(SyntheticRadar, StormModelHasCoreAnvilWeakEchoRegionAndBrightBand) {
   EXPECT_LE(low, 65.0);
   auto coreTop = [&](double zMeters) {  // the core is displaced 0.35 km/km towards bearing 60
     const double t = 0.35 * (zMeters - 1000.0);
-    return syntheticStormDbz(o, cx + t * std::sin(M_PI / 3), cy + t * std::cos(M_PI / 3), zMeters);
+    return syntheticStormDbz(o, cx + t * std::sin(kPi / 3), cy + t * std::cos(kPi / 3), zMeters);
   };
   EXPECT_GE(coreTop(12000.0), 18.0);
   EXPECT_LT(coreTop(14000.0), 18.0);
@@ -246,14 +247,14 @@ TEST(SyntheticRadar, StormModelHasCoreAnvilWeakEchoRegionAndBrightBand) {
   // Weak-echo region: at 4 km, 5 km SE of the core axis, >= 15 dB weaker than at the same
   // distance NW of it (the hole is 30 dB deep at its centre).
   const double t4 = 0.35 * 3000.0;
-  const double ax = cx + t4 * std::sin(M_PI / 3), ay = cy + t4 * std::cos(M_PI / 3);
+  const double ax = cx + t4 * std::sin(kPi / 3), ay = cy + t4 * std::cos(kPi / 3);
   const double d = 5000.0 / std::sqrt(2.0);
   EXPECT_GE(syntheticStormDbz(o, ax - d, ay + d, 4000.0) - syntheticStormDbz(o, ax + d, ay - d, 4000.0), 15.0);
   // Anvil: 40 km downwind at 10.5 km: 15-25 dBZ; nothing at 10.5 km 40 km upwind.
-  const double down = syntheticStormDbz(o, cx + 40000.0 * std::sin(M_PI / 3), cy + 40000.0 * std::cos(M_PI / 3), 10500.0);
+  const double down = syntheticStormDbz(o, cx + 40000.0 * std::sin(kPi / 3), cy + 40000.0 * std::cos(kPi / 3), 10500.0);
   EXPECT_GE(down, 15.0);
   EXPECT_LE(down, 25.0);
-  EXPECT_LT(syntheticStormDbz(o, cx - 40000.0 * std::sin(M_PI / 3), cy - 40000.0 * std::cos(M_PI / 3), 10500.0), 5.0);
+  EXPECT_LT(syntheticStormDbz(o, cx - 40000.0 * std::sin(kPi / 3), cy - 40000.0 * std::cos(kPi / 3), 10500.0), 5.0);
   // Stratiform centre (+(-5, +45) km): rain 20-35 dBZ at 2 km; the profile's maximum between
   // 1 and 8 km lies in the bright band 3.5-4.1 km and is >= 5 dB above the rain below it.
   const double sx = cx - 5000.0, sy = cy + 45000.0;
@@ -313,7 +314,8 @@ TEST(SyntheticRadar, FileFollowsCfRadialConventions) {
     return s;
   };
   struct Expect { const char* name; nc_type type; const char* dims; };
-  // CfRadial 1.4 (REFERENCE §3): coordinate, sweep and per-ray variables with their dimensions.
+  // CfRadial 1.4 format document (NCAR/UCAR): coordinate, sweep and per-ray variables with their
+  // dimensions.
   const Expect expected[] = {
       {"time", NC_DOUBLE, "time"},           {"range", NC_FLOAT, "range"},
       {"latitude", NC_DOUBLE, ""},           {"longitude", NC_DOUBLE, ""},

@@ -1,21 +1,20 @@
 #include <atmoglobe/volume/ConeMesh.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <numbers>
 
 namespace atmoglobe::volume {
 
 glm::dvec3 conePointEnu(const GeolocationSite& site, const ConeMeshOptions& options, double azimuthDeg,
                         double elevationDeg, double rangeMeters) {
-  constexpr double kDeg = std::numbers::pi / 180.0;
   if (options.straight) {
-    const double horizontal = rangeMeters * std::cos(elevationDeg * kDeg);
-    return {horizontal * std::sin(azimuthDeg * kDeg), horizontal * std::cos(azimuthDeg * kDeg),
-            rangeMeters * std::sin(elevationDeg * kDeg)};
+    const double horizontal = rangeMeters * std::cos(degreesToRadians(elevationDeg));
+    return {horizontal * std::sin(degreesToRadians(azimuthDeg)), horizontal * std::cos(degreesToRadians(azimuthDeg)),
+            rangeMeters * std::sin(degreesToRadians(elevationDeg))};
   }
   const GatePosition p = geolocateGateExact(site, options.beam, azimuthDeg, elevationDeg, rangeMeters);
   const glm::dvec3 antennaEcef =

@@ -1,7 +1,7 @@
 #include <atmoglobe/volume/SyntheticRadar.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/volume/AtomicFile.h>
-
 #include <atmoglobe/volume/Geolocation.h>
 
 #include <netcdf.h>
@@ -15,7 +15,6 @@
 #include <ctime>
 #include <fcntl.h>
 #include <filesystem>
-#include <numbers>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -23,7 +22,6 @@ namespace atmoglobe::volume {
 
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kDbzScale = 0.01;  // DBZ scale_factor (dB per count)
 constexpr short kDbzFill = -32768;  // DBZ _FillValue
 constexpr int kMaxGates = 4096;
@@ -46,7 +44,7 @@ double unitFromBits(std::uint64_t bits) {  // (0, 1]
 double gaussian(std::uint64_t seed, std::uint64_t index) {
   const double u1 = unitFromBits(splitMix64(seed ^ splitMix64(2 * index)));
   const double u2 = unitFromBits(splitMix64(seed ^ splitMix64(2 * index + 1)));
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
 // Adds a component given in dBZ to a linear reflectivity sum (mm^6 m^-3). Components below
@@ -63,7 +61,7 @@ struct Texture {
 Texture textureFor(std::uint64_t seed) {
   Texture t{};
   for (int i = 0; i < 3; ++i)
-    t.phase[i] = 2.0 * std::numbers::pi * unitFromBits(splitMix64(seed * 7919u + static_cast<std::uint64_t>(i)));
+    t.phase[i] = 2.0 * kPi * unitFromBits(splitMix64(seed * 7919u + static_cast<std::uint64_t>(i)));
   return t;
 }
 
@@ -71,9 +69,9 @@ Texture textureFor(std::uint64_t seed) {
 double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, double y, double z) {
   const double cx = o.stormEastKm, cy = o.stormNorthKm;
   // Shear / storm-motion direction: towards bearing 60 deg (ENE), typical of southern Plains supercells.
-  const double ux = std::sin(60.0 * kDegToRad), uy = std::cos(60.0 * kDegToRad);
+  const double ux = std::sin(degreesToRadians(60.0)), uy = std::cos(degreesToRadians(60.0));
   // Inflow side (updraft, weak-echo region): bearing 135 deg (SE) from the core.
-  const double vx = std::sin(135.0 * kDegToRad), vy = std::cos(135.0 * kDegToRad);
+  const double vx = std::sin(degreesToRadians(135.0)), vy = std::cos(degreesToRadians(135.0));
   double linearZ = 0.0;
 
   // 1. Core, tilted downshear by 0.35 km per km above 1 km; ~64 dBZ at the surface, slowly
@@ -99,12 +97,12 @@ double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, 
     // 3. Hook: below ~3 km, a spiral arc around the low-level updraft from its west (bearing
     //    270) cyclonically through south to bearing 150, radius 4.5 -> 3 km, 52 -> 40 dBZ.
     if (z < 5.0 && dUp < 10.0) {
-      double bearing = std::atan2(x - wx, y - wy) / kDegToRad;  // degrees clockwise from north
+      double bearing = radiansToDegrees(std::atan2(x - wx, y - wy));  // degrees clockwise from north
       if (bearing < 0) bearing += 360.0;
       const double b = std::clamp(bearing, 150.0, 270.0);
       const double f = (270.0 - b) / 120.0;  // 0 at the root, 1 at the tip
       const double arcR = 4.5 - 1.5 * f;
-      const double ax = wx + arcR * std::sin(b * kDegToRad), ay = wy + arcR * std::cos(b * kDegToRad);
+      const double ax = wx + arcR * std::sin(degreesToRadians(b)), ay = wy + arcR * std::cos(degreesToRadians(b));
       const double dArc = std::hypot(x - ax, y - ay);
       const double zh = std::max(z - 2.0, 0.0);
       addDbz(linearZ, 52.0 - 12.0 * f - 10.0 * dArc * dArc - 6.0 * zh * zh);
@@ -114,7 +112,7 @@ double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, 
   // 3b. Forward-flank precipitation: from the core towards bearing 45 for ~35 km, 45 -> 30 dBZ,
   //     widening from 5 km, below ~7 km (the classic supercell's comma head).
   {
-    const double fx = std::sin(45.0 * kDegToRad), fy = std::cos(45.0 * kDegToRad);
+    const double fx = std::sin(degreesToRadians(45.0)), fy = std::cos(degreesToRadians(45.0));
     const double a = (x - cx) * fx + (y - cy) * fy;
     const double c = -(x - cx) * fy + (y - cy) * fx;
     if (a > -10.0 && a < 80.0 && std::fabs(c) < 40.0) {
@@ -143,14 +141,14 @@ double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, 
   //    bearing 30, 20-35 dBZ with cellular texture; bright band at the 0 C level (3.8 km).
   {
     const double sx = cx - 5.0, sy = cy + 45.0;
-    const double px = std::sin(30.0 * kDegToRad), py = std::cos(30.0 * kDegToRad);
+    const double px = std::sin(degreesToRadians(30.0)), py = std::cos(degreesToRadians(30.0));
     const double a = ((x - sx) * px + (y - sy) * py) / 40.0;
     const double c = (-(x - sx) * py + (y - sy) * px) / 22.0;
     const double q2 = a * a + c * c;
     if (q2 < 3.0) {
-      const double texture = 2.0 * std::sin(x / 9.0 * 2.0 * std::numbers::pi + tex.phase[0]) +
-                             1.5 * std::sin(y / 13.0 * 2.0 * std::numbers::pi + tex.phase[1]) +
-                             1.0 * std::sin((x + y) / 17.0 * 2.0 * std::numbers::pi + tex.phase[2]);
+      const double texture = 2.0 * std::sin(x / 9.0 * 2.0 * kPi + tex.phase[0]) +
+                             1.5 * std::sin(y / 13.0 * 2.0 * kPi + tex.phase[1]) +
+                             1.0 * std::sin((x + y) / 17.0 * 2.0 * kPi + tex.phase[2]);
       const double base = 31.0 - 11.0 * q2 + texture;
       constexpr double kZeroCKm = 3.8;
       const double dz = z - kZeroCKm;
@@ -492,7 +490,7 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
     }
     for (std::size_t r = 0; r < g.nRay; ++r) {
       const std::size_t ray = s * g.nRay + r;
-      const double a = static_cast<double>(az[ray]) * kDegToRad;
+      const double a = degreesToRadians(static_cast<double>(az[ray]));
       const double sa = std::sin(a), ca = std::cos(a);
       for (std::size_t k = 0; k < g.nGate; ++k) {
         const double x = groundKm[k] * sa, y = groundKm[k] * ca;
