@@ -29,8 +29,9 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 
 }  // namespace
 
-// Reference: the NWS reflectivity table in REFERENCE §3 (dBZ: R G B). NWS products step: a value
-// takes the colour of the 5 dBZ band it falls in.
+// Reference: the NWS reflectivity colours (5-75 dBZ as in the NWS/AWIPS table that MetPy ships as
+// its NWSReflectivity colortable; -20..0 dBZ muted clear-air cyans), dBZ: R G B. NWS products
+// step: a value takes the colour of the 5 dBZ band it falls in.
 TEST(ColorTable, NwsReflectivityStepsAt5Dbz) {
   const ColorTable t = nwsReflectivityTable();
   EXPECT_TRUE(sameColor(t.map(-20.0f), 50, 79, 79, 255));

@@ -57,10 +57,11 @@ glm::dvec3 toEcef(const GeolocationSite& site, const glm::vec3& enu) {
   return glm::dvec3(m * glm::dvec4(glm::dvec3(enu), 1.0));
 }
 
-// Elevation of an ECEF point seen from the antenna under the effective-Earth-radius model, from the
-// REFERENCE §2 inverse, written here independently of the library's geolocation: ground distance s
-// from the geodesic inverse, height h above the ellipsoid, gamma = s / Re, rho1 = Re + h0,
-// rho2 = Re + h, theta = atan2(rho2 cos gamma - rho1, rho2 sin gamma).
+// Elevation of an ECEF point seen from the antenna under the effective-Earth-radius model (Doviak &
+// Zrnic 1993, eq. 2.28, solved for range and elevation), written here independently of the
+// library's geolocation: ground distance s from the geodesic inverse, height h above the
+// ellipsoid, gamma = s / Re, rho1 = Re + h0, rho2 = Re + h,
+// theta = atan2(rho2 cos gamma - rho1, rho2 sin gamma).
 struct Inverse { double elevationDeg, azimuthDeg, groundMeters; };
 Inverse inverseBeam(const GeolocationSite& site, double ke, const glm::dvec3& ecef) {
   const globe::Geodetic g = globe::ecefToGeodetic(ecef);
@@ -77,8 +78,8 @@ Inverse inverseBeam(const GeolocationSite& site, double ke, const glm::dvec3& ec
 // Every vertex of a bent cone lies on its sweep's beam surface: the elevation recomputed from the
 // vertex's ECEF position by the inverse model is the sweep's elevation within 0.01 deg.
 // Tolerance: float32 vertices are off by <= 0.016 m (ConeMesh.h); at the nearest vertex (first gate,
-// 125 m here, where the float ulp is 7.6e-6 m) that is < 1e-5 deg, so 0.01 deg is the brief's bound
-// with a wide margin -- a wrong model (ke 1 instead of 4/3) misses it by 0.3 deg at 100 km.
+// 125 m here, where the float ulp is 7.6e-6 m) that is < 1e-5 deg, so a 0.01 deg bound leaves a
+// wide margin -- a wrong model (ke 1 instead of 4/3) misses it by 0.3 deg at 100 km.
 TEST(ConeMesh, EveryVertexOnBeamSurface) {
   const GeolocationSite site = siteAt(33.65, -101.81, 1000.0);
   for (double el : {0.5, 3.1, 19.5}) {
@@ -115,8 +116,9 @@ TEST(ConeMesh, BeamSurfaceCheckDetectsWrongModel) {
 }
 
 // The rim at azimuth 0 is within 1 m of the geolocated last gate (geolocateGateExact) and, for the
-// wradlib worked example (REFERENCE §2: site 9 E 48 N 0 m, r 111 km, az 0, el 0, ke 4/3 ->
-// latitude 48.99814438, height 725.7159843 m), within 0.02 m of the published position.
+// wradlib worked example (wradlib/tests/test_georef.py, coord_transform_data: site 9 E 48 N 0 m,
+// r 111 km, az 0, el 0, ke 4/3 -> latitude 48.99814438, height 725.7159843 m), within 0.02 m of
+// the published position.
 // Tolerances: float32 ENU rounding <= 0.004 m per axis at 111 km; 1e-7 deg of latitude = 0.011 m.
 TEST(ConeMesh, RimAtAzimuthZeroIsTheLastGate) {
   const GeolocationSite site = siteAt(48.0, 9.0, 0.0);

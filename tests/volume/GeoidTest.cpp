@@ -18,10 +18,10 @@ struct GeoidCase {
 
 // Reference values: PROJ 9 vgridshift on the same grid, e.g.
 //   echo "9 48 0 0" | cct -d 6 +proj=vgridshift +grids=egm96_15.gtx +multiplier=1
-// (input lon lat; output height = 0 + N). REFERENCE §1 quotes ~+48.1 m at 48N 9E and ~-26.2 m at
-// Lubbock, consistent with these.
+// (input lon lat; output height = 0 + N). The grid is NGA/NASA's EGM96 (Lemoine et al. 1998,
+// NASA/TP-1998-206861) at 15' spacing, as PROJ distributes it.
 constexpr GeoidCase kPrjCases[] = {
-    {48.0, 9.0, 48.101185},          // REFERENCE's example
+    {48.0, 9.0, 48.101185},          // the wradlib test site (GeolocationTest.cpp)
     {33.6541, -101.8142, -26.177516},  // KLBB, Lubbock TX
     {89.99, 0.0, 13.618102},          // near the north pole (last grid row)
     {-89.99, 45.0, -29.539210},       // near the south pole (first grid row)

@@ -16,9 +16,9 @@ namespace {
 
 double lonDiffDeg(double a, double b) { return std::abs(globe::wrapLongitudeDeg(a - b)); }
 
-// --- REFERENCE §2, first table: wradlib's bin_altitude / bin_distance tests, re = 6370040 m,
-// ke = 4/3, site height 0. Values printed to 8 (height) and 8/7 (distance) decimals: the
-// tolerance is half a unit in the last printed digit.
+// --- wradlib's test_bin_altitude / test_bin_distance (wradlib/tests/test_georef.py),
+// re = 6370040 m, ke = 4/3, site height 0. Values printed to 8 (height) and 8/7 (distance)
+// decimals: the tolerance is half a unit in the last printed digit.
 TEST(Geolocation, WradlibWorkedExampleFixedRadius) {
   BeamModel model;
   model.earthRadiusMeters = 6370040.0;
@@ -33,9 +33,10 @@ TEST(Geolocation, WradlibWorkedExampleFixedRadius) {
   EXPECT_NEAR(s, 99893.4281037, 0.5e-7);
 }
 
-// --- REFERENCE §2, WGS84-site-radius fixture (wradlib): site 48 N 9 E, 0 m, r = 111 km, ke 4/3,
-// R = WGS84 geocentric radius at 48 N. wradlib's local xyz is (s sin az, s cos az, h) in an
-// ellipsoidal azimuthal-equidistant map, so |x| or |y| is our ground distance s and z our height.
+// --- wradlib's WGS84-site-radius fixture (coord_transform_data in wradlib/tests/test_georef.py):
+// site 48 N 9 E, 0 m, r = 111 km, ke 4/3, R = WGS84 geocentric radius at 48 N. wradlib's local
+// xyz is (s sin az, s cos az, h) in an ellipsoidal azimuthal-equidistant map, so |x| or |y| is our
+// ground distance s and z our height.
 // Tolerances: half a unit in the last printed digit.
 TEST(Geolocation, WradlibWorkedExampleWgs84SiteRadius) {
   const GeolocationSite site{48.0, 9.0, 0.0};
@@ -63,8 +64,9 @@ TEST(Geolocation, WradlibWorkedExampleWgs84SiteRadius) {
   EXPECT_NEAR(globe::geocentricRadiusMeters(50.0), 6365631.51753728, 0.5e-8);
 }
 
-// --- REFERENCE §2, "what the model choice is worth": beam height at 0.5 deg, R = 6371 km, h0 = 0,
-// printed in whole metres (tolerance 0.5 m).
+// --- What the model choice is worth: beam height at 0.5 deg, R = 6371 km, h0 = 0, ke 4/3 and 1,
+// from Doviak & Zrnic (1993) eq. 2.28 evaluated in Python 3 (math.sqrt, math.sin) and rounded to
+// whole metres (tolerance 0.5 m).
 TEST(Geolocation, ReferenceModelChoiceTable) {
   struct Row { double rangeMeters, ke43, ke1; };
   constexpr Row rows[] = {{100e3, 1461, 1657}, {230e3, 5119, 6156}, {460e3, 16453, 20587}};
@@ -78,8 +80,8 @@ TEST(Geolocation, ReferenceModelChoiceTable) {
 }
 
 // --- Exact path against an independent computation. For each case: s and h from the model
-// formula evaluated in Python 3 (double, math.asin form of REFERENCE §2, R = WGS84 geocentric radius
-// at the site, ke 4/3); lat/lon from PROJ's geodesic tool
+// formula evaluated in Python 3 (double, math.asin form of Doviak & Zrnic 1993 eq. 2.28,
+// R = WGS84 geocentric radius at the site, ke 4/3); lat/lon from PROJ's geodesic tool
 //   echo "LAT LON AZ S" | geod +ellps=WGS84 -f %.12f
 // and ECEF from PROJ
 //   echo "LAT2 LON2 H" | cs2cs -d 6 EPSG:4979 EPSG:4978
@@ -115,7 +117,7 @@ TEST(Geolocation, ExactPathMatchesProjWithinOneMillimetre) {
     EXPECT_NEAR(p.latDeg, c.lat2Deg, 1e-10);
     EXPECT_LE(lonDiffDeg(p.lonDeg, c.lon2Deg), 1e-10);
     EXPECT_NEAR(p.heightMeters, c.hM, 1e-6);
-    // The bar: within 1 mm of the independent ECEF.
+    // The bar for a gate position: within 1 mm of the independent ECEF.
     EXPECT_LE(glm::length(p.ecef - glm::dvec3(c.x, c.y, c.z)), 1e-3);
   }
 }

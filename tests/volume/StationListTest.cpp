@@ -1,8 +1,9 @@
 // Station lists: the real OURadar NEXRAD site file, CSV and JSON written here, and bad files.
 //
 // References:
-//  - ../shared/data/README.md: the OURadar file holds 158 WSR-88D sites; KLBB is at
-//    33.6541 N 101.8142 W (from the Level II file: see the tolerance note in the test).
+//  - The OURadar file (nexrad-locations.json of github.com/OURadar/radar-data) holds 158 WSR-88D
+//    sites; KLBB is at 33.6541 N 101.8142 W (from the Level II file: see the tolerance note in the
+//    test).
 //  - python3 -c "import json; d=json.load(open('OURadar_nexrad-locations.json')); print(len(d),
 //    list(d)[0], list(d)[-1], d['KLBB'], d['KTLX'])" prints 158 KABR KYUX,
 //    KLBB {latitude 33.65416666666667, longitude -101.81416666666667, elevation 993.3432,

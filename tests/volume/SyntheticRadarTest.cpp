@@ -3,15 +3,16 @@
 // file, the storm model at each gate's exactly geolocated position, and atomic writing.
 //
 // Independent references used here:
-//  - KTLX coordinates: ../shared/data/stations/OURadar_nexrad-locations.json, read in the test
+//  - KTLX coordinates: the OURadar station list (nexrad-locations.json of OURadar/radar-data, in
+//    the sample data as stations/OURadar_nexrad-locations.json), read in the test
 //    with nlohmann::json (not through our StationList code): antenna altitude = elevation + height.
 //  - Gate count: by hand, 2125 m + k * 250 m <= 230000 m -> k <= 911.5 -> 912 gates; last gate
 //    centre 2125 + 911 * 250 = 229875 m.
 //  - Gate positions: geolocateGateExact (GeographicLib Geodesic::Direct) and back to the site-
 //    centred azimuthal-equidistant plane with GeographicLib Geodesic::Inverse; the writer does
 //    neither (it uses the closed-form ground distance and s sin az, s cos az).
-#include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
@@ -87,7 +88,8 @@ TEST(SyntheticRadar, ReadsBackWithVcp212GeometryAtKtlx) {
   EXPECT_EQ(v.timeIso8601, "2020-05-01T21:00:00Z");
   EXPECT_EQ(v.loadedField.name, "DBZ");
   EXPECT_EQ(v.loadedField.units, "dBZ");
-  // REFERENCE §3: WSR-88D beam width 0.95 deg (stored as float: 1e-6 covers the narrowing).
+  // WSR-88D beam width 0.95 deg (NOAA WDTB Distance Learning Operations Course, topic 3 lesson 1,
+  // fig. 17); stored as float: 1e-6 covers the narrowing.
   EXPECT_NEAR(v.beamWidthDeg, 0.95, 1e-6);
 
   // Site from the OURadar file, read independently here.
@@ -102,7 +104,7 @@ TEST(SyntheticRadar, ReadsBackWithVcp212GeometryAtKtlx) {
               ktlx.at("elevation").get<double>() + ktlx.at("height").get<double>(), 1e-9);
   EXPECT_EQ(v.site.heightDatum, HeightDatum::MeanSeaLevel);
 
-  // 14 sweeps at the VCP 212 angles (REFERENCE §3), float-stored: 1e-5 deg.
+  // 14 sweeps at the VCP 212 angles (those of VCP 12, same source), float-stored: 1e-5 deg.
   const double vcp212[14] = {0.5, 0.9, 1.3, 1.8, 2.4, 3.1, 4.0, 5.1, 6.4, 8.0, 10.0, 12.5, 15.6, 19.5};
   ASSERT_EQ(v.sweeps.size(), 14u);
   for (std::size_t s = 0; s < 14; ++s) {
@@ -229,7 +231,7 @@ TEST(SyntheticRadar, ValuesAreTheModelAtGeolocatedGatePositions) {
   EXPECT_GT(emptyChecked, 100000u);
 }
 
-// The model's structure, as the brief asks for it (values in dBZ at points in the site plane).
+// The model's structure as SyntheticRadar.h describes it (dBZ at points in the site plane).
 TEST(SyntheticRadar, StormModelHasCoreAnvilWeakEchoRegionAndBrightBand) {
   SyntheticRadarOptions o;
   const double cx = o.stormEastKm * 1000.0, cy = o.stormNorthKm * 1000.0;

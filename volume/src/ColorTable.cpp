@@ -43,7 +43,8 @@ Rgba8 ColorTable::map(float value) const {
 }
 
 ColorTable nwsReflectivityTable() {
-  // REFERENCE §3 (NWS reflectivity colours, dBZ: R G B). Stepped: each colour holds for 5 dBZ.
+  // NWS reflectivity colours, dBZ: R G B (5-75 dBZ: the NWS/AWIPS table, also MetPy's
+  // NWSReflectivity colortable; below: clear-air cyans). Stepped: each colour holds for 5 dBZ.
   struct Row { int dbz; std::uint8_t r, g, b; };
   static constexpr std::array<Row, 20> kRows{{
       {-20, 50, 79, 79},   {-15, 102, 139, 139}, {-10, 150, 205, 205}, {-5, 174, 238, 238},

@@ -8,8 +8,10 @@
 // "no echo" (-inf) and "no data" (NaN) are fully transparent (0,0,0,0).
 //
 // Tables given:
-//   - nwsReflectivityTable(): the NWS reflectivity colours of REFERENCE §3 (-20..75 dBZ, 5 dBZ
-//     bands). STEPPED, not interpolated, as NWS products draw them: 37 dBZ -> the 35 dBZ colour.
+//   - nwsReflectivityTable(): the NWS reflectivity colours, -20..75 dBZ in 5 dBZ bands (5-75 dBZ:
+//     the NWS/AWIPS table, which MetPy also ships as its NWSReflectivity colortable; -20..0 dBZ:
+//     muted clear-air cyans). STEPPED, not interpolated, as NWS products draw them: 37 dBZ -> the
+//     35 dBZ colour.
 //   - cividisTable(): a colour-vision-deficiency-friendly, perceptually uniform map, "cividis"
 //     (Nunez, Anderton & Renslow 2018, PLoS ONE 13(7): e0199239), sampled at 17 of the 256
 //     published control points (every 16th and the last), interpolated linearly between them.
@@ -63,7 +65,8 @@ class ColorTable {
   double offset_ = 0.0;
 };
 
-/// NWS reflectivity colours (dBZ), REFERENCE §3: 20 stepped bands from -20 to 75 dBZ, opaque.
+/// NWS reflectivity colours (dBZ; sources in the file comment): 20 stepped bands from -20 to 75
+/// dBZ, opaque.
 ColorTable nwsReflectivityTable();
 
 /// Cividis over [minValue, maxValue] (field units; e.g. -10..70 dBZ), opaque. Below minValue:

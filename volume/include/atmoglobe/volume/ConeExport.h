@@ -2,7 +2,8 @@
 // Export of radar sweeps as georeferenced textured cones (the legacy 3-D radar view) to glTF 2.0
 // (.glb / .gltf), COLLADA 1.4.1 (.dae), KML (.kml + models) and KMZ, plus a 3D Tiles tileset.
 //
-// Georeference (REFERENCE §6):
+// Georeference (glTF 2.0 specification and 3D Tiles 1.0, Khronos / OGC 18-053r2; COLLADA 1.4.1,
+// Khronos; OGC KML 2.2, OGC 07-147r2, and Google's KML Reference for <Model>):
 //   - glTF: vertices in the local ENU frame at the antenna stored Y-up as (east, up, -north);
 //     the root node's matrix, computed in double, maps them into a Y-up Earth-fixed world
 //     (x, y, z) = (X_ecef, Z_ecef, -Y_ecef): exactly what the 3D Tiles y-up -> z-up rotation

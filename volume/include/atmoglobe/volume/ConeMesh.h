@@ -27,7 +27,7 @@
 
 namespace atmoglobe::volume {
 
-/// Google Earth draws at most this many triangles per model (REFERENCE §6).
+/// Google Earth draws at most this many triangles per model (Google's KML Reference, <Model>).
 inline constexpr int kGoogleEarthMaxTrianglesPerModel = 21845;
 
 struct ConeMeshOptions {

@@ -14,10 +14,10 @@
 // is the tower height. Other columns are ignored. Blank lines and lines starting with '#'
 // are skipped; a UTF-8 byte-order mark and CRLF line ends are accepted.
 //
-// JSON: either an array of objects with the keys above, or an object mapping id -> object
-// (../shared/data/stations/OURadar_nexrad-locations.json: "KTLX": {"latitude", "longitude",
-// "elevation" (ground, m), "height" (tower, m), "wban"}). Numbers may be JSON numbers or
-// numeric strings.
+// JSON: either an array of objects with the keys above, or an object mapping id -> object (the
+// layout of nexrad-locations.json in github.com/OURadar/radar-data: "KTLX": {"latitude",
+// "longitude", "elevation" (ground, m), "height" (tower, m), "wban"}). Numbers may be JSON
+// numbers or numeric strings.
 //
 // Checks: latitude in [-90, 90]; longitude in [-360, 360] (normalised to [-180, 180]);
 // elevation in [-1000, 10000] m and tower height in [0, 1000] m; all finite; id non-empty.

@@ -1,16 +1,17 @@
 #pragma once
 // A synthetic but realistic radar volume, written as CfRadial 1.4 (netCDF-4).
 //
-// What it is for: the default scene (which cannot read ../shared/data) and tests that need a
-// volume whose truth is known everywhere. The file is labelled SYNTHETIC in its global
+// What it is for: the default scene (which must work without any sample radar file) and tests
+// that need a volume whose truth is known everywhere. The file is labelled SYNTHETIC in its global
 // `title`, `source` and `comment` attributes and in the DBZ variable's `comment`.
 //
-// Scan strategy: NEXRAD VCP 212 elevations (REFERENCE §3), 360 rays of 1 deg (ray centres at
-// k + 0.5 deg; each sweep starts at a different azimuth, as real sweeps do), 250 m gates from
-// 2125 m (the WSR-88D first gate) to 230 km. Beam width 0.95 deg (REFERENCE §3).
+// Scan strategy: NEXRAD VCP 212 elevations (the angles of VCP 12: NOAA Warning Decision Training
+// Branch, Distance Learning Operations Course, topic 3 lesson 1, fig. 17), 360 rays of 1 deg (ray
+// centres at k + 0.5 deg; each sweep starts at a different azimuth, as real sweeps do), 250 m gates
+// from 2125 m (the WSR-88D first gate) to 230 km. Beam width 0.95 deg (same source).
 //
 // Site: KTLX (Oklahoma City / Twin Lakes WSR-88D), from
-// ../shared/data/stations/OURadar_nexrad-locations.json (OURadar/radar-data):
+// the OURadar station list (nexrad-locations.json of github.com/OURadar/radar-data):
 //   latitude 35.33305555555556, longitude -97.27777777777777 (deg, WGS84),
 //   ground elevation 369.7224 m (1213 ft) + tower height 15.0 m -> antenna 384.7224 m above MSL.
 //
@@ -32,7 +33,8 @@
 
 namespace atmoglobe::volume {
 
-/// NEXRAD VCP 12/212 elevation angles (degrees), lowest first (REFERENCE §3).
+/// NEXRAD VCP 12/212 elevation angles (degrees), lowest first (NOAA WDTB Distance Learning
+/// Operations Course, topic 3 lesson 1, fig. 17).
 inline const std::vector<double>& vcp212ElevationsDeg() {
   static const std::vector<double> kAngles = {0.5, 0.9, 1.3, 1.8, 2.4, 3.1, 4.0,
                                               5.1, 6.4, 8.0, 10.0, 12.5, 15.6, 19.5};
