@@ -7,7 +7,7 @@ PKGS=(
   cmake g++ make pkg-config
   libgeographiclib-dev libglfw3-dev libglm-dev libtinygltf-dev nlohmann-json3-dev
   libnetcdf-dev libstb-dev libgtest-dev libepoxy-dev libegl-dev libgl-dev
-  libegl-mesa0 libgl1-mesa-dri libbz2-dev
+  libegl-mesa0 libgl1-mesa-dri libbz2-dev libzip-dev
   libcli11-dev
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip

@@ -6,6 +6,7 @@
 #include <atmoglobe/volume/ConeExport.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/ZipArchive.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -238,6 +239,8 @@ TEST(ConeExport, KmzUnzipsWithKmlModelsAndTextures) {
     EXPECT_NE(list.find("models/" + sweepStem(c.sweepIndex) + ".dae"), std::string::npos) << list;
     EXPECT_NE(list.find("models/" + sweepStem(c.sweepIndex) + ".png"), std::string::npos) << list;
   }
+  EXPECT_LT(list.find("doc.kml"), list.find("models/"));  // doc.kml first, as Google Earth expects
+  EXPECT_TRUE(noTemporaries(dir));
   const auto [rcx, x] = run("cd " + quote(dir.string()) + " && unzip -o -q cones.kmz -d unpacked");
   ASSERT_EQ(rcx, 0) << x;
   expectColladaValid((dir / "unpacked" / "models" / "sweep00.dae").string());
@@ -246,10 +249,59 @@ TEST(ConeExport, KmzUnzipsWithKmlModelsAndTextures) {
   EXPECT_EQ(png, std::string(scene.cones[0].png.begin(), scene.cones[0].png.end()));
 }
 
-// CRC-32 check value of "123456789" is 0xCBF43926 (the CRC catalogue's check for CRC-32/ISO-HDLC).
-TEST(ConeExport, Crc32CheckValue) {
-  EXPECT_EQ(crc32("123456789"), 0xCBF43926u);
-  EXPECT_EQ(crc32(""), 0u);
+// The zip writer on its own, checked by Info-ZIP's unzip (an independent reader): contents come
+// back byte for byte (binary with NULs, empty entry, nested name), deflate and store are what was
+// asked for, and failures name the file and leave no temporary.
+TEST(ConeExport, ZipArchiveReadsBackWithUnzip) {
+  requireValidators();
+  const fs::path dir = outDir("zip");
+  std::string text;
+  for (int i = 0; i < 2000; ++i) text += "<vertex>" + std::to_string(i) + "</vertex>\n";
+  std::string binary;
+  for (int i = 0; i < 70000; ++i) binary.push_back(static_cast<char>((i * 131) & 0xFF));  // NULs included
+  const std::vector<ZipEntry> entries = {
+      {"doc.kml", text, true}, {"models/data.bin", binary, false}, {"models/empty.txt", "", true}};
+  const std::string zip = (dir / "a.kmz").string();
+  ASSERT_TRUE(writeZipArchiveAtomic(zip, entries).ok());
+  const auto [rc, out] = run("unzip -t " + quote(zip));
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("No errors detected"), std::string::npos) << out;
+  // unzip -v: one line per entry with its method ("Defl:N" or "Stored") before the name.
+  const auto [rcv, verbose] = run("unzip -v " + quote(zip));
+  ASSERT_EQ(rcv, 0) << verbose;
+  auto lineOf = [&](const std::string& name) {
+    const std::size_t at = verbose.find(" " + name + "\n");
+    if (at == std::string::npos) return std::string();
+    return verbose.substr(verbose.rfind('\n', at) + 1, at - verbose.rfind('\n', at));
+  };
+  EXPECT_NE(lineOf("doc.kml").find("Defl"), std::string::npos) << verbose;
+  EXPECT_NE(lineOf("models/data.bin").find("Stored"), std::string::npos) << verbose;
+  EXPECT_LT(fs::file_size(zip), text.size() / 4 + binary.size() + 1000);  // the text did shrink
+  const auto [rcx, x] = run("cd " + quote(dir.string()) + " && unzip -o -q a.kmz -d unpacked");
+  ASSERT_EQ(rcx, 0) << x;
+  EXPECT_EQ(readFile(dir / "unpacked" / "doc.kml"), text);
+  EXPECT_EQ(readFile(dir / "unpacked" / "models" / "data.bin"), binary);
+  EXPECT_EQ(readFile(dir / "unpacked" / "models" / "empty.txt"), "");
+
+  // Replacing an existing archive works; a failed write leaves it as it was.
+  ASSERT_TRUE(writeZipArchiveAtomic(zip, {{"only.txt", "second", true}}).ok());
+  const std::string before = readFile(zip);
+  const Status dup = writeZipArchiveAtomic(zip, {{"x.txt", "1", true}, {"x.txt", "2", true}});
+  ASSERT_FALSE(dup.ok());
+  EXPECT_NE(dup.error().find(zip), std::string::npos) << dup.error();
+  EXPECT_EQ(readFile(zip), before);
+  const std::string missing = (dir / "no-such-dir" / "b.kmz").string();
+  const Status noDir = writeZipArchiveAtomic(missing, entries);
+  ASSERT_FALSE(noDir.ok());
+  EXPECT_NE(noDir.error().find(missing), std::string::npos) << noDir.error();
+  const Status empty = writeZipArchiveAtomic((dir / "c.kmz").string(), {});
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().find("c.kmz"), std::string::npos) << empty.error();
+  EXPECT_FALSE(fs::exists(dir / "c.kmz"));
+  const Status isDir = writeZipArchiveAtomic((dir / "unpacked").string(), entries);
+  ASSERT_FALSE(isDir.ok());
+  EXPECT_NE(isDir.error().find("is a directory"), std::string::npos) << isDir.error();
+  EXPECT_TRUE(noTemporaries(dir));
 }
 
 TEST(ConeExport, TilesetBesideGlb) {

@@ -4,6 +4,7 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geoid.h>
+#include <atmoglobe/volume/ZipArchive.h>
 
 #include <algorithm>
 #include <cctype>
@@ -180,22 +181,21 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
       break;
     }
     case ConeFormat::Kmz: {
-      std::vector<std::pair<std::string, std::string>> entries;
+      std::vector<ZipEntry> entries;
       std::vector<std::string> hrefs;
       for (std::size_t i = 0; i < scene.cones.size(); ++i) {
         const std::string st = sweepStem(scene.cones[i].sweepIndex);
         hrefs.push_back("models/" + st + ".dae");
       }
-      entries.emplace_back("doc.kml", encodeConesKml(scene, hrefs));  // first entry, as Google Earth expects
-      std::uint64_t total = 0;
+      entries.push_back({"doc.kml", encodeConesKml(scene, hrefs), true});  // first entry, as Google Earth expects
       for (std::size_t i = 0; i < scene.cones.size(); ++i) {
         const std::string st = sweepStem(scene.cones[i].sweepIndex);
-        entries.emplace_back("models/" + st + ".dae", encodeConesCollada(scene, {i}, {st + ".png"}));
-        entries.emplace_back("models/" + st + ".png", pngOf(scene.cones[i]));
+        entries.push_back({"models/" + st + ".dae", encodeConesCollada(scene, {i}, {st + ".png"}), true});
+        entries.push_back({"models/" + st + ".png", pngOf(scene.cones[i]), false});
       }
-      for (const auto& e : entries) total += e.second.size() + 2 * e.first.size() + 100;
-      if (total >= 0xFFFFFFFFull) return makeError(outPath + ": KMZ would exceed 4 GiB (zip without zip64): export fewer sweeps");
-      if (Status s = add(out, encodeStoredZip(entries)); !s) return makeError(s.error());
+      // One file: libzip builds it at a temporary name, then it is renamed into place.
+      if (Status s = writeZipArchiveAtomic(out.string(), entries); !s) return s.forwardError();
+      written.push_back(out.string());
       break;
     }
   }

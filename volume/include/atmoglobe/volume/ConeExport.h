@@ -69,7 +69,8 @@ Result<ConeFormat> coneFormatFromPath(const std::string& path);
 ///   .glb / .gltf: that file (.gltf embeds buffer and PNGs as data: URIs);
 ///   .dae: that file (one node + geometry per sweep) and STEM_sweepNN.png beside it;
 ///   .kml: that file and STEM_files/sweepNN.dae + sweepNN.png (directory created);
-///   .kmz: one zip with doc.kml, models/sweepNN.dae, models/sweepNN.png (stored, CRC-32).
+///   .kmz: one zip (libzip, ZipArchive.h) with doc.kml first, models/sweepNN.dae (deflated) and
+///         models/sweepNN.png (stored: PNG is compressed already).
 /// All files are staged to temporaries and renamed into place only after every write succeeded.
 /// Returns the list of files written.
 Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::string& outPath);
@@ -97,13 +98,6 @@ std::string encodeConesKml(const ConeScene& scene, const std::vector<std::string
 
 /// 3D Tiles 1.1 tileset.json whose root content is `contentUri`.
 std::string encodeConesTileset(const ConeScene& scene, const std::string& contentUri);
-
-/// A zip archive with every entry stored (method 0) with its CRC-32; names are used as given.
-/// Precondition (asserted): fewer than 65535 entries, each and the whole under 4 GiB.
-std::string encodeStoredZip(const std::vector<std::pair<std::string, std::string>>& entries);
-
-/// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), as zip and PNG use.
-std::uint32_t crc32(std::string_view bytes);
 
 /// "sweep07": the per-sweep file stem.
 std::string sweepStem(std::size_t sweepIndex);
