@@ -12,7 +12,8 @@
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/PlotImage.h>
-#include <atmoglobe/engine/RadarVolumeRendererGL.h>
+#include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -150,21 +151,21 @@ const char* classificationName(const Cell& c) {
   return c.classification == engine::Classification::Preintegrated ? "preintegrated" : "point";
 }
 
-/// The engine's defaults (RadarRenderOptions / VolumeRenderSettings).
+/// The engine's defaults (VolumeRenderOptions / VolumeRenderSettings, the radar's beam model).
 bool isEngineDefault(const Cell& c) {
-  const engine::RadarRenderOptions d;
+  const engine::VolumeRenderOptions d;
   return c.stepMeters == d.render.stepMeters && c.imageScale == d.imageScale &&
-         c.interpolation == d.render.interpolation && c.beam == d.beam && c.classification == d.classification;
+         c.interpolation == d.render.interpolation && c.beam == engine::BeamApproximation::EffectiveEarthLocalSphere &&
+         c.classification == d.classification;
 }
 
-engine::RadarRenderOptions optionsFor(const Cell& c) {
-  engine::RadarRenderOptions o;
+engine::VolumeRenderOptions optionsFor(const Cell& c) {
+  engine::VolumeRenderOptions o;
   o.render.mode = c.mode;
   o.render.stepMeters = c.stepMeters;
   o.render.interpolation = c.interpolation;
   o.render.transfer = volume::defaultReflectivityTransfer();
   o.imageScale = c.imageScale;
-  o.beam = c.beam;
   o.classification = c.classification;
   o.skipEmptySpace = true;
   return o;
@@ -317,9 +318,10 @@ double median(std::vector<double> v) {
 /// then `frames` timed frames, each ended by glFinish. The image is the last frame's
 /// composite: for imageScale < 1 that is the marcher's small image upsampled bilinearly by the
 /// composite pass, exactly what a user sees.
-GpuRun timeGpu(engine::RadarVolumeRendererGL& r, const engine::Camera& camera, const BenchVolume& v,
-               const engine::RadarRenderOptions& o, engine::FramebufferGL& target, int frames,
-               bool warmUp = true) {
+GpuRun timeGpu(engine::VolumeRendererGL& r, const engine::Camera& camera, const BenchVolume& v,
+               const engine::VolumeRenderOptions& o, engine::BeamApproximation beam, engine::FramebufferGL& target,
+               int frames, bool warmUp = true) {
+  v.gl->setBeamApproximation(beam);
   std::vector<double> ms;
   for (int f = warmUp ? -1 : 0; f < frames; ++f) {
     const auto t0 = Clock::now();
@@ -642,14 +644,14 @@ int runBench(const BenchOptions& o) {
 
   // --reference-only: no GL at all (fills the reference cache, e.g. on a many-core machine).
   std::unique_ptr<engine::HeadlessContextGL> context;
-  std::unique_ptr<engine::RadarVolumeRendererGL> renderer;
+  std::unique_ptr<engine::VolumeRendererGL> renderer;
   std::string glName = "none";
   if (!o.referenceOnly) {
     auto c = engine::HeadlessContextGL::create();
     if (!c) return fail("bench", c.error());
     context = std::move(*c);
     glName = context->describe();
-    auto r = engine::RadarVolumeRendererGL::create();
+    auto r = engine::VolumeRendererGL::create();
     if (!r) return fail("bench", r.error());
     renderer = std::move(*r);
   }
@@ -750,7 +752,7 @@ int runBench(const BenchOptions& o) {
     std::vector<globe::ImageRGBA8> images(cells.size());
     for (int f = -1; f < o.frames; ++f) {
       for (std::size_t ci = 0; ci < cells.size(); ++ci) {
-        GpuRun run = timeGpu(*renderer, camera, *view.volume, optionsFor(cells[ci]), **target, 1, false);
+        GpuRun run = timeGpu(*renderer, camera, *view.volume, optionsFor(cells[ci]), cells[ci].beam, **target, 1, false);
         if (f >= 0) frameMs[ci].push_back(run.medianMs);
         if (f + 1 == o.frames) images[ci] = std::move(run.image);
       }
@@ -790,7 +792,7 @@ int runBench(const BenchOptions& o) {
     for (const BenchView& view : views) {
       const engine::Camera camera(view.pose, view.fovYDeg, 1280, 720);
       big.push_back({view.name + (software ? " (1 frame, software GL)" : ""),
-                     timeGpu(*renderer, camera, *view.volume, optionsFor(Cell{}), **bigTarget, software ? 1 : o.frames, !software).medianMs});
+                     timeGpu(*renderer, camera, *view.volume, optionsFor(Cell{}), Cell{}.beam, **bigTarget, software ? 1 : o.frames, !software).medianMs});
       if (software) break;
     }
   }

@@ -26,8 +26,8 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
   return std::make_shared<globe::TileImageLoader>(std::move(opened), options);
 }
 
-Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
-  RadarRenderOptions o;
+Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
+  VolumeRenderOptions o;
   o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
                   : d.mode == "iso" ? volume::VolumeRenderMode::Iso
                                     : volume::VolumeRenderMode::Dvr;
@@ -43,7 +43,6 @@ Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
     o.render.transfer.colors = *table;
   }
   o.imageScale = d.imageScale;
-  o.beam = d.beam == "straight" ? BeamApproximation::StraightLine : BeamApproximation::EffectiveEarthLocalSphere;
   o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
   return o;
 }
@@ -57,9 +56,9 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
   auto m = MarkerRendererGL::create(MarkerStyle::Disc);
   if (!m) return makeError(m.error());
   r->markers_ = std::move(*m);
-  auto rv = RadarVolumeRendererGL::create();
+  auto rv = VolumeRendererGL::create();
   if (!rv) return makeError(rv.error());
-  r->radarRenderer_ = std::move(*rv);
+  r->volumeRenderer_ = std::move(*rv);
   return r;
 }
 
@@ -83,6 +82,8 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   if (!polar) return makeError(polar.error());
   auto gl = RadarVolumeGL::create(*polar);
   if (!gl) return makeError(gl.error());
+  (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
+                                                  : BeamApproximation::EffectiveEarthLocalSphere);
   RadarLayerGL layer;
   layer.volume = std::move(*gl);
   layer.options = *options;
@@ -113,11 +114,14 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   glDisable(GL_CULL_FACE);
   stats.globe = globe_->draw(camera);
   for (const auto& model : models_) model->draw(camera);
+  // Every radar in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
+  std::vector<VolumeLayerGL> layers;
   for (const RadarLayerGL& radar : radars_) {
-    radarRenderer_->draw(camera, *radar.volume, radar.options, target);
+    layers.push_back(VolumeLayerGL{radar.volume.get(), radar.options});
     all.push_back(radar.siteMarker);
   }
+  if (!layers.empty()) volumeRenderer_->draw(camera, layers, target);
   markers_->draw(camera, all);
   stats.cpuMilliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -22,13 +22,12 @@ Result<std::string> loadShaderSource(std::string_view fileName) {
 }
 
 namespace {
-Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::vector<std::string>& defines) {
-  auto source = loadShaderSource(fileName);
-  if (!source) return source.forwardError();
+Result<GLuint> compileSource(GLenum stage, std::string_view fileName, const std::string& source,
+                             const std::vector<std::string>& defines) {
   std::string text = "#version 450 core\n";
   for (const std::string& d : defines) text += "#define " + d + "\n";
   text += "#line 1\n";
-  text += *source;
+  text += source;
   const GLuint shader = glCreateShader(stage);
   const char* ptr = text.c_str();
   glShaderSource(shader, 1, &ptr, nullptr);
@@ -45,13 +44,27 @@ Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::
   }
   return shader;
 }
+Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::vector<std::string>& defines) {
+  auto source = loadShaderSource(fileName);
+  if (!source) return makeError(source.error());
+  return compileSource(stage, fileName, *source, defines);
+}
 }  // namespace
 
 Result<ShaderProgramGL> ShaderProgramGL::create(std::string_view vertexFile, std::string_view fragmentFile,
                                                 const std::vector<std::string>& defines) {
+  auto fragment = loadShaderSource(fragmentFile);
+  if (!fragment) return makeError(fragment.error());
+  return createFromSource(vertexFile, fragmentFile, *fragment, defines);
+}
+
+Result<ShaderProgramGL> ShaderProgramGL::createFromSource(std::string_view vertexFile, std::string_view fragmentName,
+                                                          const std::string& fragmentSource,
+                                                          const std::vector<std::string>& defines) {
+  const std::string_view fragmentFile = fragmentName;
   auto vs = compileStage(GL_VERTEX_SHADER, vertexFile, defines);
   if (!vs) return vs.forwardError();
-  auto fs = compileStage(GL_FRAGMENT_SHADER, fragmentFile, defines);
+  auto fs = compileSource(GL_FRAGMENT_SHADER, fragmentFile, fragmentSource, defines);
   if (!fs) {
     glDeleteShader(*vs);
     return fs.forwardError();

@@ -84,6 +84,29 @@ double geocentricRadiusMeters(double latDeg) {
   return std::sqrt(num / den);
 }
 
+namespace {
+// 1 - e^2 sin^2(lat), e^2 = f (2 - f).
+double curvatureDenominator(double latDeg) {
+  const double e2 = kWgs84F * (2.0 - kWgs84F);
+  const double s = std::sin(latDeg * M_PI / 180.0);
+  return 1.0 - e2 * s * s;
+}
+}  // namespace
+
+double meridionalRadiusMeters(double latDeg) {
+  const double e2 = kWgs84F * (2.0 - kWgs84F);
+  const double w2 = curvatureDenominator(latDeg);
+  return kWgs84A * (1.0 - e2) / (w2 * std::sqrt(w2));
+}
+
+double primeVerticalRadiusMeters(double latDeg) { return kWgs84A / std::sqrt(curvatureDenominator(latDeg)); }
+
+double normalSectionRadiusMeters(double latDeg, double azimuthDeg) {
+  const double a = azimuthDeg * M_PI / 180.0;
+  const double c = std::cos(a), s = std::sin(a);
+  return 1.0 / (c * c / meridionalRadiusMeters(latDeg) + s * s / primeVerticalRadiusMeters(latDeg));
+}
+
 std::optional<glm::dvec3> intersectRayEllipsoid(const glm::dvec3& originEcef, const glm::dvec3& direction,
                                                 double heightMeters) {
   // Scale space so the (raised) ellipsoid becomes the unit sphere, then solve the quadratic.

@@ -65,7 +65,7 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
     const char* mode;
     engine::CameraPose pose;
   };
-  const std::string data = ATMOGLOBE_SHARED_DATA_DIR;
+  const std::string data = atmoglobe_test::testDataDir();
   const RadarCase cases[] = {
       {"radar_klbb_dvr", "/radar_nexrad/KLBB20160601_150025_V06", "dvr", {31.9, -101.81, 1.5e5, 0.0, -35.0, 0.0}},
       {"radar_au40_mip", "/radar_odim/40_20181220_060630.pvol.h5", "mip", {-37.2, 149.0, 1.2e5, 20.0, -40.0, 0.0}},
@@ -74,6 +74,7 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
   auto fb = engine::FramebufferGL::create(w, h);
   ASSERT_TRUE(fb);
   for (const RadarCase& c : cases) {
+    SKIP_WITHOUT_TEST_DATA(data + c.file);
     auto renderer = engine::SceneRendererGL::create(*loader);
     ASSERT_TRUE(renderer) << renderer.error();
     engine::RadarLayerDescription d;

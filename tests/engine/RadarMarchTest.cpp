@@ -5,7 +5,8 @@
 
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
-#include <atmoglobe/engine/RadarVolumeRendererGL.h>
+#include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
@@ -69,14 +70,14 @@ class RadarMarch : public ::testing::Test {
  protected:
   void SetUp() override {
     testutil::glContext();
-    auto r = engine::RadarVolumeRendererGL::create();
+    auto r = engine::VolumeRendererGL::create();
     ASSERT_TRUE(r) << r.error();
     renderer_ = std::move(*r);
   }
 
   /// GPU volume image for a camera (no globe: empty depth), composited over black.
-  volume::VolumeImage renderGpu(const Camera& camera, const engine::RadarVolumeGL& gl,
-                                const engine::RadarRenderOptions& options) {
+  volume::VolumeImage renderGpu(const Camera& camera, const engine::VolumeGL& gl,
+                                const engine::VolumeRenderOptions& options) {
     auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
     EXPECT_TRUE(fb);
     (*fb)->bind();
@@ -92,7 +93,7 @@ class RadarMarch : public ::testing::Test {
     return out;
   }
 
-  std::unique_ptr<engine::RadarVolumeRendererGL> renderer_;
+  std::unique_ptr<engine::VolumeRendererGL> renderer_;
 };
 
 // 120 km south of the radar, 60 km up, looking north and down at the storm.
@@ -108,7 +109,7 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
   const Camera camera(kObliquePose, 50.0, 64, 48);
   double maxRange = 0, maxAz = 0, maxEl = 0;
   for (double t : {80e3, 120e3, 160e3}) {
-    const auto coords = renderer_->antennaCoordinatesAt(camera, **gl, engine::BeamApproximation::EffectiveEarthLocalSphere, t);
+    const auto coords = renderer_->debugCoordinatesAt(camera, **gl, t);
     ASSERT_EQ(coords.size(), 64u * 48u);
     for (int y = 0; y < 48; ++y) {
       for (int x = 0; x < 64; ++x) {
@@ -136,24 +137,43 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
   EXPECT_LT(maxEl, 0.05);
   // The straight-line model (no refraction, no curvature) is measurably worse: at 100+ km
   // its elevation error is tenths of a degree.
-  const auto straight = renderer_->antennaCoordinatesAt(camera, **gl, engine::BeamApproximation::StraightLine, 160e3);
+  (*gl)->setBeamApproximation(engine::BeamApproximation::StraightLine);
+  const auto straight = renderer_->debugCoordinatesAt(camera, **gl, 160e3);
   const glm::dvec3 p = camera.eyeEcef() + 160e3 * camera.pixelRayDirection(32.5, 24.5);
   const volume::AntennaCoordinates exact = volume::antennaCoordinatesExact(pv.site, pv.beam, p);
   EXPECT_GT(std::abs(straight[24 * 64 + 32].z - exact.elevationDeg), 10.0 * maxEl);
 }
 
-// The marcher is specialised per (mode, interpolation, beam, skipping) and compiled on first
-// use: every one of the 32 variants must compile and link (the other tests draw most of them).
+// The marcher is specialised per (mode, skipping, classification, volumes and their sampler
+// constants) and compiled on first use: every one-radar variant (mode, interpolation, beam,
+// skipping, classification: 40) and mixed multi-volume variants must compile and link.
 TEST_F(RadarMarch, EveryMarchVariantCompiles) {
-  auto renderer = engine::RadarVolumeRendererGL::create();
+  auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
   for (int mode = 0; mode < 4; ++mode)
     for (int interpolation = 0; interpolation < 2; ++interpolation)
       for (int beam = 0; beam < 2; ++beam)
         for (int skip = 0; skip < 2; ++skip)
-          for (int preintegrated = 0; preintegrated < (mode == 0 ? 2 : 1); ++preintegrated)
-            EXPECT_NE((*renderer)->marchProgram(mode, interpolation, beam, skip, preintegrated), nullptr)
+          for (int preintegrated = 0; preintegrated < (mode == 0 ? 2 : 1); ++preintegrated) {
+            engine::MarchVariant v;
+            v.mode = mode;
+            v.skipEmpty = skip == 1;
+            v.preintegrated = preintegrated == 1;
+            v.volumes.push_back({"sample_polar.glsl",
+                                 {"INTERPOLATION " + std::to_string(interpolation), "BEAM " + std::to_string(beam)}});
+            EXPECT_NE((*renderer)->marchProgram(v), nullptr)
                 << mode << " " << interpolation << " " << beam << " " << skip << " " << preintegrated;
+          }
+  for (int mode = 0; mode < 3; ++mode)
+    for (int preintegrated = 0; preintegrated < (mode == 0 ? 2 : 1); ++preintegrated) {
+      engine::MarchVariant v;
+      v.mode = mode;
+      v.preintegrated = preintegrated == 1;
+      for (int k = 0; k < engine::MarchConstants::kMaxVolumes; ++k)
+        v.volumes.push_back(k % 2 ? std::pair<std::string, std::vector<std::string>>{"sample_shell.glsl", {}}
+                                  : std::pair<std::string, std::vector<std::string>>{"sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0"}});
+      EXPECT_NE((*renderer)->marchProgram(v), nullptr) << "8 mixed volumes, mode " << mode << " " << preintegrated;
+    }
 }
 
 namespace {
@@ -169,7 +189,7 @@ float strongThenWeak(double r, double, double) { return r < 50e3 ? 40.0f : 5.0f;
 // skipping does not change its picture.
 TEST_F(RadarMarch, PreintegrationKeepsUniformFieldsAndHelpsCoarseSteps) {
   const Camera camera(kObliquePose, 40.0, 64, 48);
-  engine::RadarRenderOptions options;
+  engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.render.stepMeters = 1000.0;
   {
@@ -220,7 +240,7 @@ TEST_F(RadarMarch, GpuMatchesTheReferenceInEveryMode) {
   const Camera camera(kObliquePose, 40.0, 80, 60);
   for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
     for (auto interp : {volume::Interpolation::Nearest, volume::Interpolation::Linear}) {
-      engine::RadarRenderOptions options;
+      engine::VolumeRenderOptions options;
       options.render.mode = mode;
       options.render.interpolation = interp;
       options.render.stepMeters = 500.0;
@@ -276,7 +296,7 @@ TEST_F(RadarMarch, PointEchoAppearsWhereGeolocationPutsIt) {
   const Camera camera(pose, 30.0, 96, 96);
   const auto predicted = camera.projectToPixel(gate.ecef);
   ASSERT_TRUE(predicted);
-  engine::RadarRenderOptions options;
+  engine::VolumeRenderOptions options;
   options.render.mode = volume::VolumeRenderMode::Mip;
   options.render.interpolation = volume::Interpolation::Nearest;
   options.render.stepMeters = 20.0;
@@ -314,7 +334,7 @@ TEST_F(RadarMarch, CameraInsideAtTheSiteAndStraightDownRenderCleanly) {
   for (const View& v : views) {
     const Camera camera(v.pose, 60.0, 64, 48);
     for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
-      engine::RadarRenderOptions options;
+      engine::VolumeRenderOptions options;
       options.render.mode = mode;
       options.render.transfer = volume::defaultReflectivityTransfer();
       const volume::VolumeImage img = renderGpu(camera, **gl, options);

@@ -1,4 +1,8 @@
 # Runs CMD ARGS; passes if it exits 0 and EXPECT_FILE exists and is non-empty.
+include(${CMAKE_CURRENT_LIST_DIR}/TestData.cmake)
+if(TEST_DATA_SKIP)
+  return()
+endif()
 if(EXPECT_FILE)
   file(REMOVE "${EXPECT_FILE}")
 endif()

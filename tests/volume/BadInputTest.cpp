@@ -25,7 +25,7 @@ using namespace atmoglobe::volume;
 
 namespace {
 
-const std::string kData = std::string(ATMOGLOBE_SHARED_DATA_DIR);
+const std::string kData = atmoglobe_test::testDataDir();
 
 std::string outDir() {
   const auto d = std::filesystem::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "bad_input";
@@ -275,6 +275,7 @@ TEST(BadInput, TruncatedRealFiles) {
        {kData + "/radar_cfradial/example_plot_ppi_single_sweep.nc", kData + "/radar_cfradial/MLL2217907250U.003.nc",
         kData + "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc",
         kData + "/radar_odim/40_20181220_060630.pvol.h5", kData + "/radar_odim/bewid.pvol.hdf"}) {
+    SKIP_WITHOUT_TEST_DATA(src);
     std::ifstream in(src, std::ios::binary);
     std::vector<char> head(4096);
     in.read(head.data(), static_cast<std::streamsize>(head.size()));

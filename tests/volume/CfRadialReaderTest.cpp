@@ -21,7 +21,7 @@
 using namespace atmoglobe::volume;
 
 namespace {
-const std::string kDir = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_cfradial/";
+const std::string kDir = atmoglobe_test::testDataPath("radar_cfradial/");
 const std::string kKaSacr = kDir + "example_plot_ppi_single_sweep.nc";
 const std::string kMll = kDir + "MLL2217907250U.003.nc";
 const std::string kDow8 = kDir + "cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
@@ -38,6 +38,7 @@ RadarVolume mustRead(const std::string& path, const ReadOptions& o = {}) {
 }  // namespace
 
 TEST(CfRadialReader, KaSacrFourSweepsWithTransitionRaysDropped) {
+  SKIP_WITHOUT_TEST_DATA(kKaSacr);
   const RadarVolume v = mustRead(kKaSacr);
   EXPECT_EQ(v.format, "CfRadial");
   ASSERT_EQ(v.sweeps.size(), 4u);
@@ -79,6 +80,7 @@ TEST(CfRadialReader, KaSacrFourSweepsWithTransitionRaysDropped) {
 }
 
 TEST(CfRadialReader, KaSacrDecodedValuesMatchNcdump) {
+  SKIP_WITHOUT_TEST_DATA(kKaSacr);
   const RadarVolume v = mustRead(kKaSacr);
   ASSERT_EQ(v.sweeps.size(), 4u);
   // ncdump -h: scale_factor = 0.003636129f, add_offset = -65.47139f, _FillValue = -32767s
@@ -101,6 +103,7 @@ TEST(CfRadialReader, KaSacrDecodedValuesMatchNcdump) {
 }
 
 TEST(CfRadialReader, MeteoSwissSinglePpiWithFillValues) {
+  SKIP_WITHOUT_TEST_DATA(kMll);
   const RadarVolume v = mustRead(kMll);
   ASSERT_EQ(v.sweeps.size(), 1u);
   const Sweep& s = v.sweeps[0];
@@ -132,6 +135,7 @@ TEST(CfRadialReader, MeteoSwissSinglePpiWithFillValues) {
 }
 
 TEST(CfRadialReader, MeteoSwissReadsOnlyTheRequestedField) {
+  SKIP_WITHOUT_TEST_DATA(kMll);
   ReadOptions o;
   o.fieldName = "velocity";
   const RadarVolume v = mustRead(kMll, o);
@@ -147,6 +151,7 @@ TEST(CfRadialReader, MeteoSwissReadsOnlyTheRequestedField) {
 }
 
 TEST(CfRadialReader, Dow8RhiIsReadAndDescribedAsRhi) {
+  SKIP_WITHOUT_TEST_DATA(kDow8);
   const RadarVolume v = mustRead(kDow8);
   ASSERT_EQ(v.sweeps.size(), 1u);
   const Sweep& s = v.sweeps[0];
@@ -181,6 +186,7 @@ TEST(CfRadialReader, Dow8RhiIsReadAndDescribedAsRhi) {
 }
 
 TEST(CfRadialReader, MetadataOnlyReadDecodesNothing) {
+  SKIP_WITHOUT_TEST_DATA(kKaSacr, kMll, kDow8);
   ReadOptions o;
   o.loadValues = false;
   for (const std::string& p : {kKaSacr, kMll, kDow8}) {

@@ -380,13 +380,13 @@ TEST(ConeExport, BadInputIsAnError) {
 TEST(ConeExport, RealVolumesValidate) {
   requireValidators();
   const fs::path dir = outDir("real");
-  const std::string data = ATMOGLOBE_SHARED_DATA_DIR;
+  const std::string data = atmoglobe_test::testDataDir();
   const std::vector<std::string> paths = {data + "/radar_nexrad/KLBB20160601_150025_V06",
                                           data + "/radar_odim/40_20181220_060630.pvol.h5",
                                           data + "/radar_cfradial/example_plot_ppi_single_sweep.nc"};
   int k = 0;
   for (const std::string& p : paths) {
-    ASSERT_TRUE(fs::exists(p)) << p;
+    SKIP_WITHOUT_TEST_DATA(p);
     Result<RadarVolume> vol = readRadarVolume(p, ReadOptions{});
     ASSERT_TRUE(vol.ok()) << vol.error();
     ConeExportOptions opt;

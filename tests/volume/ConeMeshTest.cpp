@@ -232,8 +232,8 @@ TEST(ConeMesh, TextureMapsByAzimuth) {
 
 // A real volume (NEXRAD KLBB): vertices of the lowest sweep on the beam surface, rim at the gate.
 TEST(ConeMesh, RealNexradVolume) {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
-  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  const std::string path = atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06");
+  SKIP_WITHOUT_TEST_DATA(path);
   Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
   ConeExportOptions opt;

@@ -249,7 +249,8 @@ TEST(Geolocation, FastPathWithinStatedBoundOnSyntheticExtremes) {
 }
 
 TEST(Geolocation, FastPathWithinStatedBoundOnNexradVolume) {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
+  const std::string path = atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06");
+  SKIP_WITHOUT_TEST_DATA(path);
   Result<RadarVolume> vol = readNexradLevel2(path, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
   Result<SiteResolution> site = resolveSite(vol->site, true);
@@ -271,7 +272,8 @@ TEST(Geolocation, FastPathWithinStatedBoundOnOdimAndCfRadialVolumes) {
                          "radar_cfradial/MLL2217907250U.003.nc", "radar_cfradial/example_plot_ppi_single_sweep.nc",
                          "radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc"};
   for (const char* f : files) {
-    const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/" + f;
+    const std::string path = atmoglobe_test::testDataPath(f);
+    SKIP_WITHOUT_TEST_DATA(path);
     Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
     ASSERT_TRUE(vol.ok()) << vol.error();
     Result<SiteResolution> site = resolveSite(vol->site, true);

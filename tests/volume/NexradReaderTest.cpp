@@ -21,7 +21,7 @@
 namespace atmoglobe::volume {
 namespace {
 
-const std::string kKlbb = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
+const std::string kKlbb = atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06");
 
 std::vector<unsigned char> readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -38,6 +38,7 @@ std::string writeTemp(const std::string& name, const std::vector<unsigned char>&
 }
 
 TEST(NexradReader, KlbbSiteTimeAndFields) {
+  SKIP_WITHOUT_TEST_DATA(kKlbb);
   Result<RadarVolume> vol = readNexradLevel2(kKlbb, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
   EXPECT_EQ(vol->format, "NEXRAD Level II");
@@ -58,6 +59,7 @@ TEST(NexradReader, KlbbSiteTimeAndFields) {
 }
 
 TEST(NexradReader, KlbbReflectivitySweeps) {
+  SKIP_WITHOUT_TEST_DATA(kKlbb);
   Result<RadarVolume> vol = readNexradLevel2(kKlbb, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
   // VCP 21 (message 5): 11 cuts. Target angles = binary angle * 360/65536 of the codes
@@ -96,6 +98,7 @@ TEST(NexradReader, KlbbReflectivitySweeps) {
 }
 
 TEST(NexradReader, KlbbDecodedValues) {
+  SKIP_WITHOUT_TEST_DATA(kKlbb);
   // Python: cut 1 (elevation number 1) radial 0, az 287.292480, el 0.703125, REF 8-bit, scale 2,
   // offset 66: raw 50, 53, 57 at gates 0-2 -> -8.0, -6.5, -4.5 dBZ; first raw 0 at gate 74.
   Result<RadarVolume> ref = readNexradLevel2(kKlbb, ReadOptions{});
@@ -158,6 +161,7 @@ TEST(NexradReader, KlbbDecodedValues) {
 }
 
 TEST(NexradReader, MetadataOnlyRead) {
+  SKIP_WITHOUT_TEST_DATA(kKlbb);
   ReadOptions o;
   o.loadValues = false;
   Result<RadarVolume> vol = readNexradLevel2(kKlbb, o);
@@ -176,6 +180,7 @@ void expectError(const std::string& path, const ReadOptions& o, const std::strin
 }
 
 TEST(NexradReader, BadInputFromTheRealFile) {
+  SKIP_WITHOUT_TEST_DATA(kKlbb);
   const std::vector<unsigned char> good = readAll(kKlbb);
   ASSERT_EQ(good.size(), 3982637u);
 

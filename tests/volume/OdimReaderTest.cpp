@@ -17,7 +17,7 @@
 using namespace atmoglobe::volume;
 
 namespace {
-const std::string kDir = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_odim/";
+const std::string kDir = atmoglobe_test::testDataPath("radar_odim/");
 const std::string kAu40 = kDir + "40_20181220_060630.pvol.h5";
 const std::string kBewid = kDir + "bewid.pvol.hdf";
 constexpr double kValueTol = 1e-4;
@@ -31,6 +31,7 @@ RadarVolume mustRead(const std::string& path, const ReadOptions& o = {}) {
 }  // namespace
 
 TEST(OdimReader, Au40VolumeGeometry) {
+  SKIP_WITHOUT_TEST_DATA(kAu40);
   const RadarVolume v = mustRead(kAu40);
   EXPECT_EQ(v.format, "ODIM_H5");
   // h5dump -a /datasetN/where/elangle, N = 1..14
@@ -73,6 +74,7 @@ TEST(OdimReader, Au40VolumeGeometry) {
 }
 
 TEST(OdimReader, Au40DbzhValues) {
+  SKIP_WITHOUT_TEST_DATA(kAu40);
   const RadarVolume v = mustRead(kAu40);
   ASSERT_EQ(v.sweeps.size(), 14u);
   const Sweep& s = v.sweeps[0];
@@ -85,6 +87,7 @@ TEST(OdimReader, Au40DbzhValues) {
 }
 
 TEST(OdimReader, Au40SixteenBitQuantityWithNoDataAndNoEcho) {
+  SKIP_WITHOUT_TEST_DATA(kAu40);
   ReadOptions o;
   o.fieldName = "DBZH_CLEAN";
   const RadarVolume v = mustRead(kAu40, o);
@@ -103,6 +106,7 @@ TEST(OdimReader, Au40SixteenBitQuantityWithNoDataAndNoEcho) {
 }
 
 TEST(OdimReader, BewidBinCountChangesBetweenSweeps) {
+  SKIP_WITHOUT_TEST_DATA(kBewid);
   const RadarVolume v = mustRead(kBewid);
   // h5dump -a /datasetN/where/elangle and nbins, N = 1..11; rscale 250, rstart 0 everywhere
   const double el[11] = {0.3, 0.9, 1.5, 2.2, 2.9, 3.8, 4.8, 6.5, 9, 13, 25};
@@ -139,6 +143,7 @@ TEST(OdimReader, BewidBinCountChangesBetweenSweeps) {
 }
 
 TEST(OdimReader, MetadataOnlyAndMissingQuantity) {
+  SKIP_WITHOUT_TEST_DATA(kBewid);
   ReadOptions o;
   o.loadValues = false;
   const RadarVolume v = mustRead(kBewid, o);

@@ -299,8 +299,9 @@ TEST(PolarVolume, RhiAndEmptyVolumesAreErrors) {
 
 // The real RHI file of the shared data is refused with the message.
 TEST(PolarVolume, RealRhiFileIsRefused) {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) +
+  const std::string path = atmoglobe_test::testDataDir() +
                            "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
+  SKIP_WITHOUT_TEST_DATA(path);
   Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
   Result<SiteResolution> site = resolveSite(vol->site, false);
@@ -365,7 +366,8 @@ TEST(PolarVolume, AzimuthTableMatchesTheExactRayCoordinate) {
     std::cout << what << ": azimuth table max error " << worstFile << " rays\n";
   };
   for (const char* rel : {"/radar_nexrad/KLBB20160601_150025_V06", "/radar_odim/40_20181220_060630.pvol.h5"}) {
-    const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + rel;
+    const std::string path = atmoglobe_test::testDataDir() + rel;
+    SKIP_WITHOUT_TEST_DATA(path);
     Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
     ASSERT_TRUE(vol.ok()) << vol.error();
     Result<SiteResolution> site = resolveSite(vol->site, false);

@@ -11,7 +11,7 @@
 using namespace atmoglobe::volume;
 
 namespace {
-const std::string kData = std::string(ATMOGLOBE_SHARED_DATA_DIR);
+const std::string kData = atmoglobe_test::testDataDir();
 const std::string kKaSacr = kData + "/radar_cfradial/example_plot_ppi_single_sweep.nc";
 const std::string kMll = kData + "/radar_cfradial/MLL2217907250U.003.nc";
 const std::string kDow8 = kData + "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
@@ -27,6 +27,7 @@ std::string tempDir() {
 }  // namespace
 
 TEST(RadarReaderDetect, RealFilesByContent) {
+  SKIP_WITHOUT_TEST_DATA(kKaSacr, kMll, kDow8, kAu40, kBewid, kNexrad);
   for (const auto& [path, want] : {std::pair{kKaSacr, RadarFormat::CfRadial}, {kMll, RadarFormat::CfRadial},
                                    {kDow8, RadarFormat::CfRadial}, {kAu40, RadarFormat::OdimH5},
                                    {kBewid, RadarFormat::OdimH5}, {kNexrad, RadarFormat::NexradLevel2}}) {
@@ -37,6 +38,7 @@ TEST(RadarReaderDetect, RealFilesByContent) {
 }
 
 TEST(RadarReaderDetect, NameIsIgnored) {
+  SKIP_WITHOUT_TEST_DATA(kBewid, kMll);
   // An ODIM file renamed .nc is still ODIM; a CfRadial file renamed .h5 is still CfRadial.
   const std::string odimAsNc = tempDir() + "/odim_named.nc";
   const std::string cfAsH5 = tempDir() + "/cfradial_named.h5";
@@ -60,6 +62,7 @@ TEST(RadarReaderDetect, MissingFileIsAnError) {
 }
 
 TEST(RadarReaderDispatch, ReadsEachCfRadialAndOdimFile) {
+  SKIP_WITHOUT_TEST_DATA(kKaSacr, kMll, kDow8, kAu40, kBewid);
   for (const std::string& p : {kKaSacr, kMll, kDow8, kAu40, kBewid}) {
     auto v = readRadarVolume(p, ReadOptions{});
     ASSERT_TRUE(v.ok()) << v.error();
@@ -86,6 +89,7 @@ TEST(RadarReaderTime, NormalizeIso8601) {
 }
 
 TEST(RadarReaderDescribe, JsonHasTheInfoFields) {
+  SKIP_WITHOUT_TEST_DATA(kBewid);
   ReadOptions o;
   o.loadValues = false;
   auto v = readRadarVolume(kBewid, o);
@@ -110,6 +114,7 @@ TEST(RadarReaderDescribe, JsonHasTheInfoFields) {
 }
 
 TEST(RadarReaderDescribe, TextNamesRhiAndUnits) {
+  SKIP_WITHOUT_TEST_DATA(kDow8);
   ReadOptions o;
   o.loadValues = false;
   auto v = readRadarVolume(kDow8, o);

@@ -471,7 +471,7 @@ TEST(ReferenceRenderer, IsoSurfaceOfARangeRamp) {
 
 // The real KLBB volume (NEXRAD Level II) of the shared data, laid out for rendering.
 Result<PolarVolume> klbbPolarVolume() {
-  const std::string path = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/radar_nexrad/KLBB20160601_150025_V06";
+  const std::string path = atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06");
   Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
   if (!vol.ok()) return makeError(vol.error());
   Result<SiteResolution> site = resolveSite(vol->site, true);
@@ -482,6 +482,7 @@ Result<PolarVolume> klbbPolarVolume() {
 // The real volume: KLBB (NEXRAD Level II), 64 x 36 DVR from 300 km south at 150 km height, looking
 // north and down at the site. Non-empty, NaN-free; the time is printed for the bench budget.
 TEST(ReferenceRenderer, RealNexradVolumeSmoke) {
+  SKIP_WITHOUT_TEST_DATA(atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06"));
   Result<PolarVolume> pv = klbbPolarVolume();
   ASSERT_TRUE(pv.ok()) << pv.error();
   const GeolocationSite& s = pv->site;
@@ -517,6 +518,7 @@ void expectIdenticalAndLit(const VolumeImage& a, const VolumeImage& b, const std
 // other beam models (ke 1 and 2 on the uniform test volume), the image with rejection is
 // bit-identical to the image without. The speed-up is printed.
 TEST(ReferenceRenderer, ShellRejectionChangesNoPixel) {
+  SKIP_WITHOUT_TEST_DATA(atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06"));
   Result<PolarVolume> pv = klbbPolarVolume();
   ASSERT_TRUE(pv.ok()) << pv.error();
   const GeolocationSite& s = pv->site;

@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kOuRadar = std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/stations/OURadar_nexrad-locations.json";
+const std::string kOuRadar = atmoglobe_test::testDataPath("stations/OURadar_nexrad-locations.json");
 
 std::string writeFile(const std::string& name, const std::string& text) {
   const fs::path dir = fs::path(ATMOGLOBE_TEST_OUTPUT_DIR) / "stations";
@@ -54,6 +54,7 @@ void expectError(const std::string& text, const std::string& fileName, std::init
 }
 
 TEST(StationList, OuRadarNexradSites) {
+  SKIP_WITHOUT_TEST_DATA(kOuRadar);
   const auto v = mustRead(kOuRadar);
   ASSERT_EQ(v.size(), 158u);
   EXPECT_EQ(v.front().id, "KABR");  // file order kept

@@ -3,9 +3,12 @@
 // file, the storm model at each gate's exactly geolocated position, and atomic writing.
 //
 // Independent references used here:
-//  - KTLX coordinates: the OURadar station list (nexrad-locations.json of OURadar/radar-data, in
-//    the sample data as stations/OURadar_nexrad-locations.json), read in the test
-//    with nlohmann::json (not through our StationList code): antenna altitude = elevation + height.
+//  - KTLX coordinates: the OURadar station file (OURadar/radar-data,
+//    OURadar_nexrad-locations.json), "KTLX": latitude 35.33305555555556, longitude
+//    -97.27777777777777, elevation 369.7224, height 15.0 (python3 json, see StationListTest);
+//    antenna altitude = elevation + height. The values are written out below so that the suite
+//    runs without the sample data; SiteIsKtlxOfTheOuRadarFile (label realdata) reads the file
+//    itself with nlohmann::json (not through our StationList code).
 //  - Gate count: by hand, 2125 m + k * 250 m <= 230000 m -> k <= 911.5 -> 912 gates; last gate
 //    centre 2125 + 911 * 250 = 229875 m.
 //  - Gate positions: geolocateGateExact (GeographicLib Geodesic::Direct) and back to the site-
@@ -40,6 +43,12 @@ fs::path freshDir(const std::string& name) {
   fs::create_directories(dir);
   return dir;
 }
+
+// KTLX in the OURadar station file (see the top).
+constexpr double kKtlxLatDeg = 35.33305555555556;
+constexpr double kKtlxLonDeg = -97.27777777777777;
+constexpr double kKtlxElevationMeters = 369.7224;
+constexpr double kKtlxTowerMeters = 15.0;
 
 // Files written once for the suite: the default volume and a noise-free one.
 struct Written {
@@ -92,16 +101,11 @@ TEST(SyntheticRadar, ReadsBackWithVcp212GeometryAtKtlx) {
   // fig. 17); stored as float: 1e-6 covers the narrowing.
   EXPECT_NEAR(v.beamWidthDeg, 0.95, 1e-6);
 
-  // Site from the OURadar file, read independently here.
-  std::ifstream in(std::string(ATMOGLOBE_SHARED_DATA_DIR) + "/stations/OURadar_nexrad-locations.json");
-  ASSERT_TRUE(in.good());
-  const nlohmann::json j = nlohmann::json::parse(in);
-  const auto& ktlx = j.at("KTLX");
-  // Stored as doubles: exact round trip expected, 1e-9 deg / 1e-9 m allow for nothing but print noise.
-  EXPECT_NEAR(v.site.latDeg, ktlx.at("latitude").get<double>(), 1e-9);
-  EXPECT_NEAR(v.site.lonDeg, ktlx.at("longitude").get<double>(), 1e-9);
-  EXPECT_NEAR(v.site.antennaHeightMeters,
-              ktlx.at("elevation").get<double>() + ktlx.at("height").get<double>(), 1e-9);
+  // Site: the OURadar file's KTLX record (see the top). Stored as doubles: exact round trip
+  // expected, 1e-9 deg / 1e-9 m allow for nothing but print noise.
+  EXPECT_NEAR(v.site.latDeg, kKtlxLatDeg, 1e-9);
+  EXPECT_NEAR(v.site.lonDeg, kKtlxLonDeg, 1e-9);
+  EXPECT_NEAR(v.site.antennaHeightMeters, kKtlxElevationMeters + kKtlxTowerMeters, 1e-9);
   EXPECT_EQ(v.site.heightDatum, HeightDatum::MeanSeaLevel);
 
   // 14 sweeps at the VCP 212 angles (those of VCP 12, same source), float-stored: 1e-5 deg.
@@ -129,6 +133,24 @@ TEST(SyntheticRadar, ReadsBackWithVcp212GeometryAtKtlx) {
               w.defaultSummary.maxDbz);
   EXPECT_EQ(w.defaultSummary.fileBytes, fs::file_size(w.defaultPath));
   EXPECT_LT(w.defaultSummary.fileBytes, 6u * 1000u * 1000u);
+}
+
+// The KTLX record written out above, against the OURadar file itself.
+TEST(SyntheticRadar, SiteIsKtlxOfTheOuRadarFile) {
+  const std::string path = atmoglobe_test::testDataPath("stations/OURadar_nexrad-locations.json");
+  SKIP_WITHOUT_TEST_DATA(path);
+  std::ifstream in(path);
+  ASSERT_TRUE(in.good()) << path;
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& ktlx = j.at("KTLX");
+  EXPECT_EQ(ktlx.at("latitude").get<double>(), kKtlxLatDeg);  // the same decimal text: the same double
+  EXPECT_EQ(ktlx.at("longitude").get<double>(), kKtlxLonDeg);
+  EXPECT_EQ(ktlx.at("elevation").get<double>(), kKtlxElevationMeters);
+  EXPECT_EQ(ktlx.at("height").get<double>(), kKtlxTowerMeters);
+  const SyntheticRadarOptions o;
+  EXPECT_NEAR(o.siteLatDeg, ktlx.at("latitude").get<double>(), 1e-9);  // print noise only, as above
+  EXPECT_NEAR(o.siteLonDeg, ktlx.at("longitude").get<double>(), 1e-9);
+  EXPECT_NEAR(o.antennaAltitudeMslMeters, ktlx.at("elevation").get<double>() + ktlx.at("height").get<double>(), 1e-9);
 }
 
 TEST(SyntheticRadar, MaximumIsNearTheRequestedStormCentre) {

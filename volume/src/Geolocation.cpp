@@ -207,3 +207,56 @@ AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const Be
 }
 
 }  // namespace atmoglobe::volume
+
+namespace atmoglobe::volume {
+
+LocalSphereBeam localSphereBeam(const GeolocationSite& site, const BeamModel& model) {
+  LocalSphereBeam b;
+  b.antennaEcef = globe::geodeticToEcef(globe::Geodetic{site.latDeg, site.lonDeg, site.antennaHeightEllipsoidMeters});
+  b.enuToEcef = globe::enuAxes(site.latDeg, site.lonDeg);
+  b.antennaHeightMeters = site.antennaHeightEllipsoidMeters;
+  b.meridionalRadiusMeters = globe::meridionalRadiusMeters(site.latDeg);
+  b.primeVerticalRadiusMeters = globe::primeVerticalRadiusMeters(site.latDeg);
+  b.effectiveRadiusMeters = effectiveEarthRadiusMeters(model, site.latDeg);
+  return b;
+}
+
+AntennaCoordinates LocalSphereBeam::antennaCoordinates(const glm::dvec3& l) const {
+  const double dh = std::hypot(l.x, l.y);
+  double az = std::atan2(l.x, l.y) * kRadToDeg;
+  if (az < 0.0) az += 360.0;
+  // The sphere of the normal-section radius in this azimuth (Euler), touching the ellipsoid's
+  // tangent plane under the antenna: height above it and arc distance along it.
+  const double ca = dh > 0.0 ? l.y / dh : 1.0, sa = dh > 0.0 ? l.x / dh : 0.0;
+  const double rAlpha = 1.0 / (ca * ca / meridionalRadiusMeters + sa * sa / primeVerticalRadiusMeters);
+  const double rc = rAlpha + antennaHeightMeters;
+  const double w = l.z + rc;
+  const double dl = std::sqrt(dh * dh + w * w);
+  // |centre -> point| - rc without cancellation.
+  const double h = antennaHeightMeters + (dh * dh + l.z * l.z + 2.0 * l.z * rc) / (dl + rc);
+  const double s = rAlpha * std::atan2(dh, w);
+  // The effective-Earth inverse in the form of antennaCoordinatesExact (sin^2(gamma/2)).
+  const double re = effectiveRadiusMeters;
+  const double gamma = s / re;
+  const double rho1 = re + antennaHeightMeters, rho2 = re + h;
+  const double sg = std::sin(0.5 * gamma);
+  const double dz = h - antennaHeightMeters;
+  AntennaCoordinates out;
+  out.rangeMeters = std::sqrt(dz * dz + 4.0 * rho1 * rho2 * sg * sg);
+  out.azimuthDeg = az >= 360.0 ? 0.0 : az;
+  out.elevationDeg = std::atan2(dz - 2.0 * rho2 * sg * sg, rho2 * std::sin(gamma)) * kRadToDeg;
+  return out;
+}
+
+glm::dvec3 LocalSphereBeam::enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const {
+  double h = 0.0, s = 0.0;
+  beamHeightAndGroundDistance(rangeMeters, elevationDeg, antennaHeightMeters, effectiveRadiusMeters, &h, &s);
+  const double az = azimuthDeg / kRadToDeg;
+  const double ca = std::cos(az), sa = std::sin(az);
+  const double rAlpha = 1.0 / (ca * ca / meridionalRadiusMeters + sa * sa / primeVerticalRadiusMeters);
+  const double psi = s / rAlpha, d = rAlpha + h;
+  const double horizontal = d * std::sin(psi);
+  return {horizontal * sa, horizontal * ca, d * std::cos(psi) - (rAlpha + antennaHeightMeters)};
+}
+
+}  // namespace atmoglobe::volume

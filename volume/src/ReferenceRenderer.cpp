@@ -12,98 +12,40 @@
 namespace atmoglobe::volume {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
-struct Span {
-  double tEnter = 0.0;
-  double tExit = -1.0;  // empty when tExit < tEnter
-};
-
-// The ray's intersection with the sphere |p - centre| <= radius (unit dir).
-Span intersectSphere(const glm::dvec3& origin, const glm::dvec3& dir, const glm::dvec3& centre, double radius) {
-  const glm::dvec3 oc = origin - centre;
-  const double b = glm::dot(oc, dir);
-  // |oc|^2 - b^2 is the squared distance of the centre from the ray's line: computed as the
-  // length of the perpendicular part, which does not cancel when the eye is far away.
-  const glm::dvec3 perp = oc - b * dir;
-  const double disc = radius * radius - glm::dot(perp, perp);
-  if (disc < 0.0) return {};
-  const double h = std::sqrt(disc);
-  return {-b - h, -b + h};
-}
-
-// Shell pre-rejection (an acceleration only: it must not change a pixel, ReferenceRendererTest
-// checks bit-identical images). A point's beam elevation el (any beam model with ke > 0) and
-// the straight-line elevation elS of the antenna-to-point chord in the site's ENU frame differ
-// by the beam's bending against a straight line, at most r / (2 R) |1 - 1/ke| rad at chord
-// length r, plus the ellipsoid-vs-sphere difference of the model (the normal-section radius in
-// any azimuth is within 1 % of R: <= 0.02 deg at 460 km). With a margin of 0.25 deg on top, a
-// point with elS outside [e_0 - hb - bend - margin, e_top + hb + bend + margin] is NoData
-// under samplePolar and the exact inverse (~2 us) can be skipped. Points within 1 km of the
-// antenna are never rejected (elS is ill-conditioned there).
-struct ShellBand {
-  bool enabled = false;
-  glm::dvec3 upEcef{0.0};       ///< ellipsoid normal at the site
-  double loDeg = 0.0, hiDeg = 0.0;
-  double bendDegPerMeter = 0.0;
-  static constexpr double kMarginDeg = 0.25;
-  static constexpr double kMinRangeMeters = 1000.0;
+// One layer along one ray: its sample indices [iFirst, iLast] (t_i = (i + 0.5) step inside its
+// interval, i >= 0).
+struct LayerRange {
+  double iFirst = 0.0;
+  double iLast = -1.0;
 };
 
 struct Context {
-  const PolarVolume& volume;
-  const VolumeRenderSettings& settings;
-  glm::dvec3 antennaEcef;
-  ShellBand band;
+  const std::vector<ReferenceLayer>& layers;
+  const VolumeRenderSettings& shared;  // layers[0]: mode, step, early termination
 };
 
-ShellBand shellBandOf(const PolarVolume& v, bool enabled) {
-  ShellBand b;
-  b.enabled = enabled && !v.sweeps.empty() && v.beam.ke > 0.0;
-  if (!b.enabled) return b;
-  b.upEcef = globe::enuAxes(v.site.latDeg, v.site.lonDeg)[2];
-  const double hb = 0.5 * v.beamWidthDeg;
-  b.loDeg = v.sweeps.front().elevationDeg - hb;
-  b.hiDeg = v.sweeps.back().elevationDeg + hb;
-  const double radius = v.beam.earthRadiusMeters.value_or(globe::geocentricRadiusMeters(v.site.latDeg));
-  b.bendDegPerMeter = std::abs(1.0 - 1.0 / v.beam.ke) / (2.0 * radius) / kDegToRad;
-  return b;
-}
-
-bool provablyOutsideShell(const Context& ctx, const glm::dvec3& ecef) {
-  const ShellBand& b = ctx.band;
-  if (!b.enabled) return false;
-  const glm::dvec3 d = ecef - ctx.antennaEcef;
-  const double r = glm::length(d);
-  if (!(r > ShellBand::kMinRangeMeters)) return false;
-  const double elS = std::asin(std::clamp(glm::dot(d, b.upEcef) / r, -1.0, 1.0)) / kDegToRad;
-  const double slack = r * b.bendDegPerMeter + ShellBand::kMarginDeg;
-  return elS > b.hiDeg + slack || elS < b.loDeg - slack;
-}
-
-PolarSample sampleAt(const Context& ctx, const glm::dvec3& ecef) {
-  if (provablyOutsideShell(ctx, ecef)) return PolarSample{};  // NoData
-  const AntennaCoordinates ac = antennaCoordinatesExact(ctx.volume.site, ctx.volume.beam, ecef);
-  return samplePolar(ctx.volume, ac.rangeMeters, ac.azimuthDeg, ac.elevationDeg, ctx.settings.interpolation);
+VolumeSample sampleLayer(const ReferenceLayer& layer, const glm::dvec3& ecef) {
+  return layer.sampler->sample(ecef, layer.settings.interpolation);
 }
 
 // The scalar field for the ISO gradient: Echo value, else opacityZeroValue.
-double fieldForGradient(const Context& ctx, const glm::dvec3& ecef) {
-  const PolarSample s = sampleAt(ctx, ecef);
-  return s.state == PolarSample::State::Echo ? s.value : ctx.settings.transfer.opacityZeroValue;
+double fieldForGradient(const ReferenceLayer& layer, const glm::dvec3& ecef) {
+  const VolumeSample s = sampleLayer(layer, ecef);
+  return s.state == VolumeSample::State::Echo ? s.value : layer.settings.transfer.opacityZeroValue;
 }
 
-bool isoPredicate(const Context& ctx, const glm::dvec3& ecef) {
-  const PolarSample s = sampleAt(ctx, ecef);
-  return s.state == PolarSample::State::Echo && s.value >= ctx.settings.isoValue;
+bool isoPredicate(const ReferenceLayer& layer, const glm::dvec3& ecef) {
+  const VolumeSample s = sampleLayer(layer, ecef);
+  return s.state == VolumeSample::State::Echo && s.value >= layer.settings.isoValue;
 }
 
-glm::dvec4 shadeIso(const Context& ctx, const glm::dvec3& eye, const glm::dvec3& dir, double tHit) {
-  const double step = ctx.settings.stepMeters;
+glm::dvec4 shadeIso(const ReferenceLayer& layer, double step, const glm::dvec3& eye, const glm::dvec3& dir,
+                    double tHit) {
   double lo = tHit - step, hi = tHit;
   for (int k = 0; k < 8; ++k) {
     const double mid = 0.5 * (lo + hi);
-    if (isoPredicate(ctx, eye + mid * dir)) {
+    if (isoPredicate(layer, eye + mid * dir)) {
       hi = mid;
     } else {
       lo = mid;
@@ -115,113 +57,143 @@ glm::dvec4 shadeIso(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
   for (int axis = 0; axis < 3; ++axis) {
     glm::dvec3 e(0.0);
     e[axis] = d;
-    grad[axis] = (fieldForGradient(ctx, p + e) - fieldForGradient(ctx, p - e)) / (2.0 * d);
+    grad[axis] = (fieldForGradient(layer, p + e) - fieldForGradient(layer, p - e)) / (2.0 * d);
   }
   const double len = glm::length(grad);
   const double shade = len > 0.0 ? 0.3 + 0.7 * std::abs(glm::dot(-grad / len, dir)) : 1.0;
-  const glm::dvec4 c = ctx.settings.transfer.classify(ctx.settings.isoValue);
+  const glm::dvec4 c = layer.settings.transfer.classify(layer.settings.isoValue);
   return glm::dvec4(glm::dvec3(c) * shade, 1.0);
 }
 
 glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3& dir, bool occlude) {
-  const VolumeRenderSettings& st = ctx.settings;
+  const VolumeRenderSettings& st = ctx.shared;
   const double step = st.stepMeters;
-  const Span span = intersectSphere(eye, dir, ctx.antennaEcef, ctx.volume.clipRadiusMeters);
-  if (span.tExit < span.tEnter || span.tExit < 0.0) return glm::dvec4(0.0);
+  const std::size_t n = ctx.layers.size();
+  std::vector<LayerRange> ranges(n);
+  double iBegin = std::numeric_limits<double>::infinity(), iEnd = -1.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const RayInterval span = ctx.layers[k].sampler->rayInterval(eye, dir);
+    if (span.empty() || span.tExitMeters < 0.0) continue;
+    // i with tEnter <= (i + 0.5) step <= tExit, i >= 0.
+    ranges[k].iFirst = std::max(0.0, std::ceil(span.tEnterMeters / step - 0.5));
+    ranges[k].iLast = std::floor(span.tExitMeters / step - 0.5);
+    if (ranges[k].iLast < ranges[k].iFirst) continue;
+    iBegin = std::min(iBegin, ranges[k].iFirst);
+    iEnd = std::max(iEnd, ranges[k].iLast);
+  }
+  if (!(iBegin <= iEnd)) return glm::dvec4(0.0);
   double tLimit = std::numeric_limits<double>::infinity();
   if (occlude) {
     if (const std::optional<glm::dvec3> hit = globe::intersectRayEllipsoid(eye, dir))
       tLimit = glm::dot(*hit - eye, dir);
   }
-  // i with tEnter <= (i + 0.5) step <= tExit, i >= 0.
-  const double iFirst = std::max(0.0, std::ceil(span.tEnter / step - 0.5));
-  const double iLast = std::floor(span.tExit / step - 0.5);
 
   glm::dvec4 acc(0.0);  // DVR: premultiplied rgb, alpha
-  double maxValue = -std::numeric_limits<double>::infinity();
-  bool anyEcho = false;
-  for (double i = iFirst; i <= iLast; i += 1.0) {
+  struct MipState {
+    double maxValue = -std::numeric_limits<double>::infinity();
+    double tOfMax = 0.0;
+    bool anyEcho = false;
+  };
+  std::vector<MipState> mip(st.mode == VolumeRenderMode::Mip ? n : 0);
+  for (double i = iBegin; i <= iEnd; i += 1.0) {
     const double t = (i + 0.5) * step;
     if (!(t < tLimit)) break;
-    const PolarSample s = sampleAt(ctx, eye + t * dir);
-    if (s.state != PolarSample::State::Echo) continue;
-    switch (st.mode) {
-      case VolumeRenderMode::Dvr: {
-        const glm::dvec4 c = st.transfer.classify(s.value);
-        if (c.a <= 0.0) break;
-        const double as = st.transfer.correctedOpacity(c.a, step);
-        const double w = (1.0 - acc.a) * as;
-        acc += glm::dvec4(glm::dvec3(c) * w, w);
-        if (acc.a >= st.earlyTerminationAlpha) return acc;
-        break;
+    const glm::dvec3 p = eye + t * dir;
+    // DVR over the layers at this sample: opacities and extinction-weighted colour.
+    int contributing = 0;
+    glm::dvec4 single(0.0);
+    double transmitted = 1.0, extinction = 0.0;
+    glm::dvec3 weightedRgb(0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (i < ranges[k].iFirst || i > ranges[k].iLast) continue;
+      const ReferenceLayer& layer = ctx.layers[k];
+      const VolumeSample s = sampleLayer(layer, p);
+      if (s.state != VolumeSample::State::Echo) continue;
+      switch (st.mode) {
+        case VolumeRenderMode::Dvr: {
+          const glm::dvec4 c = layer.settings.transfer.classify(s.value);
+          if (c.a <= 0.0) break;
+          const double as = layer.settings.transfer.correctedOpacity(c.a, step);
+          ++contributing;
+          single = glm::dvec4(glm::dvec3(c), as);
+          transmitted *= 1.0 - as;
+          const double x = layer.settings.transfer.extinctionPerMeter(c.a);
+          extinction += x;
+          weightedRgb += x * glm::dvec3(c);
+          break;
+        }
+        case VolumeRenderMode::Mip:
+          if (!mip[k].anyEcho || s.value > mip[k].maxValue) {
+            mip[k].maxValue = s.value;
+            mip[k].tOfMax = t;
+          }
+          mip[k].anyEcho = true;
+          break;
+        case VolumeRenderMode::Iso:
+          if (s.value >= layer.settings.isoValue) return shadeIso(layer, step, eye, dir, t);
+          break;
       }
-      case VolumeRenderMode::Mip:
-        anyEcho = true;
-        maxValue = std::max(maxValue, s.value);
-        break;
-      case VolumeRenderMode::Iso:
-        if (s.value >= st.isoValue) return shadeIso(ctx, eye, dir, t);
-        break;
+    }
+    if (contributing > 0) {
+      glm::dvec3 rgb = glm::dvec3(single);
+      double as = single.a;
+      if (contributing > 1) {
+        as = 1.0 - transmitted;
+        rgb = extinction > 0.0 ? weightedRgb / extinction : glm::dvec3(0.0);
+      }
+      const double w = (1.0 - acc.a) * as;
+      acc += glm::dvec4(rgb * w, w);
+      if (acc.a >= st.earlyTerminationAlpha) return acc;
     }
   }
   if (st.mode == VolumeRenderMode::Mip) {
-    if (!anyEcho) return glm::dvec4(0.0);
-    const glm::dvec4 c = st.transfer.classify(maxValue);
-    return glm::dvec4(glm::dvec3(c) * c.a, c.a);
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < n; ++k)
+      if (mip[k].anyEcho) order.push_back(k);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return mip[a].tOfMax < mip[b].tOfMax; });
+    glm::dvec4 out(0.0);
+    for (std::size_t k : order) {
+      const glm::dvec4 c = ctx.layers[k].settings.transfer.classify(mip[k].maxValue);
+      const double w = (1.0 - out.a) * c.a;
+      out += glm::dvec4(glm::dvec3(c) * w, w);
+    }
+    return out;
   }
   return st.mode == VolumeRenderMode::Dvr ? acc : glm::dvec4(0.0);
 }
 
-glm::dvec3 antennaEcefOf(const PolarVolume& v) {
-  return globe::geodeticToEcef(globe::Geodetic{v.site.latDeg, v.site.lonDeg, v.site.antennaHeightEllipsoidMeters});
+void checkLayers(const std::vector<ReferenceLayer>& layers) {
+  assert(!layers.empty());
+  for (const ReferenceLayer& l : layers) {
+    assert(l.sampler != nullptr);
+    assert(l.settings.mode == layers[0].settings.mode && l.settings.stepMeters == layers[0].settings.stepMeters &&
+           l.settings.earlyTerminationAlpha == layers[0].settings.earlyTerminationAlpha);
+    (void)l;
+  }
+  assert(layers[0].settings.stepMeters > 0.0);
+  (void)layers;
 }
 
 }  // namespace
 
-RenderCamera makeLookAtCamera(const glm::dvec3& eyeEcef, const glm::dvec3& targetEcef, const glm::dvec3& upHintEcef,
-                              double fovYDeg, int widthPx, int heightPx) {
-  assert(fovYDeg > 0.0 && fovYDeg < 180.0 && widthPx >= 1 && heightPx >= 1);
-  const glm::dvec3 forward = glm::normalize(targetEcef - eyeEcef);
-  const glm::dvec3 right = glm::normalize(glm::cross(forward, upHintEcef));
-  const glm::dvec3 up = glm::cross(right, forward);
-  RenderCamera cam;
-  cam.eyeEcef = eyeEcef;
-  cam.cameraToEcef = glm::dmat3(right, up, -forward);
-  cam.focalLengthPx = heightPx / (2.0 * std::tan(0.5 * fovYDeg * kDegToRad));
-  cam.widthPx = widthPx;
-  cam.heightPx = heightPx;
-  return cam;
-}
-
-glm::dvec3 pixelRayDirection(const RenderCamera& camera, double xPx, double yPx) {
-  const double f = camera.focalLengthPx;
-  const glm::dvec3 e((xPx - 0.5 * camera.widthPx) / f, (0.5 * camera.heightPx - yPx) / f, -1.0);
-  return glm::normalize(camera.cameraToEcef * e);
-}
-
-std::optional<glm::dvec2> projectToPixel(const RenderCamera& camera, const glm::dvec3& ecef) {
-  const glm::dvec3 e = glm::transpose(camera.cameraToEcef) * (ecef - camera.eyeEcef);
-  if (e.z >= 0.0) return std::nullopt;
-  const double f = camera.focalLengthPx;
-  return glm::dvec2(0.5 * camera.widthPx + f * (e.x / -e.z), 0.5 * camera.heightPx - f * (e.y / -e.z));
-}
-
-glm::dvec4 renderReferenceRay(const PolarVolume& volume, const VolumeRenderSettings& settings,
-                              const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef, bool occludeByEllipsoid) {
-  assert(!volume.sweeps.empty() && settings.stepMeters > 0.0);
-  const Context ctx{volume, settings, antennaEcefOf(volume), shellBandOf(volume, true)};
+glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const glm::dvec3& eyeEcef,
+                              const glm::dvec3& unitDirEcef, bool occludeByEllipsoid) {
+  checkLayers(layers);
+  const Context ctx{layers, layers[0].settings};
   return marchRay(ctx, eyeEcef, unitDirEcef, occludeByEllipsoid);
 }
 
-VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings,
-                            const RenderCamera& camera, bool occludeByEllipsoid, int threads, bool rejectOutsideShell) {
-  assert(!volume.sweeps.empty() && settings.stepMeters > 0.0 && camera.widthPx >= 1 && camera.heightPx >= 1);
+VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
+                            bool occludeByEllipsoid, int threads) {
+  checkLayers(layers);
+  assert(camera.widthPx >= 1 && camera.heightPx >= 1);
   VolumeImage img;
   img.widthPx = camera.widthPx;
   img.heightPx = camera.heightPx;
   img.rgbaPremultiplied.assign(static_cast<std::size_t>(camera.widthPx) * static_cast<std::size_t>(camera.heightPx),
                                glm::dvec4(0.0));
-  const Context ctx{volume, settings, antennaEcefOf(volume), shellBandOf(volume, rejectOutsideShell)};
+  const Context ctx{layers, layers[0].settings};
   const int nThreads = std::clamp(threads, 1, camera.heightPx);
   auto work = [&](int first) {
     for (int y = first; y < camera.heightPx; y += nThreads)
@@ -238,26 +210,18 @@ VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSetting
   return img;
 }
 
-ImageError compareImages(const VolumeImage& a, const VolumeImage& b) {
-  assert(a.widthPx == b.widthPx && a.heightPx == b.heightPx);
-  assert(a.rgbaPremultiplied.size() == b.rgbaPremultiplied.size());
-  auto q = [](double c) { return std::round(255.0 * std::clamp(std::isfinite(c) ? c : 0.0, 0.0, 1.0)); };
-  double sumAbs = 0.0, sumSq = 0.0, maxAbs = 0.0;
-  const std::size_t n = a.rgbaPremultiplied.size();
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double d = std::abs(q(a.rgbaPremultiplied[i][c]) - q(b.rgbaPremultiplied[i][c]));
-      sumAbs += d;
-      sumSq += d * d;
-      maxAbs = std::max(maxAbs, d);
-    }
-  ImageError e;
-  const double count = 3.0 * static_cast<double>(n);
-  e.meanAbs = n ? sumAbs / count : 0.0;
-  e.maxAbs = maxAbs;
-  const double mse = n ? sumSq / count : 0.0;
-  e.psnrDb = mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
-  return e;
+VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings,
+                            const RenderCamera& camera, bool occludeByEllipsoid, int threads, bool rejectOutsideShell) {
+  assert(!volume.sweeps.empty());
+  const PolarSampler sampler(volume, rejectOutsideShell);
+  return renderReference({ReferenceLayer{&sampler, settings}}, camera, occludeByEllipsoid, threads);
+}
+
+glm::dvec4 renderReferenceRay(const PolarVolume& volume, const VolumeRenderSettings& settings,
+                              const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef, bool occludeByEllipsoid) {
+  assert(!volume.sweeps.empty());
+  const PolarSampler sampler(volume);
+  return renderReferenceRay({ReferenceLayer{&sampler, settings}}, eyeEcef, unitDirEcef, occludeByEllipsoid);
 }
 
 }  // namespace atmoglobe::volume

@@ -45,7 +45,7 @@ struct ImageryLayerDescription {
   std::string path;  ///< resolved (absolute or relative to the working directory)
 };
 
-/// A radar volume to ray-march (see RadarVolumeRendererGL.h for the knobs).
+/// A radar volume to ray-march (see VolumeRendererGL.h and RadarVolumeGL.h for the knobs).
 struct RadarLayerDescription {
   std::string path;                 ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
   std::string field;                ///< empty: the reflectivity field
@@ -56,7 +56,7 @@ struct RadarLayerDescription {
   double imageScale = 1.0;
   double isoValue = 40.0;
   std::string beam = "4/3";         ///< "4/3" (effective Earth) or "straight"
-  std::string classification = "point";  ///< DVR: "point" or "preintegrated" (RadarRenderOptions::classification)
+  std::string classification = "point";  ///< DVR: "point" or "preintegrated" (VolumeRenderOptions::classification)
   std::string label;                ///< site marker label; empty: the site name from the file
   bool useGeoid = true;
 };

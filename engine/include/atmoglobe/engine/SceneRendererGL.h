@@ -7,8 +7,9 @@
 #include <atmoglobe/engine/GlobeRendererGL.h>
 #include <atmoglobe/engine/GltfModelRendererGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
-#include <atmoglobe/engine/RadarVolumeRendererGL.h>
+#include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/TileImageLoader.h>
 
@@ -22,7 +23,7 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
                                                            const globe::TileImageLoaderOptions& options);
 
 /// Render options of a radar layer description (colour table read here: .pal errors).
-Result<RadarRenderOptions> radarRenderOptions(const RadarLayerDescription& description);
+Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& description);
 
 struct SceneFrameStats {
   GlobeFrameStats globe;
@@ -32,7 +33,7 @@ struct SceneFrameStats {
 /// A radar loaded for rendering: its GPU volume, its options and its site marker.
 struct RadarLayerGL {
   std::unique_ptr<RadarVolumeGL> volume;
-  RadarRenderOptions options;
+  VolumeRenderOptions options;
   Marker siteMarker;
   std::string datumNote;  ///< which vertical datum / geoid undulation was used
 };
@@ -55,12 +56,13 @@ class SceneRendererGL {
                                           FramebufferGL& target, int maxPasses = 64,
                                           SceneFrameStats* lastStats = nullptr);
   GlobeRendererGL& globe() { return *globe_; }
+  VolumeRendererGL& volumeRenderer() { return *volumeRenderer_; }
 
  private:
   SceneRendererGL() = default;
   std::unique_ptr<GlobeRendererGL> globe_;
   std::unique_ptr<MarkerRendererGL> markers_;
-  std::unique_ptr<RadarVolumeRendererGL> radarRenderer_;
+  std::unique_ptr<VolumeRendererGL> volumeRenderer_;
   std::vector<RadarLayerGL> radars_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
 };

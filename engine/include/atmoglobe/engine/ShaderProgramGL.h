@@ -27,6 +27,11 @@ class ShaderProgramGL {
   /// "#define NAME" line per entry of `defines` (variants, Magnum-style).
   static Result<ShaderProgramGL> create(std::string_view vertexFile, std::string_view fragmentFile,
                                         const std::vector<std::string>& defines = {});
+  /// The same with the fragment stage's source given (assembled by the caller, e.g. the volume
+  /// marcher); `fragmentName` names it in messages.
+  static Result<ShaderProgramGL> createFromSource(std::string_view vertexFile, std::string_view fragmentName,
+                                                  const std::string& fragmentSource,
+                                                  const std::vector<std::string>& defines = {});
   ShaderProgramGL() = default;
   ShaderProgramGL(ShaderProgramGL&& other) noexcept;
   ShaderProgramGL& operator=(ShaderProgramGL&& other) noexcept;

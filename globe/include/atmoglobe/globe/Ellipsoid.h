@@ -75,6 +75,18 @@ GeodesicLine geodesicInverse(double lat1Deg, double lon1Deg, double lat2Deg, dou
 /// R = sqrt(((a^2 cos)^2 + (b^2 sin)^2) / ((a cos)^2 + (b sin)^2)).
 double geocentricRadiusMeters(double latDeg);
 
+/// WGS84 radius of curvature in the meridian at geodetic latitude `latDeg` (m):
+/// M = a (1 - e^2) / (1 - e^2 sin^2(lat))^(3/2) (NIMA TR8350.2, 3rd ed., section 4).
+double meridionalRadiusMeters(double latDeg);
+
+/// WGS84 radius of curvature in the prime vertical at geodetic latitude `latDeg` (m):
+/// N = a / sqrt(1 - e^2 sin^2(lat)) (NIMA TR8350.2, 3rd ed., section 4).
+double primeVerticalRadiusMeters(double latDeg);
+
+/// Radius of curvature of the WGS84 normal section at latitude `latDeg` in the direction
+/// `azimuthDeg` (clockwise from north), by Euler's theorem: 1 / (cos^2(az) / M + sin^2(az) / N) (m).
+double normalSectionRadiusMeters(double latDeg, double azimuthDeg);
+
 /// First intersection (ECEF, m) of the ray origin + t*direction, t >= 0, with the
 /// ellipsoid raised by heightMeters (axes a+h, a+h, b+h); nullopt if it misses.
 /// `direction` need not be unit length. Used for picking (what is under the cursor).

@@ -1,6 +1,6 @@
 #pragma once
 // A radar volume prepared for rendering in its own polar geometry, and the sampling rule
-// that the GPU marcher (engine: RadarVolumeRendererGL + shaders/radar_march.frag) and the
+// that the GPU marcher (engine: VolumeRendererGL + shaders/volume_march.frag + sample_polar.glsl) and the
 // CPU reference renderer (ReferenceRenderer.h) both implement. GL-free.
 //
 // Layout (what the GPU gets, no Cartesian resampling; the engine packs the values as
@@ -42,7 +42,9 @@
 // Compositing: front to back, premultiplied colour; early termination at alpha >= 0.99.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/RadarVolume.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 
 #include <cstdint>
 #include <string>
@@ -93,13 +95,8 @@ struct PolarVolume {
 /// no values loaded, non-finite geometry.
 Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam);
 
-enum class Interpolation { Nearest, Linear };
-
-struct PolarSample {
-  enum class State { NoData, NoEcho, Echo };
-  State state = State::NoData;
-  double value = 0.0;  ///< valid when state == Echo
-};
+/// A sample of the rule below (the VolumeSampler states: NoData, NoEcho, Echo).
+using PolarSample = VolumeSample;
 
 /// The sampling rule above, in double precision. Azimuth any value (wrapped to [0, 360)).
 PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg,
@@ -116,6 +113,56 @@ double rayCoordinate(const PolarSweepLayout& sweep, double azimuthDeg);
 /// there is at most bin width x |change of slope| / 4 (PolarVolumeTest, 8192 bins: KLBB
 /// 0.0068 rays = 0.0034 deg, its super-resolution azimuths are irregular; AU40 5e-5 rays).
 std::vector<float> rayCoordinateTable(const PolarSweepLayout& sweep, int bins);
+
+/// The band of straight-line elevations (the elevation of the antenna-to-point chord in the
+/// site's ENU frame, degrees) that holds every point at chord length r from the antenna whose
+/// beam elevation is inside [e_0 - hb, e_{n-1} + hb] (the rule's vertical extent). A beam bends
+/// against its straight chord by at most r / (2 R) |1 - 1/ke| rad at chord length r (Doviak &
+/// Zrnic 1993, eq. 2.28, to first order in r / R; none for a straight beam); the model's sphere
+/// differs from the ellipsoid's normal sections by under 1 %, which moves elevations by under
+/// 0.02 deg at 460 km; kStraightElevationBandMarginDeg covers that and float rounding. The one
+/// definition of the band: the CPU reference's pre-rejection evaluates it at each point's range,
+/// the GPU's ray clipping at the clip radius.
+inline constexpr double kStraightElevationBandMarginDeg = 0.1;
+struct StraightElevationBand {
+  double loDeg = -90.0;            ///< at range 0, margin included
+  double hiDeg = 90.0;
+  double bendDegPerMeter = 0.0;    ///< widening on each side per metre of range
+  double loDegAt(double rangeMeters) const;  ///< clamped to [-90, 90]
+  double hiDegAt(double rangeMeters) const;
+};
+StraightElevationBand straightElevationBand(const PolarVolume& v, bool straightBeam = false);
+
+/// The PolarVolume as a VolumeSampler: exact inverse geolocation (antennaCoordinatesExact) and
+/// samplePolar at each point; the ray interval is the clip sphere (clipRadiusMeters around the
+/// antenna); provablyEmpty rejects points outside straightElevationBand at their range (points
+/// within 1 km of the antenna are never rejected: the chord's elevation is ill-conditioned
+/// there). Holds a reference: `volume` must outlive the sampler.
+class PolarSampler final : public VolumeSampler {
+ public:
+  explicit PolarSampler(const PolarVolume& volume, bool rejectOutsideShell = true);
+  RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override;
+  VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
+  bool provablyEmpty(const glm::dvec3& ecef) const override;
+  ValueRange valueRange() const override;
+  std::string description() const override;
+  const PolarVolume& polar() const { return volume_; }
+  const glm::dvec3& antennaEcef() const { return antennaEcef_; }
+
+ private:
+  const PolarVolume& volume_;
+  glm::dvec3 antennaEcef_{0.0};
+  glm::dvec3 upEcef_{0.0};
+  StraightElevationBand band_;
+  bool reject_ = false;
+};
+
+/// The empty-space grid of a PolarVolume, in the site's ENU frame, 256 x 256 x 32 cells over the
+/// measured gates' support. Built per block of 2 rays x 4 gates of each sweep: the block's value
+/// support under the linear rule (its gates +-1, its rays +-1, from the sweep below to the sweep
+/// above, +- half a beam at the ends) is bounded by the box of 27 points on it (the local-sphere
+/// beam model, LocalSphereBeam::enuOf), dilated by the support's largest bulge between them.
+OccupancyGrid buildOccupancyGrid(const PolarVolume& v);
 
 /// Bytes a Cartesian grid would need to hold this volume at the radar's near-range
 /// resolution (the finest gate spacing, in x, y and z, over the box enclosing maxRange and

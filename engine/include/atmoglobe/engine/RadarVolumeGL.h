@@ -1,0 +1,56 @@
+#pragma once
+// A radar volume on the GPU in its own polar geometry (no Cartesian resampling): the sweeps as
+// texture layers in their native (ray, gate) layout, per-sweep azimuth tables, and the
+// empty-space grid; drawn by VolumeRendererGL through shaders/sample_polar.glsl. The sampling
+// rule is that of volume/PolarVolume.h, the same as the CPU reference (volume::PolarSampler).
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/PolarVolume.h>
+
+#include <memory>
+
+namespace atmoglobe::engine {
+
+/// How the GPU maps a point to antenna coordinates.
+enum class BeamApproximation {
+  /// The effective-Earth model (ke, R from the volume's BeamModel) on a local sphere whose
+  /// radius is the ellipsoid's normal-section radius in the sample's azimuth, in float32:
+  /// volume::LocalSphereBeam, whose double twin's error against the exact inverse is stated in
+  /// volume/Geolocation.h; the float error is measured by RadarMarchTest.
+  EffectiveEarthLocalSphere,
+  /// Straight lines from the antenna, no Earth curvature, no refraction (what several open
+  /// 3-D radar viewers do); for comparison only.
+  StraightLine,
+};
+
+class RadarVolumeGL final : public VolumeGL {
+ public:
+  static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume);
+  ~RadarVolumeGL() override;
+  RadarVolumeGL(const RadarVolumeGL&) = delete;
+  RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
+
+  const volume::PolarVolume& polar() const { return *polar_; }
+  BeamApproximation beamApproximation() const { return beam_; }
+  void setBeamApproximation(BeamApproximation beam) { beam_ = beam; }
+
+  std::string_view samplerShaderFile() const override { return "sample_polar.glsl"; }
+  std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const override;
+  glm::dvec3 originEcef() const override { return beamModel_.antennaEcef; }
+  int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  volume::ValueRange valueRange() const override { return {polar_->minValue, polar_->maxValue}; }
+  std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
+  std::string description() const override { return polar_->fieldName + " from " + polar_->sourcePath; }
+
+ private:
+  RadarVolumeGL() = default;
+  std::shared_ptr<const volume::PolarVolume> polar_;
+  volume::LocalSphereBeam beamModel_;
+  BeamApproximation beam_ = BeamApproximation::EffectiveEarthLocalSphere;
+  GLuint values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer
+  glm::vec2 valuesSize_{1.0f};        ///< texels per layer (gates + 1, rays + 1)
+  glm::vec2 elLookupRange_{0.0f, 1.0f};
+  std::size_t gpuBytes_ = 0;
+};
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,29 @@
+#pragma once
+// The analytic uniform shell (volume/AnalyticVolume.h) on the GPU: no textures, three uniforms,
+// shaders/sample_shell.glsl. A second kind beside radar volumes, drawn by the same marcher; its
+// closed-form optical depth checks the GPU path and the CPU reference (tests).
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/volume/AnalyticVolume.h>
+
+#include <memory>
+
+namespace atmoglobe::engine {
+
+class ShellVolumeGL final : public VolumeGL {
+ public:
+  explicit ShellVolumeGL(const volume::UniformShell& shell);
+  const volume::UniformShell& shell() const { return shell_; }
+  std::string_view samplerShaderFile() const override { return "sample_shell.glsl"; }
+  std::vector<std::string> samplerDefines(const VolumeRenderOptions&) const override { return {}; }
+  glm::dvec3 originEcef() const override { return centreEcef_; }
+  int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  volume::ValueRange valueRange() const override { return {shell_.value, shell_.value}; }
+  std::size_t gpuBytes() const override { return occupancy_.gpuBytes(); }
+  std::string description() const override;
+
+ private:
+  volume::UniformShell shell_;
+  glm::dvec3 centreEcef_{0.0};
+};
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,121 @@
+#pragma once
+// A volume on the GPU, whatever its kind: the interface the ray marcher (VolumeRendererGL.h)
+// draws through, and the constants C++ and GLSL share.
+//
+// Adding a kind of volume to the renderer takes three pieces (volume/README.md):
+//  1. a volume::VolumeSampler (GL-free, double: the CPU reference draws it);
+//  2. a VolumeGL subclass here: its textures, its uniforms, its empty-space grid;
+//  3. a GLSL sampler file shaders/sample_KIND.glsl defining, with the prefix VOL_,
+//       vec2 VOL_interval(vec3 eyeRel, vec3 dir, float tMax)  where along the ray data can be (t >= 0, <= tMax)
+//       int  VOL_sample(vec3 p, out float value)             STATE_ECHO with the value, or STATE_NOT_ECHO
+//       vec3 VOL_debugCoordinates(vec3 p)                    the kind's own coordinates of p (tests)
+//     where positions are float32 relative to originEcef() (subtracted in double).
+// The marcher includes the file once per volume with VOL_ replaced by that volume's prefix.
+#include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/volume/OccupancyGrid.h>
+#include <atmoglobe/volume/VolumeRenderSettings.h>
+
+#include <epoxy/gl.h>
+#include <glm/glm.hpp>
+
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+/// Constants shared by C++ and the march shaders, injected as #defines (marchShaderDefines).
+struct MarchConstants {
+  static constexpr int kTransferEntries = 4096;  ///< TRANSFER_ENTRIES: transfer table entries per volume
+  static constexpr int kMaxVolumes = 8;          ///< MAX_VOLUMES: volumes in one march (texture units: 3 + 3 each)
+  static constexpr int kStateNotEcho = 0;        ///< STATE_NOT_ECHO: no echo or no data (drawn alike)
+  static constexpr int kStateEcho = 1;           ///< STATE_ECHO
+  static constexpr int kGridBlock = volume::OccupancyGrid::kBlock;  ///< GRID_BLOCK
+  static constexpr int kMaxSweeps = 32;          ///< MAX_SWEEPS: radar sweeps per volume
+  static constexpr int kRayTableBins = 8192;     ///< RAY_TABLE_BINS: azimuth table resolution (360 / 8192 deg)
+  static constexpr int kElevationBins = 2048;    ///< ELEVATION_BINS: elevation -> sweep lookup
+};
+std::vector<std::string> marchShaderDefines();
+
+/// How DVR classifies the field between samples.
+enum class Classification {
+  Point,          ///< each sample alone, over one step (post-classification; what the reference does at 100 m)
+  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity (volume::transferIntegralTable)
+};
+
+/// The generic knobs of one volume layer (a kind's own knobs live on its VolumeGL).
+struct VolumeRenderOptions {
+  volume::VolumeRenderSettings render;  ///< mode, interpolation, step, transfer, iso, termination
+  double imageScale = 1.0;              ///< volume image resolution relative to the frame (0.05..1)
+  bool skipEmptySpace = true;           ///< jump over cells of the empty-space grid that cannot contribute
+  Classification classification = Classification::Point;  ///< DVR only
+};
+
+/// Uniform locations of one program, looked up once per name and kept.
+class UniformCacheGL {
+ public:
+  explicit UniformCacheGL(GLuint program = 0) : program_(program) {}
+  GLint operator()(const std::string& name);
+
+ private:
+  GLuint program_ = 0;
+  std::unordered_map<std::string, GLint> locations_;
+};
+
+/// Where a volume's sampler binds: its uniforms' prefix, its first texture unit.
+struct SamplerBindingGL {
+  UniformCacheGL* uniforms = nullptr;
+  std::string prefix;       ///< "v0_", "v1_", ...
+  int firstUnit = 0;
+  GLuint nearestSampler = 0;  ///< a sampler object with nearest filtering, clamp to edge
+};
+
+/// An empty-space grid on the GPU: one R16F 3-D texture, the cells (z < cells.z) and above them
+/// the blocks (z >= cells.z, x < blocks.x, y < blocks.y). Values rounded up to half floats, so
+/// the grid stays conservative.
+class OccupancyGridGL {
+ public:
+  OccupancyGridGL() = default;
+  explicit OccupancyGridGL(const volume::OccupancyGrid& grid);
+  ~OccupancyGridGL();
+  OccupancyGridGL(OccupancyGridGL&& other) noexcept;
+  OccupancyGridGL& operator=(OccupancyGridGL&& other) noexcept;
+  GLuint texture() const { return texture_; }
+  const volume::OccupancyGrid& grid() const { return grid_; }
+  std::size_t gpuBytes() const { return gpuBytes_; }
+
+ private:
+  volume::OccupancyGrid grid_;
+  GLuint texture_ = 0;
+  std::size_t gpuBytes_ = 0;
+};
+
+class VolumeGL {
+ public:
+  virtual ~VolumeGL() = default;
+  /// The kind's GLSL sampler file (shaders/sample_KIND.glsl).
+  virtual std::string_view samplerShaderFile() const = 0;
+  /// Compile-time constants of this volume's sampler for these options ("NAME VALUE", without
+  /// the prefix); part of the program variant.
+  virtual std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const = 0;
+  /// The double-precision origin the sampler's float positions are relative to.
+  virtual glm::dvec3 originEcef() const = 0;
+  /// Sets the sampler's own uniforms and binds its textures from binding.firstUnit on; returns
+  /// the number of units used (at most kSamplerUnits).
+  virtual int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const = 0;
+  static constexpr int kSamplerUnits = 2;
+  virtual volume::ValueRange valueRange() const = 0;
+  /// GPU bytes of all its textures, the empty-space grid included.
+  virtual std::size_t gpuBytes() const = 0;
+  virtual std::string description() const = 0;
+  const OccupancyGridGL& occupancy() const { return occupancy_; }
+
+ protected:
+  OccupancyGridGL occupancy_;
+};
+
+/// GL texture with the given filter and clamp-to-edge wrapping (a helper for VolumeGL kinds).
+GLuint makeVolumeTextureGL(GLenum target, GLint filter = GL_NEAREST);
+
+}  // namespace atmoglobe::engine

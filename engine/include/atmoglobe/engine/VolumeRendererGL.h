@@ -1,0 +1,98 @@
+#pragma once
+// The ray marcher of every volume kind (shaders/volume_march.frag): marches volumes into an
+// internal RGBA16F image, optionally at a lower resolution, occluded by the globe's depth, and
+// lays it over the frame (premultiplied). Several volumes are marched together where they can
+// overlap, so that the picture is the emission-absorption integral of all of them (extinctions
+// add, colours weighted by extinction), the rule of the CPU reference
+// (volume/ReferenceRenderer.h). docs/volume-rendering.md.
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/volume/RenderCamera.h>
+
+#include <epoxy/gl.h>
+
+#include <map>
+#include <memory>
+
+namespace atmoglobe::engine {
+
+/// The reference renderer's camera for an engine camera (same convention, plain data).
+volume::RenderCamera referenceCameraFor(const Camera& camera);
+
+/// One volume of a draw: the GPU volume (not owned) and its options.
+struct VolumeLayerGL {
+  const VolumeGL* volume = nullptr;
+  VolumeRenderOptions options;
+};
+
+/// A march program variant: what is compiled into one program.
+struct MarchVariant {
+  int mode = 0;              ///< 0 DVR, 1 MIP, 2 isosurface, 3 debug (volume 0's coordinates)
+  bool skipEmpty = true;
+  bool preintegrated = false;
+  /// Per volume: its sampler file and its sampler defines.
+  std::vector<std::pair<std::string, std::vector<std::string>>> volumes;
+  auto operator<=>(const MarchVariant&) const = default;
+};
+
+class VolumeRendererGL {
+ public:
+  static Result<std::unique_ptr<VolumeRendererGL>> create();
+  ~VolumeRendererGL();
+
+  /// Draws the layers over `target` (reverse-Z depth of the frame occludes them) and leaves
+  /// `target` bound. Layers are marched together in groups: consecutive layers with the same
+  /// mode, step, early termination, classification, skipping and image scale, up to
+  /// MarchConstants::kMaxVolumes at a time; groups are composited in order. A pixel pays only
+  /// for the volumes its ray crosses (each volume is sampled only inside its own interval).
+  void draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target);
+  void draw(const Camera& camera, const VolumeGL& volume, const VolumeRenderOptions& options,
+            const FramebufferGL& target) {
+    draw(camera, {VolumeLayerGL{&volume, options}}, target);
+  }
+
+  /// Debug/measurement: for each pixel, the kind's coordinates (a radar: range m, azimuth deg,
+  /// elevation deg) that the shader computes for the point at distance tMeters along the
+  /// pixel's ray. RGBA32F read back, row 0 = top.
+  std::vector<glm::vec4> debugCoordinatesAt(const Camera& camera, const VolumeGL& volume, double tMeters);
+
+  /// The last volume image (premultiplied RGBA, float), row 0 = top.
+  std::vector<glm::vec4> readVolumeImage() const;
+
+  /// The program of a variant: assembled, compiled on first use and kept. Null with the
+  /// compile log on stderr (once) if it fails.
+  const ShaderProgramGL* marchProgram(const MarchVariant& variant);
+
+ private:
+  VolumeRendererGL() = default;
+  struct ProgramEntry {
+    ShaderProgramGL program;
+    UniformCacheGL uniforms;
+  };
+  /// Marches one group into the volume target (cleared first); false if its program failed.
+  bool march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture, int debugMode,
+             double debugT);
+  void ensureTarget(int widthPx, int heightPx, GLenum format);
+
+  std::map<MarchVariant, ProgramEntry> programs_;
+  std::map<MarchVariant, std::string> programErrors_;
+  ShaderProgramGL composite_;
+  GLuint vao_ = 0;
+  GLuint transfer_ = 0;           ///< TRANSFER_ENTRIES x MAX_VOLUMES: each volume's classify() row
+  GLuint transferIntegral_ = 0;   ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
+  GLuint nearestSampler_ = 0;
+  std::unique_ptr<FramebufferGL> volumeTarget_;
+  GLenum volumeFormat_ = 0;
+  GLuint emptyDepth_ = 0;
+  /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
+  struct TransferKey {
+    const volume::TransferFunction* transfer = nullptr;
+    std::vector<double> fingerprint;
+    bool operator==(const TransferKey&) const = default;
+  };
+  std::vector<TransferKey> transferRows_;
+};
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,88 @@
+#include <atmoglobe/engine/VolumeGL.h>
+
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+
+namespace atmoglobe::engine {
+
+std::vector<std::string> marchShaderDefines() {
+  using C = MarchConstants;
+  return {"TRANSFER_ENTRIES " + std::to_string(C::kTransferEntries), "MAX_VOLUMES " + std::to_string(C::kMaxVolumes),
+          "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),     "STATE_ECHO " + std::to_string(C::kStateEcho),
+          "GRID_BLOCK " + std::to_string(C::kGridBlock),             "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
+          "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),     "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
+}
+
+GLint UniformCacheGL::operator()(const std::string& name) {
+  auto it = locations_.find(name);
+  if (it == locations_.end()) it = locations_.emplace(name, glGetUniformLocation(program_, name.c_str())).first;
+  return it->second;
+}
+
+GLuint makeVolumeTextureGL(GLenum target, GLint filter) {
+  GLuint t = 0;
+  glCreateTextures(target, 1, &t);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, filter);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+namespace {
+// The smallest half float >= x (the grid must not round a cell's maximum down below a
+// threshold that a sample in it exceeds). Finite x within the half range.
+std::uint16_t halfRoundedUp(float x) {
+  std::uint16_t h = static_cast<std::uint16_t>(glm::packHalf1x16(x));
+  if (glm::unpackHalf1x16(h) < x) {
+    // Next half towards +inf: magnitude up for positives, down for negatives (-0 -> +min).
+    if (h & 0x8000u) {
+      h = (h == 0x8000u) ? std::uint16_t{1} : static_cast<std::uint16_t>(h - 1);
+    } else {
+      h = static_cast<std::uint16_t>(h + 1);
+    }
+  }
+  return h;
+}
+}  // namespace
+
+OccupancyGridGL::OccupancyGridGL(const volume::OccupancyGrid& grid) : grid_(grid) {
+  const glm::ivec3 size(grid.cells.x, grid.cells.y, grid.cells.z + grid.blocks.z);
+  std::vector<std::uint16_t> texels(static_cast<std::size_t>(size.x) * size.y * size.z,
+                                    halfRoundedUp(volume::kOccupancyEmptyValue));
+  for (int z = 0; z < grid.cells.z; ++z)
+    for (int y = 0; y < grid.cells.y; ++y)
+      for (int x = 0; x < grid.cells.x; ++x)
+        texels[(static_cast<std::size_t>(z) * size.y + y) * size.x + x] = halfRoundedUp(grid.maxValues[grid.cellIndex(x, y, z)]);
+  for (int z = 0; z < grid.blocks.z; ++z)
+    for (int y = 0; y < grid.blocks.y; ++y)
+      for (int x = 0; x < grid.blocks.x; ++x)
+        texels[(static_cast<std::size_t>(grid.cells.z + z) * size.y + y) * size.x + x] =
+            halfRoundedUp(grid.blockMaxValues[(static_cast<std::size_t>(z) * grid.blocks.y + y) * grid.blocks.x + x]);
+  texture_ = makeVolumeTextureGL(GL_TEXTURE_3D);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureStorage3D(texture_, 1, GL_R16F, size.x, size.y, size.z);
+  glTextureSubImage3D(texture_, 0, 0, 0, 0, size.x, size.y, size.z, GL_RED, GL_HALF_FLOAT, texels.data());
+  gpuBytes_ = texels.size() * 2;
+}
+
+OccupancyGridGL::~OccupancyGridGL() {
+  if (texture_) glDeleteTextures(1, &texture_);
+}
+OccupancyGridGL::OccupancyGridGL(OccupancyGridGL&& other) noexcept
+    : grid_(std::move(other.grid_)), texture_(std::exchange(other.texture_, 0)), gpuBytes_(other.gpuBytes_) {}
+OccupancyGridGL& OccupancyGridGL::operator=(OccupancyGridGL&& other) noexcept {
+  if (this != &other) {
+    if (texture_) glDeleteTextures(1, &texture_);
+    grid_ = std::move(other.grid_);
+    texture_ = std::exchange(other.texture_, 0);
+    gpuBytes_ = other.gpuBytes_;
+  }
+  return *this;
+}
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,361 @@
+#include <atmoglobe/engine/VolumeRendererGL.h>
+
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <cstdio>
+#include <sstream>
+
+namespace atmoglobe::engine {
+
+namespace {
+
+constexpr int kDepthUnit = 0, kTransferUnit = 1, kIntegralUnit = 2, kFirstVolumeUnit = 3;
+
+std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t pos = text.find(from); pos != std::string::npos; pos = text.find(from, pos + to.size()))
+    text.replace(pos, from.size(), to);
+  return text;
+}
+
+// "vK_", the prefix of volume K's uniforms and functions (built by appending: GCC 12 warns
+// falsely, -Wrestrict, on "v" + std::string).
+std::string volumePrefix(std::size_t k) {
+  std::string p(1, 'v');
+  p.append(std::to_string(k));
+  p.push_back('_');
+  return p;
+}
+
+int modeIndex(volume::VolumeRenderMode m) {
+  return m == volume::VolumeRenderMode::Dvr ? 0 : m == volume::VolumeRenderMode::Mip ? 1 : 2;
+}
+
+// The generated dispatch: vol*(int k, ...) -> vK_*(...). Loops over k run to a constant, so after
+// unrolling each call site names one volume and the chain folds away.
+std::string dispatchSource(int count) {
+  struct Fn {
+    const char* signature;  // with {ARGS} for the argument list
+    const char* returnType;
+    const char* call;       // the per-volume call, VOL_ = prefix
+    const char* fallback;
+  };
+  const Fn fns[] = {
+      {"vec3 volEyeRel(int k)", "vec3", "VOL_eyeRel", "vec3(0.0)"},
+      {"mat3 volEcefToLocal(int k)", "mat3", "VOL_ecefToLocal", "mat3(1.0)"},
+      {"vec2 volInterval(int k, vec3 dir, float tMax)", "vec2", "VOL_interval(VOL_eyeRel, dir, tMax)", "vec2(1.0, 0.0)"},
+      {"vec2 volGridBox(int k, vec3 oL, vec3 dL)", "vec2", "VOL_gridBoxInterval(oL, dL)", "vec2(1.0, 0.0)"},
+      {"float volEmptyUntil(int k, vec3 oL, vec3 dL, vec2 box, float ts, float threshold)", "float",
+       "VOL_emptyUntil(oL, dL, box, ts, threshold)", "ts"},
+      {"int volSample(int k, vec3 p, out float value)", "int", "VOL_sample(p, value)", "STATE_NOT_ECHO"},
+      {"vec3 volDebug(int k, vec3 p)", "vec3", "VOL_debugCoordinates(p)", "vec3(0.0)"},
+      {"vec4 volClassify(int k, float v)", "vec4", "VOL_classify(v)", "vec4(0.0)"},
+      {"vec4 volTfIntegral(int k, float v)", "vec4", "VOL_tfIntegral(v)", "vec4(0.0)"},
+      {"vec2 volTfRange(int k)", "vec2", "VOL_tfRange", "vec2(0.0, 1.0)"},
+      {"float volIso(int k)", "float", "VOL_isoValue", "0.0"},
+      {"float volOpacityZero(int k)", "float", "VOL_opacityZeroValue", "0.0"},
+      {"float volMipVisibleMin(int k)", "float", "VOL_mipVisibleMin", "0.0"},
+  };
+  std::ostringstream s;
+  for (const Fn& f : fns) {
+    s << f.signature << " {\n";
+    if (std::string(f.signature).find("out float value") != std::string::npos) s << "  value = 0.0;\n";
+    for (int k = 0; k < count; ++k)
+      s << "  if (k == " << k << ") return " << replaceAll(f.call, "VOL_", volumePrefix(static_cast<std::size_t>(k))) << ";\n";
+    s << "  return " << f.fallback << ";\n}\n";
+  }
+  return s.str();
+}
+
+}  // namespace
+
+volume::RenderCamera referenceCameraFor(const Camera& camera) {
+  volume::RenderCamera c;
+  c.eyeEcef = camera.eyeEcef();
+  c.cameraToEcef = camera.cameraToEcef();
+  c.focalLengthPx = camera.focalLengthPx();
+  c.widthPx = camera.widthPx();
+  c.heightPx = camera.heightPx();
+  return c;
+}
+
+Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
+  using C = MarchConstants;
+  auto composite = ShaderProgramGL::create("fullscreen.vert", "composite.frag");
+  if (!composite) return makeError(composite.error());
+  std::unique_ptr<VolumeRendererGL> r(new VolumeRendererGL());
+  r->composite_ = std::move(*composite);
+  GLint units = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+  if (units < kFirstVolumeUnit + C::kMaxVolumes * (1 + VolumeGL::kSamplerUnits)) {
+    return makeError("the GPU has " + std::to_string(units) + " fragment texture units; the volume marcher needs " +
+                     std::to_string(kFirstVolumeUnit + C::kMaxVolumes * (1 + VolumeGL::kSamplerUnits)));
+  }
+  // The default radar variant now, so that a broken shader is an error here, not a missing volume.
+  MarchVariant v;
+  v.volumes.push_back({"sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0"}});
+  if (!r->marchProgram(v)) return makeError("volume_march.frag: " + r->programErrors_.begin()->second);
+  glCreateVertexArrays(1, &r->vao_);
+  glCreateSamplers(1, &r->nearestSampler_);
+  for (GLenum filter : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glSamplerParameteri(r->nearestSampler_, filter, GL_NEAREST);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glSamplerParameteri(r->nearestSampler_, wrap, GL_CLAMP_TO_EDGE);
+  r->transfer_ = makeVolumeTextureGL(GL_TEXTURE_2D);
+  glTextureStorage2D(r->transfer_, 1, GL_RGBA32F, C::kTransferEntries, C::kMaxVolumes);
+  r->transferIntegral_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
+  glTextureStorage2D(r->transferIntegral_, 1, GL_RGBA32F, C::kTransferEntries + 1, C::kMaxVolumes);
+  r->transferRows_.assign(C::kMaxVolumes, {});
+  // A 1x1 "nothing drawn" depth (0 = infinitely far in reverse-Z) for volume-only renders.
+  r->emptyDepth_ = makeVolumeTextureGL(GL_TEXTURE_2D);
+  glTextureStorage2D(r->emptyDepth_, 1, GL_R32F, 1, 1);
+  const float zero = 0.0f;
+  glTextureSubImage2D(r->emptyDepth_, 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &zero);
+  return r;
+}
+
+VolumeRendererGL::~VolumeRendererGL() {
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  for (GLuint t : {transfer_, transferIntegral_, emptyDepth_})
+    if (t) glDeleteTextures(1, &t);
+  if (nearestSampler_) glDeleteSamplers(1, &nearestSampler_);
+}
+
+const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& variant) {
+  if (auto it = programs_.find(variant); it != programs_.end()) return &it->second.program;
+  if (programErrors_.count(variant)) return nullptr;
+  auto fail = [&](const std::string& error) -> const ShaderProgramGL* {
+    programErrors_[variant] = error;
+    std::fprintf(stderr, "volume_march.frag variant (mode %d, %zu volumes): %s\n", variant.mode, variant.volumes.size(),
+                 error.c_str());
+    return nullptr;
+  };
+  auto main = loadShaderSource("volume_march.frag");
+  auto common = loadShaderSource("volume_common.glsl");
+  if (!main) return fail(main.error());
+  if (!common) return fail(common.error());
+  const std::string marker = "// @VOLUMES@";
+  const std::size_t at = main->find(marker);
+  if (at == std::string::npos || variant.volumes.empty()) return fail("volume_march.frag has no " + marker + " line");
+  std::ostringstream volumes;
+  for (std::size_t k = 0; k < variant.volumes.size(); ++k) {
+    const std::string prefix = volumePrefix(static_cast<std::size_t>(k));
+    auto sampler = loadShaderSource(variant.volumes[k].first);
+    if (!sampler) return fail(sampler.error());
+    volumes << "#define " << prefix << "INDEX " << k << "\n";
+    for (const std::string& d : variant.volumes[k].second) volumes << "#define " << prefix << d << "\n";
+    volumes << replaceAll(*common, "VOL_", prefix) << "\n" << replaceAll(*sampler, "VOL_", prefix) << "\n";
+  }
+  volumes << dispatchSource(static_cast<int>(variant.volumes.size()));
+  std::string source = main->substr(0, at) + volumes.str() + main->substr(at + marker.size());
+  std::vector<std::string> defines = marchShaderDefines();
+  defines.push_back("MARCH_MODE " + std::to_string(variant.mode));
+  defines.push_back(std::string("MARCH_SKIP_EMPTY ") + (variant.skipEmpty ? "1" : "0"));
+  defines.push_back(std::string("MARCH_PREINTEGRATED ") + (variant.preintegrated ? "1" : "0"));
+  defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
+  auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
+  if (!program) return fail(program.error());
+  ProgramEntry entry{std::move(*program), UniformCacheGL()};
+  entry.uniforms = UniformCacheGL(entry.program.id());
+  return &programs_.emplace(variant, std::move(entry)).first->second.program;
+}
+
+void VolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
+  if (volumeTarget_ && volumeTarget_->widthPx() == widthPx && volumeTarget_->heightPx() == heightPx &&
+      volumeFormat_ == format) {
+    return;
+  }
+  auto t = FramebufferGL::create(widthPx, heightPx, format);
+  assert(t);
+  volumeTarget_ = std::move(*t);
+  volumeFormat_ = format;
+}
+
+bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture,
+                             int debugMode, double debugT) {
+  using C = MarchConstants;
+  const VolumeRenderOptions& first = layers[0].options;
+  const volume::VolumeRenderSettings& rs = first.render;
+  const int mode = modeIndex(rs.mode);
+  const bool preintegrated = !debugMode && mode == 0 && first.classification == Classification::Preintegrated;
+  MarchVariant variant;
+  variant.mode = debugMode ? 3 : mode;
+  variant.skipEmpty = first.skipEmptySpace;
+  variant.preintegrated = preintegrated;
+  for (int k = 0; k < count; ++k)
+    variant.volumes.emplace_back(std::string(layers[k].volume->samplerShaderFile()),
+                                 layers[k].volume->samplerDefines(layers[k].options));
+  if (!marchProgram(variant)) return false;
+  ProgramEntry& entry = programs_.find(variant)->second;
+  entry.program.use();
+  UniformCacheGL& u = entry.uniforms;
+
+  // Shared: camera, step, tables, depth.
+  glUniformMatrix3fv(u("u_cameraToEcef"), 1, GL_FALSE, glm::value_ptr(glm::mat3(camera.cameraToEcef())));
+  glUniform1f(u("u_focalPx"), static_cast<float>(camera.focalLengthPx()));
+  glUniform2f(u("u_imageSizePx"), static_cast<float>(camera.widthPx()), static_cast<float>(camera.heightPx()));
+  glUniform1f(u("u_near"), static_cast<float>(camera.nearMeters()));
+  glUniform1f(u("u_step"), static_cast<float>(rs.stepMeters));
+  glUniform1f(u("u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
+  glUniform1f(u("u_debugT"), static_cast<float>(debugT));
+  glBindTextureUnit(kDepthUnit, depthTexture);
+  glUniform1i(u("u_globeDepth"), kDepthUnit);
+  glBindTextureUnit(kTransferUnit, transfer_);
+  glUniform1i(u("u_transfer"), kTransferUnit);
+  glBindTextureUnit(kIntegralUnit, transferIntegral_);
+  glUniform1i(u("u_tfIntegral"), kIntegralUnit);
+
+  int unit = kFirstVolumeUnit;
+  for (int k = 0; k < count; ++k) {
+    const VolumeGL& vol = *layers[k].volume;
+    const VolumeRenderOptions& o = layers[k].options;
+    const std::string p = volumePrefix(static_cast<std::size_t>(k));
+    // The eye relative to the volume's origin: subtracted in double, then narrowed.
+    glUniform3fv(u(p + "eyeRel"), 1, glm::value_ptr(glm::vec3(camera.eyeEcef() - vol.originEcef())));
+    const volume::OccupancyGrid& grid = vol.occupancy().grid();
+    // The grid's frame relative to the volume's origin (ECEF axes); its origin is the volume's.
+    glm::dmat3 ecefToLocal = glm::transpose(grid.localToEcef);
+    const glm::dvec3 shift = ecefToLocal * (vol.originEcef() - grid.originEcef);
+    glUniformMatrix3fv(u(p + "ecefToLocal"), 1, GL_FALSE, glm::value_ptr(glm::mat3(ecefToLocal)));
+    glUniform3fv(u(p + "gridMinLocal"), 1, glm::value_ptr(glm::vec3(grid.minLocal - shift)));
+    glUniform3fv(u(p + "gridCellSize"), 1, glm::value_ptr(glm::vec3(grid.cellSizeMeters)));
+    glUniform3iv(u(p + "gridCells"), 1, glm::value_ptr(grid.cells));
+    glBindTextureUnit(static_cast<GLuint>(unit), vol.occupancy().texture());
+    glUniform1i(u(p + "grid"), unit);
+    ++unit;
+    const volume::VolumeRenderSettings& s = o.render;
+    glUniform1f(u(p + "isoValue"), static_cast<float>(s.isoValue));
+    glUniform1f(u(p + "opacityZeroValue"), static_cast<float>(s.transfer.opacityZeroValue));
+    // MIP: a maximum below the colour table's first stop is transparent, so cells below it can be skipped too.
+    const auto& stops = s.transfer.colors.stops();
+    const double firstVisible =
+        stops.empty() ? -1e30 : (stops.front().value - s.transfer.colors.offset()) / s.transfer.colors.scale();
+    glUniform1f(u(p + "mipVisibleMin"), static_cast<float>(firstVisible));
+
+    // Transfer function tabulated over the volume's value range (TRANSFER_ENTRIES entries; the
+    // value is quantised to (max - min) / 4096, ~0.03 dBZ for reflectivity). For DVR the opacity
+    // is already corrected for the step (1 - (1 - alpha)^(step / reference), in double here
+    // instead of a pow per sample on the GPU); pre-integrated DVR takes the extinction per metre
+    // instead (the shader needs paths of a step and of half a step) and the cumulative
+    // integrals; MIP and iso use the table's alpha. Uploaded only when the row changes.
+    const volume::ValueRange range = vol.valueRange();
+    const double tfLo = std::min(range.minValue, s.isoValue) - 1.0;
+    const double tfHi = std::max(range.maxValue, s.isoValue) + 1.0;
+    std::vector<double> fingerprint{tfLo,
+                                    tfHi,
+                                    static_cast<double>(mode),
+                                    preintegrated ? 1.0 : 0.0,
+                                    s.stepMeters,
+                                    s.transfer.opacityZeroValue,
+                                    s.transfer.opacityFullValue,
+                                    s.transfer.maxOpacity,
+                                    s.transfer.opacityReferenceMeters,
+                                    s.transfer.colors.offset(),
+                                    s.transfer.colors.scale()};
+    for (const auto& stop : stops) {
+      fingerprint.push_back(stop.value);
+      for (const volume::Rgba8& c : {stop.start, stop.end})
+        fingerprint.insert(fingerprint.end(), {double(c.r), double(c.g), double(c.b), double(c.a)});
+    }
+    TransferKey key{&s.transfer, fingerprint};
+    if (!(transferRows_[k] == key)) {
+      std::vector<glm::vec4> table(C::kTransferEntries);
+      for (int i = 0; i < C::kTransferEntries; ++i) {
+        const double value = tfLo + (i + 0.5) / C::kTransferEntries * (tfHi - tfLo);
+        glm::dvec4 c = s.transfer.classify(value);
+        if (preintegrated) {
+          c.a = s.transfer.extinctionPerMeter(c.a);
+        } else if (mode == 0) {
+          c.a = s.transfer.correctedOpacity(c.a, s.stepMeters);
+        }
+        table[i] = glm::vec4(c);
+      }
+      glTextureSubImage2D(transfer_, 0, 0, k, C::kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
+      if (preintegrated) {
+        const std::vector<glm::dvec4> integral = volume::transferIntegralTable(s.transfer, tfLo, tfHi, C::kTransferEntries);
+        const std::vector<glm::vec4> narrowed(integral.begin(), integral.end());
+        glTextureSubImage2D(transferIntegral_, 0, 0, k, C::kTransferEntries + 1, 1, GL_RGBA, GL_FLOAT, narrowed.data());
+      }
+      transferRows_[k] = std::move(key);
+    }
+    glUniform2f(u(p + "tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
+
+    SamplerBindingGL binding{&u, p, unit, nearestSampler_};
+    unit += vol.bindSampler(binding, o);
+  }
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  for (int i = kFirstVolumeUnit; i < unit; ++i) glBindSampler(static_cast<GLuint>(i), 0);
+  glBindVertexArray(0);
+  return true;
+}
+
+void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target) {
+  std::size_t begin = 0;
+  while (begin < layers.size()) {
+    // A group: consecutive layers that one program can march together.
+    const VolumeRenderOptions& a = layers[begin].options;
+    std::size_t end = begin + 1;
+    while (end < layers.size() && end - begin < static_cast<std::size_t>(MarchConstants::kMaxVolumes)) {
+      const VolumeRenderOptions& b = layers[end].options;
+      if (b.render.mode != a.render.mode || b.render.stepMeters != a.render.stepMeters ||
+          b.render.earlyTerminationAlpha != a.render.earlyTerminationAlpha || b.classification != a.classification ||
+          b.skipEmptySpace != a.skipEmptySpace || b.imageScale != a.imageScale)
+        break;
+      ++end;
+    }
+    const double scale = std::clamp(a.imageScale, 0.05, 1.0);
+    const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
+    const int h = std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)));
+    ensureTarget(w, h, GL_RGBA16F);
+    volumeTarget_->bind();
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const bool ok = march(camera, layers.data() + begin, static_cast<int>(end - begin), target.depthTexture(), 0, 0.0);
+    target.bind();
+    if (ok) {
+      composite_.use();
+      glBindTextureUnit(0, volumeTarget_->colorTexture());
+      glUniform1i(composite_.uniform("u_volume"), 0);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      glBindVertexArray(vao_);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindVertexArray(0);
+      glDisable(GL_BLEND);
+    }
+    glEnable(GL_DEPTH_TEST);
+    begin = end;
+  }
+}
+
+std::vector<glm::vec4> VolumeRendererGL::readVolumeImage() const {
+  std::vector<glm::vec4> out;
+  if (!volumeTarget_) return out;
+  const int w = volumeTarget_->widthPx(), h = volumeTarget_->heightPx();
+  std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
+  glGetTextureImage(volumeTarget_->colorTexture(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
+                    raw.data());
+  out.resize(raw.size());
+  for (int y = 0; y < h; ++y) {
+    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w, w, out.begin() + static_cast<std::ptrdiff_t>(y) * w);
+  }
+  return out;
+}
+
+std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera, const VolumeGL& volume, double tMeters) {
+  ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);
+  volumeTarget_->bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  const VolumeLayerGL layer{&volume, VolumeRenderOptions{}};
+  const bool ok = march(camera, &layer, 1, emptyDepth_, 1, tMeters);
+  glEnable(GL_DEPTH_TEST);
+  if (!ok) return {};
+  return readVolumeImage();
+}
+
+}  // namespace atmoglobe::engine

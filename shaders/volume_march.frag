@@ -1,0 +1,302 @@
+// The ray marcher of every volume kind (spec: volume/ReferenceRenderer.h, the double-precision
+// rule it follows; docs/volume-rendering.md). One pass marches up to MAX_VOLUMES volumes
+// together: where they overlap, extinctions add and colours are weighted by extinction.
+//
+// The program is assembled by engine/VolumeRendererGL (VolumeMarchProgram): "#define" lines
+// (the variant, the injected constants of engine/VolumeGL.h), shared helpers (below, before
+// main), then for each volume k volume_common.glsl and its kind's sample_KIND.glsl with VOL_
+// replaced by "vK_", then the generated dispatch functions vol*(int k, ...) that this file calls.
+// Loops over k run to the constant VOLUME_COUNT, so the compiler unrolls them and the dispatch
+// folds away: a one-volume program is the one-volume marcher.
+//
+// Samples sit at t_i = (i + 0.5) * step from the eye (the same positions as the CPU reference);
+// volume k is sampled only at the t_i inside its interval (its kind's ray interval, before the
+// globe's depth, and inside its empty-space grid's box when skipping), so a pixel pays only for
+// the volumes its ray crosses.
+//
+// Variant constants: MARCH_MODE (0 DVR, 1 MIP, 2 isosurface, 3 debug: volume 0's coordinates at
+// u_debugT), MARCH_SKIP_EMPTY (1: jump over grid cells that cannot contribute),
+// MARCH_PREINTEGRATED (DVR: 0 each sample classified alone; 1 neighbouring samples of a volume
+// as a linear segment, u_tfIntegral), VOLUME_COUNT.
+
+in vec2 v_uv;
+
+uniform sampler2D u_transfer;    // RGBA32F, TRANSFER_ENTRIES x MAX_VOLUMES: row k = volume k's classify() over its tfRange;
+                                 // DVR: alpha per step, pre-integrated DVR: (rgb, extinction per metre)
+uniform sampler2D u_tfIntegral;  // RGBA32F, (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
+uniform sampler2D u_globeDepth;  // reverse-Z depth of the globe pass (full resolution)
+uniform mat3 u_cameraToEcef;
+uniform float u_focalPx;         // of the full-resolution image
+uniform vec2 u_imageSizePx;      // full resolution
+uniform float u_near;
+uniform float u_step;
+uniform float u_earlyTermination;
+uniform float u_debugT;
+
+layout(location = 0) out vec4 o_color;
+
+const int kMode = MARCH_MODE;
+const int kSkipEmpty = MARCH_SKIP_EMPTY;
+const int kPreintegrated = MARCH_PREINTEGRATED;
+
+vec2 sphereInterval(vec3 o, vec3 d, float radius) {
+  float b = dot(o, d);
+  float c = dot(o, o) - radius * radius;
+  float disc = b * b - c;
+  if (disc < 0.0) return vec2(1.0, 0.0);
+  float sq = sqrt(disc);
+  return vec2(-b - sq, -b + sq);
+}
+
+void orderPair(inout float a, inout float b) {
+  float lo = min(a, b);
+  b = max(a, b);
+  a = lo;
+}
+
+// The per-volume code and the dispatch functions are inserted at the next line.
+// @VOLUMES@
+
+// A piece of path as (emission, optical depth): its premultiplied colour is emission * alpha /
+// tau with alpha = 1 - exp(-tau) (emission when tau is tiny). Pieces of several volumes at the
+// same place add (Max 1995, "Optical models for direct volume rendering").
+vec4 pieceColor(vec4 piece) {
+  float alpha = 1.0 - exp(-piece.a);
+  return vec4(piece.a > 1e-9 ? piece.rgb * (alpha / piece.a) : piece.rgb, alpha);
+}
+
+// A path of `lengthMeters` with constant classification c = (rgb, extinction per metre).
+vec4 constantPiece(vec4 c, float lengthMeters) {
+  float tau = c.a * lengthMeters;
+  return vec4(c.rgb * tau, tau);
+}
+
+// One step along which the value goes linearly from v0 (front) to v1 (back): exact optical depth
+// from the integral table; emission from the integral of extinction * colour. Below a change of
+// 1e-4 of the table's value range (0.013 dBZ for reflectivity) the table's difference quotient
+// loses float precision (its integrals carry a relative error of ~1e-7 of the whole range), and
+// the path is taken as the mean of its ends' classifications.
+vec4 linearPiece(float v0, vec4 i0, vec4 c0, float v1, vec4 i1, vec4 c1, vec2 tfRange) {
+  float dv = v1 - v0;
+  if (abs(dv) > 1e-4 * (tfRange.y - tfRange.x))
+    return vec4(u_step * (i1.rgb - i0.rgb) / dv, max(u_step * (i1.a - i0.a) / dv, 0.0));
+  return vec4(u_step * 0.5 * (c0.rgb * c0.a + c1.rgb * c1.a), max(u_step * 0.5 * (c0.a + c1.a), 0.0));
+}
+
+void composite(inout vec4 acc, vec4 premultiplied) {
+  acc.rgb += (1.0 - acc.a) * premultiplied.rgb;
+  acc.a += (1.0 - acc.a) * premultiplied.a;
+}
+
+void main() {
+  vec2 pixel = vec2(v_uv.x * u_imageSizePx.x, (1.0 - v_uv.y) * u_imageSizePx.y);  // from the top
+  vec3 dirEye = vec3((pixel.x - 0.5 * u_imageSizePx.x) / u_focalPx, (0.5 * u_imageSizePx.y - pixel.y) / u_focalPx, -1.0);
+  vec3 dir = normalize(u_cameraToEcef * dirEye);
+
+  if (kMode == 3) {
+    o_color = vec4(volDebug(0, volEyeRel(0) + u_debugT * dir), 1.0);
+    return;
+  }
+
+  // The globe hides what is behind it: reverse-Z depth = near / view distance.
+  float depth = textureLod(u_globeDepth, v_uv, 0.0).r;
+  float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
+  o_color = vec4(0.0);
+
+  // Each volume's sample indices [first, last] and, for skipping, its ray in the grid's frame.
+  ivec2 range[VOLUME_COUNT];
+  vec3 oL[VOLUME_COUNT], dL[VOLUME_COUNT];
+  vec2 box[VOLUME_COUNT];
+  float a = 1e30, b = -1e30;
+  for (int k = 0; k < VOLUME_COUNT; ++k) {
+    vec2 s = volInterval(k, dir, tGround);
+    oL[k] = volEcefToLocal(k) * volEyeRel(k);
+    dL[k] = volEcefToLocal(k) * dir;
+    // Outside the grid's box every sample is empty (the box holds every measured value's
+    // support): with skipping on, march only across the box.
+    box[k] = kSkipEmpty == 1 ? volGridBox(k, oL[k], dL[k]) : vec2(-1e30, 1e30);
+    s.x = max(s.x, box[k].x);
+    s.y = min(s.y, box[k].y);
+    range[k] = s.x <= s.y ? ivec2(int(ceil(s.x / u_step - 0.5)), int(floor(s.y / u_step - 0.5))) : ivec2(1, 0);
+    if (range[k].x <= range[k].y) {
+      a = min(a, s.x);
+      b = max(b, s.y);
+    }
+  }
+  if (a > b) return;
+
+  vec4 acc = vec4(0.0);
+  // Pre-integrated DVR, per volume: the last sample taken (index, echo, value, integrals,
+  // classification). A run of echo samples i..j stands for the path from t_i - step/2 to
+  // t_j + step/2, like the post-classified samples it replaces: half a step of constant
+  // classification at each end, a linear segment between neighbours.
+  int prevIndex[VOLUME_COUNT];
+  bool prevEcho[VOLUME_COUNT];
+  float prevV[VOLUME_COUNT];
+  vec4 prevIntegral[VOLUME_COUNT], prevC[VOLUME_COUNT];
+  float maxValue[VOLUME_COUNT], tOfMax[VOLUME_COUNT];
+  for (int k = 0; k < VOLUME_COUNT; ++k) {
+    prevIndex[k] = -2;
+    prevEcho[k] = false;
+    prevV[k] = 0.0;
+    prevIntegral[k] = vec4(0.0);
+    prevC[k] = vec4(0.0);
+    maxValue[k] = -1e30;
+    tOfMax[k] = 0.0;
+  }
+  bool hit = false;
+  float hitT = 0.0;
+  int hitK = 0;
+  int i = int(ceil(a / u_step - 0.5));
+  int iEnd = int(floor(b / u_step - 0.5));
+  for (; i <= iEnd; ++i) {
+    if (kSkipEmpty == 1) {
+      // While nothing at the sample can change the result in any volume (DVR: nothing above its
+      // zero-opacity value; MIP: nothing above its maximum so far or its first visible colour;
+      // isosurface: nothing at or above its iso value), jump to the first sample after the
+      // nearest place where that may change, staying on the t_i grid. An inner loop, so that on
+      // SIMD hardware the lanes of a group skip together and then sample together.
+      while (i <= iEnd) {
+        float ts = (float(i) + 0.5) * u_step;
+        float tNext = 1e30;
+        bool empty = true;
+        for (int k = 0; k < VOLUME_COUNT; ++k) {
+          if (i < range[k].x) {
+            tNext = min(tNext, (float(range[k].x) + 0.5) * u_step);  // the volume starts later
+          } else if (i <= range[k].y) {
+            float threshold = kMode == 0 ? volOpacityZero(k) : (kMode == 1 ? max(maxValue[k], volMipVisibleMin(k)) : volIso(k));
+            float e = volEmptyUntil(k, oL[k], dL[k], box[k], ts, threshold);
+            if (e <= ts) empty = false;
+            tNext = min(tNext, e);
+          }
+        }
+        if (!empty) break;
+        i = max(i + 1, int(ceil(min(tNext, b) / u_step - 0.5)));
+      }
+      if (i > iEnd) break;
+    }
+    float t = (float(i) + 0.5) * u_step;
+    // This sample in every volume whose range holds it.
+    vec4 tails = vec4(0.0), pieces = vec4(0.0);  // pre-integrated: run ends, then this sample's pieces
+    int contributing = 0;
+    vec4 single = vec4(0.0);
+    float transmitted = 1.0, extinction = 0.0;
+    vec3 weightedRgb = vec3(0.0);
+    for (int k = 0; k < VOLUME_COUNT; ++k) {
+      bool inRange = i >= range[k].x && i <= range[k].y;
+      float v = 0.0;
+      int state = inRange ? volSample(k, volEyeRel(k) + t * dir, v) : STATE_NOT_ECHO;
+      if (kMode == 0 && kPreintegrated == 1) {
+        if (!inRange) continue;
+        // A run is made of echo samples above the zero-opacity value: the samples the empty-space
+        // grid may skip are all at or below it, so the runs, and the picture, do not depend on
+        // whether skipping is on.
+        bool echo = state == STATE_ECHO && v > volOpacityZero(k);
+        vec4 c = volClassify(k, v);
+        vec4 integral = volTfIntegral(k, v);
+        bool adjacent = prevEcho[k] && echo && i == prevIndex[k] + 1;
+        // A run ends (this sample is not echo, or empty cells were skipped since the last one):
+        // the last sample's half step.
+        if (prevEcho[k] && !adjacent) tails += constantPiece(prevC[k], 0.5 * u_step);
+        if (echo)
+          pieces += adjacent ? linearPiece(prevV[k], prevIntegral[k], prevC[k], v, integral, c, volTfRange(k))
+                             : constantPiece(c, 0.5 * u_step);
+        prevIndex[k] = i;
+        prevEcho[k] = echo;
+        prevV[k] = v;
+        prevIntegral[k] = integral;
+        prevC[k] = c;
+      } else if (kMode == 0) {
+        if (state != STATE_ECHO) continue;
+        vec4 c = volClassify(k, v);  // alpha corrected for the step length on the CPU
+        if (c.a <= 0.0) continue;
+        ++contributing;
+        single = c;
+        if (VOLUME_COUNT > 1) {
+          transmitted *= 1.0 - c.a;
+          // Extinction x step of this volume: -ln(1 - alpha_step); the common factor cancels in the weights.
+          float x = -log(max(1.0 - c.a, 1e-7));
+          extinction += x;
+          weightedRgb += x * c.rgb;
+        }
+      } else if (kMode == 1) {
+        if (state == STATE_ECHO && v > maxValue[k]) {
+          maxValue[k] = v;
+          tOfMax[k] = t;
+        }
+      } else if (kMode == 2) {
+        if (!hit && state == STATE_ECHO && v >= volIso(k)) {
+          hit = true;
+          hitK = k;
+        }
+      }
+    }
+    if (kMode == 0 && kPreintegrated == 1) {
+      if (tails.a > 0.0 || any(greaterThan(tails.rgb, vec3(0.0)))) composite(acc, pieceColor(tails));
+      if (pieces.a > 0.0 || any(greaterThan(pieces.rgb, vec3(0.0)))) composite(acc, pieceColor(pieces));
+      if (acc.a >= u_earlyTermination) break;
+    } else if (kMode == 0) {
+      if (contributing > 0) {
+        // One volume: its own colour and opacity; several: extinctions add (opacity 1 - prod(1 -
+        // a_k)), colour weighted by extinction.
+        vec4 c = VOLUME_COUNT == 1 || contributing == 1 ? vec4(single.a * single.rgb, single.a)
+                                   : vec4((1.0 - transmitted) * weightedRgb / max(extinction, 1e-30), 1.0 - transmitted);
+        composite(acc, c);
+        if (acc.a >= u_earlyTermination) break;
+      }
+    } else if (kMode == 2 && hit) {
+      // Bisection between the previous sample position and this one, in the volume hit.
+      float lo = t - u_step, hi = t;
+      for (int it = 0; it < 8; ++it) {
+        float mid = 0.5 * (lo + hi);
+        float vm;
+        int sm = volSample(hitK, volEyeRel(hitK) + mid * dir, vm);
+        if (sm == STATE_ECHO && vm >= volIso(hitK)) hi = mid; else lo = mid;
+      }
+      hitT = hi;
+      break;
+    }
+  }
+
+  if (kMode == 0) {
+    if (kPreintegrated == 1 && acc.a < u_earlyTermination) {
+      vec4 tails = vec4(0.0);
+      for (int k = 0; k < VOLUME_COUNT; ++k)
+        if (prevEcho[k]) tails += constantPiece(prevC[k], 0.5 * u_step);
+      if (tails.a > 0.0) composite(acc, pieceColor(tails));
+    }
+    o_color = acc;
+  } else if (kMode == 1) {
+    // Each volume's maximum, composited front to back in the order of where it was reached.
+    bool used[VOLUME_COUNT];
+    for (int k = 0; k < VOLUME_COUNT; ++k) used[k] = false;
+    vec4 outColor = vec4(0.0);
+    for (int n = 0; n < VOLUME_COUNT; ++n) {
+      int best = -1;
+      for (int k = 0; k < VOLUME_COUNT; ++k)
+        if (!used[k] && maxValue[k] > -1e29 && (best < 0 || tOfMax[k] < tOfMax[best])) best = k;
+      if (best < 0) break;
+      used[best] = true;
+      vec4 c = volClassify(best, maxValue[best]);
+      composite(outColor, vec4(c.rgb * c.a, c.a));
+    }
+    o_color = outColor;
+  } else if (kMode == 2 && hit) {
+    vec3 p = volEyeRel(hitK) + hitT * dir;
+    float h = 0.5 * u_step;
+    vec3 grad;
+    for (int axis = 0; axis < 3; ++axis) {
+      vec3 e = vec3(0.0);
+      e[axis] = h;
+      float vp, vm;
+      int sp = volSample(hitK, p + e, vp);
+      int sm = volSample(hitK, p - e, vm);
+      if (sp != STATE_ECHO) vp = volOpacityZero(hitK);
+      if (sm != STATE_ECHO) vm = volOpacityZero(hitK);
+      grad[axis] = (vp - vm) / (2.0 * h);
+    }
+    vec3 n = length(grad) > 0.0 ? -normalize(grad) : -dir;
+    vec4 c = volClassify(hitK, volIso(hitK));
+    o_color = vec4(c.rgb * (0.3 + 0.7 * abs(dot(n, dir))), 1.0);
+  }
+}

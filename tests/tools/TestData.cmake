@@ -1,0 +1,43 @@
+# Included by the Expect*.cmake scripts. An argument in ARGS that starts with @DATA@/ names a file
+# of the real sample data, found when the test runs: in $ATMOGLOBE_TEST_DATA when set, else in
+# $ATMOGLOBE_TEST_DATA_DEFAULT, which only the tests labelled realdata get (tests/tools/CMakeLists.txt).
+# When a file is absent, prints the line that ctest's SKIP_REGULAR_EXPRESSION of those tests
+# counts as skipped and sets TEST_DATA_SKIP (the caller returns); with $ATMOGLOBE_REQUIRE_TEST_DATA
+# set (CI, through test.sh) it fails instead.
+set(TEST_DATA_SKIP FALSE)
+if(NOT ARGS MATCHES "@DATA@")
+  return()
+endif()
+if(NOT DEFINED ENV{ATMOGLOBE_TEST_DATA_DEFAULT})
+  message(FATAL_ERROR "this test reads real sample data (@DATA@) but is not labelled realdata: "
+                      "add it to the realdata tests in tests/tools/CMakeLists.txt")
+endif()
+if(NOT "$ENV{ATMOGLOBE_TEST_DATA}" STREQUAL "")
+  set(test_data_dir "$ENV{ATMOGLOBE_TEST_DATA}")
+else()
+  set(test_data_dir "$ENV{ATMOGLOBE_TEST_DATA_DEFAULT}")
+endif()
+set(test_data_missing "")
+set(test_data_args "")
+foreach(arg IN LISTS ARGS)
+  if(arg MATCHES "^@DATA@/(.*)$")
+    set(arg "${test_data_dir}/${CMAKE_MATCH_1}")
+    if(NOT EXISTS "${arg}" AND test_data_missing STREQUAL "")
+      if(IS_DIRECTORY "${test_data_dir}")
+        set(test_data_missing "${arg}")
+      else()
+        set(test_data_missing "${test_data_dir}")
+      endif()
+    endif()
+  endif()
+  list(APPEND test_data_args "${arg}")
+endforeach()
+set(ARGS "${test_data_args}")
+if(NOT test_data_missing STREQUAL "")
+  set(reason "real sample data not found at ${test_data_missing} (set ATMOGLOBE_TEST_DATA)")
+  if(NOT "$ENV{ATMOGLOBE_REQUIRE_TEST_DATA}" STREQUAL "" AND NOT "$ENV{ATMOGLOBE_REQUIRE_TEST_DATA}" STREQUAL "0")
+    message(FATAL_ERROR "${reason}; ATMOGLOBE_REQUIRE_TEST_DATA is set, so this is a failure")
+  endif()
+  message("ATMOGLOBE_TEST_SKIPPED: ${reason}")
+  set(TEST_DATA_SKIP TRUE)
+endif()

@@ -1,0 +1,189 @@
+// The GL-free geometry of the volume pipeline: the sampler interface (polar and analytic), the
+// empty-space grid's conservativeness, the local-sphere beam model's error against the exact
+// inverse, the WGS84 curvature radii, and the reference renderer's rule for several volumes.
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/AnalyticVolume.h>
+#include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/OccupancyGrid.h>
+#include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+namespace {
+
+using namespace atmoglobe;
+
+// 10 PPI sweeps 0.5..9.5 deg, 180 rays of 2 deg, 240 gates of 500 m from 1 km (to 120 km): a
+// storm 60 km north-east, echo-free elsewhere.
+volume::PolarVolume radarAt(double latDeg, double lonDeg) {
+  volume::RadarVolume v;
+  v.format = "synthetic";
+  v.sourcePath = "synthetic";
+  v.site = {"TEST", latDeg, lonDeg, 500.0, volume::HeightDatum::Ellipsoid};
+  v.beamWidthDeg = 1.0;
+  v.loadedField = {"DBZ", "dBZ"};
+  v.fields = {v.loadedField};
+  for (int k = 0; k < 10; ++k) {
+    volume::Sweep s;
+    s.indexInFile = k;
+    s.fixedAngleDeg = 0.5 + k;
+    s.firstGateRangeMeters = 1000.0;
+    s.gateSpacingMeters = 500.0;
+    s.gateCount = 240;
+    for (int ray = 0; ray < 180; ++ray) {
+      const double az = 2.0 * ray + 1.0;
+      s.azimuthDeg.push_back(static_cast<float>(az));
+      s.elevationDeg.push_back(static_cast<float>(s.fixedAngleDeg));
+      for (std::uint32_t g = 0; g < s.gateCount; ++g) {
+        const double x = 60.0 * std::exp(-std::pow((s.gateRangeMeters(g) - 60e3) / 15e3, 2) -
+                                         std::pow((az - 45.0) / 20.0, 2) - std::pow((s.fixedAngleDeg - 3.0) / 3.0, 2));
+        s.values.push_back(x < 5.0 ? volume::kNoEcho : static_cast<float>(x));
+      }
+    }
+    v.sweeps.push_back(std::move(s));
+  }
+  volume::SiteResolution site;
+  site.site = {latDeg, lonDeg, 500.0};
+  auto p = volume::buildPolarVolume(v, site, volume::BeamModel{});
+  EXPECT_TRUE(p) << (p ? "" : p.error());
+  return *p;
+}
+
+}  // namespace
+
+TEST(CurvatureRadii, MatchKnownValuesAndEuler) {
+  // WGS84 at the equator: M = a (1 - e^2) = 6335439.327 m, N = a; at the pole M = N = a^2 / b.
+  EXPECT_NEAR(globe::meridionalRadiusMeters(0.0), 6335439.327, 1e-3);
+  EXPECT_NEAR(globe::primeVerticalRadiusMeters(0.0), globe::kWgs84A, 1e-6);
+  EXPECT_NEAR(globe::meridionalRadiusMeters(90.0), globe::kWgs84A * globe::kWgs84A / globe::kWgs84B, 1e-3);
+  EXPECT_NEAR(globe::primeVerticalRadiusMeters(90.0), globe::kWgs84A * globe::kWgs84A / globe::kWgs84B, 1e-3);
+  EXPECT_NEAR(globe::normalSectionRadiusMeters(45.0, 0.0), globe::meridionalRadiusMeters(45.0), 1e-6);
+  EXPECT_NEAR(globe::normalSectionRadiusMeters(45.0, 90.0), globe::primeVerticalRadiusMeters(45.0), 1e-6);
+  EXPECT_GT(globe::normalSectionRadiusMeters(45.0, 45.0), globe::meridionalRadiusMeters(45.0));
+  EXPECT_LT(globe::normalSectionRadiusMeters(45.0, 45.0), globe::primeVerticalRadiusMeters(45.0));
+}
+
+// The CPU twin of the GPU's beam inverse against the exact inverse, out to 460 km, at several
+// latitudes: the stated bounds of Geolocation.h hold, and the round trip through enuOf is exact.
+TEST(LocalSphereBeam, ErrorAgainstTheExactInverseIsWithinTheStatedBounds) {
+  const volume::BeamModel model;
+  double maxRange = 0.0, maxAz = 0.0, maxEl = 0.0, maxRoundTrip = 0.0;
+  for (double lat : {0.0, 33.654, 60.0, 89.9}) {
+    const volume::GeolocationSite site{lat, -101.8, 1000.0};
+    const volume::LocalSphereBeam beam = volume::localSphereBeam(site, model);
+    for (double range : {1e3, 50e3, 150e3, 300e3, 460e3})
+      for (double az = 0.5; az < 360.0; az += 37.0)
+        for (double el : {0.0, 0.5, 3.0, 10.0, 20.0}) {
+          const volume::GatePosition g = volume::geolocateGateExact(site, model, az, el, range);
+          const volume::AntennaCoordinates local = beam.antennaCoordinates(beam.enuOfEcef(g.ecef));
+          maxRange = std::max(maxRange, std::abs(local.rangeMeters - range));
+          double dAz = std::abs(local.azimuthDeg - az);
+          maxAz = std::max(maxAz, std::min(dAz, 360.0 - dAz));
+          maxEl = std::max(maxEl, std::abs(local.elevationDeg - el));
+          const volume::AntennaCoordinates back = beam.antennaCoordinates(beam.enuOf(range, az, el));
+          maxRoundTrip = std::max({maxRoundTrip, std::abs(back.rangeMeters - range), std::abs(back.elevationDeg - el) * 1e3});
+        }
+  }
+  std::cout << "local sphere vs exact inverse to 460 km: max |range| " << maxRange << " m, |azimuth| " << maxAz
+            << " deg, |elevation| " << maxEl << " deg\n";
+  EXPECT_LE(maxRange, volume::kLocalSphereMaxRangeErrorMeters);
+  EXPECT_LE(maxAz, volume::kLocalSphereMaxAngleErrorDeg);
+  EXPECT_LE(maxEl, volume::kLocalSphereMaxAngleErrorDeg);
+  // enuOf and antennaCoordinates are inverses of each other (double rounding only).
+  EXPECT_LT(maxRoundTrip, 1e-6);
+}
+
+// Random points inside every echo are never in a grid cell below their value.
+TEST(OccupancyGrid, IsConservativeForRandomPointsInsideEchoes) {
+  const volume::PolarVolume v = radarAt(33.654, -101.814);
+  const volume::OccupancyGrid grid = volume::buildOccupancyGrid(v);
+  ASSERT_EQ(grid.cells, glm::ivec3(256, 256, 32));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> range(1e3, 121e3), az(0.0, 360.0), el(-0.1, 10.1);
+  int echoes = 0, violations = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const double r = range(rng), a = az(rng), e = el(rng);
+    const volume::PolarSample s = volume::samplePolar(v, r, a, e, volume::Interpolation::Linear);
+    if (s.state != volume::PolarSample::State::Echo) continue;
+    ++echoes;
+    const glm::dvec3 ecef = volume::geolocateGateExact(v.site, v.beam, a, e, r).ecef;
+    if (grid.maxAtLocal(grid.localOfEcef(ecef)) < static_cast<float>(s.value)) ++violations;
+  }
+  std::cout << echoes << " echo points, " << violations << " in a cell below their value\n";
+  ASSERT_GT(echoes, 5000);
+  EXPECT_EQ(violations, 0);
+  // And the grid is useful: the box is fitted to the echo's support, yet the storm's blob leaves a
+  // good part of its cells empty (46 % here).
+  std::size_t empty = 0;
+  for (float x : grid.maxValues) empty += x == volume::kOccupancyEmptyValue;
+  EXPECT_GT(static_cast<double>(empty) / static_cast<double>(grid.maxValues.size()), 0.3);
+}
+
+// The band of straight elevations holds every beam point out to the clip radius.
+TEST(StraightElevationBand, HoldsEveryBeamPoint) {
+  const volume::PolarVolume v = radarAt(45.0, 7.0);
+  const volume::StraightElevationBand band = volume::straightElevationBand(v);
+  const volume::LocalSphereBeam beam = volume::localSphereBeam(v.site, v.beam);
+  const double hb = 0.5 * v.beamWidthDeg;
+  for (double r = 1e3; r <= v.maxRangeMeters; r += 5e3)
+    for (double e : {v.sweeps.front().elevationDeg - hb, v.sweeps.back().elevationDeg + hb}) {
+      const glm::dvec3 enu = beam.enuOfEcef(volume::geolocateGateExact(v.site, v.beam, 30.0, e, r).ecef);
+      const double chord = glm::length(enu);
+      const double elS = std::asin(enu.z / chord) * 180.0 / M_PI;
+      EXPECT_GE(elS, band.loDegAt(chord)) << r;
+      EXPECT_LE(elS, band.hiDegAt(chord)) << r;
+    }
+}
+
+// The analytic shell's sampler: its states, and a ray through its centre.
+TEST(UniformShell, SamplesAndPathLength) {
+  volume::UniformShell shell;
+  shell.centre = {10.0, 20.0, 5000.0};
+  shell.innerRadiusMeters = 1000.0;
+  shell.outerRadiusMeters = 3000.0;
+  const volume::UniformShellSampler s(shell);
+  const glm::dvec3 c = s.centreEcef();
+  EXPECT_EQ(s.sample(c, volume::Interpolation::Linear).state, volume::VolumeSample::State::NoEcho);
+  EXPECT_EQ(s.sample(c + glm::dvec3(2000.0, 0, 0), volume::Interpolation::Linear).state,
+            volume::VolumeSample::State::Echo);
+  EXPECT_EQ(s.sample(c + glm::dvec3(0, 3001.0, 0), volume::Interpolation::Linear).state,
+            volume::VolumeSample::State::NoData);
+  const glm::dvec3 eye = c + glm::dvec3(0, 0, -10000.0);
+  EXPECT_NEAR(s.pathLengthInside(eye, glm::dvec3(0, 0, 1), 0.0, 1e30), 4000.0, 1e-6);
+  EXPECT_TRUE(s.provablyEmpty(c + glm::dvec3(5000.0, 0, 0)));
+}
+
+// Two layers: where they do not overlap, each pixel is that layer's own picture exactly.
+TEST(ReferenceRenderer, SeveralLayersEqualEachAloneWhereTheyDoNotOverlap) {
+  volume::UniformShell a, b;
+  a.centre = {0.0, 0.0, 10000.0};
+  b.centre = {0.0, 0.3, 10000.0};  // 33 km east
+  a.outerRadiusMeters = b.outerRadiusMeters = 12000.0;
+  a.value = 30.0;
+  b.value = 50.0;
+  const volume::UniformShellSampler sa(a), sb(b);
+  volume::VolumeRenderSettings st;
+  st.transfer = volume::defaultReflectivityTransfer();
+  st.stepMeters = 200.0;
+  const glm::dvec3 mid = globe::geodeticToEcef({0.0, 0.15, 10000.0});
+  const glm::dvec3 eye = globe::geodeticToEcef({-1.0, 0.15, 10000.0});
+  const volume::RenderCamera cam = volume::makeLookAtCamera(eye, mid, globe::enuAxes(0.0, 0.15)[2], 30.0, 48, 24);
+  const volume::VolumeImage both = volume::renderReference({{&sa, st}, {&sb, st}}, cam, false, 2);
+  const volume::VolumeImage onlyA = volume::renderReference({{&sa, st}}, cam, false, 2);
+  const volume::VolumeImage onlyB = volume::renderReference({{&sb, st}}, cam, false, 2);
+  int single = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const glm::dvec3 dir = volume::pixelRayDirection(cam, x + 0.5, y + 0.5);
+      const bool inA = !sa.rayInterval(eye, dir).empty(), inB = !sb.rayInterval(eye, dir).empty();
+      if (inA == inB) continue;
+      ++single;
+      EXPECT_EQ(both.at(x, y), inA ? onlyA.at(x, y) : onlyB.at(x, y));
+    }
+  EXPECT_GT(single, 50);
+}

@@ -1,0 +1,51 @@
+#pragma once
+// The empty-space (occupancy) grid of a volume: a box of cells in a local ENU frame holding,
+// per cell, the largest value that any sample inside the cell can see, and a second level with
+// the largest value per block of kBlock^3 cells. Conservative: a point whose sample is Echo with
+// value v lies in a cell whose value is >= v (OccupancyGridTest checks this with random points
+// inside every echo), so a renderer may jump over a cell whose value is below its threshold
+// (DVR: the zero-opacity value; MIP: the maximum so far; isosurface: the iso value).
+// GL-free; the engine uploads it as two 3-D textures.
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+/// Stored for "nothing measured here" (below every field value; representable as a half float).
+inline constexpr float kOccupancyEmptyValue = -60000.0f;
+
+struct OccupancyGrid {
+  static constexpr int kBlock = 8;  ///< cells per block edge of the second level
+  glm::dvec3 originEcef{0.0};       ///< origin of the local frame (m)
+  glm::dmat3 localToEcef{1.0};      ///< columns: the frame's x, y, z (east, north, up) as ECEF unit vectors
+  glm::ivec3 cells{1};
+  glm::dvec3 minLocal{0.0};         ///< the box's lower corner in the local frame (m)
+  glm::dvec3 cellSizeMeters{1.0};
+  std::vector<float> maxValues{kOccupancyEmptyValue};  ///< [z][y][x]
+  glm::ivec3 blocks{1};
+  std::vector<float> blockMaxValues{kOccupancyEmptyValue};  ///< [z][y][x] over kBlock^3 cells
+
+  glm::dvec3 localOfEcef(const glm::dvec3& ecef) const { return glm::transpose(localToEcef) * (ecef - originEcef); }
+  /// The cell's value at a local position; kOccupancyEmptyValue outside the box.
+  float maxAtLocal(const glm::dvec3& local) const;
+  std::size_t cellIndex(int x, int y, int z) const {
+    return (static_cast<std::size_t>(z) * static_cast<std::size_t>(cells.y) + static_cast<std::size_t>(y)) *
+               static_cast<std::size_t>(cells.x) +
+           static_cast<std::size_t>(x);
+  }
+};
+
+/// A box in the local frame (m) that holds every point whose sample can see `maxValue`.
+struct OccupancyBox {
+  glm::dvec3 lo{0.0}, hi{0.0};
+  float maxValue = kOccupancyEmptyValue;
+};
+
+/// The grid of `cells` over the union of the boxes (one spare cell on each side), each cell the
+/// largest value of the boxes it touches, and its block level. No boxes: a single empty cell.
+OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3& localToEcef,
+                                 const std::vector<OccupancyBox>& boxes, const glm::ivec3& cells);
+
+}  // namespace atmoglobe::volume

@@ -1,0 +1,72 @@
+#pragma once
+// The interface every kind of volume data implements for rendering (radar volumes in their
+// polar geometry, analytic test volumes, forecast grids): GL-free, double precision, ECEF.
+// The CPU reference renderer (ReferenceRenderer.h) draws any set of samplers; the GPU marcher
+// has one GLSL twin per kind (engine/VolumeGL.h, shaders/sample_*.glsl).
+//
+// A sample is one of three states (the same distinction as the readers keep): Echo with a
+// value, NoEcho (measured, nothing there: below the radar's noise level, a zero mixing
+// ratio), NoData (not observed, outside the volume). The renderers draw only Echo samples.
+#include <glm/glm.hpp>
+
+#include <limits>
+#include <string>
+
+namespace atmoglobe::volume {
+
+/// How a sampler interpolates between its data points (each kind says what that means).
+enum class Interpolation { Nearest, Linear };
+
+struct VolumeSample {
+  enum class State { NoData, NoEcho, Echo };
+  State state = State::NoData;
+  double value = 0.0;  ///< field units; valid when state == Echo
+};
+
+/// The interval [tEnterMeters, tExitMeters] of a ray eye + t dir (unit dir, t in metres) outside
+/// which the volume has no data; empty when tExit < tEnter.
+struct RayInterval {
+  double tEnterMeters = 0.0;
+  double tExitMeters = -1.0;
+  bool empty() const { return !(tExitMeters >= tEnterMeters); }
+};
+
+/// Range of the measured (Echo) values, for transfer-function tables.
+struct ValueRange {
+  double minValue = 0.0;
+  double maxValue = 0.0;
+};
+
+/// The interval of the ray eye + t dir (unit dir) inside the sphere |p - centre| <= radius
+/// (all ECEF, m); empty if it misses. The centre's distance from the ray's line comes from the
+/// perpendicular part of (eye - centre), which does not cancel when the eye is far away.
+RayInterval raySphereInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef, const glm::dvec3& centreEcef,
+                              double radiusMeters);
+
+class VolumeSampler {
+ public:
+  virtual ~VolumeSampler() = default;
+
+  /// Where along the ray the data can be: every point with an Echo or NoEcho sample lies in
+  /// the interval (conservative: it may be larger). The renderers take samples only there.
+  virtual RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const = 0;
+
+  /// The sample at an ECEF point (m), by the kind's sampling rule.
+  virtual VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const = 0;
+
+  /// Conservative emptiness: true only if sample(ecef, any interpolation) is NoData, and cheaper
+  /// than sample(); false is always a correct answer. An acceleration only: the reference
+  /// renderer's images do not depend on it (tested per kind).
+  virtual bool provablyEmpty(const glm::dvec3& ecef) const {
+    (void)ecef;
+    return false;
+  }
+
+  /// The range of Echo values (finite; min <= max).
+  virtual ValueRange valueRange() const = 0;
+
+  /// One line for messages ("KLBB REF from FILE", "uniform shell at ...").
+  virtual std::string description() const = 0;
+};
+
+}  // namespace atmoglobe::volume
