@@ -46,7 +46,7 @@ Result<GLuint> compileSource(GLenum stage, std::string_view fileName, const std:
 }
 Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::vector<std::string>& defines) {
   auto source = loadShaderSource(fileName);
-  if (!source) return makeError(source.error());
+  if (!source) return source.forwardError();
   return compileSource(stage, fileName, *source, defines);
 }
 }  // namespace
@@ -54,7 +54,7 @@ Result<GLuint> compileStage(GLenum stage, std::string_view fileName, const std::
 Result<ShaderProgramGL> ShaderProgramGL::create(std::string_view vertexFile, std::string_view fragmentFile,
                                                 const std::vector<std::string>& defines) {
   auto fragment = loadShaderSource(fragmentFile);
-  if (!fragment) return makeError(fragment.error());
+  if (!fragment) return fragment.forwardError();
   return createFromSource(vertexFile, fragmentFile, *fragment, defines);
 }
 
