@@ -2,6 +2,7 @@
 // GLSL beam-model inverse against the exact one, a point echo at its geolocated pixel, and
 // cameras inside, at and above the volume.
 #include "GLTestUtil.h"
+#include "SyntheticPolarVolume.h"
 
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
@@ -26,30 +27,7 @@ using engine::CameraPose;
 // A synthetic radar at Lubbock's coordinates: 10 PPI sweeps 0.5..9.5 deg, 360 rays,
 // 400 gates of 250 m from 2125 m (to ~102 km), a smooth storm in antenna coordinates.
 volume::RadarVolume syntheticRadar(float (*field)(double r, double az, double el)) {
-  volume::RadarVolume v;
-  v.format = "synthetic";
-  v.sourcePath = "synthetic";
-  v.site = {"TEST", 33.654, -101.814, 1029.0, volume::HeightDatum::Ellipsoid};
-  v.beamWidthDeg = 1.0;
-  v.loadedField = {"DBZ", "dBZ"};
-  v.fields = {v.loadedField};
-  for (int k = 0; k < 10; ++k) {
-    volume::Sweep s;
-    s.indexInFile = k;
-    s.fixedAngleDeg = 0.5 + k;
-    s.firstGateRangeMeters = 2125.0;
-    s.gateSpacingMeters = 250.0;
-    s.gateCount = 400;
-    for (int ray = 0; ray < 360; ++ray) {
-      s.azimuthDeg.push_back(static_cast<float>(ray + 0.5));
-      s.elevationDeg.push_back(static_cast<float>(s.fixedAngleDeg));
-      for (std::uint32_t g = 0; g < s.gateCount; ++g) {
-        s.values.push_back(field(s.gateRangeMeters(g), ray + 0.5, s.fixedAngleDeg));
-      }
-    }
-    v.sweeps.push_back(std::move(s));
-  }
-  return v;
+  return testutil::syntheticRadarVolume(testutil::SyntheticPolarGeometry{}, field);
 }
 
 float storm(double r, double az, double el) {
@@ -58,13 +36,7 @@ float storm(double r, double az, double el) {
   return v < 5.0 ? volume::kNoEcho : static_cast<float>(v);
 }
 
-volume::PolarVolume polar(const volume::RadarVolume& radar) {
-  volume::SiteResolution site;
-  site.site = {radar.site.latDeg, radar.site.lonDeg, radar.site.antennaHeightMeters};
-  auto p = volume::buildPolarVolume(radar, site, volume::BeamModel{});
-  EXPECT_TRUE(p) << (p ? "" : p.error());
-  return *p;
-}
+volume::PolarVolume polar(const volume::RadarVolume& radar) { return testutil::polarOf(radar); }
 
 class RadarMarch : public ::testing::Test {
  protected:

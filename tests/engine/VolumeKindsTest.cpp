@@ -2,6 +2,7 @@
 // CPU reference against its closed form, and overlapping volumes marched together (two radars
 // 150 km apart) against the reference and against each radar alone where they do not overlap.
 #include "GLTestUtil.h"
+#include "SyntheticPolarVolume.h"
 
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
@@ -41,41 +42,20 @@ volume::VolumeImage renderGpu(engine::VolumeRendererGL& renderer, const Camera& 
   return out;
 }
 
-// A synthetic radar: 10 PPI sweeps 0.5..9.5 deg, 360 rays, 400 gates of 250 m from 2125 m (to
-// ~102 km), a Gaussian storm at (range, azimuth), centred at 3 deg elevation.
+// A synthetic radar (10 PPI sweeps 0.5..9.5 deg, 360 rays, 400 gates of 250 m from 2125 m, to
+// ~102 km) with a Gaussian storm at (range, azimuth), centred at 3 deg elevation.
 volume::PolarVolume syntheticRadarAt(double latDeg, double lonDeg, double stormRangeMeters, double stormAzimuthDeg) {
-  volume::RadarVolume v;
-  v.format = "synthetic";
-  v.sourcePath = "synthetic";
-  v.site = {"TEST", latDeg, lonDeg, 1000.0, volume::HeightDatum::Ellipsoid};
-  v.beamWidthDeg = 1.0;
-  v.loadedField = {"DBZ", "dBZ"};
-  v.fields = {v.loadedField};
-  for (int k = 0; k < 10; ++k) {
-    volume::Sweep s;
-    s.indexInFile = k;
-    s.fixedAngleDeg = 0.5 + k;
-    s.firstGateRangeMeters = 2125.0;
-    s.gateSpacingMeters = 250.0;
-    s.gateCount = 400;
-    for (int ray = 0; ray < 360; ++ray) {
-      s.azimuthDeg.push_back(static_cast<float>(ray + 0.5));
-      s.elevationDeg.push_back(static_cast<float>(s.fixedAngleDeg));
-      for (std::uint32_t g = 0; g < s.gateCount; ++g) {
-        double dAz = std::abs(ray + 0.5 - stormAzimuthDeg);
-        dAz = std::min(dAz, 360.0 - dAz);
-        const double x = 60.0 * std::exp(-std::pow((s.gateRangeMeters(g) - stormRangeMeters) / 20e3, 2) -
-                                         std::pow(dAz / 15.0, 2) - std::pow((s.fixedAngleDeg - 3.0) / 4.0, 2));
-        s.values.push_back(x < 5.0 ? volume::kNoEcho : static_cast<float>(x));
-      }
-    }
-    v.sweeps.push_back(std::move(s));
-  }
-  volume::SiteResolution site;
-  site.site = {latDeg, lonDeg, 1000.0};
-  auto p = volume::buildPolarVolume(v, site, volume::BeamModel{});
-  EXPECT_TRUE(p) << (p ? "" : p.error());
-  return *p;
+  testutil::SyntheticPolarGeometry g;
+  g.latDeg = latDeg;
+  g.lonDeg = lonDeg;
+  g.antennaHeightMeters = 1000.0;
+  return testutil::polarOf(testutil::syntheticRadarVolume(g, [&](double r, double az, double el) {
+    double dAz = std::abs(az - stormAzimuthDeg);
+    dAz = std::min(dAz, 360.0 - dAz);
+    const double x = 60.0 * std::exp(-std::pow((r - stormRangeMeters) / 20e3, 2) - std::pow(dAz / 15.0, 2) -
+                                     std::pow((el - 3.0) / 4.0, 2));
+    return x < 5.0 ? volume::kNoEcho : static_cast<float>(x);
+  }));
 }
 
 }  // namespace

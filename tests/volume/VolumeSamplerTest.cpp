@@ -1,6 +1,8 @@
 // The GL-free geometry of the volume pipeline: the sampler interface (polar and analytic), the
 // empty-space grid's conservativeness, the local-sphere beam model's error against the exact
 // inverse, the WGS84 curvature radii, and the reference renderer's rule for several volumes.
+#include "SyntheticPolarVolume.h"
+
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AnalyticVolume.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -21,37 +23,19 @@ using namespace atmoglobe;
 // 10 PPI sweeps 0.5..9.5 deg, 180 rays of 2 deg, 240 gates of 500 m from 1 km (to 120 km): a
 // storm 60 km north-east, echo-free elsewhere.
 volume::PolarVolume radarAt(double latDeg, double lonDeg) {
-  volume::RadarVolume v;
-  v.format = "synthetic";
-  v.sourcePath = "synthetic";
-  v.site = {"TEST", latDeg, lonDeg, 500.0, volume::HeightDatum::Ellipsoid};
-  v.beamWidthDeg = 1.0;
-  v.loadedField = {"DBZ", "dBZ"};
-  v.fields = {v.loadedField};
-  for (int k = 0; k < 10; ++k) {
-    volume::Sweep s;
-    s.indexInFile = k;
-    s.fixedAngleDeg = 0.5 + k;
-    s.firstGateRangeMeters = 1000.0;
-    s.gateSpacingMeters = 500.0;
-    s.gateCount = 240;
-    for (int ray = 0; ray < 180; ++ray) {
-      const double az = 2.0 * ray + 1.0;
-      s.azimuthDeg.push_back(static_cast<float>(az));
-      s.elevationDeg.push_back(static_cast<float>(s.fixedAngleDeg));
-      for (std::uint32_t g = 0; g < s.gateCount; ++g) {
-        const double x = 60.0 * std::exp(-std::pow((s.gateRangeMeters(g) - 60e3) / 15e3, 2) -
-                                         std::pow((az - 45.0) / 20.0, 2) - std::pow((s.fixedAngleDeg - 3.0) / 3.0, 2));
-        s.values.push_back(x < 5.0 ? volume::kNoEcho : static_cast<float>(x));
-      }
-    }
-    v.sweeps.push_back(std::move(s));
-  }
-  volume::SiteResolution site;
-  site.site = {latDeg, lonDeg, 500.0};
-  auto p = volume::buildPolarVolume(v, site, volume::BeamModel{});
-  EXPECT_TRUE(p) << (p ? "" : p.error());
-  return *p;
+  testutil::SyntheticPolarGeometry g;
+  g.latDeg = latDeg;
+  g.lonDeg = lonDeg;
+  g.antennaHeightMeters = 500.0;
+  g.rays = 180;
+  g.gates = 240;
+  g.firstGateMeters = 1000.0;
+  g.gateSpacingMeters = 500.0;
+  return testutil::polarOf(testutil::syntheticRadarVolume(g, [](double r, double az, double el) {
+    const double x = 60.0 * std::exp(-std::pow((r - 60e3) / 15e3, 2) - std::pow((az - 45.0) / 20.0, 2) -
+                                     std::pow((el - 3.0) / 3.0, 2));
+    return x < 5.0 ? volume::kNoEcho : static_cast<float>(x);
+  }));
 }
 
 }  // namespace
