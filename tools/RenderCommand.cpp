@@ -7,9 +7,9 @@
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/globe/Image.h>
-#include <atmoglobe/volume/ReferenceRenderer.h>
+#include <atmoglobe/volume/PolarVolume.h>
 
-#include <chrono>
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -24,18 +24,6 @@ struct RenderOptions {
   bool reference = false;
   int threads = 2;
 };
-
-/// Lays a premultiplied reference volume image over an 8-bit frame.
-void compositeOver(globe::ImageRGBA8& frame, const volume::VolumeImage& volumeImage) {
-  for (int y = 0; y < frame.height; ++y) {
-    for (int x = 0; x < frame.width; ++x) {
-      const glm::dvec4 c = glm::clamp(volumeImage.at(x, y), 0.0, 1.0);
-      const glm::dvec3 under = glm::dvec3(frame.at(x, y)) / 255.0;
-      const glm::dvec3 out = glm::dvec3(c) + (1.0 - c.a) * under;
-      frame.set(x, y, glm::u8vec4(glm::round(glm::clamp(out, 0.0, 1.0) * 255.0), 255));
-    }
-  }
-}
 
 int runRender(const RenderOptions& o) {
   auto scene = resolveScene(o.scene);
@@ -52,20 +40,13 @@ int runRender(const RenderOptions& o) {
   if (!target) return fail("render", target.error());
   const engine::Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
   engine::SceneFrameStats stats;
-  // --reference: the globe and markers from the GPU, every volume from the CPU reference
-  // renderer (double precision, exact inverse geolocation, same settings).
-  std::vector<engine::RadarLayerGL> referenceRadars;
-  if (o.reference) std::swap(referenceRadars, (*renderer)->radars());
+  // --reference: the frame as always (globe, models, markers, labels), with the volumes drawn
+  // by the CPU reference renderer (double precision, exact inverse geolocation, same settings)
+  // in the marcher's place.
+  if (o.reference) (*renderer)->setReferenceVolumes(std::max(1, o.threads));
   auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
   if (!image) return fail("render", image.error());
-  for (const engine::RadarLayerGL& radar : referenceRadars) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const volume::VolumeImage v = volume::renderReference(radar.volume->polar(), radar.options.render,
-                                                          engine::referenceCameraFor(camera), true, o.threads);
-    compositeOver(*image, v);
-    std::cerr << "reference volume: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
-              << " s\n";
-  }
+  if (o.reference) std::cerr << "reference volumes: " << stats.referenceSeconds << " s\n";
   const std::filesystem::path parent = std::filesystem::path(o.output).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
@@ -77,14 +58,12 @@ int runRender(const RenderOptions& o) {
               << ", visited " << stats.globe.selection.visited << ", culled frustum "
               << stats.globe.selection.culledFrustum << ", horizon " << stats.globe.selection.culledHorizon << ")\n"
               << "tiles decoded: " << (*loader)->stats().tilesDecoded << "\n";
-    for (const auto* radars : {&(*renderer)->radars(), &referenceRadars}) {
-      for (const engine::RadarLayerGL& radar : *radars) {
-        const auto& polar = radar.volume->polar();
-        std::cerr << "radar " << polar.sourcePath << " (" << polar.fieldName << "): " << polar.sweeps.size()
-                  << " sweeps, GPU " << static_cast<double>(radar.volume->gpuBytes()) / 1048576.0 << " MiB; a Cartesian grid at its "
-                  << "near-range resolution would need "
-                  << volume::cartesianEquivalentBytes(polar, 1.0) / 1048576.0 << " MiB at 1 byte/voxel\n";
-      }
+    for (const engine::RadarLayerGL& radar : (*renderer)->radars()) {
+      const auto& polar = radar.volume->polar();
+      std::cerr << "radar " << polar.sourcePath << " (" << polar.fieldName << "): " << polar.sweeps.size()
+                << " sweeps, GPU " << static_cast<double>(radar.volume->gpuBytes()) / 1048576.0
+                << " MiB; a Cartesian grid at its near-range resolution would need "
+                << volume::cartesianEquivalentBytes(polar, 1.0) / 1048576.0 << " MiB at 1 byte/voxel\n";
     }
   }
   std::cout << o.output << "\n";
@@ -99,8 +78,8 @@ Command addRenderCommand(CLI::App& root) {
   c->add_option("-o,--output", options->output, "Output PNG file")->capture_default_str();
   c->add_flag("--stats", options->stats, "Print renderer, tile, decoding and volume memory statistics to stderr");
   c->add_flag("--reference", options->reference,
-              "Draw radar volumes with the CPU reference renderer (double precision, exact geolocation; slow: "
-              "~1-2 us per sample) instead of the GPU");
+              "Draw the volumes with the CPU reference renderer (double precision, exact geolocation; slow: "
+              "~1-2 us per sample) in the GPU marcher's place; globe, markers, labels and models as always");
   c->add_option("--threads", options->threads, "Threads for --reference")->capture_default_str();
   c->footer("Example: atmoglobe render --camera 46,8,2e6,0,-90,0 --size 1280x720 -o out/alps.png");
   return {c, [options] { return runRender(*options); }};

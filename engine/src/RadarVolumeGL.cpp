@@ -25,6 +25,7 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   }
   std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
   gl->polar_ = std::make_shared<volume::PolarVolume>(v);
+  gl->sampler_ = std::make_unique<volume::PolarSampler>(*gl->polar_);
   gl->beamModel_ = volume::localSphereBeam(v.site, v.beam);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
 

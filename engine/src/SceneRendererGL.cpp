@@ -121,7 +121,13 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     layers.push_back(VolumeLayerGL{radar.volume.get(), radar.options});
     all.push_back(radar.siteMarker);
   }
-  if (!layers.empty()) volumeRenderer_->draw(camera, layers, target);
+  if (!layers.empty() && referenceThreads_ > 0) {
+    const auto t0 = std::chrono::steady_clock::now();
+    volumeRenderer_->drawReference(camera, layers, target, referenceThreads_);
+    stats.referenceSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } else if (!layers.empty()) {
+    volumeRenderer_->draw(camera, layers, target);
+  }
   markers_->draw(camera, all);
   stats.cpuMilliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -5,7 +5,7 @@
 namespace atmoglobe::engine {
 
 ShellVolumeGL::ShellVolumeGL(const volume::UniformShell& shell)
-    : shell_(shell), centreEcef_(globe::geodeticToEcef(shell.centre)) {
+    : shell_(shell), centreEcef_(globe::geodeticToEcef(shell.centre)), sampler_(shell) {
   // The grid: one box around the outer sphere, in the centre's ENU frame.
   const glm::dvec3 r(shell.outerRadiusMeters);
   occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(centreEcef_, globe::enuAxes(shell.centre.latDeg, shell.centre.lonDeg),

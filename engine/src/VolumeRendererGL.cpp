@@ -1,12 +1,14 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 namespace atmoglobe::engine {
@@ -291,21 +293,40 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   return true;
 }
 
+std::size_t VolumeRendererGL::groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin) {
+  const VolumeRenderOptions& a = layers[begin].options;
+  std::size_t end = begin + 1;
+  while (end < layers.size() && end - begin < static_cast<std::size_t>(MarchConstants::kMaxVolumes)) {
+    const VolumeRenderOptions& b = layers[end].options;
+    if (b.render.mode != a.render.mode || b.render.stepMeters != a.render.stepMeters ||
+        b.render.earlyTerminationAlpha != a.render.earlyTerminationAlpha || b.classification != a.classification ||
+        b.skipEmptySpace != a.skipEmptySpace || b.imageScale != a.imageScale)
+      break;
+    ++end;
+  }
+  return end;
+}
+
+void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& target) {
+  target.bind();
+  glDisable(GL_DEPTH_TEST);
+  composite_.use();
+  glBindTextureUnit(0, volumeTexture);
+  glUniform1i(composite_.uniform("u_volume"), 0);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+}
+
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target) {
-  std::size_t begin = 0;
-  while (begin < layers.size()) {
+  for (std::size_t begin = 0, end = 0; begin < layers.size(); begin = end) {
     // A group: consecutive layers that one program can march together.
-    const VolumeRenderOptions& a = layers[begin].options;
-    std::size_t end = begin + 1;
-    while (end < layers.size() && end - begin < static_cast<std::size_t>(MarchConstants::kMaxVolumes)) {
-      const VolumeRenderOptions& b = layers[end].options;
-      if (b.render.mode != a.render.mode || b.render.stepMeters != a.render.stepMeters ||
-          b.render.earlyTerminationAlpha != a.render.earlyTerminationAlpha || b.classification != a.classification ||
-          b.skipEmptySpace != a.skipEmptySpace || b.imageScale != a.imageScale)
-        break;
-      ++end;
-    }
-    const double scale = std::clamp(a.imageScale, 0.05, 1.0);
+    end = groupEnd(layers, begin);
+    const double scale = std::clamp(layers[begin].options.imageScale, 0.05, 1.0);
     const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
     const int h = std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)));
     ensureTarget(w, h, GL_RGBA16F);
@@ -315,21 +336,65 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
     const bool ok = march(camera, layers.data() + begin, static_cast<int>(end - begin), target.depthTexture(), 0, 0.0);
-    target.bind();
     if (ok) {
-      composite_.use();
-      glBindTextureUnit(0, volumeTarget_->colorTexture());
-      glUniform1i(composite_.uniform("u_volume"), 0);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      glBindVertexArray(vao_);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-      glBindVertexArray(0);
-      glDisable(GL_BLEND);
+      compositeOver(volumeTarget_->colorTexture(), target);
+    } else {
+      target.bind();
+      glEnable(GL_DEPTH_TEST);
     }
-    glEnable(GL_DEPTH_TEST);
-    begin = end;
   }
+}
+
+static std::vector<double> occluderDistancesGL(const Camera& camera, const FramebufferGL& target) {
+  const int w = target.widthPx(), h = target.heightPx();
+  std::vector<float> depth(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  glGetTextureImage(target.depthTexture(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    static_cast<GLsizei>(depth.size() * sizeof(float)), depth.data());
+  const volume::RenderCamera rc = referenceCameraFor(camera);
+  const glm::dvec3 forward = -rc.cameraToEcef[2];
+  std::vector<double> out(depth.size(), std::numeric_limits<double>::infinity());
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      // GL row 0 is the bottom; the reference's row 0 is the top.
+      const float d = depth[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+      if (!(d > 0.0f)) continue;  // cleared: nothing drawn there
+      // Reverse-Z: d = near / (view distance along -z); along the unit ray, divide by cos.
+      const glm::dvec3 dir = volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
+      out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+          (camera.nearMeters() / static_cast<double>(d)) / glm::dot(dir, forward);
+    }
+  }
+  return out;
+}
+
+void VolumeRendererGL::drawReference(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
+                                     const FramebufferGL& target, int threads) {
+  if (layers.empty()) return;
+  const std::vector<double> occluders = occluderDistancesGL(camera, target);
+  const volume::RenderCamera rc = referenceCameraFor(camera);
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+  glTextureStorage2D(texture, 1, GL_RGBA32F, camera.widthPx(), camera.heightPx());
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  for (std::size_t begin = 0, end = 0; begin < layers.size(); begin = end) {
+    // The same groups as the march (the reference needs one mode and step per call).
+    end = groupEnd(layers, begin);
+    std::vector<volume::ReferenceLayer> group;
+    for (std::size_t k = begin; k < end; ++k)
+      group.push_back(volume::ReferenceLayer{&layers[k].volume->referenceSampler(), layers[k].options.render});
+    // Occluded by what the frame's depth holds (globe tiles, models), as the marcher is.
+    lastReference_ = volume::renderReference(group, rc, occluders, false, threads);
+    const int w = lastReference_.widthPx, h = lastReference_.heightPx;
+    std::vector<glm::vec4> rows(lastReference_.rgbaPremultiplied.size());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        rows[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+            glm::vec4(lastReference_.at(x, y));
+    glTextureSubImage2D(texture, 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, rows.data());
+    compositeOver(texture, target);
+  }
+  glDeleteTextures(1, &texture);
 }
 
 std::vector<glm::vec4> VolumeRendererGL::readVolumeImage() const {

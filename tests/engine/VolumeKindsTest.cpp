@@ -7,6 +7,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/ShellVolumeGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -18,6 +19,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <tuple>
 
 namespace {
 
@@ -184,4 +186,87 @@ TEST(VolumeKinds, OverlappingRadarsAreIntegratedTogether) {
   const volume::VolumeImage ab = volume::renderReference({{&sa, options.render}, {&sb, options.render}}, rc, false, 2);
   const volume::VolumeImage ba = volume::renderReference({{&sb, options.render}, {&sa, options.render}}, rc, false, 2);
   EXPECT_LE(volume::compareImages(ab, ba).maxAbs, 1.0);
+}
+
+// `render --reference`: the whole frame (globe, site markers and their labels, other markers) as
+// a GPU frame, with only the volumes drawn by the CPU reference in the marcher's place, occluded
+// by the same depth. Outside the volumes the two frames are the same pixels; inside they differ
+// only by the marcher's error.
+TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
+  testutil::glContext();
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader) << loader.error();
+  auto scene = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(scene) << scene.error();
+  const double latDeg = 35.0, lonA = -98.0;
+  const globe::GeodesicPoint b = globe::geodesicDirect(latDeg, lonA, 90.0, 150e3);
+  const globe::GeodesicPoint mid = globe::geodesicDirect(latDeg, lonA, 90.0, 75e3);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  for (const auto& [lat, lon, az] : {std::tuple{latDeg, lonA, 90.0}, std::tuple{b.latDeg, b.lonDeg, 270.0}}) {
+    auto gl = engine::RadarVolumeGL::create(syntheticRadarAt(lat, lon, 75e3, az));
+    ASSERT_TRUE(gl) << gl.error();
+    engine::RadarLayerGL layer;
+    layer.volume = std::move(*gl);
+    layer.options = options;
+    layer.siteMarker = engine::Marker{lat, lon, 1000.0, glm::vec3(1.0f), 12.0f, "SITE"};
+    (*scene)->radars().push_back(std::move(layer));
+  }
+  // A station between the radars, inside the storm's column: drawn over the volumes in both.
+  const std::vector<engine::Marker> markers = {engine::Marker{mid.latDeg, mid.lonDeg, 0.0, glm::vec3(1, 0, 1), 10.0f, "STN"}};
+  // From 100 km south of the pair, 15 km up, looking north just below the horizon: the storms
+  // stand on the globe, whose depth hides their lower parts behind the curvature.
+  const globe::GeodesicPoint eye = globe::geodesicDirect(mid.latDeg, mid.lonDeg, 180.0, 100e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 15e3, 0.0, -5.0, 0.0}, 50.0, 160, 80);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto gpuFrame = (*scene)->renderToImage(camera, markers, **fb);
+  ASSERT_TRUE(gpuFrame) << gpuFrame.error();
+  const std::vector<glm::vec4> gpuVolume = (*scene)->volumeRenderer().readVolumeImage();
+  (*scene)->setReferenceVolumes(2);
+  engine::SceneFrameStats stats;
+  auto refFrame = (*scene)->renderToImage(camera, markers, **fb, 64, &stats);
+  ASSERT_TRUE(refFrame) << refFrame.error();
+  const volume::VolumeImage& refVolume = (*scene)->volumeRenderer().lastReferenceImage();
+  // For a look: the two frames side by side in the test output directory.
+  EXPECT_TRUE(globe::writePng(testutil::testOutputDir() + "/reference_frame_gpu.png", *gpuFrame));
+  EXPECT_TRUE(globe::writePng(testutil::testOutputDir() + "/reference_frame_reference.png", *refFrame));
+  ASSERT_EQ(refVolume.widthPx, camera.widthPx());
+  ASSERT_EQ(gpuVolume.size(), refVolume.rgbaPremultiplied.size());
+  EXPECT_GT(stats.referenceSeconds, 0.0);
+  int outside = 0, inside = 0, outsideDiffering = 0;
+  double sumDiff = 0.0;
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::ivec4 g(gpuFrame->at(x, y)), r(refFrame->at(x, y));
+      const glm::ivec4 d = glm::abs(g - r);
+      sumDiff += d.r + d.g + d.b;
+      const bool volumeHere = gpuVolume[static_cast<std::size_t>(y * camera.widthPx() + x)].a > 0.0f ||
+                              refVolume.at(x, y).a > 0.0;
+      if (volumeHere) {
+        ++inside;
+      } else {
+        ++outside;
+        outsideDiffering += d != glm::ivec4(0);
+      }
+    }
+  std::cout << "reference frame: " << inside << " volume pixels, " << outside << " others, reference "
+            << stats.referenceSeconds << " s, mean |GPU - reference| " << sumDiff / (3.0 * camera.widthPx() * camera.heightPx())
+            << " (8-bit)\n";
+  ASSERT_GT(inside, 500) << "the storms must be in view";
+  ASSERT_GT(outside, 2000);
+  // Globe, markers, labels: the same pixels (the old --reference dropped the site markers and
+  // laid the volumes over the labels).
+  EXPECT_EQ(outsideDiffering, 0);
+  // The volumes: the marcher's error, as in OverlappingRadarsAreIntegratedTogether (mean below
+  // one 8-bit step; that test measures 0.0004 of 1 in DVR).
+  EXPECT_LT(sumDiff / (3.0 * camera.widthPx() * camera.heightPx()), 1.0);
+  // Markers are drawn after the volumes in both frames: the station's pixel is the same.
+  const auto px = volume::projectToPixel(engine::referenceCameraFor(camera),
+                                         globe::geodeticToEcef({mid.latDeg, mid.lonDeg, 0.0}));
+  ASSERT_TRUE(px);
+  const int sx = static_cast<int>(px->x), sy = static_cast<int>(px->y);
+  EXPECT_EQ(glm::ivec4(gpuFrame->at(sx, sy)), glm::ivec4(refFrame->at(sx, sy)));
+  EXPECT_EQ(glm::ivec4(refFrame->at(sx, sy)), glm::ivec4(255, 0, 255, 255)) << "the station marker must be drawn";
 }

@@ -65,7 +65,8 @@ glm::dvec4 shadeIso(const ReferenceLayer& layer, double step, const glm::dvec3& 
   return glm::dvec4(glm::dvec3(c) * shade, 1.0);
 }
 
-glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3& dir, bool occlude) {
+glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3& dir, bool occlude,
+                    double occluderMeters = std::numeric_limits<double>::infinity()) {
   const VolumeRenderSettings& st = ctx.shared;
   const double step = st.stepMeters;
   const std::size_t n = ctx.layers.size();
@@ -82,10 +83,10 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
     iEnd = std::max(iEnd, ranges[k].iLast);
   }
   if (!(iBegin <= iEnd)) return glm::dvec4(0.0);
-  double tLimit = std::numeric_limits<double>::infinity();
+  double tLimit = occluderMeters;
   if (occlude) {
     if (const std::optional<glm::dvec3> hit = globe::intersectRayEllipsoid(eye, dir))
-      tLimit = glm::dot(*hit - eye, dir);
+      tLimit = std::min(tLimit, glm::dot(*hit - eye, dir));
   }
 
   glm::dvec4 acc(0.0);  // DVR: premultiplied rgb, alpha
@@ -186,21 +187,30 @@ glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const g
 
 VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
                             bool occludeByEllipsoid, int threads) {
+  return renderReference(layers, camera, {}, occludeByEllipsoid, threads);
+}
+
+VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
+                            const std::vector<double>& occluderRayMeters, bool occludeByEllipsoid, int threads) {
   checkLayers(layers);
   assert(camera.widthPx >= 1 && camera.heightPx >= 1);
+  const std::size_t pixels = static_cast<std::size_t>(camera.widthPx) * static_cast<std::size_t>(camera.heightPx);
+  assert(occluderRayMeters.empty() || occluderRayMeters.size() == pixels);
   VolumeImage img;
   img.widthPx = camera.widthPx;
   img.heightPx = camera.heightPx;
-  img.rgbaPremultiplied.assign(static_cast<std::size_t>(camera.widthPx) * static_cast<std::size_t>(camera.heightPx),
-                               glm::dvec4(0.0));
+  img.rgbaPremultiplied.assign(pixels, glm::dvec4(0.0));
   const Context ctx{layers, layers[0].settings};
   const int nThreads = std::clamp(threads, 1, camera.heightPx);
   auto work = [&](int first) {
     for (int y = first; y < camera.heightPx; y += nThreads)
       for (int x = 0; x < camera.widthPx; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.widthPx) +
+                              static_cast<std::size_t>(x);
         const glm::dvec3 dir = pixelRayDirection(camera, x + 0.5, y + 0.5);
-        img.rgbaPremultiplied[static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.widthPx) +
-                              static_cast<std::size_t>(x)] = marchRay(ctx, camera.eyeEcef, dir, occludeByEllipsoid);
+        const double occluder =
+            occluderRayMeters.empty() ? std::numeric_limits<double>::infinity() : occluderRayMeters[i];
+        img.rgbaPremultiplied[i] = marchRay(ctx, camera.eyeEcef, dir, occludeByEllipsoid, occluder);
       }
   };
   std::vector<std::thread> pool;

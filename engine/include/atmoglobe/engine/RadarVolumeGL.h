@@ -41,10 +41,12 @@ class RadarVolumeGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return {polar_->minValue, polar_->maxValue}; }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return polar_->fieldName + " from " + polar_->sourcePath; }
+  const volume::VolumeSampler& referenceSampler() const override { return *sampler_; }
 
  private:
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
+  std::unique_ptr<volume::PolarSampler> sampler_;  ///< over *polar_
   volume::LocalSphereBeam beamModel_;
   BeamApproximation beam_ = BeamApproximation::EffectiveEarthLocalSphere;
   GLuint values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer

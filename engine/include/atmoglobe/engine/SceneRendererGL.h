@@ -28,6 +28,7 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& desc
 struct SceneFrameStats {
   GlobeFrameStats globe;
   double cpuMilliseconds = 0.0;  ///< time to issue the frame (without waiting for the GPU)
+  double referenceSeconds = 0.0; ///< time of the CPU reference volumes (setReferenceVolumes), else 0
 };
 
 /// A radar loaded for rendering: its GPU volume, its options and its site marker.
@@ -55,6 +56,10 @@ class SceneRendererGL {
   Result<globe::ImageRGBA8> renderToImage(const Camera& camera, const std::vector<Marker>& markers,
                                           FramebufferGL& target, int maxPasses = 64,
                                           SceneFrameStats* lastStats = nullptr);
+  /// threads > 0: volumes are drawn by the CPU reference renderer with that many threads
+  /// (VolumeRendererGL::drawReference) instead of the GPU marcher; everything else in the frame
+  /// (globe, models, markers, labels) is drawn as always. 0: the GPU marcher (default).
+  void setReferenceVolumes(int threads) { referenceThreads_ = threads; }
   GlobeRendererGL& globe() { return *globe_; }
   VolumeRendererGL& volumeRenderer() { return *volumeRenderer_; }
 
@@ -65,6 +70,7 @@ class SceneRendererGL {
   std::unique_ptr<VolumeRendererGL> volumeRenderer_;
   std::vector<RadarLayerGL> radars_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
+  int referenceThreads_ = 0;
 };
 
 }  // namespace atmoglobe::engine

@@ -20,10 +20,12 @@ class ShellVolumeGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return {shell_.value, shell_.value}; }
   std::size_t gpuBytes() const override { return occupancy_.gpuBytes(); }
   std::string description() const override;
+  const volume::VolumeSampler& referenceSampler() const override { return sampler_; }
 
  private:
   volume::UniformShell shell_;
   glm::dvec3 centreEcef_{0.0};
+  volume::UniformShellSampler sampler_;
 };
 
 }  // namespace atmoglobe::engine

@@ -13,6 +13,7 @@
 // The marcher includes the file once per volume with VOL_ replaced by that volume's prefix.
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 
 #include <epoxy/gl.h>
@@ -109,6 +110,9 @@ class VolumeGL {
   /// GPU bytes of all its textures, the empty-space grid included.
   virtual std::size_t gpuBytes() const = 0;
   virtual std::string description() const = 0;
+  /// The kind's double-precision CPU sampler of the same data (the reference renderer draws
+  /// the volume through it: `render --reference`, tests). Lives as long as this volume.
+  virtual const volume::VolumeSampler& referenceSampler() const = 0;
   const OccupancyGridGL& occupancy() const { return occupancy_; }
 
  protected:

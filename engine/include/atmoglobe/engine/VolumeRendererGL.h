@@ -10,6 +10,7 @@
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/engine/VolumeGL.h>
 #include <atmoglobe/volume/RenderCamera.h>
+#include <atmoglobe/volume/VolumeImage.h>
 
 #include <epoxy/gl.h>
 
@@ -53,6 +54,16 @@ class VolumeRendererGL {
     draw(camera, {VolumeLayerGL{&volume, options}}, target);
   }
 
+  /// `draw` with the CPU reference renderer (volume::renderReference: double precision, each
+  /// kind's exact sampling rule through VolumeGL::referenceSampler) in the marcher's place: the
+  /// same groups, occluded by the same depth (read back from `target`), composited the same way,
+  /// so that a frame drawn this way differs from a `draw` frame only where the marcher does.
+  /// Full resolution whatever imageScale says. Slow (about 1 us per sample per volume).
+  void drawReference(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
+                     int threads);
+  /// The last group's reference image from drawReference (row 0 = top).
+  const volume::VolumeImage& lastReferenceImage() const { return lastReference_; }
+
   /// Debug/measurement: for each pixel, the kind's coordinates (a radar: range m, azimuth deg,
   /// elevation deg) that the shader computes for the point at distance tMeters along the
   /// pixel's ray. RGBA32F read back, row 0 = top.
@@ -75,6 +86,10 @@ class VolumeRendererGL {
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture, int debugMode,
              double debugT);
   void ensureTarget(int widthPx, int heightPx, GLenum format);
+  /// One past the last layer of the group starting at `begin` (layers one program marches together).
+  static std::size_t groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin);
+  /// Lays a premultiplied volume image (any size: bilinear) over `target`; leaves it bound.
+  void compositeOver(GLuint volumeTexture, const FramebufferGL& target);
 
   std::map<MarchVariant, ProgramEntry> programs_;
   std::map<MarchVariant, std::string> programErrors_;
@@ -93,6 +108,7 @@ class VolumeRendererGL {
     bool operator==(const TransferKey&) const = default;
   };
   std::vector<TransferKey> transferRows_;
+  volume::VolumeImage lastReference_;
 };
 
 }  // namespace atmoglobe::engine

@@ -59,6 +59,14 @@ struct ReferenceLayer {
 VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
                             bool occludeByEllipsoid = true, int threads = 2);
 
+/// As above, with the scene's other occluders: occluderRayMeters[y * widthPx + x] (row 0 = top;
+/// +inf where nothing) is the distance along pixel (x, y)'s ray to the first opaque surface drawn
+/// before the volumes (in the engine: the frame's depth buffer, globe tiles and models), so that
+/// the reference is occluded exactly as the GPU marcher is. Samples at t >= that distance are not
+/// taken, as for the ellipsoid hit.
+VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
+                            const std::vector<double>& occluderRayMeters, bool occludeByEllipsoid, int threads);
+
 /// The colour of one ray (premultiplied RGBA) by the rule of renderReference.
 glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const glm::dvec3& eyeEcef,
                               const glm::dvec3& unitDirEcef, bool occludeByEllipsoid);
