@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/RadarVolumeGL.h>
 
+#include <atmoglobe/globe/Angles.h>
+
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -103,7 +105,7 @@ std::vector<std::string> RadarVolumeGL::samplerDefines(const VolumeRenderOptions
           std::string("BEAM ") + (beam_ == BeamApproximation::StraightLine ? "1" : "0")};
 }
 
-int RadarVolumeGL::bindSampler(const SamplerBindingGL& b, const VolumeRenderOptions& options) const {
+void RadarVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   UniformCacheGL& u = *b.uniforms;
   const std::string& p = b.prefix;
   const volume::PolarVolume& v = *polar_;
@@ -125,8 +127,8 @@ int RadarVolumeGL::bindSampler(const SamplerBindingGL& b, const VolumeRenderOpti
   const double clipRadius = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
   glUniform1f(u(p + "maxRange"), static_cast<float>(clipRadius));
   const volume::StraightElevationBand band = volume::straightElevationBand(v, beam_ == BeamApproximation::StraightLine);
-  glUniform2f(u(p + "straightElevationClipSin"), static_cast<float>(std::sin(band.loDegAt(clipRadius) * M_PI / 180.0)),
-              static_cast<float>(std::sin(band.hiDegAt(clipRadius) * M_PI / 180.0)));
+  glUniform2f(u(p + "straightElevationClipSin"), static_cast<float>(std::sin(degreesToRadians(band.loDegAt(clipRadius)))),
+              static_cast<float>(std::sin(degreesToRadians(band.hiDegAt(clipRadius)))));
   const glm::mat3 ecefToEnu = glm::mat3(glm::transpose(beamModel_.enuToEcef));
   glUniformMatrix3fv(u(p + "ecefToEnu"), 1, GL_FALSE, glm::value_ptr(ecefToEnu));
   glUniform1f(u(p + "h0"), static_cast<float>(beamModel_.antennaHeightMeters));
@@ -135,15 +137,17 @@ int RadarVolumeGL::bindSampler(const SamplerBindingGL& b, const VolumeRenderOpti
   glUniform1f(u(p + "effectiveRadius"), static_cast<float>(beamModel_.effectiveRadiusMeters));
   glUniform2fv(u(p + "elLookupRange"), 1, glm::value_ptr(elLookupRange_));
   glUniform2f(u(p + "valuesInvSize"), 1.0f / valuesSize_.x, 1.0f / valuesSize_.y);
-  glBindTextureUnit(static_cast<GLuint>(b.firstUnit), values_);
   glUniform1i(u(p + "values"), b.firstUnit);
+  glUniform1i(u(p + "rayTable"), b.firstUnit + 1);
+}
+
+void RadarVolumeGL::bindSamplerTextures(const SamplerBindingGL& b, const VolumeRenderOptions& options) const {
+  glBindTextureUnit(static_cast<GLuint>(b.firstUnit), values_);
   // Nearest: the same fetch through a nearest-filtering sampler picks texel (round(a), round(g)),
   // the rule's nearest texel (the padding row and column give the wrap and the clamp).
   glBindSampler(static_cast<GLuint>(b.firstUnit),
                 options.render.interpolation == volume::Interpolation::Nearest ? b.nearestSampler : 0);
   glBindTextureUnit(static_cast<GLuint>(b.firstUnit + 1), rayTable_);
-  glUniform1i(u(p + "rayTable"), b.firstUnit + 1);
-  return 2;
 }
 
 }  // namespace atmoglobe::engine

@@ -13,10 +13,9 @@ ShellVolumeGL::ShellVolumeGL(const volume::UniformShell& shell)
                                                           glm::ivec3(8, 8, 8)));
 }
 
-int ShellVolumeGL::bindSampler(const SamplerBindingGL& b, const VolumeRenderOptions&) const {
+void ShellVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform3f((*b.uniforms)(b.prefix + "shellRadii"), static_cast<float>(shell_.innerRadiusMeters),
               static_cast<float>(shell_.outerRadiusMeters), static_cast<float>(shell_.value));
-  return 0;
 }
 
 std::string ShellVolumeGL::description() const { return volume::UniformShellSampler(shell_).description(); }

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
+#include <atomic>
+
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
@@ -14,6 +16,11 @@ std::vector<std::string> marchShaderDefines() {
           "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),     "STATE_ECHO " + std::to_string(C::kStateEcho),
           "GRID_BLOCK " + std::to_string(C::kGridBlock),             "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
           "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),     "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
+}
+
+VolumeGL::VolumeGL() {
+  static std::atomic<std::uint64_t> next{1};
+  id_ = next.fetch_add(1);
 }
 
 GLint UniformCacheGL::operator()(const std::string& name) {

@@ -16,6 +16,9 @@ namespace atmoglobe::engine {
 namespace {
 
 constexpr int kDepthUnit = 0, kTransferUnit = 1, kIntegralUnit = 2, kFirstVolumeUnit = 3;
+// Volume k's units: its empty-space grid, then its sampler's kSamplerUnits.
+constexpr int gridUnit(int k) { return kFirstVolumeUnit + k * (1 + VolumeGL::kSamplerUnits); }
+constexpr int samplerFirstUnit(int k) { return gridUnit(k) + 1; }
 
 std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
   for (std::size_t pos = text.find(from); pos != std::string::npos; pos = text.find(from, pos + to.size()))
@@ -158,8 +161,30 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
   auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
   if (!program) return fail(program.error());
-  ProgramEntry entry{std::move(*program), UniformCacheGL()};
-  entry.uniforms = UniformCacheGL(entry.program.id());
+  ProgramEntry entry{std::move(*program), UniformCacheGL(), {}, {}, {}};
+  const GLuint id = entry.program.id();
+  entry.uniforms = UniformCacheGL(id);
+  auto location = [id](const std::string& name) { return glGetUniformLocation(id, name.c_str()); };
+  MarchLocationsGL& l = entry.locations;
+  l.cameraToEcef = location("u_cameraToEcef");
+  l.focalPx = location("u_focalPx");
+  l.imageSizePx = location("u_imageSizePx");
+  l.near = location("u_near");
+  l.step = location("u_step");
+  l.earlyTermination = location("u_earlyTermination");
+  l.debugT = location("u_debugT");
+  // Texture units are fixed per program: set once.
+  glProgramUniform1i(id, location("u_globeDepth"), kDepthUnit);
+  glProgramUniform1i(id, location("u_transfer"), kTransferUnit);
+  glProgramUniform1i(id, location("u_tfIntegral"), kIntegralUnit);
+  for (std::size_t k = 0; k < variant.volumes.size(); ++k) {
+    const std::string p = volumePrefix(k);
+    auto v = [&](const char* name) { return location(std::string(p).append(name)); };
+    l.volumes.push_back({v("eyeRel"), v("ecefToLocal"), v("gridMinLocal"), v("gridCellSize"), v("gridCells"),
+                         v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange")});
+    glProgramUniform1i(id, v("grid"), gridUnit(static_cast<int>(k)));
+  }
+  entry.slots.resize(variant.volumes.size());
   return &programs_.emplace(variant, std::move(entry)).first->second.program;
 }
 
@@ -191,50 +216,37 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   if (!marchProgram(variant)) return false;
   ProgramEntry& entry = programs_.find(variant)->second;
   entry.program.use();
-  UniformCacheGL& u = entry.uniforms;
+  const MarchLocationsGL& loc = entry.locations;
 
-  // Shared: camera, step, tables, depth.
-  glUniformMatrix3fv(u("u_cameraToEcef"), 1, GL_FALSE, glm::value_ptr(glm::mat3(camera.cameraToEcef())));
-  glUniform1f(u("u_focalPx"), static_cast<float>(camera.focalLengthPx()));
-  glUniform2f(u("u_imageSizePx"), static_cast<float>(camera.widthPx()), static_cast<float>(camera.heightPx()));
-  glUniform1f(u("u_near"), static_cast<float>(camera.nearMeters()));
-  glUniform1f(u("u_step"), static_cast<float>(rs.stepMeters));
-  glUniform1f(u("u_earlyTermination"), static_cast<float>(rs.earlyTerminationAlpha));
-  glUniform1f(u("u_debugT"), static_cast<float>(debugT));
+  // Shared: camera, step, termination (set only when one of them changed).
+  const glm::mat3 cameraToEcef(camera.cameraToEcef());
+  std::vector<float> shared(glm::value_ptr(cameraToEcef), glm::value_ptr(cameraToEcef) + 9);
+  shared.insert(shared.end(), {static_cast<float>(camera.focalLengthPx()), static_cast<float>(camera.widthPx()),
+                               static_cast<float>(camera.heightPx()), static_cast<float>(camera.nearMeters()),
+                               static_cast<float>(rs.stepMeters), static_cast<float>(rs.earlyTerminationAlpha),
+                               static_cast<float>(debugT)});
+  if (shared != entry.shared) {
+    glUniformMatrix3fv(loc.cameraToEcef, 1, GL_FALSE, shared.data());
+    glUniform1f(loc.focalPx, shared[9]);
+    glUniform2f(loc.imageSizePx, shared[10], shared[11]);
+    glUniform1f(loc.near, shared[12]);
+    glUniform1f(loc.step, shared[13]);
+    glUniform1f(loc.earlyTermination, shared[14]);
+    glUniform1f(loc.debugT, shared[15]);
+    uniformUploads_ += 7;
+    entry.shared = std::move(shared);
+  }
   glBindTextureUnit(kDepthUnit, depthTexture);
-  glUniform1i(u("u_globeDepth"), kDepthUnit);
   glBindTextureUnit(kTransferUnit, transfer_);
-  glUniform1i(u("u_transfer"), kTransferUnit);
   glBindTextureUnit(kIntegralUnit, transferIntegral_);
-  glUniform1i(u("u_tfIntegral"), kIntegralUnit);
 
-  int unit = kFirstVolumeUnit;
   for (int k = 0; k < count; ++k) {
     const VolumeGL& vol = *layers[k].volume;
     const VolumeRenderOptions& o = layers[k].options;
-    const std::string p = volumePrefix(static_cast<std::size_t>(k));
-    // The eye relative to the volume's origin: subtracted in double, then narrowed.
-    glUniform3fv(u(p + "eyeRel"), 1, glm::value_ptr(glm::vec3(camera.eyeEcef() - vol.originEcef())));
-    const volume::OccupancyGrid& grid = vol.occupancy().grid();
-    // The grid's frame relative to the volume's origin (ECEF axes); its origin is the volume's.
-    glm::dmat3 ecefToLocal = glm::transpose(grid.localToEcef);
-    const glm::dvec3 shift = ecefToLocal * (vol.originEcef() - grid.originEcef);
-    glUniformMatrix3fv(u(p + "ecefToLocal"), 1, GL_FALSE, glm::value_ptr(glm::mat3(ecefToLocal)));
-    glUniform3fv(u(p + "gridMinLocal"), 1, glm::value_ptr(glm::vec3(grid.minLocal - shift)));
-    glUniform3fv(u(p + "gridCellSize"), 1, glm::value_ptr(glm::vec3(grid.cellSizeMeters)));
-    glUniform3iv(u(p + "gridCells"), 1, glm::value_ptr(grid.cells));
-    glBindTextureUnit(static_cast<GLuint>(unit), vol.occupancy().texture());
-    glUniform1i(u(p + "grid"), unit);
-    ++unit;
+    const MarchLocationsGL::Volume& vl = loc.volumes[static_cast<std::size_t>(k)];
+    ProgramEntry::Slot& slot = entry.slots[static_cast<std::size_t>(k)];
     const volume::VolumeRenderSettings& s = o.render;
-    glUniform1f(u(p + "isoValue"), static_cast<float>(s.isoValue));
-    glUniform1f(u(p + "opacityZeroValue"), static_cast<float>(s.transfer.opacityZeroValue));
-    // MIP: a maximum below the colour table's first stop is transparent, so cells below it can be skipped too.
     const auto& stops = s.transfer.colors.stops();
-    const double firstVisible =
-        stops.empty() ? -1e30 : (stops.front().value - s.transfer.colors.offset()) / s.transfer.colors.scale();
-    glUniform1f(u(p + "mipVisibleMin"), static_cast<float>(firstVisible));
-
     // Transfer function tabulated over the volume's value range (TRANSFER_ENTRIES entries; the
     // value is quantised to (max - min) / 4096, ~0.03 dBZ for reflectivity). For DVR the opacity
     // is already corrected for the step (1 - (1 - alpha)^(step / reference), in double here
@@ -281,14 +293,51 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       }
       transferRows_[k] = std::move(key);
     }
-    glUniform2f(u(p + "tfRange"), static_cast<float>(tfLo), static_cast<float>(tfHi));
 
-    SamplerBindingGL binding{&u, p, unit, nearestSampler_};
-    unit += vol.bindSampler(binding, o);
+    // The volume's generic uniforms: the eye relative to its origin (subtracted in double, then
+    // narrowed), its grid's frame relative to that origin (ECEF axes), iso value, the value
+    // below which nothing shows, the transfer table's range.
+    const volume::OccupancyGrid& grid = vol.occupancy().grid();
+    const glm::mat3 ecefToLocal(glm::transpose(grid.localToEcef));
+    const glm::dvec3 shift = glm::transpose(grid.localToEcef) * (vol.originEcef() - grid.originEcef);
+    const glm::vec3 eyeRel(camera.eyeEcef() - vol.originEcef());
+    const glm::vec3 gridMin(grid.minLocal - shift), cellSize(grid.cellSizeMeters);
+    // MIP: a maximum below the colour table's first stop is transparent, so cells below it can be skipped too.
+    const double firstVisible =
+        stops.empty() ? -1e30 : (stops.front().value - s.transfer.colors.offset()) / s.transfer.colors.scale();
+    std::vector<float> generic(glm::value_ptr(ecefToLocal), glm::value_ptr(ecefToLocal) + 9);
+    generic.insert(generic.end(), {eyeRel.x, eyeRel.y, eyeRel.z, gridMin.x, gridMin.y, gridMin.z, cellSize.x,
+                                   cellSize.y, cellSize.z, static_cast<float>(grid.cells.x),
+                                   static_cast<float>(grid.cells.y), static_cast<float>(grid.cells.z),
+                                   static_cast<float>(s.isoValue), static_cast<float>(s.transfer.opacityZeroValue),
+                                   static_cast<float>(firstVisible), static_cast<float>(tfLo), static_cast<float>(tfHi)});
+    if (generic != slot.generic) {
+      glUniformMatrix3fv(vl.ecefToLocal, 1, GL_FALSE, generic.data());
+      glUniform3fv(vl.eyeRel, 1, generic.data() + 9);
+      glUniform3fv(vl.gridMinLocal, 1, generic.data() + 12);
+      glUniform3fv(vl.gridCellSize, 1, generic.data() + 15);
+      glUniform3iv(vl.gridCells, 1, glm::value_ptr(grid.cells));
+      glUniform1f(vl.isoValue, generic[21]);
+      glUniform1f(vl.opacityZeroValue, generic[22]);
+      glUniform1f(vl.mipVisibleMin, generic[23]);
+      glUniform2f(vl.tfRange, generic[24], generic[25]);
+      uniformUploads_ += 9;
+      slot.generic = std::move(generic);
+    }
+    glBindTextureUnit(static_cast<GLuint>(gridUnit(k)), vol.occupancy().texture());
+    const SamplerBindingGL binding{&entry.uniforms, volumePrefix(static_cast<std::size_t>(k)), samplerFirstUnit(k),
+                                   nearestSampler_};
+    if (slot.volumeId != vol.id() || slot.uniformVersion != vol.uniformVersion()) {
+      vol.setSamplerUniforms(binding);
+      ++uniformUploads_;  // counted once per volume (a handful of glUniform calls)
+      slot.volumeId = vol.id();
+      slot.uniformVersion = vol.uniformVersion();
+    }
+    vol.bindSamplerTextures(binding, o);
   }
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  for (int i = kFirstVolumeUnit; i < unit; ++i) glBindSampler(static_cast<GLuint>(i), 0);
+  for (int i = kFirstVolumeUnit; i < gridUnit(count); ++i) glBindSampler(static_cast<GLuint>(i), 0);
   glBindVertexArray(0);
   return true;
 }

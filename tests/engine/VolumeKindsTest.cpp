@@ -270,3 +270,47 @@ TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
   EXPECT_EQ(glm::ivec4(gpuFrame->at(sx, sy)), glm::ivec4(refFrame->at(sx, sy)));
   EXPECT_EQ(glm::ivec4(refFrame->at(sx, sy)), glm::ivec4(255, 0, 255, 255)) << "the station marker must be drawn";
 }
+
+// Uniforms are set once per change: a second draw of the same frame issues no glUniform call; a
+// camera move sets the camera and eye uniforms only; a beam change sets that volume's sampler
+// uniforms again; and the pictures are those of a fresh renderer.
+TEST(VolumeKinds, UniformsAreSetOncePerChange) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  const globe::GeodesicPoint b = globe::geodesicDirect(35.0, -98.0, 90.0, 150e3);
+  auto glA = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 75e3, 90.0));
+  auto glB = engine::RadarVolumeGL::create(syntheticRadarAt(b.latDeg, b.lonDeg, 75e3, 270.0));
+  ASSERT_TRUE(glA && glB);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  const std::vector<engine::VolumeLayerGL> layers = {{glA->get(), options}, {glB->get(), options}};
+  const Camera camera(CameraPose{34.0, -97.2, 6e4, 0.0, -15.0, 0.0}, 50.0, 64, 32);
+  const Camera moved(CameraPose{34.0, -97.1, 6e4, 0.0, -15.0, 0.0}, 50.0, 64, 32);
+  const volume::VolumeImage first = renderGpu(**renderer, camera, layers);
+  const std::uint64_t afterFirst = (*renderer)->uniformUploads();
+  EXPECT_GT(afterFirst, 0u);
+  const volume::VolumeImage again = renderGpu(**renderer, camera, layers);
+  EXPECT_EQ((*renderer)->uniformUploads(), afterFirst) << "an unchanged frame must set no uniform";
+  EXPECT_EQ(volume::compareImages(first, again).maxAbs, 0.0);
+  // A camera move: the 7 shared uniforms and each volume's 9 generic ones (eye), no sampler's.
+  renderGpu(**renderer, moved, layers);
+  EXPECT_EQ((*renderer)->uniformUploads(), afterFirst + 7 + 2 * 9);
+  const std::uint64_t afterMove = (*renderer)->uniformUploads();
+  // A beam change compiles another variant (BEAM is a define): a program of its own, set in full.
+  (*glA)->setBeamApproximation(engine::BeamApproximation::StraightLine);
+  renderGpu(**renderer, moved, layers);
+  EXPECT_GT((*renderer)->uniformUploads(), afterMove);
+  (*glA)->setBeamApproximation(engine::BeamApproximation::EffectiveEarthLocalSphere);
+  // Back to the first program and camera: A's version changed, so its sampler uniforms are set
+  // again (1), the camera and both volumes' eyes too; the picture is the first one.
+  const std::uint64_t beforeBack = (*renderer)->uniformUploads();
+  const volume::VolumeImage back = renderGpu(**renderer, camera, layers);
+  EXPECT_EQ((*renderer)->uniformUploads(), beforeBack + 7 + 2 * 9 + 1);
+  EXPECT_EQ(volume::compareImages(first, back).maxAbs, 0.0);
+  // A fresh renderer draws the same picture.
+  auto fresh = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(fresh);
+  EXPECT_EQ(volume::compareImages(first, renderGpu(**fresh, camera, layers)).maxAbs, 0.0);
+}

@@ -32,12 +32,16 @@ class RadarVolumeGL final : public VolumeGL {
 
   const volume::PolarVolume& polar() const { return *polar_; }
   BeamApproximation beamApproximation() const { return beam_; }
-  void setBeamApproximation(BeamApproximation beam) { beam_ = beam; }
+  void setBeamApproximation(BeamApproximation beam) {
+    if (beam != beam_) uniformsChanged();  // the straight-line elevation band is a uniform
+    beam_ = beam;
+  }
 
   std::string_view samplerShaderFile() const override { return "sample_polar.glsl"; }
   std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const override;
   glm::dvec3 originEcef() const override { return beamModel_.antennaEcef; }
-  int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  void setSamplerUniforms(const SamplerBindingGL& binding) const override;
+  void bindSamplerTextures(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
   volume::ValueRange valueRange() const override { return {polar_->minValue, polar_->maxValue}; }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return polar_->fieldName + " from " + polar_->sourcePath; }

@@ -16,7 +16,8 @@ class ShellVolumeGL final : public VolumeGL {
   std::string_view samplerShaderFile() const override { return "sample_shell.glsl"; }
   std::vector<std::string> samplerDefines(const VolumeRenderOptions&) const override { return {}; }
   glm::dvec3 originEcef() const override { return centreEcef_; }
-  int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  void setSamplerUniforms(const SamplerBindingGL& binding) const override;
+  void bindSamplerTextures(const SamplerBindingGL&, const VolumeRenderOptions&) const override {}
   volume::ValueRange valueRange() const override { return {shell_.value, shell_.value}; }
   std::size_t gpuBytes() const override { return occupancy_.gpuBytes(); }
   std::string description() const override;

@@ -19,6 +19,7 @@
 #include <epoxy/gl.h>
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -94,7 +95,10 @@ class OccupancyGridGL {
 
 class VolumeGL {
  public:
+  VolumeGL();
   virtual ~VolumeGL() = default;
+  VolumeGL(const VolumeGL&) = delete;
+  VolumeGL& operator=(const VolumeGL&) = delete;
   /// The kind's GLSL sampler file (shaders/sample_KIND.glsl).
   virtual std::string_view samplerShaderFile() const = 0;
   /// Compile-time constants of this volume's sampler for these options ("NAME VALUE", without
@@ -102,10 +106,18 @@ class VolumeGL {
   virtual std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const = 0;
   /// The double-precision origin the sampler's float positions are relative to.
   virtual glm::dvec3 originEcef() const = 0;
-  /// Sets the sampler's own uniforms and binds its textures from binding.firstUnit on; returns
-  /// the number of units used (at most kSamplerUnits).
-  virtual int bindSampler(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const = 0;
+  /// Sets the sampler's own uniforms (its geometry and its texture units, from
+  /// binding.firstUnit on). The renderer calls it only when a program's volume slot held another
+  /// volume or this volume's uniformVersion() changed, so a static scene sets them once.
+  virtual void setSamplerUniforms(const SamplerBindingGL& binding) const = 0;
+  /// Binds its textures (and sampler objects) from binding.firstUnit on, every draw (texture
+  /// units are shared by every program); at most kSamplerUnits.
+  virtual void bindSamplerTextures(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const = 0;
   static constexpr int kSamplerUnits = 2;
+  /// Unique for the life of the process (a new volume at a freed address is a new id).
+  std::uint64_t id() const { return id_; }
+  /// Changes whenever what setSamplerUniforms sets changes.
+  std::uint64_t uniformVersion() const { return uniformVersion_; }
   virtual volume::ValueRange valueRange() const = 0;
   /// GPU bytes of all its textures, the empty-space grid included.
   virtual std::size_t gpuBytes() const = 0;
@@ -116,7 +128,12 @@ class VolumeGL {
   const OccupancyGridGL& occupancy() const { return occupancy_; }
 
  protected:
+  void uniformsChanged() { ++uniformVersion_; }
   OccupancyGridGL occupancy_;
+
+ private:
+  std::uint64_t id_ = 0;
+  std::uint64_t uniformVersion_ = 0;
 };
 
 /// GL texture with the given filter and clamp-to-edge wrapping (a helper for VolumeGL kinds).

@@ -72,15 +72,36 @@ class VolumeRendererGL {
   /// The last volume image (premultiplied RGBA, float), row 0 = top.
   std::vector<glm::vec4> readVolumeImage() const;
 
+  /// glUniform* calls issued by the marcher so far (its own and its volumes' samplers' uniforms).
+  /// A second draw of an unchanged frame issues none: uniforms are set once per change.
+  std::uint64_t uniformUploads() const { return uniformUploads_; }
+
   /// The program of a variant: assembled, compiled on first use and kept. Null with the
   /// compile log on stderr (once) if it fails.
   const ShaderProgramGL* marchProgram(const MarchVariant& variant);
 
  private:
   VolumeRendererGL() = default;
+  /// Uniform locations of the march program's own uniforms, resolved once when it is built.
+  struct MarchLocationsGL {
+    GLint cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
+    struct Volume {
+      GLint eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
+            opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1;
+    };
+    std::vector<Volume> volumes;
+  };
+  /// What a program's uniforms were last set from: each group is set again only on change.
   struct ProgramEntry {
     ShaderProgramGL program;
-    UniformCacheGL uniforms;
+    UniformCacheGL uniforms;  ///< the samplers' own uniforms (set on change only)
+    MarchLocationsGL locations;
+    std::vector<float> shared;  ///< camera, step, termination, debug t
+    struct Slot {
+      std::uint64_t volumeId = 0, uniformVersion = 0;  ///< whose sampler uniforms it holds (0: none)
+      std::vector<float> generic;                      ///< eye, grid, iso, transfer range
+    };
+    std::vector<Slot> slots;
   };
   /// Marches one group into the volume target (cleared first); false if its program failed.
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture, int debugMode,
@@ -108,6 +129,7 @@ class VolumeRendererGL {
     bool operator==(const TransferKey&) const = default;
   };
   std::vector<TransferKey> transferRows_;
+  std::uint64_t uniformUploads_ = 0;  ///< glUniform calls issued by march (tests: a static frame issues none)
   volume::VolumeImage lastReference_;
 };
 
