@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -356,9 +357,56 @@ std::size_t VolumeRendererGL::groupEnd(const std::vector<VolumeLayerGL>& layers,
   return end;
 }
 
-void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& target) {
+std::vector<VolumeRendererGL::PassGL> VolumeRendererGL::planPasses(const Camera& camera,
+                                                                   const std::vector<VolumeLayerGL>& layers) {
+  std::vector<volume::BoundingSphere> spheres;
+  for (const VolumeLayerGL& l : layers) spheres.push_back(l.volume->referenceSampler().boundingSphere());
+  std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
+  volume::sortBackToFront(clusters, camera.eyeEcef());
+  const volume::RenderCamera rc = referenceCameraFor(camera);
+  const int w = camera.widthPx(), h = camera.heightPx();
+  std::vector<PassGL> passes;
+  for (const volume::VolumeCluster& c : clusters) {
+    // The cluster's screen rectangle: the projected corners of the cube around its sphere (all
+    // in front of the eye: the cube's projection, which holds the sphere's, is their hull), one
+    // pixel wider; the whole image if a corner is not in front.
+    glm::ivec4 rect(0, 0, w, h);
+    glm::dvec2 lo(1e300), hi(-1e300);
+    bool inFront = true;
+    for (int corner = 0; corner < 8 && inFront; ++corner) {
+      const glm::dvec3 sign((corner & 1) ? 1.0 : -1.0, (corner & 2) ? 1.0 : -1.0, (corner & 4) ? 1.0 : -1.0);
+      const auto px = volume::projectToPixel(rc, c.enclosing.centreEcef + sign * c.enclosing.radiusMeters);
+      if (!px) {
+        inFront = false;
+      } else {
+        lo = glm::min(lo, *px);
+        hi = glm::max(hi, *px);
+      }
+    }
+    if (inFront) {
+      const double x0 = std::clamp(std::floor(lo.x) - 1.0, 0.0, double(w)), x1 = std::clamp(std::ceil(hi.x) + 1.0, 0.0, double(w));
+      const double y0 = std::clamp(std::floor(lo.y) - 1.0, 0.0, double(h)), y1 = std::clamp(std::ceil(hi.y) + 1.0, 0.0, double(h));
+      // Pixel rows from the top -> GL rows from the bottom.
+      rect = glm::ivec4(int(x0), h - int(y1), int(x1 - x0), int(y1 - y0));
+    }
+    if (rect.z <= 0 || rect.w <= 0) continue;  // off screen
+    std::vector<VolumeLayerGL> members;
+    for (std::size_t i : c.members) members.push_back(layers[i]);
+    for (std::size_t begin = 0, end = 0; begin < members.size(); begin = end) {
+      end = groupEnd(members, begin);
+      passes.push_back(PassGL{std::vector<VolumeLayerGL>(members.begin() + static_cast<std::ptrdiff_t>(begin),
+                                                         members.begin() + static_cast<std::ptrdiff_t>(end)),
+                              rect});
+    }
+  }
+  return passes;
+}
+
+void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx) {
   target.bind();
   glDisable(GL_DEPTH_TEST);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(rectPx.x, rectPx.y, rectPx.z, rectPx.w);
   composite_.use();
   glBindTextureUnit(0, volumeTexture);
   glUniform1i(composite_.uniform("u_volume"), 0);
@@ -368,25 +416,34 @@ void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& 
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
   glEnable(GL_DEPTH_TEST);
 }
 
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target) {
-  for (std::size_t begin = 0, end = 0; begin < layers.size(); begin = end) {
-    // A group: consecutive layers that one program can march together.
-    end = groupEnd(layers, begin);
-    const double scale = std::clamp(layers[begin].options.imageScale, 0.05, 1.0);
+  for (const PassGL& pass : planPasses(camera, layers)) {
+    const double scale = std::clamp(pass.layers[0].options.imageScale, 0.05, 1.0);
     const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
     const int h = std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)));
     ensureTarget(w, h, GL_RGBA16F);
     volumeTarget_->bind();
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
+    // The pass's rectangle in the volume image, two texels wider: the composite's bilinear
+    // lookups inside the frame rectangle read only texels cleared and marched here.
+    const double sx = double(w) / target.widthPx(), sy = double(h) / target.heightPx();
+    const int x0 = std::max(0, int(std::floor(pass.rectPx.x * sx)) - 2);
+    const int y0 = std::max(0, int(std::floor(pass.rectPx.y * sy)) - 2);
+    const int x1 = std::min(w, int(std::ceil((pass.rectPx.x + pass.rectPx.z) * sx)) + 2);
+    const int y1 = std::min(h, int(std::ceil((pass.rectPx.y + pass.rectPx.w) * sy)) + 2);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x0, y0, x1 - x0, y1 - y0);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
-    const bool ok = march(camera, layers.data() + begin, static_cast<int>(end - begin), target.depthTexture(), 0, 0.0);
+    const bool ok = march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
+    glDisable(GL_SCISSOR_TEST);
     if (ok) {
-      compositeOver(volumeTarget_->colorTexture(), target);
+      compositeOver(volumeTarget_->colorTexture(), target, pass.rectPx);
     } else {
       target.bind();
       glEnable(GL_DEPTH_TEST);
@@ -426,12 +483,11 @@ void VolumeRendererGL::drawReference(const Camera& camera, const std::vector<Vol
   glTextureStorage2D(texture, 1, GL_RGBA32F, camera.widthPx(), camera.heightPx());
   glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  for (std::size_t begin = 0, end = 0; begin < layers.size(); begin = end) {
-    // The same groups as the march (the reference needs one mode and step per call).
-    end = groupEnd(layers, begin);
+  for (const PassGL& pass : planPasses(camera, layers)) {
+    // The marcher's passes (the reference needs one mode and step per call).
     std::vector<volume::ReferenceLayer> group;
-    for (std::size_t k = begin; k < end; ++k)
-      group.push_back(volume::ReferenceLayer{&layers[k].volume->referenceSampler(), layers[k].options.render});
+    for (const VolumeLayerGL& l : pass.layers)
+      group.push_back(volume::ReferenceLayer{&l.volume->referenceSampler(), l.options.render});
     // Occluded by what the frame's depth holds (globe tiles, models), as the marcher is.
     lastReference_ = volume::renderReference(group, rc, occluders, false, threads);
     const int w = lastReference_.widthPx, h = lastReference_.heightPx;
@@ -441,7 +497,7 @@ void VolumeRendererGL::drawReference(const Camera& camera, const std::vector<Vol
         rows[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
             glm::vec4(lastReference_.at(x, y));
     glTextureSubImage2D(texture, 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, rows.data());
-    compositeOver(texture, target);
+    compositeOver(texture, target, pass.rectPx);
   }
   glDeleteTextures(1, &texture);
 }

@@ -171,3 +171,58 @@ TEST(ReferenceRenderer, SeveralLayersEqualEachAloneWhereTheyDoNotOverlap) {
     }
   EXPECT_GT(single, 50);
 }
+
+// Clusters: spheres that meet share a cluster; clusters' enclosing spheres are disjoint and hold
+// their members; back to front is exact: on every ray meeting two clusters, the one drawn later
+// (nearer) lies wholly before the other.
+TEST(VolumeClusters, DisjointClustersAreOrderedExactlyForEveryRay) {
+  using volume::BoundingSphere;
+  // A and B meet; C is far; D meets neither A nor B but meets their enclosing sphere.
+  const std::vector<BoundingSphere> fixed = {{{0, 0, 0}, 1.0}, {{1.5, 0, 0}, 1.0}, {{10, 0, 0}, 1.0}, {{0.75, 2.1, 0}, 0.5}};
+  std::vector<volume::VolumeCluster> c = volume::clusterBySphere(fixed);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].members, (std::vector<std::size_t>{0, 1, 3}));
+  EXPECT_EQ(c[1].members, (std::vector<std::size_t>{2}));
+  volume::sortBackToFront(c, glm::dvec3(-20, 0, 0));
+  EXPECT_EQ(c[0].members, (std::vector<std::size_t>{2})) << "C is farthest from an eye at x = -20";
+
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int checkedRays = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<BoundingSphere> spheres;
+    for (int k = 0; k < 6; ++k) spheres.push_back({glm::dvec3(u(rng), u(rng), u(rng)) * 300e3, 30e3 + 50e3 * (u(rng) + 1.0)});
+    std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
+    std::size_t total = 0;
+    for (const auto& cl : clusters) {
+      total += cl.members.size();
+      for (std::size_t m : cl.members)
+        EXPECT_LE(glm::length(spheres[m].centreEcef - cl.enclosing.centreEcef) + spheres[m].radiusMeters,
+                  cl.enclosing.radiusMeters + 1e-6);
+    }
+    EXPECT_EQ(total, spheres.size());
+    for (std::size_t a = 0; a < clusters.size(); ++a)
+      for (std::size_t b = a + 1; b < clusters.size(); ++b)
+        EXPECT_GT(glm::length(clusters[a].enclosing.centreEcef - clusters[b].enclosing.centreEcef),
+                  clusters[a].enclosing.radiusMeters + clusters[b].enclosing.radiusMeters);
+    const glm::dvec3 eye = glm::dvec3(u(rng), u(rng), u(rng)) * 600e3;
+    volume::sortBackToFront(clusters, eye);
+    for (int r = 0; r < 200; ++r) {
+      // Aimed at a random point of a random cluster, so that many rays meet two.
+      const auto& aim = clusters[static_cast<std::size_t>(r) % clusters.size()].enclosing;
+      const glm::dvec3 dir = glm::normalize(aim.centreEcef + glm::dvec3(u(rng), u(rng), u(rng)) * aim.radiusMeters - eye);
+      for (std::size_t back = 0; back < clusters.size(); ++back)
+        for (std::size_t front = back + 1; front < clusters.size(); ++front) {
+          const auto& eb = clusters[back].enclosing;
+          const auto& ef = clusters[front].enclosing;
+          const volume::RayInterval ib = volume::raySphereInterval(eye, dir, eb.centreEcef, eb.radiusMeters);
+          const volume::RayInterval in = volume::raySphereInterval(eye, dir, ef.centreEcef, ef.radiusMeters);
+          if (ib.empty() || in.empty() || ib.tExitMeters < 0.0 || in.tExitMeters < 0.0) continue;
+          ++checkedRays;
+          EXPECT_LE(std::max(in.tEnterMeters, 0.0), std::max(ib.tEnterMeters, 0.0)) << "trial " << trial;
+          EXPECT_LE(in.tExitMeters, ib.tEnterMeters + 1e-6) << "the nearer cluster must end before the farther begins";
+        }
+    }
+  }
+  EXPECT_GT(checkedRays, 500);
+}

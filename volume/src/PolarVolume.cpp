@@ -340,9 +340,13 @@ PolarSampler::PolarSampler(const PolarVolume& volume, bool rejectOutsideShell)
       band_(straightElevationBand(volume)),
       reject_(rejectOutsideShell && !volume.sweeps.empty() && volume.beam.ke > 0.0) {}
 
+BoundingSphere PolarSampler::boundingSphere() const {
+  return {antennaEcef_, volume_.clipRadiusMeters > 0.0 ? volume_.clipRadiusMeters : volume_.maxRangeMeters};
+}
+
 RayInterval PolarSampler::rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const {
-  const double radius = volume_.clipRadiusMeters > 0.0 ? volume_.clipRadiusMeters : volume_.maxRangeMeters;
-  return raySphereInterval(eyeEcef, unitDirEcef, antennaEcef_, radius);
+  const BoundingSphere s = boundingSphere();
+  return raySphereInterval(eyeEcef, unitDirEcef, s.centreEcef, s.radiusMeters);
 }
 
 bool PolarSampler::provablyEmpty(const glm::dvec3& ecef) const {

@@ -44,10 +44,15 @@ class VolumeRendererGL {
   ~VolumeRendererGL();
 
   /// Draws the layers over `target` (reverse-Z depth of the frame occludes them) and leaves
-  /// `target` bound. Layers are marched together in groups: consecutive layers with the same
-  /// mode, step, early termination, classification, skipping and image scale, up to
-  /// MarchConstants::kMaxVolumes at a time; groups are composited in order. A pixel pays only
-  /// for the volumes its ray crosses (each volume is sampled only inside its own interval).
+  /// `target` bound. Volumes whose bounding spheres are apart are drawn in separate passes
+  /// (clusters, volume::clusterBySphere), back to front, each limited to its projected bounding
+  /// box: exact, since along any ray one cluster lies wholly before another. Within a cluster,
+  /// layers are marched together in groups: consecutive layers with the same mode, step, early
+  /// termination, classification, skipping and image scale, up to MarchConstants::kMaxVolumes at
+  /// a time; groups are composited in layer order. Cost: a pixel pays for the clusters whose box
+  /// holds it, and in a cluster samples only inside each volume's own interval (but see
+  /// docs/volume-rendering.md: on llvmpipe every sample of a cluster's march costs as much as
+  /// sampling each of its volumes).
   void draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target);
   void draw(const Camera& camera, const VolumeGL& volume, const VolumeRenderOptions& options,
             const FramebufferGL& target) {
@@ -109,8 +114,18 @@ class VolumeRendererGL {
   void ensureTarget(int widthPx, int heightPx, GLenum format);
   /// One past the last layer of the group starting at `begin` (layers one program marches together).
   static std::size_t groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin);
-  /// Lays a premultiplied volume image (any size: bilinear) over `target`; leaves it bound.
-  void compositeOver(GLuint volumeTexture, const FramebufferGL& target);
+  /// One march and composite: layers marched together, inside a rectangle of the target.
+  struct PassGL {
+    std::vector<VolumeLayerGL> layers;
+    glm::ivec4 rectPx{0};  ///< x, y (GL: from the bottom left), width, height in target pixels
+  };
+  /// The passes of a draw, in drawing order: volumes clustered by their bounding spheres
+  /// (volume::clusterBySphere), clusters back to front, within a cluster the groups of groupEnd
+  /// in layer order; each pass limited to its cluster's projected bounding box.
+  static std::vector<PassGL> planPasses(const Camera& camera, const std::vector<VolumeLayerGL>& layers);
+  /// Lays a premultiplied volume image (any size: bilinear) over `target` inside `rectPx`;
+  /// leaves it bound.
+  void compositeOver(GLuint volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
 
   std::map<MarchVariant, ProgramEntry> programs_;
   std::map<MarchVariant, std::string> programErrors_;

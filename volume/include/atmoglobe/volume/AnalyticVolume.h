@@ -25,6 +25,7 @@ class UniformShellSampler final : public VolumeSampler {
   VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
   bool provablyEmpty(const glm::dvec3& ecef) const override;
   ValueRange valueRange() const override { return {shell_.value, shell_.value}; }
+  BoundingSphere boundingSphere() const override { return {centreEcef_, shell_.outerRadiusMeters}; }
   std::string description() const override;
   const UniformShell& shell() const { return shell_; }
   const glm::dvec3& centreEcef() const { return centreEcef_; }

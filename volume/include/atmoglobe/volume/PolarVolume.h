@@ -145,6 +145,7 @@ class PolarSampler final : public VolumeSampler {
   VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
   bool provablyEmpty(const glm::dvec3& ecef) const override;
   ValueRange valueRange() const override;
+  BoundingSphere boundingSphere() const override;  ///< the clip sphere around the antenna
   std::string description() const override;
   const PolarVolume& polar() const { return volume_; }
   const glm::dvec3& antennaEcef() const { return antennaEcef_; }

@@ -11,6 +11,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace atmoglobe::volume {
 
@@ -43,6 +44,33 @@ struct ValueRange {
 RayInterval raySphereInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef, const glm::dvec3& centreEcef,
                               double radiusMeters);
 
+/// A sphere (ECEF centre, radius in m).
+struct BoundingSphere {
+  glm::dvec3 centreEcef{0.0};
+  double radiusMeters = 0.0;
+};
+
+/// Volumes that can be drawn apart: the members (indices into the input, ascending) and a
+/// sphere enclosing all of their spheres.
+struct VolumeCluster {
+  std::vector<std::size_t> members;
+  BoundingSphere enclosing;
+};
+
+/// Partitions volumes, given their bounding spheres, into clusters whose enclosing spheres are
+/// pairwise disjoint: volumes whose spheres intersect or touch end in one cluster, and clusters
+/// whose enclosing spheres meet are merged until none do. Along any ray, everything of one
+/// cluster then lies wholly before or wholly after everything of another, so clusters can be
+/// integrated separately and composited in order (clusterBackToFront) with the same result as one
+/// integral of all volumes.
+std::vector<VolumeCluster> clusterBySphere(const std::vector<BoundingSphere>& spheres);
+
+/// Sorts clusters back to front as seen from `eyeEcef`: by decreasing power of the eye with
+/// respect to the enclosing sphere, |eye - c|^2 - r^2. For disjoint spheres the radical plane
+/// separates them and the eye lies on the side of the sphere of smaller power, so every ray
+/// from the eye that meets both meets that one first: the order is exact for every pixel.
+void sortBackToFront(std::vector<VolumeCluster>& clusters, const glm::dvec3& eyeEcef);
+
 class VolumeSampler {
  public:
   virtual ~VolumeSampler() = default;
@@ -64,6 +92,10 @@ class VolumeSampler {
 
   /// The range of Echo values (finite; min <= max).
   virtual ValueRange valueRange() const = 0;
+
+  /// A sphere that holds every point with an Echo or NoEcho sample and every rayInterval
+  /// (the renderers draw volumes whose spheres are disjoint apart: clusterBySphere).
+  virtual BoundingSphere boundingSphere() const = 0;
 
   /// One line for messages ("KLBB REF from FILE", "uniform shell at ...").
   virtual std::string description() const = 0;
