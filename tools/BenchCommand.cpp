@@ -18,7 +18,7 @@
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
-#include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
 
 #include <nlohmann/json.hpp>
@@ -111,17 +111,14 @@ BenchView topDownView(const std::string& name, const BenchVolume& v, double heig
 }
 
 Result<BenchVolume> loadVolume(const std::string& key, const std::string& path) {
-  volume::ReadOptions ro;
-  auto radar = volume::readRadarVolume(path, ro);
-  if (!radar) return makeError(radar.error());
-  auto site = volume::resolveSite(radar->site, true);
-  if (!site) return makeError(path + ": " + site.error());
-  auto polar = volume::buildPolarVolume(*radar, *site, volume::BeamModel{});
-  if (!polar) return makeError(path + ": " + polar.error());
+  volume::RadarLoadOptions load;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(path, load);
+  if (!radar) return radar.forwardError();
   BenchVolume v;
   v.key = key;
   v.path = path;
-  v.polar = std::move(*polar);
+  v.polar = std::move(*radar->layout);
   return v;
 }
 
