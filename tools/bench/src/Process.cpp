@@ -1,11 +1,11 @@
 #include <atmoglobe/bench/Process.h>
 
+#include <algorithm>
 #include <cassert>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <algorithm>
 #include <iostream>
 #include <string_view>
 

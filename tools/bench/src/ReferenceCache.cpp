@@ -117,7 +117,7 @@ volume::VolumeImage ReferenceStore::get(const BenchView& view, int widthPx, int 
   secondsRendering += sec;
   ++rendered;
   if (log) *log << " " << formatG(sec, 4) << " s\n";
-  writeCachedReference(file, key, img);
+  writeCachedReference(file, key, img);  // if it fails, only the next run pays: it renders again
   return img;
 }
 
