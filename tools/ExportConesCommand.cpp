@@ -5,7 +5,7 @@
 
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/ConeExport.h>
-#include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarLoad.h>
 
 #include <charconv>
 #include <cmath>
@@ -75,7 +75,6 @@ int runExportCones(const ExportConesOptions& o) {
   }
   opt.mesh.straight = o.straight;
   opt.mesh.beam.ke = o.ke;
-  opt.useGeoid = !o.noGeoid;
 
   volume::ColorTable colors;
   if (o.colors == "NWS" || o.colors == "nws") {
@@ -88,17 +87,18 @@ int runExportCones(const ExportConesOptions& o) {
     colors = std::move(pal.value());
   }
 
-  volume::ReadOptions ro;
-  ro.fieldName = o.field;
-  Result<volume::RadarVolume> vol = volume::readRadarVolume(o.file, ro);
-  if (!vol) return fail(cmd, vol.error());
-  Result<volume::ConeScene> scene = volume::buildConeScene(*vol, colors, opt);
+  volume::RadarLoadOptions load;
+  load.fieldName = o.field;
+  load.useGeoid = !o.noGeoid;
+  Result<volume::LoadedRadar> loaded = volume::loadRadar(o.file, load);
+  if (!loaded) return fail(cmd, loaded.error());
+  Result<volume::ConeScene> scene = volume::buildConeScene(loaded->volume, loaded->site, colors, opt);
   if (!scene) return fail(cmd, scene.error());
 
   std::size_t triangles = 0;
   for (const volume::Cone& c : scene->cones) triangles = std::max(triangles, c.mesh.triangleCount());
   std::cerr << "atmoglobe export-cones: " << o.file << ": " << scene->cones.size() << " sweeps, field "
-            << vol->loadedField.name << ", colours " << colors.name() << ", "
+            << loaded->volume.loadedField.name << ", colours " << colors.name() << ", "
             << (o.straight ? "straight cones" : "beams bent (ke " + std::to_string(o.ke) + ")") << ", at most "
             << triangles << " triangles per cone; " << scene->site.datumNote << "\n";
   if (!o.output.empty()) {

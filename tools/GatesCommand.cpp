@@ -4,7 +4,7 @@
 
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
-#include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarLoad.h>
 
 #include <charconv>
 #include <cstdio>
@@ -53,24 +53,25 @@ int runGates(const GatesOptions& o) {
   model.earthRadiusMeters = o.earthRadiusMeters;
   if (Status s = volume::validateBeamModel(model, "--ke/--earth-radius"); !s) return fail(cmd, s.error());
 
-  volume::ReadOptions ro;
-  ro.fieldName = o.field;
-  Result<volume::RadarVolume> vol = volume::readRadarVolume(o.file, ro);
-  if (!vol) return fail(cmd, vol.error());
-  if (o.sweep && (*o.sweep < 0 || static_cast<std::size_t>(*o.sweep) >= vol->sweeps.size())) {
+  volume::RadarLoadOptions load;
+  load.fieldName = o.field;
+  load.useGeoid = !o.noGeoid;
+  Result<volume::LoadedRadar> loaded = volume::loadRadar(o.file, load);
+  if (!loaded) return fail(cmd, loaded.error());
+  const volume::RadarVolume& vol = loaded->volume;
+  const volume::SiteResolution& site = loaded->site;
+  if (o.sweep && (*o.sweep < 0 || static_cast<std::size_t>(*o.sweep) >= vol.sweeps.size())) {
     return fail(cmd, o.file + ": --sweep " + std::to_string(*o.sweep) + " out of range (the volume has " +
-                         std::to_string(vol->sweeps.size()) + " sweeps with field " + vol->loadedField.name + ")");
+                         std::to_string(vol.sweeps.size()) + " sweeps with field " + vol.loadedField.name + ")");
   }
-  Result<volume::SiteResolution> site = volume::resolveSite(vol->site, !o.noGeoid);
-  if (!site) return fail(cmd, o.file + ": " + site.error());
   char latLon[96];
-  std::snprintf(latLon, sizeof latLon, "%.6f, %.6f", site->site.latDeg, site->site.lonDeg);
+  std::snprintf(latLon, sizeof latLon, "%.6f, %.6f", site.site.latDeg, site.site.lonDeg);
   std::cerr << "atmoglobe gates: " << o.file << ": site " << latLon << "; "
-            << site->datumNote << "; heights in the CSV are above the WGS84 ellipsoid; model " << o.model << ", ke "
+            << site.datumNote << "; heights in the CSV are above the WGS84 ellipsoid; model " << o.model << ", ke "
             << model.ke << ", R "
             << (model.earthRadiusMeters ? std::to_string(*model.earthRadiusMeters) + " m"
                                         : "WGS84 geocentric radius at the site")
-            << "; field " << vol->loadedField.name << (vol->loadedField.units.empty() ? "" : " [" + vol->loadedField.units + "]")
+            << "; field " << vol.loadedField.name << (vol.loadedField.units.empty() ? "" : " [" + vol.loadedField.units + "]")
             << "\n";
 
   // Output: stdout, or a temporary file renamed into place once complete.
@@ -93,11 +94,11 @@ int runGates(const GatesOptions& o) {
   line.reserve(1 << 16);
   line += "sweep,ray,gate,azimuth_deg,elevation_deg,range_m,lat_deg,lon_deg,height_m,ecef_x,ecef_y,ecef_z,value\n";
   std::vector<glm::dvec3> fast;
-  for (std::size_t k = 0; k < vol->sweeps.size(); ++k) {
+  for (std::size_t k = 0; k < vol.sweeps.size(); ++k) {
     if (o.sweep && static_cast<std::size_t>(*o.sweep) != k) continue;
-    const volume::Sweep& sw = vol->sweeps[k];
+    const volume::Sweep& sw = vol.sweeps[k];
     const bool useFast = o.model == "fast";
-    if (useFast) volume::geolocateSweepFast(site->site, model, sw, &fast);
+    if (useFast) volume::geolocateSweepFast(site.site, model, sw, &fast);
     for (std::size_t i = 0; i < sw.rayCount(); ++i) {
       for (std::uint32_t g = 0; g < sw.gateCount; ++g) {
         const double range = sw.gateRangeMeters(g);
@@ -107,7 +108,7 @@ int runGates(const GatesOptions& o) {
           const globe::Geodetic geo = globe::ecefToGeodetic(p.ecef);
           p.latDeg = geo.latDeg, p.lonDeg = geo.lonDeg, p.heightMeters = geo.heightMeters;
         } else {
-          p = volume::geolocateGateExact(site->site, model, sw.azimuthDeg[i], sw.elevationDeg[i], range);
+          p = volume::geolocateGateExact(site.site, model, sw.azimuthDeg[i], sw.elevationDeg[i], range);
         }
         line += std::to_string(k);
         line += ',';

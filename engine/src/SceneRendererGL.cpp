@@ -3,7 +3,7 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
 #include <atmoglobe/volume/ColorTable.h>
-#include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarLoad.h>
 
 #include <chrono>
 
@@ -72,28 +72,26 @@ Status SceneRendererGL::addModel(const std::string& glbPath) {
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   auto options = radarRenderOptions(d);
   if (!options) return makeError(options.error());
-  volume::ReadOptions read;
-  read.fieldName = d.field;
-  auto radar = volume::readRadarVolume(d.path, read);
-  if (!radar) return makeError(radar.error());
-  auto site = volume::resolveSite(radar->site, d.useGeoid);
-  if (!site) return makeError(d.path + ": " + site.error());
-  auto polar = volume::buildPolarVolume(*radar, *site, volume::BeamModel{});
-  if (!polar) return makeError(polar.error());
-  auto gl = RadarVolumeGL::create(*polar);
-  if (!gl) return makeError(gl.error());
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(d.path, load);
+  if (!radar) return radar.forwardError();
+  auto gl = RadarVolumeGL::create(*radar->layout);
+  if (!gl) return gl.forwardError();
   (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
                                                   : BeamApproximation::EffectiveEarthLocalSphere);
   RadarLayerGL layer;
   layer.volume = std::move(*gl);
   layer.options = *options;
-  layer.datumNote = site->datumNote;
-  layer.siteMarker.latDeg = site->site.latDeg;
-  layer.siteMarker.lonDeg = site->site.lonDeg;
-  layer.siteMarker.heightMeters = site->site.antennaHeightEllipsoidMeters;
+  layer.datumNote = radar->site.datumNote;
+  layer.siteMarker.latDeg = radar->site.site.latDeg;
+  layer.siteMarker.lonDeg = radar->site.site.lonDeg;
+  layer.siteMarker.heightMeters = radar->site.site.antennaHeightEllipsoidMeters;
   layer.siteMarker.color = glm::vec3(1.0f, 1.0f, 1.0f);
   layer.siteMarker.sizePx = 12.0f;
-  layer.siteMarker.label = d.label.empty() ? radar->site.name : d.label;
+  layer.siteMarker.label = d.label.empty() ? radar->volume.site.name : d.label;
   radars_.push_back(std::move(layer));
   return &radars_.back();
 }

@@ -15,6 +15,7 @@
 //    ECEF distance from the exact result.
 // Prints a Markdown table (docs/bench-radar.md holds a copy and the command).
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <bzlib.h>
@@ -274,16 +275,13 @@ int main(int argc, char** argv) {
 
   // Geolocation over the NEXRAD REF volume.
   const std::string nexrad = dataDir + "/radar_nexrad/KLBB20160601_150025_V06";
-  Result<volume::RadarVolume> vol = volume::readRadarVolume(nexrad, {});
-  if (!vol) {
-    std::fprintf(stderr, "%s\n", vol.error().c_str());
+  Result<volume::LoadedRadar> loaded = volume::loadRadar(nexrad, {});
+  if (!loaded) {
+    std::fprintf(stderr, "%s\n", loaded.error().c_str());
     return 1;
   }
-  Result<volume::SiteResolution> site = volume::resolveSite(vol->site, true);
-  if (!site) {
-    std::fprintf(stderr, "%s\n", site.error().c_str());
-    return 1;
-  }
+  const volume::RadarVolume* vol = &loaded->volume;
+  const volume::SiteResolution* site = &loaded->site;
   const volume::BeamModel model;
   std::size_t gates = 0;
   double maxRange = 0;

@@ -48,9 +48,9 @@ std::string lowerExt(const std::string& path) {
   return e;
 }
 
-}  // namespace
-
-Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& colors, const ConeExportOptions& options) {
+/// The options checked and the sweeps chosen (indices into volume.sweeps), each checked.
+Result<std::vector<std::size_t>> chooseSweeps(const RadarVolume& volume, const ColorTable& colors,
+                                              const ConeExportOptions& options) {
   if (colors.empty()) return makeError("colour table '" + colors.name() + "' has no entries");
   if (!(options.maxRangeMeters > 0.0)) return makeError("--max-range must be positive");
   if (!options.mesh.straight) {
@@ -76,11 +76,14 @@ Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& co
   for (std::size_t k : chosen) {
     if (Status s = checkSweep(volume, k); !s) return s.forwardError();
   }
+  return chosen;
+}
 
+Result<ConeScene> assembleConeScene(const RadarVolume& volume, const SiteResolution& site,
+                                    const std::vector<std::size_t>& chosen, const ColorTable& colors,
+                                    const ConeExportOptions& options) {
   ConeScene scene;
-  Result<SiteResolution> site = resolveSite(volume.site, options.useGeoid);
-  if (!site) return makeError(volume.sourcePath + ": " + site.error());
-  scene.site = site.value();
+  scene.site = site;
   // KML wants the altitude above mean sea level (Google Earth's EGM96 surface).
   if (volume.site.heightDatum == HeightDatum::MeanSeaLevel) {
     scene.antennaAltitudeMslMeters = volume.site.antennaHeightMeters;
@@ -117,6 +120,23 @@ Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& co
     scene.cones.push_back(std::move(cone));
   }
   return scene;
+}
+
+}  // namespace
+
+Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& colors, const ConeExportOptions& options) {
+  Result<std::vector<std::size_t>> chosen = chooseSweeps(volume, colors, options);
+  if (!chosen) return chosen.forwardError();
+  Result<SiteResolution> site = resolveSite(volume.site, options.useGeoid);
+  if (!site) return makeError(volume.sourcePath + ": " + site.error());
+  return assembleConeScene(volume, *site, *chosen, colors, options);
+}
+
+Result<ConeScene> buildConeScene(const RadarVolume& volume, const SiteResolution& site, const ColorTable& colors,
+                                 const ConeExportOptions& options) {
+  Result<std::vector<std::size_t>> chosen = chooseSweeps(volume, colors, options);
+  if (!chosen) return chosen.forwardError();
+  return assembleConeScene(volume, site, *chosen, colors, options);
 }
 
 Result<ConeFormat> coneFormatFromPath(const std::string& path) {

@@ -60,6 +60,10 @@ struct ConeScene {
 /// or not a PPI, no PPI sweep, a sweep with no rays / no gates / no values / bad gate geometry
 /// or non-finite angles, no gate within maxRangeMeters, a site that resolveSite rejects.
 Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& colors, const ConeExportOptions& options);
+/// The same with the site already resolved (volume::loadRadar's LoadedRadar::site);
+/// options.useGeoid is not used.
+Result<ConeScene> buildConeScene(const RadarVolume& volume, const SiteResolution& site, const ColorTable& colors,
+                                 const ConeExportOptions& options);
 
 enum class ConeFormat { Glb, Gltf, Collada, Kml, Kmz };
 /// From the output file's extension (.glb .gltf .dae .kml .kmz, case-insensitive).

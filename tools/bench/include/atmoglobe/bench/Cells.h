@@ -1,0 +1,53 @@
+#pragma once
+// The settings grid: one cell = one way of drawing (mode, step, image scale, interpolation, beam
+// approximation, classification); its names in the reports, and the engine options it maps to.
+#include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/volume/VolumeRenderSettings.h>
+
+#include <string>
+#include <vector>
+
+namespace atmoglobe::bench {
+
+struct Cell {
+  volume::VolumeRenderMode mode = volume::VolumeRenderMode::Dvr;
+  double stepMeters = 250.0;
+  double imageScale = 1.0;
+  volume::Interpolation interpolation = volume::Interpolation::Linear;
+  engine::BeamApproximation beam = engine::BeamApproximation::EffectiveEarthLocalSphere;
+  engine::Classification classification = engine::Classification::Point;
+};
+
+const char* modeName(volume::VolumeRenderMode m);             ///< dvr, mip, iso
+const char* interpName(volume::Interpolation i);              ///< linear, nearest
+const char* beamName(engine::BeamApproximation b);            ///< 4/3-earth, straight
+/// DVR: point or preintegrated; MIP and iso: "-" (classification does not apply).
+const char* classificationName(const Cell& c);
+/// "dvr step 250 m, scale 1, linear, 4/3-earth[, pre-integrated]" (the per-view table).
+std::string cellLabel(const Cell& c);
+bool sameCell(const Cell& a, const Cell& b);
+
+/// The engine's defaults (VolumeRenderOptions / VolumeRenderSettings, the radar's beam model).
+bool isEngineDefault(const Cell& c);
+
+/// The options the marcher draws the cell with: the default reflectivity transfer function,
+/// empty-space skipping on (it must not change the picture, RadarMarchTest).
+engine::VolumeRenderOptions optionsFor(const Cell& c);
+
+struct GridAxes {
+  std::vector<double> stepsMeters;  ///< DVR steps, increasing
+  std::vector<double> imageScales;
+};
+
+/// The standard axes: steps {125, 250, 500, 750, 1000, 1500, 2000} m x scales {1, 0.5, 0.25};
+/// quick: {250, 1000} x {1, 0.5}. `stepsOverride` (--steps), when not empty, replaces the steps
+/// (sorted, duplicates removed).
+GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride);
+
+/// DVR: every step x scale x {nearest, linear} x {4/3-Earth, straight} with point
+/// classification, each linear cell again pre-integrated (pre-integration assumes the field
+/// linear between samples); then MIP and iso at the default.
+std::vector<Cell> gridCells(const GridAxes& axes);
+
+}  // namespace atmoglobe::bench

@@ -1,0 +1,38 @@
+#pragma once
+// `atmoglobe bench`: the speed/accuracy trade of the GPU radar-volume marcher, measured
+// (docs/bench-volume.md). Fixed views of real volumes (Views.h); a grid of step x image scale x
+// interpolation x beam model (DVR; MIP and ISO at the default; Cells.h); per cell the median GPU
+// frame time and the error against the CPU reference renderer (Measure.h, ReferenceCache.h).
+// Then the side-by-side peer (VtkPeer.h), and the report (Report.h) under the output directory.
+#include <atmoglobe/globe/Result.h>
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::bench {
+
+struct VolumeBenchOptions {
+  std::string dataDir = "../shared/data";  ///< holds radar_nexrad/ and radar_odim/
+  std::string outDir = "out/bench";
+  bool quick = false;                      ///< KLBB oblique only, a small grid, 160x90
+  int frames = 7;                          ///< timed frames per cell (median)
+  double referenceStepMeters = 100.0;
+  int threads = 0;                         ///< reference and resampling threads; 0: hardware concurrency
+  bool peer = true;
+  bool referenceOnly = false;              ///< only fill the reference cache (no GL)
+  std::string peerScript;                  ///< empty: found (VtkPeer.h findPeerScript)
+  std::vector<std::string> viewNames;      ///< empty: every view
+  std::vector<double> stepsMeters;         ///< empty: the standard grid
+};
+
+struct VolumeBenchOutcome {
+  std::vector<std::string> files;  ///< the report files written (none with referenceOnly)
+  std::string peerNote;            ///< why the peer was skipped or what failed; empty: nothing to say
+};
+
+/// Runs the bench, progress on `log`. Errors: an unknown view name (checked before anything is
+/// loaded), a volume that cannot be loaded, no GL context, a file that cannot be written.
+Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& options, std::ostream& log);
+
+}  // namespace atmoglobe::bench

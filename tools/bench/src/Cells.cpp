@@ -1,0 +1,92 @@
+#include <atmoglobe/bench/Cells.h>
+
+#include <atmoglobe/bench/Format.h>
+#include <atmoglobe/volume/TransferFunction.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace atmoglobe::bench {
+
+const char* modeName(volume::VolumeRenderMode m) {
+  return m == volume::VolumeRenderMode::Dvr ? "dvr" : m == volume::VolumeRenderMode::Mip ? "mip" : "iso";
+}
+const char* interpName(volume::Interpolation i) { return i == volume::Interpolation::Linear ? "linear" : "nearest"; }
+const char* beamName(engine::BeamApproximation b) {
+  return b == engine::BeamApproximation::EffectiveEarthLocalSphere ? "4/3-earth" : "straight";
+}
+
+const char* classificationName(const Cell& c) {
+  if (c.mode != volume::VolumeRenderMode::Dvr) return "-";
+  return c.classification == engine::Classification::Preintegrated ? "preintegrated" : "point";
+}
+
+std::string cellLabel(const Cell& c) {
+  std::ostringstream s;
+  s << modeName(c.mode) << " step " << formatG(c.stepMeters) << " m, scale " << formatG(c.imageScale) << ", "
+    << interpName(c.interpolation) << ", " << beamName(c.beam);
+  if (c.classification == engine::Classification::Preintegrated) s << ", pre-integrated";
+  return s.str();
+}
+
+bool sameCell(const Cell& a, const Cell& b) {
+  return a.mode == b.mode && a.stepMeters == b.stepMeters && a.imageScale == b.imageScale &&
+         a.interpolation == b.interpolation && a.beam == b.beam && a.classification == b.classification;
+}
+
+bool isEngineDefault(const Cell& c) {
+  const engine::VolumeRenderOptions d;
+  return c.stepMeters == d.render.stepMeters && c.imageScale == d.imageScale &&
+         c.interpolation == d.render.interpolation && c.beam == engine::BeamApproximation::EffectiveEarthLocalSphere &&
+         c.classification == d.classification;
+}
+
+engine::VolumeRenderOptions optionsFor(const Cell& c) {
+  engine::VolumeRenderOptions o;
+  o.render.mode = c.mode;
+  o.render.stepMeters = c.stepMeters;
+  o.render.interpolation = c.interpolation;
+  o.render.transfer = volume::defaultReflectivityTransfer();
+  o.imageScale = c.imageScale;
+  o.classification = c.classification;
+  o.skipEmptySpace = true;
+  return o;
+}
+
+GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride) {
+  GridAxes a;
+  a.stepsMeters = {125.0, 250.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0};
+  a.imageScales = {1.0, 0.5, 0.25};
+  if (quick) a.stepsMeters = {250.0, 1000.0}, a.imageScales = {1.0, 0.5};
+  if (!stepsOverride.empty()) {
+    a.stepsMeters = stepsOverride;
+    std::sort(a.stepsMeters.begin(), a.stepsMeters.end());
+    a.stepsMeters.erase(std::unique(a.stepsMeters.begin(), a.stepsMeters.end()), a.stepsMeters.end());
+  }
+  return a;
+}
+
+std::vector<Cell> gridCells(const GridAxes& axes) {
+  std::vector<Cell> cells;
+  for (double step : axes.stepsMeters)
+    for (double scale : axes.imageScales)
+      for (auto interp : {volume::Interpolation::Nearest, volume::Interpolation::Linear})
+        for (auto beam : {engine::BeamApproximation::EffectiveEarthLocalSphere, engine::BeamApproximation::StraightLine}) {
+          Cell c;
+          c.stepMeters = step, c.imageScale = scale, c.interpolation = interp, c.beam = beam;
+          cells.push_back(c);
+          // Pre-integration assumes the field linear between samples: with linear interpolation only.
+          if (interp == volume::Interpolation::Linear) {
+            c.classification = engine::Classification::Preintegrated;
+            cells.push_back(c);
+          }
+        }
+  for (auto mode : {volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
+    Cell c;
+    c.mode = mode;
+    cells.push_back(c);
+  }
+  return cells;
+}
+
+}  // namespace atmoglobe::bench

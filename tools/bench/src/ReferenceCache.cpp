@@ -1,0 +1,124 @@
+#include <atmoglobe/bench/ReferenceCache.h>
+
+#include <atmoglobe/bench/Cells.h>
+#include <atmoglobe/bench/Format.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+#include <atmoglobe/volume/TransferFunction.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+#include <system_error>
+
+namespace atmoglobe::bench {
+
+namespace fs = std::filesystem;
+
+std::string referenceKey(const BenchView& view, int widthPx, int heightPx, const volume::VolumeRenderSettings& s) {
+  std::ostringstream k;
+  const engine::CameraPose& p = view.pose;
+  k << "ref-v1|" << view.volume->path << "|" << view.volume->polar.fieldName << "|" << formatG(p.latDeg) << ","
+    << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << "," << formatG(p.headingDeg) << ","
+    << formatG(p.pitchDeg) << "," << formatG(p.rollDeg) << "|fov " << formatG(view.fovYDeg) << "|" << widthPx << "x"
+    << heightPx << "|" << modeName(s.mode) << "|" << interpName(s.interpolation) << "|step "
+    << formatG(s.stepMeters) << "|iso " << formatG(s.isoValue) << "|term " << formatG(s.earlyTerminationAlpha)
+    << "|tf " << s.transfer.colors.name() << "," << formatG(s.transfer.opacityZeroValue) << ","
+    << formatG(s.transfer.opacityFullValue) << "," << formatG(s.transfer.maxOpacity) << ","
+    << formatG(s.transfer.opacityReferenceMeters) << "|no-occlusion";
+  return k.str();
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  // Not the standard FNV-1a offset basis (14695981039346656037): see the header. Do not "fix".
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+std::string referenceFileName(const std::string& key) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%016llx.ref", static_cast<unsigned long long>(fnv1a(key)));
+  return name;
+}
+
+std::optional<volume::VolumeImage> readCachedReference(const fs::path& file, const std::string& key) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::uint32_t keyLen = 0;
+  in.read(reinterpret_cast<char*>(&keyLen), sizeof keyLen);
+  if (!in || keyLen > 4096) return std::nullopt;
+  std::string k(keyLen, '\0');
+  in.read(k.data(), keyLen);
+  std::int32_t wh[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(wh), sizeof wh);
+  if (!in || k != key || wh[0] <= 0 || wh[1] <= 0 || wh[0] > 8192 || wh[1] > 8192) return std::nullopt;
+  volume::VolumeImage img;
+  img.widthPx = wh[0];
+  img.heightPx = wh[1];
+  img.rgbaPremultiplied.resize(static_cast<std::size_t>(wh[0]) * static_cast<std::size_t>(wh[1]));
+  in.read(reinterpret_cast<char*>(img.rgbaPremultiplied.data()),
+          static_cast<std::streamsize>(img.rgbaPremultiplied.size() * sizeof(glm::dvec4)));
+  if (!in) return std::nullopt;
+  return img;
+}
+
+bool writeCachedReference(const fs::path& file, const std::string& key, const volume::VolumeImage& img) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    const auto keyLen = static_cast<std::uint32_t>(key.size());
+    out.write(reinterpret_cast<const char*>(&keyLen), sizeof keyLen);
+    out.write(key.data(), static_cast<std::streamsize>(key.size()));
+    const std::int32_t wh[2] = {img.widthPx, img.heightPx};
+    out.write(reinterpret_cast<const char*>(wh), sizeof wh);
+    out.write(reinterpret_cast<const char*>(img.rgbaPremultiplied.data()),
+              static_cast<std::streamsize>(img.rgbaPremultiplied.size() * sizeof(glm::dvec4)));
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  return !ec;
+}
+
+volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters) {
+  volume::VolumeRenderSettings s;
+  s.mode = mode;
+  s.interpolation = volume::Interpolation::Linear;
+  s.stepMeters = stepMeters;
+  s.transfer = volume::defaultReflectivityTransfer();
+  return s;
+}
+
+volume::VolumeImage ReferenceStore::get(const BenchView& view, int widthPx, int heightPx,
+                                        const volume::VolumeRenderSettings& s) {
+  const std::string key = referenceKey(view, widthPx, heightPx, s);
+  const fs::path file = dir / referenceFileName(key);
+  if (auto img = readCachedReference(file, key)) {
+    ++cached;
+    return *img;
+  }
+  const engine::Camera camera(view.pose, view.fovYDeg, widthPx, heightPx);
+  if (log) {
+    *log << "  reference " << view.name << " " << modeName(s.mode) << " " << widthPx << "x" << heightPx << " step "
+         << s.stepMeters << " m ..." << std::flush;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  volume::VolumeImage img =
+      volume::renderReference(view.volume->polar, s, engine::referenceCameraFor(camera), false, threads);
+  const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  secondsRendering += sec;
+  ++rendered;
+  if (log) *log << " " << formatG(sec, 4) << " s\n";
+  writeCachedReference(file, key, img);  // if it fails, only the next run pays: it renders again
+  return img;
+}
+
+}  // namespace atmoglobe::bench
