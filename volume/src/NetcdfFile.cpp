@@ -5,6 +5,9 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
+#include <cstring>
+#include <fstream>
 #include <cstdint>
 #include <filesystem>
 #include <system_error>
@@ -136,7 +139,7 @@ void NetcdfFile::close() {
 
 NetcdfFile::NetcdfFile(NetcdfFile&& other) noexcept
     : path_(std::move(other.path_)), ncid_(other.ncid_), fileSize_(other.fileSize_), hdf5_(other.hdf5_),
-      hdf5FileId_(other.hdf5FileId_) {
+      hdf5FileId_(other.hdf5FileId_), dataBytesRead_(other.dataBytesRead_) {
   other.ncid_ = -1;
   other.hdf5FileId_ = -1;
 }
@@ -149,6 +152,7 @@ NetcdfFile& NetcdfFile::operator=(NetcdfFile&& other) noexcept {
     fileSize_ = other.fileSize_;
     hdf5_ = other.hdf5_;
     hdf5FileId_ = other.hdf5FileId_;
+    dataBytesRead_ = other.dataBytesRead_;
     other.ncid_ = -1;
     other.hdf5FileId_ = -1;
   }
@@ -354,6 +358,26 @@ int getVara(int g, int v, const std::size_t* s, const std::size_t* c, T* out) {
   else if constexpr (std::is_same_v<T, double>) return nc_get_vara_double(g, v, s, c, out);
   else static_assert(sizeof(T) == 0, "unsupported element type");
 }
+template <class T>
+int getVars(int g, int v, const std::size_t* s, const std::size_t* c, const std::ptrdiff_t* d, T* out) {
+  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>) return nc_get_vars_schar(g, v, s, c, d, reinterpret_cast<signed char*>(out));
+  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>) return nc_get_vars_uchar(g, v, s, c, d, reinterpret_cast<unsigned char*>(out));
+  else if constexpr (std::is_same_v<T, short>) return nc_get_vars_short(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, unsigned short>) return nc_get_vars_ushort(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, int>) return nc_get_vars_int(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, unsigned int>) return nc_get_vars_uint(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, long long>) return nc_get_vars_longlong(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, unsigned long long>) return nc_get_vars_ulonglong(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, float>) return nc_get_vars_float(g, v, s, c, d, out);
+  else if constexpr (std::is_same_v<T, double>) return nc_get_vars_double(g, v, s, c, d, out);
+  else static_assert(sizeof(T) == 0, "unsupported element type");
+}
+
+std::uint64_t slabBytes(const NcVar& var, const std::vector<std::size_t>& count) {
+  std::uint64_t n = std::max<std::size_t>(ncTypeSize(var.type), 1);
+  for (std::size_t c : count) n *= c;
+  return n;
+}
 }  // namespace
 
 template <class T>
@@ -366,6 +390,30 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
                                std::to_string(d) + ")"));
   }
   const int st = getVara(var.groupId, var.varId, start.data(), count.data(), out);
+  dataBytesRead_ += slabBytes(var, count);
+  if (st != NC_NOERR && st != NC_ERANGE)
+    return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
+  if (st == NC_ERANGE)
+    return makeError(message("reading variable '" + var.name + "': values out of range for the reader's type"));
+  return Ok{};
+}
+
+template <class T>
+Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& start,
+                            const std::vector<std::size_t>& count, const std::vector<std::ptrdiff_t>& stride,
+                            T* out) const {
+  assert(start.size() == var.shape.size() && count.size() == var.shape.size() && stride.size() == var.shape.size());
+  for (std::size_t d = 0; d < var.shape.size(); ++d) {
+    if (stride[d] < 1)
+      return makeError(message("variable '" + var.name + "': stride below 1 (dimension " + std::to_string(d) + ")"));
+    if (count[d] == 0) continue;
+    const std::size_t step = static_cast<std::size_t>(stride[d]);
+    if (start[d] >= var.shape[d] || (count[d] - 1) > (var.shape[d] - 1 - start[d]) / step)
+      return makeError(message("variable '" + var.name + "': read outside its shape (dimension " +
+                               std::to_string(d) + ")"));
+  }
+  const int st = getVars(var.groupId, var.varId, start.data(), count.data(), stride.data(), out);
+  dataBytesRead_ += slabBytes(var, count);
   if (st != NC_NOERR && st != NC_ERANGE)
     return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
   if (st == NC_ERANGE)
@@ -404,6 +452,7 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
     if (len > kMaxAttributeChars) return makeError(message("variable '" + var.name + "' is too long"));
     std::string s(len, '\0');
     const int st = nc_get_vara_text(var.groupId, var.varId, start.data(), count.data(), s.data());
+    dataBytesRead_ += len;
     if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
     trimRight(s);
     return s;
@@ -417,6 +466,7 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
     }
     char* p = nullptr;
     const int st = nc_get_vara_string(var.groupId, var.varId, start.data(), count.data(), &p);
+    if (st == NC_NOERR && p) dataBytesRead_ += std::strlen(p);
     if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
     std::string s = p ? std::string(p) : std::string();
     nc_free_string(1, &p);
@@ -426,9 +476,34 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
   return makeError(message("variable '" + var.name + "' is not text"));
 }
 
+bool hasNetcdfSignature(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::array<unsigned char, 8> head{};
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  if (in.gcount() >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' &&
+      (head[3] == 1 || head[3] == 2 || head[3] == 5))
+    return true;
+  // HDF5 puts its superblock at 0, 512, 1024, 2048 ... (a user block before it).
+  constexpr std::array<unsigned char, 8> kHdf5 = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return false;
+  for (std::uintmax_t off = 0; off + 8 <= size; off = (off == 0 ? 512 : off * 2)) {
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(off));
+    if (!in.read(reinterpret_cast<char*>(head.data()), 8)) return false;
+    if (head == kHdf5) return true;
+  }
+  return false;
+}
+
 #define ATMOGLOBE_NC_INSTANTIATE(T)                                                                   \
   template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,             \
                                           const std::vector<std::size_t>&, T*) const;                \
+  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,             \
+                                          const std::vector<std::size_t>&,                           \
+                                          const std::vector<std::ptrdiff_t>&, T*) const;             \
   template Result<std::vector<T>> NetcdfFile::readAll<T>(const NcVar&) const;
 ATMOGLOBE_NC_INSTANTIATE(signed char)
 ATMOGLOBE_NC_INSTANTIATE(unsigned char)

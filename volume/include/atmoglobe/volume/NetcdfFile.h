@@ -1,12 +1,16 @@
 #pragma once
 // A small RAII wrapper over netCDF-C for the radar readers (CfRadial, ODIM_H5 through
-// netCDF-C's HDF5 layer).
+// netCDF-C's HDF5 layer) and the forecast-grid reader (GridReader.h).
 //
 // Every failure comes back as a Result whose message names the file and, where there is
 // one, the group/variable/attribute ("FILE: variable '/dataset1/data1/data': ...").
 // Reads into memory go through checkReadable(), which refuses element counts that the
 // file cannot hold (see there), so a header that claims gigabytes never turns into a
 // gigabyte allocation.
+//
+// Every data read (readSlab, readAll, readText) adds the bytes it asked for, in the variable's
+// stored type (elements x element size, before any decompression), to dataBytesRead(): the
+// grid reader reports it so that a test can show a crop costs what the crop holds.
 #include <atmoglobe/globe/Result.h>
 
 #include <netcdf.h>
@@ -100,6 +104,13 @@ class NetcdfFile {
   Status readSlab(const NcVar& var, const std::vector<std::size_t>& start,
                   const std::vector<std::size_t>& count, T* out) const;
 
+  /// The same with a stride per dimension (nc_get_vars): element m of dimension d is index
+  /// start[d] + m * stride[d]. Strides must be >= 1; the last element read must lie inside the
+  /// shape. `out` must hold the product of `count`.
+  template <class T>
+  Status readSlab(const NcVar& var, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
+                  const std::vector<std::ptrdiff_t>& stride, T* out) const;
+
   /// Reads the whole variable converted to T, after checkReadable().
   template <class T>
   Result<std::vector<T>> readAll(const NcVar& var) const;
@@ -109,6 +120,12 @@ class NetcdfFile {
 
   /// "PATH: " + what: the start of every message about this file.
   std::string message(const std::string& what) const { return path_ + ": " + what; }
+
+  /// Bytes of variable data read through this handle so far: elements requested times the
+  /// size of the stored type (uncompressed), summed over readSlab/readAll/readText. Metadata
+  /// (attributes, dimensions) is not counted. HDF5 reads whole chunks from the disk, so the
+  /// bytes that cross the disk can be larger for chunked variables (docs/grids.md).
+  std::uint64_t dataBytesRead() const { return dataBytesRead_; }
 
  private:
   NetcdfFile(std::string path, int ncid, std::uintmax_t size, bool hdf5)
@@ -125,7 +142,13 @@ class NetcdfFile {
   std::uintmax_t fileSize_ = 0;
   bool hdf5_ = false;
   std::int64_t hdf5FileId_ = -1;  ///< HDF5 file id that nc_open created (-1: unknown / not HDF5)
+  mutable std::uint64_t dataBytesRead_ = 0;
 };
+
+/// True when the file starts like a netCDF file: classic "CDF\x01", "CDF\x02", "CDF\x05", or the
+/// HDF5 signature at offset 0, 512, 1024, 2048 ... (netCDF-4). False for anything else,
+/// including a file that cannot be read.
+bool hasNetcdfSignature(const std::string& path);
 
 /// Calls f(T{}) with T the C++ type matching a numeric netCDF type (the readers read a
 /// field in its stored type and decode it themselves). Error for text/compound types.

@@ -1,0 +1,135 @@
+#pragma once
+// Forecast-grid reader: netCDF (classic or netCDF-4, groups included) model output following
+// the CF conventions, and WRF output. Format from content, never from the file name.
+//
+// Horizontal: rectilinear grids (1-D latitude and longitude coordinate variables, longitudes in
+// 0..360 or -180..180, regional or global, latitudes north-to-south or south-to-north) and
+// curvilinear ones (2-D latitude/longitude named by the variable's `coordinates` attribute, or
+// WRF XLAT/XLONG; WRF variables staggered in x, y or z are averaged to mass points).
+// Values: scale_factor / add_offset, _FillValue, missing_value, valid_min / valid_max /
+// valid_range and _Unsigned applied; missing -> NaN.
+// Time: the CF time coordinate (units "UNIT since DATE", any CF calendar: CfTime.h) or WRF's
+// Times strings.
+// Vertical: every coordinate ends as heights above the WGS84 ellipsoid per column and level;
+// how (and whether approximately) is said in GridVolume::heightNote / approximateHeights. The
+// rules are in docs/grids.md.
+//
+// Lazy: readGridVolume reads only the variable, the time step, the levels and the columns it
+// is asked for (netCDF hyperslabs), plus the coordinates of that region; GridVolume::bytesRead
+// says how much. describeGridFile reads metadata, the coordinate variables and a sample of
+// columns for the height range.
+//
+// Errors: Result errors that start with the file name and name the variable and what is wrong;
+// sizes are checked against the file before anything is allocated (NetcdfFile::checkReadable).
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridVolume.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+/// A region to read. Longitudes go east from westDeg to eastDeg (eastDeg < westDeg: across the
+/// antimeridian, e.g. 170 .. -170); a span of 360 or more keeps every column. The crop keeps
+/// the grid points inside the box and one more on each side where there is one, so the kept
+/// cells cover the box. Levels count from the bottom (0 = lowest after ordering).
+struct GridCrop {
+  double southDeg = -90.0, northDeg = 90.0;
+  double westDeg = -180.0, eastDeg = 180.0;
+  std::size_t firstLevel = 0;
+  std::size_t levelCount = std::numeric_limits<std::size_t>::max();  ///< max(): up to the top
+};
+
+struct GridReadOptions {
+  /// Variable to read: its name ("QCLOUD") or full path ("/forecast/t"). Empty: the default
+  /// (chooseDefaultGridVariable).
+  std::string variable;
+  /// Time step by index on the file's time axis...
+  std::size_t timeIndex = 0;
+  /// ...or by ISO 8601 UTC time ("2005-08-28T15:00:00Z", "2005-08-28 15:00"), matched exactly
+  /// (to the second) to the time axis; non-empty overrides timeIndex.
+  std::string timeIso8601;
+  GridCrop crop;
+  /// Heights above mean sea level -> above the ellipsoid with the EGM96 undulation (Geoid.h).
+  /// false: they are used as heights above the ellipsoid (errors of -106..+85 m; the note says so).
+  bool useGeoid = true;
+};
+
+/// A dimension of the file (every group), for `atmoglobe info`.
+struct GridDimensionInfo {
+  std::string name;     ///< full path ("/lat", "/forecast/level")
+  std::size_t length = 0;
+  bool unlimited = false;
+};
+
+/// A variable of the file, for `atmoglobe info`.
+struct GridVariableInfo {
+  std::string name;                     ///< full path
+  std::vector<std::string> dimensions;  ///< dimension names, file order
+  std::vector<std::size_t> shape;
+  std::string type;                     ///< "float", "short" ...
+  std::string units, standardName, longName;
+  bool packed = false;                  ///< has scale_factor or add_offset
+  bool onGrid = false;                  ///< a 3-D variable readGridVolume can read
+};
+
+/// What describeGridFile finds: the file and, for one variable (the default or the one asked
+/// for), its grid, vertical coordinate, height range and times.
+struct GridFileInfo {
+  std::string path;
+  std::string format;                  ///< as GridVolume::format
+  std::string conventions;             ///< the Conventions attribute, or the WRF TITLE
+  std::vector<GridDimensionInfo> dimensions;
+  std::vector<GridVariableInfo> variables;
+
+  std::string variable;                ///< the variable described below
+  bool curvilinear = false;
+  std::size_t nx = 0, ny = 0, nz = 0;
+  std::string xDimension, yDimension, zDimension, timeDimension;  ///< names ("" for none)
+  double southDeg = 0, northDeg = 0, westDeg = 0, eastDeg = 0;    ///< extent (eastDeg may exceed 180)
+  bool wrapsLongitude = false;
+  double meanSpacingKm = 0;            ///< mean distance between neighbouring columns (km)
+
+  VerticalKind verticalKind = VerticalKind::HeightAboveSeaLevel;
+  HeightSource heightSource = HeightSource::Coordinate;
+  std::string verticalVariable, heightNote;
+  bool approximateHeights = false;
+  std::vector<double> levelValues;     ///< bottom first, as GridVolume::levelValues
+  std::string levelUnits;
+  double heightMinMeters = 0, heightMaxMeters = 0;  ///< above the WGS84 ellipsoid, first time step
+  std::size_t heightColumnStride = 1;  ///< the range comes from every Nth row and column
+
+  std::vector<std::string> times;      ///< ISO 8601 UTC
+  std::string timeVariable, timeUnits, calendar;
+
+  std::uint64_t bytesRead = 0;         ///< variable data read to describe the file
+};
+
+/// True when `path` is a netCDF file holding a forecast grid: a WRF file (TITLE mentioning WRF,
+/// or XLAT/XLONG with bottom_top) or a file with a variable that has a vertical dimension and
+/// latitude/longitude (1-D coordinate variables or 2-D ones named in `coordinates`) and no
+/// radar marks (sweep_start_ray_index, ODIM_H5). False (not an error) for anything else,
+/// including files that are not netCDF or cannot be opened.
+bool isGridFile(const std::string& path);
+
+/// Describes the file (see GridFileInfo) for `variable` (empty: the default variable).
+Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable = {});
+
+/// Reads one variable at one time over a region (see GridReadOptions).
+Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options = {});
+
+/// The variable read when none is named: among the variables readGridVolume can read, the first
+/// of (by name) REFL_10CM, dbz, DBZ, reflectivity, QCLOUD, QRAIN, clw, cloud_water, or (by
+/// standard_name) equivalent_reflectivity_factor, mass_fraction_of_cloud_liquid_water_in_air,
+/// cloud_liquid_water_mixing_ratio; else the first in file order (groups depth-first). Empty
+/// when there is none.
+std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& variables);
+
+/// `atmoglobe info` output for a grid: one JSON object / text.
+std::string describeGridJson(const GridFileInfo& info);
+std::string describeGridText(const GridFileInfo& info);
+
+}  // namespace atmoglobe::volume

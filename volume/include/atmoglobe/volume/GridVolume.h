@@ -1,0 +1,108 @@
+#pragma once
+// The forecast-grid data model: one variable at one time on a 3-D model grid, what the grid
+// reader (GridReader.h) hands to samplers and renderers. GL-free.
+//
+// Layout: nz levels x ny rows x nx columns, level-major, bottom level first:
+//   index(k, j, i) = (k * ny + j) * nx + i.
+// Every level has a height above the WGS84 ellipsoid per column (terrain-following and pressure
+// levels are not flat), increasing strictly with k in every column.
+// Horizontal geometry: rectilinear grids give 1-D latitudes (ascending: row 0 is the southern
+// row) and longitudes (strictly increasing, continuous: they may run past 180, e.g. 170..190 for
+// a region across the antimeridian); curvilinear grids (WRF XLAT/XLONG, CF 2-D lat/lon) give a
+// latitude and a longitude per column (ny x nx, row-major), longitudes made continuous across
+// the grid (no jump of 360 between neighbours).
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+/// How the file gives the vertical coordinate (the rules: docs/grids.md).
+enum class VerticalKind {
+  HeightAboveEllipsoid,  ///< lengths above the WGS84 ellipsoid (standard_name height_above_reference_ellipsoid)
+  HeightAboveSeaLevel,   ///< lengths above mean sea level / the geoid (altitude, height_above_mean_sea_level, depth)
+  HeightAboveGround,     ///< lengths above the surface (standard_name height): surface altitude added
+  GeopotentialHeight,    ///< levels in geopotential metres (gpm; standard_name geopotential_height)
+  Pressure,              ///< isobaric levels (units Pa, hPa ... or standard_name air_pressure)
+  HybridSigmaPressure,   ///< CF atmosphere_hybrid_sigma_pressure_coordinate: p = a p0 + b ps or ap + b ps
+  Sigma,                 ///< CF atmosphere_sigma_coordinate: p = ptop + sigma (ps - ptop)
+  HybridHeight,          ///< CF atmosphere_hybrid_height_coordinate: z = a + b orog
+  WrfEta,                ///< WRF terrain-following eta levels (bottom_top)
+};
+const char* toString(VerticalKind k);
+
+/// Where the heights came from.
+enum class HeightSource {
+  Coordinate,           ///< the coordinate values themselves (lengths), possibly plus a surface altitude
+  GeopotentialField,    ///< a geopotential (or geopotential height) field of the file on the same levels
+  WrfGeopotential,      ///< WRF (PH + PHB) / 9.81 on the staggered W levels, averaged to mass levels
+  StandardAtmosphere,   ///< pressure converted by the standard atmosphere: approximate
+};
+const char* toString(HeightSource s);
+
+struct GridVolume {
+  std::string path;            ///< the file read
+  std::string format;          ///< "CF netCDF-4", "WRF (netCDF-4)", "CF netCDF classic" ...
+
+  // --- the variable ---
+  std::string variable;        ///< full name in the file ("/QCLOUD", "/forecast/t")
+  std::string units, standardName, longName;
+
+  // --- horizontal geometry ---
+  bool curvilinear = false;    ///< false: 1-D lonDeg (nx) and latDeg (ny); true: both ny x nx
+  std::size_t nx = 0, ny = 0, nz = 0;
+  std::vector<double> lonDeg, latDeg;  ///< see the file comment (degrees, WGS84)
+  /// Rectilinear grid covering all longitudes: column nx-1 neighbours column 0 (a sampler
+  /// interpolates across the seam). False for any crop narrower than the globe.
+  bool wrapsLongitude = false;
+  /// Index in the file of output row 0 / column 0 / level 0 and the direction (+1 or -1) in
+  /// which the file index runs with the output index (rows of a north-to-south file run -1);
+  /// for a crop across the antimeridian of a global grid the column index wraps modulo the
+  /// file's column count. For tests and messages.
+  std::size_t fileFirstColumn = 0, fileFirstRow = 0, fileFirstLevel = 0;
+  int fileColumnStep = 1, fileRowStep = 1, fileLevelStep = 1;
+
+  // --- values ---
+  std::vector<float> values;   ///< nz x ny x nx, NaN = missing (fill, missing_value, outside valid range)
+  float valueMin = std::numeric_limits<float>::quiet_NaN();  ///< smallest finite value (NaN if none)
+  float valueMax = std::numeric_limits<float>::quiet_NaN();  ///< largest finite value (NaN if none)
+
+  // --- vertical ---
+  /// Height of each value's centre above the WGS84 ellipsoid (m), same layout as values,
+  /// strictly increasing with k in every column. Stored as float: 2 mm resolution at 20 km,
+  /// far below what any model level means, and half the memory of double.
+  std::vector<float> heightAboveEllipsoidMeters;
+  VerticalKind verticalKind = VerticalKind::HeightAboveSeaLevel;
+  HeightSource heightSource = HeightSource::Coordinate;
+  std::string verticalVariable;  ///< the coordinate variable (or "PH+PHB" for WRF)
+  std::string heightNote;        ///< one line: how heights were derived and from what
+  bool approximateHeights = false;  ///< true: the heights are an estimate (standard atmosphere, datum guessed)
+  /// The vertical coordinate's own value for each level read, bottom first (Pa for pressure
+  /// levels, m for heights, the dimensionless coordinate for hybrid/sigma/eta; empty when the
+  /// file has no 1-D coordinate values, e.g. WRF without ZNU) and its units.
+  std::vector<double> levelValues;
+  std::string levelUnits;
+
+  // --- time ---
+  std::vector<std::string> times;  ///< the file's time axis, ISO 8601 UTC (empty strings if it has none)
+  std::size_t timeIndex = 0;       ///< which one was read
+  std::string validTime;           ///< times[timeIndex] ("" when the variable has no time dimension)
+
+  // --- cost ---
+  /// Bytes of variable data read from the file for this volume (values, coordinates, heights;
+  /// elements x stored size, before decompression). See NetcdfFile::dataBytesRead.
+  std::uint64_t bytesRead = 0;
+
+  std::size_t index(std::size_t k, std::size_t j, std::size_t i) const { return (k * ny + j) * nx + i; }
+  float value(std::size_t k, std::size_t j, std::size_t i) const { return values[index(k, j, i)]; }
+  float heightMeters(std::size_t k, std::size_t j, std::size_t i) const {
+    return heightAboveEllipsoidMeters[index(k, j, i)];
+  }
+  double latDegAt(std::size_t j, std::size_t i) const { return curvilinear ? latDeg[j * nx + i] : latDeg[j]; }
+  double lonDegAt(std::size_t j, std::size_t i) const { return curvilinear ? lonDeg[j * nx + i] : lonDeg[i]; }
+};
+
+}  // namespace atmoglobe::volume

@@ -1,0 +1,143 @@
+#include <atmoglobe/volume/VerticalCoordinate.h>
+
+#include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <array>
+#include <cctype>
+#include <cmath>
+
+namespace atmoglobe::volume {
+
+namespace {
+
+std::string lowerTrim(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    if (!std::isspace(static_cast<unsigned char>(c)) || (!out.empty() && out.back() != ' ')) out.push_back(c == '\t' ? ' ' : c);
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string compact(const std::string& s) {  // no blanks, lower case
+  std::string out;
+  for (char c : s)
+    if (!std::isspace(static_cast<unsigned char>(c))) out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  return out;
+}
+
+// U.S. Standard Atmosphere 1976 (= ICAO ISA below 32 km): layer base geopotential heights (m')
+// and lapse rates (K/m); base temperatures and pressures follow from 288.15 K, 101325 Pa.
+constexpr double kR = 287.05287;  // specific gas constant of dry air used by the standard (J kg-1 K-1)
+constexpr std::array<double, 7> kBaseH = {0.0, 11000.0, 20000.0, 32000.0, 47000.0, 51000.0, 71000.0};
+constexpr std::array<double, 7> kLapse = {-0.0065, 0.0, 0.001, 0.0028, 0.0, -0.0028, -0.002};
+
+struct Layers {
+  std::array<double, 7> t{}, p{};
+};
+
+const Layers& layers() {
+  static const Layers l = [] {
+    Layers r;
+    r.t[0] = 288.15;
+    r.p[0] = 101325.0;
+    for (std::size_t i = 1; i < kBaseH.size(); ++i) {
+      const double dh = kBaseH[i] - kBaseH[i - 1];
+      const double l0 = kLapse[i - 1];
+      r.t[i] = r.t[i - 1] + l0 * dh;
+      r.p[i] = l0 == 0.0 ? r.p[i - 1] * std::exp(-kStandardGravity * dh / (kR * r.t[i - 1]))
+                         : r.p[i - 1] * std::pow(r.t[i] / r.t[i - 1], -kStandardGravity / (kR * l0));
+    }
+    return r;
+  }();
+  return l;
+}
+
+}  // namespace
+
+std::optional<double> pressureUnitToPascal(const std::string& units) {
+  const std::string u = lowerTrim(units);
+  if (units == "Pa" || u == "pascal" || u == "pascals") return 1.0;
+  if (units == "hPa" || u == "hectopascal" || u == "hectopascals" || u == "mbar" || u == "mb" || u == "millibar" ||
+      u == "millibars")
+    return 100.0;
+  if (units == "kPa" || u == "kilopascal" || u == "kilopascals") return 1000.0;
+  if (u == "bar" || u == "bars") return 1.0e5;
+  return std::nullopt;
+}
+
+std::optional<double> lengthUnitToMeters(const std::string& units) {
+  const std::string u = lowerTrim(units);
+  if (u == "m" || u == "meter" || u == "meters" || u == "metre" || u == "metres") return 1.0;
+  if (u == "km" || u == "kilometer" || u == "kilometers" || u == "kilometre" || u == "kilometres") return 1000.0;
+  if (u == "ft" || u == "feet" || u == "foot") return 0.3048;
+  return std::nullopt;
+}
+
+std::optional<double> geopotentialHeightUnitToMeters(const std::string& units) {
+  const std::string u = lowerTrim(units);
+  if (u == "gpm" || u == "geopotential meter" || u == "geopotential meters" || u == "geopotential metre" ||
+      u == "geopotential metres" || u == "m gpm")
+    return 1.0;
+  if (u == "gpdm" || u == "dam" || u == "geopotential decameter" || u == "geopotential decameters") return 10.0;
+  return std::nullopt;
+}
+
+bool isGeopotentialUnit(const std::string& units) {
+  const std::string u = compact(units);
+  return u == "m2s-2" || u == "m**2s**-2" || u == "m^2/s^2" || u == "m2/s2" || u == "m^2s^-2" || u == "m2.s-2" ||
+         u == "m**2/s**2" || u == "jkg-1" || u == "j/kg" || u == "jkg**-1";
+}
+
+double standardAtmosphereGeopotentialHeightMeters(double pressurePa) {
+  const Layers& l = layers();
+  std::size_t i = 0;
+  while (i + 1 < kBaseH.size() && pressurePa <= l.p[i + 1]) ++i;
+  const double lapse = kLapse[i];
+  if (lapse == 0.0) return kBaseH[i] - kR * l.t[i] / kStandardGravity * std::log(pressurePa / l.p[i]);
+  return kBaseH[i] + l.t[i] / lapse * (std::pow(pressurePa / l.p[i], -kR * lapse / kStandardGravity) - 1.0);
+}
+
+double standardAtmospherePressurePa(double h) {
+  const Layers& l = layers();
+  std::size_t i = 0;
+  while (i + 1 < kBaseH.size() && h >= kBaseH[i + 1]) ++i;
+  const double lapse = kLapse[i];
+  const double dh = h - kBaseH[i];
+  if (lapse == 0.0) return l.p[i] * std::exp(-kStandardGravity * dh / (kR * l.t[i]));
+  return l.p[i] * std::pow((l.t[i] + lapse * dh) / l.t[i], -kStandardGravity / (kR * lapse));
+}
+
+double normalGravity(double latDeg) {
+  // WGS84: equatorial normal gravity, Somigliana's constant k, first eccentricity squared.
+  constexpr double kGammaE = 9.7803253359, kK = 0.00193185265241, kE2 = 0.00669437999013;
+  const double s = std::sin(degreesToRadians(latDeg));
+  return kGammaE * (1.0 + kK * s * s) / std::sqrt(1.0 - kE2 * s * s);
+}
+
+GeopotentialToGeometric::GeopotentialToGeometric(double latDeg) {
+  constexpr double kM = 0.00344978650684;  // WGS84 m = omega^2 a^2 b / GM (TR8350.2 table 3.4)
+  const double s = std::sin(degreesToRadians(latDeg));
+  gammaRatio_ = kStandardGravity / normalGravity(latDeg);
+  c1_ = (1.0 + globe::kWgs84F + kM - 2.0 * globe::kWgs84F * s * s) / globe::kWgs84A;
+}
+
+double GeopotentialToGeometric::operator()(double geopotentialHeightMeters) const {
+  // g0 H = gamma (z - c1 z^2 + z^3 / a^2): the integral of gamma(z) = gamma (1 - 2 c1 z + 3 z^2/a^2).
+  constexpr double kInvA2 = 1.0 / (globe::kWgs84A * globe::kWgs84A);
+  const double target = gammaRatio_ * geopotentialHeightMeters;
+  double z = target;
+  for (int it = 0; it < 3; ++it) {  // Newton from z = target: below 1e-6 m after 3 steps up to 100 km
+    const double g = z - c1_ * z * z + z * z * z * kInvA2 - target;
+    const double dg = 1.0 - 2.0 * c1_ * z + 3.0 * z * z * kInvA2;
+    z -= g / dg;
+  }
+  return z;
+}
+
+double geometricFromGeopotentialHeightMeters(double geopotentialHeightMeters, double latDeg) {
+  return GeopotentialToGeometric(latDeg)(geopotentialHeightMeters);
+}
+
+}  // namespace atmoglobe::volume
