@@ -1,7 +1,11 @@
-// `atmoglobe info FILE [--json]`: what a radar file holds (format, site, time, sweeps,
-// fields). Reads metadata only: no field values are decoded.
+// `atmoglobe info FILE [--json] [--variable NAME]`: what a radar file holds (format, site, time,
+// sweeps, fields; metadata only: no field values are decoded) or what a forecast grid holds
+// (dimensions, variables, grid, vertical coordinate and how heights were derived, height range,
+// times, extent; coordinates and a sample of columns are read, no field values). Radar or grid
+// is decided from the content (volume::isGridFile), never from the file name.
 #include "Commands.h"
 
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <iostream>
@@ -13,15 +17,27 @@ namespace atmoglobe::tools {
 Command addInfoCommand(CLI::App& root) {
   struct Options {
     std::string file;
+    std::string variable;
     bool json = false;
   };
   auto opts = std::make_shared<Options>();
   Command c;
-  c.app = root.add_subcommand("info", "Describe a radar file (CfRadial, ODIM_H5, NEXRAD Level II): format, site, "
-                                      "time, sweeps and fields");
-  c.app->add_option("FILE", opts->file, "Radar file")->required();
+  c.app = root.add_subcommand("info", "Describe a radar file (CfRadial, ODIM_H5, NEXRAD Level II: format, site, "
+                                      "time, sweeps and fields) or a forecast grid (CF netCDF, WRF: dimensions, "
+                                      "variables, grid, vertical coordinate and heights, times, extent)");
+  c.app->add_option("FILE", opts->file, "Radar file or forecast grid (netCDF)")->required();
   c.app->add_flag("--json", opts->json, "Print one JSON object instead of text");
+  c.app->add_option("--variable", opts->variable,
+                    "Grid files: the variable whose grid, vertical coordinate and heights are described "
+                    "(default: the reader's default variable)");
   c.run = [opts] {
+    if (volume::isGridFile(opts->file)) {
+      auto info = volume::describeGridFile(opts->file, opts->variable);
+      if (!info) return fail("info", info.error());
+      std::cout << (opts->json ? volume::describeGridJson(*info) + "\n" : volume::describeGridText(*info));
+      return 0;
+    }
+    if (!opts->variable.empty()) return fail("info", opts->file + ": --variable applies to forecast grids only");
     volume::ReadOptions ro;
     ro.loadValues = false;  // metadata only: fast, no field array read
     auto vol = volume::readRadarVolume(opts->file, ro);

@@ -108,7 +108,7 @@ std::string describeGridText(const GridFileInfo& g) {
   }
   os << "heights:    " << fixed(g.heightMinMeters, 1) << " .. " << fixed(g.heightMaxMeters, 1)
      << " m above the WGS84 ellipsoid (first time step"
-     << (g.heightColumnStride > 1 ? ", every " + std::to_string(g.heightColumnStride) + "th row and column" : "") << ")"
+     << (g.heightColumnStride > 1 ? ", sampled every " + std::to_string(g.heightColumnStride) + " rows and columns" : "") << ")"
      << (g.approximateHeights ? " APPROXIMATE" : "") << "\n";
   if (g.times.empty()) {
     os << "times:      (no time dimension)\n";
