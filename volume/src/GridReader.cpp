@@ -746,8 +746,12 @@ Result<std::size_t> resolveTime(const NetcdfFile& f, const grid::GridLayout& l, 
                                 const std::vector<std::string>& times) {
   if (!o.timeIso8601.empty()) {
     if (l.time.dimId < 0) return varError(f, l.var, "has no time dimension; cannot select time " + o.timeIso8601);
-    auto parsed = parseCfTimeUnits("seconds since " + o.timeIso8601, "standard");
-    if (!parsed) return makeError(f.message("time '" + o.timeIso8601 + "' is not an ISO 8601 date-time"));
+    // Parsed in the axis's calendar: a 360_day file has 30 February.
+    const char* calendar = l.time.parsed ? toString(l.time.parsed->calendar) : "standard";
+    auto parsed = parseCfTimeUnits("seconds since " + o.timeIso8601, calendar);
+    if (!parsed)
+      return makeError(f.message("time '" + o.timeIso8601 + "' is not an ISO 8601 date-time of the " + calendar +
+                                 " calendar"));
     const std::string want = parsed->referenceIso8601;
     for (std::size_t i = 0; i < times.size(); ++i)
       if (times[i] == want) return i;
