@@ -103,6 +103,20 @@ Error varError(const NetcdfFile& f, const NcVar& v, const std::string& what) {
   return makeError(f.message("variable '" + v.name + "': " + what));
 }
 
+/// The whole of `v` could be read: its element count is within kMaxElementsPerRead and the file
+/// can hold it (NetcdfFile::checkReadable). Run on every coordinate before its length sizes
+/// anything, so a header claiming 2^28 levels is refused before an index list is built.
+Status checkWhole(const NetcdfFile& f, const NcVar& v) {
+  std::size_t n = 1;
+  for (std::size_t d : v.shape) {
+    if (d != 0 && n > kMaxElementsPerRead / d)
+      return makeError(f.message("variable '" + v.name + "' claims more than " + std::to_string(kMaxElementsPerRead) +
+                                 " values"));
+    n *= d;
+  }
+  return f.checkReadable(v, n, std::max<std::size_t>(ncTypeSize(v.type), 1));
+}
+
 /// Checks that every dimension of `support` is one of `allowed` (dimension ids of the grid
 /// variable) or has length 1, and that the allowed ones come in the grid variable's order.
 Status checkSupportDims(const NetcdfFile& f, const NcVar& support, const NcVar& gridVar, const std::vector<int>& allowed,
@@ -422,6 +436,8 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   l.curvilinear = true;
   l.lat = *lat;
   l.lon = *lon;
+  for (const NcVar* c : {&l.lat, &l.lon})
+    if (auto st = checkWhole(f, *c); !st) return st.forwardError();
   // Vertical: geopotential on the W levels, else pressure.
   VerticalSpec& vs = l.vertical;
   vs.kind = VerticalKind::WrfEta;
@@ -460,6 +476,9 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
     vs.p = *p;
     vs.pb = *pb;
   }
+  for (const auto* c : {&vs.ph, &vs.phb, &vs.p, &vs.pb})
+    if (*c)
+      if (auto st = checkWhole(f, **c); !st) return st.forwardError();
   if (auto znu = f.findVariable(root, "ZNU")) {
     if (znu->shape.size() >= 1 && znu->dimIds.back() == l.zDim) vs.znu = *znu;
   }
@@ -467,11 +486,14 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   if (l.time.dimId >= 0) {
     if (auto times = f.findVariable(root, "Times"); times && times->type == NC_CHAR && times->dimIds.size() == 2 &&
                                                      times->dimIds[0] == tDim) {
+      if (auto st = checkWhole(f, *times); !st) return st.forwardError();
       l.time.wrfTimes = *times;
     } else if (auto xtime = f.findVariable(root, "XTIME"); xtime && xtime->dimIds.size() == 1 && xtime->dimIds[0] == tDim) {
       if (auto st = timeSpecFromCoordinate(f, l.time, *xtime); !st) return st.forwardError();
     }
   }
+  if (l.time.dimId >= 0)
+    if (auto st = f.checkReadable(v, l.time.count, 1); !st) return st.forwardError();
   l.units = attrText(f, v, "units");
   l.standardName = attrText(f, v, "standard_name");
   l.longName = attrText(f, v, "long_name");
@@ -570,7 +592,17 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
                               ") is not supported: expected (time,) level, latitude/y, longitude/x");
   if (l.nx == 0 || l.ny == 0 || v.shape[static_cast<std::size_t>(zPos)] == 0)
     return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
+  for (const NcVar* c : {&l.lat, &l.lon, &*zCoord})
+    if (auto st = checkWhole(f, *c); !st) return st.forwardError();
+  if (l.time.coordinate) {
+    if (auto st = checkWhole(f, *l.time.coordinate); !st) return st.forwardError();
+  } else if (l.time.dimId >= 0) {
+    // No coordinate to check: the variable must at least hold one byte per time step.
+    if (auto st = f.checkReadable(v, l.time.count, 1); !st) return st.forwardError();
+  }
   if (auto st = cfVertical(f, l, *zCoord); !st) return st.forwardError();
+  for (const auto& [term, tv] : l.vertical.terms)
+    if (auto st = checkWhole(f, tv); !st) return st.forwardError();
   // Curvilinear coordinates may carry the time dimension too (moving grids), nothing else.
   if (l.curvilinear) {
     if (auto st = checkSupportDims(f, l.lat, v, {l.time.dimId, l.yDim, l.xDim}, "latitude"); !st) return st.forwardError();
