@@ -498,10 +498,13 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       colLat[j * nx + i] = hz.latAt(j, i, l.curvilinear);
       colLon[j * nx + i] = hz.lonAt(j, i, l.curvilinear);
     }
-  auto toGeometric = [&](std::vector<double>& geopotentialHeight) {  // nz x nc in place
-    for (std::size_t c = 0; c < nc; ++c) {
-      const GeopotentialToGeometric conv(colLat[c]);
-      for (std::size_t k = 0; k < nz; ++k) geopotentialHeight[k * nc + c] = conv(geopotentialHeight[k * nc + c]);
+  auto toGeometric = [&](std::vector<double>& geopotentialHeight) {  // nz x nc in place, level by level
+    std::vector<GeopotentialToGeometric> conv;
+    conv.reserve(nc);
+    for (std::size_t c = 0; c < nc; ++c) conv.emplace_back(colLat[c]);
+    for (std::size_t k = 0; k < nz; ++k) {
+      double* h = geopotentialHeight.data() + k * nc;
+      for (std::size_t c = 0; c < nc; ++c) h[c] = conv[c](h[c]);
     }
   };
   auto readField = [&](const NcVar& v, std::vector<double>* values) -> Status {
@@ -560,8 +563,10 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
               return varError(f, *vs.surfaceAltitude, "surface altitude missing or not finite at row " +
                                                           std::to_string(hz.rows[c / nx]) + ", column " +
                                                           std::to_string(hz.cols[c % nx]));
-            for (std::size_t k = 0; k < nz; ++k) out.h[k * nc + c] += surf[c] * vs.surfaceToMeters;
+            surf[c] *= vs.surfaceToMeters;
           }
+          for (std::size_t k = 0; k < nz; ++k)
+            for (std::size_t c = 0; c < nc; ++c) out.h[k * nc + c] += surf[c];
           out.note = "heights above ground from " + coordName + " (" + vs.datumReason + ") + the surface altitude '" +
                      vs.surfaceAltitude->name + "' -> above mean sea level";
         } else {
@@ -707,10 +712,10 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
     if (useGeoid) {
       const Result<GeoidGrid>& geoid = defaultEgm96Grid();
       if (!geoid) return makeError(f.message(geoid.error()));
-      for (std::size_t c = 0; c < nc; ++c) {
-        const double n = geoid->undulationMeters(colLat[c], colLon[c]);
-        for (std::size_t k = 0; k < nz; ++k) out.h[k * nc + c] += n;
-      }
+      std::vector<double> n(nc);
+      for (std::size_t c = 0; c < nc; ++c) n[c] = geoid->undulationMeters(colLat[c], colLon[c]);
+      for (std::size_t k = 0; k < nz; ++k)
+        for (std::size_t c = 0; c < nc; ++c) out.h[k * nc + c] += n[c];
       out.note += "; + EGM96 geoid undulation -> above the WGS84 ellipsoid";
     } else {
       out.note += "; no geoid correction (geoid off): heights above sea level used as above the WGS84 ellipsoid, "
@@ -728,8 +733,8 @@ Status checkHeights(const NetcdfFile& f, const Heights& h, const Selection& s, s
     return "level " + std::to_string(s.levels[k]) + ", row " + std::to_string(s.hz->rows[c / nx]) + ", column " +
            std::to_string(s.hz->cols[c % nx]);
   };
-  for (std::size_t c = 0; c < nc; ++c)
-    for (std::size_t k = 0; k < nz; ++k) {
+  for (std::size_t k = 0; k < nz; ++k)  // level by level: contiguous memory
+    for (std::size_t c = 0; c < nc; ++c) {
       const float z = static_cast<float>(h.h[k * nc + c]);
       if (!std::isfinite(z))
         return makeError(f.message("variable '" + h.fromVariable + "': height not finite at " + where(k, c) +
