@@ -65,7 +65,7 @@ Status validateSyntheticGridOptions(const SyntheticGridOptions& options);
 
 /// Writes the grid to `path` atomically (temporary beside it, fsync, rename; AtomicFile.h).
 /// Errors: invalid options, or the file cannot be written (message names the path). The default
-/// takes a few seconds (most of it deflate) and makes a file of about 2 MB.
+/// takes under a second and makes a file of about 1.6 MB.
 Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& options,
                           SyntheticGridSummary* summary = nullptr);
 
