@@ -6,6 +6,7 @@
 #include "Commands.h"
 
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <iostream>
@@ -42,7 +43,12 @@ Command addInfoCommand(CLI::App& root) {
     ro.loadValues = false;  // metadata only: fast, no field array read
     auto vol = volume::readRadarVolume(opts->file, ro);
     if (!vol) {
-      // Library messages start with the file name: "atmoglobe info: FILE: reason".
+      // Library messages start with the file name: "atmoglobe info: FILE: reason". A netCDF file
+      // that is neither may be a broken grid: say what the grid reader found wrong too.
+      if (volume::hasNetcdfSignature(opts->file)) {
+        auto grid = volume::describeGridFile(opts->file);
+        if (!grid) return fail("info", vol.error() + " (read as a radar file); " + grid.error() + " (read as a forecast grid)");
+      }
       return fail("info", vol.error());
     }
     std::cout << (opts->json ? volume::describeVolumeJson(*vol) + "\n" : volume::describeVolumeText(*vol));
