@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 ./scripts/install-deps.sh
-./scripts/build.sh atmoglobe default_imagery default_radar
+./scripts/build.sh atmoglobe default_imagery default_radar default_grid
 if [ $# -eq 0 ]; then
   mkdir -p out
   exec build/tools/atmoglobe render -o out/default.png

@@ -235,17 +235,23 @@ TEST(GridReaderReal, WrfCropReadsFarLessThanTheVariable) {
   // The crop: QCLOUD, PH and PHB over its columns (a few kB) + the whole XLAT/XLONG plane of the
   // step (2 x 9216 bytes, needed to find the columns) + Times (76 bytes): under a tenth.
   EXPECT_LT(r->bytesRead, wholeVariable / 10) << r->bytesRead;
-  // The crop's values are the full read's at the same file indices.
-  GridReadOptions all;
-  all.timeIndex = 1;
-  auto full = readGridVolume(wrfPath(), all);
-  ASSERT_TRUE(full.ok());
-  for (std::size_t k = 0; k < r->nz; ++k)
-    for (std::size_t j = 0; j < r->ny; ++j)
-      for (std::size_t i = 0; i < r->nx; ++i) {
-        ASSERT_EQ(r->value(k, j, i), full->value(k, r->fileFirstRow + j, r->fileFirstColumn + i));
-        ASSERT_EQ(r->heightMeters(k, j, i), full->heightMeters(k, r->fileFirstRow + j, r->fileFirstColumn + i));
-      }
+  // The crop's values are the full read's at the same file indices, for a staggered variable too.
+  for (const char* name : {"QCLOUD", "U", "V", "W"}) {
+    GridReadOptions all;
+    all.timeIndex = 1;
+    all.variable = name;
+    auto full = readGridVolume(wrfPath(), all);
+    ASSERT_TRUE(full.ok());
+    o.variable = name;
+    auto c = readGridVolume(wrfPath(), o);
+    ASSERT_TRUE(c.ok()) << c.error();
+    for (std::size_t k = 0; k < c->nz; ++k)
+      for (std::size_t j = 0; j < c->ny; ++j)
+        for (std::size_t i = 0; i < c->nx; ++i) {
+          ASSERT_EQ(c->value(k, j, i), full->value(k, c->fileFirstRow + j, c->fileFirstColumn + i)) << name;
+          ASSERT_EQ(c->heightMeters(k, j, i), full->heightMeters(k, c->fileFirstRow + j, c->fileFirstColumn + i));
+        }
+  }
 }
 
 TEST(GridReaderReal, WrfDescribe) {

@@ -311,6 +311,25 @@ TEST(GridReaderCf, RegionalGridWithHeightLevelsRunningDown) {
   EXPECT_TRUE(mentions(none.error(), {path, "'/lat'", "do not overlap"})) << none.error();
 }
 
+TEST(GridReaderCf, DescendingLongitudesAcrossTheAntimeridianAreReversed) {
+  const std::string path = testDir() + "/east_to_west.nc";
+  CfGrid g;
+  g.lat = range(-40.0, 1.0, 3);
+  g.lon = {-170, -175, 180, 175, 170};  // east to west, across 180
+  writeCf(path, g);
+  auto r = readGridVolume(path);
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->lonDeg, (std::vector<double>{170, 175, 180, 185, 190}));
+  EXPECT_EQ(r->fileColumnStep, -1);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(r->value(0, 0, i), static_cast<float>(code(0, 0, 0, 4 - i)));
+  // Longitudes that go back and forth are refused, naming the variable.
+  g.lon = {0, 10, 5, 20, 30};
+  writeCf(path, g);
+  auto bad = readGridVolume(path);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_TRUE(mentions(bad.error(), {path, "'/lon'", "not strictly monotonic"})) << bad.error();
+}
+
 TEST(GridReaderCf, PressureWithoutGeopotentialUsesTheStandardAtmosphereAndSaysSo) {
   const std::string path = testDir() + "/echam_like.nc";
   CfGrid g;
