@@ -772,18 +772,9 @@ Result<std::size_t> resolveTime(const NetcdfFile& f, const grid::GridLayout& l, 
   return o.timeIndex;
 }
 
-}  // namespace
-
-// ------------------------------------------------------------------------------- shared with describe
-
-Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const std::string& variable,
-                             std::string* chosen);
-
-}  // namespace grid
-
 // The variable's layout; for an empty name, the default variable (or why there is none).
-Result<grid::GridLayout> grid::layoutFor(const NetcdfFile& f, const FileKind& kind, const std::string& variable,
-                                         std::string* chosen) {
+Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const std::string& variable,
+                             std::string* chosen) {
   if (!variable.empty()) {
     auto v = findGridVariable(f, variable);
     if (!v) return v.forwardError();
@@ -808,6 +799,11 @@ Result<grid::GridLayout> grid::layoutFor(const NetcdfFile& f, const FileKind& ki
   *chosen = v->name;
   return analyse(f, kind, *v);
 }
+
+}  // namespace
+
+}  // namespace grid
+
 
 std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& variables) {
   auto shortName = [](const std::string& n) { return n.substr(n.rfind('/') + 1); };
