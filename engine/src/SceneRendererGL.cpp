@@ -15,11 +15,11 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
   for (const ImageryLayerDescription& d : layers) {
     if (d.type == ImageryLayerDescription::Type::Pyramid) {
       auto layer = globe::GeographicPyramidLayer::open(d.path);
-      if (!layer) return makeError(layer.error());
+      if (!layer) return layer.forwardError();
       opened.push_back(*layer);
     } else {
       auto layer = globe::XyzMercatorLayer::open(d.path);
-      if (!layer) return makeError(layer.error());
+      if (!layer) return layer.forwardError();
       opened.push_back(*layer);
     }
   }
@@ -39,7 +39,7 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
     o.render.transfer.colors = volume::cividisTable(-10.0, 70.0);
   } else if (d.colors != "NWS" && d.colors != "nws") {
     auto table = volume::readPalFile(d.colors);
-    if (!table) return makeError(table.error());
+    if (!table) return table.forwardError();
     o.render.transfer.colors = *table;
   }
   o.imageScale = d.imageScale;
@@ -51,27 +51,27 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
                                                                  const GlobeRenderOptions& globeOptions) {
   std::unique_ptr<SceneRendererGL> r(new SceneRendererGL());
   auto g = GlobeRendererGL::create(std::move(loader), globeOptions);
-  if (!g) return makeError(g.error());
+  if (!g) return g.forwardError();
   r->globe_ = std::move(*g);
   auto m = MarkerRendererGL::create(MarkerStyle::Disc);
-  if (!m) return makeError(m.error());
+  if (!m) return m.forwardError();
   r->markers_ = std::move(*m);
   auto rv = VolumeRendererGL::create();
-  if (!rv) return makeError(rv.error());
+  if (!rv) return rv.forwardError();
   r->volumeRenderer_ = std::move(*rv);
   return r;
 }
 
 Status SceneRendererGL::addModel(const std::string& glbPath) {
   auto model = GltfModelRendererGL::load(glbPath);
-  if (!model) return makeError(model.error());
+  if (!model) return model.forwardError();
   models_.push_back(std::move(*model));
   return Ok{};
 }
 
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   auto options = radarRenderOptions(d);
-  if (!options) return makeError(options.error());
+  if (!options) return options.forwardError();
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
   load.useGeoid = d.useGeoid;

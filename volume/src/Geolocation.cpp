@@ -41,7 +41,7 @@ double effectiveEarthRadiusMeters(const BeamModel& model, double siteLatDeg) {
 Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid) {
   const globe::Geodetic g{site.latDeg, site.lonDeg, site.antennaHeightMeters};
   const std::string what = "radar site" + (site.name.empty() ? std::string() : " " + site.name);
-  if (Status s = globe::validateGeodetic(g, what.c_str()); !s) return makeError(s.error());
+  if (Status s = globe::validateGeodetic(g, what.c_str()); !s) return s.forwardError();
   SiteResolution out;
   out.site = {site.latDeg, site.lonDeg, site.antennaHeightMeters};
   if (site.heightDatum == HeightDatum::Ellipsoid) {
@@ -66,7 +66,7 @@ Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid
 Result<SiteResolution> resolveSite(const RadarSite& site, bool useGeoid) {
   if (!useGeoid || site.heightDatum == HeightDatum::Ellipsoid) return resolveSite(site, static_cast<const GeoidGrid*>(nullptr));
   const Result<GeoidGrid>& grid = defaultEgm96Grid();
-  if (!grid) return makeError(grid.error());
+  if (!grid) return grid.forwardError();
   return resolveSite(site, &grid.value());
 }
 

@@ -116,7 +116,7 @@ std::vector<float> rayCoordinateTable(const PolarSweepLayout& s, int bins) {
 Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam) {
   const std::string& file = volume.sourcePath.empty() ? std::string("(volume)") : volume.sourcePath;
   Status beamOk = validateBeamModel(beam, file.c_str());
-  if (!beamOk) return makeError(beamOk.error());
+  if (!beamOk) return beamOk.forwardError();
   if (!std::isfinite(site.site.latDeg) || !std::isfinite(site.site.lonDeg) ||
       !std::isfinite(site.site.antennaHeightEllipsoidMeters))
     return makeError(file + ": radar site has non-finite coordinates");
