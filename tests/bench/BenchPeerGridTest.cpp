@@ -124,7 +124,7 @@ volume::PolarVolume rangeVolume() {
   rv.format = "test";
   rv.sourcePath = "range.nc";
   rv.beamWidthDeg = 1.0;
-  rv.loadedField = volume::FieldInfo{"RANGE", "km"};
+  rv.loadedField = volume::FieldInfo{"RANGE", "km", {}};
   rv.fields = {rv.loadedField};
   for (int k = 0; k < 10; ++k) {
     volume::Sweep s;

@@ -47,7 +47,7 @@ RadarVolume makeVolume(std::vector<Sweep> sweeps, double beamWidthDeg = 1.0) {
   v.format = "test";
   v.sourcePath = "tiny.nc";
   v.beamWidthDeg = beamWidthDeg;
-  v.loadedField = FieldInfo{"DBZH", "dBZ"};
+  v.loadedField = FieldInfo{"DBZH", "dBZ", {}};
   v.fields = {v.loadedField};
   for (std::size_t i = 0; i < sweeps.size(); ++i) sweeps[i].indexInFile = static_cast<int>(i);
   v.sweeps = std::move(sweeps);

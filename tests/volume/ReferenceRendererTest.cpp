@@ -33,7 +33,7 @@ PolarVolume makeVolume(const std::vector<double>& elevations, std::uint32_t gate
   rv.format = "test";
   rv.sourcePath = "synthetic";
   rv.beamWidthDeg = beamWidthDeg;
-  rv.loadedField = FieldInfo{"DBZH", "dBZ"};
+  rv.loadedField = FieldInfo{"DBZH", "dBZ", {}};
   for (std::size_t k = 0; k < elevations.size(); ++k) {
     Sweep s;
     s.indexInFile = static_cast<int>(k);
