@@ -2,6 +2,8 @@
 // own geometry (terrain-following levels, rectilinear and curvilinear), no data outside, a global
 // grid closed across the antimeridian and over the poles, and the reference renderer's DVR of a
 // uniform slab against its closed form.
+#include "SyntheticGridVolume.h"
+
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AnalyticVolume.h>
@@ -24,37 +26,6 @@ using volume::GridVolume;
 using volume::Interpolation;
 using volume::VolumeSample;
 
-// A rectilinear grid with the given axes; level k of column (j, i) at height
-// surface(lat, lon) + levelHeights[k]; value field(lat, lon, height).
-GridVolume makeRectilinear(std::vector<double> lonDeg, std::vector<double> latDeg, const std::vector<double>& levelHeights,
-                           const std::function<double(double, double)>& surface,
-                           const std::function<double(double, double, double)>& field) {
-  GridVolume g;
-  g.nx = lonDeg.size();
-  g.ny = latDeg.size();
-  g.nz = levelHeights.size();
-  g.lonDeg = std::move(lonDeg);
-  g.latDeg = std::move(latDeg);
-  g.values.resize(g.nx * g.ny * g.nz);
-  g.heightAboveEllipsoidMeters.resize(g.values.size());
-  for (std::size_t k = 0; k < g.nz; ++k)
-    for (std::size_t j = 0; j < g.ny; ++j)
-      for (std::size_t i = 0; i < g.nx; ++i) {
-        const double h = surface(g.latDeg[j], g.lonDeg[i]) + levelHeights[k];
-        g.heightAboveEllipsoidMeters[g.index(k, j, i)] = static_cast<float>(h);
-        g.values[g.index(k, j, i)] = static_cast<float>(field(g.latDeg[j], g.lonDeg[i], h));
-      }
-  g.valueMin = *std::min_element(g.values.begin(), g.values.end());
-  g.valueMax = *std::max_element(g.values.begin(), g.values.end());
-  return g;
-}
-
-std::vector<double> range(double first, double step, int n) {
-  std::vector<double> v;
-  for (int k = 0; k < n; ++k) v.push_back(first + step * k);
-  return v;
-}
-
 }  // namespace
 
 // A field linear in longitude, latitude and height on terrain-following levels is reproduced at
@@ -63,7 +34,7 @@ std::vector<double> range(double first, double step, int n) {
 TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
   auto surface = [](double lat, double lon) { return 300.0 + 20.0 * (lat - 40.0) + 15.0 * (lon - 10.0); };
   auto field = [](double lat, double lon, double h) { return 2.0 * lon - 3.0 * lat + 0.004 * h; };
-  const GridVolume g = makeRectilinear(range(10.0, 0.25, 41), range(40.0, 0.25, 41),
+  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(10.0, 0.25, 41), testutil::evenlySpaced(40.0, 0.25, 41),
                                        {0.0, 100.0, 300.0, 700.0, 1500.0, 3000.0, 6000.0, 12000.0}, surface, field);
   const volume::GridSampler s(g);
   std::mt19937 rng(3);
@@ -102,8 +73,8 @@ TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
 
 // The bounding sphere holds every grid point (bottom and top), and ray intervals hold the grid.
 TEST(GridSampler, BoundingSphereHoldsTheGrid) {
-  const GridVolume g = makeRectilinear(
-      range(-30.0, 0.5, 121), range(20.0, 0.5, 61), {0.0, 5000.0, 20000.0}, [](double, double) { return 0.0; },
+  const GridVolume g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(-30.0, 0.5, 121), testutil::evenlySpaced(20.0, 0.5, 61), {0.0, 5000.0, 20000.0}, [](double, double) { return 0.0; },
       [](double, double, double) { return 1.0; });
   const volume::GridSampler s(g);
   const volume::BoundingSphere b = s.boundingSphere();
@@ -122,7 +93,7 @@ TEST(GridSampler, GlobalGridHasNoSeamAtTheAntimeridianAndNoHoleAtThePoles) {
   auto field = [](double lat, double lon, double) {
     return std::cos(lon * kPi / 180.0) * std::cos(lat * kPi / 180.0) + 0.5 * std::sin(lat * kPi / 180.0);
   };
-  GridVolume g = makeRectilinear(range(0.0, 2.5, 144), range(-88.75, 2.5, 72), {0.0, 10000.0},
+  GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), {0.0, 10000.0},
                                  [](double, double) { return 0.0; }, field);
   g.wrapsLongitude = true;
   const volume::GridSampler s(g);
@@ -213,7 +184,7 @@ TEST(GridSampler, CurvilinearInverseMapIsExact) {
 // a slab between two heights, looked at straight down, has the closed-form opacity of a uniform
 // medium over the slab's thickness (Max 1995).
 TEST(GridSampler, ReferenceDvrOfAUniformSlabMatchesTheClosedForm) {
-  const GridVolume g = makeRectilinear(range(9.0, 0.5, 9), range(44.0, 0.5, 9), {2000.0, 4000.0, 6000.0},
+  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(9.0, 0.5, 9), testutil::evenlySpaced(44.0, 0.5, 9), {2000.0, 4000.0, 6000.0},
                                        [](double, double) { return 0.0; }, [](double, double, double) { return 40.0; });
   const volume::GridSampler s(g);
   volume::VolumeRenderSettings settings;

@@ -369,6 +369,31 @@ VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double he
   return {VolumeSample::State::Echo, value};
 }
 
+std::optional<glm::dvec3> GridSampler::gridIndex(double latDeg, double lonDeg, double heightMeters) const {
+  const std::optional<glm::dvec2> ij = horizontalIndex(latDeg, lonDeg);
+  if (!ij || grid_.nz == 0) return std::nullopt;
+  const GridColumns cols = columnsAt(*ij);
+  auto heightAt = [&](std::size_t k) {
+    double h = 0.0;
+    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
+    return h;
+  };
+  if (!(heightMeters >= heightAt(0) && heightMeters <= heightAt(grid_.nz - 1))) return std::nullopt;
+  if (grid_.nz == 1) return glm::dvec3(*ij, 0.0);
+  std::size_t lo = 0, hi = grid_.nz - 1;
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (heightAt(mid) <= heightMeters) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  const double hLo = heightAt(lo), hHi = heightAt(hi);
+  const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  return glm::dvec3(*ij, static_cast<double>(lo) + f);
+}
+
 VolumeSample GridSampler::sample(const glm::dvec3& ecef, Interpolation interpolation) const {
   const globe::Geodetic p = globe::ecefToGeodetic(ecef);
   return sampleGeodetic(p.latDeg, p.lonDeg, p.heightMeters, interpolation);

@@ -66,13 +66,22 @@ class GridSampler final : public VolumeSampler {
   GridColumns columnsAt(const glm::dvec2& ij) const;
   /// The sample at a geodetic position (steps 2-4), as sample() after its step 1.
   VolumeSample sampleGeodetic(double latDeg, double lonDeg, double heightMeters, Interpolation interpolation) const;
+  /// Fractional (column i, row j, level k) of a geodetic position by steps 2-3 (linear weights);
+  /// nullopt where sample() gives no data for lack of a position (outside horizontally, below
+  /// the lowest or above the highest level there). What the GPU's mapping is measured against.
+  std::optional<glm::dvec3> gridIndex(double latDeg, double lonDeg, double heightMeters) const;
   /// Lowest and highest height of any level (m above the ellipsoid).
   double minHeightMeters() const { return minHeight_; }
   double maxHeightMeters() const { return maxHeight_; }
 
- private:
+  /// Level k's height and value in a column of GridColumns (a pole column: the end row's mean;
+  /// its value NaN when any of the row's is missing).
   double columnHeight(int column, std::size_t k) const;
   float columnValue(int column, std::size_t k) const;
+  /// Whether a global grid's polar caps are closed by pole columns.
+  bool hasPoleCaps() const { return poleCaps_; }
+
+ private:
   std::optional<glm::dvec2> curvilinearIndex(double latDeg, double lonDeg) const;
 
   const GridVolume& grid_;
