@@ -30,7 +30,7 @@ inline volume::RadarVolume syntheticRadarVolume(const SyntheticPolarGeometry& g,
   v.sourcePath = "synthetic";
   v.site = {"TEST", g.latDeg, g.lonDeg, g.antennaHeightMeters, volume::HeightDatum::Ellipsoid};
   v.beamWidthDeg = 1.0;
-  v.loadedField = {"DBZ", "dBZ"};
+  v.loadedField = {"DBZ", "dBZ", {}};
   v.fields = {v.loadedField};
   for (int k = 0; k < g.sweeps; ++k) {
     volume::Sweep s;

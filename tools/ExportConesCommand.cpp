@@ -1,15 +1,18 @@
-// `atmoglobe export-cones FILE [--field NAME] [--colors NWS|cividis|FILE.pal] [--sweeps LIST]
+// `atmoglobe export-cones FILE [--field NAME] [--colors auto|NWS|cividis|velocity|FILE.pal] [--sweeps LIST]
 //  [--max-range KM] [--straight] [--ke X] [--no-geoid] -o OUT(.glb|.gltf|.dae|.kml|.kmz)
 //  [--tileset DIR]`: each PPI sweep as a georeferenced, textured cone (see volume/ConeExport.h).
 #include "Commands.h"
 
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/ConeExport.h>
+#include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,7 +25,7 @@ namespace {
 struct ExportConesOptions {
   std::string file;
   std::string field;
-  std::string colors = "NWS";
+  std::string colors = "auto";
   std::string sweeps;
   std::optional<double> maxRangeKm;
   bool straight = false;
@@ -76,22 +79,20 @@ int runExportCones(const ExportConesOptions& o) {
   opt.mesh.straight = o.straight;
   opt.mesh.beam.ke = o.ke;
 
-  volume::ColorTable colors;
-  if (o.colors == "NWS" || o.colors == "nws") {
-    colors = volume::nwsReflectivityTable();
-  } else if (o.colors == "cividis") {
-    colors = volume::cividisTable(-10.0, 70.0);
-  } else {
-    Result<volume::ColorTable> pal = volume::readPalFile(o.colors);
-    if (!pal) return fail(cmd, pal.error());
-    colors = std::move(pal.value());
-  }
-
   volume::RadarLoadOptions load;
   load.fieldName = o.field;
   load.useGeoid = !o.noGeoid;
   Result<volume::LoadedRadar> loaded = volume::loadRadar(o.file, load);
   if (!loaded) return fail(cmd, loaded.error());
+  // Colours by the field's kind unless a table is named (the value range for "other" fields).
+  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const volume::Sweep& sw : loaded->volume.sweeps)
+    for (float v : sw.values)
+      if (std::isfinite(v)) range = {std::min(range.minValue, double(v)), std::max(range.maxValue, double(v))};
+  Result<volume::TransferFunction> transfer =
+      volume::transferForField(o.colors, loaded->volume.loadedField, loaded->volume.nyquistVelocityMps, range);
+  if (!transfer) return fail(cmd, transfer.error());
+  const volume::ColorTable& colors = transfer->colors;
   Result<volume::ConeScene> scene = volume::buildConeScene(loaded->volume, loaded->site, colors, opt);
   if (!scene) return fail(cmd, scene.error());
 
@@ -121,7 +122,7 @@ Command addExportConesCommand(CLI::App& root) {
   CLI::App* app = root.add_subcommand("export-cones", "Export radar sweeps as georeferenced textured cones (glTF, COLLADA, KML/KMZ, 3D Tiles)");
   app->add_option("file", opts->file, "Radar volume (CfRadial, ODIM_H5, NEXRAD Level II)")->required();
   app->add_option("--field", opts->field, "Field to draw (default: reflectivity)");
-  app->add_option("--colors", opts->colors, "Colour table: NWS (stepped, dBZ), cividis (-10..70), or a GR/WCT .pal file");
+  app->add_option("--colors", opts->colors, "Colour table: auto (by the field's kind), NWS (stepped, dBZ), cividis, velocity (+-Nyquist), or a GR/WCT .pal file");
   app->add_option("--sweeps", opts->sweeps, "Sweep indices, e.g. 0,2,5-7 (default: every PPI sweep)");
   app->add_option("--max-range", opts->maxRangeKm, "Last gate drawn (km)");
   app->add_flag("--straight", opts->straight, "Straight cones (no refraction, no Earth curvature) as old viewers drew them");

@@ -3,10 +3,10 @@
 #include "Commands.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/GateCsv.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -30,21 +30,6 @@ struct GatesOptions {
   bool noGeoid = false;
   std::string output;
 };
-
-// Appends a number in fixed notation with `decimals` digits (locale-independent).
-void appendFixed(std::string& line, double v, int decimals) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
-  line.append(buf, r.ptr);
-}
-
-void appendValue(std::string& line, float v) {
-  if (volume::isNoData(v)) return;                    // empty: no data
-  if (volume::isNoEcho(v)) { line += "-inf"; return; }  // measured, nothing detected
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
-  line.append(buf, r.ptr);
-}
 
 int runGates(const GatesOptions& o) {
   const char* cmd = "gates";
@@ -92,7 +77,7 @@ int runGates(const GatesOptions& o) {
 
   std::string line;
   line.reserve(1 << 16);
-  line += "sweep,ray,gate,azimuth_deg,elevation_deg,range_m,lat_deg,lon_deg,height_m,ecef_x,ecef_y,ecef_z,value\n";
+  line += volume::gateCsvHeader();
   std::vector<glm::dvec3> fast;
   for (std::size_t k = 0; k < vol.sweeps.size(); ++k) {
     if (o.sweep && static_cast<std::size_t>(*o.sweep) != k) continue;
@@ -110,30 +95,8 @@ int runGates(const GatesOptions& o) {
         } else {
           p = volume::geolocateGateExact(site.site, model, sw.azimuthDeg[i], sw.elevationDeg[i], range);
         }
-        line += std::to_string(k);
-        line += ',';
-        line += std::to_string(i);
-        line += ',';
-        line += std::to_string(g);
-        line += ',';
-        appendFixed(line, sw.azimuthDeg[i], 4);
-        line += ',';
-        appendFixed(line, sw.elevationDeg[i], 4);
-        line += ',';
-        appendFixed(line, range, 3);
-        line += ',';
-        appendFixed(line, p.latDeg, 9);  // 1e-9 deg ~ 0.1 mm
-        line += ',';
-        appendFixed(line, p.lonDeg, 9);
-        line += ',';
-        appendFixed(line, p.heightMeters, 4);
-        for (int c = 0; c < 3; ++c) {
-          line += ',';
-          appendFixed(line, p.ecef[c], 4);
-        }
-        line += ',';
-        if (!sw.values.empty()) appendValue(line, sw.value(i, g));
-        line += '\n';
+        const float* value = sw.values.empty() ? nullptr : &sw.values[i * sw.gateCount + g];
+        volume::appendGateCsvRow(line, k, i, g, sw.azimuthDeg[i], sw.elevationDeg[i], range, p, value);
         if (line.size() > (1 << 16) - 512) {
           if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) return abandon(o.output + ": write error");
           line.clear();

@@ -36,7 +36,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   g->add_option("--radar", o.radars,
                 "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars)");
   g->add_option("--field", o.fields, "Field to render (default: reflectivity)");
-  g->add_option("--colors", o.colors, "Colour table: NWS, cividis or a GR/WCT .pal file");
+  g->add_option("--colors", o.colors, "Colour table: auto (by the field's kind: NWS for reflectivity, a diverging table over +-Nyquist for velocity, ...), NWS, cividis, velocity or a GR/WCT .pal file");
   g->add_option("--mode", o.modes, "dvr (volume rendering), mip (maximum intensity) or iso (isosurface)");
   g->add_option("--step", o.steps, "Ray-march step (m); default 250");
   g->add_option("--interpolation", o.interpolations, "nearest or linear (default)");

@@ -3,6 +3,7 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
 #include <atmoglobe/volume/ColorTable.h>
+#include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <chrono>
@@ -15,18 +16,19 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
   for (const ImageryLayerDescription& d : layers) {
     if (d.type == ImageryLayerDescription::Type::Pyramid) {
       auto layer = globe::GeographicPyramidLayer::open(d.path);
-      if (!layer) return makeError(layer.error());
+      if (!layer) return layer.forwardError();
       opened.push_back(*layer);
     } else {
       auto layer = globe::XyzMercatorLayer::open(d.path);
-      if (!layer) return makeError(layer.error());
+      if (!layer) return layer.forwardError();
       opened.push_back(*layer);
     }
   }
   return std::make_shared<globe::TileImageLoader>(std::move(opened), options);
 }
 
-Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
+Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, const volume::FieldInfo& field,
+                                               double nyquistMps, const volume::ValueRange& range) {
   VolumeRenderOptions o;
   o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
                   : d.mode == "iso" ? volume::VolumeRenderMode::Iso
@@ -34,14 +36,9 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d) {
   o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
   o.render.stepMeters = d.stepMeters;
   o.render.isoValue = d.isoValue;
-  o.render.transfer = volume::defaultReflectivityTransfer();
-  if (d.colors == "cividis") {
-    o.render.transfer.colors = volume::cividisTable(-10.0, 70.0);
-  } else if (d.colors != "NWS" && d.colors != "nws") {
-    auto table = volume::readPalFile(d.colors);
-    if (!table) return makeError(table.error());
-    o.render.transfer.colors = *table;
-  }
+  auto transfer = volume::transferForField(d.colors, field, nyquistMps, range);
+  if (!transfer) return transfer.forwardError();
+  o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
   o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
   return o;
@@ -51,33 +48,34 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
                                                                  const GlobeRenderOptions& globeOptions) {
   std::unique_ptr<SceneRendererGL> r(new SceneRendererGL());
   auto g = GlobeRendererGL::create(std::move(loader), globeOptions);
-  if (!g) return makeError(g.error());
+  if (!g) return g.forwardError();
   r->globe_ = std::move(*g);
   auto m = MarkerRendererGL::create(MarkerStyle::Disc);
-  if (!m) return makeError(m.error());
+  if (!m) return m.forwardError();
   r->markers_ = std::move(*m);
   auto rv = VolumeRendererGL::create();
-  if (!rv) return makeError(rv.error());
+  if (!rv) return rv.forwardError();
   r->volumeRenderer_ = std::move(*rv);
   return r;
 }
 
 Status SceneRendererGL::addModel(const std::string& glbPath) {
   auto model = GltfModelRendererGL::load(glbPath);
-  if (!model) return makeError(model.error());
+  if (!model) return model.forwardError();
   models_.push_back(std::move(*model));
   return Ok{};
 }
 
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
-  auto options = radarRenderOptions(d);
-  if (!options) return makeError(options.error());
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
   load.useGeoid = d.useGeoid;
   load.buildRenderLayout = true;
   auto radar = volume::loadRadar(d.path, load);
   if (!radar) return radar.forwardError();
+  auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
+                                    {radar->layout->minValue, radar->layout->maxValue});
+  if (!options) return options.forwardError();
   auto gl = RadarVolumeGL::create(*radar->layout);
   if (!gl) return gl.forwardError();
   (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine

@@ -92,7 +92,7 @@ volume::RenderCamera referenceCameraFor(const Camera& camera) {
 Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
   using C = MarchConstants;
   auto composite = ShaderProgramGL::create("fullscreen.vert", "composite.frag");
-  if (!composite) return makeError(composite.error());
+  if (!composite) return composite.forwardError();
   std::unique_ptr<VolumeRendererGL> r(new VolumeRendererGL());
   r->composite_ = std::move(*composite);
   GLint units = 0;

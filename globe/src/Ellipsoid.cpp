@@ -1,5 +1,7 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 
+#include <atmoglobe/globe/Angles.h>
+
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/Geodesic.hpp>
 
@@ -39,9 +41,9 @@ Geodetic ecefToGeodetic(const glm::dvec3& ecef) {
 }
 
 glm::dmat3 enuAxes(double latDeg, double lonDeg) {
-  constexpr double kDeg = M_PI / 180.0;
-  const double sphi = std::sin(latDeg * kDeg), cphi = std::cos(latDeg * kDeg);
-  const double slam = std::sin(lonDeg * kDeg), clam = std::cos(lonDeg * kDeg);
+  const double phi = degreesToRadians(latDeg), lambda = degreesToRadians(lonDeg);
+  const double sphi = std::sin(phi), cphi = std::cos(phi);
+  const double slam = std::sin(lambda), clam = std::cos(lambda);
   const glm::dvec3 east(-slam, clam, 0.0);
   const glm::dvec3 north(-sphi * clam, -sphi * slam, cphi);
   const glm::dvec3 up(cphi * clam, cphi * slam, sphi);
@@ -76,7 +78,7 @@ GeodesicLine geodesicInverse(double lat1Deg, double lon1Deg, double lat2Deg, dou
 }
 
 double geocentricRadiusMeters(double latDeg) {
-  const double phi = latDeg * M_PI / 180.0;
+  const double phi = degreesToRadians(latDeg);
   const double a = kWgs84A, b = kWgs84B;
   const double c = std::cos(phi), s = std::sin(phi);
   const double num = (a * a * c) * (a * a * c) + (b * b * s) * (b * b * s);
@@ -88,7 +90,7 @@ namespace {
 // 1 - e^2 sin^2(lat), e^2 = f (2 - f).
 double curvatureDenominator(double latDeg) {
   const double e2 = kWgs84F * (2.0 - kWgs84F);
-  const double s = std::sin(latDeg * M_PI / 180.0);
+  const double s = std::sin(degreesToRadians(latDeg));
   return 1.0 - e2 * s * s;
 }
 }  // namespace
@@ -102,7 +104,7 @@ double meridionalRadiusMeters(double latDeg) {
 double primeVerticalRadiusMeters(double latDeg) { return kWgs84A / std::sqrt(curvatureDenominator(latDeg)); }
 
 double normalSectionRadiusMeters(double latDeg, double azimuthDeg) {
-  const double a = azimuthDeg * M_PI / 180.0;
+  const double a = degreesToRadians(azimuthDeg);
   const double c = std::cos(a), s = std::sin(a);
   return 1.0 / (c * c / meridionalRadiusMeters(latDeg) + s * s / primeVerticalRadiusMeters(latDeg));
 }

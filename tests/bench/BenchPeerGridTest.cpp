@@ -2,6 +2,7 @@
 // the exact inverse (volume::antennaCoordinatesExact) with an error bound derived below, and the
 // resampled grid's values against the values at the exact antenna coordinates.
 #include <atmoglobe/bench/PeerGrid.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
@@ -17,7 +18,7 @@
 namespace atmoglobe::bench {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = kPi / 180.0;
 
 // THE BOUND. The fast inverse replaces the Earth near the site by a sphere of radius
 // rs = sqrt(M N) (M, N: meridional and prime-vertical radii at the site) touching it below the
@@ -123,7 +124,7 @@ volume::PolarVolume rangeVolume() {
   rv.format = "test";
   rv.sourcePath = "range.nc";
   rv.beamWidthDeg = 1.0;
-  rv.loadedField = volume::FieldInfo{"RANGE", "km"};
+  rv.loadedField = volume::FieldInfo{"RANGE", "km", {}};
   rv.fields = {rv.loadedField};
   for (int k = 0; k < 10; ++k) {
     volume::Sweep s;

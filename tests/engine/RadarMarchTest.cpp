@@ -8,6 +8,7 @@
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
@@ -264,7 +265,7 @@ TEST_F(RadarMarch, PointEchoAppearsWhereGeolocationPutsIt) {
   const globe::GeodesicPoint from = globe::geodesicDirect(gate.latDeg, gate.lonDeg, 225.0, 20e3);
   const double heading = globe::geodesicInverse(from.latDeg, from.lonDeg, gate.latDeg, gate.lonDeg).azimuth1Deg;
   const CameraPose pose{from.latDeg, from.lonDeg, gate.heightMeters + 8e3, heading,
-                        -std::atan2(8e3, 20e3) * 180.0 / M_PI, 0.0};
+                        -radiansToDegrees(std::atan2(8e3, 20e3)), 0.0};
   const Camera camera(pose, 30.0, 96, 96);
   const auto predicted = camera.projectToPixel(gate.ecef);
   ASSERT_TRUE(predicted);

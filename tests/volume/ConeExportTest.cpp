@@ -80,7 +80,7 @@ RadarVolume syntheticVolume() {
   v.site.antennaHeightMeters = 390.0;
   v.site.heightDatum = HeightDatum::Ellipsoid;  // no geoid grid needed for the synthetic tests
   v.timeIso8601 = "2020-05-01T12:00:00Z";
-  v.loadedField = {"DBZH", "dBZ"};
+  v.loadedField = {"DBZH", "dBZ", {}};
   for (double el : {0.5, 1.5, 4.0}) {
     Sweep s;
     s.indexInFile = static_cast<int>(v.sweeps.size());

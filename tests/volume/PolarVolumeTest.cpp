@@ -1,6 +1,7 @@
 // The polar render layout and the sampling rule (PolarVolume.h), on hand-made tiny volumes whose
 // expected samples are worked out by hand in the comments (the rule is the reference; these
 // check that the code follows it).
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -46,7 +47,7 @@ RadarVolume makeVolume(std::vector<Sweep> sweeps, double beamWidthDeg = 1.0) {
   v.format = "test";
   v.sourcePath = "tiny.nc";
   v.beamWidthDeg = beamWidthDeg;
-  v.loadedField = FieldInfo{"DBZH", "dBZ"};
+  v.loadedField = FieldInfo{"DBZH", "dBZ", {}};
   v.fields = {v.loadedField};
   for (std::size_t i = 0; i < sweeps.size(); ++i) sweeps[i].indexInFile = static_cast<int>(i);
   v.sweeps = std::move(sweeps);
@@ -393,7 +394,7 @@ TEST(PolarVolume, CartesianEquivalentBytes) {
   ASSERT_DOUBLE_EQ(v.maxRangeMeters, 100000.0);
   const double re = 4.0 / 3.0 * globe::geocentricRadiusMeters(40.0);
   auto h = [re](double r, double elDeg) {
-    return std::sqrt(r * r + re * re + 2.0 * r * re * std::sin(elDeg * 3.14159265358979323846 / 180.0)) - re;
+    return std::sqrt(r * r + re * re + 2.0 * r * re * std::sin(degreesToRadians(elDeg))) - re;
   };
   const double nz = std::ceil((h(1e5, 0.5) - h(1e5, -0.5)) / 250.0);
   EXPECT_EQ(nz, 7.0);  // ~1745 m of beam at 100 km (2 * 100 km * tan(0.5 deg)) in 250 m voxels

@@ -1,4 +1,5 @@
 // Format detection from content, dispatch, default field choice, and the `info` descriptions.
+#include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <gtest/gtest.h>
@@ -73,12 +74,77 @@ TEST(RadarReaderDispatch, ReadsEachCfRadialAndOdimFile) {
   }
 }
 
-TEST(RadarReaderDefaultField, PrefersReflectivity) {
-  EXPECT_EQ(chooseDefaultField({{"VRADH", ""}, {"DBZH", ""}}), "DBZH");
-  EXPECT_EQ(chooseDefaultField({{"velocity", ""}, {"reflectivity_at_cor", ""}}), "reflectivity_at_cor");
-  EXPECT_EQ(chooseDefaultField({{"VEL", ""}, {"DBZHC", ""}}), "DBZHC");
-  EXPECT_EQ(chooseDefaultField({{"VEL", ""}, {"WIDTH", ""}}), "VEL");
+TEST(RadarReaderDefaultField, PrefersReflectivityByMeaning) {
+  auto f = [](const char* name, const char* units = "", const char* standardName = "") {
+    return FieldInfo{name, units, standardName};
+  };
+  EXPECT_EQ(chooseDefaultField({f("VRADH"), f("DBZH")}), "DBZH");
+  EXPECT_EQ(chooseDefaultField({f("velocity"), f("reflectivity_at_cor")}), "reflectivity_at_cor");
+  EXPECT_EQ(chooseDefaultField({f("VEL"), f("DBZHC")}), "DBZHC");
+  EXPECT_EQ(chooseDefaultField({f("VEL"), f("WIDTH")}), "VEL");
   EXPECT_EQ(chooseDefaultField({}), "");
+  // The case: reflectivity spelled "dBZ" after a velocity field.
+  EXPECT_EQ(chooseDefaultField({f("VRAD", "m/s"), f("dBZ", "dBZ")}), "dBZ");
+  EXPECT_EQ(chooseDefaultField({f("VRAD"), f("dBZ")}), "dBZ") << "by name, in any case";
+  // standard_name wins over names and units; among several, the uncorrected DBZH before TH.
+  const DefaultField bySn = chooseDefaultFieldWithReason(
+      {f("DBZH", "dBZ"), f("ZZ", "1", "equivalent_reflectivity_factor"), f("VEL", "m/s")});
+  EXPECT_EQ(bySn.name, "ZZ");
+  EXPECT_NE(bySn.reason.find("standard_name"), std::string::npos) << bySn.reason;
+  EXPECT_EQ(chooseDefaultField({f("TH", "dBZ"), f("DBZH", "dBZ")}), "DBZH");
+  // Units alone: a field named oddly but in dBZ.
+  const DefaultField byUnits = chooseDefaultFieldWithReason({f("V", "m/s"), f("Zfoo", "DBZ")});
+  EXPECT_EQ(byUnits.name, "Zfoo");
+  EXPECT_NE(byUnits.reason.find("units"), std::string::npos) << byUnits.reason;
+  // No reflectivity: the first field, and it says so.
+  const DefaultField none = chooseDefaultFieldWithReason({f("VRADH", "m/s"), f("WRADH", "m/s")});
+  EXPECT_EQ(none.name, "VRADH");
+  EXPECT_NE(none.reason.find("no reflectivity"), std::string::npos);
+}
+
+TEST(FieldKind, KindsByStandardNameNameAndUnits) {
+  EXPECT_EQ(classifyField({"x", "", "radial_velocity_of_scatterers_away_from_instrument"}).kind, FieldKind::Velocity);
+  EXPECT_EQ(classifyField({"VRADH", "", ""}).kind, FieldKind::Velocity);
+  EXPECT_EQ(classifyField({"vel", "", ""}).kind, FieldKind::Velocity);
+  EXPECT_EQ(classifyField({"spectrum_width", "m/s", ""}).kind, FieldKind::SpectrumWidth);
+  EXPECT_EQ(classifyField({"my_width", "m/s", ""}).kind, FieldKind::SpectrumWidth);
+  EXPECT_EQ(classifyField({"doppler", "m/s", ""}).kind, FieldKind::Velocity);
+  EXPECT_EQ(classifyField({"ZDR", "dB", ""}).kind, FieldKind::DifferentialReflectivity);
+  EXPECT_EQ(classifyField({"RHO", "", ""}).kind, FieldKind::CorrelationCoefficient);
+  EXPECT_EQ(classifyField({"PHI", "deg", ""}).kind, FieldKind::DifferentialPhase);
+  EXPECT_EQ(classifyField({"k", "deg/km", ""}).kind, FieldKind::SpecificDifferentialPhase);
+  EXPECT_EQ(classifyField({"SNR", "dB", ""}).kind, FieldKind::Other);
+}
+
+TEST(FieldKind, DefaultColoursFollowTheKind) {
+  const ValueRange range{-30.0, 30.0};
+  // Reflectivity: the NWS table.
+  EXPECT_EQ(defaultTransferFor(FieldKind::Reflectivity, NAN, range).colors.name(), nwsReflectivityTable().name());
+  // Velocity: diverging, centred on zero, over +-Nyquist: green towards, red away, grey and
+  // fainter at zero, symmetric in opacity.
+  const TransferFunction v = defaultTransferFor(FieldKind::Velocity, 26.5, range);
+  EXPECT_DOUBLE_EQ(v.colors.stops().front().value, -26.5);
+  EXPECT_DOUBLE_EQ(v.colors.stops().back().value, 26.5);
+  const glm::dvec4 towards = v.classify(-20.0), away = v.classify(20.0), still = v.classify(0.0);
+  EXPECT_GT(towards.g, towards.r);
+  EXPECT_GT(away.r, away.g);
+  EXPECT_NEAR(still.r, still.g, 0.01);
+  EXPECT_LT(still.a, 0.5 * towards.a);
+  EXPECT_NEAR(v.classify(-13.0).a, v.classify(13.0).a, 0.02);
+  // Without a Nyquist velocity: the largest |value| (velocities are coded within +-Nyquist),
+  // else 30 m/s.
+  EXPECT_DOUBLE_EQ(defaultTransferFor(FieldKind::Velocity, NAN, {-7.4, 7.2}).colors.stops().back().value, 7.4);
+  EXPECT_DOUBLE_EQ(defaultTransferFor(FieldKind::Velocity, NAN, {NAN, NAN}).colors.stops().back().value, 30.0);
+  // A user's table wins; "auto" follows the kind; a bad .pal is an error naming the file.
+  auto nws = transferForField("NWS", FieldInfo{"VRADH", "m/s", {}}, 26.5, range);
+  ASSERT_TRUE(nws);
+  EXPECT_EQ(nws->colors.name(), nwsReflectivityTable().name());
+  auto autoVel = transferForField("auto", FieldInfo{"VRADH", "m/s", {}}, 26.5, range);
+  ASSERT_TRUE(autoVel);
+  EXPECT_EQ(autoVel->colors.name(), "Velocity");
+  auto bad = transferForField("/nonexistent/x.pal", FieldInfo{"DBZH", "dBZ", {}}, NAN, range);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().find("/nonexistent/x.pal"), std::string::npos);
 }
 
 TEST(RadarReaderTime, NormalizeIso8601) {

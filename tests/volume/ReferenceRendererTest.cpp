@@ -1,6 +1,7 @@
 // The CPU reference renderer (ReferenceRenderer.h) and the transfer function: closed-form cases
 // (a uniform shell's optical depth, hand-worked opacities), a point echo at the pixel the
 // geolocation path predicts, awkward cameras, and a real volume.
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -15,7 +16,6 @@
 namespace atmoglobe::volume {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 const GeolocationSite kSite{40.0, 10.0, 500.0};
@@ -33,7 +33,7 @@ PolarVolume makeVolume(const std::vector<double>& elevations, std::uint32_t gate
   rv.format = "test";
   rv.sourcePath = "synthetic";
   rv.beamWidthDeg = beamWidthDeg;
-  rv.loadedField = FieldInfo{"DBZH", "dBZ"};
+  rv.loadedField = FieldInfo{"DBZH", "dBZ", {}};
   for (std::size_t k = 0; k < elevations.size(); ++k) {
     Sweep s;
     s.indexInFile = static_cast<int>(k);
@@ -71,7 +71,7 @@ bool allFinite(const VolumeImage& img) {
 // --- Transfer function, worked by hand.
 TEST(TransferFunction, ClassifyAndOpacityCorrection) {
   const TransferFunction tf = defaultReflectivityTransfer();
-  // 35 dBZ: NWS colour (255, 255, 0) (REFERENCE §3), ramp (35 - 10) / 50 = 0.5 -> a = 0.4.
+  // 35 dBZ: NWS colour (255, 255, 0) (the NWS reflectivity table, ColorTable.h), ramp (35 - 10) / 50 = 0.5 -> a = 0.4.
   glm::dvec4 c = tf.classify(35.0);
   EXPECT_DOUBLE_EQ(c.r, 1.0);
   EXPECT_DOUBLE_EQ(c.g, 1.0);

@@ -3,6 +3,7 @@
 // inverse, the WGS84 curvature radii, and the reference renderer's rule for several volumes.
 #include "SyntheticPolarVolume.h"
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AnalyticVolume.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -118,7 +119,7 @@ TEST(StraightElevationBand, HoldsEveryBeamPoint) {
     for (double e : {v.sweeps.front().elevationDeg - hb, v.sweeps.back().elevationDeg + hb}) {
       const glm::dvec3 enu = beam.enuOfEcef(volume::geolocateGateExact(v.site, v.beam, 30.0, e, r).ecef);
       const double chord = glm::length(enu);
-      const double elS = std::asin(enu.z / chord) * 180.0 / M_PI;
+      const double elS = radiansToDegrees(std::asin(enu.z / chord));
       EXPECT_GE(elS, band.loDegAt(chord)) << r;
       EXPECT_LE(elS, band.hiDegAt(chord)) << r;
     }

@@ -22,9 +22,8 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
-#include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
-#include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <unistd.h>
@@ -73,17 +72,16 @@ Result<Radar> makeRadar(const fs::path& dir, int index, double latDeg, double lo
   o.stormEastKm = g.distanceMeters / 1000.0 * std::sin(az);
   o.stormNorthKm = g.distanceMeters / 1000.0 * std::cos(az);
   const fs::path file = dir / std::string("radar").append(std::to_string(index)).append(".nc");
-  if (auto s = volume::writeSyntheticCfRadial(file.string(), o); !s) return makeError(s.error());
-  auto radar = volume::readRadarVolume(file.string(), {});
-  if (!radar) return makeError(radar.error());
-  auto site = volume::resolveSite(radar->site, false);
-  if (!site) return makeError(site.error());
-  auto polar = volume::buildPolarVolume(*radar, *site, volume::BeamModel{});
-  if (!polar) return makeError(polar.error());
+  if (auto s = volume::writeSyntheticCfRadial(file.string(), o); !s) return s.forwardError();
+  volume::RadarLoadOptions load;
+  load.useGeoid = false;  // synthetic sites: heights taken as they are
+  load.buildRenderLayout = true;
+  auto loaded = volume::loadRadar(file.string(), load);
+  if (!loaded) return loaded.forwardError();
   Radar r;
-  r.polar = std::make_unique<volume::PolarVolume>(std::move(*polar));
+  r.polar = std::make_unique<volume::PolarVolume>(std::move(*loaded->layout));
   auto gl = engine::RadarVolumeGL::create(*r.polar);
-  if (!gl) return makeError(gl.error());
+  if (!gl) return gl.forwardError();
   r.gl = std::move(*gl);
   return r;
 }

@@ -227,6 +227,14 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     }
   }
   vol.timeIso8601 = readTimeText(f);
+  // Nyquist velocity per ray (CfRadial 1.4 instrument_parameters): the largest valid value.
+  if (auto ny = f.findVariable(root, "nyquist_velocity"); ny && ny->shape.size() == 1) {
+    if (auto values = f.readAll<double>(*ny)) {
+      const auto fill = fillValue(f, *ny);
+      for (double x : *values)
+        if (!isFillOrNaN(x, fill) && x > 0.0 && x < 200.0 && !(x <= vol.nyquistVelocityMps)) vol.nyquistVelocityMps = x;
+    }
+  }
   if (auto bw = f.findVariable(root, "radar_beam_width_h"); bw && bw->shape.empty()) {
     double x = 0;
     if (f.readSlab<double>(*bw, {}, {}, &x) && !isFillOrNaN(x, fillValue(f, *bw)) && x > 0) vol.beamWidthDeg = x;
@@ -240,6 +248,9 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
       fi.name = v.name.substr(v.name.rfind('/') + 1);
       if (f.hasAttribute(v.groupId, v.varId, "units")) {
         if (auto u = f.attributeString(v.groupId, v.varId, "units")) fi.units = *u;
+      }
+      if (f.hasAttribute(v.groupId, v.varId, "standard_name")) {
+        if (auto sn = f.attributeString(v.groupId, v.varId, "standard_name")) fi.standardName = *sn;
       }
       vol.fields.push_back(fi);
       fieldVars.push_back(std::move(v));

@@ -1,5 +1,6 @@
 #include <atmoglobe/volume/Geolocation.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <GeographicLib/Geodesic.hpp>
@@ -14,8 +15,6 @@
 namespace atmoglobe::volume {
 
 namespace {
-constexpr double kDegToRad = M_PI / 180.0;
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 std::string formatMeters(double v) {
   char buf[64];
@@ -42,7 +41,7 @@ double effectiveEarthRadiusMeters(const BeamModel& model, double siteLatDeg) {
 Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid) {
   const globe::Geodetic g{site.latDeg, site.lonDeg, site.antennaHeightMeters};
   const std::string what = "radar site" + (site.name.empty() ? std::string() : " " + site.name);
-  if (Status s = globe::validateGeodetic(g, what.c_str()); !s) return makeError(s.error());
+  if (Status s = globe::validateGeodetic(g, what.c_str()); !s) return s.forwardError();
   SiteResolution out;
   out.site = {site.latDeg, site.lonDeg, site.antennaHeightMeters};
   if (site.heightDatum == HeightDatum::Ellipsoid) {
@@ -67,13 +66,13 @@ Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid
 Result<SiteResolution> resolveSite(const RadarSite& site, bool useGeoid) {
   if (!useGeoid || site.heightDatum == HeightDatum::Ellipsoid) return resolveSite(site, static_cast<const GeoidGrid*>(nullptr));
   const Result<GeoidGrid>& grid = defaultEgm96Grid();
-  if (!grid) return makeError(grid.error());
+  if (!grid) return grid.forwardError();
   return resolveSite(site, &grid.value());
 }
 
 void beamHeightAndGroundDistance(double rangeMeters, double elevationDeg, double antennaHeightMeters,
                                  double effectiveRadiusMeters, double* heightMeters, double* groundDistanceMeters) {
-  const double theta = elevationDeg * kDegToRad;
+  const double theta = degreesToRadians(elevationDeg);
   const double rho1 = effectiveRadiusMeters + antennaHeightMeters;
   const double sinT = std::sin(theta), cosT = std::cos(theta);
   // (Re+h)^2 = (r sin + rho1)^2 + (r cos)^2: same as D&Z 2.28, written as a sum of squares so it
@@ -128,8 +127,8 @@ void geolocateSweepFast(const GeolocationSite& site, const BeamModel& model, con
   std::array<double, kN> nodeRange{};
   std::array<std::array<double, kN>, kN> cosTable{};
   for (int j = 0; j < kN; ++j) {
-    nodeRange[j] = mid + half * std::cos(M_PI * (j + 0.5) / kN);
-    for (int k = 0; k < kN; ++k) cosTable[k][j] = std::cos(M_PI * k * (j + 0.5) / kN);
+    nodeRange[j] = mid + half * std::cos(kPi * (j + 0.5) / kN);
+    for (int k = 0; k < kN; ++k) cosTable[k][j] = std::cos(kPi * k * (j + 0.5) / kN);
   }
   // Per-gate table: T_k(x_g), k-major so the per-ray loop runs over contiguous gates.
   std::vector<double> basis(static_cast<std::size_t>(kN) * gates);
@@ -198,7 +197,7 @@ AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const Be
   AntennaCoordinates out;
   out.rangeMeters = std::sqrt(dRho * dRho + 4.0 * rho1 * rho2 * sinHalf * sinHalf);
   // theta = atan2(rho2 cos(gamma) - rho1, rho2 sin(gamma)), with rho2 cos - rho1 = dRho - 2 rho2 sin^2(gamma/2).
-  out.elevationDeg = std::atan2(dRho - 2.0 * rho2 * sinHalf * sinHalf, rho2 * std::sin(gamma)) * kRadToDeg;
+  out.elevationDeg = radiansToDegrees(std::atan2(dRho - 2.0 * rho2 * sinHalf * sinHalf, rho2 * std::sin(gamma)));
   double az = inv.distanceMeters > 0.0 ? inv.azimuth1Deg : 0.0;
   az = std::fmod(az, 360.0);
   if (az < 0) az += 360.0;
@@ -223,7 +222,7 @@ LocalSphereBeam localSphereBeam(const GeolocationSite& site, const BeamModel& mo
 
 AntennaCoordinates LocalSphereBeam::antennaCoordinates(const glm::dvec3& l) const {
   const double dh = std::hypot(l.x, l.y);
-  double az = std::atan2(l.x, l.y) * kRadToDeg;
+  double az = radiansToDegrees(std::atan2(l.x, l.y));
   if (az < 0.0) az += 360.0;
   // The sphere of the normal-section radius in this azimuth (Euler), touching the ellipsoid's
   // tangent plane under the antenna: height above it and arc distance along it.
@@ -244,14 +243,14 @@ AntennaCoordinates LocalSphereBeam::antennaCoordinates(const glm::dvec3& l) cons
   AntennaCoordinates out;
   out.rangeMeters = std::sqrt(dz * dz + 4.0 * rho1 * rho2 * sg * sg);
   out.azimuthDeg = az >= 360.0 ? 0.0 : az;
-  out.elevationDeg = std::atan2(dz - 2.0 * rho2 * sg * sg, rho2 * std::sin(gamma)) * kRadToDeg;
+  out.elevationDeg = radiansToDegrees(std::atan2(dz - 2.0 * rho2 * sg * sg, rho2 * std::sin(gamma)));
   return out;
 }
 
 glm::dvec3 LocalSphereBeam::enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const {
   double h = 0.0, s = 0.0;
   beamHeightAndGroundDistance(rangeMeters, elevationDeg, antennaHeightMeters, effectiveRadiusMeters, &h, &s);
-  const double az = azimuthDeg / kRadToDeg;
+  const double az = degreesToRadians(azimuthDeg);
   const double ca = std::cos(az), sa = std::sin(az);
   const double rAlpha = 1.0 / (ca * ca / meridionalRadiusMeters + sa * sa / primeVerticalRadiusMeters);
   const double psi = s / rAlpha, d = rAlpha + h;

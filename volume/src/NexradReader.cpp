@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -101,6 +102,7 @@ class Parser {
   std::string field_;
   bool loadValues_;
   std::vector<std::string> fieldNames;
+  double nyquistMps = std::numeric_limits<double>::quiet_NaN();  ///< largest of the RAD blocks
   bool haveSite = false;
   RadarSite site;
   int vcp = 0;
@@ -211,6 +213,13 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
         site.heightDatum = HeightDatum::MeanSeaLevel;
         if (vcp == 0) vcp = be16(block + 40);
         haveSite = true;
+      }
+    } else if (block[0] == 'R' && name == "RAD") {
+      // Radial data constant block (ICD for RDA/RPG, message 31): Nyquist velocity at byte 16,
+      // a signed 16-bit count of 0.01 m/s.
+      if (ptr + 18 <= size) {
+        const double nyquist = static_cast<std::int16_t>(be16(block + 16)) * 0.01;
+        if (nyquist > 0.0 && nyquist < 200.0 && !(nyquist <= nyquistMps)) nyquistMps = nyquist;
       }
     } else if (block[0] == 'D') {
       constexpr std::size_t kMomentHeaderBytes = 28;
@@ -351,7 +360,7 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
   RadarVolume vol;
   vol.format = "NEXRAD Level II";
   vol.sourcePath = path;
-  for (const std::string& n : parser.fieldNames) vol.fields.push_back({n, momentUnits(n)});
+  for (const std::string& n : parser.fieldNames) vol.fields.push_back({n, momentUnits(n), {}});
   bool found = false;
   std::string loadedName;
   for (const std::string& n : parser.fieldNames) {
@@ -368,7 +377,8 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
     for (const std::string& n : parser.fieldNames) names += (names.empty() ? "" : ", ") + n;
     return makeError(path + ": field '" + options.fieldName + "' is not in the file (fields: " + names + ")");
   }
-  vol.loadedField = {loadedName, momentUnits(loadedName)};
+  vol.loadedField = {loadedName, momentUnits(loadedName), {}};
+  vol.nyquistVelocityMps = parser.nyquistMps;
   vol.site = parser.site;
   const unsigned char* h = file.data();
   vol.site.name = trimName(h + 20, 4);

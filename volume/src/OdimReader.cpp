@@ -217,6 +217,10 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     const int dsWhat = childOr(f, ds, "what"), dsWhere = childOr(f, ds, "where"), dsHow = childOr(f, ds, "how");
     const std::string where = "/" + dsName;
     if (dsWhere < 0) return makeError(f.message(where + ": no 'where' group (sweep geometry)"));
+    // Nyquist interval (ODIM how/NI, m/s), the dataset's or the volume's: the largest.
+    if (auto ni = optionalDouble(f, {dsHow, rootHow}, "NI"); ni && *ni > 0.0 && *ni < 200.0 &&
+                                                               !(*ni <= vol.nyquistVelocityMps))
+      vol.nyquistVelocityMps = *ni;
 
     auto nbins = requiredCount(f, {dsWhere}, "nbins", where + "/where", kMaxBins);
     if (!nbins) return nbins.forwardError();
@@ -291,7 +295,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       dg.quantity = *q;
       dg.path = where + "/" + dataName;
       if (std::none_of(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == dg.quantity; }))
-        vol.fields.push_back(FieldInfo{dg.quantity, odimQuantityUnits(dg.quantity)});
+        vol.fields.push_back(FieldInfo{dg.quantity, odimQuantityUnits(dg.quantity), {}});
       groups.push_back(std::move(dg));
     }
     dataBySweep.push_back(std::move(groups));

@@ -2,6 +2,7 @@
 // the definition the GPU marcher is measured against.
 #include <atmoglobe/volume/PolarVolume.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <algorithm>
@@ -115,7 +116,7 @@ std::vector<float> rayCoordinateTable(const PolarSweepLayout& s, int bins) {
 Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolution& site, const BeamModel& beam) {
   const std::string& file = volume.sourcePath.empty() ? std::string("(volume)") : volume.sourcePath;
   Status beamOk = validateBeamModel(beam, file.c_str());
-  if (!beamOk) return makeError(beamOk.error());
+  if (!beamOk) return beamOk.forwardError();
   if (!std::isfinite(site.site.latDeg) || !std::isfinite(site.site.lonDeg) ||
       !std::isfinite(site.site.antennaHeightEllipsoidMeters))
     return makeError(file + ": radar site has non-finite coordinates");
@@ -319,7 +320,7 @@ StraightElevationBand straightElevationBand(const PolarVolume& v, bool straightB
   const double hb = 0.5 * v.beamWidthDeg;
   const double radius = v.beam.earthRadiusMeters.value_or(globe::geocentricRadiusMeters(v.site.latDeg));
   band.bendDegPerMeter =
-      straightBeam || !(v.beam.ke > 0.0) ? 0.0 : std::abs(1.0 - 1.0 / v.beam.ke) / (2.0 * radius) * 180.0 / M_PI;
+      straightBeam || !(v.beam.ke > 0.0) ? 0.0 : radiansToDegrees(std::abs(1.0 - 1.0 / v.beam.ke) / (2.0 * radius));
   band.loDeg = v.sweeps.front().elevationDeg - hb - kStraightElevationBandMarginDeg;
   band.hiDeg = v.sweeps.back().elevationDeg + hb + kStraightElevationBandMarginDeg;
   return band;
@@ -355,7 +356,7 @@ bool PolarSampler::provablyEmpty(const glm::dvec3& ecef) const {
   const glm::dvec3 d = ecef - antennaEcef_;
   const double r = glm::length(d);
   if (!(r > kMinRangeMeters)) return false;
-  const double elS = std::asin(std::clamp(glm::dot(d, upEcef_) / r, -1.0, 1.0)) * 180.0 / M_PI;
+  const double elS = radiansToDegrees(std::asin(std::clamp(glm::dot(d, upEcef_) / r, -1.0, 1.0)));
   return elS > band_.hiDegAt(r) || elS < band_.loDegAt(r);
 }
 
@@ -409,7 +410,7 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v) {
         // (rB^2 / (8 Re)), plus 50 m for the local-sphere model against the exact inverse
         // (kLocalSphereMaxRangeErrorMeters) and float rounding of the GPU's cell lookup (ENU
         // positions to ~0.05 m at 500 km). KLBB: 40-600 m, against cells of 3.6 km x 300 m.
-        const double azSpanRad = (azB - azA) * M_PI / 180.0, elSpanRad = (elHi - elLo) * M_PI / 180.0;
+        const double azSpanRad = degreesToRadians(azB - azA), elSpanRad = degreesToRadians(elHi - elLo);
         const double bulge = rB * (2.0 - std::cos(0.5 * azSpanRad) - std::cos(0.5 * elSpanRad)) +
                              rB * rB / (8.0 * beam.effectiveRadiusMeters) + 50.0;
         b.lo -= glm::dvec3(bulge);

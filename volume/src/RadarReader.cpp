@@ -1,6 +1,7 @@
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <atmoglobe/volume/CfRadialReader.h>
+#include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/OdimReader.h>
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -146,17 +148,7 @@ Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std:
   return makeError("no " + noun + " '" + wanted + "' (the file has: " + names + ")");
 }
 
-std::string chooseDefaultField(const std::vector<FieldInfo>& fields) {
-  if (fields.empty()) return {};
-  for (const char* name : {"DBZH", "reflectivity", "REF", "DBZ", "DBZHC", "TH", "DBZH_CLEAN"}) {
-    for (const FieldInfo& f : fields)
-      if (f.name == name) return f.name;
-  }
-  for (const FieldInfo& f : fields) {
-    if (f.name.rfind("reflectivity", 0) == 0 || f.name.rfind("DBZ", 0) == 0) return f.name;
-  }
-  return fields.front().name;
-}
+std::string chooseDefaultField(const std::vector<FieldInfo>& fields) { return chooseDefaultFieldWithReason(fields).name; }
 
 std::string normalizeIso8601(const std::string& text) {
   // YYYY-MM-DD[T ]HH:MM:SS, anything after the seconds (fraction, zone "Z") ignored.
@@ -204,8 +196,15 @@ std::string describeVolumeJson(const RadarVolume& v) {
   }
   j["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json fields = nlohmann::ordered_json::array();
-  for (const FieldInfo& f : v.fields) fields.push_back({{"name", f.name}, {"units", f.units}});
+  for (const FieldInfo& f : v.fields) {
+    const FieldKindEvidence k = classifyField(f);
+    fields.push_back({{"name", f.name}, {"units", f.units}, {"standard_name", f.standardName}, {"kind", toString(k.kind)},
+                      {"kind_reason", k.reason}});
+  }
   j["fields"] = std::move(fields);
+  const DefaultField d = chooseDefaultFieldWithReason(v.fields);
+  j["default_field"] = {{"name", d.name}, {"reason", d.reason}};
+  if (std::isfinite(v.nyquistVelocityMps)) j["nyquist_velocity_mps"] = v.nyquistVelocityMps;
   j["loaded_field"] = v.loadedField.name;
   // NaN cannot be written to JSON; the readers reject NaN metadata, so dump() never fails.
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
@@ -233,8 +232,16 @@ std::string describeVolumeText(const RadarVolume& v) {
   }
   if (std::any_of(v.sweeps.begin(), v.sweeps.end(), [](const Sweep& s) { return s.mode == SweepMode::Rhi; }))
     os << "  (a: the fixed angle of an RHI sweep is its azimuth)\n";
+  if (std::isfinite(v.nyquistVelocityMps))
+    os << "nyquist: " << std::setprecision(2) << v.nyquistVelocityMps << " m/s (largest of the sweeps)\n";
   os << "fields:  " << v.fields.size() << "\n";
-  for (const FieldInfo& f : v.fields) os << "  " << f.name << (f.units.empty() ? "" : " [" + f.units + "]") << "\n";
+  for (const FieldInfo& f : v.fields) {
+    const FieldKindEvidence k = classifyField(f);
+    os << "  " << f.name << (f.units.empty() ? "" : " [" + f.units + "]") << "  " << toString(k.kind) << " ("
+       << k.reason << ")\n";
+  }
+  const DefaultField d = chooseDefaultFieldWithReason(v.fields);
+  if (!d.name.empty()) os << "default field: " << d.name << " (" << d.reason << ")\n";
   return os.str();
 }
 

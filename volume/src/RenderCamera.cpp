@@ -1,13 +1,12 @@
 // The reference renderers' camera (RenderCamera.h).
 #include <atmoglobe/volume/RenderCamera.h>
 
+#include <atmoglobe/globe/Angles.h>
+
 #include <cassert>
 #include <cmath>
 
 namespace atmoglobe::volume {
-namespace {
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-}  // namespace
 
 RenderCamera makeLookAtCamera(const glm::dvec3& eyeEcef, const glm::dvec3& targetEcef, const glm::dvec3& upHintEcef,
                               double fovYDeg, int widthPx, int heightPx) {
@@ -18,7 +17,7 @@ RenderCamera makeLookAtCamera(const glm::dvec3& eyeEcef, const glm::dvec3& targe
   RenderCamera cam;
   cam.eyeEcef = eyeEcef;
   cam.cameraToEcef = glm::dmat3(right, up, -forward);
-  cam.focalLengthPx = heightPx / (2.0 * std::tan(0.5 * fovYDeg * kDegToRad));
+  cam.focalLengthPx = heightPx / (2.0 * std::tan(0.5 * degreesToRadians(fovYDeg)));
   cam.widthPx = widthPx;
   cam.heightPx = heightPx;
   return cam;

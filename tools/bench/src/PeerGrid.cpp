@@ -1,6 +1,7 @@
 #include <atmoglobe/bench/PeerGrid.h>
 
 #include <atmoglobe/bench/Format.h>
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 
 #include <algorithm>
@@ -23,8 +24,8 @@ volume::AntennaCoordinates FastInverse::operator()(const glm::dvec3& enu) const 
   const double x = (re + h) * std::sin(a), y = (re + h) * std::cos(a) - (re + h0);
   volume::AntennaCoordinates out;
   out.rangeMeters = std::hypot(x, y);
-  out.elevationDeg = std::atan2(y, x) * 180.0 / M_PI;
-  double az = std::atan2(q.x, q.y) * 180.0 / M_PI;
+  out.elevationDeg = radiansToDegrees(std::atan2(y, x));
+  double az = radiansToDegrees(std::atan2(q.x, q.y));
   if (az < 0.0) az += 360.0;
   out.azimuthDeg = az;
   return out;
@@ -33,12 +34,12 @@ volume::AntennaCoordinates FastInverse::operator()(const glm::dvec3& enu) const 
 glm::dvec3 FastInverse::forward(double rangeMeters, double azDeg, double elDeg) const {
   double h = 0.0, s = 0.0;
   volume::beamHeightAndGroundDistance(rangeMeters, elDeg, h0, re, &h, &s);
-  const double g = s / rs, az = azDeg * M_PI / 180.0;
+  const double g = s / rs, az = degreesToRadians(azDeg);
   return {(rs + h) * std::sin(g) * std::sin(az), (rs + h) * std::sin(g) * std::cos(az), (rs + h) * std::cos(g) - rs - h0};
 }
 
 FastInverse fastInverseFor(const volume::PolarVolume& v) {
-  const double lat = v.site.latDeg * M_PI / 180.0;
+  const double lat = degreesToRadians(v.site.latDeg);
   const double a = globe::kWgs84A, e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
   const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
   const double m = a * (1.0 - e2) / std::pow(w, 1.5), n = a / std::sqrt(w);

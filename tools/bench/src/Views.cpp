@@ -1,5 +1,6 @@
 #include <atmoglobe/bench/Views.h>
 
+#include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <algorithm>
@@ -44,8 +45,8 @@ engine::CameraPose lookAtPose(const globe::Geodetic& eye, const glm::dvec3& targ
   p.latDeg = eye.latDeg;
   p.lonDeg = eye.lonDeg;
   p.heightMeters = eye.heightMeters;
-  p.headingDeg = std::atan2(e, n) * 180.0 / M_PI;
-  p.pitchDeg = std::asin(std::clamp(u, -1.0, 1.0)) * 180.0 / M_PI;
+  p.headingDeg = radiansToDegrees(std::atan2(e, n));
+  p.pitchDeg = radiansToDegrees(std::asin(std::clamp(u, -1.0, 1.0)));
   return p;
 }
 

@@ -89,8 +89,10 @@ std::string findPeerScript(const std::string& explicitPath) {
 
 std::string peerUnavailableReason(const std::string& script) {
   const bool haveVtk = runProgram({"/usr/bin/python3", "-c", "import vtk"}, true).succeeded();
+  const bool haveNumpy = runProgram({"/usr/bin/python3", "-c", "import numpy"}, true).succeeded();
   const bool haveXvfb = !findProgram("xvfb-run").empty();
   if (!haveVtk) return "python3-vtk9 is not installed";
+  if (!haveNumpy) return "python3-numpy is not installed (vtk_peer.py needs it)";
   if (!haveXvfb) return "xvfb-run is missing";
   if (script.empty()) return "tools/bench/vtk_peer.py not found";
   return {};
@@ -101,7 +103,7 @@ Result<PeerSection> runVtkPeer(const std::vector<std::unique_ptr<BenchVolume>>& 
                                ReferenceStore& refs, std::ostream& log) {
   PeerSection out;
   if (const std::string why = peerUnavailableReason(settings.script); !why.empty()) {
-    out.note = "peer skipped: " + why + " (install with: sudo apt-get install python3-vtk9 xvfb)";
+    out.note = "peer skipped: " + why + " (install with: sudo apt-get install python3-vtk9 python3-numpy xvfb)";
     return out;
   }
   const int w = settings.widthPx, h = settings.heightPx;

@@ -49,7 +49,7 @@ struct ImageryLayerDescription {
 struct RadarLayerDescription {
   std::string path;                 ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
   std::string field;                ///< empty: the reflectivity field
-  std::string colors = "NWS";       ///< "NWS", "cividis" or a .pal file
+  std::string colors = "auto";      ///< "auto" (by the field's kind), "NWS", "cividis", "velocity" or a .pal file
   std::string mode = "dvr";         ///< dvr | mip | iso
   std::string interpolation = "linear";  ///< nearest | linear
   double stepMeters = 250.0;

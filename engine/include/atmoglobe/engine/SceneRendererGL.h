@@ -22,8 +22,10 @@ namespace atmoglobe::engine {
 Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<ImageryLayerDescription>& layers,
                                                            const globe::TileImageLoaderOptions& options);
 
-/// Render options of a radar layer description (colour table read here: .pal errors).
-Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& description);
+/// Render options of a radar layer description for the field it loaded (colours by the field's
+/// kind unless the description names a table: volume::transferForField; .pal errors).
+Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& description, const volume::FieldInfo& field,
+                                               double nyquistMps, const volume::ValueRange& range);
 
 struct SceneFrameStats {
   GlobeFrameStats globe;

@@ -1,7 +1,7 @@
 #pragma once
 // Where a radar gate is: antenna coordinates (range, azimuth, elevation) <-> WGS84.
 //
-// The model (REFERENCE §2; Doviak & Zrnic 1993, eq. 2.28):
+// The model (the 4/3 effective-Earth model of Doviak & Zrnic 1993, eq. 2.28):
 //   - the beam is a circle of effective Earth radius Re = ke * R, with R either a fixed sphere
 //     radius or, by default, the WGS84 geocentric radius at the site latitude (as wradlib);
 //   - gate height h = sqrt(r^2 + (Re+h0)^2 + 2 r (Re+h0) sin(theta)) - Re, above the datum of h0;
@@ -110,7 +110,7 @@ struct AntennaCoordinates {
 };
 
 /// Inverse of geolocateGateExact: ECEF point (m) -> (range, azimuth, elevation) under the same
-/// model (REFERENCE §2, rewritten with sin^2(gamma/2) to avoid cancellation). Round trip with the
+/// model (Doviak & Zrnic 1993, eq. 2.28, rewritten with sin^2(gamma/2) to avoid cancellation). Round trip with the
 /// forward path is within 1 mm (GeolocationTest.InverseRoundTrip).
 AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model,
                                            const glm::dvec3& ecef);

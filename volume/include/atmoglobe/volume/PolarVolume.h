@@ -167,7 +167,7 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v);
 
 /// Bytes a Cartesian grid would need to hold this volume at the radar's near-range
 /// resolution (the finest gate spacing, in x, y and z, over the box enclosing maxRange and
-/// the top beam's height), at `bytesPerVoxel`. For the comparison the issue asks for.
+/// the top beam's height), at `bytesPerVoxel`: what resampling to a box would cost (render --stats).
 double cartesianEquivalentBytes(const PolarVolume& v, double bytesPerVoxel);
 
 }  // namespace atmoglobe::volume

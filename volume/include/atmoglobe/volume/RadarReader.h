@@ -29,9 +29,9 @@ Result<RadarFormat> detectRadarFormat(const std::string& path);
 /// error naming the file and its first bytes.
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options);
 
-/// Picks the field decoded when ReadOptions::fieldName is empty: the first of DBZH,
-/// reflectivity, REF, DBZ, DBZHC, TH, DBZH_CLEAN present, else the first field whose name
-/// starts with "reflectivity" or "DBZ", else the first field. Empty if there are no fields.
+/// Picks the field decoded when ReadOptions::fieldName is empty: the reflectivity field by
+/// meaning (CF standard_name, units dBZ, known names in any case; FieldKind.h,
+/// chooseDefaultFieldWithReason), else the first field. Empty if there are no fields.
 std::string chooseDefaultField(const std::vector<FieldInfo>& fields);
 
 /// Index in `fields` of the field to load: `requested`, or chooseDefaultField when it is

@@ -62,6 +62,7 @@ struct Sweep {
 struct FieldInfo {
   std::string name;   ///< name in the file (DBZH, reflectivity, REF, ...)
   std::string units;  ///< e.g. "dBZ", "m/s"; empty if the file does not say
+  std::string standardName;  ///< CF standard_name (CfRadial); empty if the file does not say
 };
 
 struct RadarVolume {
@@ -70,6 +71,9 @@ struct RadarVolume {
   RadarSite site;
   std::string timeIso8601;         ///< volume start time, UTC, e.g. "2016-06-01T15:00:25Z"
   double beamWidthDeg = 0.0;       ///< half-power beam width if known, else 0
+  /// Largest Nyquist (unambiguous) velocity of the volume's sweeps (m/s), NaN if the file does
+  /// not give one (CfRadial nyquist_velocity, ODIM how/NI, NEXRAD RAD block).
+  double nyquistVelocityMps = std::numeric_limits<double>::quiet_NaN();
   std::vector<FieldInfo> fields;   ///< every field the file holds
   FieldInfo loadedField;           ///< the field decoded into Sweep::values (name empty if none)
   std::vector<Sweep> sweeps;       ///< sorted by fixed angle (stable: file order for equal angles)
