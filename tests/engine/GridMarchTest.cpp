@@ -8,11 +8,15 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
+#include <atmoglobe/volume/SyntheticGrid.h>
+#include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <gtest/gtest.h>
 
@@ -177,4 +181,80 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
       EXPECT_GT(e.psnrDb, 30.0) << c.name;
     }
   }
+}
+
+// A scene with a radar and a forecast grid (both synthetic, the grid's storm where the radar
+// sees it): the scene file's "grids" entry is read (unknown keys and wrong types named), the grid
+// is loaded through the scene renderer (only its time step), and where the two volumes overlap
+// the frame is their joint integral: the GPU frame against the frame with the CPU reference in
+// the volumes' place.
+TEST(GridMarch, RadarAndGridInOneScene) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGridOptions go;
+  go.nx = go.ny = 80;
+  go.levels = 20;
+  go.times = 3;
+  go.spacingKm = 5.0;
+  go.startTimeIso8601 = "2020-05-01T20:00:00Z";
+  ASSERT_TRUE(volume::writeSyntheticGrid(dir + "/scene_grid.nc", go));
+  volume::SyntheticRadarOptions ro;
+  ro.elevationsDeg = {0.5, 1.5, 2.5, 3.5, 5.0, 7.0, 10.0};
+  ro.maxRangeMeters = 120e3;
+  ASSERT_TRUE(volume::writeSyntheticCfRadial(dir + "/scene_radar.nc", ro));
+
+  // Errors name the JSON path and the problem.
+  auto typo = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "varaible": "dbz"}]})", "s.json", dir, dir);
+  ASSERT_FALSE(typo);
+  EXPECT_NE(typo.error().find("grids[0]"), std::string::npos) << typo.error();
+  EXPECT_NE(typo.error().find("varaible"), std::string::npos) << typo.error();
+  auto wrongType = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "time": 3}]})", "s.json", dir, dir);
+  ASSERT_FALSE(wrongType);
+  EXPECT_NE(wrongType.error().find("\"time\" must be a string"), std::string::npos) << wrongType.error();
+
+  auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 34.6, "lon_deg": -97.8, "height_m": 60000,
+      "heading_deg": 20, "pitch_deg": -40, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54],
+      "radars": [{"path": "@data/scene_radar.nc", "step_m": 500}],
+      "grids": [{"path": "@data/scene_grid.nc", "variable": "dbz", "time": "2020-05-01T21:00:00Z", "step_m": 500}]})",
+                                      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  ASSERT_EQ(scene->grids.size(), 1u);
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer) << renderer.error();
+  ASSERT_TRUE((*renderer)->addRadar(scene->radars[0]));
+  auto grid = (*renderer)->addGrid(scene->grids[0]);
+  ASSERT_TRUE(grid) << grid.error();
+  EXPECT_EQ((*grid)->volume->grid().validTime, "2020-05-01T21:00:00Z");
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto gpu = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(gpu) << gpu.error();
+  (*renderer)->setReferenceVolumes(2);
+  auto ref = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(ref) << ref.error();
+  // Pixels where both volumes have data along the ray: the reference samplers' intervals.
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  const auto& radarSampler = (*renderer)->radars()[0].volume->referenceSampler();
+  const auto& gridSampler = (*grid)->volume->referenceSampler();
+  const volume::VolumeImage& refVolume = (*renderer)->volumeRenderer().lastReferenceImage();
+  int overlapDrawn = 0;
+  double sum = 0.0;
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::dvec3 ray = volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
+      if (!radarSampler.rayInterval(rc.eyeEcef, ray).empty() && !gridSampler.rayInterval(rc.eyeEcef, ray).empty() &&
+          refVolume.at(x, y).a > 0.05)
+        ++overlapDrawn;
+      const glm::ivec4 d = glm::abs(glm::ivec4(gpu->at(x, y)) - glm::ivec4(ref->at(x, y)));
+      sum += d.r + d.g + d.b;
+    }
+  const double mean = sum / (3.0 * camera.widthPx() * camera.heightPx());
+  std::cout << "radar + grid scene: " << overlapDrawn << " pixels where both can be and the storm shows; "
+            << "mean |GPU - reference frame| " << mean << " (8-bit)\n";
+  EXPECT_GT(overlapDrawn, 100) << "the view must show the storm where radar and grid overlap";
+  // As for two radars (VolumeKinds.OverlappingRadarsAreIntegratedTogether): below one 8-bit step.
+  EXPECT_LT(mean, 1.0);
 }
