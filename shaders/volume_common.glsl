@@ -11,6 +11,7 @@ uniform vec3 VOL_gridCellSize;      // (m)
 uniform ivec3 VOL_gridCells;
 uniform vec2 VOL_tfRange;           // values of the transfer table's first and last entry edges
 uniform float VOL_isoValue;
+uniform vec3 VOL_isoColor;         // classify(isoValue).rgb, exact (CPU): the table quantises values
 uniform float VOL_opacityZeroValue;
 uniform float VOL_mipVisibleMin;    // MIP: a maximum below this is transparent
 

@@ -296,7 +296,6 @@ void main() {
       grad[axis] = (vp - vm) / (2.0 * h);
     }
     vec3 n = length(grad) > 0.0 ? -normalize(grad) : -dir;
-    vec4 c = volClassify(hitK, volIso(hitK));
-    o_color = vec4(c.rgb * (0.3 + 0.7 * abs(dot(n, dir))), 1.0);
+    o_color = vec4(volIsoColor(hitK) * (0.3 + 0.7 * abs(dot(n, dir))), 1.0);
   }
 }

@@ -31,6 +31,13 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--stations", o.stations, "Station list to draw as markers: CSV (header with id, lat, lon[, elevation]) "
                                          "or JSON (array of objects, or id -> object)");
   c.add_option("--cones", o.models, "A cone export (.glb from `atmoglobe export-cones`) to draw at its place (repeatable)");
+  auto* gg = c.add_option_group("Forecast grids", "Each option below is given once (all grids) or once per --grid, in order");
+  gg->add_option("--grid", o.grids, "NetCDF forecast grid to ray-march (CF or WRF; repeatable; replaces the scene's grids)");
+  gg->add_option("--var", o.variables, "Grid variable (default: the file's default, see `atmoglobe info`)");
+  gg->add_option("--time", o.times, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
+  gg->add_option("--grid-colors", o.gridColors, "Grid colour table: auto (by the variable's units/standard_name), cividis, NWS or a .pal file");
+  gg->add_option("--grid-mode", o.gridModes, "Grid rendering: dvr, mip or iso");
+  gg->add_option("--grid-step", o.gridSteps, "Grid ray-march step (m; the radars' step integrates both where they overlap)");
   auto* g = c.add_option_group("Radar volumes",
                                "Each option below is given once (all radars) or once per --radar, in order");
   g->add_option("--radar", o.radars,
@@ -84,6 +91,15 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
     auto layer = renderer.addRadar(d);
     if (!layer) return layer.forwardError();
     std::cerr << d.path << ": " << (*layer)->datumNote << "\n";
+  }
+  for (const engine::GridLayerDescription& d : scene.grids) {
+    auto layer = renderer.addGrid(d);
+    if (!layer) return layer.forwardError();
+    const volume::GridVolume& g = (*layer)->volume->grid();
+    std::cerr << d.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
+              << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
+              << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0 << " MiB read; heights: "
+              << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "") << "\n";
   }
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st) return st.forwardError();
@@ -216,6 +232,32 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     }
     if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return st.forwardError();
     scene->radars.push_back(d);
+  }
+  const std::size_t ng = o.grids.size();
+  auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) -> Status {
+    if (values.empty()) return Ok{};
+    if (values.size() != 1 && values.size() != ng) {
+      return makeError(std::string(name) + ": give it once or once per --grid (" + std::to_string(ng) + ")");
+    }
+    out = values.size() == 1 ? values[0] : values[i];
+    return Ok{};
+  };
+  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
+                  !o.gridSteps.empty())) {
+    return makeError("--var/--time/--grid-colors/--grid-mode/--grid-step need a --grid");
+  }
+  if (ng > 0) scene->grids.clear();  // --grid replaces the scene's grids
+  for (std::size_t i = 0; i < ng; ++i) {
+    engine::GridLayerDescription d;
+    d.path = o.grids[i];
+    d.useGeoid = !o.noGeoid;
+    for (const Status& st : {pickGrid(o.variables, "--var", i, d.variable), pickGrid(o.times, "--time", i, d.time),
+                             pickGrid(o.gridColors, "--grid-colors", i, d.colors), pickGrid(o.gridModes, "--grid-mode", i, d.mode),
+                             pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
+      if (!st) return st.forwardError();
+    }
+    if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
+    scene->grids.push_back(d);
   }
   for (const auto& layer : scene->imagery) {
     if (!std::filesystem::exists(layer.path)) {

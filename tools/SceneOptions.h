@@ -28,6 +28,10 @@ struct SceneOptions {
   std::vector<std::string> fields, colors, modes, interpolations, beams, classifications;
   std::vector<double> steps, imageScales, isoValues;
   bool noGeoid = false;
+  // Forecast grids: one entry per --grid; --var/--time/--grid-colors/--grid-mode/--grid-step
+  // once (every grid) or once per grid.
+  std::vector<std::string> grids, variables, times, gridColors, gridModes;
+  std::vector<double> gridSteps;
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
@@ -39,7 +43,7 @@ std::string dataDirectory();
 Result<engine::SceneDescription> resolveScene(const SceneOptions& options);
 
 /// Loads what the scene needs beyond imagery into the renderer: radar volumes (their site
-/// markers included) and the station list as markers (appended to `markers`). Prints the
+/// markers included), forecast grids and the station list as markers (appended to `markers`). Prints the
 /// vertical datum used for each radar to stderr.
 Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
                      std::vector<engine::Marker>* markers);

@@ -47,7 +47,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   } catch (const json::parse_error& e) {
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
-  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "stations"}, sourceName);
+  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations"}, sourceName);
       !s) {
     return s.forwardError();
   }
@@ -180,7 +180,61 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       scene.radars.push_back(d);
     }
   }
+  if (root.contains("grids")) {
+    if (!root["grids"].is_array()) return makeError(sourceName + ": grids must be an array");
+    int i = 0;
+    for (const json& r : root["grids"]) {
+      const std::string where = sourceName + ": grids[" + std::to_string(i++) + "]";
+      if (auto s = checkKeys(r, {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
+                                 "iso_value", "classification", "geoid"},
+                             where);
+          !s) {
+        return s.forwardError();
+      }
+      GridLayerDescription d;
+      if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+      d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
+      for (auto [key, out] : {std::pair<const char*, std::string*>{"variable", &d.variable}, {"time", &d.time},
+                              {"colors", &d.colors}, {"mode", &d.mode}, {"interpolation", &d.interpolation},
+                              {"classification", &d.classification}}) {
+        if (!r.contains(key)) continue;
+        if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
+        *out = r[key].get<std::string>();
+      }
+      if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
+        d.colors = resolvePath(d.colors, baseDir, dataDir);
+      }
+      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters}, {"image_scale", &d.imageScale},
+                              {"iso_value", &d.isoValue}}) {
+        auto v = number(r, key, *out, where);
+        if (!v) return v.forwardError();
+        *out = *v;
+      }
+      if (r.contains("geoid")) {
+        if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
+        d.useGeoid = r["geoid"].get<bool>();
+      }
+      if (auto s = validateGridLayer(d, where); !s) return s.forwardError();
+      scene.grids.push_back(d);
+    }
+  }
   return scene;
+}
+
+Status validateGridLayer(const GridLayerDescription& d, const std::string& where) {
+  if (d.mode != "dvr" && d.mode != "mip" && d.mode != "iso") {
+    return makeError(where + ": mode must be dvr, mip or iso, not \"" + d.mode + "\"");
+  }
+  if (d.interpolation != "nearest" && d.interpolation != "linear") {
+    return makeError(where + ": interpolation must be nearest or linear, not \"" + d.interpolation + "\"");
+  }
+  if (d.classification != "point" && d.classification != "preintegrated") {
+    return makeError(where + ": classification must be point or preintegrated, not \"" + d.classification + "\"");
+  }
+  if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
+  if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
+  if (std::isinf(d.isoValue)) return makeError(where + ": iso value must be finite");
+  return Ok{};
 }
 
 Status validateRadarLayer(const RadarLayerDescription& d, const std::string& where) {

@@ -4,9 +4,13 @@
 #include <atmoglobe/globe/XyzLayer.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/FieldKind.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 namespace atmoglobe::engine {
 
@@ -94,6 +98,41 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   return &radars_.back();
 }
 
+Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& d) {
+  volume::GridReadOptions read;
+  read.variable = d.variable;
+  read.useGeoid = d.useGeoid;
+  if (!d.time.empty() && std::all_of(d.time.begin(), d.time.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    if (d.time.size() > 9) return makeError(d.path + ": time index " + d.time + " is too large");
+    read.timeIndex = static_cast<std::size_t>(std::stoul(d.time));
+  } else {
+    read.timeIso8601 = d.time;
+  }
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  const volume::ValueRange range{grid->valueMin, grid->valueMax};
+  if (!(range.minValue <= range.maxValue))
+    return makeError(d.path + ": " + grid->variable + " has no valid value at " +
+                     (grid->validTime.empty() ? std::string("the step read") : grid->validTime));
+  VolumeRenderOptions o;
+  o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
+                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
+                                    : volume::VolumeRenderMode::Dvr;
+  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
+  o.render.stepMeters = d.stepMeters;
+  o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
+  auto transfer = volume::transferForField(d.colors, volume::FieldInfo{grid->variable, grid->units, grid->standardName},
+                                           std::numeric_limits<double>::quiet_NaN(), range);
+  if (!transfer) return transfer.forwardError();
+  o.render.transfer = std::move(*transfer);
+  o.imageScale = d.imageScale;
+  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
+  auto gl = GridVolumeGL::create(*grid);
+  if (!gl) return gl.forwardError();
+  grids_.push_back(GridLayerGL{std::move(*gl), o});
+  return &grids_.back();
+}
+
 SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::vector<Marker>& markers,
                                              const FramebufferGL& target) {
   const auto start = std::chrono::steady_clock::now();
@@ -117,6 +156,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     layers.push_back(VolumeLayerGL{radar.volume.get(), radar.options});
     all.push_back(radar.siteMarker);
   }
+  for (const GridLayerGL& grid : grids_) layers.push_back(VolumeLayerGL{grid.volume.get(), grid.options});
   if (!layers.empty() && referenceThreads_ > 0) {
     const auto t0 = std::chrono::steady_clock::now();
     volumeRenderer_->drawReference(camera, layers, target, referenceThreads_);

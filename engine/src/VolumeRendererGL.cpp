@@ -62,6 +62,7 @@ std::string dispatchSource(int count) {
       {"vec4 volTfIntegral(int k, float v)", "vec4", "VOL_tfIntegral(v)", "vec4(0.0)"},
       {"vec2 volTfRange(int k)", "vec2", "VOL_tfRange", "vec2(0.0, 1.0)"},
       {"float volIso(int k)", "float", "VOL_isoValue", "0.0"},
+      {"vec3 volIsoColor(int k)", "vec3", "VOL_isoColor", "vec3(0.0)"},
       {"float volOpacityZero(int k)", "float", "VOL_opacityZeroValue", "0.0"},
       {"float volMipVisibleMin(int k)", "float", "VOL_mipVisibleMin", "0.0"},
   };
@@ -182,7 +183,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
     const std::string p = volumePrefix(k);
     auto v = [&](const char* name) { return location(std::string(p).append(name)); };
     l.volumes.push_back({v("eyeRel"), v("ecefToLocal"), v("gridMinLocal"), v("gridCellSize"), v("gridCells"),
-                         v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange")});
+                         v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange"), v("isoColor")});
     glProgramUniform1i(id, v("grid"), gridUnit(static_cast<int>(k)));
   }
   entry.slots.resize(variant.volumes.size());
@@ -312,6 +313,10 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
                                    static_cast<float>(grid.cells.y), static_cast<float>(grid.cells.z),
                                    static_cast<float>(s.isoValue), static_cast<float>(s.transfer.opacityZeroValue),
                                    static_cast<float>(firstVisible), static_cast<float>(tfLo), static_cast<float>(tfHi)});
+    // The isosurface's colour, classified exactly here (the table quantises values to
+    // (max - min) / TRANSFER_ENTRIES, which at a stepped table's band edge picks the band below).
+    const glm::dvec4 isoColor = s.transfer.classify(s.isoValue);
+    generic.insert(generic.end(), {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g), static_cast<float>(isoColor.b)});
     if (generic != slot.generic) {
       glUniformMatrix3fv(vl.ecefToLocal, 1, GL_FALSE, generic.data());
       glUniform3fv(vl.eyeRel, 1, generic.data() + 9);
@@ -322,7 +327,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       glUniform1f(vl.opacityZeroValue, generic[22]);
       glUniform1f(vl.mipVisibleMin, generic[23]);
       glUniform2f(vl.tfRange, generic[24], generic[25]);
-      uniformUploads_ += 9;
+      glUniform3fv(vl.isoColor, 1, generic.data() + 26);
+      uniformUploads_ += 10;
       slot.generic = std::move(generic);
     }
     glBindTextureUnit(static_cast<GLuint>(gridUnit(k)), vol.occupancy().texture());

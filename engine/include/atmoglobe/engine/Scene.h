@@ -24,6 +24,7 @@
 
 #include <glm/glm.hpp>
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -61,6 +62,24 @@ struct RadarLayerDescription {
   bool useGeoid = true;
 };
 
+/// A forecast grid to ray-march (GridVolumeGL.h; the reader: volume/GridReader.h).
+struct GridLayerDescription {
+  std::string path;                 ///< NetCDF file (CF or WRF)
+  std::string variable;             ///< empty: the file's default variable
+  std::string time;                 ///< empty: the first step; an index ("3") or an ISO 8601 UTC time
+  std::string colors = "auto";      ///< "auto" (cividis over the variable's range), "cividis", "NWS" or a .pal file
+  std::string mode = "dvr";         ///< dvr | mip | iso
+  std::string interpolation = "linear";  ///< nearest | linear
+  double stepMeters = 250.0;        ///< as radars: volumes of one step are integrated together where they overlap
+  double imageScale = 1.0;
+  double isoValue = std::numeric_limits<double>::quiet_NaN();  ///< NaN: the middle of the value range
+  std::string classification = "point";
+  bool useGeoid = true;
+};
+
+/// Checks a grid layer's enumerated fields and numbers (as validateRadarLayer).
+Status validateGridLayer(const GridLayerDescription& grid, const std::string& where);
+
 struct SceneDescription {
   CameraPose camera;
   double fovYDeg = 60.0;
@@ -69,6 +88,7 @@ struct SceneDescription {
   std::vector<ImageryLayerDescription> imagery;  ///< bottom layer first
   std::vector<Marker> markers;
   std::vector<RadarLayerDescription> radars;
+  std::vector<GridLayerDescription> grids;
   std::string stationsPath;  ///< station list drawn as markers (empty: none)
   std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
 };

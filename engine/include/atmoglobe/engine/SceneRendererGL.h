@@ -6,6 +6,7 @@
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/GlobeRendererGL.h>
 #include <atmoglobe/engine/GltfModelRendererGL.h>
+#include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -41,6 +42,12 @@ struct RadarLayerGL {
   std::string datumNote;  ///< which vertical datum / geoid undulation was used
 };
 
+/// A forecast grid loaded for rendering: its GPU volume (with its CPU twin) and its options.
+struct GridLayerGL {
+  std::unique_ptr<GridVolumeGL> volume;
+  VolumeRenderOptions options;
+};
+
 class SceneRendererGL {
  public:
   static Result<std::unique_ptr<SceneRendererGL>> create(std::shared_ptr<globe::TileImageLoader> loader,
@@ -48,6 +55,10 @@ class SceneRendererGL {
   /// Reads, places and uploads a radar volume (the only field asked for is decoded).
   Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
   std::vector<RadarLayerGL>& radars() { return radars_; }
+  /// Reads the variable and time step a grid layer names (only that hyperslab: GridReader.h),
+  /// places and uploads it. Drawn with the radars in one march where they overlap.
+  Result<const GridLayerGL*> addGrid(const GridLayerDescription& description);
+  std::vector<GridLayerGL>& grids() { return grids_; }
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 
@@ -71,6 +82,7 @@ class SceneRendererGL {
   std::unique_ptr<MarkerRendererGL> markers_;
   std::unique_ptr<VolumeRendererGL> volumeRenderer_;
   std::vector<RadarLayerGL> radars_;
+  std::vector<GridLayerGL> grids_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   int referenceThreads_ = 0;
 };

@@ -92,7 +92,7 @@ class VolumeRendererGL {
     GLint cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
     struct Volume {
       GLint eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
-            opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1;
+            opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1;
     };
     std::vector<Volume> volumes;
   };

@@ -1,0 +1,55 @@
+#pragma once
+// A forecast grid on the GPU in its own geometry (no Cartesian resampling): values and level
+// heights as 3-D textures in the grid's (column, row, level) layout, lookup tables from longitude
+// and latitude (rectilinear) or from (latitude, longitude) (curvilinear) to fractional grid
+// indices, and an empty-space grid; drawn by VolumeRendererGL through shaders/sample_grid.glsl.
+// The sampling rule is volume::GridSampler's (its CPU twin, the reference).
+//
+// Texture layout: a grid that wraps in longitude gets one more column (a copy of column 0), so
+// the seam is an ordinary cell; a global grid gets a row below and above (its pole columns: the
+// end rows' means, volume::GridSampler), so the polar caps are ordinary cells too.
+// Precision: the shader works on float32 ECEF (origin + position) converted to latitude,
+// longitude and height by Bowring's formula, about 0.5 m at the Earth's radius; the lookup
+// tables are sampled linearly (exact for uniform axes). Both errors are measured against the
+// double path (GridMarchTest).
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridSampler.h>
+#include <atmoglobe/volume/GridVolume.h>
+
+#include <memory>
+
+namespace atmoglobe::engine {
+
+class GridVolumeGL final : public VolumeGL {
+ public:
+  /// Uploads `grid` (copied: the volume keeps its CPU twin for the reference). Errors: an empty
+  /// grid, a texture larger than the GPU allows.
+  static Result<std::unique_ptr<GridVolumeGL>> create(const volume::GridVolume& grid);
+  ~GridVolumeGL() override;
+
+  const volume::GridVolume& grid() const { return *grid_; }
+  std::string_view samplerShaderFile() const override { return "sample_grid.glsl"; }
+  std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const override;
+  glm::dvec3 originEcef() const override { return origin_; }
+  void setSamplerUniforms(const SamplerBindingGL& binding) const override;
+  void bindSamplerTextures(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  volume::ValueRange valueRange() const override { return sampler_->valueRange(); }
+  std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
+  std::string description() const override { return sampler_->description(); }
+  const volume::VolumeSampler& referenceSampler() const override { return *sampler_; }
+
+ private:
+  GridVolumeGL() = default;
+  std::shared_ptr<const volume::GridVolume> grid_;
+  std::unique_ptr<volume::GridSampler> sampler_;
+  glm::dvec3 origin_{0.0};
+  GLuint values_ = 0, heights_ = 0, lookup_ = 0;  ///< lookup_: 2-D; rectilinear: row 0 longitude, row 1 latitude
+  glm::ivec3 textureSize_{1};                     ///< columns, rows, levels of values_/heights_
+  int rowOffset_ = 0;                             ///< 1 when the grid has pole rows
+  glm::vec2 lonRange_{0.0f}, latRange_{0.0f};     ///< the lookup tables' domains (deg)
+  glm::ivec2 lookupSize_{1};
+  std::size_t gpuBytes_ = 0;
+};
+
+}  // namespace atmoglobe::engine

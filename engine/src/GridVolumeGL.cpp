@@ -1,0 +1,213 @@
+// A forecast grid on the GPU (GridVolumeGL.h).
+#include <atmoglobe/engine/GridVolumeGL.h>
+
+#include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace atmoglobe::engine {
+namespace {
+
+// Missing values in the texture (NaN tests can be optimised away by GLSL compilers).
+constexpr float kMissing = -1.0e38f;
+constexpr int kLookupEntries = 4096;  // per axis of a rectilinear grid's tables
+
+}  // namespace
+
+Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVolume& grid) {
+  const std::string name = grid.path.empty() ? std::string("grid") : grid.path;
+  if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2)
+    return makeError(name + ": " + grid.variable + ": a grid needs at least 2 columns, rows and levels to be drawn (has " +
+                     std::to_string(grid.nx) + " x " + std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + ")");
+  std::unique_ptr<GridVolumeGL> gl(new GridVolumeGL());
+  gl->grid_ = std::make_shared<volume::GridVolume>(grid);
+  gl->sampler_ = std::make_unique<volume::GridSampler>(*gl->grid_);
+  const volume::GridVolume& g = *gl->grid_;
+  const volume::GridSampler& s = *gl->sampler_;
+  const bool wraps = g.wrapsLongitude && !g.curvilinear;
+  const bool caps = s.hasPoleCaps();
+  gl->rowOffset_ = caps ? 1 : 0;
+  gl->textureSize_ = glm::ivec3(static_cast<int>(g.nx) + (wraps ? 1 : 0), static_cast<int>(g.ny) + (caps ? 2 : 0),
+                                static_cast<int>(g.nz));
+  GLint max3d = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  if (gl->textureSize_.x > max3d || gl->textureSize_.y > max3d || gl->textureSize_.z > max3d)
+    return makeError(name + ": " + g.variable + ": " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " +
+                     std::to_string(g.nz) + " exceeds the GPU's 3-D texture size " + std::to_string(max3d) +
+                     " (crop the grid)");
+  const volume::BoundingSphere sphere = s.boundingSphere();
+  gl->origin_ = sphere.centreEcef;
+
+  // The column of texture column tc, row tr: a grid column, a copy of column 0, or a pole.
+  const int nx = static_cast<int>(g.nx), ny = static_cast<int>(g.ny);
+  auto columnOf = [&](int tc, int tr) {
+    const int r = tr - gl->rowOffset_;
+    if (r < 0) return int{volume::GridColumns::kSouthPole};
+    if (r >= ny) return int{volume::GridColumns::kNorthPole};
+    return r * nx + (tc % nx);
+  };
+  // Position of a texture column/row (for the empty-space boxes).
+  auto latLonOf = [&](int tc, int tr) {
+    const int r = tr - gl->rowOffset_;
+    if (r < 0) return glm::dvec2(-90.0, g.lonDeg[0]);
+    if (r >= ny) return glm::dvec2(90.0, g.lonDeg[0]);
+    const int c = tc % nx;
+    const double lon = g.lonDegAt(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) + (tc >= nx ? 360.0 : 0.0);
+    return glm::dvec2(g.latDegAt(static_cast<std::size_t>(r), static_cast<std::size_t>(c)), lon);
+  };
+
+  // Values and heights: RG32F (value or kMissing, height above the ellipsoid).
+  const glm::ivec3 ts = gl->textureSize_;
+  std::vector<glm::vec2> texels(static_cast<std::size_t>(ts.x) * ts.y * ts.z);
+  for (int k = 0; k < ts.z; ++k)
+    for (int tr = 0; tr < ts.y; ++tr)
+      for (int tc = 0; tc < ts.x; ++tc) {
+        const int column = columnOf(tc, tr);
+        const float v = s.columnValue(column, static_cast<std::size_t>(k));
+        texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
+            glm::vec2(std::isfinite(v) ? v : kMissing, static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
+      }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
+  glTextureStorage3D(gl->values_, 1, GL_RG32F, ts.x, ts.y, ts.z);
+  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, ts.x, ts.y, ts.z, GL_RG, GL_FLOAT, texels.data());
+  gl->gpuBytes_ = texels.size() * sizeof(glm::vec2);
+
+  // Lookup tables, computed by the CPU sampler's own horizontalIndex (exact at the entries).
+  if (!g.curvilinear) {
+    const double lonStart = g.lonDeg[0];
+    const double lonSpan = wraps ? 360.0 : g.lonDeg[g.nx - 1] - g.lonDeg[0];
+    const double latStart = caps ? -90.0 : g.latDeg[0];
+    const double latSpan = (caps ? 90.0 : g.latDeg[g.ny - 1]) - latStart;
+    gl->lonRange_ = glm::vec2(static_cast<float>(lonStart), static_cast<float>(lonSpan));
+    gl->latRange_ = glm::vec2(static_cast<float>(latStart), static_cast<float>(latSpan));
+    gl->lookupSize_ = glm::ivec2(kLookupEntries, 2);
+    std::vector<float> table(2 * kLookupEntries);
+    for (int e = 0; e < kLookupEntries; ++e) {
+      const double f = static_cast<double>(e) / (kLookupEntries - 1);
+      const double lon = lonStart + f * lonSpan;
+      const auto ijLon = s.horizontalIndex(g.latDeg[0], lon);
+      // The last entry of a wrapping grid is column nx (the copy of column 0), not 0.
+      table[e] = wraps && e == kLookupEntries - 1 ? static_cast<float>(g.nx)
+                                                   : static_cast<float>(ijLon ? ijLon->x : static_cast<double>(g.nx - 1));
+      const double lat = std::clamp(latStart + f * latSpan, -90.0, 90.0);
+      const auto ijLat = s.horizontalIndex(lat, g.lonDeg[0]);
+      table[kLookupEntries + e] = static_cast<float>((ijLat ? ijLat->y : 0.0) + gl->rowOffset_);
+    }
+    gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
+    glTextureStorage2D(gl->lookup_, 1, GL_R32F, kLookupEntries, 2);
+    glTextureSubImage2D(gl->lookup_, 0, 0, 0, kLookupEntries, 2, GL_RED, GL_FLOAT, table.data());
+    gl->gpuBytes_ += table.size() * sizeof(float);
+  } else {
+    const auto [lonMinIt, lonMaxIt] = std::minmax_element(g.lonDeg.begin(), g.lonDeg.end());
+    const auto [latMinIt, latMaxIt] = std::minmax_element(g.latDeg.begin(), g.latDeg.end());
+    gl->lonRange_ = glm::vec2(static_cast<float>(*lonMinIt), static_cast<float>(*lonMaxIt - *lonMinIt));
+    gl->latRange_ = glm::vec2(static_cast<float>(*latMinIt), static_cast<float>(*latMaxIt - *latMinIt));
+    const int w = std::clamp(4 * nx, 2, 2048), h = std::clamp(4 * ny, 2, 2048);
+    gl->lookupSize_ = glm::ivec2(w, h);
+    std::vector<glm::vec2> table(static_cast<std::size_t>(w) * h);
+    for (int b = 0; b < h; ++b)
+      for (int a = 0; a < w; ++a) {
+        const double lat = *latMinIt + (*latMaxIt - *latMinIt) * b / (h - 1);
+        const double lon = *lonMinIt + (*lonMaxIt - *lonMinIt) * a / (w - 1);
+        const auto ij = s.horizontalIndex(lat, lon);
+        table[static_cast<std::size_t>(b) * w + a] = ij ? glm::vec2(*ij) : glm::vec2(-1.0e6f);
+      }
+    gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
+    glTextureStorage2D(gl->lookup_, 1, GL_RG32F, w, h);
+    glTextureSubImage2D(gl->lookup_, 0, 0, 0, w, h, GL_RG, GL_FLOAT, table.data());
+    gl->gpuBytes_ += table.size() * sizeof(glm::vec2);
+  }
+
+  // Empty-space grid: a box per block of 8 x 8 columns x 4 levels around every texel of the
+  // block and its far neighbours (samples interpolate up to the next texel), in the local frame,
+  // widened by the sagitta of the block's width (the levels curve with the Earth between the
+  // texels) and 5 % of it; the block's largest value.
+  const bool global = sphere.centreEcef == glm::dvec3(0.0);
+  const glm::dmat3 frame = global ? glm::dmat3(1.0) : [&] {
+    const globe::Geodetic c = globe::ecefToGeodetic(sphere.centreEcef);
+    return globe::enuAxes(c.latDeg, c.lonDeg);
+  }();
+  const glm::dmat3 toLocal = glm::transpose(frame);
+  std::vector<volume::OccupancyBox> boxes;
+  constexpr int kBx = 8, kBz = 4;
+  for (int k0 = 0; k0 < ts.z - 1; k0 += kBz)
+    for (int r0 = 0; r0 < ts.y - 1; r0 += kBx)
+      for (int c0 = 0; c0 < ts.x - 1; c0 += kBx) {
+        const int k1 = std::min(k0 + kBz, ts.z - 1), r1 = std::min(r0 + kBx, ts.y - 1), c1 = std::min(c0 + kBx, ts.x - 1);
+        float maxValue = volume::kOccupancyEmptyValue;
+        for (int k = k0; k <= k1; ++k)
+          for (int r = r0; r <= r1; ++r)
+            for (int c = c0; c <= c1; ++c) {
+              const float v = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].x;
+              if (v != kMissing) maxValue = std::max(maxValue, v);
+            }
+        if (maxValue == volume::kOccupancyEmptyValue) continue;
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int r = r0; r <= r1; ++r)
+          for (int c = c0; c <= c1; ++c) {
+            const glm::dvec2 ll = latLonOf(c, r);
+            for (int k : {k0, k1}) {
+              const double hgt = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].y;
+              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({ll.x, ll.y, hgt}) - gl->origin_);
+              lo = glm::min(lo, p);
+              hi = glm::max(hi, p);
+            }
+          }
+        const double width = glm::length(glm::dvec2(hi - lo));
+        const double margin = width * width / (8.0 * 6.35e6) + 0.05 * width + 10.0;
+        boxes.push_back({lo - margin, hi + margin, maxValue});
+      }
+  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(gl->origin_, frame, boxes, glm::ivec3(128, 128, 32)));
+  return gl;
+}
+
+GridVolumeGL::~GridVolumeGL() {
+  for (GLuint t : {values_, lookup_})
+    if (t) glDeleteTextures(1, &t);
+}
+
+std::vector<std::string> GridVolumeGL::samplerDefines(const VolumeRenderOptions& options) const {
+  return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
+          std::string("CURVILINEAR ") + (grid_->curvilinear ? "1" : "0"),
+          std::string("WRAPS ") + (grid_->wrapsLongitude && !grid_->curvilinear ? "1" : "0")};
+}
+
+void GridVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
+  UniformCacheGL& u = *b.uniforms;
+  const std::string& p = b.prefix;
+  auto name = [&](const char* n) { return std::string(p).append(n); };
+  const volume::BoundingSphere sphere = sampler_->boundingSphere();
+  glUniform3fv(u(name("origin")), 1, glm::value_ptr(glm::vec3(origin_)));
+  glUniform4f(u(name("sphere")), static_cast<float>(sphere.centreEcef.x - origin_.x),
+              static_cast<float>(sphere.centreEcef.y - origin_.y), static_cast<float>(sphere.centreEcef.z - origin_.z),
+              static_cast<float>(sphere.radiusMeters));
+  glUniform1f(u(name("outerRadius")), static_cast<float>(globe::kWgs84A + std::max(0.0, sampler_->maxHeightMeters()) + 1.0));
+  glUniform2f(u(name("heightRange")), static_cast<float>(sampler_->minHeightMeters()),
+              static_cast<float>(sampler_->maxHeightMeters()));
+  glUniform4f(u(name("lonLat")), lonRange_.x, lonRange_.y, latRange_.x, latRange_.y);
+  glUniform2iv(u(name("lookupSize")), 1, glm::value_ptr(lookupSize_));
+  glUniform3iv(u(name("texSize")), 1, glm::value_ptr(textureSize_));
+  glUniform1i(u(name("rowOffset")), rowOffset_);
+  // The reference of the shader's small-angle geodetic conversion: the grid's centre.
+  const globe::Geodetic ref = sphere.centreEcef == glm::dvec3(0.0) ? globe::Geodetic{0.0, 0.0, 0.0}
+                                                                   : globe::ecefToGeodetic(sphere.centreEcef);
+  const double la = degreesToRadians(ref.latDeg), lo = degreesToRadians(ref.lonDeg);
+  glUniform4f(u(name("reference")), static_cast<float>(ref.latDeg), static_cast<float>(ref.lonDeg), 0.0f, 0.0f);
+  glUniform4f(u(name("referenceTrig")), static_cast<float>(std::cos(la)), static_cast<float>(std::sin(la)),
+              static_cast<float>(std::cos(lo)), static_cast<float>(std::sin(lo)));
+  glUniform1i(u(name("data")), b.firstUnit);
+  glUniform1i(u(name("lookup")), b.firstUnit + 1);
+}
+
+void GridVolumeGL::bindSamplerTextures(const SamplerBindingGL& b, const VolumeRenderOptions&) const {
+  glBindTextureUnit(static_cast<GLuint>(b.firstUnit), values_);
+  glBindTextureUnit(static_cast<GLuint>(b.firstUnit + 1), lookup_);
+}
+
+}  // namespace atmoglobe::engine

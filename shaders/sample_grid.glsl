@@ -1,0 +1,153 @@
+// Sampler of a forecast grid in its own geometry (spec: volume/GridSampler.h; layout:
+// engine/GridVolumeGL.h), included once per grid of a march with VOL_ replaced by that volume's
+// prefix (engine/VolumeGL.h).
+//
+// Each sample: ECEF (float32: the origin plus the position) -> latitude, longitude, height
+// (Bowring's formula) -> fractional column and row (lookup tables) -> the four columns around
+// it, the level by bisection in their blended heights -> the value, linear in height between
+// levels (or the nearest column and level).
+//
+// Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_CURVILINEAR (lookup by
+// (latitude, longitude) instead of per axis), VOL_WRAPS (longitudes taken modulo 360 over the
+// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO.
+
+uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or -1e38 missing, height above the ellipsoid m)
+uniform sampler2D VOL_lookup;   // rectilinear R32F: row 0 longitude -> column, row 1 latitude -> row;
+                                // curvilinear RG32F: (latitude, longitude) -> (column, row), -1e6 outside
+uniform vec3 VOL_origin;        // the volume's origin (ECEF m, narrowed)
+uniform vec4 VOL_sphere;        // bounding sphere: centre relative to the origin, radius
+uniform float VOL_outerRadius;  // a sphere about the Earth's centre holding the top level (m)
+uniform vec2 VOL_heightRange;   // lowest and highest level height (m above the ellipsoid)
+uniform vec4 VOL_lonLat;        // the tables' domains: longitude start, span, latitude start, span (deg)
+uniform ivec2 VOL_lookupSize;
+uniform ivec3 VOL_texSize;      // columns, rows, levels of VOL_data
+uniform int VOL_rowOffset;      // 1 when row 0 is the south pole row
+uniform vec4 VOL_reference;     // a reference latitude, longitude (deg) and their cos/sin packed: lat, lon, (unused)
+uniform vec4 VOL_referenceTrig; // cos lat0, sin lat0, cos lon0, sin lon0
+
+// WGS84 geodetic latitude, longitude (deg) and height (m) of an ECEF point, Bowring's formula
+// (one step from the parametric latitude). The angles come out of atan as small differences from
+// a reference latitude/longitude (the grid's centre), then added to it: float atan is accurate
+// relative to its result, so small angles keep metres where whole ones lose tens of metres.
+vec3 VOL_geodetic(vec3 p) {
+  const float a = 6378137.0;
+  const float e2 = 6.69437999014e-3;
+  const float b = a * 0.99664718933525;  // a sqrt(1 - e2)
+  const float ep2 = e2 / (1.0 - e2);
+  vec3 e = VOL_origin + p;
+  float rho = length(e.xy);
+  float theta = atan(e.z * a, rho * b);
+  float st = sin(theta), ct = cos(theta);
+  float num = e.z + ep2 * b * st * st * st, den = rho - e2 * a * ct * ct * ct;
+  vec4 r = VOL_referenceTrig;
+  float dLat = atan(num * r.x - den * r.y, den * r.x + num * r.y);
+  float dLon = atan(e.y * r.z - e.x * r.w, e.x * r.z + e.y * r.w);
+  float lat = radians(VOL_reference.x) + dLat;
+  float sl = sin(lat), cl = cos(lat);
+  float h = rho * cl + e.z * sl - a * sqrt(1.0 - e2 * sl * sl);
+  return vec3(VOL_reference.x + degrees(dLat), VOL_reference.y + degrees(dLon), h);
+}
+
+// Fractional texture column and row of a latitude/longitude; false outside the grid.
+bool VOL_columnRow(vec2 latLon, out vec2 ij) {
+  ij = vec2(0.0);
+  float lonOffset = mod(latLon.y - VOL_lonLat.x, 360.0);
+#if VOL_CURVILINEAR
+  vec2 x = vec2(lonOffset / VOL_lonLat.y, (latLon.x - VOL_lonLat.z) / VOL_lonLat.w) * vec2(VOL_lookupSize - 1);
+  if (any(lessThan(x, vec2(0.0))) || any(greaterThan(x, vec2(VOL_lookupSize - 1)))) return false;
+  ivec2 c = min(ivec2(floor(x)), VOL_lookupSize - 2);
+  vec2 f = x - vec2(c);
+  vec2 a00 = texelFetch(VOL_lookup, c, 0).rg, a10 = texelFetch(VOL_lookup, c + ivec2(1, 0), 0).rg;
+  vec2 a01 = texelFetch(VOL_lookup, c + ivec2(0, 1), 0).rg, a11 = texelFetch(VOL_lookup, c + ivec2(1, 1), 0).rg;
+  if (min(min(a00.x, a10.x), min(a01.x, a11.x)) < -0.5) return false;  // at the domain's edge
+  ij = mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
+#else
+#if VOL_WRAPS == 0
+  if (lonOffset > VOL_lonLat.y) return false;
+#endif
+  float x = lonOffset / VOL_lonLat.y * float(VOL_lookupSize.x - 1);
+  float y = (latLon.x - VOL_lonLat.z) / VOL_lonLat.w * float(VOL_lookupSize.x - 1);
+  if (y < 0.0 || y > float(VOL_lookupSize.x - 1)) return false;
+  int xi = min(int(x), VOL_lookupSize.x - 2), yi = min(int(y), VOL_lookupSize.x - 2);
+  ij.x = mix(texelFetch(VOL_lookup, ivec2(xi, 0), 0).r, texelFetch(VOL_lookup, ivec2(xi + 1, 0), 0).r, x - float(xi));
+  ij.y = mix(texelFetch(VOL_lookup, ivec2(yi, 1), 0).r, texelFetch(VOL_lookup, ivec2(yi + 1, 1), 0).r, y - float(yi));
+#endif
+  return true;
+}
+
+// Level k at the four columns, blended: (value or < -1e37 when any is missing, height).
+vec2 VOL_level(ivec2 c, vec2 f, int k) {
+  vec2 d00 = texelFetch(VOL_data, ivec3(c, k), 0).rg, d10 = texelFetch(VOL_data, ivec3(c + ivec2(1, 0), k), 0).rg;
+  vec2 d01 = texelFetch(VOL_data, ivec3(c + ivec2(0, 1), k), 0).rg, d11 = texelFetch(VOL_data, ivec3(c + ivec2(1, 1), k), 0).rg;
+  // A corner of zero weight does not count, missing or not (as in the CPU rule).
+  float w00 = (1.0 - f.x) * (1.0 - f.y), w10 = f.x * (1.0 - f.y), w01 = (1.0 - f.x) * f.y, w11 = f.x * f.y;
+  bool missing = (w00 > 0.0 && d00.x < -1e37) || (w10 > 0.0 && d10.x < -1e37) || (w01 > 0.0 && d01.x < -1e37) ||
+                 (w11 > 0.0 && d11.x < -1e37);
+  vec2 blended = w00 * d00 + w10 * d10 + w01 * d01 + w11 * d11;
+  return vec2(missing ? -3e38 : blended.x, blended.y);
+}
+
+// Fractional (column, row, level) of p, the columns' corner and weights; false where there is no
+// data for lack of a position.
+bool VOL_locate(vec3 p, out ivec2 c, out vec2 f, out int lo, out float fk) {
+  c = ivec2(0);
+  f = vec2(0.0);
+  lo = 0;
+  fk = 0.0;
+  vec3 g = VOL_geodetic(p);
+  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y) return false;
+  vec2 ij;
+  if (!VOL_columnRow(g.xy, ij)) return false;
+  c = clamp(ivec2(floor(ij)), ivec2(0), VOL_texSize.xy - 2);
+  f = clamp(ij - vec2(c), 0.0, 1.0);
+#if VOL_INTERPOLATION == 0
+  c += ivec2(greaterThan(f, vec2(0.5)));
+  c = min(c, VOL_texSize.xy - 1);
+  // The nearest column alone: blend with weight 0 on the next one (kept inside the texture).
+  ivec2 shift = ivec2(greaterThanEqual(c, VOL_texSize.xy - 1));
+  f = vec2(shift);
+  c -= shift;
+#endif
+  if (g.z < VOL_level(c, f, 0).y || g.z > VOL_level(c, f, VOL_texSize.z - 1).y) return false;
+  int hi = VOL_texSize.z - 1;
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (VOL_level(c, f, mid).y <= g.z) lo = mid; else hi = mid;
+  }
+  float hLo = VOL_level(c, f, lo).y, hHi = VOL_level(c, f, hi).y;
+  fk = hHi > hLo ? clamp((g.z - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  return true;
+}
+
+vec3 VOL_debugCoordinates(vec3 p) {
+  ivec2 c;
+  vec2 f;
+  int lo;
+  float fk;
+  if (!VOL_locate(p, c, f, lo, fk)) return vec3(-1.0);
+  return vec3(vec2(c) + f - vec2(0.0, float(VOL_rowOffset)), float(lo) + fk);
+}
+
+int VOL_sample(vec3 p, out float value) {
+  value = 0.0;
+  ivec2 c;
+  vec2 f;
+  int lo;
+  float fk;
+  if (!VOL_locate(p, c, f, lo, fk)) return STATE_NOT_ECHO;
+#if VOL_INTERPOLATION == 0
+  float v = VOL_level(c, f, fk < 0.5 ? lo : lo + 1).x;
+#else
+  float a = VOL_level(c, f, lo).x, b = VOL_level(c, f, lo + 1).x;
+  float v = (a < -1e37 || b < -1e37) ? -3e38 : mix(a, b, fk);
+#endif
+  if (v < -1e37) return STATE_NOT_ECHO;
+  value = v;
+  return STATE_ECHO;
+}
+
+vec2 VOL_interval(vec3 eyeRel, vec3 dir, float tMax) {
+  vec2 a = sphereInterval(eyeRel - VOL_sphere.xyz, dir, VOL_sphere.w);
+  vec2 b = sphereInterval(eyeRel + VOL_origin, dir, VOL_outerRadius);
+  return vec2(max(max(a.x, b.x), 0.0), min(min(a.y, b.y), tMax));
+}

@@ -1,0 +1,260 @@
+// Forecast grids through the one marcher: the GPU's ECEF-to-grid mapping (float32) against the
+// double path (GridSampler::gridIndex) at mid latitudes, across the antimeridian, over a pole and
+// from camera heights of 1 m to 1e7 m; GPU images against the CPU reference; a radar and a grid
+// marched together.
+#include "GLTestUtil.h"
+#include "SyntheticGridVolume.h"
+
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/GridSampler.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+#include <atmoglobe/volume/SyntheticGrid.h>
+#include <atmoglobe/volume/SyntheticRadar.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+namespace {
+
+using namespace atmoglobe;
+using engine::Camera;
+using engine::CameraPose;
+
+// A smooth 3-D "cloud" field: a Gaussian blob of 60 units at (lat0, lon0, 5 km).
+volume::GridVolume blobGrid(std::vector<double> lonAxis, std::vector<double> latAxis, double lat0, double lon0,
+                            double radiusDeg) {
+  auto surface = [](double lat, double lon) { return 200.0 + 300.0 * std::sin(lat * 0.3) * std::cos(lon * 0.2); };
+  auto field = [=](double lat, double lon, double h) {
+    double dLon = std::remainder(lon - lon0, 360.0) * std::cos(degreesToRadians(lat));
+    const double d2 = ((lat - lat0) * (lat - lat0) + dLon * dLon) / (radiusDeg * radiusDeg);
+    return 60.0 * std::exp(-d2 - std::pow((h - 5000.0) / 3000.0, 2));
+  };
+  return testutil::rectilinearGrid(std::move(lonAxis), std::move(latAxis),
+                                   {0.0, 150.0, 400.0, 800.0, 1500.0, 2500.0, 4000.0, 6000.0, 8500.0, 11000.0, 14000.0},
+                                   surface, field);
+}
+
+struct MappingError {
+  double horizontalCells = 0.0, levels = 0.0;
+  int points = 0;
+};
+
+// For each pixel, the point at distance t along its ray: the GPU's (column, row, level) against
+// the double path's.
+MappingError mappingError(engine::VolumeRendererGL& r, const Camera& camera, const engine::GridVolumeGL& gl, double t) {
+  const std::vector<glm::vec4> gpu = r.debugCoordinatesAt(camera, gl, t);
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  const auto& sampler = static_cast<const volume::GridSampler&>(gl.referenceSampler());
+  MappingError e;
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::dvec3 p = rc.eyeEcef + t * volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
+      const globe::Geodetic g = globe::ecefToGeodetic(p);
+      const auto exact = sampler.gridIndex(g.latDeg, g.lonDeg, g.heightMeters);
+      const glm::vec4 got = gpu[static_cast<std::size_t>(y * camera.widthPx() + x)];
+      // Only points both paths place inside, away from the grid's edges by a cell and from its
+      // lowest and highest level by a level (where float rounding may put a point either side).
+      if (!exact || got.x < 0.0f) continue;
+      if (exact->z < 1.0 || exact->z > static_cast<double>(gl.grid().nz) - 2.0) continue;
+      ++e.points;
+      double di = std::abs(double(got.x) - exact->x);
+      if (gl.grid().wrapsLongitude) di = std::min(di, std::abs(di - static_cast<double>(gl.grid().nx)));
+      e.horizontalCells = std::max(e.horizontalCells, std::max(di, std::abs(double(got.y) - exact->y)));
+      e.levels = std::max(e.levels, std::abs(double(got.z) - exact->z));
+    }
+  return e;
+}
+
+volume::VolumeImage renderGpu(engine::VolumeRendererGL& renderer, const Camera& camera,
+                              const std::vector<engine::VolumeLayerGL>& layers) {
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  EXPECT_TRUE(fb);
+  (*fb)->bind();
+  glClearDepth(0.0);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  renderer.draw(camera, layers, **fb);
+  const std::vector<glm::vec4> img = renderer.readVolumeImage();
+  volume::VolumeImage out;
+  out.widthPx = camera.widthPx();
+  out.heightPx = camera.heightPx();
+  for (const glm::vec4& c : img) out.rgbaPremultiplied.push_back(glm::dvec4(c));
+  return out;
+}
+
+}  // namespace
+
+// The mapping's float error against the double path. float32 ECEF near the Earth's radius
+// rounds to ~0.5 m, Bowring's height cancels terms of 6.4e6 m (another ~1 m), the angles come
+// from atan as differences from the grid's centre (~1 m; from the whole angle they were off by
+// 10-30 m on llvmpipe), the lookup tables' float entries hold the index to 1e-5..1e-4. With cells
+// of >= 0.1 deg (11 km): a few 1e-4 cells; levels here are >= 150 m apart (1.5 m / 150 m = 0.01
+// level). Bounds: 1e-3 cells and 0.02 levels. Measured (printed): 0.4-1.8e-4 cells, 0.0004-0.0037
+// levels, the largest 1 m above the model surface where the levels are 150 m apart.
+TEST(GridMarch, GpuMappingMatchesTheDoublePathEverywhere) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    CameraPose pose;
+    double t;  // distance along the rays (m)
+    double fovDeg = 40.0;  // narrow from far away, so that the points at t stay inside the levels
+  };
+  volume::GridVolume global = blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 60.0, 180.0, 10.0);
+  global.wrapsLongitude = true;
+  std::vector<Case> cases;
+  cases.push_back({"regional, 1e5 m above", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+                   {35.0, -95.0, 1e5, 0.0, -90.0, 0.0}, 1e5 - 5000.0});
+  // 1 m above the grid's lowest level (the model surface) there, looking north and a little up.
+  const double ground = 200.0 + 300.0 * std::sin(35.0 * 0.3) * std::cos(-95.0 * 0.2);
+  cases.push_back({"regional, 1 m above the model surface", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+                   {35.0, -95.0, ground + 1.0, 0.0, 5.0, 0.0}, 20000.0});
+  cases.push_back({"across the antimeridian", blobGrid(testutil::evenlySpaced(170.0, 0.1, 201), testutil::evenlySpaced(-20.0, 0.1, 101), -15.0, 180.0, 2.0),
+                   {-15.0, 180.0, 3e5, 0.0, -90.0, 0.0}, 3e5 - 5000.0});
+  cases.push_back({"global, over the north pole from 1e7 m", global, {90.0, 0.0, 1e7, 0.0, -90.0, 0.0}, 1e7 - 5000.0, 0.5});
+  cases.push_back({"global, the antimeridian from 2e6 m", global, {60.0, 180.0, 2e6, 0.0, -90.0, 0.0}, 2e6 - 5000.0, 2.0});
+  for (const Case& c : cases) {
+    auto gl = engine::GridVolumeGL::create(c.grid);
+    ASSERT_TRUE(gl) << gl.error();
+    const Camera camera(c.pose, c.fovDeg, 48, 32);
+    const MappingError e = mappingError(**renderer, camera, **gl, c.t);
+    std::cout << "grid mapping, " << c.name << ": " << e.points << " points, max " << e.horizontalCells << " cells, "
+              << e.levels << " levels\n";
+    EXPECT_GT(e.points, 200) << c.name;
+    EXPECT_LT(e.horizontalCells, 1e-3) << c.name;
+    EXPECT_LT(e.levels, 0.02) << c.name;
+  }
+}
+
+// GPU images against the CPU reference (exact double sampling) in every mode, for a regional and
+// a global grid (over the pole and across the antimeridian: no seams or holes to differ).
+TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  volume::GridVolume global = blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
+  global.wrapsLongitude = true;
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    CameraPose pose;
+    double stepMeters;
+  };
+  const std::vector<Case> cases = {
+      {"regional oblique", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0}, 500.0},
+      {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, 5000.0},
+  };
+  for (const Case& c : cases) {
+    auto gl = engine::GridVolumeGL::create(c.grid);
+    ASSERT_TRUE(gl) << gl.error();
+    const Camera camera(c.pose, 45.0, 64, 36);
+    for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
+      engine::VolumeRenderOptions o;
+      o.render.mode = mode;
+      o.render.stepMeters = c.stepMeters;
+      o.render.isoValue = 30.0;
+      o.render.transfer = volume::defaultReflectivityTransfer();
+      o.render.transfer.opacityReferenceMeters = c.stepMeters * 10.0;
+      const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{gl->get(), o}});
+      const volume::VolumeImage ref =
+          volume::renderReference({{&(*gl)->referenceSampler(), o.render}}, engine::referenceCameraFor(camera), true, 2);
+      const volume::ImageError e = volume::compareImages(gpu, ref);
+      int drawn = 0;
+      for (const glm::dvec4& p : ref.rgbaPremultiplied) drawn += p.a > 0.05;
+      std::cout << "grid " << c.name << ", mode " << static_cast<int>(mode) << ": " << drawn << " pixels drawn, GPU vs reference mean "
+                << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
+      EXPECT_GT(drawn, 50) << c.name << " must show the blob";
+      // As for radars (RadarMarch.GpuMatchesTheReferenceInEveryMode): mean below one 8-bit step, 30 dB.
+      EXPECT_LT(e.meanAbs, 1.0) << c.name;
+      EXPECT_GT(e.psnrDb, 30.0) << c.name;
+    }
+  }
+}
+
+// A scene with a radar and a forecast grid (both synthetic, the grid's storm where the radar
+// sees it): the scene file's "grids" entry is read (unknown keys and wrong types named), the grid
+// is loaded through the scene renderer (only its time step), and where the two volumes overlap
+// the frame is their joint integral: the GPU frame against the frame with the CPU reference in
+// the volumes' place.
+TEST(GridMarch, RadarAndGridInOneScene) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGridOptions go;
+  go.nx = go.ny = 80;
+  go.levels = 20;
+  go.times = 3;
+  go.spacingKm = 5.0;
+  go.startTimeIso8601 = "2020-05-01T20:00:00Z";
+  ASSERT_TRUE(volume::writeSyntheticGrid(dir + "/scene_grid.nc", go));
+  volume::SyntheticRadarOptions ro;
+  ro.elevationsDeg = {0.5, 1.5, 2.5, 3.5, 5.0, 7.0, 10.0};
+  ro.maxRangeMeters = 120e3;
+  ASSERT_TRUE(volume::writeSyntheticCfRadial(dir + "/scene_radar.nc", ro));
+
+  // Errors name the JSON path and the problem.
+  auto typo = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "varaible": "dbz"}]})", "s.json", dir, dir);
+  ASSERT_FALSE(typo);
+  EXPECT_NE(typo.error().find("grids[0]"), std::string::npos) << typo.error();
+  EXPECT_NE(typo.error().find("varaible"), std::string::npos) << typo.error();
+  auto wrongType = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "time": 3}]})", "s.json", dir, dir);
+  ASSERT_FALSE(wrongType);
+  EXPECT_NE(wrongType.error().find("\"time\" must be a string"), std::string::npos) << wrongType.error();
+
+  auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 34.6, "lon_deg": -97.8, "height_m": 60000,
+      "heading_deg": 20, "pitch_deg": -40, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54],
+      "radars": [{"path": "@data/scene_radar.nc", "step_m": 500}],
+      "grids": [{"path": "@data/scene_grid.nc", "variable": "dbz", "time": "2020-05-01T21:00:00Z", "step_m": 500}]})",
+                                      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  ASSERT_EQ(scene->grids.size(), 1u);
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer) << renderer.error();
+  ASSERT_TRUE((*renderer)->addRadar(scene->radars[0]));
+  auto grid = (*renderer)->addGrid(scene->grids[0]);
+  ASSERT_TRUE(grid) << grid.error();
+  EXPECT_EQ((*grid)->volume->grid().validTime, "2020-05-01T21:00:00Z");
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto gpu = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(gpu) << gpu.error();
+  (*renderer)->setReferenceVolumes(2);
+  auto ref = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(ref) << ref.error();
+  // Pixels where both volumes have data along the ray: the reference samplers' intervals.
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  const auto& radarSampler = (*renderer)->radars()[0].volume->referenceSampler();
+  const auto& gridSampler = (*grid)->volume->referenceSampler();
+  const volume::VolumeImage& refVolume = (*renderer)->volumeRenderer().lastReferenceImage();
+  int overlapDrawn = 0;
+  double sum = 0.0;
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::dvec3 ray = volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
+      if (!radarSampler.rayInterval(rc.eyeEcef, ray).empty() && !gridSampler.rayInterval(rc.eyeEcef, ray).empty() &&
+          refVolume.at(x, y).a > 0.05)
+        ++overlapDrawn;
+      const glm::ivec4 d = glm::abs(glm::ivec4(gpu->at(x, y)) - glm::ivec4(ref->at(x, y)));
+      sum += d.r + d.g + d.b;
+    }
+  const double mean = sum / (3.0 * camera.widthPx() * camera.heightPx());
+  std::cout << "radar + grid scene: " << overlapDrawn << " pixels where both can be and the storm shows; "
+            << "mean |GPU - reference frame| " << mean << " (8-bit)\n";
+  EXPECT_GT(overlapDrawn, 100) << "the view must show the storm where radar and grid overlap";
+  // As for two radars (VolumeKinds.OverlappingRadarsAreIntegratedTogether): below one 8-bit step.
+  EXPECT_LT(mean, 1.0);
+}

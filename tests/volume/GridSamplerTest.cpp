@@ -1,0 +1,232 @@
+// The forecast grid's CPU sampler (GridSampler.h): linear fields reproduced exactly in the grid's
+// own geometry (terrain-following levels, rectilinear and curvilinear), no data outside, a global
+// grid closed across the antimeridian and over the poles, and the reference renderer's DVR of a
+// uniform slab against its closed form.
+#include "SyntheticGridVolume.h"
+
+#include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/AnalyticVolume.h>
+#include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/GridSampler.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+#include <atmoglobe/volume/RenderCamera.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <random>
+
+namespace {
+
+using namespace atmoglobe;
+using volume::GridVolume;
+using volume::Interpolation;
+using volume::VolumeSample;
+
+}  // namespace
+
+// A field linear in longitude, latitude and height on terrain-following levels is reproduced at
+// any point inside: bilinear in a uniform rectilinear grid is linear in lon/lat, the level
+// heights blend like the values, and the sample is linear in height between levels.
+TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
+  auto surface = [](double lat, double lon) { return 300.0 + 20.0 * (lat - 40.0) + 15.0 * (lon - 10.0); };
+  auto field = [](double lat, double lon, double h) { return 2.0 * lon - 3.0 * lat + 0.004 * h; };
+  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(10.0, 0.25, 41), testutil::evenlySpaced(40.0, 0.25, 41),
+                                       {0.0, 100.0, 300.0, 700.0, 1500.0, 3000.0, 6000.0, 12000.0}, surface, field);
+  const volume::GridSampler s(g);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> lat(40.0, 50.0), lon(10.0, 20.0), u(0.0, 1.0);
+  double worst = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    const double la = lat(rng), lo = lon(rng);
+    const double h = surface(la, lo) + u(rng) * 12000.0;
+    const VolumeSample v = s.sample(globe::geodeticToEcef({la, lo, h}), Interpolation::Linear);
+    ASSERT_EQ(v.state, VolumeSample::State::Echo) << la << " " << lo << " " << h;
+    worst = std::max(worst, std::abs(v.value - field(la, lo, h)));
+  }
+  std::cout << "linear field: worst |sample - exact| " << worst << "\n";
+  // Values and heights are stored as float (relative 6e-8 of ~100 and of 12 km: 6e-6 and
+  // 0.7 mm -> 3e-6 in the field) plus the ECEF round trip (~1e-9 m).
+  EXPECT_LT(worst, 5e-5);
+  // Below the lowest level, above the highest, outside the box: no data.
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 15.0, surface(45, 15) - 1.0}), Interpolation::Linear).state,
+            VolumeSample::State::NoData);
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 15.0, surface(45, 15) + 12001.0}), Interpolation::Linear).state,
+            VolumeSample::State::NoData);
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 20.01, 5000.0}), Interpolation::Linear).state, VolumeSample::State::NoData);
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({39.99, 15.0, 5000.0}), Interpolation::Linear).state, VolumeSample::State::NoData);
+  // Nearest: a grid point's own value at the grid point's position and level height.
+  const double h = g.heightMeters(3, 8, 12);
+  const VolumeSample nearest = s.sample(globe::geodeticToEcef({g.latDeg[8], g.lonDeg[12], h}), Interpolation::Nearest);
+  ASSERT_EQ(nearest.state, VolumeSample::State::Echo);
+  EXPECT_FLOAT_EQ(static_cast<float>(nearest.value), g.value(3, 8, 12));
+  // A missing value makes the samples that need it no data, not zero.
+  GridVolume holed = g;
+  holed.values[holed.index(3, 8, 12)] = NAN;
+  const volume::GridSampler sh(holed);
+  EXPECT_EQ(sh.sampleGeodetic(g.latDeg[8] + 0.1, g.lonDeg[12] + 0.1, h, Interpolation::Linear).state,
+            VolumeSample::State::NoData);
+}
+
+// The bounding sphere holds every grid point (bottom and top), and ray intervals hold the grid.
+TEST(GridSampler, BoundingSphereHoldsTheGrid) {
+  const GridVolume g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(-30.0, 0.5, 121), testutil::evenlySpaced(20.0, 0.5, 61), {0.0, 5000.0, 20000.0}, [](double, double) { return 0.0; },
+      [](double, double, double) { return 1.0; });
+  const volume::GridSampler s(g);
+  const volume::BoundingSphere b = s.boundingSphere();
+  double worstInside = -1e300;
+  for (std::size_t j = 0; j < g.ny; ++j)
+    for (std::size_t i = 0; i < g.nx; ++i)
+      for (double h : {0.0, 20000.0})
+        worstInside = std::max(worstInside, glm::length(globe::geodeticToEcef({g.latDeg[j], g.lonDeg[i], h}) - b.centreEcef) -
+                                                b.radiusMeters);
+  EXPECT_LE(worstInside, 0.0) << "a grid point lies outside the bounding sphere";
+}
+
+// A global grid: continuous across the antimeridian and its own seam (last column to the first),
+// closed over both poles (no hole, one value at the pole whatever the longitude).
+TEST(GridSampler, GlobalGridHasNoSeamAtTheAntimeridianAndNoHoleAtThePoles) {
+  auto field = [](double lat, double lon, double) {
+    return std::cos(lon * kPi / 180.0) * std::cos(lat * kPi / 180.0) + 0.5 * std::sin(lat * kPi / 180.0);
+  };
+  GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), {0.0, 10000.0},
+                                 [](double, double) { return 0.0; }, field);
+  g.wrapsLongitude = true;
+  const volume::GridSampler s(g);
+  // Across the antimeridian and across the seam between 357.5 and 360 (= 0): every sample is
+  // data, and neighbouring samples differ by no more than the field's change (bilinear in a
+  // smooth field: steps of 0.01 deg change it by < 2e-4).
+  double prev = NAN, worstJump = 0.0;
+  for (double lon = 175.0; lon <= 185.0; lon += 0.01) {
+    const VolumeSample v = s.sampleGeodetic(30.0, lon > 180.0 ? lon - 360.0 : lon, 5000.0, Interpolation::Linear);
+    ASSERT_EQ(v.state, VolumeSample::State::Echo) << lon;
+    if (std::isfinite(prev)) worstJump = std::max(worstJump, std::abs(v.value - prev));
+    prev = v.value;
+  }
+  prev = NAN;
+  for (double lon = 355.0; lon <= 365.0; lon += 0.01) {
+    const VolumeSample v = s.sampleGeodetic(30.0, lon, 5000.0, Interpolation::Linear);
+    ASSERT_EQ(v.state, VolumeSample::State::Echo) << lon;
+    if (std::isfinite(prev)) worstJump = std::max(worstJump, std::abs(v.value - prev));
+    prev = v.value;
+  }
+  EXPECT_LT(worstJump, 2e-4);
+  // Poles: data everywhere in the caps; at the pole one value, whatever the longitude; the cap
+  // joins the last row continuously.
+  for (double lat : {88.75, 89.0, 89.9, 90.0, -88.75, -89.5, -90.0}) {
+    double lo = 1e300, hi = -1e300;
+    for (double lon = -180.0; lon < 180.0; lon += 7.3) {
+      const VolumeSample v = s.sampleGeodetic(lat, lon, 5000.0, Interpolation::Linear);
+      ASSERT_EQ(v.state, VolumeSample::State::Echo) << lat << " " << lon;
+      lo = std::min(lo, v.value);
+      hi = std::max(hi, v.value);
+    }
+    if (std::abs(lat) == 90.0) {
+      EXPECT_LT(hi - lo, 1e-6) << "one value at the pole " << lat;
+    }
+  }
+  const double atRow = s.sampleGeodetic(88.75, 40.0, 5000.0, Interpolation::Linear).value;
+  const double justAbove = s.sampleGeodetic(88.7501, 40.0, 5000.0, Interpolation::Linear).value;
+  EXPECT_NEAR(atRow, justAbove, 1e-4);
+  // The sphere of a global grid is the whole atmosphere.
+  EXPECT_EQ(s.boundingSphere().centreEcef, glm::dvec3(0.0));
+}
+
+// A curvilinear grid (rotated and sheared latitude/longitude, as a Lambert or Mercator model
+// domain is in degrees): the inverse map is exact to rounding, so a field linear in the grid
+// indices is reproduced at the position of any fractional index.
+TEST(GridSampler, CurvilinearInverseMapIsExact) {
+  GridVolume g;
+  g.curvilinear = true;
+  g.nx = 60;
+  g.ny = 50;
+  g.nz = 3;
+  auto latOf = [](double i, double j) { return 25.0 + 0.09 * j + 0.02 * i + 0.0004 * i * j; };
+  auto lonOf = [](double i, double j) { return -95.0 + 0.1 * i - 0.03 * j; };
+  for (std::size_t j = 0; j < g.ny; ++j)
+    for (std::size_t i = 0; i < g.nx; ++i) {
+      g.latDeg.push_back(latOf(double(i), double(j)));
+      g.lonDeg.push_back(lonOf(double(i), double(j)));
+    }
+  for (std::size_t k = 0; k < g.nz; ++k)
+    for (std::size_t j = 0; j < g.ny; ++j)
+      for (std::size_t i = 0; i < g.nx; ++i) {
+        g.heightAboveEllipsoidMeters.push_back(static_cast<float>(1000.0 * static_cast<double>(k)));
+        g.values.push_back(static_cast<float>(3.0 * static_cast<double>(i) + 7.0 * static_cast<double>(j) + static_cast<double>(k)));
+      }
+  g.valueMin = 0.0f;
+  g.valueMax = 3.0f * 59 + 7.0f * 49 + 2.0f;
+  const volume::GridSampler s(g);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> ui(0.0, 59.0), uj(0.0, 49.0);
+  double worst = 0.0;
+  for (int n = 0; n < 3000; ++n) {
+    const double i = ui(rng), j = uj(rng);
+    // latOf and lonOf are bilinear within each cell (a + b i + c j + d i j), so the grid's own
+    // map (the bilinear blend of a cell's corners) puts index (i, j) exactly at (latOf, lonOf).
+    const std::optional<glm::dvec2> ij = s.horizontalIndex(latOf(i, j), lonOf(i, j));
+    ASSERT_TRUE(ij) << i << " " << j;
+    worst = std::max(worst, glm::length(*ij - glm::dvec2(i, j)));
+    const VolumeSample v = s.sampleGeodetic(latOf(i, j), lonOf(i, j), 500.0, Interpolation::Linear);
+    ASSERT_EQ(v.state, VolumeSample::State::Echo);
+    EXPECT_NEAR(v.value, 3.0 * i + 7.0 * j + 0.5, 1e-4);
+  }
+  std::cout << "curvilinear inverse: worst index error " << worst << " cells\n";
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_FALSE(s.horizontalIndex(latOf(-1.0, 10.0), lonOf(-1.0, 10.0))) << "outside the domain";
+}
+
+// The reference renderer draws a grid through the same interface as a radar: a uniform value in
+// a slab between two heights, looked at straight down, has the closed-form opacity of a uniform
+// medium over the slab's thickness (Max 1995).
+TEST(GridSampler, ReferenceDvrOfAUniformSlabMatchesTheClosedForm) {
+  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(9.0, 0.5, 9), testutil::evenlySpaced(44.0, 0.5, 9), {2000.0, 4000.0, 6000.0},
+                                       [](double, double) { return 0.0; }, [](double, double, double) { return 40.0; });
+  const volume::GridSampler s(g);
+  volume::VolumeRenderSettings settings;
+  settings.transfer = volume::defaultReflectivityTransfer();
+  settings.stepMeters = 10.0;
+  const glm::dvec3 eye = globe::geodeticToEcef({46.0, 11.0, 30000.0});
+  const glm::dvec3 target = globe::geodeticToEcef({46.0, 11.0, 0.0});
+  const volume::RenderCamera cam = volume::makeLookAtCamera(eye, target, glm::dvec3(0, 0, 1), 1.0, 3, 3);
+  const volume::VolumeImage img = volume::renderReference({{&s, settings}}, cam, true, 1);
+  const double pathMeters = 4000.0;  // straight down through 2000..6000 m
+  const glm::dvec4 exact = volume::uniformShellDvrClosedForm(settings.transfer, 40.0, pathMeters);
+  const glm::dvec4 got = img.at(1, 1);
+  std::cout << "uniform slab: reference alpha " << got.a << ", closed form " << exact.a << "\n";
+  // The sample grid (10 m) puts 400 +- 1 samples in the slab: the optical depth is right to
+  // 1/400 of itself; alpha's sensitivity to it is exp(-tau) tau <= 0.37.
+  EXPECT_NEAR(got.a, exact.a, 0.37 / 400.0 + 1e-9);
+}
+
+// The real WRF file (curvilinear Mercator nest, eta levels): at every grid point of a few levels,
+// the sampler at that point's latitude, longitude and level height returns the point's value.
+TEST(GridSampler, RealWrfGridPointsSampleToTheirValues) {
+  const std::string path = atmoglobe_test::testDataDir() + "/grids/wrf_python_ci_test_file.nc";
+  SKIP_WITHOUT_TEST_DATA(path);
+  volume::GridReadOptions o;
+  o.variable = "T";
+  auto g = volume::readGridVolume(path, o);
+  ASSERT_TRUE(g) << g.error();
+  ASSERT_TRUE(g->curvilinear);
+  const volume::GridSampler s(*g);
+  double worst = 0.0;
+  int checked = 0;
+  for (std::size_t k : {std::size_t{0}, g->nz / 2, g->nz - 1})
+    for (std::size_t j = 1; j + 1 < g->ny; j += 5)
+      for (std::size_t i = 1; i + 1 < g->nx; i += 5) {
+        const VolumeSample v =
+            s.sampleGeodetic(g->latDegAt(j, i), g->lonDegAt(j, i), g->heightMeters(k, j, i), Interpolation::Linear);
+        ASSERT_EQ(v.state, VolumeSample::State::Echo) << k << " " << j << " " << i;
+        worst = std::max(worst, std::abs(v.value - g->value(k, j, i)));
+        ++checked;
+      }
+  std::cout << "WRF T: " << checked << " grid points, worst |sample - value| " << worst << " K\n";
+  // At a grid point the weights are 1 and 0 up to the inverse map's rounding (1e-12 of a cell):
+  // the value itself, to float rounding of ~300 K (3e-5).
+  EXPECT_LT(worst, 1e-4);
+}

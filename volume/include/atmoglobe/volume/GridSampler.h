@@ -1,0 +1,102 @@
+#pragma once
+// A forecast grid (GridVolume.h) as a volume kind: the CPU sampler the reference renderer draws
+// it through, in double precision, in the grid's own geometry (no Cartesian resampling).
+//
+// The sampling rule (the GPU's sampler implements the same):
+//  1. the ECEF point to geodetic latitude, longitude, height above the WGS84 ellipsoid
+//     (GeographicLib, exact);
+//  2. horizontal grid coordinates (fractional column i, row j; integer = a grid point):
+//     rectilinear: by search in the 1-D longitudes (the longitude taken modulo 360 into the
+//     grid's continuous range) and latitudes, linear between neighbours; a grid that wraps in
+//     longitude interpolates between its last and first column across the seam; a global grid
+//     (wrapsLongitude) closes its polar caps: beyond its last row the columns blend linearly in
+//     latitude into one value at the pole, the mean of that row (per level, heights too), so the
+//     cap has neither a hole nor a seam. Curvilinear: the cell holding the point (a bin index
+//     over the cells' latitude/longitude boxes) and the bilinear inverse of its four corners by
+//     Newton's method to 1e-10 of a cell: exact to rounding;
+//  3. the columns around (i, j) with bilinear weights (1, 2 or 4 of them); level k's height at
+//     the point is the weighted mean of theirs (monotonic, as each column is); the fractional
+//     level is found by bisection in these heights; below the lowest level's height or above the
+//     highest: no data;
+//  4. linear: the value at level k is the weighted mean of the columns' values, and the sample
+//     is linear in height between levels k and k + 1 (heights come from the reader; for pressure
+//     levels a layer's height is, hydrostatically, linear in log pressure for an isothermal layer,
+//     so this is interpolation linear in log pressure to that approximation). Nearest: the
+//     column of largest weight and the nearer level. Any needed value missing (NaN): no data.
+// A grid has no "no echo": every finite value is a sample; the transfer function decides what
+// shows.
+#include <atmoglobe/volume/GridVolume.h>
+#include <atmoglobe/volume/VolumeSampler.h>
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+/// The columns around a horizontal position and their weights (sum 1). A column index >= 0 is
+/// j * nx + i; kNorthPole / kSouthPole are a global grid's virtual pole columns.
+struct GridColumns {
+  static constexpr int kNorthPole = -1, kSouthPole = -2;
+  std::array<int, 4> column{};
+  std::array<double, 4> weight{};
+  int count = 0;
+};
+
+class GridSampler final : public VolumeSampler {
+ public:
+  /// Keeps a reference to `grid` (must outlive the sampler). Builds the curvilinear cell index
+  /// and, for global grids, the pole columns.
+  explicit GridSampler(const GridVolume& grid);
+
+  RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override;
+  VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
+  BoundingSphere boundingSphere() const override { return sphere_; }
+  ValueRange valueRange() const override;
+  std::string description() const override;
+
+  /// Step 2: fractional (column i, row j) of a geodetic position; nullopt outside the grid
+  /// horizontally. For a global grid's polar cap, j runs past the last row (ny - 1 + t, t the
+  /// fraction of the way to the pole) or below 0 (-t).
+  std::optional<glm::dvec2> horizontalIndex(double latDeg, double lonDeg) const;
+  /// Step 3's columns and weights for a fractional (i, j) from horizontalIndex.
+  GridColumns columnsAt(const glm::dvec2& ij) const;
+  /// The sample at a geodetic position (steps 2-4), as sample() after its step 1.
+  VolumeSample sampleGeodetic(double latDeg, double lonDeg, double heightMeters, Interpolation interpolation) const;
+  /// Fractional (column i, row j, level k) of a geodetic position by steps 2-3 (linear weights);
+  /// nullopt where sample() gives no data for lack of a position (outside horizontally, below
+  /// the lowest or above the highest level there). What the GPU's mapping is measured against.
+  std::optional<glm::dvec3> gridIndex(double latDeg, double lonDeg, double heightMeters) const;
+  /// Lowest and highest height of any level (m above the ellipsoid).
+  double minHeightMeters() const { return minHeight_; }
+  double maxHeightMeters() const { return maxHeight_; }
+
+  /// Level k's height and value in a column of GridColumns (a pole column: the end row's mean;
+  /// its value NaN when any of the row's is missing).
+  double columnHeight(int column, std::size_t k) const;
+  float columnValue(int column, std::size_t k) const;
+  /// Whether a global grid's polar caps are closed by pole columns.
+  bool hasPoleCaps() const { return poleCaps_; }
+
+ private:
+  std::optional<glm::dvec2> curvilinearIndex(double latDeg, double lonDeg) const;
+
+  const GridVolume& grid_;
+  double minHeight_ = 0.0, maxHeight_ = 0.0;
+  BoundingSphere sphere_;
+  // Global grids: the pole columns (per level: mean height, mean value of the end row; NaN
+  // value if any value of the row is missing).
+  bool poleCaps_ = false;
+  std::vector<double> northHeight_, southHeight_;
+  std::vector<float> northValue_, southValue_;
+  // Curvilinear: longitudes continuous from lonMin_, and a uniform bin index over latitude and
+  // longitude listing the cells (j * (nx - 1) + i) whose corner box overlaps each bin.
+  double lonMin_ = 0.0, latMinBin_ = 0.0, lonMinBin_ = 0.0, binLatDeg_ = 1.0, binLonDeg_ = 1.0;
+  int binsLat_ = 0, binsLon_ = 0;
+  std::vector<std::vector<std::uint32_t>> bins_;
+};
+
+}  // namespace atmoglobe::volume

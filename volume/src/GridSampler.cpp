@@ -1,0 +1,402 @@
+// The forecast grid's CPU sampler (GridSampler.h).
+#include <atmoglobe/volume/GridSampler.h>
+
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <tuple>
+
+namespace atmoglobe::volume {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// x taken modulo 360 into [origin, origin + 360).
+double wrapFrom(double x, double origin) {
+  double d = std::fmod(x - origin, 360.0);
+  if (d < 0.0) d += 360.0;
+  return origin + d;
+}
+
+// Fractional index of x in the increasing array a (size >= 2), x within [a.front(), a.back()].
+double fractionalIndex(const std::vector<double>& a, std::size_t n, double x) {
+  const auto it = std::upper_bound(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n), x);
+  std::size_t k = it == a.begin() ? 0 : static_cast<std::size_t>(it - a.begin()) - 1;
+  k = std::min(k, n - 2);
+  return static_cast<double>(k) + (x - a[k]) / (a[k + 1] - a[k]);
+}
+
+}  // namespace
+
+GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
+  const std::size_t columns = grid.nx * grid.ny;
+  minHeight_ = std::numeric_limits<double>::infinity();
+  maxHeight_ = -std::numeric_limits<double>::infinity();
+  for (float h : grid.heightAboveEllipsoidMeters) {
+    if (!std::isfinite(h)) continue;
+    minHeight_ = std::min(minHeight_, double(h));
+    maxHeight_ = std::max(maxHeight_, double(h));
+  }
+  if (!(minHeight_ <= maxHeight_)) minHeight_ = maxHeight_ = 0.0;
+
+  // Global grids close their polar caps with the mean of the end rows.
+  poleCaps_ = !grid.curvilinear && grid.wrapsLongitude && grid.ny >= 1;
+  if (poleCaps_) {
+    for (auto [row, height, value] : {std::tuple{grid.ny - 1, &northHeight_, &northValue_},
+                                      std::tuple{std::size_t{0}, &southHeight_, &southValue_}}) {
+      height->assign(grid.nz, 0.0);
+      value->assign(grid.nz, 0.0f);
+      for (std::size_t k = 0; k < grid.nz; ++k) {
+        double hs = 0.0, vs = 0.0;
+        bool missing = false;
+        for (std::size_t i = 0; i < grid.nx; ++i) {
+          hs += grid.heightMeters(k, row, i);
+          const float v = grid.value(k, row, i);
+          missing = missing || !std::isfinite(v);
+          vs += v;
+        }
+        (*height)[k] = hs / static_cast<double>(grid.nx);
+        (*value)[k] = missing ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(vs / static_cast<double>(grid.nx));
+      }
+    }
+  }
+
+  // Curvilinear: the bin index over the cells' corner boxes.
+  if (grid.curvilinear && grid.nx >= 2 && grid.ny >= 2) {
+    lonMin_ = *std::min_element(grid.lonDeg.begin(), grid.lonDeg.end());
+    const double lonMax = *std::max_element(grid.lonDeg.begin(), grid.lonDeg.end());
+    const double latMin = *std::min_element(grid.latDeg.begin(), grid.latDeg.end());
+    const double latMax = *std::max_element(grid.latDeg.begin(), grid.latDeg.end());
+    const std::size_t cells = (grid.nx - 1) * (grid.ny - 1);
+    const int side = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(cells)) / 2.0), 1, 256);
+    binsLat_ = binsLon_ = side;
+    latMinBin_ = latMin;
+    lonMinBin_ = lonMin_;
+    binLatDeg_ = std::max(1e-9, (latMax - latMin) / side);
+    binLonDeg_ = std::max(1e-9, (lonMax - lonMin_) / side);
+    bins_.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), {});
+    for (std::size_t j = 0; j + 1 < grid.ny; ++j)
+      for (std::size_t i = 0; i + 1 < grid.nx; ++i) {
+        double la0 = 1e300, la1 = -1e300, lo0 = 1e300, lo1 = -1e300;
+        for (std::size_t dj = 0; dj < 2; ++dj)
+          for (std::size_t di = 0; di < 2; ++di) {
+            la0 = std::min(la0, grid.latDegAt(j + dj, i + di));
+            la1 = std::max(la1, grid.latDegAt(j + dj, i + di));
+            lo0 = std::min(lo0, grid.lonDegAt(j + dj, i + di));
+            lo1 = std::max(lo1, grid.lonDegAt(j + dj, i + di));
+          }
+        auto bin = [](double x, double origin, double size, int n) {
+          return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, n - 1);
+        };
+        for (int b = bin(la0, latMinBin_, binLatDeg_, binsLat_); b <= bin(la1, latMinBin_, binLatDeg_, binsLat_); ++b)
+          for (int c = bin(lo0, lonMinBin_, binLonDeg_, binsLon_); c <= bin(lo1, lonMinBin_, binLonDeg_, binsLon_); ++c)
+            bins_[static_cast<std::size_t>(b) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(c)].push_back(
+                static_cast<std::uint32_t>(j * (grid.nx - 1) + i));
+      }
+  }
+
+  // Bounding sphere: the whole atmosphere for global grids, else sampled columns at their
+  // lowest and highest level, widened by the sagitta between samples (the top surface bulges
+  // outwards between them) and 10 m.
+  const bool global = grid.wrapsLongitude || columns == 0 ||
+                      (!grid.curvilinear && grid.nx >= 2 && grid.lonDeg.back() - grid.lonDeg.front() >= 180.0) ||
+                      (!grid.curvilinear && grid.ny >= 2 && grid.latDeg.back() - grid.latDeg.front() >= 90.0);
+  if (global) {
+    sphere_ = {glm::dvec3(0.0), globe::kWgs84A + std::max(0.0, maxHeight_) + 1.0};
+  } else {
+    const std::size_t sx = std::max<std::size_t>(1, grid.nx / 48), sy = std::max<std::size_t>(1, grid.ny / 48);
+    std::vector<std::size_t> is, js;
+    for (std::size_t i = 0; i < grid.nx; i += sx) is.push_back(i);
+    if (is.back() != grid.nx - 1) is.push_back(grid.nx - 1);
+    for (std::size_t j = 0; j < grid.ny; j += sy) js.push_back(j);
+    if (js.back() != grid.ny - 1) js.push_back(grid.ny - 1);
+    std::vector<glm::dvec3> pts;
+    glm::dvec3 lo(1e300), hi(-1e300);
+    double spacing = 0.0;
+    for (std::size_t b = 0; b < js.size(); ++b)
+      for (std::size_t a = 0; a < is.size(); ++a) {
+        const double lat = grid.latDegAt(js[b], is[a]), lon = grid.lonDegAt(js[b], is[a]);
+        const glm::dvec3 base = globe::geodeticToEcef({lat, lon, minHeight_});
+        const glm::dvec3 top = globe::geodeticToEcef({lat, lon, maxHeight_});
+        for (const glm::dvec3& p : {base, top}) {
+          lo = glm::min(lo, p);
+          hi = glm::max(hi, p);
+          pts.push_back(p);
+        }
+        if (a > 0) spacing = std::max(spacing, glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b], is[a - 1]),
+                                                                                        grid.lonDegAt(js[b], is[a - 1]),
+                                                                                        maxHeight_})));
+        if (b > 0) spacing = std::max(spacing, glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b - 1], is[a]),
+                                                                                        grid.lonDegAt(js[b - 1], is[a]),
+                                                                                        maxHeight_})));
+      }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    double radius = 0.0;
+    for (const glm::dvec3& p : pts) radius = std::max(radius, glm::length(p - centre));
+    sphere_ = {centre, radius + spacing * spacing / (8.0 * 6.35e6) + 10.0};
+  }
+}
+
+RayInterval GridSampler::rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const {
+  const RayInterval a = raySphereInterval(eyeEcef, unitDirEcef, sphere_.centreEcef, sphere_.radiusMeters);
+  // The shell's outside: the ellipsoid raised by the top height lies inside this sphere.
+  const RayInterval b =
+      raySphereInterval(eyeEcef, unitDirEcef, glm::dvec3(0.0), globe::kWgs84A + std::max(0.0, maxHeight_) + 1.0);
+  if (a.empty() || b.empty()) return {};
+  return {std::max(a.tEnterMeters, b.tEnterMeters), std::min(a.tExitMeters, b.tExitMeters)};
+}
+
+ValueRange GridSampler::valueRange() const {
+  if (!(grid_.valueMin <= grid_.valueMax)) return {0.0, 1.0};
+  return {grid_.valueMin, grid_.valueMax};
+}
+
+std::string GridSampler::description() const {
+  std::ostringstream s;
+  s << grid_.variable << " from " << grid_.path << " (" << grid_.nx << " x " << grid_.ny << " x " << grid_.nz
+    << (grid_.curvilinear ? ", curvilinear" : "");
+  if (!grid_.validTime.empty()) s << ", " << grid_.validTime;
+  s << ")";
+  return s.str();
+}
+
+std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lonDeg) const {
+  if (bins_.empty()) return std::nullopt;
+  const double lon = wrapFrom(lonDeg, lonMin_);
+  const int b = static_cast<int>(std::floor((latDeg - latMinBin_) / binLatDeg_));
+  const int c = static_cast<int>(std::floor((lon - lonMinBin_) / binLonDeg_));
+  // A point on the far edge belongs to the last bin.
+  const int bb = b == binsLat_ && latDeg <= latMinBin_ + binsLat_ * binLatDeg_ ? b - 1 : b;
+  const int cc = c == binsLon_ && lon <= lonMinBin_ + binsLon_ * binLonDeg_ ? c - 1 : c;
+  if (bb < 0 || bb >= binsLat_ || cc < 0 || cc >= binsLon_) return std::nullopt;
+  const std::size_t nx1 = grid_.nx - 1;
+  for (std::uint32_t cell : bins_[static_cast<std::size_t>(bb) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(cc)]) {
+    const std::size_t j = cell / nx1, i = cell % nx1;
+    const glm::dvec2 p00(grid_.lonDegAt(j, i), grid_.latDegAt(j, i)), p10(grid_.lonDegAt(j, i + 1), grid_.latDegAt(j, i + 1));
+    const glm::dvec2 p01(grid_.lonDegAt(j + 1, i), grid_.latDegAt(j + 1, i));
+    const glm::dvec2 p11(grid_.lonDegAt(j + 1, i + 1), grid_.latDegAt(j + 1, i + 1));
+    const glm::dvec2 target(lon, latDeg);
+    // Newton on P(u, v) = target, P bilinear in the cell.
+    double u = 0.5, v = 0.5;
+    bool converged = false;
+    for (int it = 0; it < 30; ++it) {
+      const glm::dvec2 p = (1 - u) * (1 - v) * p00 + u * (1 - v) * p10 + (1 - u) * v * p01 + u * v * p11;
+      const glm::dvec2 du = (1 - v) * (p10 - p00) + v * (p11 - p01);
+      const glm::dvec2 dv = (1 - u) * (p01 - p00) + u * (p11 - p10);
+      const double det = du.x * dv.y - du.y * dv.x;
+      if (!(std::abs(det) > 0.0)) break;
+      const glm::dvec2 r = target - p;
+      const double su = (r.x * dv.y - r.y * dv.x) / det, sv = (du.x * r.y - du.y * r.x) / det;
+      u += su;
+      v += sv;
+      if (std::abs(su) < 1e-12 && std::abs(sv) < 1e-12) {
+        converged = true;
+        break;
+      }
+      if (std::abs(u) > 10.0 || std::abs(v) > 10.0) break;  // far outside this cell
+    }
+    constexpr double kEdge = 1e-10;  // a point on a shared edge may land in either cell
+    if (converged && u >= -kEdge && u <= 1.0 + kEdge && v >= -kEdge && v <= 1.0 + kEdge)
+      return glm::dvec2(static_cast<double>(i) + std::clamp(u, 0.0, 1.0), static_cast<double>(j) + std::clamp(v, 0.0, 1.0));
+  }
+  return std::nullopt;
+}
+
+std::optional<glm::dvec2> GridSampler::horizontalIndex(double latDeg, double lonDeg) const {
+  const GridVolume& g = grid_;
+  if (g.nx == 0 || g.ny == 0 || !std::isfinite(latDeg) || !std::isfinite(lonDeg)) return std::nullopt;
+  if (g.curvilinear) return curvilinearIndex(latDeg, lonDeg);
+  // Columns.
+  double i = 0.0;
+  const double x = wrapFrom(lonDeg, g.lonDeg[0]);
+  if (g.nx == 1) {
+    if (!g.wrapsLongitude && x != g.lonDeg[0]) return std::nullopt;
+  } else if (x <= g.lonDeg[g.nx - 1]) {
+    i = fractionalIndex(g.lonDeg, g.nx, x);
+  } else if (g.wrapsLongitude) {
+    i = static_cast<double>(g.nx - 1) + (x - g.lonDeg[g.nx - 1]) / (g.lonDeg[0] + 360.0 - g.lonDeg[g.nx - 1]);
+  } else {
+    return std::nullopt;
+  }
+  // Rows (latitudes ascending), with the polar caps of global grids.
+  double j = 0.0;
+  const double lat0 = g.latDeg[0], latN = g.latDeg[g.ny - 1];
+  if (latDeg < lat0) {
+    if (!poleCaps_ || lat0 <= -90.0) return std::nullopt;
+    j = -(lat0 - latDeg) / (lat0 + 90.0);
+  } else if (latDeg > latN) {
+    if (!poleCaps_ || latN >= 90.0) return std::nullopt;
+    j = static_cast<double>(g.ny - 1) + (latDeg - latN) / (90.0 - latN);
+  } else if (g.ny >= 2) {
+    j = fractionalIndex(g.latDeg, g.ny, latDeg);
+  }
+  return glm::dvec2(i, j);
+}
+
+GridColumns GridSampler::columnsAt(const glm::dvec2& ij) const {
+  const GridVolume& g = grid_;
+  // Columns and their weights along i.
+  std::size_t i0 = static_cast<std::size_t>(std::max(0.0, std::floor(ij.x)));
+  double fi = ij.x - static_cast<double>(i0);
+  std::size_t i1 = i0 + 1;
+  if (i0 >= g.nx - 1) {
+    if (g.wrapsLongitude && !g.curvilinear && i0 == g.nx - 1 && fi > 0.0) {
+      i1 = 0;  // across the seam
+    } else {
+      i0 = i1 = g.nx - 1;
+      fi = 0.0;
+    }
+  }
+  // Rows (or a pole) and their weights along j.
+  struct Row {
+    int row;  // >= 0 a row, else a pole
+    double weight;
+  };
+  std::array<Row, 2> rows{};
+  if (ij.y < 0.0) {
+    const double t = -ij.y;
+    rows = {Row{0, 1.0 - t}, Row{GridColumns::kSouthPole, t}};
+  } else if (ij.y > static_cast<double>(g.ny - 1)) {
+    const double t = ij.y - static_cast<double>(g.ny - 1);
+    rows = {Row{static_cast<int>(g.ny - 1), 1.0 - t}, Row{GridColumns::kNorthPole, t}};
+  } else {
+    std::size_t j0 = static_cast<std::size_t>(std::floor(ij.y));
+    double fj = ij.y - static_cast<double>(j0);
+    if (j0 >= g.ny - 1) {
+      j0 = g.ny - 1;
+      fj = 0.0;
+    }
+    rows = {Row{static_cast<int>(j0), 1.0 - fj}, Row{static_cast<int>(std::min(j0 + 1, g.ny - 1)), fj}};
+  }
+  GridColumns out;
+  auto add = [&](int column, double w) {
+    if (w <= 0.0) return;
+    for (int k = 0; k < out.count; ++k)
+      if (out.column[k] == column) {
+        out.weight[k] += w;
+        return;
+      }
+    out.column[out.count] = column;
+    out.weight[out.count] = w;
+    ++out.count;
+  };
+  for (const Row& r : rows) {
+    if (r.row < 0) {
+      add(r.row, r.weight);
+      continue;
+    }
+    const int base = r.row * static_cast<int>(g.nx);
+    add(base + static_cast<int>(i0), r.weight * (1.0 - fi));
+    add(base + static_cast<int>(i1), r.weight * fi);
+  }
+  if (out.count == 0) {  // every weight zero cannot happen for t in [0, 1]; keep one column
+    out.column[0] = rows[0].row < 0 ? rows[0].row : rows[0].row * static_cast<int>(g.nx) + static_cast<int>(i0);
+    out.weight[0] = 1.0;
+    out.count = 1;
+  }
+  return out;
+}
+
+double GridSampler::columnHeight(int column, std::size_t k) const {
+  if (column == GridColumns::kNorthPole) return northHeight_[k];
+  if (column == GridColumns::kSouthPole) return southHeight_[k];
+  return grid_.heightAboveEllipsoidMeters[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
+}
+
+float GridSampler::columnValue(int column, std::size_t k) const {
+  if (column == GridColumns::kNorthPole) return northValue_[k];
+  if (column == GridColumns::kSouthPole) return southValue_[k];
+  return grid_.values[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
+}
+
+VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double heightMeters,
+                                         Interpolation interpolation) const {
+  const GridVolume& g = grid_;
+  if (g.nz == 0 || !(heightMeters >= minHeight_ && heightMeters <= maxHeight_)) return {};
+  const std::optional<glm::dvec2> ij = horizontalIndex(latDeg, lonDeg);
+  if (!ij) return {};
+  GridColumns cols = columnsAt(*ij);
+  if (interpolation == Interpolation::Nearest) {
+    int best = 0;
+    for (int c = 1; c < cols.count; ++c)
+      if (cols.weight[c] > cols.weight[best]) best = c;
+    cols.column[0] = cols.column[best];
+    cols.weight[0] = 1.0;
+    cols.count = 1;
+  }
+  auto heightAt = [&](std::size_t k) {
+    double h = 0.0;
+    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
+    return h;
+  };
+  auto valueAt = [&](std::size_t k) {
+    double v = 0.0;
+    for (int c = 0; c < cols.count; ++c) {
+      const float x = columnValue(cols.column[c], k);
+      if (!std::isfinite(x)) return kNaN;
+      v += cols.weight[c] * x;
+    }
+    return v;
+  };
+  const double bottom = heightAt(0), top = heightAt(g.nz - 1);
+  if (!(heightMeters >= bottom && heightMeters <= top)) return {};
+  double value = kNaN;
+  if (g.nz == 1) {
+    value = valueAt(0);
+  } else {
+    std::size_t lo = 0, hi = g.nz - 1;
+    while (hi - lo > 1) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (heightAt(mid) <= heightMeters) {
+        lo = mid;
+      } else {
+        hi = mid;
+      }
+    }
+    const double hLo = heightAt(lo), hHi = heightAt(hi);
+    const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+    if (interpolation == Interpolation::Nearest) {
+      value = valueAt(f < 0.5 ? lo : hi);
+    } else {
+      const double a = valueAt(lo), b = valueAt(hi);
+      value = (1.0 - f) * a + f * b;
+    }
+  }
+  if (!std::isfinite(value)) return {};
+  return {VolumeSample::State::Echo, value};
+}
+
+std::optional<glm::dvec3> GridSampler::gridIndex(double latDeg, double lonDeg, double heightMeters) const {
+  const std::optional<glm::dvec2> ij = horizontalIndex(latDeg, lonDeg);
+  if (!ij || grid_.nz == 0) return std::nullopt;
+  const GridColumns cols = columnsAt(*ij);
+  auto heightAt = [&](std::size_t k) {
+    double h = 0.0;
+    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
+    return h;
+  };
+  if (!(heightMeters >= heightAt(0) && heightMeters <= heightAt(grid_.nz - 1))) return std::nullopt;
+  if (grid_.nz == 1) return glm::dvec3(*ij, 0.0);
+  std::size_t lo = 0, hi = grid_.nz - 1;
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (heightAt(mid) <= heightMeters) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  const double hLo = heightAt(lo), hHi = heightAt(hi);
+  const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  return glm::dvec3(*ij, static_cast<double>(lo) + f);
+}
+
+VolumeSample GridSampler::sample(const glm::dvec3& ecef, Interpolation interpolation) const {
+  const globe::Geodetic p = globe::ecefToGeodetic(ecef);
+  return sampleGeodetic(p.latDeg, p.lonDeg, p.heightMeters, interpolation);
+}
+
+}  // namespace atmoglobe::volume
