@@ -11,7 +11,7 @@ PKGS=(
   libcli11-dev
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip
-  netcdf-bin
+  netcdf-bin clang-format
 )
 
 missing=()

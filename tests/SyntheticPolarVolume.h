@@ -12,11 +12,11 @@
 namespace atmoglobe::testutil {
 
 struct SyntheticPolarGeometry {
-  double latDeg = 33.654;                 ///< Lubbock's coordinates by default
+  double latDeg = 33.654;  ///< Lubbock's coordinates by default
   double lonDeg = -101.814;
-  double antennaHeightMeters = 1029.0;    ///< above the WGS84 ellipsoid
-  int sweeps = 10;                        ///< at 0.5, 1.5, ... deg
-  int rays = 360;                         ///< centred at (ray + 0.5) * 360 / rays deg
+  double antennaHeightMeters = 1029.0;  ///< above the WGS84 ellipsoid
+  int sweeps = 10;                      ///< at 0.5, 1.5, ... deg
+  int rays = 360;                       ///< centred at (ray + 0.5) * 360 / rays deg
   std::uint32_t gates = 400;
   double firstGateMeters = 2125.0;
   double gateSpacingMeters = 250.0;
@@ -24,7 +24,7 @@ struct SyntheticPolarGeometry {
 
 /// field(rangeMeters, azimuthDeg, elevationDeg) at each gate centre.
 inline volume::RadarVolume syntheticRadarVolume(const SyntheticPolarGeometry& g,
-                                                           const std::function<float(double, double, double)>& field) {
+                                                const std::function<float(double, double, double)>& field) {
   volume::RadarVolume v;
   v.format = "synthetic";
   v.sourcePath = "synthetic";

@@ -45,8 +45,9 @@ inline TestDataCheck checkTestData(std::initializer_list<std::string> paths) {
   // ctest sets ATMOGLOBE_TEST_REALDATA=1 on tests labelled realdata and 0 on the others.
   const char* label = std::getenv("ATMOGLOBE_TEST_REALDATA");
   if (label && std::string(label) == "0")
-    return {true, "this test reads real sample data but ctest runs it without the realdata label: "
-                  "add it to the realdata list of its executable in tests/CMakeLists.txt"};
+    return {true,
+            "this test reads real sample data but ctest runs it without the realdata label: "
+            "add it to the realdata list of its executable in tests/CMakeLists.txt"};
   for (const std::string& p : paths) {
     if (std::filesystem::exists(p)) continue;
     const std::string where = std::filesystem::is_directory(testDataDir()) ? p : testDataDir();
@@ -62,9 +63,9 @@ inline TestDataCheck checkTestData(std::initializer_list<std::string> paths) {
 
 /// First line of a test that reads real sample data: skips it (or fails it, see above) unless
 /// every one of the given paths exists.
-#define SKIP_WITHOUT_TEST_DATA(...)                                                                     \
-  do {                                                                                                  \
+#define SKIP_WITHOUT_TEST_DATA(...)                                                                        \
+  do {                                                                                                     \
     const ::atmoglobe_test::TestDataCheck testDataCheck_ = ::atmoglobe_test::checkTestData({__VA_ARGS__}); \
-    if (testDataCheck_.fail) GTEST_FAIL() << testDataCheck_.message;                                    \
-    if (!testDataCheck_.message.empty()) GTEST_SKIP() << testDataCheck_.message;                        \
+    if (testDataCheck_.fail) GTEST_FAIL() << testDataCheck_.message;                                       \
+    if (!testDataCheck_.message.empty()) GTEST_SKIP() << testDataCheck_.message;                           \
   } while (false)

@@ -10,6 +10,6 @@ namespace atmoglobe_test {
 const std::string& outputDir();
 /// An empty directory outputDir()/group/<current test name>, created afresh.
 std::string freshTestDir(const std::string& group);
-}
+}  // namespace atmoglobe_test
 
 #define ATMOGLOBE_TEST_OUTPUT_DIR (::atmoglobe_test::outputDir())

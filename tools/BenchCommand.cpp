@@ -12,17 +12,21 @@ namespace atmoglobe::tools {
 
 Command addBenchCommand(CLI::App& root) {
   auto o = std::make_shared<bench::VolumeBenchOptions>();
-  CLI::App* c = root.add_subcommand("bench", "Measure the radar volume marcher's speed/accuracy trade (and the VTK peer)");
+  CLI::App* c =
+      root.add_subcommand("bench", "Measure the radar volume marcher's speed/accuracy trade (and the VTK peer)");
   c->add_option("--data", o->dataDir, "Directory holding radar_nexrad/ and radar_odim/ (default ../shared/data)");
   c->add_option("--out", o->outDir, "Output directory (default out/bench)");
   c->add_flag("--quick", o->quick, "One view, a small grid, 160x90 (a smoke test)");
   c->add_option("--frames", o->frames, "Timed frames per cell (median)")->check(CLI::Range(1, 1000));
-  c->add_option("--reference-step", o->referenceStepMeters, "Reference renderer step (m)")->check(CLI::Range(10.0, 1000.0));
-  c->add_option("--threads", o->threads, "Threads for the reference and the resampling (0: all)")->check(CLI::Range(0, 256));
+  c->add_option("--reference-step", o->referenceStepMeters, "Reference renderer step (m)")
+      ->check(CLI::Range(10.0, 1000.0));
+  c->add_option("--threads", o->threads, "Threads for the reference and the resampling (0: all)")
+      ->check(CLI::Range(0, 256));
   c->add_flag("!--no-peer", o->peer, "Skip the VTK peer");
   c->add_flag("--reference-only", o->referenceOnly, "Only render the reference images into the cache (no GL)");
   c->add_option("--peer-script", o->peerScript, "Path of tools/bench/vtk_peer.py");
-  c->add_option("--view", o->viewNames, "Only this view (repeatable): KLBB-oblique, KLBB-down, AU40-oblique, AU40-down");
+  c->add_option("--view", o->viewNames,
+                "Only this view (repeatable): KLBB-oblique, KLBB-down, AU40-oblique, AU40-down");
   c->add_option("--steps", o->stepsMeters, "Only these DVR step sizes (m), e.g. --steps 250 1000")
       ->check(CLI::Range(10.0, 20000.0));
   return {c, [o] {

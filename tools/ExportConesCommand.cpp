@@ -62,7 +62,8 @@ Result<std::vector<int>> parseSweepList(const std::string& text) {
 
 int runExportCones(const ExportConesOptions& o) {
   const char* cmd = "export-cones";
-  if (o.output.empty() && o.tileset.empty()) return fail(cmd, "give -o OUT(.glb|.gltf|.dae|.kml|.kmz) and/or --tileset DIR");
+  if (o.output.empty() && o.tileset.empty())
+    return fail(cmd, "give -o OUT(.glb|.gltf|.dae|.kml|.kmz) and/or --tileset DIR");
   if (!o.output.empty()) {
     if (Result<volume::ConeFormat> f = volume::coneFormatFromPath(o.output); !f) return fail(cmd, f.error());
   }
@@ -73,7 +74,8 @@ int runExportCones(const ExportConesOptions& o) {
     opt.sweepIndices = *list;
   }
   if (o.maxRangeKm) {
-    if (!std::isfinite(*o.maxRangeKm) || *o.maxRangeKm <= 0) return fail(cmd, "--max-range must be a positive number of km");
+    if (!std::isfinite(*o.maxRangeKm) || *o.maxRangeKm <= 0)
+      return fail(cmd, "--max-range must be a positive number of km");
     opt.maxRangeMeters = *o.maxRangeKm * 1000.0;
   }
   opt.mesh.straight = o.straight;
@@ -119,17 +121,22 @@ int runExportCones(const ExportConesOptions& o) {
 
 Command addExportConesCommand(CLI::App& root) {
   auto opts = std::make_shared<ExportConesOptions>();
-  CLI::App* app = root.add_subcommand("export-cones", "Export radar sweeps as georeferenced textured cones (glTF, COLLADA, KML/KMZ, 3D Tiles)");
+  CLI::App* app = root.add_subcommand(
+      "export-cones", "Export radar sweeps as georeferenced textured cones (glTF, COLLADA, KML/KMZ, 3D Tiles)");
   app->add_option("file", opts->file, "Radar volume (CfRadial, ODIM_H5, NEXRAD Level II)")->required();
   app->add_option("--field", opts->field, "Field to draw (default: reflectivity)");
-  app->add_option("--colors", opts->colors, "Colour table: auto (by the field's kind), NWS (stepped, dBZ), cividis, velocity (+-Nyquist), or a GR/WCT .pal file");
+  app->add_option(
+      "--colors", opts->colors,
+      "Colour table: auto (by the field's kind), NWS (stepped, dBZ), cividis, velocity (+-Nyquist), or a GR/WCT .pal file");
   app->add_option("--sweeps", opts->sweeps, "Sweep indices, e.g. 0,2,5-7 (default: every PPI sweep)");
   app->add_option("--max-range", opts->maxRangeKm, "Last gate drawn (km)");
-  app->add_flag("--straight", opts->straight, "Straight cones (no refraction, no Earth curvature) as old viewers drew them");
+  app->add_flag("--straight", opts->straight,
+                "Straight cones (no refraction, no Earth curvature) as old viewers drew them");
   app->add_option("--ke", opts->ke, "Effective Earth radius factor of the beam model (default 4/3)");
   app->add_flag("--no-geoid", opts->noGeoid, "Use the file's sea-level antenna height as ellipsoidal (no EGM96)");
   app->add_option("-o,--output", opts->output, "Output: .glb, .gltf, .dae, .kml or .kmz");
-  app->add_option("--tileset", opts->tileset, "Also write DIR/tileset.json + DIR/cones.glb (3D Tiles 1.1) for CesiumJS");
+  app->add_option("--tileset", opts->tileset,
+                  "Also write DIR/tileset.json + DIR/cones.glb (3D Tiles 1.1) for CesiumJS");
   return Command{app, [opts] { return runExportCones(*opts); }};
 }
 

@@ -7,6 +7,7 @@
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
+#include <unistd.h>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -14,7 +15,6 @@
 #include <optional>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
 namespace atmoglobe::tools {
 
@@ -51,13 +51,12 @@ int runGates(const GatesOptions& o) {
   }
   char latLon[96];
   std::snprintf(latLon, sizeof latLon, "%.6f, %.6f", site.site.latDeg, site.site.lonDeg);
-  std::cerr << "atmoglobe gates: " << o.file << ": site " << latLon << "; "
-            << site.datumNote << "; heights in the CSV are above the WGS84 ellipsoid; model " << o.model << ", ke "
-            << model.ke << ", R "
+  std::cerr << "atmoglobe gates: " << o.file << ": site " << latLon << "; " << site.datumNote
+            << "; heights in the CSV are above the WGS84 ellipsoid; model " << o.model << ", ke " << model.ke << ", R "
             << (model.earthRadiusMeters ? std::to_string(*model.earthRadiusMeters) + " m"
                                         : "WGS84 geocentric radius at the site")
-            << "; field " << vol.loadedField.name << (vol.loadedField.units.empty() ? "" : " [" + vol.loadedField.units + "]")
-            << "\n";
+            << "; field " << vol.loadedField.name
+            << (vol.loadedField.units.empty() ? "" : " [" + vol.loadedField.units + "]") << "\n";
 
   // Output: stdout, or a temporary file renamed into place once complete.
   std::FILE* out = stdout;
@@ -145,7 +144,8 @@ Command addGatesCommand(CLI::App& root) {
   c.app->add_option("--ke", o->ke, "effective Earth radius factor (default 4/3; 1 = no refraction)");
   c.app->add_option("--earth-radius", o->earthRadiusMeters,
                     "Earth radius R in metres (default: WGS84 geocentric radius at the site latitude)");
-  c.app->add_flag("--no-geoid", o->noGeoid, "use the file's antenna height as ellipsoidal height (no EGM96 conversion)");
+  c.app->add_flag("--no-geoid", o->noGeoid,
+                  "use the file's antenna height as ellipsoidal height (no EGM96 conversion)");
   c.app->add_option("-o,--output", o->output, "CSV file to write (default: standard output)");
   c.run = [o] { return runGates(*o); };
   return c;

@@ -23,9 +23,10 @@ Command addInfoCommand(CLI::App& root) {
   };
   auto opts = std::make_shared<Options>();
   Command c;
-  c.app = root.add_subcommand("info", "Describe a radar file (CfRadial, ODIM_H5, NEXRAD Level II: format, site, "
-                                      "time, sweeps and fields) or a forecast grid (CF netCDF, WRF: dimensions, "
-                                      "variables, grid, vertical coordinate and heights, times, extent)");
+  c.app = root.add_subcommand("info",
+                              "Describe a radar file (CfRadial, ODIM_H5, NEXRAD Level II: format, site, "
+                              "time, sweeps and fields) or a forecast grid (CF netCDF, WRF: dimensions, "
+                              "variables, grid, vertical coordinate and heights, times, extent)");
   c.app->add_option("FILE", opts->file, "Radar file or forecast grid (netCDF)")->required();
   c.app->add_flag("--json", opts->json, "Print one JSON object instead of text");
   c.app->add_option("--variable", opts->variable,
@@ -47,7 +48,8 @@ Command addInfoCommand(CLI::App& root) {
       // that is neither may be a broken grid: say what the grid reader found wrong too.
       if (volume::hasNetcdfSignature(opts->file)) {
         auto grid = volume::describeGridFile(opts->file);
-        if (!grid) return fail("info", vol.error() + " (read as a radar file); " + grid.error() + " (read as a forecast grid)");
+        if (!grid)
+          return fail("info", vol.error() + " (read as a radar file); " + grid.error() + " (read as a forecast grid)");
       }
       return fail("info", vol.error());
     }

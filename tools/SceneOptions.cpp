@@ -25,25 +25,35 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--size", o.size, "Image size WxH in pixels (e.g. 1280x720)");
   c.add_option("--imagery", o.imageryDirs,
                "Imagery pyramid directory made by `atmoglobe tiles` (replaces the scene's layers; repeatable)");
-  c.add_option("--xyz", o.xyzDirs, "XYZ (slippy map, web mercator) directory {z}/{x}/{y}.png|jpg drawn over "
-                                   "the base imagery where it has data (repeatable)");
+  c.add_option("--xyz", o.xyzDirs,
+               "XYZ (slippy map, web mercator) directory {z}/{x}/{y}.png|jpg drawn over "
+               "the base imagery where it has data (repeatable)");
   c.add_option("--marker", o.markers, "Marker LAT,LON[,HEIGHT[,LABEL]] (repeatable)");
-  c.add_option("--stations", o.stations, "Station list to draw as markers: CSV (header with id, lat, lon[, elevation]) "
-                                         "or JSON (array of objects, or id -> object)");
-  c.add_option("--cones", o.models, "A cone export (.glb from `atmoglobe export-cones`) to draw at its place (repeatable)");
-  auto* gg = c.add_option_group("Forecast grids", "Each option below is given once (all grids) or once per --grid, in order");
-  gg->add_option("--grid", o.grids, "NetCDF forecast grid to ray-march (CF or WRF; repeatable; replaces the scene's grids)");
+  c.add_option("--stations", o.stations,
+               "Station list to draw as markers: CSV (header with id, lat, lon[, elevation]) "
+               "or JSON (array of objects, or id -> object)");
+  c.add_option("--cones", o.models,
+               "A cone export (.glb from `atmoglobe export-cones`) to draw at its place (repeatable)");
+  auto* gg =
+      c.add_option_group("Forecast grids", "Each option below is given once (all grids) or once per --grid, in order");
+  gg->add_option("--grid", o.grids,
+                 "NetCDF forecast grid to ray-march (CF or WRF; repeatable; replaces the scene's grids)");
   gg->add_option("--var", o.variables, "Grid variable (default: the file's default, see `atmoglobe info`)");
   gg->add_option("--time", o.times, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
-  gg->add_option("--grid-colors", o.gridColors, "Grid colour table: auto (by the variable's units/standard_name), cividis, NWS or a .pal file");
+  gg->add_option("--grid-colors", o.gridColors,
+                 "Grid colour table: auto (by the variable's units/standard_name), cividis, NWS or a .pal file");
   gg->add_option("--grid-mode", o.gridModes, "Grid rendering: dvr, mip or iso");
-  gg->add_option("--grid-step", o.gridSteps, "Grid ray-march step (m; the radars' step integrates both where they overlap)");
-  auto* g = c.add_option_group("Radar volumes",
-                               "Each option below is given once (all radars) or once per --radar, in order");
-  g->add_option("--radar", o.radars,
-                "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars)");
+  gg->add_option("--grid-step", o.gridSteps,
+                 "Grid ray-march step (m; the radars' step integrates both where they overlap)");
+  auto* g =
+      c.add_option_group("Radar volumes", "Each option below is given once (all radars) or once per --radar, in order");
+  g->add_option(
+      "--radar", o.radars,
+      "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars)");
   g->add_option("--field", o.fields, "Field to render (default: reflectivity)");
-  g->add_option("--colors", o.colors, "Colour table: auto (by the field's kind: NWS for reflectivity, a diverging table over +-Nyquist for velocity, ...), NWS, cividis, velocity or a GR/WCT .pal file");
+  g->add_option(
+      "--colors", o.colors,
+      "Colour table: auto (by the field's kind: NWS for reflectivity, a diverging table over +-Nyquist for velocity, ...), NWS, cividis, velocity or a GR/WCT .pal file");
   g->add_option("--mode", o.modes, "dvr (volume rendering), mip (maximum intensity) or iso (isosurface)");
   g->add_option("--step", o.steps, "Ray-march step (m); default 250");
   g->add_option("--interpolation", o.interpolations, "nearest or linear (default)");
@@ -98,8 +108,8 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
     const volume::GridVolume& g = (*layer)->volume->grid();
     std::cerr << d.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
               << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
-              << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0 << " MiB read; heights: "
-              << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "") << "\n";
+              << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
+              << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "") << "\n";
   }
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st) return st.forwardError();
@@ -176,7 +186,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   }
   if (!o.imageryDirs.empty()) {
     scene->imagery.clear();
-    for (const std::string& d : o.imageryDirs) scene->imagery.push_back({engine::ImageryLayerDescription::Type::Pyramid, d});
+    for (const std::string& d : o.imageryDirs)
+      scene->imagery.push_back({engine::ImageryLayerDescription::Type::Pyramid, d});
   }
   for (const std::string& d : o.xyzDirs) scene->imagery.push_back({engine::ImageryLayerDescription::Type::Xyz, d});
   for (const std::string& m : o.markers) {
@@ -213,21 +224,23 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     out = values.size() == 1 ? values[0] : values[i];
     return Ok{};
   };
-  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() ||
-                  !o.interpolations.empty() || !o.beams.empty() || !o.classifications.empty() ||
-                  !o.imageScales.empty() || !o.isoValues.empty())) {
-    return makeError("--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso need a --radar");
+  if (nr == 0 &&
+      (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
+       !o.beams.empty() || !o.classifications.empty() || !o.imageScales.empty() || !o.isoValues.empty())) {
+    return makeError(
+        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso need a --radar");
   }
   if (nr > 0) scene->radars.clear();  // like --imagery, --radar replaces the scene's radars
   for (std::size_t i = 0; i < nr; ++i) {
     engine::RadarLayerDescription d;
     d.path = o.radars[i];
     d.useGeoid = !o.noGeoid;
-    for (const Status& st : {pick(o.fields, "--field", i, d.field), pick(o.colors, "--colors", i, d.colors),
-                             pick(o.modes, "--mode", i, d.mode), pick(o.interpolations, "--interpolation", i, d.interpolation),
-                             pick(o.beams, "--beam", i, d.beam), pick(o.classifications, "--classification", i, d.classification),
-                             pick(o.steps, "--step", i, d.stepMeters),
-                             pick(o.imageScales, "--image-scale", i, d.imageScale), pick(o.isoValues, "--iso", i, d.isoValue)}) {
+    for (const Status& st :
+         {pick(o.fields, "--field", i, d.field), pick(o.colors, "--colors", i, d.colors),
+          pick(o.modes, "--mode", i, d.mode), pick(o.interpolations, "--interpolation", i, d.interpolation),
+          pick(o.beams, "--beam", i, d.beam), pick(o.classifications, "--classification", i, d.classification),
+          pick(o.steps, "--step", i, d.stepMeters), pick(o.imageScales, "--image-scale", i, d.imageScale),
+          pick(o.isoValues, "--iso", i, d.isoValue)}) {
       if (!st) return st.forwardError();
     }
     if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return st.forwardError();
@@ -251,9 +264,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     engine::GridLayerDescription d;
     d.path = o.grids[i];
     d.useGeoid = !o.noGeoid;
-    for (const Status& st : {pickGrid(o.variables, "--var", i, d.variable), pickGrid(o.times, "--time", i, d.time),
-                             pickGrid(o.gridColors, "--grid-colors", i, d.colors), pickGrid(o.gridModes, "--grid-mode", i, d.mode),
-                             pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
+    for (const Status& st :
+         {pickGrid(o.variables, "--var", i, d.variable), pickGrid(o.times, "--time", i, d.time),
+          pickGrid(o.gridColors, "--grid-colors", i, d.colors), pickGrid(o.gridModes, "--grid-mode", i, d.mode),
+          pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
       if (!st) return st.forwardError();
     }
     if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
@@ -263,8 +277,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (!std::filesystem::exists(layer.path)) {
       std::string hint;
       if (layer.path.rfind(dataDirectory(), 0) == 0) {
-        hint = " (the default imagery is built by ./run.sh, or: atmoglobe tiles "
-               "/usr/share/xplanet/images/earth.jpg -o " + dataDirectory() + "/earth)";
+        hint =
+            " (the default imagery is built by ./run.sh, or: atmoglobe tiles "
+            "/usr/share/xplanet/images/earth.jpg -o " +
+            dataDirectory() + "/earth)";
       }
       return makeError("imagery directory " + layer.path + " does not exist" + hint);
     }

@@ -14,7 +14,7 @@ namespace atmoglobe::tools {
 
 struct SceneOptions {
   std::string sceneFile;
-  std::string camera;  ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
+  std::string camera;   ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
   double fovDeg = 0.0;  ///< 0: the scene's
   std::string size;     ///< "WxH"
   std::vector<std::string> imageryDirs;

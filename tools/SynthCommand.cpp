@@ -19,11 +19,11 @@ namespace atmoglobe::tools {
 
 namespace {
 struct Options {
-    std::string output;
-    volume::SyntheticRadarOptions synth;
-    bool grid = false;
-    std::vector<std::size_t> gridSize;
-    volume::SyntheticGridOptions gridOptions;
+  std::string output;
+  volume::SyntheticRadarOptions synth;
+  bool grid = false;
+  std::vector<std::size_t> gridSize;
+  volume::SyntheticGridOptions gridOptions;
 };
 
 int writeGrid(Options& o) {
@@ -56,14 +56,17 @@ int writeGrid(Options& o) {
 Command addSynthCommand(CLI::App& root) {
   auto opts = std::make_shared<Options>();
   Command c;
-  c.app = root.add_subcommand("synth", "Write a SYNTHETIC CfRadial radar volume (KTLX, VCP 212 angles, an analytic "
-                                       "supercell with anvil and a stratiform area with a bright band), or with "
-                                       "--grid a SYNTHETIC CF forecast grid of the same storm");
+  c.app = root.add_subcommand("synth",
+                              "Write a SYNTHETIC CfRadial radar volume (KTLX, VCP 212 angles, an analytic "
+                              "supercell with anvil and a stratiform area with a bright band), or with "
+                              "--grid a SYNTHETIC CF forecast grid of the same storm");
   c.app->add_option("-o,--output", opts->output, "Output file (CfRadial 1.4 or, with --grid, CF-1.8; netCDF-4)")
       ->required();
   c.app->add_option("--seed", opts->synth.seed, "Seed of the noise and texture")->capture_default_str();
-  c.app->add_option("--storm-east", opts->synth.stormEastKm, "Storm centre east of the site (km)")->capture_default_str();
-  c.app->add_option("--storm-north", opts->synth.stormNorthKm, "Storm centre north of the site (km)")->capture_default_str();
+  c.app->add_option("--storm-east", opts->synth.stormEastKm, "Storm centre east of the site (km)")
+      ->capture_default_str();
+  c.app->add_option("--storm-north", opts->synth.stormNorthKm, "Storm centre north of the site (km)")
+      ->capture_default_str();
   c.app->add_option("--noise", opts->synth.noiseDbz, "Gate noise standard deviation (dB)")->capture_default_str();
   c.app->add_flag("--grid", opts->grid,
                   "Write a SYNTHETIC CF forecast grid instead (netCDF-4): simulated reflectivity of the same storm "
@@ -72,8 +75,8 @@ Command addSynthCommand(CLI::App& root) {
   c.app->add_option("--grid-size", opts->gridSize, "With --grid: NX,NY,LEVELS,TIMES (default 400,400,35,13)")
       ->delimiter(',')
       ->expected(4);
-  CLI::Option* spacing =
-      c.app->add_option("--spacing", opts->gridOptions.spacingKm, "With --grid: column spacing (km)")->capture_default_str();
+  CLI::Option* spacing = c.app->add_option("--spacing", opts->gridOptions.spacingKm, "With --grid: column spacing (km)")
+                             ->capture_default_str();
   c.run = [opts, spacing] {
     if (!opts->grid && (!opts->gridSize.empty() || spacing->count() > 0))
       return fail("synth", "--grid-size and --spacing need --grid");
@@ -84,16 +87,17 @@ Command addSynthCommand(CLI::App& root) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto& o = opts->synth;
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "wrote %s: SYNTHETIC CfRadial 1.4 (netCDF-4), %.1f MB in %.2f s\n"
-                  "  site %s %.5f %.5f, antenna %.1f m above MSL; VCP 212 angles: %zu sweeps x %zu rays x %zu gates "
-                  "(%.0f m from %.0f m)\n"
-                  "  field DBZ: %zu echo gates (>= %.0f dBZ; the rest _FillValue), max %.1f dBZ at %.1f km E %.1f km N, "
-                  "%.0f m MSL; seed %llu\n",
-                  opts->output.c_str(), static_cast<double>(s.fileBytes) / 1e6, seconds, o.siteId.c_str(), o.siteLatDeg,
-                  o.siteLonDeg, o.antennaAltitudeMslMeters, s.sweeps, s.raysPerSweep, s.gatesPerRay, o.gateSpacingMeters,
-                  o.firstGateRangeMeters, s.echoGates, o.minEchoDbz, s.maxDbz, s.maxEastKm, s.maxNorthKm,
-                  s.maxHeightMslMeters, static_cast<unsigned long long>(o.seed));
+    std::snprintf(
+        line, sizeof line,
+        "wrote %s: SYNTHETIC CfRadial 1.4 (netCDF-4), %.1f MB in %.2f s\n"
+        "  site %s %.5f %.5f, antenna %.1f m above MSL; VCP 212 angles: %zu sweeps x %zu rays x %zu gates "
+        "(%.0f m from %.0f m)\n"
+        "  field DBZ: %zu echo gates (>= %.0f dBZ; the rest _FillValue), max %.1f dBZ at %.1f km E %.1f km N, "
+        "%.0f m MSL; seed %llu\n",
+        opts->output.c_str(), static_cast<double>(s.fileBytes) / 1e6, seconds, o.siteId.c_str(), o.siteLatDeg,
+        o.siteLonDeg, o.antennaAltitudeMslMeters, s.sweeps, s.raysPerSweep, s.gatesPerRay, o.gateSpacingMeters,
+        o.firstGateRangeMeters, s.echoGates, o.minEchoDbz, s.maxDbz, s.maxEastKm, s.maxNorthKm, s.maxHeightMslMeters,
+        static_cast<unsigned long long>(o.seed));
     std::cout << line;
     return 0;
   };

@@ -173,8 +173,9 @@ Command addViewCommand(CLI::App& root) {
   addSceneOptions(*c, options->scene);
   c->add_option("--frames", options->frames, "Quit after this many frames (scripted runs)");
   c->add_option("--screenshot", options->screenshot, "With --frames: save the last frame to this PNG");
-  c->footer("Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
-            "Keys: P screenshot, R reset camera, Esc/Q quit.");
+  c->footer(
+      "Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
+      "Keys: P screenshot, R reset camera, Esc/Q quit.");
   return {c, [options] { return runView(*options); }};
 }
 

@@ -33,7 +33,8 @@ void zoomTowardPixel(CameraPose& pose, double fovYDeg, int widthPx, int heightPx
                      double factor) {
   const Camera camera(pose, fovYDeg, widthPx, heightPx);
   const auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), camera.pixelRayDirection(xPx, yPx));
-  const double newHeight = std::clamp(pose.heightMeters * factor, kMinControllerHeightMeters, kMaxControllerHeightMeters);
+  const double newHeight =
+      std::clamp(pose.heightMeters * factor, kMinControllerHeightMeters, kMaxControllerHeightMeters);
   if (hit) {
     const double moved = 1.0 - newHeight / pose.heightMeters;  // fraction of the way to the point
     const globe::Geodetic g = globe::ecefToGeodetic(*hit);

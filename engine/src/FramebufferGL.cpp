@@ -9,8 +9,8 @@ Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int he
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
   if (widthPx < 1 || heightPx < 1 || widthPx > maxSize || heightPx > maxSize) {
-    return makeError("image size " + std::to_string(widthPx) + "x" + std::to_string(heightPx) +
-                     " is outside 1.." + std::to_string(maxSize));
+    return makeError("image size " + std::to_string(widthPx) + "x" + std::to_string(heightPx) + " is outside 1.." +
+                     std::to_string(maxSize));
   }
   std::unique_ptr<FramebufferGL> fb(new FramebufferGL());
   fb->width_ = widthPx;

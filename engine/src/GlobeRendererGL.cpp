@@ -139,8 +139,8 @@ GlobeFrameStats GlobeRendererGL::draw(const Camera& camera) {
     if (auto* m = meshes_->find(tile)) {
       mesh = *m;
     } else {
-      mesh = uploadMesh(globe::buildTileMesh(tile, options_.meshSegments,
-                                             globe::skirtDepthMeters(tile, options_.meshSegments)));
+      mesh = uploadMesh(
+          globe::buildTileMesh(tile, options_.meshSegments, globe::skirtDepthMeters(tile, options_.meshSegments)));
       meshes_->insert(tile, mesh, mesh->bytes);
       ++stats.meshesBuilt;
     }

@@ -19,7 +19,8 @@ glm::dmat4 nodeLocalMatrix(const tinygltf::Node& node) {
     return m;
   }
   glm::dmat4 m(1.0);
-  if (node.translation.size() == 3) m[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
+  if (node.translation.size() == 3)
+    m[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
   // The cone export writes matrices only; rotation/scale of other files are not supported.
   return m;
 }
@@ -73,7 +74,8 @@ Result<std::unique_ptr<GltfModelRendererGL>> GltfModelRendererGL::load(const std
       if (prim.mode != TINYGLTF_MODE_TRIANGLES) continue;
       const auto pos = prim.attributes.find("POSITION");
       const auto uv = prim.attributes.find("TEXCOORD_0");
-      if (pos == prim.attributes.end() || prim.indices < 0) return makeError(path + ": primitive without POSITION/indices");
+      if (pos == prim.attributes.end() || prim.indices < 0)
+        return makeError(path + ": primitive without POSITION/indices");
       const auto& pa = model.accessors[static_cast<std::size_t>(pos->second)];
       const float* positions = accessorData<float>(model, pa, 3, TINYGLTF_COMPONENT_TYPE_FLOAT);
       const float* texCoords = nullptr;
@@ -119,8 +121,10 @@ Result<std::unique_ptr<GltfModelRendererGL>> GltfModelRendererGL::load(const std
         if (f.size() == 4) p.baseColor = glm::vec4(glm::dvec4(f[0], f[1], f[2], f[3]));
         const int texIndex = mat.pbrMetallicRoughness.baseColorTexture.index;
         if (texIndex >= 0 && model.textures[static_cast<std::size_t>(texIndex)].source >= 0) {
-          const auto& img = model.images[static_cast<std::size_t>(model.textures[static_cast<std::size_t>(texIndex)].source)];
-          if (img.component == 4 && img.bits == 8 && img.image.size() == static_cast<std::size_t>(img.width) * img.height * 4) {
+          const auto& img =
+              model.images[static_cast<std::size_t>(model.textures[static_cast<std::size_t>(texIndex)].source)];
+          if (img.component == 4 && img.bits == 8 &&
+              img.image.size() == static_cast<std::size_t>(img.width) * img.height * 4) {
             glCreateTextures(GL_TEXTURE_2D, 1, &p.texture);
             glTextureStorage2D(p.texture, 1, GL_RGBA8, img.width, img.height);
             glPixelStorei(GL_UNPACK_ALIGNMENT, 1);

@@ -22,8 +22,9 @@ constexpr int kLookupEntries = 4096;  // per axis of a rectilinear grid's tables
 Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVolume& grid) {
   const std::string name = grid.path.empty() ? std::string("grid") : grid.path;
   if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2)
-    return makeError(name + ": " + grid.variable + ": a grid needs at least 2 columns, rows and levels to be drawn (has " +
-                     std::to_string(grid.nx) + " x " + std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + ")");
+    return makeError(name + ": " + grid.variable +
+                     ": a grid needs at least 2 columns, rows and levels to be drawn (has " + std::to_string(grid.nx) +
+                     " x " + std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + ")");
   std::unique_ptr<GridVolumeGL> gl(new GridVolumeGL());
   gl->grid_ = std::make_shared<volume::GridVolume>(grid);
   gl->sampler_ = std::make_unique<volume::GridSampler>(*gl->grid_);
@@ -69,8 +70,8 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
       for (int tc = 0; tc < ts.x; ++tc) {
         const int column = columnOf(tc, tr);
         const float v = s.columnValue(column, static_cast<std::size_t>(k));
-        texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
-            glm::vec2(std::isfinite(v) ? v : kMissing, static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
+        texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] = glm::vec2(
+            std::isfinite(v) ? v : kMissing, static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
       }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
@@ -93,8 +94,9 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
       const double lon = lonStart + f * lonSpan;
       const auto ijLon = s.horizontalIndex(g.latDeg[0], lon);
       // The last entry of a wrapping grid is column nx (the copy of column 0), not 0.
-      table[e] = wraps && e == kLookupEntries - 1 ? static_cast<float>(g.nx)
-                                                   : static_cast<float>(ijLon ? ijLon->x : static_cast<double>(g.nx - 1));
+      table[e] = wraps && e == kLookupEntries - 1
+                     ? static_cast<float>(g.nx)
+                     : static_cast<float>(ijLon ? ijLon->x : static_cast<double>(g.nx - 1));
       const double lat = std::clamp(latStart + f * latSpan, -90.0, 90.0);
       const auto ijLat = s.horizontalIndex(lat, g.lonDeg[0]);
       table[kLookupEntries + e] = static_cast<float>((ijLat ? ijLat->y : 0.0) + gl->rowOffset_);
@@ -139,7 +141,8 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
   for (int k0 = 0; k0 < ts.z - 1; k0 += kBz)
     for (int r0 = 0; r0 < ts.y - 1; r0 += kBx)
       for (int c0 = 0; c0 < ts.x - 1; c0 += kBx) {
-        const int k1 = std::min(k0 + kBz, ts.z - 1), r1 = std::min(r0 + kBx, ts.y - 1), c1 = std::min(c0 + kBx, ts.x - 1);
+        const int k1 = std::min(k0 + kBz, ts.z - 1), r1 = std::min(r0 + kBx, ts.y - 1),
+                  c1 = std::min(c0 + kBx, ts.x - 1);
         float maxValue = volume::kOccupancyEmptyValue;
         for (int k = k0; k <= k1; ++k)
           for (int r = r0; r <= r1; ++r)
@@ -187,7 +190,8 @@ void GridVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform4f(u(name("sphere")), static_cast<float>(sphere.centreEcef.x - origin_.x),
               static_cast<float>(sphere.centreEcef.y - origin_.y), static_cast<float>(sphere.centreEcef.z - origin_.z),
               static_cast<float>(sphere.radiusMeters));
-  glUniform1f(u(name("outerRadius")), static_cast<float>(globe::kWgs84A + std::max(0.0, sampler_->maxHeightMeters()) + 1.0));
+  glUniform1f(u(name("outerRadius")),
+              static_cast<float>(globe::kWgs84A + std::max(0.0, sampler_->maxHeightMeters()) + 1.0));
   glUniform2f(u(name("heightRange")), static_cast<float>(sampler_->minHeightMeters()),
               static_cast<float>(sampler_->maxHeightMeters()));
   glUniform4f(u(name("lonLat")), lonRange_.x, lonRange_.y, latRange_.x, latRange_.y);

@@ -52,7 +52,7 @@ MarkerRendererGL::~MarkerRendererGL() {
 
 void MarkerRendererGL::drawLabels(const Camera& camera, const std::vector<Marker>& markers, float depthLift) {
   constexpr float kScale = 2.0f;  // stb_easy_font glyphs are ~6x7 px; doubled for legibility
-  std::vector<float> vertices;   // x, y, z (NDC), r, g, b, a
+  std::vector<float> vertices;    // x, y, z (NDC), r, g, b, a
   std::vector<char> quads(64 * 1024);
   const double w = camera.widthPx(), h = camera.heightPx();
   for (const Marker& m : markers) {
@@ -84,7 +84,8 @@ void MarkerRendererGL::drawLabels(const Camera& camera, const std::vector<Marker
     }
   }
   if (vertices.empty()) return;
-  glNamedBufferData(labelVbo_, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(), GL_STREAM_DRAW);
+  glNamedBufferData(labelVbo_, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(),
+                    GL_STREAM_DRAW);
   labelProgram_.use();
   glBindVertexArray(labelVao_);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size() / 7));

@@ -153,7 +153,8 @@ PlotFrame layoutPlot(const ScatterPlot& plot, int widthPx, int heightPx) {
   const double sy = niceStep((y1 - y0) / 6.0);
   f.yMin = std::floor(y0 / sy) * sy, f.yMax = std::ceil(y1 / sy) * sy;
   if (f.yMax <= f.yMin) f.yMax = f.yMin + sy;
-  f.left = kMarginLeft, f.top = kMarginTop, f.right = widthPx - 1 - kMarginRight, f.bottom = heightPx - 1 - kMarginBottom;
+  f.left = kMarginLeft, f.top = kMarginTop, f.right = widthPx - 1 - kMarginRight,
+  f.bottom = heightPx - 1 - kMarginBottom;
   return f;
 }
 

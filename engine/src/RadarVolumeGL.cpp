@@ -127,7 +127,8 @@ void RadarVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   const double clipRadius = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
   glUniform1f(u(p + "maxRange"), static_cast<float>(clipRadius));
   const volume::StraightElevationBand band = volume::straightElevationBand(v, beam_ == BeamApproximation::StraightLine);
-  glUniform2f(u(p + "straightElevationClipSin"), static_cast<float>(std::sin(degreesToRadians(band.loDegAt(clipRadius)))),
+  glUniform2f(u(p + "straightElevationClipSin"),
+              static_cast<float>(std::sin(degreesToRadians(band.loDegAt(clipRadius)))),
               static_cast<float>(std::sin(degreesToRadians(band.hiDegAt(clipRadius)))));
   const glm::mat3 ecefToEnu = glm::mat3(glm::transpose(beamModel_.enuToEcef));
   glUniformMatrix3fv(u(p + "ecefToEnu"), 1, GL_FALSE, glm::value_ptr(ecefToEnu));

@@ -47,7 +47,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   } catch (const json::parse_error& e) {
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
-  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations"}, sourceName);
+  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations"},
+                         sourceName);
       !s) {
     return s.forwardError();
   }
@@ -59,9 +60,9 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       return s.forwardError();
     }
     const std::pair<const char*, double*> fields[] = {
-        {"lat_deg", &scene.camera.latDeg},         {"lon_deg", &scene.camera.lonDeg},
-        {"height_m", &scene.camera.heightMeters},  {"heading_deg", &scene.camera.headingDeg},
-        {"pitch_deg", &scene.camera.pitchDeg},     {"roll_deg", &scene.camera.rollDeg}};
+        {"lat_deg", &scene.camera.latDeg},        {"lon_deg", &scene.camera.lonDeg},
+        {"height_m", &scene.camera.heightMeters}, {"heading_deg", &scene.camera.headingDeg},
+        {"pitch_deg", &scene.camera.pitchDeg},    {"roll_deg", &scene.camera.rollDeg}};
     for (auto [key, out] : fields) {
       auto v = number(c, key, *out, where);
       if (!v) return v.forwardError();
@@ -147,8 +148,9 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     int i = 0;
     for (const json& r : root["radars"]) {
       const std::string where = sourceName + ": radars[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(r, {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
-                                 "beam", "classification", "label", "geoid"},
+      if (auto s = checkKeys(r,
+                             {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
+                              "beam", "classification", "label", "geoid"},
                              where);
           !s) {
         return s.forwardError();
@@ -156,9 +158,13 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       RadarLayerDescription d;
       if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
       d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
-      for (auto [key, out] : {std::pair<const char*, std::string*>{"field", &d.field}, {"colors", &d.colors},
-                              {"mode", &d.mode}, {"interpolation", &d.interpolation}, {"beam", &d.beam},
-                              {"classification", &d.classification}, {"label", &d.label}}) {
+      for (auto [key, out] : {std::pair<const char*, std::string*>{"field", &d.field},
+                              {"colors", &d.colors},
+                              {"mode", &d.mode},
+                              {"interpolation", &d.interpolation},
+                              {"beam", &d.beam},
+                              {"classification", &d.classification},
+                              {"label", &d.label}}) {
         if (!r.contains(key)) continue;
         if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
         *out = r[key].get<std::string>();
@@ -166,7 +172,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
         d.colors = resolvePath(d.colors, baseDir, dataDir);
       }
-      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters}, {"image_scale", &d.imageScale},
+      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters},
+                              {"image_scale", &d.imageScale},
                               {"iso_dbz", &d.isoValue}}) {
         auto v = number(r, key, *out, where);
         if (!v) return v.forwardError();
@@ -185,8 +192,9 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     int i = 0;
     for (const json& r : root["grids"]) {
       const std::string where = sourceName + ": grids[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(r, {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
-                                 "iso_value", "classification", "geoid"},
+      if (auto s = checkKeys(r,
+                             {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
+                              "iso_value", "classification", "geoid"},
                              where);
           !s) {
         return s.forwardError();
@@ -194,8 +202,11 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       GridLayerDescription d;
       if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
       d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
-      for (auto [key, out] : {std::pair<const char*, std::string*>{"variable", &d.variable}, {"time", &d.time},
-                              {"colors", &d.colors}, {"mode", &d.mode}, {"interpolation", &d.interpolation},
+      for (auto [key, out] : {std::pair<const char*, std::string*>{"variable", &d.variable},
+                              {"time", &d.time},
+                              {"colors", &d.colors},
+                              {"mode", &d.mode},
+                              {"interpolation", &d.interpolation},
                               {"classification", &d.classification}}) {
         if (!r.contains(key)) continue;
         if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
@@ -204,7 +215,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
         d.colors = resolvePath(d.colors, baseDir, dataDir);
       }
-      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters}, {"image_scale", &d.imageScale},
+      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters},
+                              {"image_scale", &d.imageScale},
                               {"iso_value", &d.isoValue}}) {
         auto v = number(r, key, *out, where);
         if (!v) return v.forwardError();

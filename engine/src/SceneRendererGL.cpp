@@ -15,7 +15,7 @@
 namespace atmoglobe::engine {
 
 Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<ImageryLayerDescription>& layers,
-                                                           const globe::TileImageLoaderOptions& options) {
+                                                            const globe::TileImageLoaderOptions& options) {
   std::vector<std::shared_ptr<const globe::ImageryLayer>> opened;
   for (const ImageryLayerDescription& d : layers) {
     if (d.type == ImageryLayerDescription::Type::Pyramid) {
@@ -34,10 +34,11 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
 Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, const volume::FieldInfo& field,
                                                double nyquistMps, const volume::ValueRange& range) {
   VolumeRenderOptions o;
-  o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
+  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
                   : d.mode == "iso" ? volume::VolumeRenderMode::Iso
                                     : volume::VolumeRenderMode::Dvr;
-  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
+  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
+                                                        : volume::Interpolation::Linear;
   o.render.stepMeters = d.stepMeters;
   o.render.isoValue = d.isoValue;
   auto transfer = volume::transferForField(d.colors, field, nyquistMps, range);
@@ -83,7 +84,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   auto gl = RadarVolumeGL::create(*radar->layout);
   if (!gl) return gl.forwardError();
   (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
-                                                  : BeamApproximation::EffectiveEarthLocalSphere);
+                                                   : BeamApproximation::EffectiveEarthLocalSphere);
   RadarLayerGL layer;
   layer.volume = std::move(*gl);
   layer.options = *options;
@@ -115,10 +116,11 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
     return makeError(d.path + ": " + grid->variable + " has no valid value at " +
                      (grid->validTime.empty() ? std::string("the step read") : grid->validTime));
   VolumeRenderOptions o;
-  o.render.mode = d.mode == "mip" ? volume::VolumeRenderMode::Mip
+  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
                   : d.mode == "iso" ? volume::VolumeRenderMode::Iso
                                     : volume::VolumeRenderMode::Dvr;
-  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
+  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
+                                                        : volume::Interpolation::Linear;
   o.render.stepMeters = d.stepMeters;
   o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
   auto transfer = volume::transferForField(d.colors, volume::FieldInfo{grid->variable, grid->units, grid->standardName},
@@ -165,8 +167,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     volumeRenderer_->draw(camera, layers, target);
   }
   markers_->draw(camera, all);
-  stats.cpuMilliseconds =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.cpuMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
 

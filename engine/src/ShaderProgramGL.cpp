@@ -83,8 +83,8 @@ Result<ShaderProgramGL> ShaderProgramGL::createFromSource(std::string_view verte
     glGetProgramiv(program.id_, GL_INFO_LOG_LENGTH, &len);
     std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
     glGetProgramInfoLog(program.id_, len, nullptr, log.data());
-    return makeError("program " + std::string(vertexFile) + " + " + std::string(fragmentFile) +
-                     " does not link:\n" + log);
+    return makeError("program " + std::string(vertexFile) + " + " + std::string(fragmentFile) + " does not link:\n" +
+                     log);
   }
   return program;
 }

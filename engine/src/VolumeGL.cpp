@@ -12,10 +12,14 @@ namespace atmoglobe::engine {
 
 std::vector<std::string> marchShaderDefines() {
   using C = MarchConstants;
-  return {"TRANSFER_ENTRIES " + std::to_string(C::kTransferEntries), "MAX_VOLUMES " + std::to_string(C::kMaxVolumes),
-          "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),     "STATE_ECHO " + std::to_string(C::kStateEcho),
-          "GRID_BLOCK " + std::to_string(C::kGridBlock),             "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
-          "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),     "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
+  return {"TRANSFER_ENTRIES " + std::to_string(C::kTransferEntries),
+          "MAX_VOLUMES " + std::to_string(C::kMaxVolumes),
+          "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),
+          "STATE_ECHO " + std::to_string(C::kStateEcho),
+          "GRID_BLOCK " + std::to_string(C::kGridBlock),
+          "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
+          "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),
+          "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
 }
 
 VolumeGL::VolumeGL() {
@@ -64,7 +68,8 @@ OccupancyGridGL::OccupancyGridGL(const volume::OccupancyGrid& grid) : grid_(grid
   for (int z = 0; z < grid.cells.z; ++z)
     for (int y = 0; y < grid.cells.y; ++y)
       for (int x = 0; x < grid.cells.x; ++x)
-        texels[(static_cast<std::size_t>(z) * size.y + y) * size.x + x] = halfRoundedUp(grid.maxValues[grid.cellIndex(x, y, z)]);
+        texels[(static_cast<std::size_t>(z) * size.y + y) * size.x + x] =
+            halfRoundedUp(grid.maxValues[grid.cellIndex(x, y, z)]);
   for (int z = 0; z < grid.blocks.z; ++z)
     for (int y = 0; y < grid.blocks.y; ++y)
       for (int x = 0; x < grid.blocks.x; ++x)

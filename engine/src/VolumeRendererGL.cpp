@@ -46,13 +46,14 @@ std::string dispatchSource(int count) {
   struct Fn {
     const char* signature;  // with {ARGS} for the argument list
     const char* returnType;
-    const char* call;       // the per-volume call, VOL_ = prefix
+    const char* call;  // the per-volume call, VOL_ = prefix
     const char* fallback;
   };
   const Fn fns[] = {
       {"vec3 volEyeRel(int k)", "vec3", "VOL_eyeRel", "vec3(0.0)"},
       {"mat3 volEcefToLocal(int k)", "mat3", "VOL_ecefToLocal", "mat3(1.0)"},
-      {"vec2 volInterval(int k, vec3 dir, float tMax)", "vec2", "VOL_interval(VOL_eyeRel, dir, tMax)", "vec2(1.0, 0.0)"},
+      {"vec2 volInterval(int k, vec3 dir, float tMax)", "vec2", "VOL_interval(VOL_eyeRel, dir, tMax)",
+       "vec2(1.0, 0.0)"},
       {"vec2 volGridBox(int k, vec3 oL, vec3 dL)", "vec2", "VOL_gridBoxInterval(oL, dL)", "vec2(1.0, 0.0)"},
       {"float volEmptyUntil(int k, vec3 oL, vec3 dL, vec2 box, float ts, float threshold)", "float",
        "VOL_emptyUntil(oL, dL, box, ts, threshold)", "ts"},
@@ -71,7 +72,8 @@ std::string dispatchSource(int count) {
     s << f.signature << " {\n";
     if (std::string(f.signature).find("out float value") != std::string::npos) s << "  value = 0.0;\n";
     for (int k = 0; k < count; ++k)
-      s << "  if (k == " << k << ") return " << replaceAll(f.call, "VOL_", volumePrefix(static_cast<std::size_t>(k))) << ";\n";
+      s << "  if (k == " << k << ") return " << replaceAll(f.call, "VOL_", volumePrefix(static_cast<std::size_t>(k)))
+        << ";\n";
     s << "  return " << f.fallback << ";\n}\n";
   }
   return s.str();
@@ -107,8 +109,10 @@ Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
   if (!r->marchProgram(v)) return makeError("volume_march.frag: " + r->programErrors_.begin()->second);
   glCreateVertexArrays(1, &r->vao_);
   glCreateSamplers(1, &r->nearestSampler_);
-  for (GLenum filter : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glSamplerParameteri(r->nearestSampler_, filter, GL_NEAREST);
-  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glSamplerParameteri(r->nearestSampler_, wrap, GL_CLAMP_TO_EDGE);
+  for (GLenum filter : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glSamplerParameteri(r->nearestSampler_, filter, GL_NEAREST);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
+    glSamplerParameteri(r->nearestSampler_, wrap, GL_CLAMP_TO_EDGE);
   r->transfer_ = makeVolumeTextureGL(GL_TEXTURE_2D);
   glTextureStorage2D(r->transfer_, 1, GL_RGBA32F, C::kTransferEntries, C::kMaxVolumes);
   r->transferIntegral_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
@@ -289,7 +293,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       }
       glTextureSubImage2D(transfer_, 0, 0, k, C::kTransferEntries, 1, GL_RGBA, GL_FLOAT, table.data());
       if (preintegrated) {
-        const std::vector<glm::dvec4> integral = volume::transferIntegralTable(s.transfer, tfLo, tfHi, C::kTransferEntries);
+        const std::vector<glm::dvec4> integral =
+            volume::transferIntegralTable(s.transfer, tfLo, tfHi, C::kTransferEntries);
         const std::vector<glm::vec4> narrowed(integral.begin(), integral.end());
         glTextureSubImage2D(transferIntegral_, 0, 0, k, C::kTransferEntries + 1, 1, GL_RGBA, GL_FLOAT, narrowed.data());
       }
@@ -308,15 +313,17 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     const double firstVisible =
         stops.empty() ? -1e30 : (stops.front().value - s.transfer.colors.offset()) / s.transfer.colors.scale();
     std::vector<float> generic(glm::value_ptr(ecefToLocal), glm::value_ptr(ecefToLocal) + 9);
-    generic.insert(generic.end(), {eyeRel.x, eyeRel.y, eyeRel.z, gridMin.x, gridMin.y, gridMin.z, cellSize.x,
-                                   cellSize.y, cellSize.z, static_cast<float>(grid.cells.x),
-                                   static_cast<float>(grid.cells.y), static_cast<float>(grid.cells.z),
-                                   static_cast<float>(s.isoValue), static_cast<float>(s.transfer.opacityZeroValue),
-                                   static_cast<float>(firstVisible), static_cast<float>(tfLo), static_cast<float>(tfHi)});
+    generic.insert(
+        generic.end(),
+        {eyeRel.x, eyeRel.y, eyeRel.z, gridMin.x, gridMin.y, gridMin.z, cellSize.x, cellSize.y, cellSize.z,
+         static_cast<float>(grid.cells.x), static_cast<float>(grid.cells.y), static_cast<float>(grid.cells.z),
+         static_cast<float>(s.isoValue), static_cast<float>(s.transfer.opacityZeroValue),
+         static_cast<float>(firstVisible), static_cast<float>(tfLo), static_cast<float>(tfHi)});
     // The isosurface's colour, classified exactly here (the table quantises values to
     // (max - min) / TRANSFER_ENTRIES, which at a stepped table's band edge picks the band below).
     const glm::dvec4 isoColor = s.transfer.classify(s.isoValue);
-    generic.insert(generic.end(), {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g), static_cast<float>(isoColor.b)});
+    generic.insert(generic.end(),
+                   {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g), static_cast<float>(isoColor.b)});
     if (generic != slot.generic) {
       glUniformMatrix3fv(vl.ecefToLocal, 1, GL_FALSE, generic.data());
       glUniform3fv(vl.eyeRel, 1, generic.data() + 9);
@@ -390,8 +397,10 @@ std::vector<VolumeRendererGL::PassGL> VolumeRendererGL::planPasses(const Camera&
       }
     }
     if (inFront) {
-      const double x0 = std::clamp(std::floor(lo.x) - 1.0, 0.0, double(w)), x1 = std::clamp(std::ceil(hi.x) + 1.0, 0.0, double(w));
-      const double y0 = std::clamp(std::floor(lo.y) - 1.0, 0.0, double(h)), y1 = std::clamp(std::ceil(hi.y) + 1.0, 0.0, double(h));
+      const double x0 = std::clamp(std::floor(lo.x) - 1.0, 0.0, double(w)),
+                   x1 = std::clamp(std::ceil(hi.x) + 1.0, 0.0, double(w));
+      const double y0 = std::clamp(std::floor(lo.y) - 1.0, 0.0, double(h)),
+                   y1 = std::clamp(std::ceil(hi.y) + 1.0, 0.0, double(h));
       // Pixel rows from the top -> GL rows from the bottom.
       rect = glm::ivec4(int(x0), h - int(y1), int(x1 - x0), int(y1 - y0));
     }
@@ -426,7 +435,8 @@ void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& 
   glEnable(GL_DEPTH_TEST);
 }
 
-void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target) {
+void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
+                            const FramebufferGL& target) {
   for (const PassGL& pass : planPasses(camera, layers)) {
     const double scale = std::clamp(pass.layers[0].options.imageScale, 0.05, 1.0);
     const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
@@ -446,7 +456,8 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
     glScissor(x0, y0, x1 - x0, y1 - y0);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
-    const bool ok = march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
+    const bool ok =
+        march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
     glDisable(GL_SCISSOR_TEST);
     if (ok) {
       compositeOver(volumeTarget_->colorTexture(), target, pass.rectPx);
@@ -468,7 +479,8 @@ static std::vector<double> occluderDistancesGL(const Camera& camera, const Frame
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       // GL row 0 is the bottom; the reference's row 0 is the top.
-      const float d = depth[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+      const float d =
+          depth[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
       if (!(d > 0.0f)) continue;  // cleared: nothing drawn there
       // Reverse-Z: d = near / (view distance along -z); along the unit ray, divide by cos.
       const glm::dvec3 dir = volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
@@ -513,16 +525,18 @@ std::vector<glm::vec4> VolumeRendererGL::readVolumeImage() const {
   if (!volumeTarget_) return out;
   const int w = volumeTarget_->widthPx(), h = volumeTarget_->heightPx();
   std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
-  glGetTextureImage(volumeTarget_->colorTexture(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
-                    raw.data());
+  glGetTextureImage(volumeTarget_->colorTexture(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)), raw.data());
   out.resize(raw.size());
   for (int y = 0; y < h; ++y) {
-    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w, w, out.begin() + static_cast<std::ptrdiff_t>(y) * w);
+    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w, w,
+                out.begin() + static_cast<std::ptrdiff_t>(y) * w);
   }
   return out;
 }
 
-std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera, const VolumeGL& volume, double tMeters) {
+std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera, const VolumeGL& volume,
+                                                            double tMeters) {
   ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);
   volumeTarget_->bind();
   glDisable(GL_DEPTH_TEST);

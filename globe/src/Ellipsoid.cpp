@@ -6,8 +6,8 @@
 #include <GeographicLib/Geodesic.hpp>
 
 #include <cmath>
-#include <utility>
 #include <string>
+#include <utility>
 
 namespace atmoglobe::globe {
 
@@ -21,8 +21,7 @@ Status validateGeodetic(const Geodetic& p, const char* what) {
     return makeError(std::string(what) + ": latitude, longitude and height must be finite numbers");
   }
   if (p.latDeg < -90.0 || p.latDeg > 90.0) {
-    return makeError(std::string(what) + ": latitude " + std::to_string(p.latDeg) +
-                     " deg is outside [-90, 90]");
+    return makeError(std::string(what) + ": latitude " + std::to_string(p.latDeg) + " deg is outside [-90, 90]");
   }
   return Ok{};
 }

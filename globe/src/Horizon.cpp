@@ -51,7 +51,7 @@ bool isOccludedByEllipsoid(const glm::dvec3& eyeEcef, const glm::dvec3& pointEce
 std::optional<glm::dvec3> horizonCullingPoint(const TileId& t, double minHeightMeters, double maxHeightMeters) {
   assert(isValid(t));
   assert(std::isfinite(minHeightMeters) && std::isfinite(maxHeightMeters) && minHeightMeters <= maxHeightMeters);
-  (void)minHeightMeters;  // everything below the ellipsoid is hidden anyway
+  (void)minHeightMeters;       // everything below the ellipsoid is hidden anyway
   constexpr int kSamples = 8;  // cells per edge
   const double topHeight = std::max(maxHeightMeters, 0.0);
   const GeoRectangle r = tileRectangle(t);

@@ -32,7 +32,8 @@ std::string tileRelativePath(const TileId& t, const std::string& extension) {
 /// mkdtemp on `prefix` + "XXXXXX"; returns the created directory or an error.
 Result<fs::path> makeTempDir(const std::string& prefix) {
   std::string pattern = prefix + "XXXXXX";
-  if (!mkdtemp(pattern.data())) return makeError(prefix + "XXXXXX: cannot create directory (" + std::strerror(errno) + ")");
+  if (!mkdtemp(pattern.data()))
+    return makeError(prefix + "XXXXXX: cannot create directory (" + std::strerror(errno) + ")");
   return fs::path(pattern);
 }
 
@@ -235,8 +236,7 @@ Result<PyramidInfo> readPyramidInfo(const std::string& dir) {
   }
   PyramidInfo info;
   const nlohmann::json* maxLevel = field("maxLevel");
-  if (!maxLevel || !maxLevel->is_number_integer() || maxLevel->get<int>() < 0 ||
-      maxLevel->get<int>() > kMaxTileLevel) {
+  if (!maxLevel || !maxLevel->is_number_integer() || maxLevel->get<int>() < 0 || maxLevel->get<int>() > kMaxTileLevel) {
     return makeError(path.string() + ": \"maxLevel\" missing or outside 0.." + std::to_string(kMaxTileLevel));
   }
   info.maxLevel = maxLevel->get<int>();
@@ -250,7 +250,8 @@ Result<PyramidInfo> readPyramidInfo(const std::string& dir) {
     return makeError(path.string() + ": \"format\" must be \"png\"");
   }
   info.format = "png";
-  if (const nlohmann::json* source = field("source"); source && source->is_string()) info.source = source->get<std::string>();
+  if (const nlohmann::json* source = field("source"); source && source->is_string())
+    info.source = source->get<std::string>();
   return info;
 }
 
@@ -267,7 +268,8 @@ std::string GeographicPyramidLayer::tilePath(const TileId& t) const {
 }
 
 std::string GeographicPyramidLayer::description() const {
-  return "geographic pyramid " + dir_ + " (levels 0.." + std::to_string(info_.maxLevel) + ", from " + info_.source + ")";
+  return "geographic pyramid " + dir_ + " (levels 0.." + std::to_string(info_.maxLevel) + ", from " + info_.source +
+         ")";
 }
 
 Result<std::shared_ptr<const ImageRGBA8>> GeographicPyramidLayer::loadStoredTile(const TileId& t) const {

@@ -20,9 +20,7 @@ struct IndexRange {
 
 IndexRange cellsOverlapping(double lo, double hi, double size, std::int64_t count) {
   assert(lo <= hi);
-  auto clampIndex = [count](double v) {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>(v), 0, count - 1);
-  };
+  auto clampIndex = [count](double v) { return std::clamp<std::int64_t>(static_cast<std::int64_t>(v), 0, count - 1); };
   const std::int64_t first = clampIndex(std::floor(lo / size));
   // ceil(hi/size) - 1 is the last cell starting strictly below hi; it can fall below
   // `first` only for a zero-width range, which then keeps its own cell.

@@ -138,8 +138,8 @@ std::shared_ptr<const ImageRGBA8> TileImageLoader::produce(const TileId& t, std:
     const ImageRGBA8& src = **image;
     if (src.width != kTileSizePx || src.height != kTileSizePx) {
       errors.push_back(layer->description() + ": tile " + std::to_string(t.level) + "/" + std::to_string(t.x) + "/" +
-                       std::to_string(t.y) + " is " + std::to_string(src.width) + " x " +
-                       std::to_string(src.height) + " px, expected 256 x 256");
+                       std::to_string(t.y) + " is " + std::to_string(src.width) + " x " + std::to_string(src.height) +
+                       " px, expected 256 x 256");
       continue;
     }
     std::uint8_t* d = out.pixels.data();

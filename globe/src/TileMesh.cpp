@@ -53,10 +53,10 @@ TileMesh buildTileMesh(const TileId& t, int segments, double skirtDepth) {
   // Boundary ring, counter-clockwise seen from above, as (row, column) pairs.
   std::vector<std::pair<int, int>> ring;
   ring.reserve(ringCount);
-  for (int j = 0; j < n; ++j) ring.emplace_back(j, 0);      // west edge, southwards
-  for (int i = 0; i < n; ++i) ring.emplace_back(n, i);      // south edge, eastwards
-  for (int j = n; j > 0; --j) ring.emplace_back(j, n);      // east edge, northwards
-  for (int i = n; i > 0; --i) ring.emplace_back(0, i);      // north edge, westwards
+  for (int j = 0; j < n; ++j) ring.emplace_back(j, 0);  // west edge, southwards
+  for (int i = 0; i < n; ++i) ring.emplace_back(n, i);  // south edge, eastwards
+  for (int j = n; j > 0; --j) ring.emplace_back(j, n);  // east edge, northwards
+  for (int i = n; i > 0; --i) ring.emplace_back(0, i);  // north edge, westwards
   auto gridIndex = [n](int j, int i) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
   for (const auto& [j, i] : ring) {
     positions.push_back(geodeticToEcef({latAt(j), lonAt(i), -skirtDepth}));

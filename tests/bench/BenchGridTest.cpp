@@ -24,10 +24,11 @@ TEST(BenchGrid, CellCountsAndTheEngineDefault) {
   const std::vector<Cell> full = gridCells(standardAxes(false, {}));
   EXPECT_EQ(full.size(), 128u);
   EXPECT_EQ(countIf(full, [](const Cell& c) { return c.mode == volume::VolumeRenderMode::Dvr; }), 126u);
-  EXPECT_EQ(countIf(full, [](const Cell& c) {
-              return c.classification == engine::Classification::Preintegrated &&
-                     c.interpolation != volume::Interpolation::Linear;
-            }),
+  EXPECT_EQ(countIf(full,
+                    [](const Cell& c) {
+                      return c.classification == engine::Classification::Preintegrated &&
+                             c.interpolation != volume::Interpolation::Linear;
+                    }),
             0u);  // pre-integration only with linear interpolation
   EXPECT_EQ(countIf(full, [](const Cell& c) { return c.mode == volume::VolumeRenderMode::Dvr && isEngineDefault(c); }),
             1u);

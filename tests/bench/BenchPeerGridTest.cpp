@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <iostream>
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <vector>
 
@@ -61,7 +61,8 @@ Bound fastInverseBound(double siteLatDeg, double rangeMeters, double elevationDe
   const double phi = siteLatDeg * kDeg, e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
   const double sc = std::abs(std::sin(phi) * std::cos(phi));
   const double s = groundMeters, theta = s / rs, h = std::max(0.0, heightMeters);
-  const double dh = s * s * eps / (2.0 * rs) + e2 * sc * s * s * s / (2.0 * m * m) + e2 * s * s * s * s / (8.0 * m * m * m);
+  const double dh =
+      s * s * eps / (2.0 * rs) + e2 * sc * s * s * s / (2.0 * m * m) + e2 * s * s * s * s / (8.0 * m * m * m);
   const double tau = s * eps / rs + 3.0 * e2 * sc * s * s / (2.0 * m * m) + e2 * s * s * s / (2.0 * m * m * m);
   const double ds = eps * rs * theta * theta * theta / 6.0 + h * tau;
   const double e = elevationDeg * kDeg;
@@ -103,15 +104,17 @@ TEST(BenchPeerGrid, FastInverseWithinItsBoundOfTheExactInverse) {
       const Bound b = fastInverseBound(lat, r, el, s, p.heightMeters);
       double daz = std::abs(fast.azimuthDeg - exact.azimuthDeg);
       daz = std::min(daz, 360.0 - daz);
-      ASSERT_LE(std::abs(fast.rangeMeters - exact.rangeMeters), b.rangeMeters) << "r " << r << " az " << az << " el " << el;
-      ASSERT_LE(std::abs(fast.elevationDeg - exact.elevationDeg), b.elevationDeg) << "r " << r << " az " << az << " el " << el;
+      ASSERT_LE(std::abs(fast.rangeMeters - exact.rangeMeters), b.rangeMeters)
+          << "r " << r << " az " << az << " el " << el;
+      ASSERT_LE(std::abs(fast.elevationDeg - exact.elevationDeg), b.elevationDeg)
+          << "r " << r << " az " << az << " el " << el;
       ASSERT_LE(daz, b.azimuthDeg) << "r " << r << " az " << az << " el " << el;
       worst[0] = std::max(worst[0], std::abs(fast.rangeMeters - exact.rangeMeters) / b.rangeMeters);
       worst[1] = std::max(worst[1], std::abs(fast.elevationDeg - exact.elevationDeg) / b.elevationDeg);
       worst[2] = std::max(worst[2], daz / b.azimuthDeg);
     }
-    std::cout << "lat " << lat << ": measured / bound: range " << worst[0] << ", elevation " << worst[1]
-              << ", azimuth " << worst[2] << "\n";
+    std::cout << "lat " << lat << ": measured / bound: range " << worst[0] << ", elevation " << worst[1] << ", azimuth "
+              << worst[2] << "\n";
   }
 }
 
@@ -183,7 +186,8 @@ TEST(BenchPeerGrid, ResampledValuesFollowTheExactInverseWithinTheBound) {
         }
         if (!gridEcho || a.rangeMeters < firstCentre || a.rangeMeters > lastCentre) continue;
         double h = 0.0, s = 0.0;
-        volume::beamHeightAndGroundDistance(a.rangeMeters, a.elevationDeg, v.site.antennaHeightEllipsoidMeters, re, &h, &s);
+        volume::beamHeightAndGroundDistance(a.rangeMeters, a.elevationDeg, v.site.antennaHeightEllipsoidMeters, re, &h,
+                                            &s);
         const Bound b = fastInverseBound(v.site.latDeg, a.rangeMeters, a.elevationDeg, s, h);
         // float32 storage of values up to 60 km: half an ulp is 2e-6 km; the gate values and
         // the grid value are each rounded once.
@@ -203,7 +207,7 @@ TEST(BenchPeerGrid, ResampledValuesFollowTheExactInverseWithinTheBound) {
   const double sMax = std::hypot(std::max(std::abs(g.originEnu.x), std::abs(g.originEnu.x + g.nx * g.spacingMeters)),
                                  std::max(std::abs(g.originEnu.y), std::abs(g.originEnu.y + g.ny * g.spacingMeters)));
   const double hMax = g.originEnu.z + g.nz * g.spacingMeters + v.site.antennaHeightEllipsoidMeters;
-  const Bound far = fastInverseBound(v.site.latDeg, sMax, 90.0, sMax, hMax);  // e = 90: dr = 1.5 dh + floor ...
+  const Bound far = fastInverseBound(v.site.latDeg, sMax, 90.0, sMax, hMax);     // e = 90: dr = 1.5 dh + floor ...
   const Bound farFlat = fastInverseBound(v.site.latDeg, sMax, 0.0, sMax, hMax);  // ... e = 0: 1.5 ds + floor
   EXPECT_GT(g.maxRangeErrorMeters, 0.0);
   EXPECT_LE(g.maxRangeErrorMeters, far.rangeMeters + farFlat.rangeMeters);

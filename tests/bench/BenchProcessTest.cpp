@@ -68,7 +68,7 @@ TEST(BenchProcess, FindProgramSearchesPath) {
   ASSERT_FALSE(sh.empty());
   EXPECT_EQ(sh.front(), '/');
   EXPECT_TRUE(findProgram("atmoglobe-no-such-program-xyz").empty());
-  EXPECT_EQ(findProgram(sh), sh);                       // a path is checked, not searched
+  EXPECT_EQ(findProgram(sh), sh);  // a path is checked, not searched
   EXPECT_TRUE(findProgram("/nonexistent/sh").empty());
   EXPECT_TRUE(findProgram("").empty());
 }

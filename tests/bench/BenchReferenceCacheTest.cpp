@@ -46,7 +46,8 @@ volume::VolumeImage testImage(int w, int h, double seed) {
 }
 
 bool sameBits(const volume::VolumeImage& a, const volume::VolumeImage& b) {
-  return a.widthPx == b.widthPx && a.heightPx == b.heightPx && a.rgbaPremultiplied.size() == b.rgbaPremultiplied.size() &&
+  return a.widthPx == b.widthPx && a.heightPx == b.heightPx &&
+         a.rgbaPremultiplied.size() == b.rgbaPremultiplied.size() &&
          std::memcmp(a.rgbaPremultiplied.data(), b.rgbaPremultiplied.data(),
                      a.rgbaPremultiplied.size() * sizeof(glm::dvec4)) == 0;
 }

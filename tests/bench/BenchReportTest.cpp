@@ -84,7 +84,7 @@ TEST(BenchReport, AggregatesAreMeansOverViewsWithTheParetoFront) {
   EXPECT_DOUBLE_EQ(agg[1].meanMs, 3.0);
   EXPECT_TRUE(agg[1].pareto);
   EXPECT_DOUBLE_EQ(agg[2].meanMs, 16.0);
-  EXPECT_FALSE(agg[2].pareto);  // A is faster (15 < 16 ms) and more accurate (0.3 < 0.6)
+  EXPECT_FALSE(agg[2].pareto);                // A is faster (15 < 16 ms) and more accurate (0.3 < 0.6)
   EXPECT_DOUBLE_EQ(agg[3].meanPsnrDb, 70.0);  // (99 + 41) / 2
   EXPECT_DOUBLE_EQ(agg[3].minPsnrDb, 41.0);
   EXPECT_FALSE(agg[3].pareto);  // MIP is not on the DVR front
@@ -230,8 +230,9 @@ TEST(BenchReport, MarkdownWithoutPeerRunsHasTheNoteOnly) {
   std::ostringstream md;
   writeMarkdown(md, r);
   const std::string text = md.str();
-  EXPECT_NE(text.find("## Peer: Cartesian grid rendered by VTK\n\npeer skipped (--no-peer)\n\n\nTotal bench time: 9.1 s.\n"),
-            std::string::npos)
+  EXPECT_NE(
+      text.find("## Peer: Cartesian grid rendered by VTK\n\npeer skipped (--no-peer)\n\n\nTotal bench time: 9.1 s.\n"),
+      std::string::npos)
       << text;
   EXPECT_EQ(text.find("Reference convergence"), std::string::npos);
   EXPECT_EQ(text.find("VTK process peak"), std::string::npos);

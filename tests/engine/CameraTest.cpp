@@ -32,7 +32,7 @@ TEST(Camera, StraightDownPutsNadirAtImageCentreNorthUpEastRight) {
   EXPECT_LT(north.y, 240.0 - 10.0);  // north is up (smaller y)
   EXPECT_NEAR(north.x, 320.0, 0.5);  // meridian convergence over 111 m is tiny
   const glm::dvec2 east = project(c, 45.0, 7.001, 0.0);
-  EXPECT_GT(east.x, 320.0 + 10.0);   // east is right
+  EXPECT_GT(east.x, 320.0 + 10.0);  // east is right
 }
 
 TEST(Camera, HeadingTurnsClockwiseFromNorth) {

@@ -51,8 +51,8 @@ TEST(ConeExportRender, ExportedGlbDrawsAtTheGeolocatedPlace) {
 
   // Straight down from 120 km over the site: the lit patch sits east of the site.
   const volume::GeolocationSite site{45.0, 7.0, 500.0};
-  const volume::GatePosition rim = volume::geolocateGateExact(site, volume::BeamModel{}, 90.0, 10.0,
-                                                              1125.0 + 196 * 250.0);
+  const volume::GatePosition rim =
+      volume::geolocateGateExact(site, volume::BeamModel{}, 90.0, 10.0, 1125.0 + 196 * 250.0);
   const engine::Camera camera({45.0, 7.0, 1.2e5, 0.0, -90.0, 0.0}, 60.0, 160, 160);
   const auto predicted = camera.projectToPixel(rim.ecef);
   ASSERT_TRUE(predicted);

@@ -34,7 +34,8 @@ class GlobeRender : public ::testing::Test {
   }
 
   void SetUp() override {
-    auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+    auto loader =
+        engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
     ASSERT_TRUE(loader) << loader.error();
     auto r = engine::SceneRendererGL::create(*loader);
     ASSERT_TRUE(r) << r.error();
@@ -80,7 +81,10 @@ TEST_F(GlobeRender, StraightDownShowsTheSourceColourOfThePlace) {
   // Expected: the source averaged over the same footprint. Tolerance 8/255 per channel:
   // both sides are bilinear over the same PNG (lossless) data; what differs is mip-level
   // blending and the footprint edge (~one source pixel of a neighbouring colour).
-  struct Place { const char* name; double lat, lon; };
+  struct Place {
+    const char* name;
+    double lat, lon;
+  };
   const Place places[] = {{"Pacific ocean", 0.0, -150.0},
                           {"Sahara desert", 23.0, 12.0},
                           {"Greenland ice", 73.0, -40.0},

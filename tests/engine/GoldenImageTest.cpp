@@ -38,7 +38,8 @@ const GoldenCase kCases[] = {
 
 TEST(GoldenImage, GlobeViewsMatchReviewedImages) {
   testutil::glContext();
-  auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+  auto loader =
+      engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
   ASSERT_TRUE(loader) << loader.error();
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
@@ -57,7 +58,8 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
   // Real volumes (../shared/data) ray-marched over the globe, DVR and MIP: same tolerance
   // rule as above (mean |diff| <= 1, <= 0.5 % of pixels off by more than 24).
   testutil::glContext();
-  auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+  auto loader =
+      engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
   ASSERT_TRUE(loader) << loader.error();
   struct RadarCase {
     const char* name;

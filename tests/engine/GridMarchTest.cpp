@@ -108,22 +108,34 @@ TEST(GridMarch, GpuMappingMatchesTheDoublePathEverywhere) {
     const char* name;
     volume::GridVolume grid;
     CameraPose pose;
-    double t;  // distance along the rays (m)
+    double t;              // distance along the rays (m)
     double fovDeg = 40.0;  // narrow from far away, so that the points at t stay inside the levels
   };
-  volume::GridVolume global = blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 60.0, 180.0, 10.0);
+  volume::GridVolume global =
+      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 60.0, 180.0, 10.0);
   global.wrapsLongitude = true;
   std::vector<Case> cases;
-  cases.push_back({"regional, 1e5 m above", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
-                   {35.0, -95.0, 1e5, 0.0, -90.0, 0.0}, 1e5 - 5000.0});
+  cases.push_back(
+      {"regional, 1e5 m above",
+       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+       {35.0, -95.0, 1e5, 0.0, -90.0, 0.0},
+       1e5 - 5000.0});
   // 1 m above the grid's lowest level (the model surface) there, looking north and a little up.
   const double ground = 200.0 + 300.0 * std::sin(35.0 * 0.3) * std::cos(-95.0 * 0.2);
-  cases.push_back({"regional, 1 m above the model surface", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
-                   {35.0, -95.0, ground + 1.0, 0.0, 5.0, 0.0}, 20000.0});
-  cases.push_back({"across the antimeridian", blobGrid(testutil::evenlySpaced(170.0, 0.1, 201), testutil::evenlySpaced(-20.0, 0.1, 101), -15.0, 180.0, 2.0),
-                   {-15.0, 180.0, 3e5, 0.0, -90.0, 0.0}, 3e5 - 5000.0});
-  cases.push_back({"global, over the north pole from 1e7 m", global, {90.0, 0.0, 1e7, 0.0, -90.0, 0.0}, 1e7 - 5000.0, 0.5});
-  cases.push_back({"global, the antimeridian from 2e6 m", global, {60.0, 180.0, 2e6, 0.0, -90.0, 0.0}, 2e6 - 5000.0, 2.0});
+  cases.push_back(
+      {"regional, 1 m above the model surface",
+       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+       {35.0, -95.0, ground + 1.0, 0.0, 5.0, 0.0},
+       20000.0});
+  cases.push_back(
+      {"across the antimeridian",
+       blobGrid(testutil::evenlySpaced(170.0, 0.1, 201), testutil::evenlySpaced(-20.0, 0.1, 101), -15.0, 180.0, 2.0),
+       {-15.0, 180.0, 3e5, 0.0, -90.0, 0.0},
+       3e5 - 5000.0});
+  cases.push_back(
+      {"global, over the north pole from 1e7 m", global, {90.0, 0.0, 1e7, 0.0, -90.0, 0.0}, 1e7 - 5000.0, 0.5});
+  cases.push_back(
+      {"global, the antimeridian from 2e6 m", global, {60.0, 180.0, 2e6, 0.0, -90.0, 0.0}, 2e6 - 5000.0, 2.0});
   for (const Case& c : cases) {
     auto gl = engine::GridVolumeGL::create(c.grid);
     ASSERT_TRUE(gl) << gl.error();
@@ -143,7 +155,8 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  volume::GridVolume global = blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
+  volume::GridVolume global =
+      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
   global.wrapsLongitude = true;
   struct Case {
     const char* name;
@@ -152,8 +165,10 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
     double stepMeters;
   };
   const std::vector<Case> cases = {
-      {"regional oblique", blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
-       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0}, 500.0},
+      {"regional oblique",
+       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0},
+       500.0},
       {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, 5000.0},
   };
   for (const Case& c : cases) {
@@ -168,13 +183,14 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
       o.render.transfer = volume::defaultReflectivityTransfer();
       o.render.transfer.opacityReferenceMeters = c.stepMeters * 10.0;
       const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{gl->get(), o}});
-      const volume::VolumeImage ref =
-          volume::renderReference({{&(*gl)->referenceSampler(), o.render}}, engine::referenceCameraFor(camera), true, 2);
+      const volume::VolumeImage ref = volume::renderReference({{&(*gl)->referenceSampler(), o.render}},
+                                                              engine::referenceCameraFor(camera), true, 2);
       const volume::ImageError e = volume::compareImages(gpu, ref);
       int drawn = 0;
       for (const glm::dvec4& p : ref.rgbaPremultiplied) drawn += p.a > 0.05;
-      std::cout << "grid " << c.name << ", mode " << static_cast<int>(mode) << ": " << drawn << " pixels drawn, GPU vs reference mean "
-                << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
+      std::cout << "grid " << c.name << ", mode " << static_cast<int>(mode) << ": " << drawn
+                << " pixels drawn, GPU vs reference mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb
+                << " dB\n";
       EXPECT_GT(drawn, 50) << c.name << " must show the blob";
       // As for radars (RadarMarch.GpuMatchesTheReferenceInEveryMode): mean below one 8-bit step, 30 dB.
       EXPECT_LT(e.meanAbs, 1.0) << c.name;

@@ -84,10 +84,14 @@ engine::Marker markerNear(const CameraPose& pose, double offsetMeters) {
 
 TEST_F(Precision, PointLandsOnPredictedPixelAtPolesAntimeridianAndHeights) {
   const Case cases[] = {
-      {"north pole", 89.9999, 30.0, 10.0, 0.0},      {"north pole", 89.9999, 30.0, 1e7, 0.0},
-      {"south pole", -89.9999, -120.0, 10.0, 45.0},  {"south pole", -89.9999, -120.0, 1e7, 45.0},
-      {"antimeridian", 0.0, 180.0, 10.0, 90.0},      {"antimeridian", 12.0, -180.0, 1e7, 90.0},
-      {"antimeridian west", -40.0, 179.99999, 10.0, 0.0}, {"equator", 0.0, 0.0, 1.0, 0.0},
+      {"north pole", 89.9999, 30.0, 10.0, 0.0},
+      {"north pole", 89.9999, 30.0, 1e7, 0.0},
+      {"south pole", -89.9999, -120.0, 10.0, 45.0},
+      {"south pole", -89.9999, -120.0, 1e7, 45.0},
+      {"antimeridian", 0.0, 180.0, 10.0, 90.0},
+      {"antimeridian", 12.0, -180.0, 1e7, 90.0},
+      {"antimeridian west", -40.0, 179.99999, 10.0, 0.0},
+      {"equator", 0.0, 0.0, 1.0, 0.0},
       {"mid-latitude", 45.0, 7.0, 1e8, 0.0},
   };
   for (const Case& c : cases) {

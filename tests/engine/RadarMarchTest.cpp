@@ -33,7 +33,7 @@ volume::RadarVolume syntheticRadar(float (*field)(double r, double az, double el
 
 float storm(double r, double az, double el) {
   const double v = 62.0 * std::exp(-std::pow((r - 55e3) / 18e3, 2) - std::pow((az - 20.0) / 18.0, 2) -
-                                    std::pow((el - 3.0) / 4.0, 2));
+                                   std::pow((el - 3.0) / 4.0, 2));
   return v < 5.0 ? volume::kNoEcho : static_cast<float>(v);
 }
 
@@ -98,8 +98,8 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
       }
     }
   }
-  std::cout << "GLSL inverse vs exact: max |range| " << maxRange << " m, |azimuth| " << maxAz
-            << " deg, |elevation| " << maxEl << " deg\n";
+  std::cout << "GLSL inverse vs exact: max |range| " << maxRange << " m, |azimuth| " << maxAz << " deg, |elevation| "
+            << maxEl << " deg\n";
   RecordProperty("max_range_error_m", std::to_string(maxRange));
   RecordProperty("max_elevation_error_deg", std::to_string(maxEl));
   // Bounds from the data's resolution, not from the measurement: the approximation must be
@@ -144,7 +144,8 @@ TEST_F(RadarMarch, EveryMarchVariantCompiles) {
       v.preintegrated = preintegrated == 1;
       for (int k = 0; k < engine::MarchConstants::kMaxVolumes; ++k)
         v.volumes.push_back(k % 2 ? std::pair<std::string, std::vector<std::string>>{"sample_shell.glsl", {}}
-                                  : std::pair<std::string, std::vector<std::string>>{"sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0"}});
+                                  : std::pair<std::string, std::vector<std::string>>{"sample_polar.glsl",
+                                                                                     {"INTERPOLATION 1", "BEAM 0"}});
       EXPECT_NE((*renderer)->marchProgram(v), nullptr) << "8 mixed volumes, mode " << mode << " " << preintegrated;
     }
 }
@@ -223,8 +224,8 @@ TEST_F(RadarMarch, GpuMatchesTheReferenceInEveryMode) {
       const volume::VolumeImage ref =
           volume::renderReference(pv, options.render, engine::referenceCameraFor(camera), false, 2);
       const volume::ImageError e = volume::compareImages(gpu, ref);
-      std::cout << "mode " << static_cast<int>(mode) << " interp " << static_cast<int>(interp) << ": mean "
-                << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
+      std::cout << "mode " << static_cast<int>(mode) << " interp " << static_cast<int>(interp) << ": mean " << e.meanAbs
+                << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
       // Where GPU and reference differ: float32 positions (mm), the GLSL inverse (< 0.05 deg,
       // tested above), half-float values (0.03 dBZ) and a tabulated transfer function
       // (0.03 dBZ). These move a sample across a gate/sweep/colour-band edge only in a few
@@ -250,7 +251,8 @@ namespace {
 // One hot gate (60 dBZ) at sweep 3 (3.5 deg), ray 40 (azimuth 40.5), gate 200 (52.1 km);
 // everything else measured but empty.
 float pointEcho(double r, double az, double el) {
-  const bool hot = std::abs(el - 3.5) < 1e-9 && std::abs(az - 40.5) < 1e-9 && std::abs(r - (2125.0 + 200 * 250.0)) < 1e-6;
+  const bool hot = std::abs(el - 3.5) < 1e-9 && std::abs(az - 40.5) < 1e-9 &&
+                   std::abs(r - (2125.0 + 200 * 250.0)) < 1e-6;
   return hot ? 60.0f : volume::kNoEcho;
 }
 }  // namespace
@@ -264,8 +266,8 @@ TEST_F(RadarMarch, PointEchoAppearsWhereGeolocationPutsIt) {
   // A camera 20 km from the gate, looking at it from the south-west and above.
   const globe::GeodesicPoint from = globe::geodesicDirect(gate.latDeg, gate.lonDeg, 225.0, 20e3);
   const double heading = globe::geodesicInverse(from.latDeg, from.lonDeg, gate.latDeg, gate.lonDeg).azimuth1Deg;
-  const CameraPose pose{from.latDeg, from.lonDeg, gate.heightMeters + 8e3, heading,
-                        -radiansToDegrees(std::atan2(8e3, 20e3)), 0.0};
+  const CameraPose pose{
+      from.latDeg, from.lonDeg, gate.heightMeters + 8e3, heading, -radiansToDegrees(std::atan2(8e3, 20e3)), 0.0};
   const Camera camera(pose, 30.0, 96, 96);
   const auto predicted = camera.projectToPixel(gate.ecef);
   ASSERT_TRUE(predicted);
@@ -297,11 +299,19 @@ TEST_F(RadarMarch, CameraInsideAtTheSiteAndStraightDownRenderCleanly) {
   auto gl = engine::RadarVolumeGL::create(pv);
   ASSERT_TRUE(gl) << gl.error();
   const globe::GeodesicPoint stormCentre = globe::geodesicDirect(pv.site.latDeg, pv.site.lonDeg, 20.0, 55e3);
-  struct View { const char* name; CameraPose pose; bool expectEcho; };
+  struct View {
+    const char* name;
+    CameraPose pose;
+    bool expectEcho;
+  };
   const View views[] = {
       {"inside the storm, looking along it", {stormCentre.latDeg, stormCentre.lonDeg, 3000.0, 200.0, 0.0, 0.0}, true},
-      {"at the antenna, looking out", {pv.site.latDeg, pv.site.lonDeg, pv.site.antennaHeightEllipsoidMeters, 20.0, 3.0, 0.0}, true},
-      {"at the antenna, looking up the cone of silence", {pv.site.latDeg, pv.site.lonDeg, pv.site.antennaHeightEllipsoidMeters + 1.0, 0.0, 90.0, 0.0}, false},
+      {"at the antenna, looking out",
+       {pv.site.latDeg, pv.site.lonDeg, pv.site.antennaHeightEllipsoidMeters, 20.0, 3.0, 0.0},
+       true},
+      {"at the antenna, looking up the cone of silence",
+       {pv.site.latDeg, pv.site.lonDeg, pv.site.antennaHeightEllipsoidMeters + 1.0, 0.0, 90.0, 0.0},
+       false},
       {"straight down on the site from 120 km", {pv.site.latDeg, pv.site.lonDeg, 1.2e5, 0.0, -90.0, 0.0}, true},
   };
   for (const View& v : views) {

@@ -140,7 +140,8 @@ TEST(VolumeKinds, OverlappingRadarsAreIntegratedTogether) {
   const volume::RenderCamera rc = engine::referenceCameraFor(camera);
   for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
     options.render.mode = mode;
-    const volume::VolumeImage ref = volume::renderReference({{&sa, options.render}, {&sb, options.render}}, rc, false, 2);
+    const volume::VolumeImage ref =
+        volume::renderReference({{&sa, options.render}, {&sb, options.render}}, rc, false, 2);
     const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{glA->get(), options}, {glB->get(), options}});
     const volume::ImageError e = volume::compareImages(gpu, ref);
     std::cout << "two radars, mode " << static_cast<int>(mode) << ": GPU vs reference mean " << e.meanAbs << " max "
@@ -214,7 +215,8 @@ TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
     (*scene)->radars().push_back(std::move(layer));
   }
   // A station between the radars, inside the storm's column: drawn over the volumes in both.
-  const std::vector<engine::Marker> markers = {engine::Marker{mid.latDeg, mid.lonDeg, 0.0, glm::vec3(1, 0, 1), 10.0f, "STN"}};
+  const std::vector<engine::Marker> markers = {
+      engine::Marker{mid.latDeg, mid.lonDeg, 0.0, glm::vec3(1, 0, 1), 10.0f, "STN"}};
   // From 100 km south of the pair, 15 km up, looking north just below the horizon: the storms
   // stand on the globe, whose depth hides their lower parts behind the curvature.
   const globe::GeodesicPoint eye = globe::geodesicDirect(mid.latDeg, mid.lonDeg, 180.0, 100e3);
@@ -252,8 +254,8 @@ TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
       }
     }
   std::cout << "reference frame: " << inside << " volume pixels, " << outside << " others, reference "
-            << stats.referenceSeconds << " s, mean |GPU - reference| " << sumDiff / (3.0 * camera.widthPx() * camera.heightPx())
-            << " (8-bit)\n";
+            << stats.referenceSeconds << " s, mean |GPU - reference| "
+            << sumDiff / (3.0 * camera.widthPx() * camera.heightPx()) << " (8-bit)\n";
   ASSERT_GT(inside, 500) << "the storms must be in view";
   ASSERT_GT(outside, 2000);
   // Globe, markers, labels: the same pixels (the old --reference dropped the site markers and
@@ -263,8 +265,8 @@ TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
   // one 8-bit step; that test measures 0.0004 of 1 in DVR).
   EXPECT_LT(sumDiff / (3.0 * camera.widthPx() * camera.heightPx()), 1.0);
   // Markers are drawn after the volumes in both frames: the station's pixel is the same.
-  const auto px = volume::projectToPixel(engine::referenceCameraFor(camera),
-                                         globe::geodeticToEcef({mid.latDeg, mid.lonDeg, 0.0}));
+  const auto px =
+      volume::projectToPixel(engine::referenceCameraFor(camera), globe::geodeticToEcef({mid.latDeg, mid.lonDeg, 0.0}));
   ASSERT_TRUE(px);
   const int sx = static_cast<int>(px->x), sy = static_cast<int>(px->y);
   EXPECT_EQ(glm::ivec4(gpuFrame->at(sx, sy)), glm::ivec4(refFrame->at(sx, sy)));

@@ -48,5 +48,5 @@ TEST(XyzRender, OverlayShowsWhereItHasDataAndBaseElsewhere) {
   EXPECT_LT(westOfTile.r, 200.0);
   EXPECT_GT(westOfTile.g, 20.0);
   const glm::dvec3 pole = centre(89.0, 90.0);  // above 85.05: mercator has no data
-  EXPECT_GT(pole.g, 150.0);                      // base shows (Arctic ice: bright, not red)
+  EXPECT_GT(pole.g, 150.0);                    // base shows (Arctic ice: bright, not red)
 }

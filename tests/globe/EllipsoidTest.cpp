@@ -12,7 +12,6 @@
 namespace atmoglobe::globe {
 namespace {
 
-
 // Reference values from PROJ 9 (Debian proj-bin), an implementation independent of
 // GeographicLib:   echo "LAT LON H" | cs2cs -d 6 EPSG:4979 EPSG:4978
 // cs2cs prints 6 decimals, so the reference carries +-5e-7 m of rounding; GeographicLib's
@@ -23,16 +22,16 @@ struct ForwardCase {
   glm::dvec3 ecef;
 };
 const ForwardCase kForwardCases[] = {
-    {{45.0, 7.0, 1000.0}, {4484619.277606, 550642.008818, 4488055.515647}},      // cs2cs, as above
-    {{90.0, 0.0, 0.0}, {0.0, 0.0, 6356752.314245}},                               // north pole
-    {{-90.0, 0.0, 0.0}, {0.0, 0.0, -6356752.314245}},                             // south pole
-    {{90.0, 45.0, 1000.0}, {0.0, 0.0, 6357752.314245}},                           // north pole, any longitude
-    {{-90.0, -120.0, -500.0}, {0.0, 0.0, -6356252.314245}},                       // south pole, 500 m below
-    {{30.0, 180.0, 0.0}, {-5528256.639293, 0.0, 3170373.735384}},                 // antimeridian, +180
-    {{30.0, -180.0, 0.0}, {-5528256.639293, 0.0, 3170373.735384}},                // antimeridian, -180
-    {{0.0, 180.0, 0.0}, {-6378137.0, 0.0, 0.0}},                                  // equator on the antimeridian
-    {{-33.5, 151.2, -500.0}, {-4665152.365135, 2564689.215921, -3500058.319530}}, // 500 m below the ellipsoid
-    {{12.0, -75.0, 1e8}, {26931266.233509, -100508853.895620, 22108571.613006}},  // 1e8 m up
+    {{45.0, 7.0, 1000.0}, {4484619.277606, 550642.008818, 4488055.515647}},        // cs2cs, as above
+    {{90.0, 0.0, 0.0}, {0.0, 0.0, 6356752.314245}},                                // north pole
+    {{-90.0, 0.0, 0.0}, {0.0, 0.0, -6356752.314245}},                              // south pole
+    {{90.0, 45.0, 1000.0}, {0.0, 0.0, 6357752.314245}},                            // north pole, any longitude
+    {{-90.0, -120.0, -500.0}, {0.0, 0.0, -6356252.314245}},                        // south pole, 500 m below
+    {{30.0, 180.0, 0.0}, {-5528256.639293, 0.0, 3170373.735384}},                  // antimeridian, +180
+    {{30.0, -180.0, 0.0}, {-5528256.639293, 0.0, 3170373.735384}},                 // antimeridian, -180
+    {{0.0, 180.0, 0.0}, {-6378137.0, 0.0, 0.0}},                                   // equator on the antimeridian
+    {{-33.5, 151.2, -500.0}, {-4665152.365135, 2564689.215921, -3500058.319530}},  // 500 m below the ellipsoid
+    {{12.0, -75.0, 1e8}, {26931266.233509, -100508853.895620, 22108571.613006}},   // 1e8 m up
 };
 
 TEST(EllipsoidTest, ForwardMatchesProj) {
@@ -131,8 +130,8 @@ TEST(EllipsoidTest, ValidateGeodeticRejectsBadInput) {
   const double inf = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(validateGeodetic({90.0, 0.0, 0.0}, "pole").ok());
   EXPECT_TRUE(validateGeodetic({-90.0, 540.0, -500.0}, "south pole").ok());
-  const Geodetic bad[] = {{nan, 0, 0}, {0, nan, 0}, {0, 0, nan}, {0, 0, inf}, {-inf, 0, 0},
-                          {90.000001, 0, 0}, {-90.5, 0, 0}, {180.0, 0, 0}};
+  const Geodetic bad[] = {{nan, 0, 0},  {0, nan, 0},       {0, 0, nan},   {0, 0, inf},
+                          {-inf, 0, 0}, {90.000001, 0, 0}, {-90.5, 0, 0}, {180.0, 0, 0}};
   for (const Geodetic& g : bad) {
     const Status s = validateGeodetic(g, "radar.nc site");
     ASSERT_FALSE(s.ok()) << g.latDeg << " " << g.lonDeg << " " << g.heightMeters;
@@ -171,8 +170,8 @@ TEST(EllipsoidTest, EnuAxesOrthonormal) {
     }
     EXPECT_NEAR(glm::determinant(m), 1.0, 1e-14);
     EXPECT_NEAR(glm::dot(glm::cross(m[0], m[1]), m[2]), 1.0, 1e-14);
-    EXPECT_EQ(m[0].z, 0.0);        // east is horizontal
-    EXPECT_GE(m[1].z, -1e-15);     // north points towards +z
+    EXPECT_EQ(m[0].z, 0.0);     // east is horizontal
+    EXPECT_GE(m[1].z, -1e-15);  // north points towards +z
     const glm::dvec3 p = geodeticToEcef({la, lo, 0.0});
     const glm::dvec3 gradient = glm::normalize(p / glm::dvec3(kWgs84A * kWgs84A, kWgs84A * kWgs84A, kWgs84B * kWgs84B));
     EXPECT_NEAR(glm::length(gradient - m[2]), 0.0, 1e-14);

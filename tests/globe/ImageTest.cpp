@@ -17,8 +17,9 @@ ImageRGBA8 distinctPixels(int w, int h) {
   ImageRGBA8 image = ImageRGBA8::filled(w, h, {0, 0, 0, 0});
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      image.set(x, y, {static_cast<std::uint8_t>(x * 31 + 1), static_cast<std::uint8_t>(y * 47 + 2),
-                       static_cast<std::uint8_t>(x * y + 3), static_cast<std::uint8_t>(255 - x - y)});
+      image.set(x, y,
+                {static_cast<std::uint8_t>(x * 31 + 1), static_cast<std::uint8_t>(y * 47 + 2),
+                 static_cast<std::uint8_t>(x * y + 3), static_cast<std::uint8_t>(255 - x - y)});
   return image;
 }
 
@@ -95,11 +96,11 @@ TEST(ImageTest, SampleBilinearUsesPixelCentresAndClampsAtEdges) {
   image.set(1, 0, {200, 0, 0, 255});
   EXPECT_EQ(sampleBilinear(image, 0.25, 0.5).r, 0);
   EXPECT_EQ(sampleBilinear(image, 0.75, 0.5).r, 200);
-  EXPECT_EQ(sampleBilinear(image, 0.5, 0.5).r, 100);     // halfway between the centres
-  EXPECT_EQ(sampleBilinear(image, 0.375, 0.5).r, 50);    // a quarter of the way
-  EXPECT_EQ(sampleBilinear(image, 0.0, 0.5).r, 0);       // left of the first centre: clamped
-  EXPECT_EQ(sampleBilinear(image, 1.0, 0.5).r, 200);     // right of the last centre: clamped
-  EXPECT_EQ(sampleBilinear(image, 0.5, 0.0).r, 100);     // v outside the single row: clamped
+  EXPECT_EQ(sampleBilinear(image, 0.5, 0.5).r, 100);   // halfway between the centres
+  EXPECT_EQ(sampleBilinear(image, 0.375, 0.5).r, 50);  // a quarter of the way
+  EXPECT_EQ(sampleBilinear(image, 0.0, 0.5).r, 0);     // left of the first centre: clamped
+  EXPECT_EQ(sampleBilinear(image, 1.0, 0.5).r, 200);   // right of the last centre: clamped
+  EXPECT_EQ(sampleBilinear(image, 0.5, 0.0).r, 100);   // v outside the single row: clamped
 
   // 2 x 2 corners 0, 40, 80, 120 (green): the centre of the image is their mean, 60.
   ImageRGBA8 square = ImageRGBA8::filled(2, 2, {0, 0, 0, 0});

@@ -105,8 +105,8 @@ TEST(ImageryPyramidTest, RegionColoursLandInTheRightTiles) {
             const double lon = r.westDeg + (i + 0.5) * px, lat = r.northDeg - (j + 0.5) * px;
             const double dLon = std::remainder(lon + 180.0, 45.0), dLat = std::remainder(90.0 - lat, 45.0);
             if (std::abs(dLon) < margin || std::abs(dLat) < margin) continue;
-            ASSERT_EQ(im.at(i, j), regionColour(lon, lat)) << "tile " << z << "/" << x << "/" << y << " px " << i
-                                                            << "," << j;
+            ASSERT_EQ(im.at(i, j), regionColour(lon, lat))
+                << "tile " << z << "/" << x << "/" << y << " px " << i << "," << j;
             ++checked;
           }
         }
@@ -146,8 +146,8 @@ TEST(ImageryPyramidTest, SourceAtNaturalResolutionIsCopiedExactlyAndCoarserLevel
       for (int i = 0; i < 256; ++i) {
         const int sx = 512 * x + 2 * i, sy = 2 * j;
         for (int c = 0; c < 4; ++c) {
-          const int sum = noise.at(sx, sy)[c] + noise.at(sx + 1, sy)[c] + noise.at(sx, sy + 1)[c] +
-                          noise.at(sx + 1, sy + 1)[c];
+          const int sum =
+              noise.at(sx, sy)[c] + noise.at(sx + 1, sy)[c] + noise.at(sx, sy + 1)[c] + noise.at(sx + 1, sy + 1)[c];
           ASSERT_NEAR(tile->at(i, j)[c], sum / 4.0, 0.5) << i << "," << j;  // rounding to 8 bits only
         }
       }

@@ -17,19 +17,19 @@ TEST(LruCacheTest, KeepsWithinBudgetEvictingLeastRecentlyUsed) {
   EXPECT_EQ(cache.size(), 2u);
   ASSERT_NE(cache.find(1), nullptr);  // 1 becomes the most recent; 2 is now the oldest
   EXPECT_EQ(*cache.find(1), "one");
-  cache.insert(3, "three", 40);       // 120 > 100: evicts 2
+  cache.insert(3, "three", 40);  // 120 > 100: evicts 2
   EXPECT_EQ(cache.find(2), nullptr);
   EXPECT_NE(cache.find(1), nullptr);
   EXPECT_NE(cache.find(3), nullptr);
   EXPECT_EQ(cache.bytes(), 80u);
   EXPECT_EQ(cache.evictions(), 1u);
   // Order now (newest first): 3, 1. Two more entries of 30 evict 1, then 3.
-  cache.insert(4, "four", 30);        // 110: evicts 1
+  cache.insert(4, "four", 30);  // 110: evicts 1
   EXPECT_FALSE(cache.contains(1));
-  cache.insert(5, "five", 30);        // 100: fits
+  cache.insert(5, "five", 30);  // 100: fits
   EXPECT_TRUE(cache.contains(3));
   EXPECT_EQ(cache.bytes(), 100u);
-  cache.insert(6, "six", 1);          // 101: evicts 3
+  cache.insert(6, "six", 1);  // 101: evicts 3
   EXPECT_FALSE(cache.contains(3));
   EXPECT_EQ(cache.evictions(), 3u);
   EXPECT_EQ(cache.size(), 3u);
@@ -71,7 +71,7 @@ TEST(LruCacheTest, OversizedEntryIsKeptAlone) {
 TEST(LruCacheTest, EvictWhileStopsAtFirstEntryToKeep) {
   LruCache<int, int> cache(1000);
   for (int i = 0; i < 5; ++i) cache.insert(i, i * 10, 1);
-  cache.find(0);  // order newest first: 0, 4, 3, 2, 1
+  cache.find(0);                                                          // order newest first: 0, 4, 3, 2, 1
   cache.evictWhile([](const int& key, const int&) { return key != 3; });  // drops 1, 2; stops at 3
   EXPECT_EQ(cache.size(), 3u);
   EXPECT_FALSE(cache.contains(1));

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <set>
 #include <random>
+#include <set>
 #include <tuple>
 
 namespace atmoglobe::globe {
@@ -85,8 +85,8 @@ TEST(TileCoverTest, WholeWorldGivesEveryTile) {
 TEST(TileCoverTest, DegenerateAndPointBoxes) {
   // Level 2: 45 deg tiles, 8 columns, 4 rows. Column = floor((lon + 180) / 45),
   // row = floor((90 - lat) / 45); a boundary value goes east / south (TileCover.h).
-  EXPECT_EQ(tilesCovering({7.0, 30.0, 7.0, 30.0}, 2), grid(2, {4}, {1}));    // inside one tile
-  EXPECT_EQ(tilesCovering({0.0, 45.0, 0.0, 45.0}, 2), grid(2, {4}, {1}));    // on a corner
+  EXPECT_EQ(tilesCovering({7.0, 30.0, 7.0, 30.0}, 2), grid(2, {4}, {1}));        // inside one tile
+  EXPECT_EQ(tilesCovering({0.0, 45.0, 0.0, 45.0}, 2), grid(2, {4}, {1}));        // on a corner
   EXPECT_EQ(tilesCovering({180.0, -90.0, 180.0, -90.0}, 2), grid(2, {0}, {3}));  // 180 == -180: column 0
   EXPECT_EQ(tilesCovering({-180.0, 90.0, -180.0, 90.0}, 2), grid(2, {0}, {0}));
   EXPECT_EQ(tilesCovering({179.0, -90.0, 179.0, -90.0}, 2), grid(2, {7}, {3}));  // last column, last row
@@ -128,13 +128,14 @@ TEST(TileCoverTest, RandomBoxesMatchBruteForce) {
         if (box.westDeg <= box.eastDeg) {
           lonOk = overlaps(r.westDeg, r.eastDeg, box.westDeg, box.eastDeg);
         } else {
-          lonOk = overlaps(r.westDeg, r.eastDeg, box.westDeg, 180.0) || overlaps(r.westDeg, r.eastDeg, -180.0, box.eastDeg);
+          lonOk = overlaps(r.westDeg, r.eastDeg, box.westDeg, 180.0) ||
+                  overlaps(r.westDeg, r.eastDeg, -180.0, box.eastDeg);
         }
         if (latOk && lonOk) expected.push_back({level, x, y});
       }
     }
-    ASSERT_EQ(tilesCovering(box, level), expected)
-        << "level " << level << " box " << box.westDeg << " " << box.southDeg << " " << box.eastDeg << " " << box.northDeg;
+    ASSERT_EQ(tilesCovering(box, level), expected) << "level " << level << " box " << box.westDeg << " " << box.southDeg
+                                                   << " " << box.eastDeg << " " << box.northDeg;
   }
 }
 

@@ -153,9 +153,9 @@ TEST(TileImageLoaderTest, EndFrameDropsRequestsNotRepeated) {
   layer->waitForCalls(1);
   loader.request(b, 1.0);
   loader.request(c, 2.0);
-  loader.endFrame();      // frame 1: a (in flight), b, c all wanted
-  loader.request(c, 2.0); // frame 2 wants only c
-  loader.endFrame();      // b dropped
+  loader.endFrame();       // frame 1: a (in flight), b, c all wanted
+  loader.request(c, 2.0);  // frame 2 wants only c
+  loader.endFrame();       // b dropped
   layer->open();
   loader.waitIdle();
   EXPECT_EQ(layer->calls(), (std::vector<TileId>{a, c}));
@@ -223,8 +223,8 @@ TEST(TileImageLoaderTest, CorruptTileFileGivesAnErrorMessageNotACrash) {
   ASSERT_NE(good, nullptr);
   ASSERT_NE(bad, nullptr);  // remembered: not re-queued every frame
   EXPECT_EQ(good->at(10, 10), glm::u8vec4(50, 60, 70, 255));
-  EXPECT_EQ(bad->at(10, 10), glm::u8vec4(0, 0, 0, 255));         // failed bottom layer: black
-  EXPECT_EQ(bad->at(200, 255), glm::u8vec4(200, 0, 0, 255));     // the other layer still drawn
+  EXPECT_EQ(bad->at(10, 10), glm::u8vec4(0, 0, 0, 255));      // failed bottom layer: black
+  EXPECT_EQ(bad->at(200, 255), glm::u8vec4(200, 0, 0, 255));  // the other layer still drawn
   loader.waitIdle();
   EXPECT_TRUE(loader.takeErrors().empty());
   EXPECT_EQ(loader.stats().tilesDecoded, 2u);

@@ -17,8 +17,8 @@ namespace {
 constexpr int kSegments = 16;
 
 /// Tiles spread over the globe: roots, equator, mid-latitude, both poles, antimeridian, deep.
-const TileId kTiles[] = {{0, 0, 0}, {0, 1, 0}, {2, 3, 0}, {2, 5, 3}, {3, 7, 3}, {5, 40, 6},
-                         {7, 255, 60}, {10, 1100, 200}, {10, 0, 1023}, {14, 20000, 4000}};
+const TileId kTiles[] = {{0, 0, 0},  {0, 1, 0},    {2, 3, 0},       {2, 5, 3},     {3, 7, 3},
+                         {5, 40, 6}, {7, 255, 60}, {10, 1100, 200}, {10, 0, 1023}, {14, 20000, 4000}};
 
 glm::dvec3 vertexEcef(const TileMesh& m, std::size_t k) {
   return m.centerEcef + glm::dvec3(m.positionsRelativeToCenter[k]);
@@ -146,7 +146,8 @@ TEST(TileMeshTest, SkirtHangsSkirtDepthBelowItsEdgeVertex) {
       const std::size_t edge = ring[k], skirt = grid + k;
       const glm::dvec3 expected = vertexEcef(m, edge) - depth * glm::dvec3(m.normals[edge]);
       // The float normal is off by ~6e-8, times the depth.
-      EXPECT_LE(glm::length(vertexEcef(m, skirt) - expected), tol + depth * 1e-7) << "tile level " << t.level << " k " << k;
+      EXPECT_LE(glm::length(vertexEcef(m, skirt) - expected), tol + depth * 1e-7)
+          << "tile level " << t.level << " k " << k;
       EXPECT_NEAR(ecefToGeodetic(vertexEcef(m, skirt)).heightMeters, -depth, tol);
       EXPECT_EQ(m.texCoords[skirt], m.texCoords[edge]);
       EXPECT_EQ(m.normals[skirt], m.normals[edge]);
@@ -160,7 +161,8 @@ void expectSharedEdge(const TileId& a, const TileId& b, bool eastWest) {
   const double tol = vertexRoundingMeters(ma) + vertexRoundingMeters(mb) + 1e-9;
   for (int k = 0; k <= kSegments; ++k) {
     // a's east column vs b's west column, or a's south row vs b's north row.
-    const std::size_t ka = static_cast<std::size_t>(eastWest ? k * (kSegments + 1) + kSegments : kSegments * (kSegments + 1) + k);
+    const std::size_t ka =
+        static_cast<std::size_t>(eastWest ? k * (kSegments + 1) + kSegments : kSegments * (kSegments + 1) + k);
     const std::size_t kb = static_cast<std::size_t>(eastWest ? k * (kSegments + 1) : k);
     EXPECT_LE(glm::length(vertexEcef(ma, ka) - vertexEcef(mb, kb)), tol) << "k " << k;
   }
@@ -170,9 +172,9 @@ TEST(TileMeshTest, NeighboursShareEdgeVertices) {
   expectSharedEdge({6, 70, 20}, {6, 71, 20}, true);
   expectSharedEdge({6, 70, 20}, {6, 70, 21}, false);
   expectSharedEdge({10, 1100, 200}, {10, 1101, 200}, true);
-  expectSharedEdge({3, 15, 2}, {3, 0, 2}, true);   // across the antimeridian (180 == -180)
-  expectSharedEdge({1, 1, 0}, {1, 1, 1}, false);   // across the equator
-  expectSharedEdge({0, 0, 0}, {0, 1, 0}, true);    // the two roots
+  expectSharedEdge({3, 15, 2}, {3, 0, 2}, true);  // across the antimeridian (180 == -180)
+  expectSharedEdge({1, 1, 0}, {1, 1, 1}, false);  // across the equator
+  expectSharedEdge({0, 0, 0}, {0, 1, 0}, true);   // the two roots
 }
 
 /// Closest distance from p to the segment [a, b] (b may equal a).
@@ -221,7 +223,8 @@ TEST(TileMeshTest, ChildVerticesWithinParentGeometricError) {
   SelectionOptions sagOnly;
   sagOnly.imageryMaxLevel = 0;  // the texel term would only raise the bound
   sagOnly.meshSegments = kSegments;
-  const TileId parents[] = {{0, 0, 0}, {2, 3, 0}, {2, 5, 3}, {3, 7, 3}, {5, 40, 6}, {7, 255, 60}, {12, 5000, 1000}, {18, 300000, 200000}};
+  const TileId parents[] = {{0, 0, 0},  {2, 3, 0},    {2, 5, 3},        {3, 7, 3},
+                            {5, 40, 6}, {7, 255, 60}, {12, 5000, 1000}, {18, 300000, 200000}};
   for (const TileId& parent : parents) {
     const std::vector<glm::dvec3> pm = exactGrid(parent);
     const double bound = geometricErrorMeters(parent, sagOnly);
@@ -232,7 +235,8 @@ TEST(TileMeshTest, ChildVerticesWithinParentGeometricError) {
       for (int j = 0; j <= kSegments; ++j) {
         for (int i = 0; i <= kSegments; ++i) {
           const glm::dvec3 p = cm[static_cast<std::size_t>(j * (kSegments + 1) + i)];
-          const int pj = std::min((rowOffset + j) / 2, kSegments - 1), pi = std::min((colOffset + i) / 2, kSegments - 1);
+          const int pj = std::min((rowOffset + j) / 2, kSegments - 1),
+                    pi = std::min((colOffset + i) / 2, kSegments - 1);
           double best = 1e300;
           for (int dj = -1; dj <= 1; ++dj) {
             for (int di = -1; di <= 1; ++di) {

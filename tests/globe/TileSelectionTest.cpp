@@ -22,15 +22,14 @@
 namespace atmoglobe::globe {
 namespace {
 
-
 struct Camera {
   glm::dvec3 eye, forward, right, up;
   double tanHalfFovY, aspect;
   int heightPx;
 };
 
-Camera makeCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& upHint, double fovYDeg, double aspect,
-                  int heightPx) {
+Camera makeCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& upHint, double fovYDeg,
+                  double aspect, int heightPx) {
   Camera c;
   c.eye = eye;
   c.forward = glm::normalize(target - eye);
@@ -53,8 +52,10 @@ ViewState makeView(const Camera& c, double nearMeters, double farMeters) {
     const glm::dvec3 u = glm::normalize(n);
     return glm::dvec4(u, -glm::dot(u, c.eye));
   };
-  v.frustumPlanesEcef = {throughEye(c.right + tx * c.forward), throughEye(-c.right + tx * c.forward),
-                         throughEye(c.up + ty * c.forward), throughEye(-c.up + ty * c.forward),
+  v.frustumPlanesEcef = {throughEye(c.right + tx * c.forward),
+                         throughEye(-c.right + tx * c.forward),
+                         throughEye(c.up + ty * c.forward),
+                         throughEye(-c.up + ty * c.forward),
                          glm::dvec4(c.forward, -(glm::dot(c.forward, c.eye) + nearMeters)),
                          glm::dvec4(-c.forward, glm::dot(c.forward, c.eye) + farMeters)};
   v.pixelsPerRadian = c.heightPx / (2.0 * c.tanHalfFovY);
@@ -92,7 +93,8 @@ std::optional<glm::dvec3> hitEllipsoid(const glm::dvec3& origin, const glm::dvec
 /// The tile of `level` containing (lat, lon), boundaries going east/south (as TileCover).
 TileId tileAt(double latDeg, double lonDeg, int level) {
   const double size = 180.0 / static_cast<double>(1u << level);
-  const auto x = static_cast<std::uint32_t>(std::clamp(std::floor((lonDeg + 180.0) / size), 0.0, tileColumns(level) - 1.0));
+  const auto x =
+      static_cast<std::uint32_t>(std::clamp(std::floor((lonDeg + 180.0) / size), 0.0, tileColumns(level) - 1.0));
   const auto y = static_cast<std::uint32_t>(std::clamp(std::floor((90.0 - latDeg) / size), 0.0, tileRows(level) - 1.0));
   return {level, x, y};
 }
@@ -104,7 +106,8 @@ void expectNoOverlap(const std::vector<TileId>& tiles) {
   for (const TileId& t : tiles) {
     for (int l = 0; l < t.level; ++l) {
       const TileId a = ancestorTile(t, l);
-      ASSERT_EQ(all.count({a.level, a.x, a.y}), 0u) << "ancestor of " << t.level << "/" << t.x << "/" << t.y << " also selected";
+      ASSERT_EQ(all.count({a.level, a.x, a.y}), 0u)
+          << "ancestor of " << t.level << "/" << t.x << "/" << t.y << " also selected";
     }
   }
 }
@@ -403,16 +406,18 @@ TEST(TileSelectionHorizonTest, CullingPointHiddenImpliesTileHidden) {
     for (int j = 0; j <= n; ++j) {
       for (int i = 0; i <= n; ++i) {
         for (double h : {0.0, maxHeight}) {
-          const glm::dvec3 p = geodeticToEcef({r.northDeg - (r.northDeg - r.southDeg) * j / n, r.westDeg + (r.eastDeg - r.westDeg) * i / n, h});
-          ASSERT_TRUE(isOccludedByEllipsoid(eye, p)) << "tile " << t.level << "/" << t.x << "/" << t.y << " point " << j << "," << i;
+          const glm::dvec3 p = geodeticToEcef(
+              {r.northDeg - (r.northDeg - r.southDeg) * j / n, r.westDeg + (r.eastDeg - r.westDeg) * i / n, h});
+          ASSERT_TRUE(isOccludedByEllipsoid(eye, p))
+              << "tile " << t.level << "/" << t.x << "/" << t.y << " point " << j << "," << i;
         }
       }
     }
   }
   RecordProperty("culled", culled);
   RecordProperty("tested", tested);
-  EXPECT_GT(culled, tested / 5);  // the test is not vacuous
-  EXPECT_LT(culled, tested);      // nor is the culling
+  EXPECT_GT(culled, tested / 5);                                                // the test is not vacuous
+  EXPECT_LT(culled, tested);                                                    // nor is the culling
   EXPECT_EQ(horizonCullingPoint({0, 0, 0}, -500.0, 100.0).has_value(), false);  // half the globe: no point
 }
 
@@ -426,7 +431,8 @@ TEST(TileSelectionHorizonTest, CullingPointIsTightForSmallTiles) {
   ASSERT_TRUE(q.has_value());
   const double height = ecefToGeodetic(*q).heightMeters;
   const GeoRectangle r = tileRectangle(t);
-  const double s = 0.5 * glm::length(geodeticToEcef({r.northDeg, r.westDeg, 0.0}) - geodeticToEcef({r.southDeg, r.eastDeg, 0.0}));
+  const double s =
+      0.5 * glm::length(geodeticToEcef({r.northDeg, r.westDeg, 0.0}) - geodeticToEcef({r.southDeg, r.eastDeg, 0.0}));
   const double tightest = s * s / (2.0 * kWgs84A);
   RecordProperty("cullingPointHeight", std::to_string(height));
   RecordProperty("tightestHeight", std::to_string(tightest));

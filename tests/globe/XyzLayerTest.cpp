@@ -53,7 +53,8 @@ glm::dvec2 pixelLonLat(const TileId& t, int i, int j) {
 
 TEST(XyzLayerTest, MercatorFormulasMatchProj) {
   const glm::dvec2 a = webMercatorNormalized(0.0, kRow1NorthLatDeg);
-  EXPECT_NEAR(a.y, (kHalfWorldM - 10018754.171395) / (2 * kHalfWorldM), 1e-9);  // cs2cs prints mm: 1e-9 of 40000 km = 0.04 mm
+  EXPECT_NEAR(a.y, (kHalfWorldM - 10018754.171395) / (2 * kHalfWorldM),
+              1e-9);  // cs2cs prints mm: 1e-9 of 40000 km = 0.04 mm
   EXPECT_NEAR(a.y, 0.25, 1e-9);
   const glm::dvec2 b = webMercatorNormalized(-59.94140625, 40.25390625);
   EXPECT_NEAR(b.x, (-6672646.821183 + kHalfWorldM) / (2 * kHalfWorldM), 1e-9);
@@ -175,7 +176,7 @@ TEST(XyzLayerTest, NoDataIsTransparentAndNoDataAtAllIsNullopt) {
   Result<std::optional<ImageRGBA8>> below = (*layer)->tileImage({3, 8, 1});
   ASSERT_TRUE(below.ok());
   ASSERT_TRUE(below->has_value());
-  EXPECT_EQ((**below).at(128, 0).a, 0);  // lat 67.46
+  EXPECT_EQ((**below).at(128, 0).a, 0);     // lat 67.46
   EXPECT_EQ((**below).at(128, 255), kRed);  // lat 45.04
   EXPECT_FALSE(polar->has_value());
 }

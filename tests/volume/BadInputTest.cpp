@@ -110,7 +110,7 @@ void writeCfRadial(const std::string& path, const CfSpec& spec) {
 
 // ---------------------------------------------------------------- synthetic ODIM
 struct OdimSpec {
-  double nbinsAttr = 3;        ///< what /dataset1/where/nbins says
+  double nbinsAttr = 3;  ///< what /dataset1/where/nbins says
   double nraysAttr = 4;
   std::size_t rays = 4, bins = 3;  ///< the data array's real shape
   bool nbinsAsText = false;
@@ -214,9 +214,9 @@ TEST(BadInput, ValidSyntheticCfRadialReadsCorrectly) {
     EXPECT_DOUBLE_EQ(v.site.lonDeg, -159.5);
     EXPECT_EQ(v.timeIso8601, "2001-02-03T04:05:06Z");
     // raw 10*ray + gate -> 0.5 * raw - 10 (exact in binary)
-    EXPECT_FLOAT_EQ(v.sweeps[1].value(1, 2), 0.5f * 12 - 10);   // file ray 1, gate 2
-    EXPECT_FLOAT_EQ(v.sweeps[0].value(0, 1), 0.5f * 31 - 10);   // file ray 3, gate 1
-    EXPECT_TRUE(isNoData(v.sweeps[0].value(1, 2)));               // file ray 4, gate 2: _FillValue
+    EXPECT_FLOAT_EQ(v.sweeps[1].value(1, 2), 0.5f * 12 - 10);  // file ray 1, gate 2
+    EXPECT_FLOAT_EQ(v.sweeps[0].value(0, 1), 0.5f * 31 - 10);  // file ray 3, gate 1
+    EXPECT_TRUE(isNoData(v.sweeps[0].value(1, 2)));            // file ray 4, gate 2: _FillValue
   }
 }
 

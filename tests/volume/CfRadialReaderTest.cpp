@@ -86,15 +86,19 @@ TEST(CfRadialReader, KaSacrDecodedValuesMatchNcdump) {
   // ncdump -h: scale_factor = 0.003636129f, add_offset = -65.47139f, _FillValue = -32767s
   auto phys = [](double raw) { return raw * 0.003636129 + -65.47139; };
   // ncdump -v reflectivity_at_cor -f c FILE | grep 'reflectivity_at_cor(RAY,GATE)'
-  struct Case { std::size_t sweep, rayInSweep; std::uint32_t gate; double raw; };
+  struct Case {
+    std::size_t sweep, rayInSweep;
+    std::uint32_t gate;
+    double raw;
+  };
   const Case cases[] = {
-      {0, 0, 0, 12784},    // file ray 28 (first ray of sweep 0)
-      {0, 0, 100, 8244},   // reflectivity_at_cor(28,100)
-      {0, 1, 754, 13631},  // reflectivity_at_cor(29,754)
-      {1, 0, 754, 17147},  // reflectivity_at_cor(394,754)
-      {2, 0, 1, 9411},     // reflectivity_at_cor(763,1)
-      {3, 0, 100, 15955},  // reflectivity_at_cor(1131,100)
-      {3, 353, 754, 12121} // reflectivity_at_cor(1484,754): last ray of the file
+      {0, 0, 0, 12784},     // file ray 28 (first ray of sweep 0)
+      {0, 0, 100, 8244},    // reflectivity_at_cor(28,100)
+      {0, 1, 754, 13631},   // reflectivity_at_cor(29,754)
+      {1, 0, 754, 17147},   // reflectivity_at_cor(394,754)
+      {2, 0, 1, 9411},      // reflectivity_at_cor(763,1)
+      {3, 0, 100, 15955},   // reflectivity_at_cor(1131,100)
+      {3, 353, 754, 12121}  // reflectivity_at_cor(1484,754): last ray of the file
   };
   for (const Case& c : cases) {
     EXPECT_NEAR(v.sweeps[c.sweep].value(c.rayInSweep, c.gate), phys(c.raw), kValueTol)
@@ -155,8 +159,8 @@ TEST(CfRadialReader, Dow8RhiIsReadAndDescribedAsRhi) {
   const RadarVolume v = mustRead(kDow8);
   ASSERT_EQ(v.sweeps.size(), 1u);
   const Sweep& s = v.sweeps[0];
-  EXPECT_EQ(s.mode, SweepMode::Rhi);                     // ncdump -v sweep_mode: "rhi"
-  EXPECT_NEAR(s.fixedAngleDeg, 29.99837, kAngleTol);     // the azimuth of the RHI
+  EXPECT_EQ(s.mode, SweepMode::Rhi);                  // ncdump -v sweep_mode: "rhi"
+  EXPECT_NEAR(s.fixedAngleDeg, 29.99837, kAngleTol);  // the azimuth of the RHI
   EXPECT_EQ(s.rayCount(), 160u);
   EXPECT_EQ(s.gateCount, 1984u);
   // ncdump -v range: 37.47406 ... 148659.6; range:meters_between_gates = 74.9481096863747.

@@ -92,27 +92,31 @@ TEST(ColorTable, PalFileColorsGradientsAndSolids) {
   EXPECT_EQ(t->units(), "DBZ");
   EXPECT_TRUE(sameColor(t->map(9.9f), 0, 0, 0, 0));
   EXPECT_TRUE(sameColor(t->map(10.0f), 0, 0, 0, 255));
-  EXPECT_TRUE(sameColor(t->map(15.0f), 50, 50, 50, 255));    // half way 0 -> 100
-  EXPECT_TRUE(sameColor(t->map(25.0f), 100, 0, 100, 255));   // half way (200,0,0) -> (0,0,200)
-  EXPECT_TRUE(sameColor(t->map(35.0f), 0, 0, 200, 255));     // solid band
+  EXPECT_TRUE(sameColor(t->map(15.0f), 50, 50, 50, 255));   // half way 0 -> 100
+  EXPECT_TRUE(sameColor(t->map(25.0f), 100, 0, 100, 255));  // half way (200,0,0) -> (0,0,200)
+  EXPECT_TRUE(sameColor(t->map(35.0f), 0, 0, 200, 255));    // solid band
   EXPECT_TRUE(sameColor(t->map(39.9f), 0, 0, 200, 255));
-  EXPECT_TRUE(sameColor(t->map(55.0f), 10, 20, 30, 128));    // last entry, with alpha
+  EXPECT_TRUE(sameColor(t->map(55.0f), 10, 20, 30, 128));  // last entry, with alpha
 }
 
 TEST(ColorTable, PalScaleAndOffsetConvertDataUnits) {
   // Table in knots, data in m/s: table value = data * 1.94384 + 0.
-  Result<ColorTable> t = parsePalText("Units: KTS\nScale: 1.94384\nSolidColor: -10 0 0 255\nSolidColor: 10 255 0 0\n", "v.pal");
+  Result<ColorTable> t =
+      parsePalText("Units: KTS\nScale: 1.94384\nSolidColor: -10 0 0 255\nSolidColor: 10 255 0 0\n", "v.pal");
   ASSERT_TRUE(t.ok()) << t.error();
-  EXPECT_TRUE(sameColor(t->map(4.0f), 0, 0, 255, 255));   // 7.8 kt
-  EXPECT_TRUE(sameColor(t->map(6.0f), 255, 0, 0, 255));   // 11.7 kt
+  EXPECT_TRUE(sameColor(t->map(4.0f), 0, 0, 255, 255));  // 7.8 kt
+  EXPECT_TRUE(sameColor(t->map(6.0f), 255, 0, 0, 255));  // 11.7 kt
   Result<ColorTable> o = parsePalText("Offset: 20\nSolidColor: 0 1 2 3\nSolidColor: 30 4 5 6\n", "o.pal");
   ASSERT_TRUE(o.ok()) << o.error();
-  EXPECT_TRUE(sameColor(o->map(5.0f), 1, 2, 3, 255));     // 25
-  EXPECT_TRUE(sameColor(o->map(10.0f), 4, 5, 6, 255));    // 30
+  EXPECT_TRUE(sameColor(o->map(5.0f), 1, 2, 3, 255));   // 25
+  EXPECT_TRUE(sameColor(o->map(10.0f), 4, 5, 6, 255));  // 30
 }
 
 TEST(ColorTable, PalErrorsNameFileAndLine) {
-  struct Case { const char* text; const char* expect; };
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
   const Case cases[] = {
       {"Units: DBZ\n\nColor: 10 0 0\n", "bad.pal:3: Color needs 4 or 7 numbers, got 3"},
       {"Color: 10 0 0 0\nColor: 10 1 1 1\n", "bad.pal:2: value 10 is not above the previous entry's 10"},

@@ -52,7 +52,8 @@ void requireValidators() {
   ASSERT_EQ(run("command -v node").first, 0) << "node not found: run scripts/install-deps.sh";
   ASSERT_TRUE(fs::exists(kValidators + "/node_modules/gltf-validator/package.json"))
       << "gltf-validator missing: run scripts/install-validators.sh";
-  ASSERT_EQ(run("command -v xmllint").first, 0) << "xmllint not found: apt-get install libxml2-utils (scripts/install-deps.sh)";
+  ASSERT_EQ(run("command -v xmllint").first, 0)
+      << "xmllint not found: apt-get install libxml2-utils (scripts/install-deps.sh)";
   ASSERT_TRUE(fs::exists(kColladaSchema)) << kColladaSchema << " missing: apt-get install opencollada-tools";
   ASSERT_EQ(run("command -v unzip").first, 0) << "unzip not found: apt-get install unzip";
 }
@@ -148,7 +149,8 @@ TEST(ConeExport, ValidatorRejectsBrokenGlb) {
   ASSERT_NE(at, std::string::npos);
   glb.replace(at, 9, "\"count\":9");  // a wrong vertex count
   std::ofstream(dir / "broken.glb", std::ios::binary) << glb;
-  const auto [rc, out] = run("node " + quote(kValidators + "/validate_gltf.js") + " " + quote((dir / "broken.glb").string()));
+  const auto [rc, out] =
+      run("node " + quote(kValidators + "/validate_gltf.js") + " " + quote((dir / "broken.glb").string()));
   EXPECT_NE(rc, 0) << out;
   EXPECT_EQ(out.find("errors=0"), std::string::npos) << out;
 }
@@ -160,7 +162,8 @@ TEST(ConeExport, GltfRootMatrixPutsConesOnTheGlobe) {
   const ConeScene scene = syntheticScene();
   const std::string glb = encodeConesGltf(scene, true, true);
   const std::uint32_t jsonLen = static_cast<std::uint8_t>(glb[12]) | (static_cast<std::uint8_t>(glb[13]) << 8) |
-                                (static_cast<std::uint8_t>(glb[14]) << 16) | (static_cast<std::uint32_t>(static_cast<std::uint8_t>(glb[15])) << 24);
+                                (static_cast<std::uint8_t>(glb[14]) << 16) |
+                                (static_cast<std::uint32_t>(static_cast<std::uint8_t>(glb[15])) << 24);
   const nlohmann::json doc = nlohmann::json::parse(glb.substr(20, jsonLen));
   const nlohmann::json& root = doc["nodes"][doc["scenes"][0]["nodes"][0].get<int>()];
   ASSERT_TRUE(root.contains("matrix"));
@@ -174,8 +177,8 @@ TEST(ConeExport, GltfRootMatrixPutsConesOnTheGlobe) {
     const glm::dvec4 local(enu.x, enu.z, -enu.y, 1.0);  // as stored in the glTF (Y-up)
     const glm::dvec4 yup = m * local;
     const glm::dvec3 ecef(yup.x, -yup.z, yup.y);
-    const GatePosition gate = geolocateGateExact(scene.site.site, BeamModel{}, 0.0, cone.mesh.elevationDeg,
-                                                 cone.mesh.rowRangeMeters.back());
+    const GatePosition gate =
+        geolocateGateExact(scene.site.site, BeamModel{}, 0.0, cone.mesh.elevationDeg, cone.mesh.rowRangeMeters.back());
     EXPECT_LT(glm::length(ecef - gate.ecef), 1.0) << sweepStem(cone.sweepIndex);
   }
 }
@@ -196,8 +199,9 @@ TEST(ConeExport, ColladaPassesSchema) {
   bad.replace(bad.find("<up_axis>"), 9, "<upaxis>");
   bad.replace(bad.find("</up_axis>"), 10, "</upaxis>");
   std::ofstream(dir / "bad.dae") << bad;
-  const auto [rc, out] = run("XML_CATALOG_FILES=" + quote(kValidators + "/catalog.xml") + " xmllint --noout --nonet --schema " +
-                             kColladaSchema + " " + quote((dir / "bad.dae").string()));
+  const auto [rc, out] =
+      run("XML_CATALOG_FILES=" + quote(kValidators + "/catalog.xml") + " xmllint --noout --nonet --schema " +
+          kColladaSchema + " " + quote((dir / "bad.dae").string()));
   EXPECT_NE(rc, 0) << out;
 }
 
@@ -209,7 +213,8 @@ TEST(ConeExport, KmlModelsAtTheAntenna) {
   ASSERT_TRUE(files.ok()) << files.error();
   const std::string kml = readFile(dir / "cones.kml");
   EXPECT_NE(kml.find("<altitudeMode>absolute</altitudeMode>"), std::string::npos);
-  EXPECT_NE(kml.find("<longitude>-97.277800000</longitude><latitude>35.333100000</latitude>"), std::string::npos) << kml;
+  EXPECT_NE(kml.find("<longitude>-97.277800000</longitude><latitude>35.333100000</latitude>"), std::string::npos)
+      << kml;
   // Ellipsoidal 390 m at this site: MSL altitude = 390 - N, N(EGM96) here is about -27 m, so
   // altitude about 417 m; only checked to be the geoid-corrected value, not the raw 390.
   EXPECT_EQ(kml.find("<altitude>390.000</altitude>"), std::string::npos);

@@ -62,7 +62,9 @@ glm::dvec3 toEcef(const GeolocationSite& site, const glm::vec3& enu) {
 // library's geolocation: ground distance s from the geodesic inverse, height h above the
 // ellipsoid, gamma = s / Re, rho1 = Re + h0, rho2 = Re + h,
 // theta = atan2(rho2 cos gamma - rho1, rho2 sin gamma).
-struct Inverse { double elevationDeg, azimuthDeg, groundMeters; };
+struct Inverse {
+  double elevationDeg, azimuthDeg, groundMeters;
+};
 Inverse inverseBeam(const GeolocationSite& site, double ke, const glm::dvec3& ecef) {
   const globe::Geodetic g = globe::ecefToGeodetic(ecef);
   const globe::GeodesicLine line = globe::geodesicInverse(site.latDeg, site.lonDeg, g.latDeg, g.lonDeg);
@@ -215,14 +217,17 @@ TEST(ConeMesh, TextureMapsByAzimuth) {
     EXPECT_DOUBLE_EQ(img.rowStartAzimuthDeg[r], img.rowEndAzimuthDeg[r - 1]);
   EXPECT_DOUBLE_EQ(img.rowEndAzimuthDeg.back() - img.rowStartAzimuthDeg.front(), 360.0);
   // Boundary between the 0 and 1 deg rays at 0.5 deg (midpoint), v exactly at the row edge.
-  EXPECT_NEAR(sweepImageV(img, 0.5), static_cast<double>(std::find(img.rowRay.begin(), img.rowRay.end(), 3) - img.rowRay.begin()) / img.height, 1e-12);
+  EXPECT_NEAR(sweepImageV(img, 0.5),
+              static_cast<double>(std::find(img.rowRay.begin(), img.rowRay.end(), 3) - img.rowRay.begin()) / img.height,
+              1e-12);
   // Spacings 1, 1.5, 0.5, 1, 86, 1, 89, 180: median 1.5, so the 86, 89 and 180 deg gaps (> 3.75)
   // become transparent rows.
   int gaps = 0;
   for (std::size_t r = 0; r < img.rowRay.size(); ++r) {
     if (img.rowRay[r] >= 0) continue;
     ++gaps;
-    for (int x = 0; x < img.width; ++x) EXPECT_EQ(img.rgba[(r * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x)) * 4 + 3], 0);
+    for (int x = 0; x < img.width; ++x)
+      EXPECT_EQ(img.rgba[(r * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x)) * 4 + 3], 0);
   }
   EXPECT_EQ(gaps, 3);
   // u: gate centres map to texel centres.
@@ -250,8 +255,10 @@ TEST(ConeMesh, RealNexradVolume) {
   std::size_t col = 0;
   for (std::size_t c = 0; c < cone.mesh.columnAzimuthDeg.size(); ++c)
     if (std::abs(std::remainder(cone.mesh.columnAzimuthDeg[c], 360.0)) < 1e-9) col = c;
-  const glm::dvec3 rim = toEcef(site, cone.mesh.positionsEnu[cone.mesh.vertexIndex(col, cone.mesh.rowRangeMeters.size() - 1)]);
-  const GatePosition gate = geolocateGateExact(site, BeamModel{}, 0.0, sw.fixedAngleDeg, sw.gateRangeMeters(sw.gateCount - 1));
+  const glm::dvec3 rim =
+      toEcef(site, cone.mesh.positionsEnu[cone.mesh.vertexIndex(col, cone.mesh.rowRangeMeters.size() - 1)]);
+  const GatePosition gate =
+      geolocateGateExact(site, BeamModel{}, 0.0, sw.fixedAngleDeg, sw.gateRangeMeters(sw.gateCount - 1));
   EXPECT_LT(glm::length(rim - gate.ecef), 1.0);
   EXPECT_LE(cone.mesh.triangleCount(), static_cast<std::size_t>(kGoogleEarthMaxTrianglesPerModel));
 }

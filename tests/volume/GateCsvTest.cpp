@@ -50,7 +50,8 @@ TEST(GateCsv, RowsRecomputeToWithinOneMillimetre) {
       const volume::GatePosition p = volume::geolocateGateExact(site, model, azimuthDeg, elevationDeg, rangeMeters);
       const float value = 42.5f;
       std::string row;
-      volume::appendGateCsvRow(row, 3, static_cast<std::size_t>(k), 17, azimuthDeg, elevationDeg, rangeMeters, p, &value);
+      volume::appendGateCsvRow(row, 3, static_cast<std::size_t>(k), 17, azimuthDeg, elevationDeg, rangeMeters, p,
+                               &value);
       ASSERT_EQ(row.back(), '\n');
       row.pop_back();
       const std::vector<std::string> f = splitRow(row);

@@ -21,16 +21,16 @@ struct GeoidCase {
 // (input lon lat; output height = 0 + N). The grid is NGA/NASA's EGM96 (Lemoine et al. 1998,
 // NASA/TP-1998-206861) at 15' spacing, as PROJ distributes it.
 constexpr GeoidCase kPrjCases[] = {
-    {48.0, 9.0, 48.101185},          // the wradlib test site (GeolocationTest.cpp)
+    {48.0, 9.0, 48.101185},            // the wradlib test site (GeolocationTest.cpp)
     {33.6541, -101.8142, -26.177516},  // KLBB, Lubbock TX
-    {89.99, 0.0, 13.618102},          // near the north pole (last grid row)
-    {-89.99, 45.0, -29.539210},       // near the south pole (first grid row)
-    {0.0, 180.0, 21.153330},          // on the antimeridian, east side
-    {0.0, -180.0, 21.153330},         // same point, west side
-    {10.0, 179.9, 12.777215},         // between the last column and the wrap to the first
-    {-60.0, -179.95, -46.300868},     // just east of the antimeridian
-    {46.041, 8.833, 48.247419},       // Monte Lema (CfRadial sample)
-    {-35.661, 149.512, 18.879732},    // Captains Flat (ODIM sample)
+    {89.99, 0.0, 13.618102},           // near the north pole (last grid row)
+    {-89.99, 45.0, -29.539210},        // near the south pole (first grid row)
+    {0.0, 180.0, 21.153330},           // on the antimeridian, east side
+    {0.0, -180.0, 21.153330},          // same point, west side
+    {10.0, 179.9, 12.777215},          // between the last column and the wrap to the first
+    {-60.0, -179.95, -46.300868},      // just east of the antimeridian
+    {46.041, 8.833, 48.247419},        // Monte Lema (CfRadial sample)
+    {-35.661, 149.512, 18.879732},     // Captains Flat (ODIM sample)
 };
 
 TEST(Geoid, MatchesProjVgridshift) {

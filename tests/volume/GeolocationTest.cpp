@@ -68,7 +68,9 @@ TEST(Geolocation, WradlibWorkedExampleWgs84SiteRadius) {
 // from Doviak & Zrnic (1993) eq. 2.28 evaluated in Python 3 (math.sqrt, math.sin) and rounded to
 // whole metres (tolerance 0.5 m).
 TEST(Geolocation, ReferenceModelChoiceTable) {
-  struct Row { double rangeMeters, ke43, ke1; };
+  struct Row {
+    double rangeMeters, ke43, ke1;
+  };
   constexpr Row rows[] = {{100e3, 1461, 1657}, {230e3, 5119, 6156}, {460e3, 16453, 20587}};
   for (const Row& row : rows) {
     double h = 0, s = 0;
@@ -124,8 +126,9 @@ TEST(Geolocation, ExactPathMatchesProjWithinOneMillimetre) {
 
 // --- Extremes: poles, antimeridian, elevation 0 and 90, range 0, ke 1: finite, sensible results.
 TEST(Geolocation, ExtremesAreFiniteAndSensible) {
-  const GeolocationSite sites[] = {{89.99, 0.0, 10.0}, {-89.99, 0.0, 2800.0}, {0.0, 180.0, 0.0},
-                                   {0.0, -180.0, 0.0}, {45.0, 179.9999, 100.0}, {90.0, 0.0, 0.0}, {-90.0, 33.0, 0.0}};
+  const GeolocationSite sites[] = {{89.99, 0.0, 10.0}, {-89.99, 0.0, 2800.0},   {0.0, 180.0, 0.0},
+                                   {0.0, -180.0, 0.0}, {45.0, 179.9999, 100.0}, {90.0, 0.0, 0.0},
+                                   {-90.0, 33.0, 0.0}};
   for (double ke : {1.0, 4.0 / 3.0}) {
     BeamModel model;
     model.ke = ke;
@@ -212,7 +215,8 @@ double maxFastError(const GeolocationSite& site, const BeamModel& model, const S
   double worst = 0;
   for (std::size_t i = 0; i < sweep.rayCount(); ++i) {
     for (std::uint32_t g = 0; g < sweep.gateCount; ++g) {
-      const GatePosition e = geolocateGateExact(site, model, sweep.azimuthDeg[i], sweep.elevationDeg[i], sweep.gateRangeMeters(g));
+      const GatePosition e =
+          geolocateGateExact(site, model, sweep.azimuthDeg[i], sweep.elevationDeg[i], sweep.gateRangeMeters(g));
       const double err = glm::length(fast[i * sweep.gateCount + g] - e.ecef);
       if (!(err <= worst)) worst = err;  // NaN-safe: a NaN makes worst NaN and fails below
     }
@@ -221,7 +225,7 @@ double maxFastError(const GeolocationSite& site, const BeamModel& model, const S
 }
 
 TEST(Geolocation, FastPathWithinStatedBoundOnSyntheticExtremes) {
-  const GeolocationSite sites[] = {{89.99, 0.0, 10.0}, {-89.99, 120.0, 2800.0}, {10.0, 180.0, 50.0},
+  const GeolocationSite sites[] = {{89.99, 0.0, 10.0},  {-89.99, 120.0, 2800.0},      {10.0, 180.0, 50.0},
                                    {0.0, -179.99, 0.0}, {33.6541, -101.8142, 1002.8}, {90.0, 0.0, 0.0}};
   double worst = 0;
   for (double ke : {1.0, 4.0 / 3.0}) {
@@ -240,7 +244,8 @@ TEST(Geolocation, FastPathWithinStatedBoundOnSyntheticExtremes) {
         }
         const double err = maxFastError(site, model, sweep);
         worst = std::max(worst, err);
-        EXPECT_LE(err, kFastPathMaxErrorMeters) << "site " << site.latDeg << " " << site.lonDeg << " el " << el << " ke " << ke;
+        EXPECT_LE(err, kFastPathMaxErrorMeters)
+            << "site " << site.latDeg << " " << site.lonDeg << " el " << el << " ke " << ke;
       }
     }
   }

@@ -21,19 +21,19 @@ using atmoglobe_test::NcTestFile;
 namespace {
 
 struct Broken {
-  bool latVariable = true;          ///< false: dimension lat has no coordinate variable
-  double latValue0 = 10.0;          ///< first latitude (NaN, 95 ...)
+  bool latVariable = true;  ///< false: dimension lat has no coordinate variable
+  double latValue0 = 10.0;  ///< first latitude (NaN, 95 ...)
   bool latMonotonic = true;
-  std::string levUnits = "hPa";     ///< "1": no known vertical coordinate
+  std::string levUnits = "hPa";  ///< "1": no known vertical coordinate
   bool levVariable = true;
   double levValue0 = 1000.0;
-  std::string formulaTerms;         ///< non-empty: hybrid with these terms
-  std::size_t hybmLength = 3;       ///< != 3: inconsistent
-  bool psOnOtherDims = false;       ///< ps on (time, lat2, lon): inconsistent
-  double psValue00 = 100000.0;      ///< NaN: a missing surface pressure
+  std::string formulaTerms;     ///< non-empty: hybrid with these terms
+  std::size_t hybmLength = 3;   ///< != 3: inconsistent
+  bool psOnOtherDims = false;   ///< ps on (time, lat2, lon): inconsistent
+  double psValue00 = 100000.0;  ///< NaN: a missing surface pressure
   bool decreasingGeopotential = false;
-  std::size_t hugeLevels = 0;       ///< > 0: lev dimension of this length (never written)
-  bool twoD = false;                ///< ta2d (time, lat, lon) only
+  std::size_t hugeLevels = 0;  ///< > 0: lev dimension of this length (never written)
+  bool twoD = false;           ///< ta2d (time, lat, lon) only
   int mode = NC_NETCDF4;
 };
 
@@ -113,7 +113,8 @@ void expectError(const std::string& path, std::initializer_list<std::string> par
   auto r = readGridVolume(path, o);
   ASSERT_FALSE(r.ok()) << "read succeeded: " << path;
   EXPECT_EQ(r.error().rfind(path, 0), 0u) << "the message starts with the file: " << r.error();
-  for (const auto& p : parts) EXPECT_NE(r.error().find(p), std::string::npos) << "'" << p << "' missing in: " << r.error();
+  for (const auto& p : parts)
+    EXPECT_NE(r.error().find(p), std::string::npos) << "'" << p << "' missing in: " << r.error();
   // describe says the same (it reads the same layout and coordinates).
   auto d = describeGridFile(path, variable);
   EXPECT_FALSE(d.ok()) << "describe succeeded: " << path;
@@ -255,7 +256,8 @@ TEST(GridBadInput, TruncatedAndForeignFiles) {
     ASSERT_TRUE(readGridVolume(whole).ok());
     const auto size = std::filesystem::file_size(whole);
     for (double fraction : {0.05, 0.3, 0.6, 0.9, 0.99}) {
-      const std::string cut = d + "/cut" + std::to_string(mode) + "_" + std::to_string(static_cast<int>(fraction * 100)) + ".nc";
+      const std::string cut =
+          d + "/cut" + std::to_string(mode) + "_" + std::to_string(static_cast<int>(fraction * 100)) + ".nc";
       std::filesystem::copy_file(whole, cut, std::filesystem::copy_options::overwrite_existing);
       std::filesystem::resize_file(cut, static_cast<std::uintmax_t>(static_cast<double>(size) * fraction));
       auto r = readGridVolume(cut);

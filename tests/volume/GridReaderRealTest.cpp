@@ -166,7 +166,11 @@ TEST(GridReaderReal, WrfCornersAreAtXlatXlong) {
 
 TEST(GridReaderReal, WrfStaggeredVariablesAreAveragedToMassPoints) {
   SKIP_WITHOUT_TEST_DATA(wrfPath());
-  struct Case { const char* name; int axis; std::vector<std::size_t> count; };
+  struct Case {
+    const char* name;
+    int axis;
+    std::vector<std::size_t> count;
+  };
   // U is staggered in x (49 columns), V in y (49 rows), W in z (15 levels).
   for (const Case& c : {Case{"U", 3, {1, 14, 48, 49}}, Case{"V", 2, {1, 14, 49, 48}}, Case{"W", 1, {1, 15, 48, 48}}}) {
     GridReadOptions o;
@@ -179,7 +183,9 @@ TEST(GridReaderReal, WrfStaggeredVariablesAreAveragedToMassPoints) {
     ASSERT_EQ(r->nz, 14u);
     const std::vector<float> raw = ncRead(wrfPath(), c.name, {1, 0, 0, 0}, c.count);
     const std::size_t nxs = c.count[3], nys = c.count[2];
-    auto at = [&](std::size_t k, std::size_t j, std::size_t i) { return static_cast<double>(raw[(k * nys + j) * nxs + i]); };
+    auto at = [&](std::size_t k, std::size_t j, std::size_t i) {
+      return static_cast<double>(raw[(k * nys + j) * nxs + i]);
+    };
     for (std::size_t k = 0; k < 14; ++k)
       for (std::size_t j = 0; j < 48; ++j)
         for (std::size_t i = 0; i < 48; ++i) {

@@ -58,14 +58,14 @@ struct CfGrid {
   std::vector<double> lat = range(60.0, -10.0, 13);  // north to south
   std::vector<double> lon = range(0.0, 10.0, 36);    // 0..350: global
   std::vector<double> lev = {1000, 850, 700, 500, 300};
-  std::string levName = "lev", levUnits = "hPa", levStandardName = "air_pressure", levPositive = "down",
-              levLongName, levFormulaTerms;
+  std::string levName = "lev", levUnits = "hPa", levStandardName = "air_pressure", levPositive = "down", levLongName,
+              levFormulaTerms;
   std::size_t times = 2;
   std::string timeUnits = "hours since 2001-01-01 00:00:00", calendar;
   std::vector<double> timeValues;  ///< default 0, 1, 2 ...
   int mode = NC_NETCDF4;
-  std::string group;               ///< "" or "a" or "a/b": where ta goes
-  bool latCoordinate = true;       ///< false: no lat variable (bad input)
+  std::string group;          ///< "" or "a" or "a/b": where ta goes
+  bool latCoordinate = true;  ///< false: no lat variable (bad input)
 };
 
 /// Writes the grid; `extra` defines and writes more variables (called before the core data is
@@ -121,7 +121,8 @@ void writeCf(const std::string& path, const CfGrid& g, const std::function<void(
 }
 
 /// A field on (time, lev, lat, lon) or (time, lat, lon) from a function of the file indices.
-std::vector<double> field4(const CfGrid& g, const std::function<double(std::size_t, std::size_t, std::size_t, std::size_t)>& fn) {
+std::vector<double> field4(const CfGrid& g,
+                           const std::function<double(std::size_t, std::size_t, std::size_t, std::size_t)>& fn) {
   std::vector<double> v;
   for (std::size_t t = 0; t < g.times; ++t)
     for (std::size_t k = 0; k < g.lev.size(); ++k)
@@ -156,7 +157,8 @@ TEST(GridReaderCf, NorthToSouthAnd0To360GlobalGridIsNormalised) {
   CfGrid g;  // lat 60..-60 (N->S), lon 0..350 (global), pressure 1000..300 hPa
   // Geopotential z (m2 s-2) on the levels: standard-atmosphere height of the level + 10 m per file row.
   auto zOf = [&](std::size_t, std::size_t k, std::size_t j, std::size_t) {
-    return kStandardGravity * (standardAtmosphereGeopotentialHeightMeters(g.lev[k] * 100.0) + 10.0 * static_cast<double>(j));
+    return kStandardGravity *
+           (standardAtmosphereGeopotentialHeightMeters(g.lev[k] * 100.0) + 10.0 * static_cast<double>(j));
   };
   writeCf(path, g, [&](NcTestFile& f) {
     auto vz = f.var("z", NC_FLOAT, {"time", "lev", "lat", "lon"});
@@ -196,8 +198,9 @@ TEST(GridReaderCf, NorthToSouthAnd0To360GlobalGridIsNormalised) {
       for (std::size_t i = 0; i < v.nx; ++i) {
         const std::size_t jf = 12 - j;
         ASSERT_EQ(v.value(k, j, i), static_cast<float>(code(1, k, jf, i))) << k << " " << j << " " << i;
-        const double expected = geometricFromGeopotentialHeightMeters(zOf(1, k, jf, i) / kStandardGravity, v.latDeg[j]) +
-                                geoidAt(v.latDeg[j], v.lonDeg[i]);
+        const double expected =
+            geometricFromGeopotentialHeightMeters(zOf(1, k, jf, i) / kStandardGravity, v.latDeg[j]) +
+            geoidAt(v.latDeg[j], v.lonDeg[i]);
         ASSERT_NEAR(v.heightMeters(k, j, i), expected, kHeightTolMeters) << k << " " << j << " " << i;
       }
   expectMonotonic(v);
@@ -261,8 +264,8 @@ TEST(GridReaderCf, CropsAcrossTheAntimeridianAndTheZeroMeridianOfAGlobalGrid) {
 TEST(GridReaderCf, RegionalGridWithHeightLevelsRunningDown) {
   const std::string path = testDir() + "/regional.nc";
   CfGrid g;
-  g.lat = range(30.0, 1.0, 11);     // south to north
-  g.lon = range(-100.0, 1.0, 11);   // -100 .. -90
+  g.lat = range(30.0, 1.0, 11);            // south to north
+  g.lon = range(-100.0, 1.0, 11);          // -100 .. -90
   g.lev = {12000, 8000, 4000, 1000, 100};  // top first
   g.levUnits = "m";
   g.levStandardName = "altitude";
@@ -352,9 +355,10 @@ TEST(GridReaderCf, PressureWithoutGeopotentialUsesTheStandardAtmosphereAndSaysSo
       // 500 hPa (level 4) lies at 5574 m' in the standard atmosphere (USSA 1976 table); the
       // geometric height differs by up to 25 m (1/r^2: 5 m; gravity at |lat| <= 60: 15 m).
       EXPECT_NEAR(r->heightMeters(4, j, i) - n, 5574.0, 25.0);
-      EXPECT_NEAR(r->heightMeters(4, j, i),
-                  geometricFromGeopotentialHeightMeters(standardAtmosphereGeopotentialHeightMeters(50000.0), r->latDeg[j]) + n,
-                  kHeightTolMeters);
+      EXPECT_NEAR(
+          r->heightMeters(4, j, i),
+          geometricFromGeopotentialHeightMeters(standardAtmosphereGeopotentialHeightMeters(50000.0), r->latDeg[j]) + n,
+          kHeightTolMeters);
     }
 }
 
@@ -404,7 +408,8 @@ TEST(GridReaderCf, HybridSigmaPressureHeightsMatchAnIndependentComputation) {
         const std::size_t kf = 3 - k;
         const double p = kAp[kf] + kB[kf] * static_cast<double>(static_cast<float>(surfacePressure(1, j, i)));
         const double n = geoidAt(v.latDeg[j], v.lonDeg[i]);
-        const double expected = geometricFromGeopotentialHeightMeters(standardAtmosphereGeopotentialHeightMeters(p), v.latDeg[j]) + n;
+        const double expected =
+            geometricFromGeopotentialHeightMeters(standardAtmosphereGeopotentialHeightMeters(p), v.latDeg[j]) + n;
         ASSERT_NEAR(v.heightMeters(k, j, i), expected, kHeightTolMeters) << k << " " << j << " " << i;
         // And, below the tropopause (p > 226.3 hPa), against the reference's troposphere formula
         // (REFERENCE.md section 4), which knows nothing of our code: within 1.5 m (its rounded
@@ -536,7 +541,9 @@ TEST(GridReaderCf, SigmaAndHybridHeightCoordinates) {
   g.levStandardName = "atmosphere_hybrid_height_coordinate";
   g.levPositive = "up";
   g.levFormulaTerms = "a: lev b: bcoef orog: orog";
-  auto orog = [](std::size_t, std::size_t j, std::size_t i) { return 300.0 + 100.0 * static_cast<double>(j) + 10.0 * static_cast<double>(i); };
+  auto orog = [](std::size_t, std::size_t j, std::size_t i) {
+    return 300.0 + 100.0 * static_cast<double>(j) + 10.0 * static_cast<double>(i);
+  };
   writeCf(dir + "/hybrid_height.nc", g, [&](NcTestFile& f) {
     auto bv = f.var("bcoef", NC_DOUBLE, {"lev"});
     auto ov = f.var("orog", NC_FLOAT, {"lat", "lon"});
@@ -610,8 +617,8 @@ TEST(GridReaderCf, PackedValuesWithFillMissingAndValidRange) {
   g.lev = {1000, 500};
   g.times = 1;
   auto raw = [](std::size_t, std::size_t k, std::size_t j, std::size_t i) -> double {
-    if (k == 0 && j == 1 && i == 1) return -999;  // _FillValue
-    if (k == 0 && j == 2 && i == 2) return -998;  // missing_value
+    if (k == 0 && j == 1 && i == 1) return -999;   // _FillValue
+    if (k == 0 && j == 2 && i == 2) return -998;   // missing_value
     if (k == 1 && j == 3 && i == 4) return 31000;  // above valid_max
     return static_cast<double>(100 * k + 10 * j + i);
   };
@@ -640,10 +647,8 @@ TEST(GridReaderCf, PackedValuesWithFillMissingAndValidRange) {
     for (std::size_t j = 0; j < 4; ++j)
       for (std::size_t i = 0; i < 5; ++i) {
         const double x = raw(0, k, j, i);  // 1000 hPa first: file level 0 is the bottom
-        if (x == -999 || x == -998 || x > 30000)
-          EXPECT_TRUE(std::isnan(r->value(k, j, i))) << k << j << i;
-        else
-          EXPECT_EQ(r->value(k, j, i), static_cast<float>(x * 0.5 + 100.0)) << k << j << i;
+        if (x == -999 || x == -998 || x > 30000) EXPECT_TRUE(std::isnan(r->value(k, j, i))) << k << j << i;
+        else EXPECT_EQ(r->value(k, j, i), static_cast<float>(x * 0.5 + 100.0)) << k << j << i;
       }
   EXPECT_EQ(r->valueMin, 100.0f);
   EXPECT_EQ(r->valueMax, static_cast<float>(133 * 0.5 + 100.0)) << "raw 134 is above valid_max (31000 stored)";
@@ -662,8 +667,8 @@ TEST(GridReaderCf, VariableInANetcdf4Group) {
   g.lon = range(0.0, 1.0, 4);
   g.group = "forecast/member0";
   writeCf(path, g);
-  for (const std::string& name : {std::string("/forecast/member0/ta"), std::string("forecast/member0/ta"),
-                                  std::string("ta"), std::string()}) {
+  for (const std::string& name :
+       {std::string("/forecast/member0/ta"), std::string("forecast/member0/ta"), std::string("ta"), std::string()}) {
     GridReadOptions o;
     o.variable = name;
     auto r = readGridVolume(path, o);
@@ -763,7 +768,8 @@ TEST(GridReaderCf, TimeAxisCalendarsAndSelectionByTime) {
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->timeIndex, 1u);
   EXPECT_EQ(r->validTime, "2001-02-30T00:00:00Z");
-  EXPECT_EQ(r->times, (std::vector<std::string>{"2001-01-01T00:00:00Z", "2001-02-30T00:00:00Z", "2001-03-01T00:00:00Z"}));
+  EXPECT_EQ(r->times,
+            (std::vector<std::string>{"2001-01-01T00:00:00Z", "2001-02-30T00:00:00Z", "2001-03-01T00:00:00Z"}));
   EXPECT_EQ(r->value(0, 0, 0), static_cast<float>(code(1, 0, 0, 0)));
   o.timeIso8601 = "2001-02-28T00:00:00Z";
   auto missing = readGridVolume(path, o);

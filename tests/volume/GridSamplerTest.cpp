@@ -34,8 +34,9 @@ using volume::VolumeSample;
 TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
   auto surface = [](double lat, double lon) { return 300.0 + 20.0 * (lat - 40.0) + 15.0 * (lon - 10.0); };
   auto field = [](double lat, double lon, double h) { return 2.0 * lon - 3.0 * lat + 0.004 * h; };
-  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(10.0, 0.25, 41), testutil::evenlySpaced(40.0, 0.25, 41),
-                                       {0.0, 100.0, 300.0, 700.0, 1500.0, 3000.0, 6000.0, 12000.0}, surface, field);
+  const GridVolume g =
+      testutil::rectilinearGrid(testutil::evenlySpaced(10.0, 0.25, 41), testutil::evenlySpaced(40.0, 0.25, 41),
+                                {0.0, 100.0, 300.0, 700.0, 1500.0, 3000.0, 6000.0, 12000.0}, surface, field);
   const volume::GridSampler s(g);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> lat(40.0, 50.0), lon(10.0, 20.0), u(0.0, 1.0);
@@ -56,8 +57,10 @@ TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
             VolumeSample::State::NoData);
   EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 15.0, surface(45, 15) + 12001.0}), Interpolation::Linear).state,
             VolumeSample::State::NoData);
-  EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 20.01, 5000.0}), Interpolation::Linear).state, VolumeSample::State::NoData);
-  EXPECT_EQ(s.sample(globe::geodeticToEcef({39.99, 15.0, 5000.0}), Interpolation::Linear).state, VolumeSample::State::NoData);
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({45.0, 20.01, 5000.0}), Interpolation::Linear).state,
+            VolumeSample::State::NoData);
+  EXPECT_EQ(s.sample(globe::geodeticToEcef({39.99, 15.0, 5000.0}), Interpolation::Linear).state,
+            VolumeSample::State::NoData);
   // Nearest: a grid point's own value at the grid point's position and level height.
   const double h = g.heightMeters(3, 8, 12);
   const VolumeSample nearest = s.sample(globe::geodeticToEcef({g.latDeg[8], g.lonDeg[12], h}), Interpolation::Nearest);
@@ -74,16 +77,17 @@ TEST(GridSampler, LinearFieldIsReproducedOnTerrainFollowingLevels) {
 // The bounding sphere holds every grid point (bottom and top), and ray intervals hold the grid.
 TEST(GridSampler, BoundingSphereHoldsTheGrid) {
   const GridVolume g = testutil::rectilinearGrid(
-      testutil::evenlySpaced(-30.0, 0.5, 121), testutil::evenlySpaced(20.0, 0.5, 61), {0.0, 5000.0, 20000.0}, [](double, double) { return 0.0; },
-      [](double, double, double) { return 1.0; });
+      testutil::evenlySpaced(-30.0, 0.5, 121), testutil::evenlySpaced(20.0, 0.5, 61), {0.0, 5000.0, 20000.0},
+      [](double, double) { return 0.0; }, [](double, double, double) { return 1.0; });
   const volume::GridSampler s(g);
   const volume::BoundingSphere b = s.boundingSphere();
   double worstInside = -1e300;
   for (std::size_t j = 0; j < g.ny; ++j)
     for (std::size_t i = 0; i < g.nx; ++i)
       for (double h : {0.0, 20000.0})
-        worstInside = std::max(worstInside, glm::length(globe::geodeticToEcef({g.latDeg[j], g.lonDeg[i], h}) - b.centreEcef) -
-                                                b.radiusMeters);
+        worstInside =
+            std::max(worstInside,
+                     glm::length(globe::geodeticToEcef({g.latDeg[j], g.lonDeg[i], h}) - b.centreEcef) - b.radiusMeters);
   EXPECT_LE(worstInside, 0.0) << "a grid point lies outside the bounding sphere";
 }
 
@@ -93,8 +97,9 @@ TEST(GridSampler, GlobalGridHasNoSeamAtTheAntimeridianAndNoHoleAtThePoles) {
   auto field = [](double lat, double lon, double) {
     return std::cos(lon * kPi / 180.0) * std::cos(lat * kPi / 180.0) + 0.5 * std::sin(lat * kPi / 180.0);
   };
-  GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), {0.0, 10000.0},
-                                 [](double, double) { return 0.0; }, field);
+  GridVolume g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), {0.0, 10000.0},
+      [](double, double) { return 0.0; }, field);
   g.wrapsLongitude = true;
   const volume::GridSampler s(g);
   // Across the antimeridian and across the seam between 357.5 and 360 (= 0): every sample is
@@ -156,7 +161,8 @@ TEST(GridSampler, CurvilinearInverseMapIsExact) {
     for (std::size_t j = 0; j < g.ny; ++j)
       for (std::size_t i = 0; i < g.nx; ++i) {
         g.heightAboveEllipsoidMeters.push_back(static_cast<float>(1000.0 * static_cast<double>(k)));
-        g.values.push_back(static_cast<float>(3.0 * static_cast<double>(i) + 7.0 * static_cast<double>(j) + static_cast<double>(k)));
+        g.values.push_back(
+            static_cast<float>(3.0 * static_cast<double>(i) + 7.0 * static_cast<double>(j) + static_cast<double>(k)));
       }
   g.valueMin = 0.0f;
   g.valueMax = 3.0f * 59 + 7.0f * 49 + 2.0f;
@@ -184,8 +190,9 @@ TEST(GridSampler, CurvilinearInverseMapIsExact) {
 // a slab between two heights, looked at straight down, has the closed-form opacity of a uniform
 // medium over the slab's thickness (Max 1995).
 TEST(GridSampler, ReferenceDvrOfAUniformSlabMatchesTheClosedForm) {
-  const GridVolume g = testutil::rectilinearGrid(testutil::evenlySpaced(9.0, 0.5, 9), testutil::evenlySpaced(44.0, 0.5, 9), {2000.0, 4000.0, 6000.0},
-                                       [](double, double) { return 0.0; }, [](double, double, double) { return 40.0; });
+  const GridVolume g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(9.0, 0.5, 9), testutil::evenlySpaced(44.0, 0.5, 9), {2000.0, 4000.0, 6000.0},
+      [](double, double) { return 0.0; }, [](double, double, double) { return 40.0; });
   const volume::GridSampler s(g);
   volume::VolumeRenderSettings settings;
   settings.transfer = volume::defaultReflectivityTransfer();

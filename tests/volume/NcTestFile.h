@@ -66,7 +66,8 @@ class NcTestFile {
     endDef();
     ok(nc_put_vara_double(v.group, v.id, start.data(), count.data(), values.data()), "put slab");
   }
-  void putText(Var v, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count, const std::string& s) {
+  void putText(Var v, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
+               const std::string& s) {
     endDef();
     ok(nc_put_vara_text(v.group, v.id, start.data(), count.data(), s.data()), "put text");
   }
@@ -86,7 +87,8 @@ class NcTestFile {
 
  private:
   void ok(int status, const std::string& what) {
-    if (status != NC_NOERR) ADD_FAILURE() << "netCDF test file " << path_ << ": " << what << ": " << nc_strerror(status);
+    if (status != NC_NOERR)
+      ADD_FAILURE() << "netCDF test file " << path_ << ": " << what << ": " << nc_strerror(status);
   }
   std::string path_;
   int root_ = -1;

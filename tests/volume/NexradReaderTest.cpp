@@ -71,9 +71,9 @@ TEST(NexradReader, KlbbReflectivitySweeps) {
   // Mean ray elevation per cut (Python: sum / count of the message-31 elevation floats). The data
   // README lists 0.53, 0.53, 1.45, 1.45, 2.42, 3.38, 4.31, 6.02, 9.89, 14.59, 19.51: its first two
   // are these means, the rest the VCP targets; both are checked.
-  const double meanElevationDeg[] = {0.530426025390625, 0.52734375, 1.4514694213867188, 1.4501953125,
-                                     2.4192581176757812, 3.3828353881835938, 4.3095550537109375,
-                                     6.0139923095703125, 9.885757446289062, 14.591484069824219, 19.50371551513672};
+  const double meanElevationDeg[] = {0.530426025390625,  0.52734375,         1.4514694213867188, 1.4501953125,
+                                     2.4192581176757812, 3.3828353881835938, 4.3095550537109375, 6.0139923095703125,
+                                     9.885757446289062,  14.591484069824219, 19.50371551513672};
   ASSERT_EQ(vol->sweeps.size(), 11u);
   std::size_t totalRays = 0, splitRays = 0;
   for (std::size_t i = 0; i < 11; ++i) {
@@ -88,7 +88,8 @@ TEST(NexradReader, KlbbReflectivitySweeps) {
     EXPECT_EQ(s.firstGateRangeMeters, 2125.0);
     EXPECT_EQ(s.gateSpacingMeters, 250.0);
     EXPECT_EQ(s.values.size(), rays[i] * gates[i]);
-    const double mean = std::accumulate(s.elevationDeg.begin(), s.elevationDeg.end(), 0.0) / static_cast<double>(s.rayCount());
+    const double mean =
+        std::accumulate(s.elevationDeg.begin(), s.elevationDeg.end(), 0.0) / static_cast<double>(s.rayCount());
     EXPECT_NEAR(mean, meanElevationDeg[i], 1e-9);  // float sums in a different order
     totalRays += s.rayCount();
     if (i < 4) splitRays += s.rayCount();
@@ -230,8 +231,8 @@ void putFloat(std::vector<unsigned char>& b, std::size_t at, float f) {
 struct RadialSpec {
   float azimuthDeg = 10.0f, elevationDeg = 0.5f;
   std::string raw = std::string("\x00\x01\x02\x42\x82", 5);  // raw 0, 1, 2, 66, 130
-  std::uint32_t refPointer = 0;   // 0: the real position
-  unsigned gateCountField = 0;    // 0: raw.size()
+  std::uint32_t refPointer = 0;                              // 0: the real position
+  unsigned gateCountField = 0;                               // 0: raw.size()
 };
 
 std::vector<unsigned char> buildFile(const RadialSpec& spec) {

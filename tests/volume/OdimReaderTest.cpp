@@ -59,9 +59,9 @@ TEST(OdimReader, Au40VolumeGeometry) {
   EXPECT_DOUBLE_EQ(v.site.lonDeg, 149.512);
   EXPECT_DOUBLE_EQ(v.site.antennaHeightMeters, 1383.0);
   EXPECT_EQ(v.site.heightDatum, HeightDatum::MeanSeaLevel);
-  EXPECT_EQ(v.site.name, "AU40");  // /what/source "RAD:AU40,PLC:CapFlat,..."
+  EXPECT_EQ(v.site.name, "AU40");                    // /what/source "RAD:AU40,PLC:CapFlat,..."
   EXPECT_EQ(v.timeIso8601, "2018-12-20T06:06:00Z");  // /what/date 20181220, time 060600
-  EXPECT_DOUBLE_EQ(v.beamWidthDeg, 2.0);              // /how/beamwH
+  EXPECT_DOUBLE_EQ(v.beamWidthDeg, 2.0);             // /how/beamwH
   // Quantities of dataset1 (data1..data7), in file order.
   ASSERT_EQ(v.fields.size(), 7u);
   EXPECT_EQ(v.fields[0].name, "DBZH");

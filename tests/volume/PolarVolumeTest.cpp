@@ -28,7 +28,8 @@ SiteResolution testSite() {
 
 // A PPI sweep with the given azimuths and gates; value(rayIndexInInput, gate).
 Sweep makeSweep(double elevationDeg, const std::vector<float>& azimuthsDeg, std::uint32_t gateCount,
-                double firstGateMeters, double spacingMeters, const std::function<float(std::size_t, std::uint32_t)>& value) {
+                double firstGateMeters, double spacingMeters,
+                const std::function<float(std::size_t, std::uint32_t)>& value) {
   Sweep s;
   s.fixedAngleDeg = elevationDeg;
   s.mode = SweepMode::Ppi;
@@ -62,9 +63,10 @@ PolarVolume build(const RadarVolume& rv) {
 
 // Four rays at 0/90/180/270, four gates (centres 500, 1500, 2500, 3500 m), value 10 * ray + gate.
 RadarVolume fourByFour(double elevationDeg = 1.0, float offset = 0.0f) {
-  return makeVolume({makeSweep(elevationDeg, {0.f, 90.f, 180.f, 270.f}, 4, 500.0, 1000.0, [offset](std::size_t r, std::uint32_t g) {
-    return offset + 10.0f * static_cast<float>(r) + static_cast<float>(g);
-  })});
+  return makeVolume(
+      {makeSweep(elevationDeg, {0.f, 90.f, 180.f, 270.f}, 4, 500.0, 1000.0, [offset](std::size_t r, std::uint32_t g) {
+        return offset + 10.0f * static_cast<float>(r) + static_cast<float>(g);
+      })});
 }
 
 TEST(PolarVolume, LayoutOfATinyVolume) {
@@ -117,7 +119,7 @@ TEST(PolarVolume, VerticalInterpolationBetweenSweeps) {
   PolarSample s = samplePolar(v, 2500.0, 90.0, 1.5, Interpolation::Linear);
   ASSERT_EQ(s.state, State::Echo);
   EXPECT_NEAR(s.value, 37.0, 1e-12);
-  EXPECT_EQ(samplePolar(v, 2500.0, 90.0, 2.0, Interpolation::Nearest).value, 12.0);    // tie -> lower
+  EXPECT_EQ(samplePolar(v, 2500.0, 90.0, 2.0, Interpolation::Nearest).value, 12.0);     // tie -> lower
   EXPECT_EQ(samplePolar(v, 2500.0, 90.0, 2.001, Interpolation::Nearest).value, 112.0);  // closer to 3
   // Below the lowest sweep (but inside its half beam): sweep 0 alone; above the top: sweep 1 alone.
   EXPECT_NEAR(samplePolar(v, 2500.0, 90.0, 0.7, Interpolation::Linear).value, 12.0, 1e-12);
@@ -127,8 +129,9 @@ TEST(PolarVolume, VerticalInterpolationBetweenSweeps) {
 // Cyclic wrap between the last ray and the first.
 TEST(PolarVolume, AzimuthWrapsBetweenLastAndFirstRay) {
   // Rays at 10, 100, 190, 280; value = 1000 * ray index (sorted order), one gate.
-  const PolarVolume v = build(makeVolume({makeSweep(1.0, {10.f, 100.f, 190.f, 280.f}, 1, 500.0, 1000.0,
-                                                    [](std::size_t r, std::uint32_t) { return 1000.0f * static_cast<float>(r); })}));
+  const PolarVolume v =
+      build(makeVolume({makeSweep(1.0, {10.f, 100.f, 190.f, 280.f}, 1, 500.0, 1000.0,
+                                  [](std::size_t r, std::uint32_t) { return 1000.0f * static_cast<float>(r); })}));
   // az 325: from ray 3 (280) towards ray 0 (370): a = 3 + 45/90 = 3.5 -> 0.5 * 3000 + 0.5 * 0 = 1500.
   for (double az : {325.0, -35.0, 685.0}) {
     const PolarSample s = samplePolar(v, 500.0, az, 1.0, Interpolation::Linear);
@@ -156,8 +159,8 @@ TEST(PolarVolume, IrregularAzimuthSpacingFollowsAzimuth) {
   std::mt19937 rng(7);
   std::shuffle(az.begin(), az.end(), rng);
   const std::vector<float> given = az;
-  const PolarVolume v = build(makeVolume({makeSweep(0.5, az, 2, 1000.0, 1000.0,
-                                                    [&given](std::size_t r, std::uint32_t) { return given[r]; })}));
+  const PolarVolume v = build(
+      makeVolume({makeSweep(0.5, az, 2, 1000.0, 1000.0, [&given](std::size_t r, std::uint32_t) { return given[r]; })}));
   ASSERT_EQ(v.sweeps[0].rayCount, 360);
   EXPECT_TRUE(std::is_sorted(v.sweeps[0].azimuthDeg.begin(), v.sweeps[0].azimuthDeg.end()));
   std::uniform_real_distribution<double> u(0.0, 358.5);  // up to the last ray (358.5); then the wrap
@@ -178,8 +181,9 @@ TEST(PolarVolume, IrregularAzimuthSpacingFollowsAzimuth) {
 // Gate range limits: g in [-0.5, count - 0.5]; outside, NoData.
 TEST(PolarVolume, GateRangeLimits) {
   // Gate centres 2000, 3000, 3999... : first 2000, spacing 1000, 4 gates -> r in [1500, 5500].
-  const PolarVolume v = build(makeVolume({makeSweep(1.0, {0.f, 120.f, 240.f}, 4, 2000.0, 1000.0,
-                                                    [](std::size_t, std::uint32_t g) { return 20.0f + static_cast<float>(g); })}));
+  const PolarVolume v =
+      build(makeVolume({makeSweep(1.0, {0.f, 120.f, 240.f}, 4, 2000.0, 1000.0,
+                                  [](std::size_t, std::uint32_t g) { return 20.0f + static_cast<float>(g); })}));
   for (Interpolation in : {Interpolation::Nearest, Interpolation::Linear}) {
     EXPECT_EQ(samplePolar(v, 1499.9, 0.0, 1.0, in).state, State::NoData);
     PolarSample s = samplePolar(v, 1500.0, 0.0, 1.0, in);
@@ -242,8 +246,8 @@ TEST(PolarVolume, HalfWeightRuleForNoEchoAndNoDataMixes) {
   // Two echoes of 20 and 40 at weight 0.25 each and 0.5 no echo: echo weight 0.5 -> Echo, value
   // (0.25 * 20 + 0.25 * 40) / 0.5 = 30 (not 15: the value is normalised by the echo weight).
   const float grid2[2][2] = {{20.0f, kNoEcho}, {40.0f, kNoEcho}};
-  const PolarVolume v2 = build(makeVolume({makeSweep(1.0, {0.f, 180.f}, 2, 500.0, 1000.0,
-                                                     [&grid2](std::size_t r, std::uint32_t g) { return grid2[r][g]; })}));
+  const PolarVolume v2 = build(makeVolume({makeSweep(
+      1.0, {0.f, 180.f}, 2, 500.0, 1000.0, [&grid2](std::size_t r, std::uint32_t g) { return grid2[r][g]; })}));
   s = samplePolar(v2, 1000.0, 90.0, 1.0, Interpolation::Linear);
   ASSERT_EQ(s.state, State::Echo);
   EXPECT_NEAR(s.value, 30.0, 1e-12);
@@ -300,8 +304,8 @@ TEST(PolarVolume, RhiAndEmptyVolumesAreErrors) {
 
 // The real RHI file of the shared data is refused with the message.
 TEST(PolarVolume, RealRhiFileIsRefused) {
-  const std::string path = atmoglobe_test::testDataDir() +
-                           "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
+  const std::string path =
+      atmoglobe_test::testDataDir() + "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc";
   SKIP_WITHOUT_TEST_DATA(path);
   Result<RadarVolume> vol = readRadarVolume(path, ReadOptions{});
   ASSERT_TRUE(vol.ok()) << vol.error();
@@ -389,8 +393,8 @@ TEST(PolarVolume, AzimuthTableMatchesTheExactRayCoordinate) {
 // 100 km -> 800 x 800 columns; vertical extent from the -0.5 deg to the +0.5 deg beam edge at
 // 100 km, heights from the closed form h = sqrt(r^2 + Re^2 + 2 r Re sin(theta)) - Re.
 TEST(PolarVolume, CartesianEquivalentBytes) {
-  const PolarVolume v = build(makeVolume({makeSweep(0.0, {0.f, 90.f, 180.f, 270.f}, 400, 125.0, 250.0,
-                                                    [](std::size_t, std::uint32_t) { return 1.0f; })}));
+  const PolarVolume v = build(makeVolume(
+      {makeSweep(0.0, {0.f, 90.f, 180.f, 270.f}, 400, 125.0, 250.0, [](std::size_t, std::uint32_t) { return 1.0f; })}));
   ASSERT_DOUBLE_EQ(v.maxRangeMeters, 100000.0);
   const double re = 4.0 / 3.0 * globe::geocentricRadiusMeters(40.0);
   auto h = [re](double r, double elDeg) {

@@ -122,8 +122,8 @@ TEST(RadarLoad, LayoutIsTheDirectLayoutAndTheSweepValuesAreHeldOnce) {
   ASSERT_TRUE(r->layout.has_value());
   expectSameLayout(*r->layout, d.layout);
   for (const Sweep& s : r->volume.sweeps) {
-    EXPECT_TRUE(s.values.empty());           // released: the layout holds them
-    EXPECT_EQ(s.azimuthDeg.size(), 90u);     // the metadata stay
+    EXPECT_TRUE(s.values.empty());        // released: the layout holds them
+    EXPECT_EQ(s.azimuthDeg.size(), 90u);  // the metadata stay
   }
   o.keepSweepValues = true;
   r = loadRadar(path, o);
@@ -183,8 +183,8 @@ TEST(RadarLoad, RealVolumesMatchTheDirectSteps) {
 }
 
 TEST(RadarLoad, RealRhiFileLoadsButHasNoRenderLayout) {
-  const std::string rhi = atmoglobe_test::testDataPath(
-      "radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc");
+  const std::string rhi =
+      atmoglobe_test::testDataPath("radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc");
   SKIP_WITHOUT_TEST_DATA(rhi);
   Result<LoadedRadar> r = loadRadar(rhi, {});
   ASSERT_TRUE(r.ok()) << r.error();

@@ -29,9 +29,12 @@ std::string tempDir() {
 
 TEST(RadarReaderDetect, RealFilesByContent) {
   SKIP_WITHOUT_TEST_DATA(kKaSacr, kMll, kDow8, kAu40, kBewid, kNexrad);
-  for (const auto& [path, want] : {std::pair{kKaSacr, RadarFormat::CfRadial}, {kMll, RadarFormat::CfRadial},
-                                   {kDow8, RadarFormat::CfRadial}, {kAu40, RadarFormat::OdimH5},
-                                   {kBewid, RadarFormat::OdimH5}, {kNexrad, RadarFormat::NexradLevel2}}) {
+  for (const auto& [path, want] : {std::pair{kKaSacr, RadarFormat::CfRadial},
+                                   {kMll, RadarFormat::CfRadial},
+                                   {kDow8, RadarFormat::CfRadial},
+                                   {kAu40, RadarFormat::OdimH5},
+                                   {kBewid, RadarFormat::OdimH5},
+                                   {kNexrad, RadarFormat::NexradLevel2}}) {
     auto f = detectRadarFormat(path);
     ASSERT_TRUE(f.ok()) << f.error();
     EXPECT_EQ(*f, want) << path;
@@ -87,8 +90,8 @@ TEST(RadarReaderDefaultField, PrefersReflectivityByMeaning) {
   EXPECT_EQ(chooseDefaultField({f("VRAD", "m/s"), f("dBZ", "dBZ")}), "dBZ");
   EXPECT_EQ(chooseDefaultField({f("VRAD"), f("dBZ")}), "dBZ") << "by name, in any case";
   // standard_name wins over names and units; among several, the uncorrected DBZH before TH.
-  const DefaultField bySn = chooseDefaultFieldWithReason(
-      {f("DBZH", "dBZ"), f("ZZ", "1", "equivalent_reflectivity_factor"), f("VEL", "m/s")});
+  const DefaultField bySn =
+      chooseDefaultFieldWithReason({f("DBZH", "dBZ"), f("ZZ", "1", "equivalent_reflectivity_factor"), f("VEL", "m/s")});
   EXPECT_EQ(bySn.name, "ZZ");
   EXPECT_NE(bySn.reason.find("standard_name"), std::string::npos) << bySn.reason;
   EXPECT_EQ(chooseDefaultField({f("TH", "dBZ"), f("DBZH", "dBZ")}), "DBZH");

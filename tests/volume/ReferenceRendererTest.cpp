@@ -3,8 +3,8 @@
 // geolocation path predicts, awkward cameras, and a real volume.
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
-#include <atmoglobe/volume/ReferenceRenderer.h>
 #include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
 
 #include <gtest/gtest.h>
 
@@ -28,7 +28,8 @@ glm::dvec3 localUp(double latDeg, double lonDeg) { return globe::enuAxes(latDeg,
 // A PPI volume with `elevations`, 360 rays at 0.5, 1.5, ... deg, gates of 250 m from 125 m (so the
 // gates cover range [0, gateCount * 250 m]), every gate = value(sweep, ray, gate).
 template <class F>
-PolarVolume makeVolume(const std::vector<double>& elevations, std::uint32_t gateCount, F value, double beamWidthDeg = 1.0) {
+PolarVolume makeVolume(const std::vector<double>& elevations, std::uint32_t gateCount, F value,
+                       double beamWidthDeg = 1.0) {
   RadarVolume rv;
   rv.format = "test";
   rv.sourcePath = "synthetic";
@@ -93,7 +94,6 @@ TEST(TransferFunction, ClassifyAndOpacityCorrection) {
   EXPECT_EQ(tf.correctedOpacity(1.0, 10.0), 1.0);
   EXPECT_EQ(tf.correctedOpacity(0.0, 10.0), 0.0);
 }
-
 
 TEST(TransferFunction, ExtinctionAndIntegralTable) {
   const TransferFunction tf = defaultReflectivityTransfer();
@@ -309,7 +309,8 @@ TEST(ReferenceRenderer, PointEchoAppearsAtTheGeolocatedPixel) {
   const GatePosition eyePos = geolocateGateExact(kSite, BeamModel{}, azDeg + 18.0, elDeg, rangeMeters);
   const glm::dvec3 eye = globe::geodeticToEcef({eyePos.latDeg, eyePos.lonDeg, eyePos.heightMeters + 200.0});
   // Aim off-centre so that the prediction is not simply the image centre.
-  const glm::dvec3 aim = gate + 300.0 * localUp(eyePos.latDeg, eyePos.lonDeg) + 200.0 * glm::normalize(gate - antennaEcef(kSite));
+  const glm::dvec3 aim =
+      gate + 300.0 * localUp(eyePos.latDeg, eyePos.lonDeg) + 200.0 * glm::normalize(gate - antennaEcef(kSite));
   const RenderCamera cam = makeLookAtCamera(eye, aim, localUp(eyePos.latDeg, eyePos.lonDeg), 8.0, 40, 32);
 
   // Independent projection: eye-space e = R^T (p - eye); x = w/2 + f e.x / -e.z, y = h/2 - f e.y / -e.z.
@@ -425,10 +426,10 @@ TEST(ReferenceRenderer, LookingStraightDownOnTheSite) {
 
 // ISO on a field that depends on range only (value = 40 - 0.1 dBZ per gate, every sweep): the
 // surface value 30 lies at gate coordinate 100 (range 25125 m). A ray aimed at the antenna from
-// outside (values rising inwards) meets it where the beam-model range is 25125 m, within the bisection's resolution (step / 2^8)
-// plus the range-to-distance difference of the model (< 0.1 % here); the gradient is radial, so
-// the shade is 0.3 + 0.7 |cos| of the angle between the ray and the antenna direction (~1 for a
-// ray straight at the antenna: colour = classify(30).rgb).
+// outside (values rising inwards) meets it where the beam-model range is 25125 m, within the bisection's resolution
+// (step / 2^8) plus the range-to-distance difference of the model (< 0.1 % here); the gradient is radial, so the shade
+// is 0.3 + 0.7 |cos| of the angle between the ray and the antenna direction (~1 for a ray straight at the antenna:
+// colour = classify(30).rgb).
 TEST(ReferenceRenderer, IsoSurfaceOfARangeRamp) {
   const PolarVolume v = makeVolume({0.5, 1.5, 2.5, 3.5, 4.5, 5.5}, 400, [](std::size_t, int, std::uint32_t g) {
     return 40.0f - 0.1f * static_cast<float>(g);
@@ -458,7 +459,8 @@ TEST(ReferenceRenderer, IsoSurfaceOfARangeRamp) {
   }
   const AntennaCoordinates before = antennaCoordinatesExact(kSite, BeamModel{}, eye + (lo - 30.0) * dir);
   const AntennaCoordinates after = antennaCoordinatesExact(kSite, BeamModel{}, eye + (lo + 30.0) * dir);
-  EXPECT_LT(samplePolar(v, before.rangeMeters, before.azimuthDeg, before.elevationDeg, Interpolation::Linear).value, 30.0);
+  EXPECT_LT(samplePolar(v, before.rangeMeters, before.azimuthDeg, before.elevationDeg, Interpolation::Linear).value,
+            30.0);
   EXPECT_GT(samplePolar(v, after.rangeMeters, after.azimuthDeg, after.elevationDeg, Interpolation::Linear).value, 30.0);
   // Oblique ray (passes ~19.6 km from the antenna, meets the 25 km sphere at |cos| ~ 0.62, shade
   // ~0.74): darker than head-on.
@@ -550,7 +552,8 @@ TEST(ReferenceRenderer, ShellRejectionChangesNoPixel) {
       expectIdenticalAndLit(a, b, name + " mode " + std::to_string(static_cast<int>(mode)));
     }
   }
-  std::printf("KLBB reference with shell rejection %.2f s, without %.2f s (%.1fx)\n", withS, withoutS, withoutS / withS);
+  std::printf("KLBB reference with shell rejection %.2f s, without %.2f s (%.1fx)\n", withS, withoutS,
+              withoutS / withS);
   // Other beam models: ke 1 (no bending) and 2, on the uniform shell volume, looking along it.
   for (double ke : {1.0, 2.0}) {
     PolarVolume v = uniformVolume();

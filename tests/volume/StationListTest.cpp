@@ -143,7 +143,8 @@ TEST(StationList, JsonArrayAndObjectForms) {
   EXPECT_EQ(v[2].id, "42");
   EXPECT_EQ(v[2].elevationMeters, -20.0);
   // Object form: the key is the id; key order is file order (not sorted).
-  v = mustRead(writeFile("object.json", R"({"ZZZZ": {"lat": 1, "lon": 2}, "AAAA": {"lat": 3, "lon": 4, "tower_height": 12}})"));
+  v = mustRead(
+      writeFile("object.json", R"({"ZZZZ": {"lat": 1, "lon": 2}, "AAAA": {"lat": 3, "lon": 4, "tower_height": 12}})"));
   ASSERT_EQ(v.size(), 2u);
   EXPECT_EQ(v[0].id, "ZZZZ");
   EXPECT_EQ(v[1].id, "AAAA");
@@ -169,9 +170,11 @@ TEST(StationList, BadCsvFilesNameLineAndReason) {
 
 TEST(StationList, BadJsonFilesNameEntryAndReason) {
   expectError(R"({"KAAA": {"latitude": 95, "longitude": 0}})", "lat95.json", {"entry 'KAAA'", "bad latitude 95"});
-  expectError(R"([{"id": "A", "lat": 1, "lon": 2}, {"id": "B", "lat": 1}])", "nolon.json", {"entry 1 ('B')", "no longitude"});
+  expectError(R"([{"id": "A", "lat": 1, "lon": 2}, {"id": "B", "lat": 1}])", "nolon.json",
+              {"entry 1 ('B')", "no longitude"});
   expectError(R"([{"lat": 1, "lon": 2}])", "noid.json", {"entry 0", "no id"});
-  expectError(R"([{"id": "A", "lat": "north", "lon": 2}])", "text.json", {"entry 0", "latitude \"north\" is not a number"});
+  expectError(R"([{"id": "A", "lat": "north", "lon": 2}])", "text.json",
+              {"entry 0", "latitude \"north\" is not a number"});
   expectError(R"({"KAAA": {"lat": 1, "lon": 2, "elevation": [1]}})", "arr.json", {"entry 'KAAA'", "elevation"});
   expectError(R"({"KAAA": 5})", "notobj.json", {"entry 'KAAA'", "not an object"});
   expectError(R"([{"id": "A", "lat": 1, "lon": 2}, )", "trunc.json", {"not valid JSON", "line 1"});

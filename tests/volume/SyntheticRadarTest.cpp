@@ -19,9 +19,9 @@
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
-#include <GeographicLib/Geodesic.hpp>
 #include <gtest/gtest.h>
 #include <netcdf.h>
+#include <GeographicLib/Geodesic.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -226,8 +226,8 @@ TEST(SyntheticRadar, ValuesAreTheModelAtGeolocatedGatePositions) {
   for (const Sweep& sw : v.sweeps) {
     for (std::size_t r = 0; r < sw.rayCount(); r += 3) {
       for (std::uint32_t g = 0; g < sw.gateCount; g += 2) {
-        const GatePosition p = geolocateGateExact(site, BeamModel{}, sw.azimuthDeg[r], sw.elevationDeg[r],
-                                                  sw.gateRangeMeters(g));
+        const GatePosition p =
+            geolocateGateExact(site, BeamModel{}, sw.azimuthDeg[r], sw.elevationDeg[r], sw.gateRangeMeters(g));
         double s12 = 0, azi1 = 0, azi2 = 0;
         geod.Inverse(o.siteLatDeg, o.siteLonDeg, p.latDeg, p.lonDeg, s12, azi1, azi2);
         const double east = s12 * std::sin(degreesToRadians(azi1)), north = s12 * std::cos(degreesToRadians(azi1));
@@ -337,18 +337,28 @@ TEST(SyntheticRadar, FileFollowsCfRadialConventions) {
     nc_get_att_text(nc, id, name, s.data());
     return s;
   };
-  struct Expect { const char* name; nc_type type; const char* dims; };
+  struct Expect {
+    const char* name;
+    nc_type type;
+    const char* dims;
+  };
   // CfRadial 1.4 format document (NCAR/UCAR): coordinate, sweep and per-ray variables with their
   // dimensions.
   const Expect expected[] = {
-      {"time", NC_DOUBLE, "time"},           {"range", NC_FLOAT, "range"},
-      {"latitude", NC_DOUBLE, ""},           {"longitude", NC_DOUBLE, ""},
-      {"altitude", NC_DOUBLE, ""},           {"sweep_number", NC_INT, "sweep"},
+      {"time", NC_DOUBLE, "time"},
+      {"range", NC_FLOAT, "range"},
+      {"latitude", NC_DOUBLE, ""},
+      {"longitude", NC_DOUBLE, ""},
+      {"altitude", NC_DOUBLE, ""},
+      {"sweep_number", NC_INT, "sweep"},
       {"sweep_mode", NC_CHAR, "sweep,string_length"},
-      {"fixed_angle", NC_FLOAT, "sweep"},    {"sweep_start_ray_index", NC_INT, "sweep"},
+      {"fixed_angle", NC_FLOAT, "sweep"},
+      {"sweep_start_ray_index", NC_INT, "sweep"},
       {"sweep_end_ray_index", NC_INT, "sweep"},
-      {"azimuth", NC_FLOAT, "time"},         {"elevation", NC_FLOAT, "time"},
-      {"radar_beam_width_h", NC_FLOAT, ""},  {"radar_beam_width_v", NC_FLOAT, ""},
+      {"azimuth", NC_FLOAT, "time"},
+      {"elevation", NC_FLOAT, "time"},
+      {"radar_beam_width_h", NC_FLOAT, ""},
+      {"radar_beam_width_v", NC_FLOAT, ""},
       {"time_coverage_start", NC_CHAR, "string_length"},
       {"DBZ", NC_SHORT, "time,range"},
   };

@@ -13,7 +13,9 @@ TEST(VerticalCoordinate, StandardAtmosphereMatchesTheUsStandardAtmosphere1976Tab
   // in m', pressure in Pa, 6 significant digits as published). Relative tolerance 1e-5: half a
   // unit in the 6th digit is 5e-6; above 47 km the published bases differ from ours by up to
   // 7e-6 (rounding carried through the layers below), i.e. 0.06 m of height.
-  struct Row { double h, p; };
+  struct Row {
+    double h, p;
+  };
   const Row table[] = {{0.0, 101325.0},    {11000.0, 22632.1}, {20000.0, 5474.89}, {32000.0, 868.019},
                        {47000.0, 110.906}, {51000.0, 66.9389}, {71000.0, 3.95642}};
   for (const Row& r : table) {

@@ -71,7 +71,8 @@ TEST(LocalSphereBeam, ErrorAgainstTheExactInverseIsWithinTheStatedBounds) {
           maxAz = std::max(maxAz, std::min(dAz, 360.0 - dAz));
           maxEl = std::max(maxEl, std::abs(local.elevationDeg - el));
           const volume::AntennaCoordinates back = beam.antennaCoordinates(beam.enuOf(range, az, el));
-          maxRoundTrip = std::max({maxRoundTrip, std::abs(back.rangeMeters - range), std::abs(back.elevationDeg - el) * 1e3});
+          maxRoundTrip =
+              std::max({maxRoundTrip, std::abs(back.rangeMeters - range), std::abs(back.elevationDeg - el) * 1e3});
         }
   }
   std::cout << "local sphere vs exact inverse to 460 km: max |range| " << maxRange << " m, |azimuth| " << maxAz
@@ -179,7 +180,8 @@ TEST(ReferenceRenderer, SeveralLayersEqualEachAloneWhereTheyDoNotOverlap) {
 TEST(VolumeClusters, DisjointClustersAreOrderedExactlyForEveryRay) {
   using volume::BoundingSphere;
   // A and B meet; C is far; D meets neither A nor B but meets their enclosing sphere.
-  const std::vector<BoundingSphere> fixed = {{{0, 0, 0}, 1.0}, {{1.5, 0, 0}, 1.0}, {{10, 0, 0}, 1.0}, {{0.75, 2.1, 0}, 0.5}};
+  const std::vector<BoundingSphere> fixed = {
+      {{0, 0, 0}, 1.0}, {{1.5, 0, 0}, 1.0}, {{10, 0, 0}, 1.0}, {{0.75, 2.1, 0}, 0.5}};
   std::vector<volume::VolumeCluster> c = volume::clusterBySphere(fixed);
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(c[0].members, (std::vector<std::size_t>{0, 1, 3}));
@@ -192,7 +194,8 @@ TEST(VolumeClusters, DisjointClustersAreOrderedExactlyForEveryRay) {
   int checkedRays = 0;
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<BoundingSphere> spheres;
-    for (int k = 0; k < 6; ++k) spheres.push_back({glm::dvec3(u(rng), u(rng), u(rng)) * 300e3, 30e3 + 50e3 * (u(rng) + 1.0)});
+    for (int k = 0; k < 6; ++k)
+      spheres.push_back({glm::dvec3(u(rng), u(rng), u(rng)) * 300e3, 30e3 + 50e3 * (u(rng) + 1.0)});
     std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
     std::size_t total = 0;
     for (const auto& cl : clusters) {
@@ -211,7 +214,8 @@ TEST(VolumeClusters, DisjointClustersAreOrderedExactlyForEveryRay) {
     for (int r = 0; r < 200; ++r) {
       // Aimed at a random point of a random cluster, so that many rays meet two.
       const auto& aim = clusters[static_cast<std::size_t>(r) % clusters.size()].enclosing;
-      const glm::dvec3 dir = glm::normalize(aim.centreEcef + glm::dvec3(u(rng), u(rng), u(rng)) * aim.radiusMeters - eye);
+      const glm::dvec3 dir =
+          glm::normalize(aim.centreEcef + glm::dvec3(u(rng), u(rng), u(rng)) * aim.radiusMeters - eye);
       for (std::size_t back = 0; back < clusters.size(); ++back)
         for (std::size_t front = back + 1; front < clusters.size(); ++front) {
           const auto& eb = clusters[back].enclosing;

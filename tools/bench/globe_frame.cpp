@@ -103,14 +103,12 @@ int main(int argc, char** argv) {
       times.push_back(ms(Clock::now() - t0));
     }
     std::printf("| %s | %d | %d | %.2f | %.2f | %.2f |\n", v.name, stats.globe.tilesDrawn,
-                stats.globe.selection.maxLevel, percentile(times, 0.5), percentile(times, 0.1),
-                percentile(times, 0.9));
+                stats.globe.selection.maxLevel, percentile(times, 0.5), percentile(times, 0.1), percentile(times, 0.9));
   }
 
   // 2. Tile decoding throughput (cold loader, one worker).
   {
-    auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, pyramid}},
-                                      {512u << 20, 1});
+    auto loader = engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, pyramid}}, {512u << 20, 1});
     std::vector<globe::TileId> tiles;
     for (int z = 0; z <= 4; ++z) {
       for (std::uint32_t y = 0; y < globe::tileRows(z); ++y) {
@@ -127,7 +125,8 @@ int main(int argc, char** argv) {
 
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  std::printf("peak resident memory of this benchmark process: %.1f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+  std::printf("peak resident memory of this benchmark process: %.1f MiB\n",
+              static_cast<double>(usage.ru_maxrss) / 1024.0);
 
   // 3. Process start to first image written (the real command, R runs).
   std::vector<double> startTimes;
@@ -151,8 +150,9 @@ int main(int argc, char** argv) {
     startTimes.push_back(ms(Clock::now() - t0));
     childPeakMiB = std::max(childPeakMiB, static_cast<double>(child.ru_maxrss) / 1024.0);
   }
-  std::printf("start to first image (`atmoglobe render`, default scene, %d runs): median %.0f ms (min %.0f, max %.0f)\n",
-              runs, percentile(startTimes, 0.5), percentile(startTimes, 0.0), percentile(startTimes, 1.0));
+  std::printf(
+      "start to first image (`atmoglobe render`, default scene, %d runs): median %.0f ms (min %.0f, max %.0f)\n", runs,
+      percentile(startTimes, 0.5), percentile(startTimes, 0.0), percentile(startTimes, 1.0));
   std::printf("peak resident memory of `atmoglobe render`: %.1f MiB\n", childPeakMiB);
   return 0;
 }

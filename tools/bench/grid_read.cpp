@@ -102,17 +102,20 @@ void benchFile(const std::string& label, const std::string& path, int runs) {
   crop.crop.levelCount = 10;
   std::size_t cropColumns = 0;
   const std::vector<Case> cases = {
-      {"describe", [&]() -> Result<std::uint64_t> {
+      {"describe",
+       [&]() -> Result<std::uint64_t> {
          auto r = describeGridFile(path);
          if (!r) return r.forwardError();
          return r->bytesRead;
        }},
-      {"one step, whole grid", [&]() -> Result<std::uint64_t> {
+      {"one step, whole grid",
+       [&]() -> Result<std::uint64_t> {
          auto r = readGridVolume(path, step);
          if (!r) return r.forwardError();
          return r->bytesRead;
        }},
-      {"one step, 1 x 1 deg, 10 levels", [&]() -> Result<std::uint64_t> {
+      {"one step, 1 x 1 deg, 10 levels",
+       [&]() -> Result<std::uint64_t> {
          auto r = readGridVolume(path, crop);
          if (!r) return r.forwardError();
          cropColumns = r->nx * r->ny;
@@ -128,7 +131,8 @@ void benchFile(const std::string& label, const std::string& path, int runs) {
     std::string name = c.name;
     if (name.find("1 x 1") != std::string::npos) name += " (" + std::to_string(cropColumns) + " columns)";
     std::printf("| %s (%s variable `%s`) | %s | %.1f ms | %s | %s | %.2f %% |\n", label.c_str(), mb(varBytes).c_str(),
-                info->variable.c_str(), name.c_str(), m.seconds * 1e3, mb(m.bytesRead).c_str(), mb(m.rcharBytes).c_str(),
+                info->variable.c_str(), name.c_str(), m.seconds * 1e3, mb(m.bytesRead).c_str(),
+                mb(m.rcharBytes).c_str(),
                 varBytes ? 100.0 * static_cast<double>(m.bytesRead) / static_cast<double>(varBytes) : 0.0);
   }
 }
@@ -144,9 +148,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--big")) big = true;
     else data = argv[i];
   }
-  const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("bench_grid_read." + std::to_string(getpid()));
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("bench_grid_read." + std::to_string(getpid()));
   std::filesystem::create_directories(tmp);
-  std::printf("| file | case | median time | bytesRead | read(2) bytes | bytesRead / variable |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "| file | case | median time | bytesRead | read(2) bytes | bytesRead / variable |\n|---|---|---|---|---|---|\n");
   {
     const std::string path = (tmp / "synthetic_default.nc").string();
     const auto t0 = Clock::now();

@@ -19,8 +19,8 @@
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <bzlib.h>
-#include <netcdf.h>
 #include <dlfcn.h>
+#include <netcdf.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -101,7 +101,8 @@ bool nexradFloor(const std::string& path) {
     pos += 4;
     if (len > file.size() - pos) return false;
     unsigned outLen = static_cast<unsigned>(out.size());
-    if (BZ2_bzBuffToBuffDecompress(out.data(), &outLen, &file[pos], static_cast<unsigned>(len), 0, 0) != BZ_OK) return false;
+    if (BZ2_bzBuffToBuffDecompress(out.data(), &outLen, &file[pos], static_cast<unsigned>(len), 0, 0) != BZ_OK)
+      return false;
     pos += len;
     if (control < 0) break;
   }
@@ -154,7 +155,8 @@ std::string textAttribute(int ncid, int varid, const char* name) {
 void closeLeakedHdf5Attributes() {
   using hid_t = std::int64_t;  // HDF5 >= 1.10
   static auto count = reinterpret_cast<long (*)(hid_t, unsigned)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_count"));
-  static auto ids = reinterpret_cast<long (*)(hid_t, unsigned, std::size_t, hid_t*)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_ids"));
+  static auto ids =
+      reinterpret_cast<long (*)(hid_t, unsigned, std::size_t, hid_t*)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_ids"));
   static auto close = reinterpret_cast<int (*)(hid_t)>(dlsym(RTLD_DEFAULT, "H5Aclose"));
   if (!count || !ids || !close) return;
   constexpr hid_t kAllFiles = 0x001F;  // H5F_OBJ_ALL
@@ -201,12 +203,14 @@ bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
 // next file's figures; until 2026-11-22 one process measured every file in turn.
 void readTable(const std::string& dataDir, int runs) {
   std::printf("## Read time (median of %d runs, read and floor alternating)\n\n", runs);
-  std::printf("| file | format | field | read (ms) | floor (ms) | read / floor | page faults per read / floor |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| file | format | field | read (ms) | floor (ms) | read / floor | page faults per read / floor |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (const char* sub : {"radar_nexrad", "radar_odim", "radar_cfradial"}) {
     std::vector<std::filesystem::path> files;
     std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(dataDir) / sub, ec)) files.push_back(e.path());
+    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(dataDir) / sub, ec))
+      files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
       std::fflush(stdout);
@@ -240,8 +244,8 @@ void readTable(const std::string& dataDir, int runs) {
         const bool odim = format.rfind("ODIM", 0) == 0;
         floorFn = [&, odim] { return netcdfFloor(path, field, odim); };
       }
-      const PairTiming t = medianSecondsPair(runs, [&] { return volume::readRadarVolume(path, {}).ok(); }, floorFn,
-                                             closeLeakedHdf5Attributes);
+      const PairTiming t = medianSecondsPair(
+          runs, [&] { return volume::readRadarVolume(path, {}).ok(); }, floorFn, closeLeakedHdf5Attributes);
       std::printf("| %s | %s | %s | %.1f | %.1f | %.2f | %ld / %ld |\n", f.filename().c_str(), format.c_str(),
                   field.c_str(), t.aSeconds * 1e3, t.bSeconds * 1e3, t.bSeconds > 0 ? t.aSeconds / t.bSeconds : 0.0,
                   t.aFaults, t.bFaults);
@@ -297,22 +301,26 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < s.rayCount(); ++i)
         for (std::uint32_t g = 0; g < s.gateCount; ++g)
           exact[k][i * s.gateCount + g] =
-              volume::geolocateGateExact(site->site, model, s.azimuthDeg[i], s.elevationDeg[i], s.gateRangeMeters(g)).ecef;
+              volume::geolocateGateExact(site->site, model, s.azimuthDeg[i], s.elevationDeg[i], s.gateRangeMeters(g))
+                  .ecef;
     }
     return true;
   });
   const double fastSeconds = medianSeconds(runs, [&] {
-    for (std::size_t k = 0; k < vol->sweeps.size(); ++k) volume::geolocateSweepFast(site->site, model, vol->sweeps[k], &fast[k]);
+    for (std::size_t k = 0; k < vol->sweeps.size(); ++k)
+      volume::geolocateSweepFast(site->site, model, vol->sweeps[k], &fast[k]);
     return true;
   });
   double maxError = 0;
   for (std::size_t k = 0; k < vol->sweeps.size(); ++k)
-    for (std::size_t j = 0; j < exact[k].size(); ++j) maxError = std::max(maxError, glm::length(fast[k][j] - exact[k][j]));
-  std::printf("\n## Gate geolocation (KLBB REF volume: %zu gates, ranges to %.1f km, ke 4/3, WGS84 site radius)\n\n", gates,
-              maxRange / 1e3);
+    for (std::size_t j = 0; j < exact[k].size(); ++j)
+      maxError = std::max(maxError, glm::length(fast[k][j] - exact[k][j]));
+  std::printf("\n## Gate geolocation (KLBB REF volume: %zu gates, ranges to %.1f km, ke 4/3, WGS84 site radius)\n\n",
+              gates, maxRange / 1e3);
   std::printf("| path | time (ms) | gates/s | speed-up | max error vs exact |\n|---|---|---|---|---|\n");
-  std::printf("| exact (median of 3) | %.1f | %.3g | 1.0 | 0 (reference) |\n", exactSeconds * 1e3, static_cast<double>(gates) / exactSeconds);
-  std::printf("| fast (median of %d) | %.1f | %.3g | %.1f | %.3g m |\n", runs, fastSeconds * 1e3, static_cast<double>(gates) / fastSeconds,
-              exactSeconds / fastSeconds, maxError);
+  std::printf("| exact (median of 3) | %.1f | %.3g | 1.0 | 0 (reference) |\n", exactSeconds * 1e3,
+              static_cast<double>(gates) / exactSeconds);
+  std::printf("| fast (median of %d) | %.1f | %.3g | %.1f | %.3g m |\n", runs, fastSeconds * 1e3,
+              static_cast<double>(gates) / fastSeconds, exactSeconds / fastSeconds, maxError);
   return 0;
 }

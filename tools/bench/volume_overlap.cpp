@@ -62,7 +62,8 @@ struct Radar {
 Result<Radar> makeRadar(const fs::path& dir, int index, double latDeg, double lonDeg, double stormLatDeg,
                         double stormLonDeg) {
   volume::SyntheticRadarOptions o;
-  o.siteId = std::string("S").append(std::to_string(index));  // append: GCC 12 -Wrestrict false positive on "S" + string
+  o.siteId =
+      std::string("S").append(std::to_string(index));  // append: GCC 12 -Wrestrict false positive on "S" + string
   o.siteLatDeg = latDeg;
   o.siteLonDeg = lonDeg;
   o.maxRangeMeters = 80e3;
@@ -118,7 +119,8 @@ Work predictedWork(const engine::Camera& camera, const std::vector<const volume:
       crossings += crossed;
       w.pixelsCrossed += crossed > 0;
     }
-  w.volumesPerCrossedPixel = w.pixelsCrossed ? static_cast<double>(crossings) / static_cast<double>(w.pixelsCrossed) : 0.0;
+  w.volumesPerCrossedPixel = w.pixelsCrossed ? static_cast<double>(crossings) / static_cast<double>(w.pixelsCrossed)
+                                             : 0.0;
   return w;
 }
 
@@ -219,9 +221,10 @@ int main(int argc, char** argv) {
   const engine::Camera apartCamera(engine::CameraPose{centreLat, centreLon, 2.5e6, 0.0, -90.0, 0.0}, 50.0, width,
                                    height);
 
-  std::printf("| layout | volumes | pixels crossed | volumes per crossed pixel | interval samples (M) | "
-              "frame, skipping (ms) | frame, no skipping (ms) | no skipping: ms per M interval samples | "
-              "no skipping: time / N=1 time |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| layout | volumes | pixels crossed | volumes per crossed pixel | interval samples (M) | "
+      "frame, skipping (ms) | frame, no skipping (ms) | no skipping: ms per M interval samples | "
+      "no skipping: time / N=1 time |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [name, radars, camera] :
        {std::tuple{"stacked", &stacked, &stackedCamera}, std::tuple{"apart", &apart, &apartCamera}}) {
     double baseline = 0.0;

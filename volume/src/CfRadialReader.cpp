@@ -22,14 +22,11 @@ std::optional<double> fillValue(const NetcdfFile& f, const NcVar& v, const char*
   return *r;
 }
 
-bool isFillOrNaN(double x, const std::optional<double>& fill) {
-  return !std::isfinite(x) || (fill && x == *fill);
-}
+bool isFillOrNaN(double x, const std::optional<double>& fill) { return !std::isfinite(x) || (fill && x == *fill); }
 
 /// A per-sweep integer/float variable of length nSweep.
 template <class T>
-Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name, std::size_t nSweep,
-                                    int sweepDim) {
+Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name, std::size_t nSweep, int sweepDim) {
   auto v = f.variable(f.root(), name);
   if (!v) return v.forwardError();
   if (v->shape.size() != 1 || v->dimIds[0] != sweepDim)
@@ -132,9 +129,13 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     if (f.dimensionLength(root, "n_points") || f.findVariable(root, "ray_n_gates"))
       return makeError(f.message("ragged CfRadial (n_points/ray_n_gates) is not supported"));
     if (!f.childGroupNames(root).empty() && !nSweep && f.hasAttribute(root, NC_GLOBAL, "Conventions"))
-      return makeError(f.message("no 'time', 'range' or 'sweep' dimension (CfRadial 2 with one group per sweep is not supported)"));
+      return makeError(
+          f.message("no 'time', 'range' or 'sweep' dimension (CfRadial 2 with one group per sweep is not supported)"));
     return makeError(f.message(std::string("not a CfRadial file: missing dimension '") +
-                               (!nTime ? "time" : !nRange ? "range" : "sweep") + "'"));
+                               (!nTime    ? "time"
+                                : !nRange ? "range"
+                                          : "sweep") +
+                               "'"));
   }
   if (*nSweep == 0) return makeError(f.message("the file holds no sweeps (sweep dimension is 0)"));
   if (*nTime == 0) return makeError(f.message("the file holds no rays (time dimension is 0)"));
@@ -212,8 +213,10 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
   if (!lon) return lon.forwardError();
   auto alt = readSiteValue(f, "altitude", timeDim, firstRay);
   if (!alt) return alt.forwardError();
-  if (*lat < -90.0 || *lat > 90.0) return makeError(f.message("latitude " + std::to_string(*lat) + " is outside [-90, 90]"));
-  if (*lon < -540.0 || *lon > 540.0) return makeError(f.message("longitude " + std::to_string(*lon) + " is outside [-540, 540]"));
+  if (*lat < -90.0 || *lat > 90.0)
+    return makeError(f.message("latitude " + std::to_string(*lat) + " is outside [-90, 90]"));
+  if (*lon < -540.0 || *lon > 540.0)
+    return makeError(f.message("longitude " + std::to_string(*lon) + " is outside [-540, 540]"));
   vol.site.latDeg = *lat;
   vol.site.lonDeg = std::remainder(*lon, 360.0);  // to [-180, 180]
   vol.site.antennaHeightMeters = *alt;
@@ -276,8 +279,10 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
                                    ") has no azimuth/elevation (NaN or _FillValue)"));
       sw.azimuthDeg.push_back(static_cast<float>(normalizeAzimuthDeg((*az)[r])));
       sw.elevationDeg.push_back(static_cast<float>((*el)[r]));
-      azMin = std::min(azMin, (*az)[r]); azMax = std::max(azMax, (*az)[r]);
-      elMin = std::min(elMin, (*el)[r]); elMax = std::max(elMax, (*el)[r]);
+      azMin = std::min(azMin, (*az)[r]);
+      azMax = std::max(azMax, (*az)[r]);
+      elMin = std::min(elMin, (*el)[r]);
+      elMax = std::max(elMax, (*el)[r]);
     }
     std::string modeText;
     if (modeVar) {
@@ -325,7 +330,8 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
           const std::size_t n = sw.rayCount() * sw.gateCount;
           assignPopulated(sw.values, n, 0.0f);
           const auto a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
-          if (auto r = readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n); !r)
+          if (auto r = readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
+              !r)
             return r;
         }
         return Ok{};

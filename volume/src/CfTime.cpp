@@ -62,8 +62,8 @@ std::int64_t arithmeticDayNumber(CfCalendar c, int year, int month, int day) {
 }
 
 void arithmeticDate(CfCalendar c, std::int64_t n, int* year, int* month, int* day) {
-  const double yearLength = c == CfCalendar::Day360   ? 360.0
-                            : c == CfCalendar::NoLeap ? 365.0
+  const double yearLength = c == CfCalendar::Day360    ? 360.0
+                            : c == CfCalendar::NoLeap  ? 365.0
                             : c == CfCalendar::AllLeap ? 366.0
                             : c == CfCalendar::Julian  ? 365.25
                                                        : 365.2425;
@@ -88,7 +88,8 @@ constexpr std::int64_t kGregorianToStandard = 2;
 bool readInt(const std::string& s, std::size_t* i, long long* out, std::size_t maxDigits = 9) {
   std::size_t j = *i;
   long long v = 0;
-  while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j])) && j - *i < maxDigits) v = v * 10 + (s[j++] - '0');
+  while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j])) && j - *i < maxDigits)
+    v = v * 10 + (s[j++] - '0');
   if (j == *i) return false;
   *i = j;
   *out = v;
@@ -188,7 +189,8 @@ Result<CfCalendar> parseCfCalendar(const std::string& name) {
   if (n == "noleap" || n == "365_day" || n == "no_leap") return CfCalendar::NoLeap;
   if (n == "all_leap" || n == "366_day") return CfCalendar::AllLeap;
   if (n == "360_day") return CfCalendar::Day360;
-  return makeError("calendar '" + name + "' is not a CF calendar (standard, gregorian, proleptic_gregorian, "
+  return makeError("calendar '" + name +
+                   "' is not a CF calendar (standard, gregorian, proleptic_gregorian, "
                    "julian, noleap, 365_day, all_leap, 366_day, 360_day)");
 }
 
@@ -212,8 +214,7 @@ void cfCalendarDate(CfCalendar c, std::int64_t n, int* year, int* month, int* da
   if (c == CfCalendar::Standard) {
     if (n >= kGregorianStartStandardDay)
       arithmeticDate(CfCalendar::ProlepticGregorian, n - kGregorianToStandard, year, month, day);
-    else
-      arithmeticDate(CfCalendar::Julian, n, year, month, day);
+    else arithmeticDate(CfCalendar::Julian, n, year, month, day);
     return;
   }
   arithmeticDate(c, n, year, month, day);

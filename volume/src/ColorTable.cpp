@@ -13,8 +13,7 @@
 
 namespace atmoglobe::volume {
 
-ColorTable::ColorTable(std::string name, std::string units, std::vector<ColorStop> stops, double scale,
-                       double offset)
+ColorTable::ColorTable(std::string name, std::string units, std::vector<ColorStop> stops, double scale, double offset)
     : name_(std::move(name)), units_(std::move(units)), stops_(std::move(stops)), scale_(scale), offset_(offset) {
   assert(std::isfinite(scale_) && scale_ != 0.0 && std::isfinite(offset_));
   for (std::size_t i = 1; i < stops_.size(); ++i) assert(stops_[i].value > stops_[i - 1].value);
@@ -33,8 +32,8 @@ Rgba8 ColorTable::map(float value) const {
   if (v < stops_.front().value) return kTransparent;
   if (v >= stops_.back().value) return stops_.back().start;
   // First stop whose value is > v, minus one: the band holding v.
-  const auto it = std::upper_bound(stops_.begin(), stops_.end(), v,
-                                   [](double x, const ColorStop& s) { return x < s.value; });
+  const auto it =
+      std::upper_bound(stops_.begin(), stops_.end(), v, [](double x, const ColorStop& s) { return x < s.value; });
   const ColorStop& s = *(it - 1);
   if (s.start == s.end) return s.start;
   const double t = (v - s.value) / (it->value - s.value);
@@ -45,13 +44,15 @@ Rgba8 ColorTable::map(float value) const {
 ColorTable nwsReflectivityTable() {
   // NWS reflectivity colours, dBZ: R G B (5-75 dBZ: the NWS/AWIPS table, also MetPy's
   // NWSReflectivity colortable; below: clear-air cyans). Stepped: each colour holds for 5 dBZ.
-  struct Row { int dbz; std::uint8_t r, g, b; };
+  struct Row {
+    int dbz;
+    std::uint8_t r, g, b;
+  };
   static constexpr std::array<Row, 20> kRows{{
-      {-20, 50, 79, 79},   {-15, 102, 139, 139}, {-10, 150, 205, 205}, {-5, 174, 238, 238},
-      {0, 187, 255, 255},  {5, 0, 236, 236},     {10, 1, 160, 246},    {15, 0, 0, 246},
-      {20, 0, 255, 0},     {25, 0, 200, 0},      {30, 0, 144, 0},      {35, 255, 255, 0},
-      {40, 231, 192, 0},   {45, 255, 144, 0},    {50, 255, 0, 0},      {55, 214, 0, 0},
-      {60, 192, 0, 0},     {65, 255, 0, 255},    {70, 153, 85, 201},   {75, 235, 235, 235},
+      {-20, 50, 79, 79}, {-15, 102, 139, 139}, {-10, 150, 205, 205}, {-5, 174, 238, 238}, {0, 187, 255, 255},
+      {5, 0, 236, 236},  {10, 1, 160, 246},    {15, 0, 0, 246},      {20, 0, 255, 0},     {25, 0, 200, 0},
+      {30, 0, 144, 0},   {35, 255, 255, 0},    {40, 231, 192, 0},    {45, 255, 144, 0},   {50, 255, 0, 0},
+      {55, 214, 0, 0},   {60, 192, 0, 0},      {65, 255, 0, 255},    {70, 153, 85, 201},  {75, 235, 235, 235},
   }};
   std::vector<ColorStop> stops;
   for (const Row& row : kRows) {
@@ -65,16 +66,27 @@ ColorTable cividisTable(double minValue, double maxValue) {
   assert(std::isfinite(minValue) && std::isfinite(maxValue) && minValue < maxValue);
   // Cividis (Nunez, Anderton & Renslow 2018, PLoS ONE 13(7): e0199239), the published 256-entry
   // RGB table in [0, 1] as distributed with matplotlib: entries 0, 16, ..., 240 and 255.
-  struct Point { int entry; double r, g, b; };
+  struct Point {
+    int entry;
+    double r, g, b;
+  };
   static constexpr std::array<Point, 17> kPoints{{
-      {0, 0.000000, 0.135112, 0.304751},   {16, 0.000000, 0.178802, 0.414764},
-      {32, 0.103401, 0.220406, 0.435790},  {48, 0.195057, 0.264372, 0.425924},
-      {64, 0.263738, 0.307831, 0.422789},  {80, 0.324250, 0.351289, 0.426250},
-      {96, 0.380830, 0.395164, 0.435653},  {112, 0.435168, 0.439763, 0.451134},
-      {128, 0.488697, 0.485318, 0.471008}, {144, 0.547840, 0.531895, 0.471704},
-      {160, 0.609105, 0.579816, 0.463638}, {176, 0.671991, 0.629316, 0.448018},
-      {192, 0.736488, 0.680629, 0.424028}, {208, 0.802667, 0.733978, 0.390153},
-      {224, 0.870717, 0.789572, 0.343333}, {240, 0.941147, 0.847530, 0.275815},
+      {0, 0.000000, 0.135112, 0.304751},
+      {16, 0.000000, 0.178802, 0.414764},
+      {32, 0.103401, 0.220406, 0.435790},
+      {48, 0.195057, 0.264372, 0.425924},
+      {64, 0.263738, 0.307831, 0.422789},
+      {80, 0.324250, 0.351289, 0.426250},
+      {96, 0.380830, 0.395164, 0.435653},
+      {112, 0.435168, 0.439763, 0.451134},
+      {128, 0.488697, 0.485318, 0.471008},
+      {144, 0.547840, 0.531895, 0.471704},
+      {160, 0.609105, 0.579816, 0.463638},
+      {176, 0.671991, 0.629316, 0.448018},
+      {192, 0.736488, 0.680629, 0.424028},
+      {208, 0.802667, 0.733978, 0.390153},
+      {224, 0.870717, 0.789572, 0.343333},
+      {240, 0.941147, 0.847530, 0.275815},
       {255, 0.995737, 0.909344, 0.217772},
   }};
   auto to8 = [](double c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
@@ -83,7 +95,8 @@ ColorTable cividisTable(double minValue, double maxValue) {
     const Point& p = kPoints[k];
     const Point& q = kPoints[std::min(k + 1, kPoints.size() - 1)];
     const double value = minValue + (p.entry / 255.0) * (maxValue - minValue);
-    stops.push_back(ColorStop{value, Rgba8{to8(p.r), to8(p.g), to8(p.b), 255}, Rgba8{to8(q.r), to8(q.g), to8(q.b), 255}});
+    stops.push_back(
+        ColorStop{value, Rgba8{to8(p.r), to8(p.g), to8(p.b), 255}, Rgba8{to8(q.r), to8(q.g), to8(q.b), 255}});
   }
   return ColorTable("cividis", "", std::move(stops));
 }
@@ -133,7 +146,13 @@ bool parseNumbers(std::string_view s, std::vector<double>* out, std::string* bad
 Result<ColorTable> parsePalText(std::string_view text, const std::string& nameForErrors) {
   std::string product, units;
   double scale = 1.0, offset = 0.0;
-  struct Pending { double value; Rgba8 start; std::optional<Rgba8> end; bool solid; int line; };
+  struct Pending {
+    double value;
+    Rgba8 start;
+    std::optional<Rgba8> end;
+    bool solid;
+    int line;
+  };
   std::vector<Pending> entries;
 
   int lineNo = 0;
@@ -155,8 +174,14 @@ Result<ColorTable> parsePalText(std::string_view text, const std::string& nameFo
     const std::string key = lower(trim(line.substr(0, colon)));
     const std::string_view rest = trim(line.substr(colon + 1));
 
-    if (key == "product") { product = std::string(rest); continue; }
-    if (key == "units") { units = std::string(rest); continue; }
+    if (key == "product") {
+      product = std::string(rest);
+      continue;
+    }
+    if (key == "units") {
+      units = std::string(rest);
+      continue;
+    }
     std::string bad;
     if (!parseNumbers(rest, &nums, &bad)) return where(key + ": '" + bad + "' is not a number");
     if (key == "scale" || key == "offset" || key == "step" || key == "decimals") {
@@ -170,7 +195,8 @@ Result<ColorTable> parsePalText(std::string_view text, const std::string& nameFo
       continue;  // Step and Decimals only affect a legend
     }
     if (key == "rf" || key == "nd") {  // range-folded / no-data colours: not drawn on the cone
-      if (nums.size() != 3 && nums.size() != 4) return where(key + " needs 3 or 4 numbers, got " + std::to_string(nums.size()));
+      if (nums.size() != 3 && nums.size() != 4)
+        return where(key + " needs 3 or 4 numbers, got " + std::to_string(nums.size()));
       continue;
     }
     const bool hasAlpha = key == "color4" || key == "solidcolor4";

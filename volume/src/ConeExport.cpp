@@ -16,9 +16,7 @@ namespace atmoglobe::volume {
 
 namespace {
 
-std::string describeSweep(const RadarVolume& v, std::size_t k) {
-  return v.sourcePath + ": sweep " + std::to_string(k);
-}
+std::string describeSweep(const RadarVolume& v, std::size_t k) { return v.sourcePath + ": sweep " + std::to_string(k); }
 
 Status checkSweep(const RadarVolume& v, std::size_t k) {
   const Sweep& s = v.sweeps[k];
@@ -89,8 +87,8 @@ Result<ConeScene> assembleConeScene(const RadarVolume& volume, const SiteResolut
     scene.antennaAltitudeMslMeters = volume.site.antennaHeightMeters;
   } else {
     const Result<GeoidGrid>& geoid = defaultEgm96Grid();
-    scene.antennaAltitudeMslMeters =
-        volume.site.antennaHeightMeters - (geoid ? geoid->undulationMeters(volume.site.latDeg, volume.site.lonDeg) : 0.0);
+    scene.antennaAltitudeMslMeters = volume.site.antennaHeightMeters -
+                                     (geoid ? geoid->undulationMeters(volume.site.latDeg, volume.site.lonDeg) : 0.0);
   }
   scene.enuToEcef = globe::enuToEcef(
       globe::Geodetic{scene.site.site.latDeg, scene.site.site.lonDeg, scene.site.site.antennaHeightEllipsoidMeters});
@@ -124,7 +122,8 @@ Result<ConeScene> assembleConeScene(const RadarVolume& volume, const SiteResolut
 
 }  // namespace
 
-Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& colors, const ConeExportOptions& options) {
+Result<ConeScene> buildConeScene(const RadarVolume& volume, const ColorTable& colors,
+                                 const ConeExportOptions& options) {
   Result<std::vector<std::size_t>> chosen = chooseSweeps(volume, colors, options);
   if (!chosen) return chosen.forwardError();
   Result<SiteResolution> site = resolveSite(volume.site, options.useGeoid);
@@ -193,7 +192,10 @@ Result<std::vector<std::string>> exportCones(const ConeScene& scene, const std::
       for (const Cone& c : scene.cones) {
         const std::string st = sweepStem(c.sweepIndex);
         if (Status s = add(dir / sub / (st + ".png"), pngOf(c)); !s) return s.forwardError();
-        if (Status s = add(dir / sub / (st + ".dae"), encodeConesCollada(scene, {static_cast<std::size_t>(&c - scene.cones.data())}, {st + ".png"})); !s)
+        if (Status s =
+                add(dir / sub / (st + ".dae"),
+                    encodeConesCollada(scene, {static_cast<std::size_t>(&c - scene.cones.data())}, {st + ".png"}));
+            !s)
           return s.forwardError();
         hrefs.push_back(sub + "/" + st + ".dae");
       }

@@ -38,7 +38,8 @@ std::string xmlEscape(std::string_view in) {
 std::string ncName(std::string_view in) {
   std::string out;
   if (in.empty() || !(std::isalpha(static_cast<unsigned char>(in[0])) || in[0] == '_')) out.push_back('_');
-  for (char c : in) out.push_back(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ? c : '_');
+  for (char c : in)
+    out.push_back(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ? c : '_');
   return out;
 }
 
@@ -66,14 +67,16 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
   s += "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
   s += "<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n";
   s += "  <asset>\n    <contributor><authoring_tool>atmoglobe export-cones</authoring_tool>";
-  s += "<comments>" + xmlEscape(scene.title) + "; local east-north-up frame at the antenna (m)</comments></contributor>\n";
+  s += "<comments>" + xmlEscape(scene.title) +
+       "; local east-north-up frame at the antenna (m)</comments></contributor>\n";
   s += "    <created>" + now + "</created>\n    <modified>" + now + "</modified>\n";
   s += "    <unit name=\"meter\" meter=\"1\"/>\n    <up_axis>Z_UP</up_axis>\n  </asset>\n";
 
   s += "  <library_images>\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
     const std::string id = "img-" + sweepStem(scene.cones[cones[k]].sweepIndex);
-    s += "    <image id=\"" + id + "\" name=\"" + id + "\"><init_from>" + xmlEscape(textureUris[k]) + "</init_from></image>\n";
+    s += "    <image id=\"" + id + "\" name=\"" + id + "\"><init_from>" + xmlEscape(textureUris[k]) +
+         "</init_from></image>\n";
   }
   s += "  </library_images>\n  <library_effects>\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
@@ -81,11 +84,13 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
     s += "    <effect id=\"fx-" + stem + "\">\n      <profile_COMMON>\n";
     s += "        <newparam sid=\"surface-" + stem + "\"><surface type=\"2D\"><init_from>img-" + stem +
          "</init_from></surface></newparam>\n";
-    s += "        <newparam sid=\"sampler-" + stem + "\"><sampler2D><source>surface-" + stem +
-         "</source><wrap_s>CLAMP</wrap_s><wrap_t>CLAMP</wrap_t><minfilter>LINEAR</minfilter><magfilter>NEAREST</magfilter></sampler2D></newparam>\n";
+    s +=
+        "        <newparam sid=\"sampler-" + stem + "\"><sampler2D><source>surface-" + stem +
+        "</source><wrap_s>CLAMP</wrap_s><wrap_t>CLAMP</wrap_t><minfilter>LINEAR</minfilter><magfilter>NEAREST</magfilter></sampler2D></newparam>\n";
     s += "        <technique sid=\"common\">\n          <lambert>\n";
     s += "            <diffuse><texture texture=\"sampler-" + stem + "\" texcoord=\"UVSET0\"/></diffuse>\n";
-    s += "            <transparent opaque=\"A_ONE\"><texture texture=\"sampler-" + stem + "\" texcoord=\"UVSET0\"/></transparent>\n";
+    s += "            <transparent opaque=\"A_ONE\"><texture texture=\"sampler-" + stem +
+         "\" texcoord=\"UVSET0\"/></transparent>\n";
     s += "          </lambert>\n";
     s += "          <extra><technique profile=\"GOOGLEEARTH\"><double_sided>1</double_sided></technique></extra>\n";
     s += "        </technique>\n      </profile_COMMON>\n";
@@ -95,7 +100,8 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
   s += "  </library_effects>\n  <library_materials>\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
     const std::string stem = sweepStem(scene.cones[cones[k]].sweepIndex);
-    s += "    <material id=\"mat-" + stem + "\" name=\"" + stem + "\"><instance_effect url=\"#fx-" + stem + "\"/></material>\n";
+    s += "    <material id=\"mat-" + stem + "\" name=\"" + stem + "\"><instance_effect url=\"#fx-" + stem +
+         "\"/></material>\n";
   }
   s += "  </library_materials>\n  <library_geometries>\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
@@ -104,7 +110,8 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
     const std::string g = "geom-" + sweepStem(cone.sweepIndex);
     const std::size_t n = m.positionsEnu.size();
     s += "    <geometry id=\"" + g + "\" name=\"" + sweepStem(cone.sweepIndex) + "\">\n      <mesh>\n";
-    s += "        <source id=\"" + g + "-pos\"><float_array id=\"" + g + "-pos-array\" count=\"" + std::to_string(3 * n) + "\">";
+    s += "        <source id=\"" + g + "-pos\"><float_array id=\"" + g + "-pos-array\" count=\"" +
+         std::to_string(3 * n) + "\">";
     for (std::size_t i = 0; i < n; ++i) {
       const glm::vec3& p = m.positionsEnu[i];
       if (i) s += ' ';
@@ -114,17 +121,22 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
       s += ' ';
       appendFloat(s, p.z);
     }
-    s += "</float_array>\n          <technique_common><accessor source=\"#" + g + "-pos-array\" count=\"" + std::to_string(n) +
-         "\" stride=\"3\"><param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor></technique_common>\n        </source>\n";
-    s += "        <source id=\"" + g + "-uv\"><float_array id=\"" + g + "-uv-array\" count=\"" + std::to_string(2 * n) + "\">";
+    s +=
+        "</float_array>\n          <technique_common><accessor source=\"#" + g + "-pos-array\" count=\"" +
+        std::to_string(n) +
+        "\" stride=\"3\"><param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor></technique_common>\n        </source>\n";
+    s += "        <source id=\"" + g + "-uv\"><float_array id=\"" + g + "-uv-array\" count=\"" + std::to_string(2 * n) +
+         "\">";
     for (std::size_t i = 0; i < n; ++i) {
       if (i) s += ' ';
       appendFloat(s, m.texCoords[i].x);
       s += ' ';
       appendFloat(s, 1.0f - m.texCoords[i].y);  // COLLADA t runs up from the image's bottom row
     }
-    s += "</float_array>\n          <technique_common><accessor source=\"#" + g + "-uv-array\" count=\"" + std::to_string(n) +
-         "\" stride=\"2\"><param name=\"S\" type=\"float\"/><param name=\"T\" type=\"float\"/></accessor></technique_common>\n        </source>\n";
+    s +=
+        "</float_array>\n          <technique_common><accessor source=\"#" + g + "-uv-array\" count=\"" +
+        std::to_string(n) +
+        "\" stride=\"2\"><param name=\"S\" type=\"float\"/><param name=\"T\" type=\"float\"/></accessor></technique_common>\n        </source>\n";
     s += "        <vertices id=\"" + g + "-vtx\"><input semantic=\"POSITION\" source=\"#" + g + "-pos\"/></vertices>\n";
     s += "        <triangles material=\"material\" count=\"" + std::to_string(m.triangleCount()) + "\">\n";
     s += "          <input semantic=\"VERTEX\" source=\"#" + g + "-vtx\" offset=\"0\"/>\n";
@@ -138,15 +150,18 @@ std::string encodeConesCollada(const ConeScene& scene, const std::vector<std::si
     }
     s += "</p>\n        </triangles>\n      </mesh>\n    </geometry>\n";
   }
-  s += "  </library_geometries>\n  <library_visual_scenes>\n    <visual_scene id=\"scene\" name=\"" + ncName(scene.title) + "\">\n";
+  s += "  </library_geometries>\n  <library_visual_scenes>\n    <visual_scene id=\"scene\" name=\"" +
+       ncName(scene.title) + "\">\n";
   for (std::size_t k = 0; k < cones.size(); ++k) {
     const Cone& cone = scene.cones[cones[k]];
     const std::string stem = sweepStem(cone.sweepIndex);
     char name[96];
     std::snprintf(name, sizeof name, "%s_elevation_%.2f_deg", stem.c_str(), cone.mesh.elevationDeg);
     s += "      <node id=\"node-" + stem + "\" name=\"" + ncName(name) + "\">\n";
-    s += "        <instance_geometry url=\"#geom-" + stem + "\"><bind_material><technique_common>"
-         "<instance_material symbol=\"material\" target=\"#mat-" + stem +
+    s += "        <instance_geometry url=\"#geom-" + stem +
+         "\"><bind_material><technique_common>"
+         "<instance_material symbol=\"material\" target=\"#mat-" +
+         stem +
          "\"><bind_vertex_input semantic=\"UVSET0\" input_semantic=\"TEXCOORD\" input_set=\"0\"/></instance_material>"
          "</technique_common></bind_material></instance_geometry>\n      </node>\n";
   }

@@ -108,26 +108,34 @@ std::string encodeConesGltf(const ConeScene& scene, bool binary, bool withEcefMa
       pos.insert(pos.end(), {g.x, g.y, g.z});
     }
     const std::size_t posView = addView(pos.data(), pos.size() * sizeof(float), kArrayBuffer);
-    accessors.push_back({{"bufferView", posView}, {"componentType", kFloat}, {"count", m.positionsEnu.size()},
-                         {"type", "VEC3"}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
+    accessors.push_back({{"bufferView", posView},
+                         {"componentType", kFloat},
+                         {"count", m.positionsEnu.size()},
+                         {"type", "VEC3"},
+                         {"min", {lo.x, lo.y, lo.z}},
+                         {"max", {hi.x, hi.y, hi.z}}});
     const std::size_t posAcc = accessors.size() - 1;
     const std::size_t uvView = addView(m.texCoords.data(), m.texCoords.size() * sizeof(glm::vec2), kArrayBuffer);
-    accessors.push_back({{"bufferView", uvView}, {"componentType", kFloat}, {"count", m.texCoords.size()}, {"type", "VEC2"}});
+    accessors.push_back(
+        {{"bufferView", uvView}, {"componentType", kFloat}, {"count", m.texCoords.size()}, {"type", "VEC2"}});
     const std::size_t uvAcc = accessors.size() - 1;
-    const std::size_t idxView = addView(m.indices.data(), m.indices.size() * sizeof(std::uint32_t), kElementArrayBuffer);
-    accessors.push_back({{"bufferView", idxView}, {"componentType", kUnsignedInt}, {"count", m.indices.size()}, {"type", "SCALAR"}});
+    const std::size_t idxView =
+        addView(m.indices.data(), m.indices.size() * sizeof(std::uint32_t), kElementArrayBuffer);
+    accessors.push_back(
+        {{"bufferView", idxView}, {"componentType", kUnsignedInt}, {"count", m.indices.size()}, {"type", "SCALAR"}});
     const std::size_t idxAcc = accessors.size() - 1;
 
     const std::size_t imgView = addView(cone.png.data(), cone.png.size(), 0);
     const std::string name = sweepStem(cone.sweepIndex);
     images.push_back({{"bufferView", imgView}, {"mimeType", "image/png"}, {"name", name}});
     textures.push_back({{"sampler", 0}, {"source", images.size() - 1}});
-    materials.push_back({{"name", name},
-                         {"pbrMetallicRoughness",
-                          {{"baseColorTexture", {{"index", textures.size() - 1}}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
-                         {"alphaMode", "BLEND"},
-                         {"doubleSided", true},
-                         {"extensions", {{"KHR_materials_unlit", json::object()}}}});
+    materials.push_back(
+        {{"name", name},
+         {"pbrMetallicRoughness",
+          {{"baseColorTexture", {{"index", textures.size() - 1}}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+         {"alphaMode", "BLEND"},
+         {"doubleSided", true},
+         {"extensions", {{"KHR_materials_unlit", json::object()}}}});
     meshes.push_back({{"name", name},
                       {"primitives", json::array({{{"attributes", {{"POSITION", posAcc}, {"TEXCOORD_0", uvAcc}}},
                                                    {"indices", idxAcc},

@@ -34,8 +34,10 @@ std::string encodeConesKml(const ConeScene& scene, const std::vector<std::string
   s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n<Document>\n";
   s += "  <name>" + xmlText(scene.title) + "</name>\n";
   s += "  <description>" +
-       xmlText("Radar sweeps as textured cones (" + std::string(scene.straight ? "straight beams" : "beams bent by the 4/3 effective Earth radius model") +
-               "). Antenna " + fixed(scene.antennaAltitudeMslMeters, 2) + " m above mean sea level; " + scene.site.datumNote) +
+       xmlText("Radar sweeps as textured cones (" +
+               std::string(scene.straight ? "straight beams" : "beams bent by the 4/3 effective Earth radius model") +
+               "). Antenna " + fixed(scene.antennaAltitudeMslMeters, 2) + " m above mean sea level; " +
+               scene.site.datumNote) +
        "</description>\n";
   // All models share one location: the antenna. Their vertices are ENU metres from it.
   const std::string lon = fixed(scene.site.site.lonDeg, 9), lat = fixed(scene.site.site.latDeg, 9);

@@ -32,8 +32,8 @@ ConeMesh buildConeMesh(const GeolocationSite& site, const Sweep& sweep, const Sw
 
   // Azimuth columns: every k-th row boundary, closing the turn, plus azimuth 0 (mod 360).
   const std::size_t rows = static_cast<std::size_t>(image.height);
-  const std::size_t maxColumns = static_cast<std::size_t>(std::max(2, std::min(options.maxAzimuthColumns,
-                                                                                 options.maxTriangles / 4 - 1)));
+  const std::size_t maxColumns =
+      static_cast<std::size_t>(std::max(2, std::min(options.maxAzimuthColumns, options.maxTriangles / 4 - 1)));
   const std::size_t step = (rows + maxColumns - 1) / maxColumns;
   const double turnStart = image.rowStartAzimuthDeg.front();
   std::vector<double> cols;
@@ -69,8 +69,8 @@ ConeMesh buildConeMesh(const GeolocationSite& site, const Sweep& sweep, const Sw
     for (std::size_t k = 0; k < nr; ++k) {
       const glm::dvec3 p = conePointEnu(site, options, cols[c], sweep.fixedAngleDeg, mesh.rowRangeMeters[k]);
       mesh.positionsEnu.push_back(glm::vec3(p));  // double -> float32 narrowing (<= 0.016 m below 524 km)
-      mesh.texCoords.push_back(glm::vec2(static_cast<float>(sweepImageU(image, mesh.rowRangeMeters[k])),
-                                         static_cast<float>(v)));
+      mesh.texCoords.push_back(
+          glm::vec2(static_cast<float>(sweepImageU(image, mesh.rowRangeMeters[k])), static_cast<float>(v)));
     }
   }
   // Bounds of the float positions, so that glTF accessor min/max match the data exactly.

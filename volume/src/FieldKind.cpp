@@ -16,11 +16,23 @@ std::string lower(std::string s) {
 }
 
 // Known names per kind, lower case; for reflectivity in order of preference.
-const std::vector<std::string> kReflectivityNames = {
-    "dbzh", "reflectivity", "ref", "dbz", "dbzhc", "th", "dbzh_clean", "corrected_reflectivity",
-    "reflectivity_horizontal", "zh", "z", "dz", "cz", "dbzv", "tv"};
-const std::vector<std::string> kVelocityNames = {"vradh", "vrad", "vel", "velocity", "v", "vr", "vradv",
-                                                 "corrected_velocity", "vraddh", "dealiased_velocity"};
+const std::vector<std::string> kReflectivityNames = {"dbzh",
+                                                     "reflectivity",
+                                                     "ref",
+                                                     "dbz",
+                                                     "dbzhc",
+                                                     "th",
+                                                     "dbzh_clean",
+                                                     "corrected_reflectivity",
+                                                     "reflectivity_horizontal",
+                                                     "zh",
+                                                     "z",
+                                                     "dz",
+                                                     "cz",
+                                                     "dbzv",
+                                                     "tv"};
+const std::vector<std::string> kVelocityNames = {
+    "vradh", "vrad", "vel", "velocity", "v", "vr", "vradv", "corrected_velocity", "vraddh", "dealiased_velocity"};
 const std::vector<std::string> kWidthNames = {"wradh", "wrad", "sw", "spectrum_width", "w", "wradv", "width"};
 const std::vector<std::string> kZdrNames = {"zdr", "differential_reflectivity", "dr"};
 const std::vector<std::string> kRhoNames = {"rhohv", "rho", "cross_correlation_ratio", "cc", "rhohv_corr"};
@@ -44,8 +56,8 @@ ColorStop blend(double value, Rgba8 a, Rgba8 b) { return ColorStop{value, a, b};
 // Diverging velocity colours over +-v: towards the radar (negative) green, away red, near zero a
 // translucent grey; alpha grows with |velocity| so that the fast flow shows through slow echo.
 ColorTable velocityTable(double v) {
-  const Rgba8 darkGreen{0, 90, 0, 255}, green{0, 220, 0, 235}, paleGreen{150, 230, 150, 110},
-      grey{140, 140, 140, 60}, paleRed{235, 150, 150, 110}, red{235, 0, 0, 235}, darkRed{120, 0, 0, 255};
+  const Rgba8 darkGreen{0, 90, 0, 255}, green{0, 220, 0, 235}, paleGreen{150, 230, 150, 110}, grey{140, 140, 140, 60},
+      paleRed{235, 150, 150, 110}, red{235, 0, 0, 235}, darkRed{120, 0, 0, 255};
   return ColorTable("Velocity", "m/s",
                     {blend(-v, darkGreen, green), blend(-0.5 * v, green, paleGreen), blend(-0.1 * v, paleGreen, grey),
                      blend(0.0, grey, paleRed), blend(0.1 * v, paleRed, red), blend(0.5 * v, red, darkRed),
@@ -53,34 +65,38 @@ ColorTable velocityTable(double v) {
 }
 
 ColorTable spectrumWidthTable() {
-  return ColorTable("Spectrum width", "m/s",
-                    {blend(0.0, {120, 120, 120, 255}, {200, 200, 200, 255}), blend(4.0, {200, 200, 200, 255}, {255, 230, 0, 255}),
-                     blend(8.0, {255, 230, 0, 255}, {255, 120, 0, 255}), blend(12.0, {255, 120, 0, 255}, {200, 0, 0, 255}),
-                     blend(16.0, {200, 0, 0, 255}, {200, 0, 0, 255})});
+  return ColorTable(
+      "Spectrum width", "m/s",
+      {blend(0.0, {120, 120, 120, 255}, {200, 200, 200, 255}), blend(4.0, {200, 200, 200, 255}, {255, 230, 0, 255}),
+       blend(8.0, {255, 230, 0, 255}, {255, 120, 0, 255}), blend(12.0, {255, 120, 0, 255}, {200, 0, 0, 255}),
+       blend(16.0, {200, 0, 0, 255}, {200, 0, 0, 255})});
 }
 
 ColorTable zdrTable() {
-  return ColorTable("ZDR", "dB",
-                    {blend(-2.0, {90, 0, 140, 255}, {40, 60, 220, 255}), blend(0.0, {40, 60, 220, 255}, {0, 190, 120, 255}),
-                     blend(1.0, {0, 190, 120, 255}, {240, 230, 0, 255}), blend(2.0, {240, 230, 0, 255}, {255, 140, 0, 255}),
-                     blend(3.0, {255, 140, 0, 255}, {220, 0, 0, 255}), blend(5.0, {220, 0, 0, 255}, {255, 0, 220, 255}),
-                     blend(8.0, {255, 0, 220, 255}, {255, 0, 220, 255})});
+  return ColorTable(
+      "ZDR", "dB",
+      {blend(-2.0, {90, 0, 140, 255}, {40, 60, 220, 255}), blend(0.0, {40, 60, 220, 255}, {0, 190, 120, 255}),
+       blend(1.0, {0, 190, 120, 255}, {240, 230, 0, 255}), blend(2.0, {240, 230, 0, 255}, {255, 140, 0, 255}),
+       blend(3.0, {255, 140, 0, 255}, {220, 0, 0, 255}), blend(5.0, {220, 0, 0, 255}, {255, 0, 220, 255}),
+       blend(8.0, {255, 0, 220, 255}, {255, 0, 220, 255})});
 }
 
 // Most of the colours above 0.9, where rain (0.97-1) and mixed phase / debris (< 0.9) separate.
 ColorTable rhohvTable() {
-  return ColorTable("RhoHV", "",
-                    {blend(0.2, {60, 0, 100, 255}, {30, 60, 200, 255}), blend(0.7, {30, 60, 200, 255}, {0, 200, 220, 255}),
-                     blend(0.85, {0, 200, 220, 255}, {0, 190, 60, 255}), blend(0.93, {0, 190, 60, 255}, {240, 230, 0, 255}),
-                     blend(0.97, {240, 230, 0, 255}, {255, 120, 0, 255}), blend(0.99, {255, 120, 0, 255}, {220, 0, 0, 255}),
-                     blend(1.0, {220, 0, 0, 255}, {255, 0, 220, 255}), blend(1.05, {255, 0, 220, 255}, {255, 0, 220, 255})});
+  return ColorTable(
+      "RhoHV", "",
+      {blend(0.2, {60, 0, 100, 255}, {30, 60, 200, 255}), blend(0.7, {30, 60, 200, 255}, {0, 200, 220, 255}),
+       blend(0.85, {0, 200, 220, 255}, {0, 190, 60, 255}), blend(0.93, {0, 190, 60, 255}, {240, 230, 0, 255}),
+       blend(0.97, {240, 230, 0, 255}, {255, 120, 0, 255}), blend(0.99, {255, 120, 0, 255}, {220, 0, 0, 255}),
+       blend(1.0, {220, 0, 0, 255}, {255, 0, 220, 255}), blend(1.05, {255, 0, 220, 255}, {255, 0, 220, 255})});
 }
 
 ColorTable kdpTable() {
-  return ColorTable("KDP", "deg/km",
-                    {blend(-2.0, {120, 120, 120, 255}, {160, 160, 160, 255}), blend(0.0, {160, 160, 160, 255}, {0, 190, 220, 255}),
-                     blend(1.0, {0, 190, 220, 255}, {0, 190, 60, 255}), blend(2.0, {0, 190, 60, 255}, {240, 230, 0, 255}),
-                     blend(4.0, {240, 230, 0, 255}, {220, 0, 0, 255}), blend(8.0, {220, 0, 0, 255}, {220, 0, 0, 255})});
+  return ColorTable(
+      "KDP", "deg/km",
+      {blend(-2.0, {120, 120, 120, 255}, {160, 160, 160, 255}), blend(0.0, {160, 160, 160, 255}, {0, 190, 220, 255}),
+       blend(1.0, {0, 190, 220, 255}, {0, 190, 60, 255}), blend(2.0, {0, 190, 60, 255}, {240, 230, 0, 255}),
+       blend(4.0, {240, 230, 0, 255}, {220, 0, 0, 255}), blend(8.0, {220, 0, 0, 255}, {220, 0, 0, 255})});
 }
 
 // The file's Nyquist velocity; else the largest |value| of the field (velocities are coded
@@ -147,9 +163,12 @@ FieldKindEvidence classifyField(const FieldInfo& f) {
     const std::vector<std::string>* names;
     FieldKind kind;
   };
-  for (const ByName& b : {ByName{&kReflectivityNames, FieldKind::Reflectivity}, {&kVelocityNames, FieldKind::Velocity},
-                          {&kWidthNames, FieldKind::SpectrumWidth}, {&kZdrNames, FieldKind::DifferentialReflectivity},
-                          {&kRhoNames, FieldKind::CorrelationCoefficient}, {&kPhiNames, FieldKind::DifferentialPhase},
+  for (const ByName& b : {ByName{&kReflectivityNames, FieldKind::Reflectivity},
+                          {&kVelocityNames, FieldKind::Velocity},
+                          {&kWidthNames, FieldKind::SpectrumWidth},
+                          {&kZdrNames, FieldKind::DifferentialReflectivity},
+                          {&kRhoNames, FieldKind::CorrelationCoefficient},
+                          {&kPhiNames, FieldKind::DifferentialPhase},
                           {&kKdpNames, FieldKind::SpecificDifferentialPhase}}) {
     if (contains(*b.names, n)) return {b.kind, std::string("name ").append(f.name)};
   }
@@ -194,8 +213,9 @@ DefaultField chooseDefaultFieldWithReason(const std::vector<FieldInfo>& fields) 
     if (!pick) return {};
     return {pick->name, std::string(why)};
   };
-  if (DefaultField d = best([](const FieldInfo& f) { return lower(f.standardName) == "equivalent_reflectivity_factor"; },
-                            "reflectivity by its CF standard_name equivalent_reflectivity_factor");
+  if (DefaultField d =
+          best([](const FieldInfo& f) { return lower(f.standardName) == "equivalent_reflectivity_factor"; },
+               "reflectivity by its CF standard_name equivalent_reflectivity_factor");
       !d.name.empty())
     return d;
   if (DefaultField d = best([](const FieldInfo& f) { return isDbz(f.units); }, "reflectivity by its units dBZ");

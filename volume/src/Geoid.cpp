@@ -36,9 +36,9 @@ Result<GeoidGrid> GeoidGrid::load(const std::string& path) {
   g.dLonDeg_ = std::bit_cast<double>(loadBe64(header + 24));
   g.rows_ = static_cast<std::int32_t>(loadBe32(header + 32));
   g.cols_ = static_cast<std::int32_t>(loadBe32(header + 36));
-  const bool sane = std::isfinite(g.lat0Deg_) && std::isfinite(g.lon0Deg_) && g.dLatDeg_ > 1e-6 &&
-                    g.dLonDeg_ > 1e-6 && g.dLatDeg_ <= 180 && g.dLonDeg_ <= 360 && g.rows_ >= 2 &&
-                    g.cols_ >= 2 && g.rows_ <= 200000 && g.cols_ <= 400000;
+  const bool sane = std::isfinite(g.lat0Deg_) && std::isfinite(g.lon0Deg_) && g.dLatDeg_ > 1e-6 && g.dLonDeg_ > 1e-6 &&
+                    g.dLatDeg_ <= 180 && g.dLonDeg_ <= 360 && g.rows_ >= 2 && g.cols_ >= 2 && g.rows_ <= 200000 &&
+                    g.cols_ <= 400000;
   if (!sane) return makeError(path + ": .gtx header is not a plausible grid");
   const std::size_t count = static_cast<std::size_t>(g.rows_) * static_cast<std::size_t>(g.cols_);
   // Check the size against the file before allocating.
@@ -55,7 +55,8 @@ Result<GeoidGrid> GeoidGrid::load(const std::string& path) {
   }
   g.values_.resize(count);
   for (std::size_t i = 0; i < count; ++i) g.values_[i] = std::bit_cast<float>(loadBe32(&raw[i * 4]));
-  g.wrapsLongitude_ = std::abs(g.cols_ * g.dLonDeg_ - 360.0) < 1e-9 || std::abs((g.cols_ - 1) * g.dLonDeg_ - 360.0) < 1e-9;
+  g.wrapsLongitude_ = std::abs(g.cols_ * g.dLonDeg_ - 360.0) < 1e-9 ||
+                      std::abs((g.cols_ - 1) * g.dLonDeg_ - 360.0) < 1e-9;
   return g;
 }
 

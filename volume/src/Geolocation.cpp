@@ -57,14 +57,16 @@ Result<SiteResolution> resolveSite(const RadarSite& site, const GeoidGrid* geoid
   out.geoidUndulationMeters = geoid->undulationMeters(site.latDeg, site.lonDeg);
   out.geoidApplied = true;
   out.site.antennaHeightEllipsoidMeters = site.antennaHeightMeters + out.geoidUndulationMeters;
-  out.datumNote = "antenna height " + formatMeters(site.antennaHeightMeters) + " above mean sea level + EGM96 undulation " +
-                  formatMeters(out.geoidUndulationMeters) + " (" + geoid->path() + ") = " +
-                  formatMeters(out.site.antennaHeightEllipsoidMeters) + " above the WGS84 ellipsoid";
+  out.datumNote = "antenna height " + formatMeters(site.antennaHeightMeters) +
+                  " above mean sea level + EGM96 undulation " + formatMeters(out.geoidUndulationMeters) + " (" +
+                  geoid->path() + ") = " + formatMeters(out.site.antennaHeightEllipsoidMeters) +
+                  " above the WGS84 ellipsoid";
   return out;
 }
 
 Result<SiteResolution> resolveSite(const RadarSite& site, bool useGeoid) {
-  if (!useGeoid || site.heightDatum == HeightDatum::Ellipsoid) return resolveSite(site, static_cast<const GeoidGrid*>(nullptr));
+  if (!useGeoid || site.heightDatum == HeightDatum::Ellipsoid)
+    return resolveSite(site, static_cast<const GeoidGrid*>(nullptr));
   const Result<GeoidGrid>& grid = defaultEgm96Grid();
   if (!grid) return grid.forwardError();
   return resolveSite(site, &grid.value());
@@ -152,9 +154,9 @@ void geolocateSweepFast(const GeolocationSite& site, const BeamModel& model, con
   std::vector<double> accX(gates), accY(gates), accZ(gates);
   for (std::size_t i = 0; i < rays; ++i) {
     assert(std::isfinite(sweep.azimuthDeg[i]) && std::isfinite(sweep.elevationDeg[i]));
-    const GeographicLib::GeodesicLine line =
-        geod.Line(site.latDeg, site.lonDeg, sweep.azimuthDeg[i], GeographicLib::Geodesic::LATITUDE | GeographicLib::Geodesic::LONGITUDE |
-                     GeographicLib::Geodesic::DISTANCE_IN);
+    const GeographicLib::GeodesicLine line = geod.Line(
+        site.latDeg, site.lonDeg, sweep.azimuthDeg[i],
+        GeographicLib::Geodesic::LATITUDE | GeographicLib::Geodesic::LONGITUDE | GeographicLib::Geodesic::DISTANCE_IN);
     std::array<glm::dvec3, kN> f{};
     for (int j = 0; j < kN; ++j) {
       double h = 0, s = 0, lat = 0, lon = 0;
@@ -185,7 +187,8 @@ void geolocateSweepFast(const GeolocationSite& site, const BeamModel& model, con
   }
 }
 
-AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model, const glm::dvec3& ecef) {
+AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model,
+                                           const glm::dvec3& ecef) {
   const globe::Geodetic p = globe::ecefToGeodetic(ecef);
   const globe::GeodesicLine inv = globe::geodesicInverse(site.latDeg, site.lonDeg, p.latDeg, p.lonDeg);
   const double re = effectiveEarthRadiusMeters(model, site.latDeg);

@@ -37,7 +37,8 @@ std::string describeGridJson(const GridFileInfo& g) {
   j["file"] = g.path;
   j["conventions"] = g.conventions;
   nlohmann::ordered_json dims = nlohmann::ordered_json::array();
-  for (const auto& d : g.dimensions) dims.push_back({{"name", d.name}, {"length", d.length}, {"unlimited", d.unlimited}});
+  for (const auto& d : g.dimensions)
+    dims.push_back({{"name", d.name}, {"length", d.length}, {"unlimited", d.unlimited}});
   j["dimensions"] = std::move(dims);
   nlohmann::ordered_json vars = nlohmann::ordered_json::array();
   for (const auto& v : g.variables)
@@ -92,9 +93,10 @@ std::string describeGridText(const GridFileInfo& g) {
   os << "file:       " << g.path << "\n";
   os << "format:     forecast grid, " << g.format << (g.conventions.empty() ? "" : ", " + g.conventions) << "\n";
   os << "variable:   " << g.variable << "\n";
-  os << "grid:       " << (g.curvilinear ? "curvilinear (2-D latitude/longitude)" : "rectilinear (1-D latitude/longitude)")
-     << ", " << g.nx << " x " << g.ny << " columns (" << g.xDimension << " x " << g.yDimension << "), " << g.nz
-     << " levels (" << g.zDimension << "), ~" << fixed(g.meanSpacingKm, 1) << " km apart\n";
+  os << "grid:       "
+     << (g.curvilinear ? "curvilinear (2-D latitude/longitude)" : "rectilinear (1-D latitude/longitude)") << ", "
+     << g.nx << " x " << g.ny << " columns (" << g.xDimension << " x " << g.yDimension << "), " << g.nz << " levels ("
+     << g.zDimension << "), ~" << fixed(g.meanSpacingKm, 1) << " km apart\n";
   os << "extent:     latitude " << fixed(g.southDeg, 3) << " .. " << fixed(g.northDeg, 3) << " deg, longitude "
      << fixed(g.westDeg, 3) << " .. " << fixed(g.eastDeg, 3) << " deg" << (g.wrapsLongitude ? " (global: wraps)" : "")
      << "\n";
@@ -108,13 +110,14 @@ std::string describeGridText(const GridFileInfo& g) {
   }
   os << "heights:    " << fixed(g.heightMinMeters, 1) << " .. " << fixed(g.heightMaxMeters, 1)
      << " m above the WGS84 ellipsoid (first time step"
-     << (g.heightColumnStride > 1 ? ", sampled every " + std::to_string(g.heightColumnStride) + " rows and columns" : "") << ")"
-     << (g.approximateHeights ? " APPROXIMATE" : "") << "\n";
+     << (g.heightColumnStride > 1 ? ", sampled every " + std::to_string(g.heightColumnStride) + " rows and columns"
+                                  : "")
+     << ")" << (g.approximateHeights ? " APPROXIMATE" : "") << "\n";
   if (g.times.empty()) {
     os << "times:      (no time dimension)\n";
   } else {
-    os << "times:      " << g.times.size() << " (" << g.timeVariable
-       << (g.timeUnits.empty() ? "" : ": " + g.timeUnits) << (g.calendar.empty() ? "" : ", calendar " + g.calendar)
+    os << "times:      " << g.times.size() << " (" << g.timeVariable << (g.timeUnits.empty() ? "" : ": " + g.timeUnits)
+       << (g.calendar.empty() ? "" : ", calendar " + g.calendar)
        << "): " << (g.times.front().empty() ? "?" : g.times.front());
     if (g.times.size() > 1) os << " .. " << (g.times.back().empty() ? "?" : g.times.back());
     os << "\n";

@@ -38,8 +38,8 @@ struct Packing {
   std::vector<double> missing;
   double validMin = -std::numeric_limits<double>::infinity();
   double validMax = std::numeric_limits<double>::infinity();
-  bool isUnsigned = false;  ///< _Unsigned = "true" on a signed integer type
-  double unsignedWrap = 0;  ///< 2^bits of the type
+  bool isUnsigned = false;        ///< _Unsigned = "true" on a signed integer type
+  double unsignedWrap = 0;        ///< 2^bits of the type
   bool defaultFloatFill = false;  ///< float/double without _FillValue: the netCDF default fill means missing
   double defaultFill = 0;
   bool packed() const { return scale != 1.0 || offset != 0.0; }
@@ -71,33 +71,33 @@ enum class LengthDatum { Ellipsoid, SeaLevel, Ground, Unknown };
 
 struct VerticalSpec {
   VerticalKind kind = VerticalKind::HeightAboveSeaLevel;
-  std::optional<NcVar> coordinate;   ///< the 1-D coordinate variable (CF)
+  std::optional<NcVar> coordinate;  ///< the 1-D coordinate variable (CF)
   std::string coordinateUnits;
-  double toSi = 1.0;                 ///< coordinate units -> Pa (pressure) or m (lengths, gpm)
-  bool positiveDown = false;         ///< lengths counted downwards (depth)
+  double toSi = 1.0;          ///< coordinate units -> Pa (pressure) or m (lengths, gpm)
+  bool positiveDown = false;  ///< lengths counted downwards (depth)
   LengthDatum datum = LengthDatum::SeaLevel;
-  std::string datumReason;           ///< why that datum ("standard_name altitude" ...)
-  std::map<std::string, NcVar> terms;  ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
+  std::string datumReason;                 ///< why that datum ("standard_name altitude" ...)
+  std::map<std::string, NcVar> terms;      ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
   std::map<std::string, double> termToSi;  ///< unit factor of each term
-  std::optional<NcVar> geopotential; ///< level geopotential (or geopotential height) field
-  double geopotentialToGpm = 1.0;    ///< factor to geopotential metres (1/g0 for m2 s-2)
-  std::optional<NcVar> surfaceAltitude;  ///< for heights above ground
+  std::optional<NcVar> geopotential;       ///< level geopotential (or geopotential height) field
+  double geopotentialToGpm = 1.0;          ///< factor to geopotential metres (1/g0 for m2 s-2)
+  std::optional<NcVar> surfaceAltitude;    ///< for heights above ground
   double surfaceToMeters = 1.0;
   // WRF
   std::optional<NcVar> ph, phb, p, pb, znu;
   /// File level index increases upwards.
   bool upward = true;
-  std::size_t fileLevels = 0;        ///< levels in the file (mass levels for WRF)
+  std::size_t fileLevels = 0;  ///< levels in the file (mass levels for WRF)
 };
 
 struct TimeSpec {
-  int dimId = -1;                    ///< -1: the variable has no time dimension
+  int dimId = -1;  ///< -1: the variable has no time dimension
   std::size_t count = 1;
-  std::optional<NcVar> coordinate;   ///< CF time coordinate
-  std::optional<NcVar> wrfTimes;     ///< WRF Times (char)
+  std::optional<NcVar> coordinate;  ///< CF time coordinate
+  std::optional<NcVar> wrfTimes;    ///< WRF Times (char)
   std::string units, calendar;
   std::optional<CfTimeUnits> parsed;
-  std::string unitsError;            ///< why the units could not be parsed ("" if they could)
+  std::string unitsError;  ///< why the units could not be parsed ("" if they could)
 };
 
 struct GridLayout {
@@ -108,9 +108,9 @@ struct GridLayout {
   int xDim = -1, yDim = -1, zDim = -1;
   int xStagDim = -1, yStagDim = -1, zStagDim = -1;
   bool stagX = false, stagY = false, stagZ = false;
-  std::size_t nx = 0, ny = 0;        ///< mass columns / rows in the file
+  std::size_t nx = 0, ny = 0;  ///< mass columns / rows in the file
   bool curvilinear = false;
-  NcVar lat, lon;                    ///< 1-D (rectilinear) or 2-D/3-D (curvilinear)
+  NcVar lat, lon;  ///< 1-D (rectilinear) or 2-D/3-D (curvilinear)
   VerticalSpec vertical;
   TimeSpec time;
   std::string units, standardName, longName;

@@ -21,7 +21,8 @@ std::string lower(std::string s) {
 std::string compactLower(const std::string& s) {
   std::string out;
   for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c))) out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
   return out;
 }
 
@@ -49,11 +50,22 @@ bool isLonUnits(const std::string& units) {
 enum class Role { None, Lat, Lon, Time, Vertical };
 
 const std::vector<std::string>& verticalStandardNames() {
-  static const std::vector<std::string> k = {
-      "air_pressure", "altitude", "height", "height_above_mean_sea_level", "height_above_geoid",
-      "height_above_reference_ellipsoid", "geopotential_height", "depth", "atmosphere_hybrid_sigma_pressure_coordinate",
-      "atmosphere_sigma_coordinate", "atmosphere_hybrid_height_coordinate", "atmosphere_ln_pressure_coordinate",
-      "atmosphere_sleve_coordinate", "model_level_number", "ocean_sigma_coordinate", "ocean_s_coordinate"};
+  static const std::vector<std::string> k = {"air_pressure",
+                                             "altitude",
+                                             "height",
+                                             "height_above_mean_sea_level",
+                                             "height_above_geoid",
+                                             "height_above_reference_ellipsoid",
+                                             "geopotential_height",
+                                             "depth",
+                                             "atmosphere_hybrid_sigma_pressure_coordinate",
+                                             "atmosphere_sigma_coordinate",
+                                             "atmosphere_hybrid_height_coordinate",
+                                             "atmosphere_ln_pressure_coordinate",
+                                             "atmosphere_sleve_coordinate",
+                                             "model_level_number",
+                                             "ocean_sigma_coordinate",
+                                             "ocean_s_coordinate"};
   return k;
 }
 
@@ -64,8 +76,9 @@ Role roleOf(const NetcdfFile& f, const NcVar& c) {
   if (sn == "latitude" || isLatUnits(units)) return Role::Lat;
   if (sn == "longitude" || isLonUnits(units)) return Role::Lon;
   if (sn == "time" || axis == "t" || contains(lower(units), " since ")) return Role::Time;
-  if (axis == "z" || f.hasAttribute(c.groupId, c.varId, "positive") || f.hasAttribute(c.groupId, c.varId, "formula_terms") ||
-      pressureUnitToPascal(units) || geopotentialHeightUnitToMeters(units) ||
+  if (axis == "z" || f.hasAttribute(c.groupId, c.varId, "positive") ||
+      f.hasAttribute(c.groupId, c.varId, "formula_terms") || pressureUnitToPascal(units) ||
+      geopotentialHeightUnitToMeters(units) ||
       std::find(verticalStandardNames().begin(), verticalStandardNames().end(), sn) != verticalStandardNames().end())
     return Role::Vertical;
   // A length-valued coordinate with a vertical-sounding name (lev, level, height, z, alt...).
@@ -110,8 +123,8 @@ Status checkWhole(const NetcdfFile& f, const NcVar& v) {
   std::size_t n = 1;
   for (std::size_t d : v.shape) {
     if (d != 0 && n > kMaxElementsPerRead / d)
-      return makeError(f.message("variable '" + v.name + "' claims more than " + std::to_string(kMaxElementsPerRead) +
-                                 " values"));
+      return makeError(
+          f.message("variable '" + v.name + "' claims more than " + std::to_string(kMaxElementsPerRead) + " values"));
     n *= d;
   }
   return f.checkReadable(v, n, std::max<std::size_t>(ncTypeSize(v.type), 1));
@@ -119,18 +132,19 @@ Status checkWhole(const NetcdfFile& f, const NcVar& v) {
 
 /// Checks that every dimension of `support` is one of `allowed` (dimension ids of the grid
 /// variable) or has length 1, and that the allowed ones come in the grid variable's order.
-Status checkSupportDims(const NetcdfFile& f, const NcVar& support, const NcVar& gridVar, const std::vector<int>& allowed,
-                        const std::string& role) {
+Status checkSupportDims(const NetcdfFile& f, const NcVar& support, const NcVar& gridVar,
+                        const std::vector<int>& allowed, const std::string& role) {
   int last = -1;
   for (std::size_t d = 0; d < support.dimIds.size(); ++d) {
     const int id = support.dimIds[d];
     const auto it = std::find(allowed.begin(), allowed.end(), id);
     if (it == allowed.end()) {
       if (support.shape[d] == 1) continue;
-      return makeError(f.message("variable '" + support.name + "' (" + role + " of '" + gridVar.name + "') has dimension '" +
-                                 dimensionName(support.groupId, id) + "' of length " + std::to_string(support.shape[d]) +
-                                 ", which '" + gridVar.name + "' does not have: inconsistent sizes (" +
-                                 dimList(f, support) + " against " + dimList(f, gridVar) + ")"));
+      return makeError(f.message("variable '" + support.name + "' (" + role + " of '" + gridVar.name +
+                                 "') has dimension '" + dimensionName(support.groupId, id) + "' of length " +
+                                 std::to_string(support.shape[d]) + ", which '" + gridVar.name +
+                                 "' does not have: inconsistent sizes (" + dimList(f, support) + " against " +
+                                 dimList(f, gridVar) + ")"));
     }
     const int pos = static_cast<int>(it - allowed.begin());
     if (pos < last)
@@ -168,7 +182,8 @@ void findGeopotential(const NetcdfFile& f, const GridLayout& l, VerticalSpec& vs
         vs.geopotentialToGpm = 1.0 / kStandardGravity;
         return;
       }
-      if (sn == "geopotential_height" || (heightName && (geopotentialHeightUnitToMeters(units) || lengthUnitToMeters(units)))) {
+      if (sn == "geopotential_height" ||
+          (heightName && (geopotentialHeightUnitToMeters(units) || lengthUnitToMeters(units)))) {
         auto k = geopotentialHeightUnitToMeters(units);
         if (!k) k = lengthUnitToMeters(units);
         if (!k) continue;
@@ -192,7 +207,8 @@ void findSurfaceAltitude(const NetcdfFile& f, const GridLayout& l, VerticalSpec&
       const std::string sn = attrText(f, c, "standard_name");
       const auto k = lengthUnitToMeters(attrText(f, c, "units"));
       const std::string n = c.name.substr(c.name.rfind('/') + 1);
-      const bool named = n == "orog" || n == "HGT" || n == "hsurf" || n == "HSURF" || n == "topo" || n == "surface_altitude";
+      const bool named = n == "orog" || n == "HGT" || n == "hsurf" || n == "HSURF" || n == "topo" ||
+                         n == "surface_altitude";
       if ((sn == "surface_altitude" || named) && k) {
         vs.surfaceAltitude = c;
         vs.surfaceToMeters = *k;
@@ -215,8 +231,9 @@ Status parseFormulaTerms(const NetcdfFile& f, const GridLayout& l, const NcVar& 
     const std::string term = t[i].substr(0, t[i].size() - 1);
     auto v = findInScope(f, coord.groupId, t[i + 1]);
     if (!v)
-      return varError(f, coord, "formula_terms names variable '" + t[i + 1] + "' for term '" + term +
-                                    "', which is not in the file");
+      return varError(
+          f, coord,
+          "formula_terms names variable '" + t[i + 1] + "' for term '" + term + "', which is not in the file");
     vs.terms[term] = *v;
   }
   for (const std::string& r : required)
@@ -232,14 +249,14 @@ Status parseFormulaTerms(const NetcdfFile& f, const GridLayout& l, const NcVar& 
       } else if (auto k = pressureUnitToPascal(units)) {
         vs.termToSi[term] = *k;
       } else {
-        return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name +
-                                   "'): units '" + units + "' are not a pressure unit"));
+        return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name + "'): units '" +
+                                   units + "' are not a pressure unit"));
       }
     } else if (term == "orog" || (term == "a" && vs.kind == VerticalKind::HybridHeight)) {
       const auto k = units.empty() ? std::optional<double>(1.0) : lengthUnitToMeters(units);
       if (!k)
-        return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name +
-                                   "'): units '" + units + "' are not a length unit"));
+        return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name + "'): units '" +
+                                   units + "' are not a length unit"));
       vs.termToSi[term] = *k;
     } else {
       vs.termToSi[term] = 1.0;
@@ -261,7 +278,8 @@ Status parseFormulaTerms(const NetcdfFile& f, const GridLayout& l, const NcVar& 
         return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name +
                                    "') is not on the columns of '" + l.var.name + "' (" + dimList(f, v) + " against " +
                                    dimList(f, l.var) + "): inconsistent sizes"));
-      if (auto st = checkSupportDims(f, v, l.var, {l.time.dimId, l.yDim, l.xDim}, "term '" + term + "'"); !st) return st;
+      if (auto st = checkSupportDims(f, v, l.var, {l.time.dimId, l.yDim, l.xDim}, "term '" + term + "'"); !st)
+        return st;
     }
   }
   return Ok{};
@@ -299,10 +317,11 @@ Status cfVertical(const NetcdfFile& f, GridLayout& l, const NcVar& coord) {
       vs.kind = VerticalKind::HybridHeight;
       if (auto st = parseFormulaTerms(f, l, coord, vs, {"a", "b", "orog"}, {}); !st) return st;
     } else {
-      return varError(f, coord, "unknown vertical coordinate: parametric coordinate '" +
-                                    (sn.empty() ? std::string("(no standard_name)") : sn) +
-                                    "' is not supported (supported: atmosphere_hybrid_sigma_pressure_coordinate, "
-                                    "atmosphere_sigma_coordinate, atmosphere_hybrid_height_coordinate)");
+      return varError(f, coord,
+                      "unknown vertical coordinate: parametric coordinate '" +
+                          (sn.empty() ? std::string("(no standard_name)") : sn) +
+                          "' is not supported (supported: atmosphere_hybrid_sigma_pressure_coordinate, "
+                          "atmosphere_sigma_coordinate, atmosphere_hybrid_height_coordinate)");
     }
     if (vs.kind != VerticalKind::HybridHeight) findGeopotential(f, l, vs);
     return Ok{};
@@ -358,9 +377,10 @@ Status cfVertical(const NetcdfFile& f, GridLayout& l, const NcVar& coord) {
     if (vs.datum == LengthDatum::Ground) findSurfaceAltitude(f, l, vs);
     return Ok{};
   }
-  return varError(f, coord, "unknown vertical coordinate: units '" + units + "'" +
-                                (sn.empty() ? std::string() : ", standard_name '" + sn + "'") +
-                                " give neither a pressure, a length nor a parametric formula (formula_terms)");
+  return varError(f, coord,
+                  "unknown vertical coordinate: units '" + units + "'" +
+                      (sn.empty() ? std::string() : ", standard_name '" + sn + "'") +
+                      " give neither a pressure, a length nor a parametric formula (formula_terms)");
 }
 
 Status timeSpecFromCoordinate(const NetcdfFile& f, TimeSpec& t, const NcVar& c) {
@@ -394,13 +414,20 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
     const int id = v.dimIds[d];
     const int p = static_cast<int>(d);
     if (id == tDim) tPos = p;
-    else if (id == l.zDim || id == l.zStagDim) { zPos = p; l.stagZ = id == l.zStagDim; }
-    else if (id == l.yDim || id == l.yStagDim) { yPos = p; l.stagY = id == l.yStagDim; }
-    else if (id == l.xDim || id == l.xStagDim) { xPos = p; l.stagX = id == l.xStagDim; }
-    else if (v.shape[d] != 1)
-      return varError(f, v, "dimension '" + dimensionName(v.groupId, id) +
-                                "' is not one of WRF's atmospheric grid dimensions (Time, bottom_top[_stag], "
-                                "south_north[_stag], west_east[_stag])");
+    else if (id == l.zDim || id == l.zStagDim) {
+      zPos = p;
+      l.stagZ = id == l.zStagDim;
+    } else if (id == l.yDim || id == l.yStagDim) {
+      yPos = p;
+      l.stagY = id == l.yStagDim;
+    } else if (id == l.xDim || id == l.xStagDim) {
+      xPos = p;
+      l.stagX = id == l.xStagDim;
+    } else if (v.shape[d] != 1)
+      return varError(f, v,
+                      "dimension '" + dimensionName(v.groupId, id) +
+                          "' is not one of WRF's atmospheric grid dimensions (Time, bottom_top[_stag], "
+                          "south_north[_stag], west_east[_stag])");
   }
   if (yPos < 0 || xPos < 0) return varError(f, v, "not on the horizontal grid (dimensions: " + dimList(f, v) + ")");
   if (zPos < 0)
@@ -410,8 +437,8 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   if (!nz) return makeError(f.message("WRF file without the dimension bottom_top"));
   if (*nx == 0 || *ny == 0 || *nz == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
   if ((l.stagZ || nzs) && nzs && *nzs != *nz + 1)
-    return makeError(f.message("dimension bottom_top_stag has length " + std::to_string(*nzs) + ", expected bottom_top + 1 = " +
-                               std::to_string(*nz + 1) + ": inconsistent sizes"));
+    return makeError(f.message("dimension bottom_top_stag has length " + std::to_string(*nzs) +
+                               ", expected bottom_top + 1 = " + std::to_string(*nz + 1) + ": inconsistent sizes"));
   if (l.stagY && *nys != *ny + 1)
     return makeError(f.message("dimension south_north_stag has length " + std::to_string(*nys) +
                                ", expected south_north + 1 = " + std::to_string(*ny + 1) + ": inconsistent sizes"));
@@ -430,8 +457,8 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   for (const NcVar* c : {&*lat, &*lon}) {
     const std::size_t r = c->dimIds.size();
     if (r < 2 || c->dimIds[r - 2] != l.yDim || c->dimIds[r - 1] != l.xDim || (r == 3 && c->dimIds[0] != tDim) || r > 3)
-      return makeError(f.message("variable '" + c->name + "' is not on (Time,) south_north, west_east (" + dimList(f, *c) +
-                                 "): inconsistent sizes"));
+      return makeError(f.message("variable '" + c->name + "' is not on (Time,) south_north, west_east (" +
+                                 dimList(f, *c) + "): inconsistent sizes"));
   }
   l.curvilinear = true;
   l.lat = *lat;
@@ -484,11 +511,12 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   }
   // Time: Times strings, else XTIME.
   if (l.time.dimId >= 0) {
-    if (auto times = f.findVariable(root, "Times"); times && times->type == NC_CHAR && times->dimIds.size() == 2 &&
-                                                     times->dimIds[0] == tDim) {
+    if (auto times = f.findVariable(root, "Times");
+        times && times->type == NC_CHAR && times->dimIds.size() == 2 && times->dimIds[0] == tDim) {
       if (auto st = checkWhole(f, *times); !st) return st.forwardError();
       l.time.wrfTimes = *times;
-    } else if (auto xtime = f.findVariable(root, "XTIME"); xtime && xtime->dimIds.size() == 1 && xtime->dimIds[0] == tDim) {
+    } else if (auto xtime = f.findVariable(root, "XTIME");
+               xtime && xtime->dimIds.size() == 1 && xtime->dimIds[0] == tDim) {
       if (auto st = timeSpecFromCoordinate(f, l.time, *xtime); !st) return st.forwardError();
     }
   }
@@ -506,8 +534,9 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
   l.var = v;
   if (v.type == NC_CHAR || v.type == NC_STRING) return varError(f, v, "holds text, not numbers");
   if (v.dimIds.size() < 3)
-    return varError(f, v, "has " + std::to_string(v.dimIds.size()) +
-                              " dimensions; a grid volume needs a vertical and two horizontal ones");
+    return varError(f, v,
+                    "has " + std::to_string(v.dimIds.size()) +
+                        " dimensions; a grid volume needs a vertical and two horizontal ones");
   // 1. Curvilinear: 2-D latitude/longitude named in `coordinates`.
   std::optional<NcVar> lat2, lon2;
   for (const std::string& name : tokens(attrText(f, v, "coordinates"))) {
@@ -518,19 +547,21 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
     if (r == Role::Lon && !lon2) lon2 = c;
   }
   if (lat2.has_value() != lon2.has_value())
-    return varError(f, v, "its coordinates attribute names a 2-D " + std::string(lat2 ? "latitude" : "longitude") +
-                              " but no 2-D " + (lat2 ? "longitude" : "latitude"));
+    return varError(f, v,
+                    "its coordinates attribute names a 2-D " + std::string(lat2 ? "latitude" : "longitude") +
+                        " but no 2-D " + (lat2 ? "longitude" : "latitude"));
   if (lat2) {
     if (lat2->dimIds != lon2->dimIds)
-      return makeError(f.message("variables '" + lat2->name + "' and '" + lon2->name + "' (2-D latitude and longitude of '" +
-                                 v.name + "') have different dimensions: inconsistent sizes"));
+      return makeError(f.message("variables '" + lat2->name + "' and '" + lon2->name +
+                                 "' (2-D latitude and longitude of '" + v.name +
+                                 "') have different dimensions: inconsistent sizes"));
     const std::size_t r = lat2->dimIds.size();
     l.yDim = lat2->dimIds[r - 2];
     l.xDim = lat2->dimIds[r - 1];
     if (positionOf(v, l.yDim) < 0 || positionOf(v, l.xDim) < 0)
-      return makeError(f.message("variable '" + lat2->name + "' (latitude of '" + v.name + "') is on " + dimList(f, *lat2) +
-                                 ", which are not dimensions of '" + v.name + "' (" + dimList(f, v) +
-                                 "): inconsistent sizes"));
+      return makeError(f.message("variable '" + lat2->name + "' (latitude of '" + v.name + "') is on " +
+                                 dimList(f, *lat2) + ", which are not dimensions of '" + v.name + "' (" +
+                                 dimList(f, v) + "): inconsistent sizes"));
     l.curvilinear = true;
     l.lat = *lat2;
     l.lon = *lon2;
@@ -568,28 +599,31 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
       l.zDim = id;
       zCoord = c;
     } else if (v.shape[d] != 1) {
-      unknown.push_back(c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" + attrText(f, *c, "units") +
-                                "')"
+      unknown.push_back(c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" +
+                                attrText(f, *c, "units") + "')"
                           : "dimension '" + dn + "' (no coordinate variable)");
     }
   }
   if (l.yDim < 0 || l.xDim < 0)
-    return varError(f, v, "no latitude/longitude: neither 1-D coordinate variables with units degrees_north / "
-                          "degrees_east (or standard_name latitude / longitude) among its dimensions (" +
-                              dimList(f, v) + "), nor 2-D ones named in a coordinates attribute");
+    return varError(f, v,
+                    "no latitude/longitude: neither 1-D coordinate variables with units degrees_north / "
+                    "degrees_east (or standard_name latitude / longitude) among its dimensions (" +
+                        dimList(f, v) + "), nor 2-D ones named in a coordinates attribute");
   if (!unknown.empty()) {
     std::string s;
     for (const auto& u : unknown) s.append(s.empty() ? "" : "; ").append(u);
-    return varError(f, v, "unknown vertical coordinate: " + s +
-                              " is not a vertical coordinate this reader knows (a pressure, a length, "
-                              "geopotential metres, or a parametric coordinate with formula_terms)");
+    return varError(f, v,
+                    "unknown vertical coordinate: " + s +
+                        " is not a vertical coordinate this reader knows (a pressure, a length, "
+                        "geopotential metres, or a parametric coordinate with formula_terms)");
   }
   if (zPos < 0)
     return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
   const int yPos = positionOf(v, l.yDim), xPos = positionOf(v, l.xDim);
   if (!(tPos < zPos && zPos < yPos && yPos < xPos))
-    return varError(f, v, "dimension order (" + dimList(f, v) +
-                              ") is not supported: expected (time,) level, latitude/y, longitude/x");
+    return varError(
+        f, v,
+        "dimension order (" + dimList(f, v) + ") is not supported: expected (time,) level, latitude/y, longitude/x");
   if (l.nx == 0 || l.ny == 0 || v.shape[static_cast<std::size_t>(zPos)] == 0)
     return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
   for (const NcVar* c : {&l.lat, &l.lon, &*zCoord})
@@ -605,7 +639,8 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
     if (auto st = checkWhole(f, tv); !st) return st.forwardError();
   // Curvilinear coordinates may carry the time dimension too (moving grids), nothing else.
   if (l.curvilinear) {
-    if (auto st = checkSupportDims(f, l.lat, v, {l.time.dimId, l.yDim, l.xDim}, "latitude"); !st) return st.forwardError();
+    if (auto st = checkSupportDims(f, l.lat, v, {l.time.dimId, l.yDim, l.xDim}, "latitude"); !st)
+      return st.forwardError();
   }
   l.units = attrText(f, v, "units");
   l.standardName = attrText(f, v, "standard_name");
@@ -619,18 +654,17 @@ FileKind fileKind(const NetcdfFile& f) {
   FileKind k;
   const std::string title = globalText(f, "TITLE");
   const int root = f.root();
-  k.wrf = contains(title, "WRF") ||
-          (f.findVariable(root, "XLAT") && f.findVariable(root, "XLONG") && f.dimensionLength(root, "bottom_top") &&
-           f.dimensionLength(root, "west_east"));
+  k.wrf = contains(title, "WRF") || (f.findVariable(root, "XLAT") && f.findVariable(root, "XLONG") &&
+                                     f.dimensionLength(root, "bottom_top") && f.dimensionLength(root, "west_east"));
   k.conventions = k.wrf ? (title.empty() ? std::string("WRF") : title) : globalText(f, "Conventions");
   while (!k.conventions.empty() && k.conventions.front() == ' ') k.conventions.erase(k.conventions.begin());
   int fmt = 0;
   nc_inq_format(root, &fmt);
-  const char* container = fmt == NC_FORMAT_NETCDF4            ? "netCDF-4"
-                          : fmt == NC_FORMAT_NETCDF4_CLASSIC  ? "netCDF-4 classic model"
-                          : fmt == NC_FORMAT_64BIT_OFFSET     ? "netCDF 64-bit offset"
+  const char* container = fmt == NC_FORMAT_NETCDF4           ? "netCDF-4"
+                          : fmt == NC_FORMAT_NETCDF4_CLASSIC ? "netCDF-4 classic model"
+                          : fmt == NC_FORMAT_64BIT_OFFSET    ? "netCDF 64-bit offset"
                           : fmt == NC_FORMAT_CDF5            ? "netCDF CDF5"
-                                                              : "netCDF classic";
+                                                             : "netCDF classic";
   const bool cf = contains(k.conventions, "CF") || contains(k.conventions, "COARDS");
   k.format = std::string(k.wrf ? "WRF" : cf ? "CF" : "netCDF grid").append(" (").append(container).append(")");
   return k;

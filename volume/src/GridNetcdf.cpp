@@ -306,7 +306,8 @@ void averageAdjacent(std::vector<T>& a, std::vector<std::size_t>& shape, std::si
       const T* lo = a.data() + (o * len + k) * inner;
       const T* hi = lo + inner;
       T* dst = out.data() + (o * (len - 1) + k) * inner;
-      for (std::size_t i = 0; i < inner; ++i) dst[i] = static_cast<T>(0.5 * (static_cast<double>(lo[i]) + static_cast<double>(hi[i])));
+      for (std::size_t i = 0; i < inner; ++i)
+        dst[i] = static_cast<T>(0.5 * (static_cast<double>(lo[i]) + static_cast<double>(hi[i])));
     }
   a.swap(out);
   shape[axis] = len - 1;

@@ -110,15 +110,18 @@ std::vector<std::size_t> strided(std::size_t a, std::size_t b, std::size_t strid
 Status checkCoordinates(const NetcdfFile& f, const NcVar& v, const std::vector<double>& values, bool latitude) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i]))
-      return varError(f, v, std::string(latitude ? "latitude" : "longitude") + " at index " + std::to_string(i) +
-                                " is not a finite number (missing or NaN coordinates)");
+      return varError(f, v,
+                      std::string(latitude ? "latitude" : "longitude") + " at index " + std::to_string(i) +
+                          " is not a finite number (missing or NaN coordinates)");
     if (latitude && std::fabs(values[i]) > 90.0)
-      return varError(f, v, "latitude " + num(values[i]) + " at index " + std::to_string(i) + " is beyond +-90 degrees");
+      return varError(f, v,
+                      "latitude " + num(values[i]) + " at index " + std::to_string(i) + " is beyond +-90 degrees");
   }
   return Ok{};
 }
 
-Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, const GridCrop& crop, std::size_t sample) {
+Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, const GridCrop& crop,
+                               std::size_t sample) {
   auto latR = readPicked<double>(f, l.lat, {iota(0, l.ny)});
   if (!latR) return latR.forwardError();
   auto lonR = readPicked<double>(f, l.lon, {iota(0, l.nx)});
@@ -133,8 +136,9 @@ Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, c
   const bool latDown = ny >= 2 && lat[1] < lat[0];
   for (std::size_t i = 1; i < ny; ++i)
     if (!(latDown ? lat[i] < lat[i - 1] : lat[i] > lat[i - 1]))
-      return varError(f, l.lat, "latitudes are not strictly monotonic (index " + std::to_string(i - 1) + ": " +
-                                    num(lat[i - 1]) + ", index " + std::to_string(i) + ": " + num(lat[i]) + ")");
+      return varError(f, l.lat,
+                      "latitudes are not strictly monotonic (index " + std::to_string(i - 1) + ": " + num(lat[i - 1]) +
+                          ", index " + std::to_string(i) + ": " + num(lat[i]) + ")");
   std::vector<double> latAsc(ny);
   for (std::size_t a = 0; a < ny; ++a) latAsc[a] = lat[latDown ? ny - 1 - a : a];
   // Longitudes: steps of one sign once wrapped to (-180, 180]; unwrapped to ascend.
@@ -149,15 +153,16 @@ Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, c
     }
     const double step = mod360(x - lon[lonDown ? nx - a : a - 1]);
     if (!(step > 0.0 && step < 180.0))
-      return varError(f, l.lon, "longitudes are not strictly monotonic (near index " + std::to_string(lonDown ? nx - 1 - a : a) + ")");
+      return varError(
+          f, l.lon,
+          "longitudes are not strictly monotonic (near index " + std::to_string(lonDown ? nx - 1 - a : a) + ")");
     u[a] = u[a - 1] + step;
   }
   std::size_t n = nx;
   if (nx >= 2) {
     const double step = (u[nx - 1] - u[0]) / static_cast<double>(nx - 1);
     if (u[nx - 1] - u[0] >= 360.0 - 0.5 * step) {
-      if (u[nx - 1] - u[0] > 360.0 + 0.5 * step)
-        return varError(f, l.lon, "longitudes span more than 360 degrees");
+      if (u[nx - 1] - u[0] > 360.0 + 0.5 * step) return varError(f, l.lon, "longitudes span more than 360 degrees");
       n = nx - 1;  // the last column repeats the first (0 .. 360 inclusive)
       h.wrapsLongitude = true;
     } else if (u[nx - 1] - u[0] + step >= 360.0 - 0.5 * step) {
@@ -169,8 +174,9 @@ Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, c
 
   // Rows.
   if (crop.southDeg > latAsc[ny - 1] || crop.northDeg < latAsc[0])
-    return varError(f, l.lat, "the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
-                                  " do not overlap the grid's " + num(latAsc[0]) + " .. " + num(latAsc[ny - 1]));
+    return varError(f, l.lat,
+                    "the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
+                        " do not overlap the grid's " + num(latAsc[0]) + " .. " + num(latAsc[ny - 1]));
   std::size_t ra = 0, rb = ny - 1;
   for (std::size_t a = 0; a < ny; ++a)
     if (latAsc[a] <= crop.southDeg) ra = a;
@@ -210,8 +216,9 @@ Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, c
         any = true;
       }
       if (!any)
-        return varError(f, l.lon, "the crop's longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) +
-                                      " do not overlap the grid's " + num(u[0]) + " .. " + num(u[n - 1]));
+        return varError(f, l.lon,
+                        "the crop's longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) +
+                            " do not overlap the grid's " + num(u[0]) + " .. " + num(u[n - 1]));
       ca = lo;
       cb = hi;
     }
@@ -279,9 +286,9 @@ Result<Horizontal> curvilinear(const NetcdfFile& f, const grid::GridLayout& l, s
         c1 = std::max(c1, i);
       }
     if (!any)
-      return varError(f, l.lat, "no grid point lies in the crop (latitudes " + num(crop.southDeg) + " .. " +
-                                    num(crop.northDeg) + ", longitudes " + num(crop.westDeg) + " .. " +
-                                    num(crop.eastDeg) + ")");
+      return varError(f, l.lat,
+                      "no grid point lies in the crop (latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
+                          ", longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) + ")");
     ra = r0 > 0 ? r0 - 1 : 0;
     rb = std::min(r1 + 1, ny - 1);
     ca = c0 > 0 ? c0 - 1 : 0;
@@ -353,8 +360,9 @@ Result<Levels> levelsOf(const NetcdfFile& f, const grid::GridLayout& l) {
       for (std::size_t i = 0; i < n; ++i) {
         lv.valuesSi.push_back((*c)[i] * vs.toSi);
         if (!(lv.valuesSi[i] > 0))
-          return varError(f, *vs.coordinate, "pressure level " + std::to_string(i) + " is " + num((*c)[i]) +
-                                                 " " + vs.coordinateUnits + ": pressures must be positive");
+          return varError(f, *vs.coordinate,
+                          "pressure level " + std::to_string(i) + " is " + num((*c)[i]) + " " + vs.coordinateUnits +
+                              ": pressures must be positive");
         ref[i] = -lv.valuesSi[i];
       }
       lv.units = "Pa";
@@ -414,8 +422,9 @@ Result<Levels> levelsOf(const NetcdfFile& f, const grid::GridLayout& l) {
     lv.upward = ref[n - 1] > ref[0];
     for (std::size_t i = 1; i < n; ++i)
       if (!(lv.upward ? ref[i] > ref[i - 1] : ref[i] < ref[i - 1]))
-        return varError(f, *vs.coordinate, "levels are not strictly monotonic (levels " + std::to_string(i - 1) +
-                                               " and " + std::to_string(i) + ")");
+        return varError(
+            f, *vs.coordinate,
+            "levels are not strictly monotonic (levels " + std::to_string(i - 1) + " and " + std::to_string(i) + ")");
   }
   return lv;
 }
@@ -425,8 +434,9 @@ Result<std::vector<std::size_t>> levelPicks(const NetcdfFile& f, const grid::Gri
                                             const GridCrop& crop) {
   const std::size_t n = l.vertical.fileLevels;
   if (crop.firstLevel >= n)
-    return varError(f, l.var, "crop: first level " + std::to_string(crop.firstLevel) + " is beyond its " +
-                                  std::to_string(n) + " levels");
+    return varError(
+        f, l.var,
+        "crop: first level " + std::to_string(crop.firstLevel) + " is beyond its " + std::to_string(n) + " levels");
   const std::size_t count = std::min(crop.levelCount, n - crop.firstLevel);
   std::vector<std::size_t> p(count);
   for (std::size_t k = 0; k < count; ++k) {
@@ -459,8 +469,9 @@ Result<Picks> supportPicks(const NetcdfFile& f, const grid::GridLayout& l, const
     else if (id == l.xDim) p.push_back(s.hz->cols);
     else if (v.shape[d] == 1) p.push_back({0});
     else
-      return varError(f, v, "dimension '" + dimensionName(v.groupId, id) + "' is not a dimension of '" + l.var.name +
-                                "': inconsistent sizes");
+      return varError(f, v,
+                      "dimension '" + dimensionName(v.groupId, id) + "' is not a dimension of '" + l.var.name +
+                          "': inconsistent sizes");
   }
   return p;
 }
@@ -525,9 +536,10 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       out.h = std::move(g);
       out.source = HeightSource::GeopotentialField;
       out.fromVariable = vs.geopotential->name;
-      out.note = what + " with the geopotential field '" + vs.geopotential->name + "'" +
-                 (vs.geopotentialToGpm != 1.0 ? " (m2 s-2 / 9.80665 = geopotential height)" : " (geopotential height)") +
-                 " -> geometric height above mean sea level (WGS84 normal gravity)";
+      out.note =
+          what + " with the geopotential field '" + vs.geopotential->name + "'" +
+          (vs.geopotentialToGpm != 1.0 ? " (m2 s-2 / 9.80665 = geopotential height)" : " (geopotential height)") +
+          " -> geometric height above mean sea level (WGS84 normal gravity)";
       return Ok{};
     }
     for (std::size_t k = 0; k < nz; ++k)
@@ -560,9 +572,9 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
           if (auto st = readField(*vs.surfaceAltitude, &surf); !st) return st.forwardError();
           for (std::size_t c = 0; c < nc; ++c) {
             if (!std::isfinite(surf[c]))
-              return varError(f, *vs.surfaceAltitude, "surface altitude missing or not finite at row " +
-                                                          std::to_string(hz.rows[c / nx]) + ", column " +
-                                                          std::to_string(hz.cols[c % nx]));
+              return varError(f, *vs.surfaceAltitude,
+                              "surface altitude missing or not finite at row " + std::to_string(hz.rows[c / nx]) +
+                                  ", column " + std::to_string(hz.cols[c % nx]));
             surf[c] *= vs.surfaceToMeters;
           }
           for (std::size_t k = 0; k < nz; ++k)
@@ -626,8 +638,7 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
                   vs.terms.at("b").name + "', '" + vs.terms.at("ps").name + "'";
         }
         for (std::size_t k = 0; k < nz; ++k)
-          for (std::size_t c = 0; c < nc; ++c)
-            p[k * nc + c] = a[s.levels[k]] * p0 + (*b)[s.levels[k]] * ps[c] * psToPa;
+          for (std::size_t c = 0; c < nc; ++c) p[k * nc + c] = a[s.levels[k]] * p0 + (*b)[s.levels[k]] * ps[c] * psToPa;
       } else {
         auto sg = readTerm(f, vs, "sigma");
         if (!sg) return sg.forwardError();
@@ -641,12 +652,13 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       }
       for (std::size_t c = 0; c < nc; ++c)
         if (!std::isfinite(ps[c]) || !(ps[c] > 0))
-          return varError(f, vs.terms.at("ps"), "surface pressure missing or not positive at row " +
-                                                    std::to_string(hz.rows[c / nx]) + ", column " +
-                                                    std::to_string(hz.cols[c % nx]));
+          return varError(f, vs.terms.at("ps"),
+                          "surface pressure missing or not positive at row " + std::to_string(hz.rows[c / nx]) +
+                              ", column " + std::to_string(hz.cols[c % nx]));
       out.fromVariable = vs.terms.at("ps").name;
-      if (auto st = fromPressure(p, true, std::string(hybrid ? "hybrid sigma-pressure" : "sigma") + " levels " +
-                                              coordName + " (" + terms + ")");
+      if (auto st = fromPressure(
+              p, true,
+              std::string(hybrid ? "hybrid sigma-pressure" : "sigma") + " levels " + coordName + " (" + terms + ")");
           !st)
         return st.forwardError();
       break;
@@ -661,11 +673,10 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       const double k0 = vs.termToSi.at("orog");
       for (std::size_t c = 0; c < nc; ++c) {
         if (!std::isfinite(orog[c]))
-          return varError(f, vs.terms.at("orog"), "surface altitude missing or not finite at row " +
-                                                      std::to_string(hz.rows[c / nx]) + ", column " +
-                                                      std::to_string(hz.cols[c % nx]));
-        for (std::size_t k = 0; k < nz; ++k)
-          out.h[k * nc + c] = (*a)[s.levels[k]] + (*b)[s.levels[k]] * orog[c] * k0;
+          return varError(f, vs.terms.at("orog"),
+                          "surface altitude missing or not finite at row " + std::to_string(hz.rows[c / nx]) +
+                              ", column " + std::to_string(hz.cols[c % nx]));
+        for (std::size_t k = 0; k < nz; ++k) out.h[k * nc + c] = (*a)[s.levels[k]] + (*b)[s.levels[k]] * orog[c] * k0;
       }
       out.note = "hybrid height levels " + coordName + ": z = a + b orog with '" + vs.terms.at("a").name + "', '" +
                  vs.terms.at("b").name + "', '" + vs.terms.at("orog").name + "' (above the geoid)";
@@ -675,7 +686,9 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       if (vs.znu) {
         Picks zp;
         for (std::size_t d = 0; d < vs.znu->dimIds.size(); ++d)
-          zp.push_back(vs.znu->dimIds[d] == l.zDim ? s.levels : std::vector<std::size_t>{vs.znu->dimIds[d] == l.time.dimId ? s.time : 0});
+          zp.push_back(vs.znu->dimIds[d] == l.zDim
+                           ? s.levels
+                           : std::vector<std::size_t>{vs.znu->dimIds[d] == l.time.dimId ? s.time : 0});
         if (auto znu = readPicked<double>(f, *vs.znu, zp)) {
           out.levelValues = *znu;
           out.levelUnits = "eta";
@@ -702,7 +715,8 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
         if (auto st = readField(*vs.pb, &pb); !st) return st.forwardError();
         for (std::size_t i = 0; i < p.size(); ++i) p[i] += pb[i];
         out.fromVariable = vs.p->name + "+" + vs.pb->name;
-        if (auto st = fromPressure(p, true, "WRF eta levels without PH/PHB: pressure P+PB"); !st) return st.forwardError();
+        if (auto st = fromPressure(p, true, "WRF eta levels without PH/PHB: pressure P+PB"); !st)
+          return st.forwardError();
       }
       break;
     }
@@ -718,8 +732,9 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
         for (std::size_t c = 0; c < nc; ++c) out.h[k * nc + c] += n[c];
       out.note += "; + EGM96 geoid undulation -> above the WGS84 ellipsoid";
     } else {
-      out.note += "; no geoid correction (geoid off): heights above sea level used as above the WGS84 ellipsoid, "
-                  "off by the undulation (-106..+85 m)";
+      out.note +=
+          "; no geoid correction (geoid off): heights above sea level used as above the WGS84 ellipsoid, "
+          "off by the undulation (-106..+85 m)";
     }
   }
   return out;
@@ -755,20 +770,22 @@ Result<std::size_t> resolveTime(const NetcdfFile& f, const grid::GridLayout& l, 
     const char* calendar = l.time.parsed ? toString(l.time.parsed->calendar) : "standard";
     auto parsed = parseCfTimeUnits("seconds since " + o.timeIso8601, calendar);
     if (!parsed)
-      return makeError(f.message("time '" + o.timeIso8601 + "' is not an ISO 8601 date-time of the " + calendar +
-                                 " calendar"));
+      return makeError(
+          f.message("time '" + o.timeIso8601 + "' is not an ISO 8601 date-time of the " + calendar + " calendar"));
     const std::string want = parsed->referenceIso8601;
     for (std::size_t i = 0; i < times.size(); ++i)
       if (times[i] == want) return i;
     if (!l.time.unitsError.empty()) return makeError(l.time.unitsError);
     std::string axis = times.empty() ? std::string("none") : times.front() + " .. " + times.back();
-    return varError(f, l.var, "no time step at " + want + " (the time axis has " + std::to_string(times.size()) +
-                                  " steps: " + axis + ")");
+    return varError(
+        f, l.var,
+        "no time step at " + want + " (the time axis has " + std::to_string(times.size()) + " steps: " + axis + ")");
   }
   const std::size_t n = l.time.dimId < 0 ? 1 : l.time.count;
   if (o.timeIndex >= n)
-    return varError(f, l.var, "time index " + std::to_string(o.timeIndex) + " is beyond its " + std::to_string(n) +
-                                  " time step" + (n == 1 ? "" : "s"));
+    return varError(f, l.var,
+                    "time index " + std::to_string(o.timeIndex) + " is beyond its " + std::to_string(n) + " time step" +
+                        (n == 1 ? "" : "s"));
   return o.timeIndex;
 }
 
@@ -791,8 +808,9 @@ Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const st
           auto why = analyse(f, kind, v);
           if (!why) return makeError(why.error() + " (no variable of the file is a 3-D grid this reader can read)");
         }
-    return makeError(f.message("no variable with a vertical and two horizontal dimensions (latitude/longitude "
-                               "coordinates) found: not a forecast grid"));
+    return makeError(
+        f.message("no variable with a vertical and two horizontal dimensions (latitude/longitude "
+                  "coordinates) found: not a forecast grid"));
   }
   auto v = findGridVariable(f, name);
   if (!v) return v.forwardError();
@@ -803,7 +821,6 @@ Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const st
 }  // namespace
 
 }  // namespace grid
-
 
 std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& variables) {
   auto shortName = [](const std::string& n) { return n.substr(n.rfind('/') + 1); };
@@ -955,7 +972,8 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
       GridDimensionInfo d;
       d.name = (gp == "/" ? "/" : gp + "/") + grid::dimensionName(g, id);
       nc_inq_dimlen(g, id, &d.length);
-      d.unlimited = std::find(unlimited.begin(), unlimited.begin() + std::max(nu, 0), id) != unlimited.begin() + std::max(nu, 0);
+      d.unlimited = std::find(unlimited.begin(), unlimited.begin() + std::max(nu, 0), id) !=
+                    unlimited.begin() + std::max(nu, 0);
       info.dimensions.push_back(std::move(d));
     }
   }
@@ -1001,11 +1019,13 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
     int n = 0;
     const double la = full->latAt(j, i, l.curvilinear), lo = full->lonAt(j, i, l.curvilinear);
     if (i + 1 < full->cols.size()) {
-      sum += globe::geodesicInverse(la, lo, full->latAt(j, i + 1, l.curvilinear), full->lonAt(j, i + 1, l.curvilinear)).distanceMeters;
+      sum += globe::geodesicInverse(la, lo, full->latAt(j, i + 1, l.curvilinear), full->lonAt(j, i + 1, l.curvilinear))
+                 .distanceMeters;
       ++n;
     }
     if (j + 1 < full->rows.size()) {
-      sum += globe::geodesicInverse(la, lo, full->latAt(j + 1, i, l.curvilinear), full->lonAt(j + 1, i, l.curvilinear)).distanceMeters;
+      sum += globe::geodesicInverse(la, lo, full->latAt(j + 1, i, l.curvilinear), full->lonAt(j + 1, i, l.curvilinear))
+                 .distanceMeters;
       ++n;
     }
     info.meanSpacingKm = n ? sum / n / 1000.0 : 0.0;

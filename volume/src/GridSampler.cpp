@@ -59,7 +59,8 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
           vs += v;
         }
         (*height)[k] = hs / static_cast<double>(grid.nx);
-        (*value)[k] = missing ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(vs / static_cast<double>(grid.nx));
+        (*value)[k] = missing ? std::numeric_limits<float>::quiet_NaN()
+                              : static_cast<float>(vs / static_cast<double>(grid.nx));
       }
     }
   }
@@ -93,8 +94,8 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
         };
         for (int b = bin(la0, latMinBin_, binLatDeg_, binsLat_); b <= bin(la1, latMinBin_, binLatDeg_, binsLat_); ++b)
           for (int c = bin(lo0, lonMinBin_, binLonDeg_, binsLon_); c <= bin(lo1, lonMinBin_, binLonDeg_, binsLon_); ++c)
-            bins_[static_cast<std::size_t>(b) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(c)].push_back(
-                static_cast<std::uint32_t>(j * (grid.nx - 1) + i));
+            bins_[static_cast<std::size_t>(b) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(c)]
+                .push_back(static_cast<std::uint32_t>(j * (grid.nx - 1) + i));
       }
   }
 
@@ -126,12 +127,14 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
           hi = glm::max(hi, p);
           pts.push_back(p);
         }
-        if (a > 0) spacing = std::max(spacing, glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b], is[a - 1]),
-                                                                                        grid.lonDegAt(js[b], is[a - 1]),
-                                                                                        maxHeight_})));
-        if (b > 0) spacing = std::max(spacing, glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b - 1], is[a]),
-                                                                                        grid.lonDegAt(js[b - 1], is[a]),
-                                                                                        maxHeight_})));
+        if (a > 0)
+          spacing = std::max(spacing,
+                             glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b], is[a - 1]),
+                                                                      grid.lonDegAt(js[b], is[a - 1]), maxHeight_})));
+        if (b > 0)
+          spacing = std::max(spacing,
+                             glm::length(top - globe::geodeticToEcef({grid.latDegAt(js[b - 1], is[a]),
+                                                                      grid.lonDegAt(js[b - 1], is[a]), maxHeight_})));
       }
     const glm::dvec3 centre = 0.5 * (lo + hi);
     double radius = 0.0;
@@ -173,9 +176,11 @@ std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lo
   const int cc = c == binsLon_ && lon <= lonMinBin_ + binsLon_ * binLonDeg_ ? c - 1 : c;
   if (bb < 0 || bb >= binsLat_ || cc < 0 || cc >= binsLon_) return std::nullopt;
   const std::size_t nx1 = grid_.nx - 1;
-  for (std::uint32_t cell : bins_[static_cast<std::size_t>(bb) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(cc)]) {
+  for (std::uint32_t cell :
+       bins_[static_cast<std::size_t>(bb) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(cc)]) {
     const std::size_t j = cell / nx1, i = cell % nx1;
-    const glm::dvec2 p00(grid_.lonDegAt(j, i), grid_.latDegAt(j, i)), p10(grid_.lonDegAt(j, i + 1), grid_.latDegAt(j, i + 1));
+    const glm::dvec2 p00(grid_.lonDegAt(j, i), grid_.latDegAt(j, i)),
+        p10(grid_.lonDegAt(j, i + 1), grid_.latDegAt(j, i + 1));
     const glm::dvec2 p01(grid_.lonDegAt(j + 1, i), grid_.latDegAt(j + 1, i));
     const glm::dvec2 p11(grid_.lonDegAt(j + 1, i + 1), grid_.latDegAt(j + 1, i + 1));
     const glm::dvec2 target(lon, latDeg);
@@ -200,7 +205,8 @@ std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lo
     }
     constexpr double kEdge = 1e-10;  // a point on a shared edge may land in either cell
     if (converged && u >= -kEdge && u <= 1.0 + kEdge && v >= -kEdge && v <= 1.0 + kEdge)
-      return glm::dvec2(static_cast<double>(i) + std::clamp(u, 0.0, 1.0), static_cast<double>(j) + std::clamp(v, 0.0, 1.0));
+      return glm::dvec2(static_cast<double>(i) + std::clamp(u, 0.0, 1.0),
+                        static_cast<double>(j) + std::clamp(v, 0.0, 1.0));
   }
   return std::nullopt;
 }

@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
-#include <fstream>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 namespace atmoglobe::volume {
@@ -37,7 +37,7 @@ using hid_t = std::int64_t;
 constexpr unsigned kObjFile = 0x0001u, kObjAttr = 0x0010u, kObjLocal = 0x0020u;
 constexpr hid_t kObjAll = 0x001F;  // H5F_OBJ_ALL as a file id: every open file
 struct Api {
-  long (*getObjCount)(hid_t, unsigned) = nullptr;                      // H5Fget_obj_count (ssize_t)
+  long (*getObjCount)(hid_t, unsigned) = nullptr;                     // H5Fget_obj_count (ssize_t)
   long (*getObjIds)(hid_t, unsigned, std::size_t, hid_t*) = nullptr;  // H5Fget_obj_ids (ssize_t)
   int (*attrClose)(hid_t) = nullptr;                                  // H5Aclose
   bool ok() const { return getObjCount && getObjIds && attrClose; }
@@ -85,10 +85,17 @@ std::size_t NcVar::elementCount() const {
 
 std::size_t ncTypeSize(nc_type type) {
   switch (type) {
-    case NC_BYTE: case NC_UBYTE: case NC_CHAR: return 1;
-    case NC_SHORT: case NC_USHORT: return 2;
-    case NC_INT: case NC_UINT: case NC_FLOAT: return 4;
-    case NC_INT64: case NC_UINT64: case NC_DOUBLE: return 8;
+    case NC_BYTE:
+    case NC_UBYTE:
+    case NC_CHAR: return 1;
+    case NC_SHORT:
+    case NC_USHORT: return 2;
+    case NC_INT:
+    case NC_UINT:
+    case NC_FLOAT: return 4;
+    case NC_INT64:
+    case NC_UINT64:
+    case NC_DOUBLE: return 8;
     default: return 0;
   }
 }
@@ -271,19 +278,18 @@ bool NetcdfFile::hasAttribute(int group, int varId, const std::string& name) con
 }
 
 Result<std::vector<double>> NetcdfFile::attributeDoubles(int group, int varId, const std::string& name,
-                                                        std::size_t maxCount) const {
+                                                         std::size_t maxCount) const {
   nc_type type = NC_NAT;
   std::size_t len = 0;
   int st = nc_inq_att(group, varId, name.c_str(), &type, &len);
   if (st != NC_NOERR) return makeError(message(attrLabel(group, varId, name) + " not found"));
   if (!ncTypeIsNumeric(type)) return makeError(message(attrLabel(group, varId, name) + " is not numeric"));
   if (len == 0 || len > maxCount)
-    return makeError(message(attrLabel(group, varId, name) + " has " + std::to_string(len) +
-                             " values, expected 1 to " + std::to_string(maxCount)));
+    return makeError(message(attrLabel(group, varId, name) + " has " + std::to_string(len) + " values, expected 1 to " +
+                             std::to_string(maxCount)));
   std::vector<double> values(len);
   st = nc_get_att_double(group, varId, name.c_str(), values.data());
-  if (st != NC_NOERR && st != NC_ERANGE)
-    return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
+  if (st != NC_NOERR && st != NC_ERANGE) return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
   return values;
 }
 
@@ -308,8 +314,8 @@ Result<std::string> NetcdfFile::attributeString(int group, int varId, const std:
   }
   if (type == NC_STRING) {
     if (len != 1)
-      return makeError(message(attrLabel(group, varId, name) + " holds " + std::to_string(len) +
-                               " strings, expected 1"));
+      return makeError(
+          message(attrLabel(group, varId, name) + " holds " + std::to_string(len) + " strings, expected 1"));
     char* p = nullptr;
     if ((st = nc_get_att_string(group, varId, name.c_str(), &p)) != NC_NOERR)
       return makeError(message(attrLabel(group, varId, name) + ": " + ncError(st)));
@@ -325,8 +331,7 @@ Status NetcdfFile::checkReadable(const NcVar& var, std::size_t elementCount, std
   // Overflow-safe product of the requested element count with the element size.
   if (elementCount > kMaxElementsPerRead)
     return makeError(message("variable '" + var.name + "' claims " + std::to_string(elementCount) +
-                             " values, more than the " + std::to_string(kMaxElementsPerRead) +
-                             " a read may hold"));
+                             " values, more than the " + std::to_string(kMaxElementsPerRead) + " a read may hold"));
   const double bytes = static_cast<double>(elementCount) * static_cast<double>(elementBytes);
   double factor = 1.0;
   if (hdf5_) {
@@ -338,16 +343,18 @@ Status NetcdfFile::checkReadable(const NcVar& var, std::size_t elementCount, std
   }
   if (bytes > static_cast<double>(fileSize_) * factor)
     return makeError(message("variable '" + var.name + "' claims " + std::to_string(elementCount) + " values (" +
-                             std::to_string(static_cast<unsigned long long>(bytes)) +
-                             " bytes), more than the " + std::to_string(fileSize_) + "-byte file can hold"));
+                             std::to_string(static_cast<unsigned long long>(bytes)) + " bytes), more than the " +
+                             std::to_string(fileSize_) + "-byte file can hold"));
   return Ok{};
 }
 
 namespace {
 template <class T>
 int getVara(int g, int v, const std::size_t* s, const std::size_t* c, T* out) {
-  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>) return nc_get_vara_schar(g, v, s, c, reinterpret_cast<signed char*>(out));
-  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>) return nc_get_vara_uchar(g, v, s, c, reinterpret_cast<unsigned char*>(out));
+  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>)
+    return nc_get_vara_schar(g, v, s, c, reinterpret_cast<signed char*>(out));
+  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>)
+    return nc_get_vara_uchar(g, v, s, c, reinterpret_cast<unsigned char*>(out));
   else if constexpr (std::is_same_v<T, short>) return nc_get_vara_short(g, v, s, c, out);
   else if constexpr (std::is_same_v<T, unsigned short>) return nc_get_vara_ushort(g, v, s, c, out);
   else if constexpr (std::is_same_v<T, int>) return nc_get_vara_int(g, v, s, c, out);
@@ -360,8 +367,10 @@ int getVara(int g, int v, const std::size_t* s, const std::size_t* c, T* out) {
 }
 template <class T>
 int getVars(int g, int v, const std::size_t* s, const std::size_t* c, const std::ptrdiff_t* d, T* out) {
-  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>) return nc_get_vars_schar(g, v, s, c, d, reinterpret_cast<signed char*>(out));
-  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>) return nc_get_vars_uchar(g, v, s, c, d, reinterpret_cast<unsigned char*>(out));
+  if constexpr (std::is_same_v<T, signed char> || std::is_same_v<T, std::int8_t>)
+    return nc_get_vars_schar(g, v, s, c, d, reinterpret_cast<signed char*>(out));
+  else if constexpr (std::is_same_v<T, unsigned char> || std::is_same_v<T, std::uint8_t>)
+    return nc_get_vars_uchar(g, v, s, c, d, reinterpret_cast<unsigned char*>(out));
   else if constexpr (std::is_same_v<T, short>) return nc_get_vars_short(g, v, s, c, d, out);
   else if constexpr (std::is_same_v<T, unsigned short>) return nc_get_vars_ushort(g, v, s, c, d, out);
   else if constexpr (std::is_same_v<T, int>) return nc_get_vars_int(g, v, s, c, d, out);
@@ -386,8 +395,8 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
   assert(start.size() == var.shape.size() && count.size() == var.shape.size());
   for (std::size_t d = 0; d < var.shape.size(); ++d) {
     if (start[d] > var.shape[d] || count[d] > var.shape[d] - start[d])
-      return makeError(message("variable '" + var.name + "': read outside its shape (dimension " +
-                               std::to_string(d) + ")"));
+      return makeError(
+          message("variable '" + var.name + "': read outside its shape (dimension " + std::to_string(d) + ")"));
   }
   const int st = getVara(var.groupId, var.varId, start.data(), count.data(), out);
   dataBytesRead_ += slabBytes(var, count);
@@ -409,8 +418,8 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
     if (count[d] == 0) continue;
     const std::size_t step = static_cast<std::size_t>(stride[d]);
     if (start[d] >= var.shape[d] || (count[d] - 1) > (var.shape[d] - 1 - start[d]) / step)
-      return makeError(message("variable '" + var.name + "': read outside its shape (dimension " +
-                               std::to_string(d) + ")"));
+      return makeError(
+          message("variable '" + var.name + "': read outside its shape (dimension " + std::to_string(d) + ")"));
   }
   const int st = getVars(var.groupId, var.varId, start.data(), count.data(), stride.data(), out);
   dataBytesRead_ += slabBytes(var, count);
@@ -426,8 +435,8 @@ Result<std::vector<T>> NetcdfFile::readAll(const NcVar& var) const {
   std::size_t n = 1;
   for (std::size_t d : var.shape) {
     if (d != 0 && n > kMaxElementsPerRead / d) {
-      return makeError(message("variable '" + var.name + "' claims more than " +
-                               std::to_string(kMaxElementsPerRead) + " values"));
+      return makeError(
+          message("variable '" + var.name + "' claims more than " + std::to_string(kMaxElementsPerRead) + " values"));
     }
     n *= d;
   }
@@ -441,7 +450,8 @@ Result<std::vector<T>> NetcdfFile::readAll(const NcVar& var) const {
 
 Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) const {
   if (var.type == NC_CHAR) {
-    if (var.shape.empty() || var.shape.size() > 2) return makeError(message("variable '" + var.name + "' is not a text array"));
+    if (var.shape.empty() || var.shape.size() > 2)
+      return makeError(message("variable '" + var.name + "' is not a text array"));
     std::vector<std::size_t> start(var.shape.size(), 0), count = var.shape;
     if (var.shape.size() == 2) {
       if (row >= var.shape[0]) return makeError(message("variable '" + var.name + "': row out of range"));
@@ -498,12 +508,12 @@ bool hasNetcdfSignature(const std::string& path) {
   return false;
 }
 
-#define ATMOGLOBE_NC_INSTANTIATE(T)                                                                   \
-  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,             \
-                                          const std::vector<std::size_t>&, T*) const;                \
-  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,             \
-                                          const std::vector<std::size_t>&,                           \
-                                          const std::vector<std::ptrdiff_t>&, T*) const;             \
+#define ATMOGLOBE_NC_INSTANTIATE(T)                                                                                \
+  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,                           \
+                                          const std::vector<std::size_t>&, T*) const;                              \
+  template Status NetcdfFile::readSlab<T>(const NcVar&, const std::vector<std::size_t>&,                           \
+                                          const std::vector<std::size_t>&, const std::vector<std::ptrdiff_t>&, T*) \
+      const;                                                                                                       \
   template Result<std::vector<T>> NetcdfFile::readAll<T>(const NcVar&) const;
 ATMOGLOBE_NC_INSTANTIATE(signed char)
 ATMOGLOBE_NC_INSTANTIATE(unsigned char)

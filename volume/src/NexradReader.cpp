@@ -6,12 +6,12 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <limits>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -133,7 +133,8 @@ Status Parser::parseRecord(const unsigned char* data, std::size_t size, std::siz
         return fail(record, "message 31 at byte " + std::to_string(pos) + " claims " + std::to_string(messageBytes) +
                                 " bytes, beyond the record (" + std::to_string(size) + " bytes)");
       }
-      if (Status s = parseRadial(header + kMessageHeaderBytes, messageBytes - kMessageHeaderBytes, record); !s) return s;
+      if (Status s = parseRadial(header + kMessageHeaderBytes, messageBytes - kMessageHeaderBytes, record); !s)
+        return s;
       pos += kCtmBytes + messageBytes;
     } else {
       const std::size_t bodyBytes = std::min(kFrameBytes, size - pos) - kCtmBytes - kMessageHeaderBytes;
@@ -199,7 +200,8 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
   for (std::size_t b = 0; b < blockCount; ++b) {
     const std::size_t ptr = be32(body + kRadialHeaderBytes + b * 4);
     if (ptr == 0) continue;
-    if (ptr + 4 > size) return fail(record, where + ": data block pointer " + std::to_string(ptr) + " outside the message");
+    if (ptr + 4 > size)
+      return fail(record, where + ": data block pointer " + std::to_string(ptr) + " outside the message");
     const unsigned char* block = body + ptr;
     const std::string name = trimName(block + 1, 3);
     if (block[0] == 'R' && name == "VOL") {
@@ -233,13 +235,16 @@ Status Parser::parseRadial(const unsigned char* body, std::size_t size, std::siz
       const float scale = beFloat(block + 20);
       const float offset = beFloat(block + 24);
       if (wordBits != 8 && wordBits != 16) {
-        return fail(record, where + ": moment " + name + " has word size " + std::to_string(wordBits) + " (8 or 16 expected)");
+        return fail(record,
+                    where + ": moment " + name + " has word size " + std::to_string(wordBits) + " (8 or 16 expected)");
       }
       const std::size_t dataBytes = std::size_t{gates} * (wordBits / 8);
       if (ptr + kMomentHeaderBytes + dataBytes > size) {
-        return fail(record, where + ": moment " + name + " claims " + std::to_string(gates) + " gates, beyond the message");
+        return fail(record,
+                    where + ": moment " + name + " claims " + std::to_string(gates) + " gates, beyond the message");
       }
-      if (interval <= 0) return fail(record, where + ": moment " + name + " gate interval " + std::to_string(interval) + " m");
+      if (interval <= 0)
+        return fail(record, where + ": moment " + name + " gate interval " + std::to_string(interval) + " m");
       if (!std::isfinite(scale) || scale == 0.0f || !std::isfinite(offset)) {
         return fail(record, where + ": moment " + name + " has an unusable scale/offset");
       }
@@ -306,7 +311,8 @@ Status decompressRecord(const std::string& path, std::size_t record, const unsig
     }
     if (strm.avail_in == 0 && strm.avail_out != 0) {
       BZ2_bzDecompressEnd(&strm);
-      return makeError(path + ": NEXRAD record " + std::to_string(record) + ": bzip2 stream ends early (truncated file?)");
+      return makeError(path + ": NEXRAD record " + std::to_string(record) +
+                       ": bzip2 stream ends early (truncated file?)");
     }
   }
   BZ2_bzDecompressEnd(&strm);
@@ -323,10 +329,13 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
   while (pos < file.size()) {
     if (file.size() - pos < 4) return makeError(path + ": truncated NEXRAD record size at byte " + std::to_string(pos));
     const auto control = static_cast<std::int32_t>(be32(&file[pos]));
-    const std::size_t length = control < 0 ? std::size_t{0} - static_cast<std::size_t>(static_cast<std::int64_t>(control))
-                                           : static_cast<std::size_t>(control);
+    const std::size_t length = control < 0
+                                   ? std::size_t{0} - static_cast<std::size_t>(static_cast<std::int64_t>(control))
+                                   : static_cast<std::size_t>(control);
     pos += 4;
-    if (length == 0) return makeError(path + ": NEXRAD record " + std::to_string(record) + " at byte " + std::to_string(pos - 4) + " has size 0");
+    if (length == 0)
+      return makeError(path + ": NEXRAD record " + std::to_string(record) + " at byte " + std::to_string(pos - 4) +
+                       " has size 0");
     if (length > file.size() - pos) {
       return makeError(path + ": NEXRAD record " + std::to_string(record) + " at byte " + std::to_string(pos - 4) +
                        " claims " + std::to_string(length) + " bytes but only " + std::to_string(file.size() - pos) +
@@ -347,7 +356,8 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
 
   if (parser.radials == 0) {
     if (parser.legacyRadials > 0) {
-      return makeError(path + ": holds only legacy message-1 radials (Archive II before 2008), which are not supported");
+      return makeError(path +
+                       ": holds only legacy message-1 radials (Archive II before 2008), which are not supported");
     }
     return makeError(path + ": no message 31 radials found (not a NEXRAD Level II volume, or empty)");
   }
@@ -396,7 +406,8 @@ Result<RadarVolume> readWithField(const std::string& path, const std::vector<uns
     sw.gateCount = cut.stride;
     sw.azimuthDeg = std::move(cut.azimuthDeg);
     sw.elevationDeg = std::move(cut.elevationDeg);
-    if (number >= 1 && static_cast<std::size_t>(number) <= parser.vcpAnglesDeg.size() && parser.vcpAnglesDeg[number - 1] > 0) {
+    if (number >= 1 && static_cast<std::size_t>(number) <= parser.vcpAnglesDeg.size() &&
+        parser.vcpAnglesDeg[number - 1] > 0) {
       sw.fixedAngleDeg = parser.vcpAnglesDeg[number - 1];
     } else {
       double sum = 0;

@@ -49,7 +49,8 @@ OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3&
   for (int z = 0; z < grid.cells.z; ++z)
     for (int y = 0; y < grid.cells.y; ++y)
       for (int x = 0; x < grid.cells.x; ++x) {
-        float& b = grid.blockMaxValues[(static_cast<std::size_t>(z / kB) * grid.blocks.y + y / kB) * grid.blocks.x + x / kB];
+        float& b =
+            grid.blockMaxValues[(static_cast<std::size_t>(z / kB) * grid.blocks.y + y / kB) * grid.blocks.x + x / kB];
         b = std::max(b, grid.maxValues[grid.cellIndex(x, y, z)]);
       }
   return grid;

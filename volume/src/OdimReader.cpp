@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <memory>
 #include <map>
+#include <memory>
 #include <optional>
 
 namespace atmoglobe::volume {
@@ -61,8 +61,8 @@ Result<std::size_t> requiredCount(const NetcdfFile& f, const GroupChain& chain, 
   auto v = requiredDouble(f, chain, name, where);
   if (!v) return v.forwardError();
   if (*v < 1.0 || *v > maxValue || std::floor(*v) != *v)
-    return makeError(f.message(where + ": attribute '" + name + "' = " + formatNumber(*v) +
-                               " is not a count in [1, " + std::to_string(static_cast<long long>(maxValue)) + "]"));
+    return makeError(f.message(where + ": attribute '" + name + "' = " + formatNumber(*v) + " is not a count in [1, " +
+                               std::to_string(static_cast<long long>(maxValue)) + "]"));
   return static_cast<std::size_t>(*v);
 }
 
@@ -124,10 +124,10 @@ double wrap360(double a) {
 }
 
 struct DataGroup {
-  int groupId = -1;   ///< dataM
-  int whatId = -1;    ///< dataM/what
+  int groupId = -1;  ///< dataM
+  int whatId = -1;   ///< dataM/what
   std::string quantity;
-  std::string path;   ///< "/datasetN/dataM" for messages
+  std::string path;  ///< "/datasetN/dataM" for messages
 };
 
 /// dataM/data, checked to be a numeric array shaped (nrays, nbins) as /datasetN/where says.
@@ -148,12 +148,12 @@ Result<NcVar> dataArray(const NetcdfFile& f, const DataGroup& dg, const Sweep& s
 
 std::string odimQuantityUnits(const std::string& q) {
   static const std::map<std::string, std::string> units = {
-      {"TH", "dBZ"},     {"TV", "dBZ"},       {"DBZH", "dBZ"},   {"DBZV", "dBZ"},    {"DBZH_CLEAN", "dBZ"},
-      {"VRAD", "m/s"},   {"VRADH", "m/s"},    {"VRADV", "m/s"},  {"VRADDH", "m/s"},  {"VRADDV", "m/s"},
-      {"WRAD", "m/s"},   {"WRADH", "m/s"},    {"WRADV", "m/s"},  {"ZDR", "dB"},      {"LDR", "dB"},
-      {"RHOHV", "1"},    {"PHIDP", "deg"},    {"KDP", "deg/km"}, {"SQI", "1"},       {"SNR", "dB"},
-      {"SNRH", "dB"},    {"SNRV", "dB"},      {"CCOR", "dB"},    {"CCORH", "dB"},    {"RATE", "mm/h"},
-      {"ACRR", "mm"},    {"HGHT", "km"},      {"CLASS", "1"},    {"QCFLAGS", "1"},
+      {"TH", "dBZ"},   {"TV", "dBZ"},    {"DBZH", "dBZ"},   {"DBZV", "dBZ"},   {"DBZH_CLEAN", "dBZ"},
+      {"VRAD", "m/s"}, {"VRADH", "m/s"}, {"VRADV", "m/s"},  {"VRADDH", "m/s"}, {"VRADDV", "m/s"},
+      {"WRAD", "m/s"}, {"WRADH", "m/s"}, {"WRADV", "m/s"},  {"ZDR", "dB"},     {"LDR", "dB"},
+      {"RHOHV", "1"},  {"PHIDP", "deg"}, {"KDP", "deg/km"}, {"SQI", "1"},      {"SNR", "dB"},
+      {"SNRH", "dB"},  {"SNRV", "dB"},   {"CCOR", "dB"},    {"CCORH", "dB"},   {"RATE", "mm/h"},
+      {"ACRR", "mm"},  {"HGHT", "km"},   {"CLASS", "1"},    {"QCFLAGS", "1"},
   };
   auto it = units.find(q);
   return it == units.end() ? std::string() : it->second;
@@ -188,8 +188,10 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
   if (!lon) return lon.forwardError();
   auto height = requiredDouble(f, {rootWhere}, "height", "/where");
   if (!height) return height.forwardError();
-  if (*lat < -90.0 || *lat > 90.0) return makeError(f.message("/where/lat " + std::to_string(*lat) + " is outside [-90, 90]"));
-  if (*lon < -540.0 || *lon > 540.0) return makeError(f.message("/where/lon " + std::to_string(*lon) + " is outside [-540, 540]"));
+  if (*lat < -90.0 || *lat > 90.0)
+    return makeError(f.message("/where/lat " + std::to_string(*lat) + " is outside [-90, 90]"));
+  if (*lon < -540.0 || *lon > 540.0)
+    return makeError(f.message("/where/lon " + std::to_string(*lon) + " is outside [-540, 540]"));
   vol.site.latDeg = *lat;
   vol.site.lonDeg = std::remainder(*lon, 360.0);
   vol.site.antennaHeightMeters = *height;
@@ -218,8 +220,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     const std::string where = "/" + dsName;
     if (dsWhere < 0) return makeError(f.message(where + ": no 'where' group (sweep geometry)"));
     // Nyquist interval (ODIM how/NI, m/s), the dataset's or the volume's: the largest.
-    if (auto ni = optionalDouble(f, {dsHow, rootHow}, "NI"); ni && *ni > 0.0 && *ni < 200.0 &&
-                                                               !(*ni <= vol.nyquistVelocityMps))
+    if (auto ni = optionalDouble(f, {dsHow, rootHow}, "NI");
+        ni && *ni > 0.0 && *ni < 200.0 && !(*ni <= vol.nyquistVelocityMps))
       vol.nyquistVelocityMps = *ni;
 
     auto nbins = requiredCount(f, {dsWhere}, "nbins", where + "/where", kMaxBins);
@@ -255,7 +257,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       if (!a) return a.forwardError();
       if (!b) return b.forwardError();
       if (a->size() != nr || b->size() != nr)
-        return makeError(f.message(where + "/how: startazA/stopazA do not hold nrays = " + std::to_string(nr) + " values"));
+        return makeError(
+            f.message(where + "/how: startazA/stopazA do not hold nrays = " + std::to_string(nr) + " values"));
       for (std::size_t i = 0; i < nr; ++i) {
         if (!std::isfinite((*a)[i]) || !std::isfinite((*b)[i]))
           return makeError(f.message(where + "/how: startazA/stopazA of ray " + std::to_string(i) + " is not finite"));
@@ -277,7 +280,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       if (e->size() != nr)
         return makeError(f.message(where + "/how: elangles does not hold nrays = " + std::to_string(nr) + " values"));
       for (std::size_t i = 0; i < nr; ++i) {
-        if (!std::isfinite((*e)[i])) return makeError(f.message(where + "/how: elangles of ray " + std::to_string(i) + " is not finite"));
+        if (!std::isfinite((*e)[i]))
+          return makeError(f.message(where + "/how: elangles of ray " + std::to_string(i) + " is not finite"));
         sw.elevationDeg[i] = static_cast<float>((*e)[i]);
       }
     }
@@ -294,7 +298,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       if (!q) return q.forwardError();
       dg.quantity = *q;
       dg.path = where + "/" + dataName;
-      if (std::none_of(vol.fields.begin(), vol.fields.end(), [&](const FieldInfo& fi) { return fi.name == dg.quantity; }))
+      if (std::none_of(vol.fields.begin(), vol.fields.end(),
+                       [&](const FieldInfo& fi) { return fi.name == dg.quantity; }))
         vol.fields.push_back(FieldInfo{dg.quantity, odimQuantityUnits(dg.quantity), {}});
       groups.push_back(std::move(dg));
     }

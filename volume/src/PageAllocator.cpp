@@ -30,7 +30,7 @@ void populatePages(void* data, std::size_t bytes, std::size_t minBytes) {
   const std::size_t page = pageBytes();
   const auto begin = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t first = (begin + page - 1) & ~(page - 1);  // whole pages only: the
-  const std::uintptr_t last = (begin + bytes) & ~(page - 1);       // partial ones are shared
+  const std::uintptr_t last = (begin + bytes) & ~(page - 1);      // partial ones are shared
   if (last <= first) return;
   (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
 #else

@@ -80,11 +80,12 @@ double rayCoordinate(const PolarSweepLayout& s, double azimuthDeg) {
   const std::vector<float>& a = s.azimuthDeg;
   const int n = s.rayCount;
   // First ray with azimuth > az; the ray before it is the one at or below.
-  const auto it = std::upper_bound(a.begin(), a.end(), az, [](double x, float v) { return x < static_cast<double>(v); });
+  const auto it =
+      std::upper_bound(a.begin(), a.end(), az, [](double x, float v) { return x < static_cast<double>(v); });
   const int above = static_cast<int>(it - a.begin());
   const double first = static_cast<double>(a.front());
   const double last = static_cast<double>(a.back());
-  const double wrapSpan = first + 360.0 - last;  // > 0: azimuths are distinct and in [0, 360)
+  const double wrapSpan = first + 360.0 - last;                     // > 0: azimuths are distinct and in [0, 360)
   if (above == 0) return (n - 1) + (az + 360.0 - last) / wrapSpan;  // before the first ray
   if (above == n) return (n - 1) + (az - last) / wrapSpan;          // after the last ray
   const double lo = static_cast<double>(a[static_cast<std::size_t>(above - 1)]);
@@ -129,8 +130,7 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
     if (s.mode == SweepMode::Ppi) ppi.push_back(&s);
   }
   if (ppi.empty()) {
-    if (anyRhi)
-      return makeError(file + ": RHI volumes cannot be volume-rendered yet; export or `gates` them");
+    if (anyRhi) return makeError(file + ": RHI volumes cannot be volume-rendered yet; export or `gates` them");
     return makeError(file + ": no PPI sweep to volume-render");
   }
   if (volume.loadedField.name.empty())
@@ -190,16 +190,15 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
     layout.rayCount = static_cast<int>(unique.size());
     out.maxRays = std::max(out.maxRays, layout.rayCount);
     out.maxGates = std::max(out.maxGates, layout.gateCount);
-    out.maxRangeMeters = std::max(out.maxRangeMeters, s.firstGateRangeMeters +
-                                                          (s.gateCount - 1) * s.gateSpacingMeters +
+    out.maxRangeMeters = std::max(out.maxRangeMeters, s.firstGateRangeMeters + (s.gateCount - 1) * s.gateSpacingMeters +
                                                           0.5 * s.gateSpacingMeters);
     out.sweeps.push_back(std::move(layout));
     rayOrder[k] = std::move(unique);
   }
   if (!(out.maxRangeMeters > 0.0)) return makeError(file + ": the gates end at or before the antenna");
   {
-    const glm::dvec3 antenna = globe::geodeticToEcef(
-        globe::Geodetic{out.site.latDeg, out.site.lonDeg, out.site.antennaHeightEllipsoidMeters});
+    const glm::dvec3 antenna =
+        globe::geodeticToEcef(globe::Geodetic{out.site.latDeg, out.site.lonDeg, out.site.antennaHeightEllipsoidMeters});
     const double hb = 0.5 * out.beamWidthDeg;
     const double elLo = std::max(-90.0, out.sweeps.front().elevationDeg - hb);
     const double elHi = std::min(90.0, out.sweeps.back().elevationDeg + hb);
@@ -217,7 +216,8 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
 
   // The padded array: bounded so that odd sweep shapes cannot ask for an unbounded allocation.
   constexpr std::size_t kMaxValues = std::size_t{1} << 28;  // 1 GiB of float
-  const std::size_t total = out.sweeps.size() * static_cast<std::size_t>(out.maxRays) * static_cast<std::size_t>(out.maxGates);
+  const std::size_t total =
+      out.sweeps.size() * static_cast<std::size_t>(out.maxRays) * static_cast<std::size_t>(out.maxGates);
   if (total > kMaxValues) {
     std::ostringstream msg;
     msg << file << ": the polar layout would need " << total << " values (" << out.sweeps.size() << " sweeps x "
@@ -230,7 +230,8 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
     const Sweep& s = *kept[k];
     for (std::size_t row = 0; row < rayOrder[k].size(); ++row) {
       const float* src = s.values.data() + static_cast<std::size_t>(rayOrder[k][row]) * s.gateCount;
-      float* dst = out.values.data() + (k * static_cast<std::size_t>(out.maxRays) + row) * static_cast<std::size_t>(out.maxGates);
+      float* dst = out.values.data() +
+                   (k * static_cast<std::size_t>(out.maxRays) + row) * static_cast<std::size_t>(out.maxGates);
       std::copy(src, src + s.gateCount, dst);
       for (std::uint32_t g = 0; g < s.gateCount; ++g)
         if (isMeasuredValue(src[g])) {
@@ -313,7 +314,6 @@ double cartesianEquivalentBytes(const PolarVolume& v, double bytesPerVoxel) {
   return nxy * nxy * nz * bytesPerVoxel;
 }
 
-
 StraightElevationBand straightElevationBand(const PolarVolume& v, bool straightBeam) {
   StraightElevationBand band;
   if (v.sweeps.empty()) return band;
@@ -334,11 +334,9 @@ double StraightElevationBand::hiDegAt(double rangeMeters) const {
 }
 
 PolarSampler::PolarSampler(const PolarVolume& volume, bool rejectOutsideShell)
-    : volume_(volume),
-      antennaEcef_(globe::geodeticToEcef(
-          globe::Geodetic{volume.site.latDeg, volume.site.lonDeg, volume.site.antennaHeightEllipsoidMeters})),
-      upEcef_(globe::enuAxes(volume.site.latDeg, volume.site.lonDeg)[2]),
-      band_(straightElevationBand(volume)),
+    : volume_(volume), antennaEcef_(globe::geodeticToEcef(globe::Geodetic{volume.site.latDeg, volume.site.lonDeg,
+                                                                          volume.site.antennaHeightEllipsoidMeters})),
+      upEcef_(globe::enuAxes(volume.site.latDeg, volume.site.lonDeg)[2]), band_(straightElevationBand(volume)),
       reject_(rejectOutsideShell && !volume.sweeps.empty() && volume.beam.ke > 0.0) {}
 
 BoundingSphere PolarSampler::boundingSphere() const {

@@ -60,7 +60,8 @@ RadarFormat classifyHdf5(const NetcdfFile& f) {
   }
   if (conventions.rfind("ODIM_H5", 0) == 0) return RadarFormat::OdimH5;
   for (const std::string* s : {&conventions, &version}) {
-    if (contains(*s, "CF/Radial") || contains(*s, "CF-Radial") || contains(*s, "Cf/Radial")) return RadarFormat::CfRadial;
+    if (contains(*s, "CF/Radial") || contains(*s, "CF-Radial") || contains(*s, "Cf/Radial"))
+      return RadarFormat::CfRadial;
   }
   if (f.findVariable(f.root(), "sweep_start_ray_index")) return RadarFormat::CfRadial;
   if (auto what = f.findGroup(f.root(), "what"); what && f.hasAttribute(*what, NC_GLOBAL, "object"))
@@ -124,8 +125,9 @@ Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& 
       case RadarFormat::CfRadial: return readCfRadial(*opened, options);
       case RadarFormat::OdimH5: return readOdimH5(*opened, options);
       default:
-        return makeError(path + ": an HDF5/netCDF-4 file that is neither ODIM_H5 (no Conventions \"ODIM_H5/...\" "
-                                "or /what:object) nor CfRadial (no CF/Radial Conventions or sweep_start_ray_index)");
+        return makeError(path +
+                         ": an HDF5/netCDF-4 file that is neither ODIM_H5 (no Conventions \"ODIM_H5/...\" "
+                         "or /what:object) nor CfRadial (no CF/Radial Conventions or sweep_start_ray_index)");
     }
   }
   switch (*format) {
@@ -148,7 +150,9 @@ Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std:
   return makeError("no " + noun + " '" + wanted + "' (the file has: " + names + ")");
 }
 
-std::string chooseDefaultField(const std::vector<FieldInfo>& fields) { return chooseDefaultFieldWithReason(fields).name; }
+std::string chooseDefaultField(const std::vector<FieldInfo>& fields) {
+  return chooseDefaultFieldWithReason(fields).name;
+}
 
 std::string normalizeIso8601(const std::string& text) {
   // YYYY-MM-DD[T ]HH:MM:SS, anything after the seconds (fraction, zone "Z") ignored.
@@ -198,7 +202,10 @@ std::string describeVolumeJson(const RadarVolume& v) {
   nlohmann::ordered_json fields = nlohmann::ordered_json::array();
   for (const FieldInfo& f : v.fields) {
     const FieldKindEvidence k = classifyField(f);
-    fields.push_back({{"name", f.name}, {"units", f.units}, {"standard_name", f.standardName}, {"kind", toString(k.kind)},
+    fields.push_back({{"name", f.name},
+                      {"units", f.units},
+                      {"standard_name", f.standardName},
+                      {"kind", toString(k.kind)},
                       {"kind_reason", k.reason}});
   }
   j["fields"] = std::move(fields);
@@ -225,10 +232,10 @@ std::string describeVolumeText(const RadarVolume& v) {
   for (std::size_t i = 0; i < v.sweeps.size(); ++i) {
     const Sweep& s = v.sweeps[i];
     os << "  " << std::setw(5) << i << "  " << std::setw(15) << std::setprecision(2) << s.fixedAngleDeg
-       << (s.mode == SweepMode::Rhi ? "a" : " ") << " " << std::setw(5) << std::left << toString(s.mode)
-       << std::right << " " << std::setw(5) << s.rayCount() << "  " << std::setw(5) << s.gateCount << "  "
-       << std::setw(12) << std::setprecision(1) << s.firstGateRangeMeters << "  " << std::setw(14)
-       << std::setprecision(2) << s.gateSpacingMeters << "\n";
+       << (s.mode == SweepMode::Rhi ? "a" : " ") << " " << std::setw(5) << std::left << toString(s.mode) << std::right
+       << " " << std::setw(5) << s.rayCount() << "  " << std::setw(5) << s.gateCount << "  " << std::setw(12)
+       << std::setprecision(1) << s.firstGateRangeMeters << "  " << std::setw(14) << std::setprecision(2)
+       << s.gateSpacingMeters << "\n";
   }
   if (std::any_of(v.sweeps.begin(), v.sweeps.end(), [](const Sweep& s) { return s.mode == SweepMode::Rhi; }))
     os << "  (a: the fixed angle of an RHI sweep is its azimuth)\n";

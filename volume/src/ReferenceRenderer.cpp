@@ -12,7 +12,6 @@
 namespace atmoglobe::volume {
 namespace {
 
-
 // One layer along one ray: its sample indices [iFirst, iLast] (t_i = (i + 0.5) step inside its
 // interval, i >= 0).
 struct LayerRange {
@@ -205,11 +204,11 @@ VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const Ren
   auto work = [&](int first) {
     for (int y = first; y < camera.heightPx; y += nThreads)
       for (int x = 0; x < camera.widthPx; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.widthPx) +
-                              static_cast<std::size_t>(x);
+        const std::size_t i =
+            static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.widthPx) + static_cast<std::size_t>(x);
         const glm::dvec3 dir = pixelRayDirection(camera, x + 0.5, y + 0.5);
-        const double occluder =
-            occluderRayMeters.empty() ? std::numeric_limits<double>::infinity() : occluderRayMeters[i];
+        const double occluder = occluderRayMeters.empty() ? std::numeric_limits<double>::infinity()
+                                                          : occluderRayMeters[i];
         img.rgbaPremultiplied[i] = marchRay(ctx, camera.eyeEcef, dir, occludeByEllipsoid, occluder);
       }
   };
@@ -220,8 +219,8 @@ VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const Ren
   return img;
 }
 
-VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings,
-                            const RenderCamera& camera, bool occludeByEllipsoid, int threads, bool rejectOutsideShell) {
+VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings, const RenderCamera& camera,
+                            bool occludeByEllipsoid, int threads, bool rejectOutsideShell) {
   assert(!volume.sweeps.empty());
   const PolarSampler sampler(volume, rejectOutsideShell);
   return renderReference({ReferenceLayer{&sampler, settings}}, camera, occludeByEllipsoid, threads);

@@ -34,7 +34,8 @@ std::string trim(const std::string& s) {
 // `height` is kept apart: it is the elevation unless an elevation-like column/key also exists.
 Column columnFor(const std::string& rawName) {
   const std::string n = lower(trim(rawName));
-  if (n == "id" || n == "icao" || n == "station" || n == "station_id" || n == "site" || n == "site_id") return Column::Id;
+  if (n == "id" || n == "icao" || n == "station" || n == "station_id" || n == "site" || n == "site_id")
+    return Column::Id;
   if (n == "lat" || n == "latitude" || n == "lat_deg") return Column::Lat;
   if (n == "lon" || n == "long" || n == "longitude" || n == "lng" || n == "lon_deg") return Column::Lon;
   if (n == "elev" || n == "elevation" || n == "elevation_m" || n == "altitude" || n == "alt") return Column::Elevation;
@@ -82,7 +83,8 @@ std::string numberText(double v) {
 // Range checks on one station; `where` is "line 7" or "entry 'KTLX'".
 std::optional<std::string> checkStation(Station& s) {
   if (s.id.empty()) return std::string("empty id");
-  if (!(s.latDeg >= -90.0 && s.latDeg <= 90.0)) return "bad latitude " + numberText(s.latDeg) + " (must be in [-90, 90])";
+  if (!(s.latDeg >= -90.0 && s.latDeg <= 90.0))
+    return "bad latitude " + numberText(s.latDeg) + " (must be in [-90, 90])";
   if (!(s.lonDeg >= -360.0 && s.lonDeg <= 360.0))
     return "bad longitude " + numberText(s.lonDeg) + " (must be in [-360, 360])";
   s.lonDeg = std::remainder(s.lonDeg, 360.0);
@@ -159,13 +161,18 @@ Result<std::vector<Station>> parseCsv(const std::string& text, const std::string
       haveHeader = true;
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const Column c = columnFor(fields[k]);
-        int* slot = c == Column::Id ? &colId : c == Column::Lat ? &colLat : c == Column::Lon ? &colLon
-                  : c == Column::Elevation ? &colElev : c == Column::Height ? &colHeight
-                  : c == Column::Tower ? &colTower : c == Column::Name ? &colName : nullptr;
+        int* slot = c == Column::Id          ? &colId
+                    : c == Column::Lat       ? &colLat
+                    : c == Column::Lon       ? &colLon
+                    : c == Column::Elevation ? &colElev
+                    : c == Column::Height    ? &colHeight
+                    : c == Column::Tower     ? &colTower
+                    : c == Column::Name      ? &colName
+                                             : nullptr;
         if (!slot) continue;
         if (*slot >= 0)
-          return makeError(where + "header names two columns for the same thing: " + shortText(fields[static_cast<std::size_t>(*slot)]) +
-                           " and " + shortText(fields[k]));
+          return makeError(where + "header names two columns for the same thing: " +
+                           shortText(fields[static_cast<std::size_t>(*slot)]) + " and " + shortText(fields[k]));
         *slot = static_cast<int>(k);
       }
       std::string missing;
@@ -189,7 +196,9 @@ Result<std::vector<Station>> parseCsv(const std::string& text, const std::string
     s.id = trim(fields[static_cast<std::size_t>(colId)]);
     auto number = [&](int col, Column what, double* dst) -> std::optional<std::string> {
       const auto v = parseNumber(fields[static_cast<std::size_t>(col)]);
-      if (!v) return std::string(columnLabel(what)) + " " + shortText(fields[static_cast<std::size_t>(col)]) + " is not a number";
+      if (!v)
+        return std::string(columnLabel(what)) + " " + shortText(fields[static_cast<std::size_t>(col)]) +
+               " is not a number";
       *dst = *v;
       return std::nullopt;
     };
@@ -243,13 +252,25 @@ std::optional<std::string> stationFromJson(const Json& obj, std::string id, Stat
   const Json* idValue = nullptr;
   for (const auto& [key, value] : obj.items()) {
     switch (columnFor(key)) {
-      case Column::Id: if (!idValue) idValue = &value; break;
-      case Column::Lat: if (!lat) lat = &value; break;
-      case Column::Lon: if (!lon) lon = &value; break;
-      case Column::Elevation: if (!elev) elev = &value; break;
+      case Column::Id:
+        if (!idValue) idValue = &value;
+        break;
+      case Column::Lat:
+        if (!lat) lat = &value;
+        break;
+      case Column::Lon:
+        if (!lon) lon = &value;
+        break;
+      case Column::Elevation:
+        if (!elev) elev = &value;
+        break;
       case Column::Height: height = &value; break;
-      case Column::Tower: if (!tower) tower = &value; break;
-      case Column::Name: if (!name) name = &value; break;
+      case Column::Tower:
+        if (!tower) tower = &value;
+        break;
+      case Column::Name:
+        if (!name) name = &value;
+        break;
       case Column::Other: break;
     }
   }
@@ -334,7 +355,8 @@ Result<std::vector<Station>> parseStationList(const std::string& text, const std
   if (text.size() >= 3 && std::memcmp(text.data(), "\xEF\xBB\xBF", 3) == 0) start = 3;  // UTF-8 BOM
   std::size_t first = start;
   while (first < text.size() && std::isspace(static_cast<unsigned char>(text[first]))) ++first;
-  if (first == text.size()) return makeError(sourceName + ": the file is empty (expected CSV with a header row, or JSON)");
+  if (first == text.size())
+    return makeError(sourceName + ": the file is empty (expected CSV with a header row, or JSON)");
   const std::string body = text.substr(start);
   if (text[first] == '[' || text[first] == '{') return parseJson(body, sourceName);
   return parseCsv(body, sourceName);

@@ -116,7 +116,8 @@ std::vector<std::uint8_t> encodeSweepImagePng(const SweepImage& image) {
     const auto* bytes = static_cast<const std::uint8_t*>(data);
     v->insert(v->end(), bytes, bytes + size);
   };
-  if (!stbi_write_png_to_func(sink, &out, image.width, image.height, 4, image.rgba.data(), image.width * 4)) out.clear();
+  if (!stbi_write_png_to_func(sink, &out, image.width, image.height, 4, image.rgba.data(), image.width * 4))
+    out.clear();
   return out;
 }
 

@@ -7,23 +7,23 @@
 
 #include <netcdf.h>
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
-#include <unistd.h>
 #include <vector>
 
 namespace atmoglobe::volume {
 
 namespace {
 
-constexpr double kDbzScale = 0.01;   // dbz scale_factor (dB per count)
-constexpr short kDbzFill = -32768;   // dbz _FillValue (never written: nothing is missing)
+constexpr double kDbzScale = 0.01;  // dbz scale_factor (dB per count)
+constexpr short kDbzFill = -32768;  // dbz _FillValue (never written: nothing is missing)
 constexpr double kClearAirDbz = -30.0;
-constexpr double kEchoDbz = 5.0;     // what the summary counts as echo
+constexpr double kEchoDbz = 5.0;  // what the summary counts as echo
 
 // netCDF-C call wrapper: the first failure is kept, naming the file and what was written.
 class NcWriter {
@@ -32,14 +32,16 @@ class NcWriter {
   bool ok() const { return err_.empty(); }
   const std::string& error() const { return err_; }
   void check(int status, const std::string& what) {
-    if (status != NC_NOERR && err_.empty()) err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
+    if (status != NC_NOERR && err_.empty())
+      err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
   }
   void text(int varid, const char* name, const std::string& value) {
     check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
   }
   int var(const char* name, nc_type type, std::vector<int> dims) {
     int id = -1;
-    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id), name);
+    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id),
+          name);
     return id;
   }
   int ncid() const { return ncid_; }
@@ -76,7 +78,7 @@ double orography(double latDeg, double lonDeg) {
 }
 
 struct Column {
-  double xKm, yKm;       // east / north of the radar site in its azimuthal-equidistant plane
+  double xKm, yKm;  // east / north of the radar site in its azimuthal-equidistant plane
   double orogMeters;
 };
 
@@ -87,7 +89,8 @@ Status validateSyntheticGridOptions(const SyntheticGridOptions& o) {
   if (o.nx < 2 || o.nx > 2000 || o.ny < 2 || o.ny > 2000) return bad("nx and ny must be in 2..2000");
   if (o.levels < 2 || o.levels > 200) return bad("levels must be in 2..200");
   if (o.times < 1 || o.times > 1000) return bad("times must be in 1..1000");
-  if (static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.levels) * static_cast<double>(o.times) >
+  if (static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.levels) *
+          static_cast<double>(o.times) >
       2147483648.0)
     return bad("more than 2^31 values");
   if (!(o.spacingKm >= 0.1 && o.spacingKm <= 100.0)) return bad("spacing must be in 0.1..100 km");
@@ -114,8 +117,9 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
 
   // --- geometry: latitudes north to south, longitudes 0..360, as GRIB-converted files write them ---
   const double dLatDeg = radiansToDegrees(o.spacingKm * 1000.0 / globe::meridionalRadiusMeters(o.centerLatDeg));
-  const double dLonDeg = radiansToDegrees(o.spacingKm * 1000.0 / (globe::primeVerticalRadiusMeters(o.centerLatDeg) *
-                                                                  std::cos(degreesToRadians(o.centerLatDeg))));
+  const double dLonDeg =
+      radiansToDegrees(o.spacingKm * 1000.0 /
+                       (globe::primeVerticalRadiusMeters(o.centerLatDeg) * std::cos(degreesToRadians(o.centerLatDeg))));
   std::vector<double> lat(ny), lon(nx);
   for (std::size_t r = 0; r < ny; ++r)
     lat[r] = o.centerLatDeg + (static_cast<double>(ny - 1) / 2.0 - static_cast<double>(r)) * dLatDeg;
@@ -128,8 +132,8 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
   std::vector<float> levels(nz);
   for (std::size_t k = 0; k < nz; ++k) {
     const double s = static_cast<double>(k) / static_cast<double>(nz - 1);
-    levels[k] = static_cast<float>(o.lowestLevelMeters +
-                                   (o.topLevelMeters - o.lowestLevelMeters) * (0.15 * s + 0.85 * s * s));
+    levels[k] =
+        static_cast<float>(o.lowestLevelMeters + (o.topLevelMeters - o.lowestLevelMeters) * (0.15 * s + 0.85 * s * s));
   }
   std::vector<Column> cols(nc);
   std::vector<float> orog(nc);
@@ -165,7 +169,9 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
     // Supercell life: grows from 3 h before the radar time, mature 1 h before to 4 h after, then decays.
     const double superGainDb = h < -1.0 ? std::max(-30.0, 10.0 * (h + 1.0)) : h > 4.0 ? -4.0 * (h - 4.0) : 0.0;
     // Squall-line cells: cell n (1..8) 30 + 25 (n-1) km NE of the supercell, born at h = -1 + 0.6 (n-1).
-    struct Cell { double x, y, core; };
+    struct Cell {
+      double x, y, core;
+    };
     std::vector<Cell> cells;
     for (int n = 1; n <= 8; ++n) {
       const double age = h - (-1.0 + 0.6 * (n - 1));
@@ -183,7 +189,8 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
       // The radar model's anvil reaches ~200 km downwind before it fades below -20 dBZ.
       const bool nearSupercell = std::fabs(dx) < 260.0 && std::fabs(dy) < 260.0;
       const double along = dx * lx + dy * ly, across = dx * ly - dy * lx;  // across > 0: SE (ahead)
-      const bool nearLine = !cells.empty() && along > -30.0 && along < lineKm + 30.0 && across > -110.0 && across < 30.0;
+      const bool nearLine = !cells.empty() && along > -30.0 && along < lineKm + 30.0 && across > -110.0 &&
+                            across < 30.0;
       if (!nearSupercell && !nearLine) continue;
       for (std::size_t k = 0; k < nz; ++k) zMslKm[k] = (static_cast<double>(levels[k]) + col.orogMeters) / 1000.0;
       for (std::size_t k = 0; k < nz; ++k) {
@@ -244,8 +251,9 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
   w.text(NC_GLOBAL, "source", synthetic);
   w.text(NC_GLOBAL, "history", "written by atmoglobe synth --grid, seed " + std::to_string(o.storm.seed));
   w.text(NC_GLOBAL, "comment",
-         synthetic + " Latitudes run north to south and longitudes 0..360 on purpose (as in GRIB-converted "
-                     "files). The supercell is the one of atmoglobe's synthetic radar volume, at its place at " +
+         synthetic +
+             " Latitudes run north to south and longitudes 0..360 on purpose (as in GRIB-converted "
+             "files). The supercell is the one of atmoglobe's synthetic radar volume, at its place at " +
              o.radarTimeIso8601 + ".");
   int dT = -1, dZ = -1, dY = -1, dX = -1;
   w.check(nc_def_dim(ncid, "time", nt, &dT), "dimension time");
@@ -290,8 +298,9 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
   short fill = kDbzFill;
   w.check(nc_def_var_fill(ncid, vD, 0, &fill), "dbz _FillValue");
   w.text(vD, "coordinates", "time height lat lon");
-  w.text(vD, "comment", "SYNTHETIC (atmoglobe analytic storm model, seed " + std::to_string(o.storm.seed) +
-                            "). Clear air is -30 dBZ, the floor of simulated reflectivity; nothing is missing.");
+  w.text(vD, "comment",
+         "SYNTHETIC (atmoglobe analytic storm model, seed " + std::to_string(o.storm.seed) +
+             "). Clear air is -30 dBZ, the floor of simulated reflectivity; nothing is missing.");
   if (o.deflateLevel > 0) {
     const std::vector<std::size_t> chunk = {1, std::min<std::size_t>(nz, 7), std::min<std::size_t>(ny, 100),
                                             std::min<std::size_t>(nx, 100)};
@@ -314,7 +323,8 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
     w.check(nc_put_vara_short(ncid, vD, start, count, step.data()), "dbz");
   }
   std::string err = w.ok() ? std::string() : w.error();
-  if (const int st = nc_close(ncid); st != NC_NOERR && err.empty()) err = path + ": netCDF close failed: " + nc_strerror(st);
+  if (const int st = nc_close(ncid); st != NC_NOERR && err.empty())
+    err = path + ": netCDF close failed: " + nc_strerror(st);
   if (!err.empty()) {
     ::unlink(temp.c_str());
     return makeError(err);

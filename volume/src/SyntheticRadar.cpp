@@ -6,6 +6,9 @@
 
 #include <netcdf.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -13,10 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
-#include <fcntl.h>
 #include <filesystem>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace atmoglobe::volume {
 
@@ -152,7 +152,7 @@ double stormDbzKm(const SyntheticRadarOptions& o, const Texture& tex, double x, 
       const double base = 31.0 - 11.0 * q2 + texture;
       constexpr double kZeroCKm = 3.8;
       const double dz = z - kZeroCKm;
-      double strat = base + 8.0 * std::exp(-(dz / 0.22) * (dz / 0.22));  // bright band
+      double strat = base + 8.0 * std::exp(-(dz / 0.22) * (dz / 0.22));                     // bright band
       if (dz > 0) strat += (-7.0 - 3.5 * dz) * (1.0 - std::exp(-(dz / 0.3) * (dz / 0.3)));  // snow above
       addDbz(linearZ, strat);
     }
@@ -177,14 +177,16 @@ class NcWriter {
   bool ok() const { return err_.empty(); }
   const std::string& error() const { return err_; }
   void check(int status, const std::string& what) {
-    if (status != NC_NOERR && err_.empty()) err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
+    if (status != NC_NOERR && err_.empty())
+      err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
   }
   void text(int varid, const char* name, const std::string& value) {
     check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
   }
   int var(const char* name, nc_type type, std::vector<int> dims) {
     int id = -1;
-    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id), name);
+    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id),
+          name);
     return id;
   }
   int ncid() const { return ncid_; }
@@ -225,7 +227,9 @@ std::string isoPlusSeconds(const std::string& iso, double seconds) {
 }
 
 std::size_t gateCountFor(const SyntheticRadarOptions& o) {
-  return static_cast<std::size_t>(std::floor((o.maxRangeMeters - o.firstGateRangeMeters) / o.gateSpacingMeters + 1e-9)) + 1;
+  return static_cast<std::size_t>(
+             std::floor((o.maxRangeMeters - o.firstGateRangeMeters) / o.gateSpacingMeters + 1e-9)) +
+         1;
 }
 
 struct Geometry {
@@ -234,7 +238,8 @@ struct Geometry {
 
 // Writes everything to an open netCDF-4 file. Returns the error text or "".
 std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geometry& g, const std::vector<short>& dbz,
-                          const std::vector<float>& az, const std::vector<float>& el, const std::vector<double>& timeSec) {
+                          const std::vector<float>& az, const std::vector<float>& el,
+                          const std::vector<double>& timeSec) {
   const int nc = w.ncid();
   const std::size_t nTime = g.nSweep * g.nRay;
   const std::string endTime = isoPlusSeconds(o.startTimeIso8601, static_cast<double>(g.nSweep) * o.sweepSeconds);
@@ -308,7 +313,9 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
   w.text(vSweepNum, "long_name", "sweep_index_number_0_based");
   const int vSweepMode = w.var("sweep_mode", NC_CHAR, {dSweep, dStr});
   w.text(vSweepMode, "long_name", "scan_mode_for_sweep");
-  w.text(vSweepMode, "options", "sector, coplane, rhi, vertical_pointing, idle, azimuth_surveillance, elevation_surveillance, sunscan, pointing, manual_ppi, manual_rhi");
+  w.text(
+      vSweepMode, "options",
+      "sector, coplane, rhi, vertical_pointing, idle, azimuth_surveillance, elevation_surveillance, sunscan, pointing, manual_ppi, manual_rhi");
   const int vFixed = w.var("fixed_angle", NC_FLOAT, {dSweep});
   w.text(vFixed, "long_name", "ray_target_fixed_angle");
   w.text(vFixed, "units", "degrees");
@@ -358,11 +365,13 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
   short fill = kDbzFill;
   w.check(nc_def_var_fill(nc, vDbz, 0, &fill), "DBZ _FillValue");
   w.text(vDbz, "coordinates", "elevation azimuth range");
-  w.text(vDbz, "comment", "SYNTHETIC (atmoglobe analytic storm model, seed " + std::to_string(o.seed) +
-                              "). _FillValue marks gates below " + dbText(o.minEchoDbz) +
-                              " dBZ: no echo (CfRadial cannot say 'no echo' otherwise).");
+  w.text(vDbz, "comment",
+         "SYNTHETIC (atmoglobe analytic storm model, seed " + std::to_string(o.seed) +
+             "). _FillValue marks gates below " + dbText(o.minEchoDbz) +
+             " dBZ: no echo (CfRadial cannot say 'no echo' otherwise).");
   if (o.deflateLevel > 0) {
-    w.check(nc_def_var_chunking(nc, vDbz, NC_CHUNKED, std::vector<std::size_t>{g.nRay, g.nGate}.data()), "DBZ chunking");
+    w.check(nc_def_var_chunking(nc, vDbz, NC_CHUNKED, std::vector<std::size_t>{g.nRay, g.nGate}.data()),
+            "DBZ chunking");
     w.check(nc_def_var_deflate(nc, vDbz, 1, 1, o.deflateLevel), "DBZ deflate");
   }
   w.check(nc_enddef(nc), "end of definitions");
@@ -422,10 +431,13 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
 Status validateSyntheticRadarOptions(const SyntheticRadarOptions& o) {
   auto bad = [](const std::string& what) { return makeError("synthetic radar: " + what); };
   if (o.siteId.empty() || o.siteId.size() > 31) return bad("site id must have 1..31 characters");
-  if (!(o.siteLatDeg >= -90.0 && o.siteLatDeg <= 90.0)) return bad("site latitude " + std::to_string(o.siteLatDeg) + " is outside [-90, 90]");
-  if (!(o.siteLonDeg >= -180.0 && o.siteLonDeg <= 180.0)) return bad("site longitude " + std::to_string(o.siteLonDeg) + " is outside [-180, 180]");
+  if (!(o.siteLatDeg >= -90.0 && o.siteLatDeg <= 90.0))
+    return bad("site latitude " + std::to_string(o.siteLatDeg) + " is outside [-90, 90]");
+  if (!(o.siteLonDeg >= -180.0 && o.siteLonDeg <= 180.0))
+    return bad("site longitude " + std::to_string(o.siteLonDeg) + " is outside [-180, 180]");
   if (!(std::fabs(o.antennaAltitudeMslMeters) <= 10000.0)) return bad("antenna altitude must be within +-10000 m");
-  if (!(std::fabs(o.stormEastKm) <= 1000.0 && std::fabs(o.stormNorthKm) <= 1000.0)) return bad("storm offset must be within +-1000 km");
+  if (!(std::fabs(o.stormEastKm) <= 1000.0 && std::fabs(o.stormNorthKm) <= 1000.0))
+    return bad("storm offset must be within +-1000 km");
   if (!(o.noiseDbz >= 0.0 && o.noiseDbz <= 20.0)) return bad("noise must be in [0, 20] dB");
   if (!(o.minEchoDbz >= -30.0 && o.minEchoDbz <= 60.0)) return bad("minimum echo must be in [-30, 60] dBZ");
   if (o.elevationsDeg.empty() || o.elevationsDeg.size() > 64) return bad("1..64 elevation angles needed");
@@ -439,7 +451,8 @@ Status validateSyntheticRadarOptions(const SyntheticRadarOptions& o) {
   if (!(o.beamWidthDeg > 0.0 && o.beamWidthDeg <= 10.0)) return bad("beam width must be in (0, 10] deg");
   if (!(o.sweepSeconds > 0.0 && o.sweepSeconds <= 3600.0)) return bad("sweep duration must be in (0, 3600] s");
   std::tm t{};
-  if (!parseIsoUtc(o.startTimeIso8601, &t)) return bad("start time '" + o.startTimeIso8601 + "' is not YYYY-MM-DDTHH:MM:SSZ");
+  if (!parseIsoUtc(o.startTimeIso8601, &t))
+    return bad("start time '" + o.startTimeIso8601 + "' is not YYYY-MM-DDTHH:MM:SSZ");
   if (o.deflateLevel < 0 || o.deflateLevel > 9) return bad("deflate level must be 0..9");
   return Ok{};
 }
@@ -465,7 +478,8 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
       const std::size_t i = s * g.nRay + k;
       az[i] = static_cast<float>((static_cast<double>((startRay + k) % g.nRay) + 0.5) * rayDeg);
       el[i] = static_cast<float>(o.elevationsDeg[s]);
-      timeSec[i] = o.sweepSeconds * (static_cast<double>(s) + (static_cast<double>(k) + 0.5) / static_cast<double>(g.nRay));
+      timeSec[i] =
+          o.sweepSeconds * (static_cast<double>(s) + (static_cast<double>(k) + 0.5) / static_cast<double>(g.nRay));
     }
   }
 

@@ -14,7 +14,8 @@ namespace {
 std::string lowerTrim(const std::string& s) {
   std::string out;
   for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)) || (!out.empty() && out.back() != ' ')) out.push_back(c == '\t' ? ' ' : c);
+    if (!std::isspace(static_cast<unsigned char>(c)) || (!out.empty() && out.back() != ' '))
+      out.push_back(c == '\t' ? ' ' : c);
   while (!out.empty() && out.back() == ' ') out.pop_back();
   for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return out;
@@ -23,7 +24,8 @@ std::string lowerTrim(const std::string& s) {
 std::string compact(const std::string& s) {  // no blanks, lower case
   std::string out;
   for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c))) out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
   return out;
 }
 

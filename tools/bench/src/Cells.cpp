@@ -71,7 +71,8 @@ std::vector<Cell> gridCells(const GridAxes& axes) {
   for (double step : axes.stepsMeters)
     for (double scale : axes.imageScales)
       for (auto interp : {volume::Interpolation::Nearest, volume::Interpolation::Linear})
-        for (auto beam : {engine::BeamApproximation::EffectiveEarthLocalSphere, engine::BeamApproximation::StraightLine}) {
+        for (auto beam :
+             {engine::BeamApproximation::EffectiveEarthLocalSphere, engine::BeamApproximation::StraightLine}) {
           Cell c;
           c.stepMeters = step, c.imageScale = scale, c.interpolation = interp, c.beam = beam;
           cells.push_back(c);

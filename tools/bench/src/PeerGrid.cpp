@@ -35,7 +35,8 @@ glm::dvec3 FastInverse::forward(double rangeMeters, double azDeg, double elDeg) 
   double h = 0.0, s = 0.0;
   volume::beamHeightAndGroundDistance(rangeMeters, elDeg, h0, re, &h, &s);
   const double g = s / rs, az = degreesToRadians(azDeg);
-  return {(rs + h) * std::sin(g) * std::sin(az), (rs + h) * std::sin(g) * std::cos(az), (rs + h) * std::cos(g) - rs - h0};
+  return {(rs + h) * std::sin(g) * std::sin(az), (rs + h) * std::sin(g) * std::cos(az),
+          (rs + h) * std::cos(g) - rs - h0};
 }
 
 FastInverse fastInverseFor(const volume::PolarVolume& v) {
@@ -105,8 +106,9 @@ PeerGrid buildPeerGrid(const volume::PolarVolume& v, double emptyValue, double v
     spacing *= coarsen;
     std::ostringstream why;
     why << "native " << formatG(g.nativeSpacingMeters) << " m would be "
-        << formatG(std::ceil(ext.x / g.nativeSpacingMeters)) << " x " << formatG(std::ceil(ext.y / g.nativeSpacingMeters))
-        << " x " << formatG(std::ceil(ext.z / g.nativeSpacingMeters)) << " voxels (" << formatG(voxels * 4.0 / 1e9, 3)
+        << formatG(std::ceil(ext.x / g.nativeSpacingMeters)) << " x "
+        << formatG(std::ceil(ext.y / g.nativeSpacingMeters)) << " x "
+        << formatG(std::ceil(ext.z / g.nativeSpacingMeters)) << " voxels (" << formatG(voxels * 4.0 / 1e9, 3)
         << " GB float32); limits: 2048 per side "
         << "(GL_MAX_3D_TEXTURE_SIZE) and " << formatG(maxVoxels * 4.0 / 1e9, 3) << " GB";
     g.coarsenedReason = why.str();

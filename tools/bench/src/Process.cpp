@@ -24,7 +24,11 @@ std::string ProgramExit::describe() const {
   std::string s;
   if (!started) return s.append("not started: ").append(error);
   if (signal != 0)
-    return s.append("killed by signal ").append(std::to_string(signal)).append(" (").append(strsignal(signal)).append(")");
+    return s.append("killed by signal ")
+        .append(std::to_string(signal))
+        .append(" (")
+        .append(strsignal(signal))
+        .append(")");
   return s.append("exit ").append(std::to_string(exitCode));
 }
 
@@ -104,18 +108,17 @@ std::string displayCommand(const std::vector<std::string>& argv) {
   std::string out;
   for (const std::string& a : argv) {
     if (!out.empty()) out += ' ';
-    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                         "0123456789-_./=:,+@%") == std::string::npos;
+    const bool plain = !a.empty() && a.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "0123456789-_./=:,+@%") == std::string::npos;
     if (plain) {
       out += a;
       continue;
     }
     out += '\'';
     for (char c : a) {
-      if (c == '\'')
-        out.append("'\\''");
-      else
-        out += c;
+      if (c == '\'') out.append("'\\''");
+      else out += c;
     }
     out += '\'';
   }

@@ -21,13 +21,12 @@ std::string referenceKey(const BenchView& view, int widthPx, int heightPx, const
   std::ostringstream k;
   const engine::CameraPose& p = view.pose;
   k << "ref-v1|" << view.volume->path << "|" << view.volume->polar.fieldName << "|" << formatG(p.latDeg) << ","
-    << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << "," << formatG(p.headingDeg) << ","
-    << formatG(p.pitchDeg) << "," << formatG(p.rollDeg) << "|fov " << formatG(view.fovYDeg) << "|" << widthPx << "x"
-    << heightPx << "|" << modeName(s.mode) << "|" << interpName(s.interpolation) << "|step "
-    << formatG(s.stepMeters) << "|iso " << formatG(s.isoValue) << "|term " << formatG(s.earlyTerminationAlpha)
-    << "|tf " << s.transfer.colors.name() << "," << formatG(s.transfer.opacityZeroValue) << ","
-    << formatG(s.transfer.opacityFullValue) << "," << formatG(s.transfer.maxOpacity) << ","
-    << formatG(s.transfer.opacityReferenceMeters) << "|no-occlusion";
+    << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << "," << formatG(p.headingDeg) << "," << formatG(p.pitchDeg)
+    << "," << formatG(p.rollDeg) << "|fov " << formatG(view.fovYDeg) << "|" << widthPx << "x" << heightPx << "|"
+    << modeName(s.mode) << "|" << interpName(s.interpolation) << "|step " << formatG(s.stepMeters) << "|iso "
+    << formatG(s.isoValue) << "|term " << formatG(s.earlyTerminationAlpha) << "|tf " << s.transfer.colors.name() << ","
+    << formatG(s.transfer.opacityZeroValue) << "," << formatG(s.transfer.opacityFullValue) << ","
+    << formatG(s.transfer.maxOpacity) << "," << formatG(s.transfer.opacityReferenceMeters) << "|no-occlusion";
   return k.str();
 }
 

@@ -72,8 +72,8 @@ void writeCsv(std::ostream& csv, const std::vector<Row>& rows) {
     csv << r.view << "," << r.volume << "," << modeName(r.cell.mode) << "," << r.cell.stepMeters << ","
         << r.cell.imageScale << "," << interpName(r.cell.interpolation) << "," << beamName(r.cell.beam) << ","
         << classificationName(r.cell) << "," << r.widthPx << "," << r.heightPx << "," << formatG(r.medianMs, 5) << ","
-        << formatG(r.error.meanAbs, 5) << "," << formatG(r.error.maxAbs, 5) << "," << formatG(r.error.psnrDb, 5)
-        << "," << (isEngineDefault(r.cell) ? 1 : 0) << "\n";
+        << formatG(r.error.meanAbs, 5) << "," << formatG(r.error.maxAbs, 5) << "," << formatG(r.error.psnrDb, 5) << ","
+        << (isEngineDefault(r.cell) ? 1 : 0) << "\n";
   }
 }
 
@@ -84,14 +84,14 @@ engine::ScatterPlot errorTimePlot(const BenchReport& report) {
   plot.xLabel = "median frame time (ms, log)";
   plot.yLabel = "mean abs error vs reference (8-bit steps)";
   plot.logX = true;
-  const glm::u8vec4 colors[6] = {{31, 119, 180, 255}, {255, 127, 14, 255}, {44, 160, 44, 255},
+  const glm::u8vec4 colors[6] = {{31, 119, 180, 255}, {255, 127, 14, 255},  {44, 160, 44, 255},
                                  {214, 39, 40, 255},  {148, 103, 189, 255}, {140, 86, 75, 255}};
   std::vector<const Aggregate*> front;
   for (const Aggregate& a : report.aggregates) {
     if (a.cell.mode != volume::VolumeRenderMode::Dvr) continue;
     const int ci = (a.cell.classification == engine::Classification::Preintegrated ? 4
-                    : a.cell.interpolation == volume::Interpolation::Linear ? 0
-                                                                               : 2) +
+                    : a.cell.interpolation == volume::Interpolation::Linear        ? 0
+                                                                                   : 2) +
                    (a.cell.beam == engine::BeamApproximation::EffectiveEarthLocalSphere ? 0 : 1);
     engine::PlotPoint p;
     p.x = a.meanMs, p.y = a.meanAbs, p.color = colors[ci];
@@ -125,7 +125,8 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
   md << "Machine: " << r.machine << "\n\n";
   md << "Image " << w << "x" << h << " px, " << r.frames << " timed frames per cell (median, glFinish after each, "
      << "frames taken round-robin over the cells after one untimed round), volume only over black (no globe). Error against the CPU reference (double, exact "
-     << "inverse, linear, step " << formatG(r.referenceStepMeters) << " m, full resolution, no empty-space skipping; only samples proven outside the shell skip the inverse, bit-identical): "
+     << "inverse, linear, step " << formatG(r.referenceStepMeters)
+     << " m, full resolution, no empty-space skipping; only samples proven outside the shell skip the inverse, bit-identical): "
      << "mean / max absolute difference in 8-bit steps over RGB, PSNR in dB. For image scale < 1 the frame is the "
      << "small image upsampled bilinearly by the composite pass (what the user sees).\n\n";
   md << "## Volumes\n\n| volume | file | field | sweeps | GPU bytes | Cartesian grid at near-range resolution (float32) | ratio |\n|---|---|---|---|---|---|---|\n";
@@ -138,8 +139,8 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
   md << "\n## Views\n\n| view | lat | lon | height (m) | heading | pitch | fovY |\n|---|---|---|---|---|---|---|\n";
   for (const BenchView& v : r.views) {
     md << "| " << v.name << " | " << formatG(v.pose.latDeg, 7) << " | " << formatG(v.pose.lonDeg, 7) << " | "
-       << formatG(v.pose.heightMeters) << " | " << formatG(v.pose.headingDeg, 4) << " | "
-       << formatG(v.pose.pitchDeg, 4) << " | " << formatG(v.fovYDeg) << " |\n";
+       << formatG(v.pose.heightMeters) << " | " << formatG(v.pose.headingDeg, 4) << " | " << formatG(v.pose.pitchDeg, 4)
+       << " | " << formatG(v.fovYDeg) << " |\n";
   }
   md << "\nReferences: " << r.referencesRendered << " rendered this run (" << formatG(r.referenceSeconds, 4) << " s on "
      << r.referenceThreads << " threads), " << r.referencesCached << " read from the cache (" << r.referenceCacheDir
@@ -177,13 +178,16 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
     for (const VolumeSummary& v : r.volumes)
       if (v.key == key) gpu = static_cast<double>(v.gpuBytes);
     md << "- " << key << ": grid " << g.nx << " x " << g.ny << " x " << g.nz << " at " << formatG(g.spacingMeters, 4)
-       << " m (finest gate spacing " << formatG(g.nativeSpacingMeters) << " m), box = ENU bounding box of the gates above "
-       << "the zero-opacity value, float32: " << formatG(g.bytes() / 1e6, 5) << " MB vs our GPU " << formatG(gpu / 1e6, 4)
-       << " MB (" << formatG(g.bytes() / gpu, 3) << "x). "
+       << " m (finest gate spacing " << formatG(g.nativeSpacingMeters)
+       << " m), box = ENU bounding box of the gates above "
+       << "the zero-opacity value, float32: " << formatG(g.bytes() / 1e6, 5) << " MB vs our GPU "
+       << formatG(gpu / 1e6, 4) << " MB (" << formatG(g.bytes() / gpu, 3) << "x). "
        << (g.coarsenedReason.empty() ? "" : "Coarsened: " + g.coarsenedReason + ". ") << "Resampled in "
-       << formatG(g.resampleSeconds, 3) << " s with the fast inverse (local sphere + closed-form beam model), max error "
+       << formatG(g.resampleSeconds, 3)
+       << " s with the fast inverse (local sphere + closed-form beam model), max error "
        << "vs the exact inverse over 20000 random voxels: " << formatG(g.maxRangeErrorMeters, 3) << " m range, "
-       << formatG(g.maxAzimuthErrorDeg, 3) << " deg azimuth, " << formatG(g.maxElevationErrorDeg, 3) << " deg elevation.\n";
+       << formatG(g.maxAzimuthErrorDeg, 3) << " deg azimuth, " << formatG(g.maxElevationErrorDeg, 3)
+       << " deg elevation.\n";
   }
   const std::vector<PeerResult>& peer = r.peer.results;
   if (!peer.empty()) {

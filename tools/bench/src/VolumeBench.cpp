@@ -49,7 +49,8 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
     if (std::find(knownViews.begin(), knownViews.end(), name) == knownViews.end()) {
       std::string known;
       for (const std::string& k : knownViews) known.append(known.empty() ? "" : ", ").append(k);
-      return makeError("--view " + name + ": no such view (views" + (o.quick ? " with --quick" : "") + ": " + known + ")");
+      return makeError("--view " + name + ": no such view (views" + (o.quick ? " with --quick" : "") + ": " + known +
+                       ")");
     }
   }
   auto wanted = [&](const std::string& view) {
@@ -161,8 +162,8 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
     const bool software = glName.find("llvmpipe") != std::string::npos || glName.find("softpipe") != std::string::npos;
     for (const BenchView& view : views) {
       const engine::Camera camera(view.pose, view.fovYDeg, 1280, 720);
-      const GpuRun run = timeFramesGL(*renderer, camera, *view.volume->gl, optionsFor(Cell{}), Cell{}.beam,
-                                      **bigTarget, software ? 1 : o.frames, !software);
+      const GpuRun run = timeFramesGL(*renderer, camera, *view.volume->gl, optionsFor(Cell{}), Cell{}.beam, **bigTarget,
+                                      software ? 1 : o.frames, !software);
       report.big.push_back({view.name + (software ? " (1 frame, software GL)" : ""), run.medianMs});
       if (software) break;
     }

@@ -43,7 +43,9 @@ nlohmann::json peerJob(const BenchVolume& v, const std::vector<BenchView>& views
                        const PeerSettings& settings) {
   const int w = settings.widthPx, h = settings.heightPx;
   nlohmann::json job;
-  job["grid"] = {{"file", fs::absolute(raw).string()}, {"dims", {g.nx, g.ny, g.nz}}, {"spacing_m", g.spacingMeters},
+  job["grid"] = {{"file", fs::absolute(raw).string()},
+                 {"dims", {g.nx, g.ny, g.nz}},
+                 {"spacing_m", g.spacingMeters},
                  {"origin_enu_m", {g.originEnu.x, g.originEnu.y, g.originEnu.z}}};
   job["transfer"] = transferJson(transfer);
   job["frames"] = settings.frames;
@@ -99,8 +101,8 @@ std::string peerUnavailableReason(const std::string& script) {
 }
 
 Result<PeerSection> runVtkPeer(const std::vector<std::unique_ptr<BenchVolume>>& volumes,
-                               const std::vector<BenchView>& views, const PeerSettings& settings,
-                               ReferenceStore& refs, std::ostream& log) {
+                               const std::vector<BenchView>& views, const PeerSettings& settings, ReferenceStore& refs,
+                               std::ostream& log) {
   PeerSection out;
   if (const std::string why = peerUnavailableReason(settings.script); !why.empty()) {
     out.note = "peer skipped: " + why + " (install with: sudo apt-get install python3-vtk9 python3-numpy xvfb)";
@@ -132,8 +134,13 @@ Result<PeerSection> runVtkPeer(const std::vector<std::unique_ptr<BenchVolume>>& 
     const fs::path resultFile = dir / (v->key + "-result.json");
     fs::remove(resultFile, ec);
     // No shell: the paths go to the programs as they are, whatever characters they hold.
-    const std::vector<std::string> argv = {"xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "/usr/bin/python3",
-                                           settings.script, fs::absolute(jobFile).string(),
+    const std::vector<std::string> argv = {"xvfb-run",
+                                           "-a",
+                                           "-s",
+                                           "-screen 0 1280x1024x24",
+                                           "/usr/bin/python3",
+                                           settings.script,
+                                           fs::absolute(jobFile).string(),
                                            fs::absolute(resultFile).string()};
     log << "peer: " << displayCommand(argv) << "\n" << std::flush;
     const ProgramExit exit = runProgram(argv);

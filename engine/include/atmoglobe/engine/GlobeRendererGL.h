@@ -18,9 +18,9 @@
 namespace atmoglobe::engine {
 
 struct GlobeRenderOptions {
-  double maxScreenSpaceErrorPx = 2.0;    ///< refine tiles until their error is below this
-  int meshSegments = 16;                 ///< quads per tile edge
-  std::size_t gpuBudgetBytes = 256u << 20;  ///< meshes + textures kept on the GPU
+  double maxScreenSpaceErrorPx = 2.0;        ///< refine tiles until their error is below this
+  int meshSegments = 16;                     ///< quads per tile edge
+  std::size_t gpuBudgetBytes = 256u << 20;   ///< meshes + textures kept on the GPU
   glm::vec3 baseColor{0.05f, 0.09f, 0.18f};  ///< where no imagery is resident yet
 };
 

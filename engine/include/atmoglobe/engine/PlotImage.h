@@ -16,9 +16,9 @@ struct PlotPoint {
   double x = 0.0;  ///< data units (x > 0 on a log axis; others are skipped)
   double y = 0.0;
   glm::u8vec4 color{0, 0, 0, 255};
-  int radiusPx = 3;      ///< filled disc radius (pixels)
-  bool ring = false;     ///< also draw a ring of radius radiusPx + 3 around it (highlight)
-  std::string label;     ///< drawn right of the point when not empty
+  int radiusPx = 3;   ///< filled disc radius (pixels)
+  bool ring = false;  ///< also draw a ring of radius radiusPx + 3 around it (highlight)
+  std::string label;  ///< drawn right of the point when not empty
 };
 
 struct PlotLine {
@@ -44,7 +44,7 @@ struct ScatterPlot {
 /// Where data coordinates land in the image (pixels, origin top-left, y down), for tests.
 struct PlotFrame {
   double xMin = 0.0, xMax = 1.0, yMin = 0.0, yMax = 1.0;  ///< data range of the axes
-  int left = 0, top = 0, right = 0, bottom = 0;            ///< plot area, pixels (inclusive)
+  int left = 0, top = 0, right = 0, bottom = 0;           ///< plot area, pixels (inclusive)
   bool logX = false;
   /// Pixel position of a data point (x > 0 on a log axis).
   glm::dvec2 toPixel(double x, double y) const;

@@ -34,9 +34,9 @@ namespace atmoglobe::engine {
 struct Marker {
   double latDeg = 0.0;
   double lonDeg = 0.0;
-  double heightMeters = 0.0;        ///< above the WGS84 ellipsoid (m)
+  double heightMeters = 0.0;  ///< above the WGS84 ellipsoid (m)
   glm::vec3 color{1.0f, 0.2f, 0.1f};
-  float sizePx = 14.0f;             ///< sprite diameter (pixels)
+  float sizePx = 14.0f;  ///< sprite diameter (pixels)
   std::string label;
 };
 
@@ -48,29 +48,29 @@ struct ImageryLayerDescription {
 
 /// A radar volume to ray-march (see VolumeRendererGL.h and RadarVolumeGL.h for the knobs).
 struct RadarLayerDescription {
-  std::string path;                 ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
-  std::string field;                ///< empty: the reflectivity field
-  std::string colors = "auto";      ///< "auto" (by the field's kind), "NWS", "cividis", "velocity" or a .pal file
-  std::string mode = "dvr";         ///< dvr | mip | iso
+  std::string path;                      ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
+  std::string field;                     ///< empty: the reflectivity field
+  std::string colors = "auto";           ///< "auto" (by the field's kind), "NWS", "cividis", "velocity" or a .pal file
+  std::string mode = "dvr";              ///< dvr | mip | iso
   std::string interpolation = "linear";  ///< nearest | linear
   double stepMeters = 250.0;
   double imageScale = 1.0;
   double isoValue = 40.0;
-  std::string beam = "4/3";         ///< "4/3" (effective Earth) or "straight"
+  std::string beam = "4/3";              ///< "4/3" (effective Earth) or "straight"
   std::string classification = "point";  ///< DVR: "point" or "preintegrated" (VolumeRenderOptions::classification)
-  std::string label;                ///< site marker label; empty: the site name from the file
+  std::string label;                     ///< site marker label; empty: the site name from the file
   bool useGeoid = true;
 };
 
 /// A forecast grid to ray-march (GridVolumeGL.h; the reader: volume/GridReader.h).
 struct GridLayerDescription {
-  std::string path;                 ///< NetCDF file (CF or WRF)
-  std::string variable;             ///< empty: the file's default variable
-  std::string time;                 ///< empty: the first step; an index ("3") or an ISO 8601 UTC time
-  std::string colors = "auto";      ///< "auto" (cividis over the variable's range), "cividis", "NWS" or a .pal file
-  std::string mode = "dvr";         ///< dvr | mip | iso
+  std::string path;             ///< NetCDF file (CF or WRF)
+  std::string variable;         ///< empty: the file's default variable
+  std::string time;             ///< empty: the first step; an index ("3") or an ISO 8601 UTC time
+  std::string colors = "auto";  ///< "auto" (cividis over the variable's range), "cividis", "NWS" or a .pal file
+  std::string mode = "dvr";     ///< dvr | mip | iso
   std::string interpolation = "linear";  ///< nearest | linear
-  double stepMeters = 250.0;        ///< as radars: volumes of one step are integrated together where they overlap
+  double stepMeters = 250.0;             ///< as radars: volumes of one step are integrated together where they overlap
   double imageScale = 1.0;
   double isoValue = std::numeric_limits<double>::quiet_NaN();  ///< NaN: the middle of the value range
   std::string classification = "point";
@@ -89,7 +89,7 @@ struct SceneDescription {
   std::vector<Marker> markers;
   std::vector<RadarLayerDescription> radars;
   std::vector<GridLayerDescription> grids;
-  std::string stationsPath;  ///< station list drawn as markers (empty: none)
+  std::string stationsPath;         ///< station list drawn as markers (empty: none)
   std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
 };
 

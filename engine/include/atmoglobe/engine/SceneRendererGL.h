@@ -21,7 +21,7 @@ namespace atmoglobe::engine {
 /// Opens the scene's imagery layers (bottom first) behind one asynchronous loader.
 /// A scene without imagery gets an empty loader (the globe shows its base colour).
 Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<ImageryLayerDescription>& layers,
-                                                           const globe::TileImageLoaderOptions& options);
+                                                            const globe::TileImageLoaderOptions& options);
 
 /// Render options of a radar layer description for the field it loaded (colours by the field's
 /// kind unless the description names a table: volume::transferForField; .pal errors).
@@ -30,8 +30,8 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& desc
 
 struct SceneFrameStats {
   GlobeFrameStats globe;
-  double cpuMilliseconds = 0.0;  ///< time to issue the frame (without waiting for the GPU)
-  double referenceSeconds = 0.0; ///< time of the CPU reference volumes (setReferenceVolumes), else 0
+  double cpuMilliseconds = 0.0;   ///< time to issue the frame (without waiting for the GPU)
+  double referenceSeconds = 0.0;  ///< time of the CPU reference volumes (setReferenceVolumes), else 0
 };
 
 /// A radar loaded for rendering: its GPU volume, its options and its site marker.

@@ -13,8 +13,8 @@
 // The marcher includes the file once per volume with VOL_ replaced by that volume's prefix.
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
-#include <atmoglobe/volume/VolumeSampler.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 
 #include <epoxy/gl.h>
 #include <glm/glm.hpp>
@@ -34,16 +34,17 @@ struct MarchConstants {
   static constexpr int kStateNotEcho = 0;        ///< STATE_NOT_ECHO: no echo or no data (drawn alike)
   static constexpr int kStateEcho = 1;           ///< STATE_ECHO
   static constexpr int kGridBlock = volume::OccupancyGrid::kBlock;  ///< GRID_BLOCK
-  static constexpr int kMaxSweeps = 32;          ///< MAX_SWEEPS: radar sweeps per volume
-  static constexpr int kRayTableBins = 8192;     ///< RAY_TABLE_BINS: azimuth table resolution (360 / 8192 deg)
-  static constexpr int kElevationBins = 2048;    ///< ELEVATION_BINS: elevation -> sweep lookup
+  static constexpr int kMaxSweeps = 32;                             ///< MAX_SWEEPS: radar sweeps per volume
+  static constexpr int kRayTableBins = 8192;   ///< RAY_TABLE_BINS: azimuth table resolution (360 / 8192 deg)
+  static constexpr int kElevationBins = 2048;  ///< ELEVATION_BINS: elevation -> sweep lookup
 };
 std::vector<std::string> marchShaderDefines();
 
 /// How DVR classifies the field between samples.
 enum class Classification {
   Point,          ///< each sample alone, over one step (post-classification; what the reference does at 100 m)
-  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity (volume::transferIntegralTable)
+  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity
+                  ///< (volume::transferIntegralTable)
 };
 
 /// The generic knobs of one volume layer (a kind's own knobs live on its VolumeGL).
@@ -68,7 +69,7 @@ class UniformCacheGL {
 /// Where a volume's sampler binds: its uniforms' prefix, its first texture unit.
 struct SamplerBindingGL {
   UniformCacheGL* uniforms = nullptr;
-  std::string prefix;       ///< "v0_", "v1_", ...
+  std::string prefix;  ///< "v0_", "v1_", ...
   int firstUnit = 0;
   GLuint nearestSampler = 0;  ///< a sampler object with nearest filtering, clamp to edge
 };

@@ -30,7 +30,7 @@ struct VolumeLayerGL {
 
 /// A march program variant: what is compiled into one program.
 struct MarchVariant {
-  int mode = 0;              ///< 0 DVR, 1 MIP, 2 isosurface, 3 debug (volume 0's coordinates)
+  int mode = 0;  ///< 0 DVR, 1 MIP, 2 isosurface, 3 debug (volume 0's coordinates)
   bool skipEmpty = true;
   bool preintegrated = false;
   /// Per volume: its sampler file and its sampler defines.
@@ -131,8 +131,8 @@ class VolumeRendererGL {
   std::map<MarchVariant, std::string> programErrors_;
   ShaderProgramGL composite_;
   GLuint vao_ = 0;
-  GLuint transfer_ = 0;           ///< TRANSFER_ENTRIES x MAX_VOLUMES: each volume's classify() row
-  GLuint transferIntegral_ = 0;   ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
+  GLuint transfer_ = 0;          ///< TRANSFER_ENTRIES x MAX_VOLUMES: each volume's classify() row
+  GLuint transferIntegral_ = 0;  ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
   GLuint nearestSampler_ = 0;
   std::unique_ptr<FramebufferGL> volumeTarget_;
   GLenum volumeFormat_ = 0;

@@ -16,9 +16,9 @@
 namespace atmoglobe::globe {
 
 /// WGS84 defining constants.
-inline constexpr double kWgs84A = 6378137.0;                 ///< semi-major axis (m)
-inline constexpr double kWgs84F = 1.0 / 298.257223563;       ///< flattening
-inline constexpr double kWgs84B = kWgs84A * (1.0 - kWgs84F); ///< semi-minor axis (m)
+inline constexpr double kWgs84A = 6378137.0;                  ///< semi-major axis (m)
+inline constexpr double kWgs84F = 1.0 / 298.257223563;        ///< flattening
+inline constexpr double kWgs84B = kWgs84A * (1.0 - kWgs84F);  ///< semi-minor axis (m)
 
 /// A point given by WGS84 geodetic coordinates.
 struct Geodetic {

@@ -24,26 +24,44 @@ struct Error {
 template <class T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : m_(std::move(value)) {}            // NOLINT: implicit by design
-  Result(Error error) : m_(std::move(error)) {}        // NOLINT: implicit by design
+  Result(T value) : m_(std::move(value)) {}      // NOLINT: implicit by design
+  Result(Error error) : m_(std::move(error)) {}  // NOLINT: implicit by design
 
   bool ok() const { return std::holds_alternative<T>(m_); }
   explicit operator bool() const { return ok(); }
 
-  const T& value() const& { assert(ok()); return std::get<T>(m_); }
-  T& value() & { assert(ok()); return std::get<T>(m_); }
-  T&& value() && { assert(ok()); return std::get<T>(std::move(m_)); }
+  const T& value() const& {
+    assert(ok());
+    return std::get<T>(m_);
+  }
+  T& value() & {
+    assert(ok());
+    return std::get<T>(m_);
+  }
+  T&& value() && {
+    assert(ok());
+    return std::get<T>(std::move(m_));
+  }
   const T& operator*() const& { return value(); }
   T& operator*() & { return value(); }
   const T* operator->() const { return &value(); }
   T* operator->() { return &value(); }
 
-  const std::string& error() const { assert(!ok()); return std::get<Error>(m_).message; }
+  const std::string& error() const {
+    assert(!ok());
+    return std::get<Error>(m_).message;
+  }
 
   /// The error, to return as-is from a function with any Result type (the message is not
   /// touched). Copies from an lvalue; moves from an rvalue. Only for a failed Result.
-  Error forwardError() const& { assert(!ok()); return std::get<Error>(m_); }
-  Error forwardError() && { assert(!ok()); return std::get<Error>(std::move(m_)); }
+  Error forwardError() const& {
+    assert(!ok());
+    return std::get<Error>(m_);
+  }
+  Error forwardError() && {
+    assert(!ok());
+    return std::get<Error>(std::move(m_));
+  }
 
  private:
   std::variant<T, Error> m_;

@@ -29,11 +29,11 @@ struct TileImageLoaderOptions {
 };
 
 struct TileImageLoaderStats {
-  std::uint64_t tilesDecoded = 0;   ///< composites produced
-  double decodeSeconds = 0;         ///< worker wall time spent producing them (summed over workers)
+  std::uint64_t tilesDecoded = 0;  ///< composites produced
+  double decodeSeconds = 0;        ///< worker wall time spent producing them (summed over workers)
   std::uint64_t cacheEvictions = 0;
   std::size_t cacheBytes = 0;
-  std::uint64_t errors = 0;         ///< layer failures (one per layer and tile)
+  std::uint64_t errors = 0;  ///< layer failures (one per layer and tile)
 };
 
 class TileImageLoader {
@@ -61,9 +61,9 @@ class TileImageLoader {
   /// needs). Call once per frame after the requests. Tiles already being produced complete.
   void endFrame();
 
-  bool idle() const;  ///< nothing queued or in flight
-  void waitIdle();    ///< blocks until idle (headless rendering uses this)
-  int maxLevel() const;  ///< max over layers
+  bool idle() const;                      ///< nothing queued or in flight
+  void waitIdle();                        ///< blocks until idle (headless rendering uses this)
+  int maxLevel() const;                   ///< max over layers
   std::vector<std::string> takeErrors();  ///< messages of failed tiles since the last call
   TileImageLoaderStats stats() const;
 

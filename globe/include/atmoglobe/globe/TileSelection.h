@@ -22,15 +22,15 @@ namespace atmoglobe::globe {
 inline constexpr int kDefaultMeshSegments = 16;
 
 struct ViewState {
-  glm::dvec3 eyeEcef{0.0};                          ///< camera position (m, ECEF)
-  std::array<glm::dvec4, 6> frustumPlanesEcef{};    ///< (n.xyz, d): n.p + d >= 0 inside; n unit; ECEF metres
-  double pixelsPerRadian = 1.0;                     ///< viewportHeightPx / (2 tan(fovY/2))
+  glm::dvec3 eyeEcef{0.0};                        ///< camera position (m, ECEF)
+  std::array<glm::dvec4, 6> frustumPlanesEcef{};  ///< (n.xyz, d): n.p + d >= 0 inside; n unit; ECEF metres
+  double pixelsPerRadian = 1.0;                   ///< viewportHeightPx / (2 tan(fovY/2))
 };
 
 struct TileBounds {
-  glm::dvec3 sphereCenterEcef{0.0};                 ///< (m, ECEF)
+  glm::dvec3 sphereCenterEcef{0.0};  ///< (m, ECEF)
   double sphereRadiusMeters = 0.0;
-  std::optional<glm::dvec3> horizonPointEcef;       ///< see horizonCullingPoint (Horizon.h)
+  std::optional<glm::dvec3> horizonPointEcef;  ///< see horizonCullingPoint (Horizon.h)
 };
 
 /// Bounding sphere (and horizon culling point) of tile `t` with surface heights in
@@ -48,17 +48,17 @@ TileBounds computeTileBounds(const TileId& t, double minHeightMeters, double max
 
 struct SelectionOptions {
   double maxScreenSpaceErrorPx = 2.0;
-  int imageryMaxLevel = 2;        ///< finest level that has imagery: refining past it is only for geometry
+  int imageryMaxLevel = 2;                  ///< finest level that has imagery: refining past it is only for geometry
   int meshSegments = kDefaultMeshSegments;  ///< quads per tile edge (TileMesh)
   int maxLevel = kMaxTileLevel;
 };
 
 struct SelectionStats {
-  int visited = 0;         ///< tiles whose bounds were tested
-  int culledFrustum = 0;   ///< tiles (with their subtrees) dropped by the frustum
-  int culledHorizon = 0;   ///< tiles (with their subtrees) dropped behind the horizon
-  int selected = 0;        ///< tiles returned
-  int maxLevel = 0;        ///< deepest level returned
+  int visited = 0;        ///< tiles whose bounds were tested
+  int culledFrustum = 0;  ///< tiles (with their subtrees) dropped by the frustum
+  int culledHorizon = 0;  ///< tiles (with their subtrees) dropped behind the horizon
+  int selected = 0;       ///< tiles returned
+  int maxLevel = 0;       ///< deepest level returned
 };
 
 /// The tiles to draw for this view: leaves of the quadtree that together cover the visible
@@ -66,7 +66,8 @@ struct SelectionStats {
 /// children north-west, north-east, south-west, south-east. The bounds assume surface
 /// heights in [-500, 100] m. The count grows as 1/maxScreenSpaceErrorPx: the caller keeps
 /// the budget sane (about a hundred tiles at 2 px, 1000 px high viewport).
-std::vector<TileId> selectTiles(const ViewState& view, const SelectionOptions& options, SelectionStats* stats = nullptr);
+std::vector<TileId> selectTiles(const ViewState& view, const SelectionOptions& options,
+                                SelectionStats* stats = nullptr);
 
 /// Distance (m) used for the screen-space error: from the eye to the point of the tile at
 /// height 0 whose latitude/longitude are the eye's clamped into the tile rectangle (the

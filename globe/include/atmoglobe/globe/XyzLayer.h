@@ -44,7 +44,7 @@ class XyzMercatorLayer : public ImageryLayer {
   /// contain at least one numeric column directory). Error if there are none.
   /// `cacheBudgetBytes`: decoded mercator tiles kept in memory.
   static Result<std::shared_ptr<XyzMercatorLayer>> open(const std::string& dir,
-                                                         std::size_t cacheBudgetBytes = 64u << 20);
+                                                        std::size_t cacheBudgetBytes = 64u << 20);
 
   /// Reprojects into geographic tile t. For each output pixel centre (lon, lat): alpha 0 if
   /// |lat| > kWebMercatorMaxLatDeg; otherwise sampled from mercator zoom zm, where zm = the

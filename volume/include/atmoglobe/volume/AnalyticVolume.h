@@ -12,10 +12,10 @@
 namespace atmoglobe::volume {
 
 struct UniformShell {
-  globe::Geodetic centre;          ///< WGS84 latitude, longitude (deg), height above the ellipsoid (m)
-  double innerRadiusMeters = 0.0;  ///< >= 0 (0: a ball)
+  globe::Geodetic centre;              ///< WGS84 latitude, longitude (deg), height above the ellipsoid (m)
+  double innerRadiusMeters = 0.0;      ///< >= 0 (0: a ball)
   double outerRadiusMeters = 10000.0;  ///< > inner
-  double value = 40.0;             ///< field units
+  double value = 40.0;                 ///< field units
 };
 
 class UniformShellSampler final : public VolumeSampler {

@@ -42,7 +42,10 @@ class AtomicFileSet {
   Status commit();
 
  private:
-  struct Entry { std::string path, tempPath; bool renamed = false; };
+  struct Entry {
+    std::string path, tempPath;
+    bool renamed = false;
+  };
   std::vector<Entry> entries_;
 };
 

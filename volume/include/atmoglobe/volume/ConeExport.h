@@ -36,22 +36,22 @@ namespace atmoglobe::volume {
 struct ConeExportOptions {
   std::vector<int> sweepIndices;  ///< indices into RadarVolume::sweeps; empty: every PPI sweep
   double maxRangeMeters = std::numeric_limits<double>::infinity();  ///< last gate used (m)
-  ConeMeshOptions mesh;           ///< straight/bent, beam model, triangle budget
-  bool useGeoid = true;           ///< MSL antenna heights -> ellipsoid with EGM96 (resolveSite)
+  ConeMeshOptions mesh;                                             ///< straight/bent, beam model, triangle budget
+  bool useGeoid = true;  ///< MSL antenna heights -> ellipsoid with EGM96 (resolveSite)
 };
 
 struct Cone {
-  std::size_t sweepIndex = 0;      ///< index in RadarVolume::sweeps
+  std::size_t sweepIndex = 0;  ///< index in RadarVolume::sweeps
   ConeMesh mesh;
   SweepImage image;
-  std::vector<std::uint8_t> png;   ///< the image as PNG
+  std::vector<std::uint8_t> png;  ///< the image as PNG
 };
 
 struct ConeScene {
-  std::string title;                   ///< "SITE time field", for names in the files
-  SiteResolution site;                 ///< antenna on the ellipsoid
-  double antennaAltitudeMslMeters = 0; ///< antenna height above mean sea level (KML altitude)
-  glm::dmat4 enuToEcef{1.0};           ///< local ENU at the antenna -> ECEF (m), double
+  std::string title;                    ///< "SITE time field", for names in the files
+  SiteResolution site;                  ///< antenna on the ellipsoid
+  double antennaAltitudeMslMeters = 0;  ///< antenna height above mean sea level (KML altitude)
+  glm::dmat4 enuToEcef{1.0};            ///< local ENU at the antenna -> ECEF (m), double
   bool straight = false;
   std::vector<Cone> cones;
 };

@@ -31,21 +31,21 @@ namespace atmoglobe::volume {
 inline constexpr int kGoogleEarthMaxTrianglesPerModel = 21845;
 
 struct ConeMeshOptions {
-  bool straight = false;       ///< straight cone instead of the bent beam surface
-  BeamModel beam;              ///< used when not straight (default ke 4/3, WGS84 radius at the site)
+  bool straight = false;  ///< straight cone instead of the bent beam surface
+  BeamModel beam;         ///< used when not straight (default ke 4/3, WGS84 radius at the site)
   int maxTriangles = kGoogleEarthMaxTrianglesPerModel;  ///< budget per cone (>= 4 * columns)
   int maxAzimuthColumns = 720;
   int maxRangeRows = 64;
 };
 
 struct ConeMesh {
-  double elevationDeg = 0.0;               ///< the sweep's fixed angle (degrees)
-  std::vector<glm::vec3> positionsEnu;     ///< m, local ENU at the antenna (float32)
-  std::vector<glm::vec2> texCoords;        ///< (u, v): u along range, v along azimuth, v = 0 at row 0 (glTF)
-  std::vector<std::uint32_t> indices;      ///< triangle list
-  std::vector<double> columnAzimuthDeg;    ///< azimuth of each vertex column (increasing, one full turn)
-  std::vector<double> rowRangeMeters;      ///< slant range of each vertex row (m)
-  glm::vec3 minEnu{0.0f}, maxEnu{0.0f};    ///< bounds of positionsEnu
+  double elevationDeg = 0.0;             ///< the sweep's fixed angle (degrees)
+  std::vector<glm::vec3> positionsEnu;   ///< m, local ENU at the antenna (float32)
+  std::vector<glm::vec2> texCoords;      ///< (u, v): u along range, v along azimuth, v = 0 at row 0 (glTF)
+  std::vector<std::uint32_t> indices;    ///< triangle list
+  std::vector<double> columnAzimuthDeg;  ///< azimuth of each vertex column (increasing, one full turn)
+  std::vector<double> rowRangeMeters;    ///< slant range of each vertex row (m)
+  glm::vec3 minEnu{0.0f}, maxEnu{0.0f};  ///< bounds of positionsEnu
   /// Vertex index of (column, row); vertices are column-major.
   std::uint32_t vertexIndex(std::size_t column, std::size_t row) const {
     return static_cast<std::uint32_t>(column * rowRangeMeters.size() + row);

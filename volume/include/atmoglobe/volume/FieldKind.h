@@ -19,9 +19,9 @@
 //
 // Default colours and opacity by kind (defaultTransferFor): reflectivity the NWS table; velocity a
 // diverging green (towards the radar) / red (away) table centred on zero over +-Nyquist (when the
-// file gives none: the largest |value| of the field, else 30 m/s), more opaque the faster; spectrum width 0..16 m/s; ZDR -2..8 dB;
-// RhoHV 0.2..1.05 with most of the colours above 0.9; PhiDP 0..360 deg; KDP -2..8 deg/km; others
-// cividis over the field's value range. A table the user names still wins.
+// file gives none: the largest |value| of the field, else 30 m/s), more opaque the faster; spectrum width 0..16 m/s;
+// ZDR -2..8 dB; RhoHV 0.2..1.05 with most of the colours above 0.9; PhiDP 0..360 deg; KDP -2..8 deg/km; others cividis
+// over the field's value range. A table the user names still wins.
 #include <atmoglobe/volume/RadarVolume.h>
 #include <atmoglobe/volume/TransferFunction.h>
 #include <atmoglobe/volume/VolumeSampler.h>

@@ -48,7 +48,7 @@ struct SiteResolution {
   GeolocationSite site;
   double geoidUndulationMeters = 0.0;  ///< N added to the MSL height (0 when not applied)
   bool geoidApplied = false;
-  std::string datumNote;               ///< one line for users: which datum, which undulation
+  std::string datumNote;  ///< one line for users: which datum, which undulation
 };
 
 /// Antenna height above the ellipsoid from a RadarSite. Heights above mean sea level get the EGM96
@@ -70,8 +70,7 @@ struct GatePosition {
 /// the effective sphere (m), for slant range `rangeMeters` (m) at elevation `elevationDeg`
 /// (Doviak & Zrnic 2.28). Closed form; exact within the model.
 void beamHeightAndGroundDistance(double rangeMeters, double elevationDeg, double antennaHeightMeters,
-                                 double effectiveRadiusMeters, double* heightMeters,
-                                 double* groundDistanceMeters);
+                                 double effectiveRadiusMeters, double* heightMeters, double* groundDistanceMeters);
 
 /// Exact path: double precision, one WGS84 geodesic (GeographicLib Direct, ~15 nm) per gate.
 /// Azimuth in degrees clockwise from north, elevation in degrees, range in m (gate centre).
@@ -112,8 +111,7 @@ struct AntennaCoordinates {
 /// Inverse of geolocateGateExact: ECEF point (m) -> (range, azimuth, elevation) under the same
 /// model (Doviak & Zrnic 1993, eq. 2.28, rewritten with sin^2(gamma/2) to avoid cancellation). Round trip with the
 /// forward path is within 1 mm (GeolocationTest.InverseRoundTrip).
-AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model,
-                                           const glm::dvec3& ecef);
+AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const BeamModel& model, const glm::dvec3& ecef);
 
 /// The beam model on a local sphere: what the GPU marcher evaluates per sample (in float32,
 /// shaders/sample_polar.glsl), here in double as its CPU twin. A point's horizontal position is
@@ -127,11 +125,11 @@ AntennaCoordinates antennaCoordinatesExact(const GeolocationSite& site, const Be
 /// see kLocalSphereMaxRangeErrorMeters and kLocalSphereMaxAngleErrorDeg.
 struct LocalSphereBeam {
   glm::dvec3 antennaEcef{0.0};
-  glm::dmat3 enuToEcef{1.0};             ///< columns east, north, up at the site
-  double antennaHeightMeters = 0.0;      ///< h0 above the ellipsoid (m)
-  double meridionalRadiusMeters = 0.0;   ///< M at the site (m)
+  glm::dmat3 enuToEcef{1.0};               ///< columns east, north, up at the site
+  double antennaHeightMeters = 0.0;        ///< h0 above the ellipsoid (m)
+  double meridionalRadiusMeters = 0.0;     ///< M at the site (m)
   double primeVerticalRadiusMeters = 0.0;  ///< N at the site (m)
-  double effectiveRadiusMeters = 0.0;    ///< Re = ke R (m)
+  double effectiveRadiusMeters = 0.0;      ///< Re = ke R (m)
 
   /// Antenna coordinates of a point given in the site's ENU frame (m).
   AntennaCoordinates antennaCoordinates(const glm::dvec3& enu) const;

@@ -60,7 +60,7 @@ struct GridReadOptions {
 
 /// A dimension of the file (every group), for `atmoglobe info`.
 struct GridDimensionInfo {
-  std::string name;     ///< full path ("/lat", "/forecast/level")
+  std::string name;  ///< full path ("/lat", "/forecast/level")
   std::size_t length = 0;
   bool unlimited = false;
 };
@@ -70,42 +70,42 @@ struct GridVariableInfo {
   std::string name;                     ///< full path
   std::vector<std::string> dimensions;  ///< dimension names, file order
   std::vector<std::size_t> shape;
-  std::string type;                     ///< "float", "short" ...
+  std::string type;  ///< "float", "short" ...
   std::string units, standardName, longName;
-  bool packed = false;                  ///< has scale_factor or add_offset
-  bool onGrid = false;                  ///< a 3-D variable readGridVolume can read
+  bool packed = false;  ///< has scale_factor or add_offset
+  bool onGrid = false;  ///< a 3-D variable readGridVolume can read
 };
 
 /// What describeGridFile finds: the file and, for one variable (the default or the one asked
 /// for), its grid, vertical coordinate, height range and times.
 struct GridFileInfo {
   std::string path;
-  std::string format;                  ///< as GridVolume::format
-  std::string conventions;             ///< the Conventions attribute, or the WRF TITLE
+  std::string format;       ///< as GridVolume::format
+  std::string conventions;  ///< the Conventions attribute, or the WRF TITLE
   std::vector<GridDimensionInfo> dimensions;
   std::vector<GridVariableInfo> variables;
 
-  std::string variable;                ///< the variable described below
+  std::string variable;  ///< the variable described below
   bool curvilinear = false;
   std::size_t nx = 0, ny = 0, nz = 0;
   std::string xDimension, yDimension, zDimension, timeDimension;  ///< names ("" for none)
   double southDeg = 0, northDeg = 0, westDeg = 0, eastDeg = 0;    ///< extent (eastDeg may exceed 180)
   bool wrapsLongitude = false;
-  double meanSpacingKm = 0;            ///< mean distance between neighbouring columns (km)
+  double meanSpacingKm = 0;  ///< mean distance between neighbouring columns (km)
 
   VerticalKind verticalKind = VerticalKind::HeightAboveSeaLevel;
   HeightSource heightSource = HeightSource::Coordinate;
   std::string verticalVariable, heightNote;
   bool approximateHeights = false;
-  std::vector<double> levelValues;     ///< bottom first, as GridVolume::levelValues
+  std::vector<double> levelValues;  ///< bottom first, as GridVolume::levelValues
   std::string levelUnits;
   double heightMinMeters = 0, heightMaxMeters = 0;  ///< above the WGS84 ellipsoid, first time step
-  std::size_t heightColumnStride = 1;  ///< the range comes from every Nth row and column
+  std::size_t heightColumnStride = 1;               ///< the range comes from every Nth row and column
 
-  std::vector<std::string> times;      ///< ISO 8601 UTC
+  std::vector<std::string> times;  ///< ISO 8601 UTC
   std::string timeVariable, timeUnits, calendar;
 
-  std::uint64_t bytesRead = 0;         ///< variable data read to describe the file
+  std::uint64_t bytesRead = 0;  ///< variable data read to describe the file
 };
 
 /// True when `path` is a netCDF file holding a forecast grid: a WRF file (TITLE mentioning WRF,

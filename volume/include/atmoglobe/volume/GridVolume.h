@@ -36,23 +36,23 @@ const char* toString(VerticalKind k);
 
 /// Where the heights came from.
 enum class HeightSource {
-  Coordinate,           ///< the coordinate values themselves (lengths), possibly plus a surface altitude
-  GeopotentialField,    ///< a geopotential (or geopotential height) field of the file on the same levels
-  WrfGeopotential,      ///< WRF (PH + PHB) / 9.81 on the staggered W levels, averaged to mass levels
-  StandardAtmosphere,   ///< pressure converted by the standard atmosphere: approximate
+  Coordinate,          ///< the coordinate values themselves (lengths), possibly plus a surface altitude
+  GeopotentialField,   ///< a geopotential (or geopotential height) field of the file on the same levels
+  WrfGeopotential,     ///< WRF (PH + PHB) / 9.81 on the staggered W levels, averaged to mass levels
+  StandardAtmosphere,  ///< pressure converted by the standard atmosphere: approximate
 };
 const char* toString(HeightSource s);
 
 struct GridVolume {
-  std::string path;            ///< the file read
-  std::string format;          ///< "CF netCDF-4", "WRF (netCDF-4)", "CF netCDF classic" ...
+  std::string path;    ///< the file read
+  std::string format;  ///< "CF netCDF-4", "WRF (netCDF-4)", "CF netCDF classic" ...
 
   // --- the variable ---
-  std::string variable;        ///< full name in the file ("/QCLOUD", "/forecast/t")
+  std::string variable;  ///< full name in the file ("/QCLOUD", "/forecast/t")
   std::string units, standardName, longName;
 
   // --- horizontal geometry ---
-  bool curvilinear = false;    ///< false: 1-D lonDeg (nx) and latDeg (ny); true: both ny x nx
+  bool curvilinear = false;  ///< false: 1-D lonDeg (nx) and latDeg (ny); true: both ny x nx
   std::size_t nx = 0, ny = 0, nz = 0;
   std::vector<double> lonDeg, latDeg;  ///< see the file comment (degrees, WGS84)
   /// Rectilinear grid covering all longitudes: column nx-1 neighbours column 0 (a sampler
@@ -66,7 +66,7 @@ struct GridVolume {
   int fileColumnStep = 1, fileRowStep = 1, fileLevelStep = 1;
 
   // --- values ---
-  std::vector<float> values;   ///< nz x ny x nx, NaN = missing (fill, missing_value, outside valid range)
+  std::vector<float> values;  ///< nz x ny x nx, NaN = missing (fill, missing_value, outside valid range)
   float valueMin = std::numeric_limits<float>::quiet_NaN();  ///< smallest finite value (NaN if none)
   float valueMax = std::numeric_limits<float>::quiet_NaN();  ///< largest finite value (NaN if none)
 
@@ -77,8 +77,8 @@ struct GridVolume {
   std::vector<float> heightAboveEllipsoidMeters;
   VerticalKind verticalKind = VerticalKind::HeightAboveSeaLevel;
   HeightSource heightSource = HeightSource::Coordinate;
-  std::string verticalVariable;  ///< the coordinate variable (or "PH+PHB" for WRF)
-  std::string heightNote;        ///< one line: how heights were derived and from what
+  std::string verticalVariable;     ///< the coordinate variable (or "PH+PHB" for WRF)
+  std::string heightNote;           ///< one line: how heights were derived and from what
   bool approximateHeights = false;  ///< true: the heights are an estimate (standard atmosphere, datum guessed)
   /// The vertical coordinate's own value for each level read, bottom first (Pa for pressure
   /// levels, m for heights, the dimensionless coordinate for hybrid/sigma/eta; empty when the

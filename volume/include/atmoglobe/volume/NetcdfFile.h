@@ -31,7 +31,7 @@ namespace atmoglobe::volume {
 struct NcVar {
   int groupId = -1;
   int varId = -1;
-  std::string name;            ///< full path for messages, e.g. "/dataset1/data1/data"
+  std::string name;  ///< full path for messages, e.g. "/dataset1/data1/data"
   nc_type type = NC_NAT;
   std::vector<std::size_t> shape;
   std::vector<int> dimIds;
@@ -101,8 +101,8 @@ class NetcdfFile {
   /// Reads a hyperslab converted to T (netCDF-C conversion rules; a value out of T's
   /// range is an error). `out` must hold the product of `count`.
   template <class T>
-  Status readSlab(const NcVar& var, const std::vector<std::size_t>& start,
-                  const std::vector<std::size_t>& count, T* out) const;
+  Status readSlab(const NcVar& var, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
+                  T* out) const;
 
   /// The same with a stride per dimension (nc_get_vars): element m of dimension d is index
   /// start[d] + m * stride[d]. Strides must be >= 1; the last element read must lie inside the
@@ -182,7 +182,8 @@ class RawDecoder {
     if constexpr (kTableable) {
       if (sizeof(T) == 1 || valueCount >= kValues) {
         table_.resize(kValues);
-        for (std::size_t u = 0; u < kValues; ++u) table_[u] = one_(static_cast<double>(static_cast<T>(static_cast<U>(u))));
+        for (std::size_t u = 0; u < kValues; ++u)
+          table_[u] = one_(static_cast<double>(static_cast<T>(static_cast<U>(u))));
       }
     }
   }

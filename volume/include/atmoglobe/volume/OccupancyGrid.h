@@ -21,7 +21,7 @@ struct OccupancyGrid {
   glm::dvec3 originEcef{0.0};       ///< origin of the local frame (m)
   glm::dmat3 localToEcef{1.0};      ///< columns: the frame's x, y, z (east, north, up) as ECEF unit vectors
   glm::ivec3 cells{1};
-  glm::dvec3 minLocal{0.0};         ///< the box's lower corner in the local frame (m)
+  glm::dvec3 minLocal{0.0};  ///< the box's lower corner in the local frame (m)
   glm::dvec3 cellSizeMeters{1.0};
   std::vector<float> maxValues{kOccupancyEmptyValue};  ///< [z][y][x]
   glm::ivec3 blocks{1};

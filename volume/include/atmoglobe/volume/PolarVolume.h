@@ -58,21 +58,21 @@ struct PolarSweepLayout {
   double gateSpacingMeters = 0.0;     ///< (m), > 0
   int gateCount = 0;
   int rayCount = 0;
-  std::vector<float> azimuthDeg;      ///< rayCount sorted ray-centre azimuths in [0, 360)
+  std::vector<float> azimuthDeg;  ///< rayCount sorted ray-centre azimuths in [0, 360)
 };
 
 struct PolarVolume {
   std::string sourcePath;
   std::string fieldName;
   std::string fieldUnits;
-  GeolocationSite site;               ///< antenna on the WGS84 ellipsoid (after resolveSite)
+  GeolocationSite site;  ///< antenna on the WGS84 ellipsoid (after resolveSite)
   BeamModel beam;
-  double beamWidthDeg = 1.0;          ///< used for the vertical extent (file value, else 1 deg)
+  double beamWidthDeg = 1.0;             ///< used for the vertical extent (file value, else 1 deg)
   std::vector<PolarSweepLayout> sweeps;  ///< sorted by elevation, strictly increasing
   int maxRays = 0;
   int maxGates = 0;
-  std::vector<float> values;          ///< [sweep][ray][gate], sweeps.size() * maxRays * maxGates
-  double maxRangeMeters = 0.0;        ///< largest gate-centre range + half a gate, over sweeps
+  std::vector<float> values;    ///< [sweep][ray][gate], sweeps.size() * maxRays * maxGates
+  double maxRangeMeters = 0.0;  ///< largest gate-centre range + half a gate, over sweeps
   /// (Addition, reference renderer) Radius (m, ECEF straight-line distance from the antenna) of
   /// a sphere that holds every point whose beam-model range is <= maxRangeMeters within the
   /// vertical extent [e_0 - hb, e_{n-1} + hb]. Larger than maxRangeMeters because the model's
@@ -125,9 +125,9 @@ std::vector<float> rayCoordinateTable(const PolarSweepLayout& sweep, int bins);
 /// the GPU's ray clipping at the clip radius.
 inline constexpr double kStraightElevationBandMarginDeg = 0.1;
 struct StraightElevationBand {
-  double loDeg = -90.0;            ///< at range 0, margin included
+  double loDeg = -90.0;  ///< at range 0, margin included
   double hiDeg = 90.0;
-  double bendDegPerMeter = 0.0;    ///< widening on each side per metre of range
+  double bendDegPerMeter = 0.0;              ///< widening on each side per metre of range
   double loDegAt(double rangeMeters) const;  ///< clamped to [-90, 90]
   double hiDegAt(double rangeMeters) const;
 };

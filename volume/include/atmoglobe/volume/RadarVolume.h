@@ -30,10 +30,10 @@ enum class HeightDatum {
 const char* toString(HeightDatum d);
 
 struct RadarSite {
-  std::string name;                 ///< site id or name as the file gives it (may be empty)
-  double latDeg = 0.0;              ///< WGS84 latitude (degrees)
-  double lonDeg = 0.0;              ///< WGS84 longitude (degrees)
-  double antennaHeightMeters = 0.0; ///< antenna (feedhorn) height in `heightDatum` (m)
+  std::string name;                  ///< site id or name as the file gives it (may be empty)
+  double latDeg = 0.0;               ///< WGS84 latitude (degrees)
+  double lonDeg = 0.0;               ///< WGS84 longitude (degrees)
+  double antennaHeightMeters = 0.0;  ///< antenna (feedhorn) height in `heightDatum` (m)
   HeightDatum heightDatum = HeightDatum::MeanSeaLevel;
 };
 
@@ -42,14 +42,14 @@ const char* toString(SweepMode m);
 
 /// One sweep (a PPI at a fixed elevation, or an RHI at a fixed azimuth).
 struct Sweep {
-  int indexInFile = 0;                 ///< sweep/cut number in the file (0-based)
-  double fixedAngleDeg = 0.0;          ///< elevation (PPI) or azimuth (RHI), degrees
+  int indexInFile = 0;         ///< sweep/cut number in the file (0-based)
+  double fixedAngleDeg = 0.0;  ///< elevation (PPI) or azimuth (RHI), degrees
   SweepMode mode = SweepMode::Ppi;
-  std::vector<float> azimuthDeg;       ///< per ray, degrees clockwise from north [0, 360)
-  std::vector<float> elevationDeg;     ///< per ray, degrees above horizontal
-  double firstGateRangeMeters = 0.0;   ///< slant range of the CENTRE of the first gate (m)
-  double gateSpacingMeters = 0.0;      ///< centre-to-centre spacing (m)
-  std::uint32_t gateCount = 0;         ///< gates per ray for the loaded field
+  std::vector<float> azimuthDeg;      ///< per ray, degrees clockwise from north [0, 360)
+  std::vector<float> elevationDeg;    ///< per ray, degrees above horizontal
+  double firstGateRangeMeters = 0.0;  ///< slant range of the CENTRE of the first gate (m)
+  double gateSpacingMeters = 0.0;     ///< centre-to-centre spacing (m)
+  std::uint32_t gateCount = 0;        ///< gates per ray for the loaded field
   /// Decoded values of the loaded field, ray-major: values[ray * gateCount + gate].
   /// Empty when no field was loaded (metadata-only read).
   std::vector<float> values;
@@ -60,23 +60,23 @@ struct Sweep {
 };
 
 struct FieldInfo {
-  std::string name;   ///< name in the file (DBZH, reflectivity, REF, ...)
-  std::string units;  ///< e.g. "dBZ", "m/s"; empty if the file does not say
+  std::string name;          ///< name in the file (DBZH, reflectivity, REF, ...)
+  std::string units;         ///< e.g. "dBZ", "m/s"; empty if the file does not say
   std::string standardName;  ///< CF standard_name (CfRadial); empty if the file does not say
 };
 
 struct RadarVolume {
-  std::string format;              ///< "CfRadial", "ODIM_H5", "NEXRAD Level II"
-  std::string sourcePath;          ///< file it was read from
+  std::string format;      ///< "CfRadial", "ODIM_H5", "NEXRAD Level II"
+  std::string sourcePath;  ///< file it was read from
   RadarSite site;
-  std::string timeIso8601;         ///< volume start time, UTC, e.g. "2016-06-01T15:00:25Z"
-  double beamWidthDeg = 0.0;       ///< half-power beam width if known, else 0
+  std::string timeIso8601;    ///< volume start time, UTC, e.g. "2016-06-01T15:00:25Z"
+  double beamWidthDeg = 0.0;  ///< half-power beam width if known, else 0
   /// Largest Nyquist (unambiguous) velocity of the volume's sweeps (m/s), NaN if the file does
   /// not give one (CfRadial nyquist_velocity, ODIM how/NI, NEXRAD RAD block).
   double nyquistVelocityMps = std::numeric_limits<double>::quiet_NaN();
-  std::vector<FieldInfo> fields;   ///< every field the file holds
-  FieldInfo loadedField;           ///< the field decoded into Sweep::values (name empty if none)
-  std::vector<Sweep> sweeps;       ///< sorted by fixed angle (stable: file order for equal angles)
+  std::vector<FieldInfo> fields;  ///< every field the file holds
+  FieldInfo loadedField;          ///< the field decoded into Sweep::values (name empty if none)
+  std::vector<Sweep> sweeps;      ///< sorted by fixed angle (stable: file order for equal angles)
 };
 
 struct ReadOptions {

@@ -74,9 +74,8 @@ glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const g
 /// One radar volume: renderReference with one PolarSampler layer. `rejectOutsideShell` switches
 /// the sampler's pre-rejection (PolarSampler::provablyEmpty); the image is bit-identical either
 /// way (tested).
-VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings,
-                            const RenderCamera& camera, bool occludeByEllipsoid = true, int threads = 2,
-                            bool rejectOutsideShell = true);
+VolumeImage renderReference(const PolarVolume& volume, const VolumeRenderSettings& settings, const RenderCamera& camera,
+                            bool occludeByEllipsoid = true, int threads = 2, bool rejectOutsideShell = true);
 glm::dvec4 renderReferenceRay(const PolarVolume& volume, const VolumeRenderSettings& settings,
                               const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef, bool occludeByEllipsoid);
 

@@ -33,12 +33,12 @@ namespace atmoglobe::volume {
 
 struct Station {
   std::string id;
-  double latDeg = 0.0;                        ///< WGS84 latitude (degrees)
-  double lonDeg = 0.0;                        ///< longitude (degrees, [-180, 180])
-  double elevationMeters = 0.0;               ///< ground elevation above mean sea level (m); 0 if not given
-  std::string name;                           ///< free text; empty if not given
-  bool hasElevation = false;                  ///< the file gave an elevation
-  std::optional<double> towerHeightMeters;    ///< antenna tower height above ground (m), if given
+  double latDeg = 0.0;                      ///< WGS84 latitude (degrees)
+  double lonDeg = 0.0;                      ///< longitude (degrees, [-180, 180])
+  double elevationMeters = 0.0;             ///< ground elevation above mean sea level (m); 0 if not given
+  std::string name;                         ///< free text; empty if not given
+  bool hasElevation = false;                ///< the file gave an elevation
+  std::optional<double> towerHeightMeters;  ///< antenna tower height above ground (m), if given
 };
 
 /// Reads a CSV or JSON station list (format from the first non-blank character: '[' or '{'

@@ -17,14 +17,14 @@
 namespace atmoglobe::volume {
 
 struct SweepImage {
-  int width = 0;                     ///< columns = gates used
-  int height = 0;                    ///< rows = rays (+ gap rows)
-  std::vector<std::uint8_t> rgba;    ///< row-major RGBA8, row 0 first (= top of a PNG, v = 0 in glTF)
+  int width = 0;                           ///< columns = gates used
+  int height = 0;                          ///< rows = rays (+ gap rows)
+  std::vector<std::uint8_t> rgba;          ///< row-major RGBA8, row 0 first (= top of a PNG, v = 0 in glTF)
   std::vector<double> rowStartAzimuthDeg;  ///< row i covers [start, end) degrees; increasing; the
   std::vector<double> rowEndAzimuthDeg;    ///< rows tile one full turn from rowStartAzimuthDeg[0]
-  std::vector<int> rowRay;           ///< source ray of each row; -1 for a transparent gap row
-  double firstGateRangeMeters = 0.0; ///< centre of column 0 (m)
-  double gateSpacingMeters = 0.0;    ///< column width (m)
+  std::vector<int> rowRay;                 ///< source ray of each row; -1 for a transparent gap row
+  double firstGateRangeMeters = 0.0;       ///< centre of column 0 (m)
+  double gateSpacingMeters = 0.0;          ///< column width (m)
 };
 
 /// Builds the image of `sweep` over its first `gateCount` gates with colours from `table`.

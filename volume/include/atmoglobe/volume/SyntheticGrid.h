@@ -32,23 +32,23 @@
 namespace atmoglobe::volume {
 
 struct SyntheticGridOptions {
-  double centerLatDeg = 35.33305555555556;   ///< grid centre (degrees): KTLX by default
+  double centerLatDeg = 35.33305555555556;  ///< grid centre (degrees): KTLX by default
   double centerLonDeg = -97.27777777777777;
-  std::size_t nx = 400, ny = 400;            ///< columns (west-east) and rows (south-north)
+  std::size_t nx = 400, ny = 400;  ///< columns (west-east) and rows (south-north)
   std::size_t levels = 35;
   std::size_t times = 13;
-  double spacingKm = 5.0;                    ///< column spacing at the centre (km), both directions
-  double lowestLevelMeters = 50.0;           ///< lowest level above ground (m)
-  double topLevelMeters = 18000.0;           ///< highest level above ground (m)
+  double spacingKm = 5.0;                                 ///< column spacing at the centre (km), both directions
+  double lowestLevelMeters = 50.0;                        ///< lowest level above ground (m)
+  double topLevelMeters = 18000.0;                        ///< highest level above ground (m)
   std::string startTimeIso8601 = "2020-05-01T18:00:00Z";  ///< first step, "YYYY-MM-DDTHH:MM:SSZ"
   double stepHours = 1.0;
   /// The radar storm model and its site: the supercell is this one (stormEastKm/NorthKm give its
   /// place at `radarTimeIso8601`, relative to the radar site).
   SyntheticRadarOptions storm;
   std::string radarTimeIso8601 = "2020-05-01T21:00:00Z";
-  double motionEastKmPerHour = 36.0;         ///< storm-system motion (km/h): ENE at 40 km/h
+  double motionEastKmPerHour = 36.0;  ///< storm-system motion (km/h): ENE at 40 km/h
   double motionNorthKmPerHour = 18.0;
-  int deflateLevel = 2;                      ///< netCDF-4 zlib level 0..9 (0: none)
+  int deflateLevel = 2;  ///< netCDF-4 zlib level 0..9 (0: none)
 };
 
 /// What writeSyntheticGrid wrote.

@@ -16,10 +16,10 @@
 //   ground elevation 369.7224 m (1213 ft) + tower height 15.0 m -> antenna 384.7224 m above MSL.
 //
 // The storm: an analytic 3-D reflectivity model (syntheticStormDbz) evaluated at each gate's
-// beam centre: a tilted supercell core (~64 dBZ, echo top ~13 km), a forward-flank precipitation area, a bounded weak-echo region
-// and a low-level hook on the updraft side, an anvil spreading downwind at 9-12 km (15-25 dBZ),
-// and a stratiform area (20-35 dBZ) with a bright band at the 0 C level (3.8 km), plus
-// Gaussian noise. Components add in linear reflectivity (mm^6 m^-3), as echoes do.
+// beam centre: a tilted supercell core (~64 dBZ, echo top ~13 km), a forward-flank precipitation area, a bounded
+// weak-echo region and a low-level hook on the updraft side, an anvil spreading downwind at 9-12 km (15-25 dBZ), and a
+// stratiform area (20-35 dBZ) with a bright band at the 0 C level (3.8 km), plus Gaussian noise. Components add in
+// linear reflectivity (mm^6 m^-3), as echoes do.
 //
 // "No echo": CfRadial 1.x has no code for "measured, nothing detected", so gates below
 // minEchoDbz are written as the DBZ _FillValue (our reader turns them into kNoData), as
@@ -36,17 +36,16 @@ namespace atmoglobe::volume {
 /// NEXRAD VCP 12/212 elevation angles (degrees), lowest first (NOAA WDTB Distance Learning
 /// Operations Course, topic 3 lesson 1, fig. 17).
 inline const std::vector<double>& vcp212ElevationsDeg() {
-  static const std::vector<double> kAngles = {0.5, 0.9, 1.3, 1.8, 2.4, 3.1, 4.0,
-                                              5.1, 6.4, 8.0, 10.0, 12.5, 15.6, 19.5};
+  static const std::vector<double> kAngles = {0.5, 0.9, 1.3, 1.8, 2.4, 3.1, 4.0, 5.1, 6.4, 8.0, 10.0, 12.5, 15.6, 19.5};
   return kAngles;
 }
 
 struct SyntheticRadarOptions {
   // --- site (default KTLX; see the file comment for the source) ---
   std::string siteId = "KTLX";
-  double siteLatDeg = 35.33305555555556;        ///< WGS84 latitude (degrees)
-  double siteLonDeg = -97.27777777777777;       ///< WGS84 longitude (degrees)
-  double antennaAltitudeMslMeters = 384.7224;   ///< antenna (feedhorn) height above mean sea level (m)
+  double siteLatDeg = 35.33305555555556;       ///< WGS84 latitude (degrees)
+  double siteLonDeg = -97.27777777777777;      ///< WGS84 longitude (degrees)
+  double antennaAltitudeMslMeters = 384.7224;  ///< antenna (feedhorn) height above mean sea level (m)
 
   // --- storm ---
   /// Storm (low-level core) centre relative to the site, in the site-centred azimuthal-
@@ -54,22 +53,22 @@ struct SyntheticRadarOptions {
   /// and initial azimuth az from the site. Default: 62 km from KTLX, to the south-west.
   double stormEastKm = -50.0;
   double stormNorthKm = -36.0;
-  std::uint64_t seed = 1;                       ///< noise and texture phases
-  double noiseDbz = 1.0;                        ///< standard deviation of the gate noise (dB); 0: none
-  double minEchoDbz = 5.0;                      ///< weaker gates -> _FillValue ("no echo", see above)
+  std::uint64_t seed = 1;   ///< noise and texture phases
+  double noiseDbz = 1.0;    ///< standard deviation of the gate noise (dB); 0: none
+  double minEchoDbz = 5.0;  ///< weaker gates -> _FillValue ("no echo", see above)
 
   // --- scan ---
   std::vector<double> elevationsDeg = vcp212ElevationsDeg();  ///< one PPI per angle (degrees)
-  int raysPerSweep = 360;                       ///< rays of 360/raysPerSweep deg
-  double firstGateRangeMeters = 2125.0;         ///< centre of the first gate (m)
-  double gateSpacingMeters = 250.0;             ///< m
-  double maxRangeMeters = 230000.0;             ///< last gate centre <= this (m)
-  double beamWidthDeg = 0.95;                   ///< half-power beam width, both planes (degrees)
-  double sweepSeconds = 18.0;                   ///< duration of one sweep (time variable)
-  std::string startTimeIso8601 = "2020-05-01T21:00:00Z";  ///< volume start, UTC, "YYYY-MM-DDTHH:MM:SSZ"
+  int raysPerSweep = 360;                                     ///< rays of 360/raysPerSweep deg
+  double firstGateRangeMeters = 2125.0;                       ///< centre of the first gate (m)
+  double gateSpacingMeters = 250.0;                           ///< m
+  double maxRangeMeters = 230000.0;                           ///< last gate centre <= this (m)
+  double beamWidthDeg = 0.95;                                 ///< half-power beam width, both planes (degrees)
+  double sweepSeconds = 18.0;                                 ///< duration of one sweep (time variable)
+  std::string startTimeIso8601 = "2020-05-01T21:00:00Z";      ///< volume start, UTC, "YYYY-MM-DDTHH:MM:SSZ"
 
   // --- encoding ---
-  int deflateLevel = 4;                         ///< netCDF-4 zlib level 0..9 (0: none)
+  int deflateLevel = 4;  ///< netCDF-4 zlib level 0..9 (0: none)
 };
 
 /// What writeSyntheticCfRadial wrote.
@@ -77,7 +76,7 @@ struct SyntheticRadarSummary {
   std::size_t sweeps = 0;
   std::size_t raysPerSweep = 0;
   std::size_t gatesPerRay = 0;
-  std::size_t echoGates = 0;          ///< gates at or above minEchoDbz (the rest are _FillValue)
+  std::size_t echoGates = 0;                                 ///< gates at or above minEchoDbz (the rest are _FillValue)
   double maxDbz = -std::numeric_limits<double>::infinity();  ///< largest value written (dBZ)
   double maxEastKm = 0.0, maxNorthKm = 0.0, maxHeightMslMeters = 0.0;  ///< where (site-centred plane)
   std::uintmax_t fileBytes = 0;

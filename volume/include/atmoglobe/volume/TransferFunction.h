@@ -18,10 +18,10 @@
 namespace atmoglobe::volume {
 
 struct TransferFunction {
-  ColorTable colors;               ///< RGB, and an alpha multiplier (table alpha / 255), from the value
-  double opacityZeroValue = 10.0;  ///< value (field units) at and below which opacity is 0
-  double opacityFullValue = 60.0;  ///< value at and above which opacity is maxOpacity
-  double maxOpacity = 0.8;         ///< opacity accumulated over opacityReferenceMeters, in [0, 1]
+  ColorTable colors;                       ///< RGB, and an alpha multiplier (table alpha / 255), from the value
+  double opacityZeroValue = 10.0;          ///< value (field units) at and below which opacity is 0
+  double opacityFullValue = 60.0;          ///< value at and above which opacity is maxOpacity
+  double maxOpacity = 0.8;                 ///< opacity accumulated over opacityReferenceMeters, in [0, 1]
   double opacityReferenceMeters = 1000.0;  ///< (m), > 0
 
   /// Straight (not premultiplied) RGBA in [0, 1] of an echo value (field units): rgb =

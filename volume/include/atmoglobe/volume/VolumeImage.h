@@ -14,7 +14,8 @@ struct VolumeImage {
   int heightPx = 0;
   std::vector<glm::dvec4> rgbaPremultiplied;
   const glm::dvec4& at(int x, int y) const {
-    return rgbaPremultiplied[static_cast<std::size_t>(y) * static_cast<std::size_t>(widthPx) + static_cast<std::size_t>(x)];
+    return rgbaPremultiplied[static_cast<std::size_t>(y) * static_cast<std::size_t>(widthPx) +
+                             static_cast<std::size_t>(x)];
   }
 };
 

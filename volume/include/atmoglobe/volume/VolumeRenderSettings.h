@@ -15,10 +15,10 @@ enum class VolumeRenderMode { Dvr, Mip, Iso };
 struct VolumeRenderSettings {
   VolumeRenderMode mode = VolumeRenderMode::Dvr;
   Interpolation interpolation = Interpolation::Linear;
-  double stepMeters = 250.0;               ///< sample spacing along the ray (m), > 0
-  TransferFunction transfer;               ///< DVR colour/opacity; MIP and ISO colours
-  double isoValue = 40.0;                  ///< ISO threshold (field units)
-  double earlyTerminationAlpha = 0.99;     ///< DVR stops once accumulated alpha >= this (> 1: never)
+  double stepMeters = 250.0;            ///< sample spacing along the ray (m), > 0
+  TransferFunction transfer;            ///< DVR colour/opacity; MIP and ISO colours
+  double isoValue = 40.0;               ///< ISO threshold (field units)
+  double earlyTerminationAlpha = 0.99;  ///< DVR stops once accumulated alpha >= this (> 1: never)
 };
 
 }  // namespace atmoglobe::volume

@@ -19,9 +19,9 @@ struct Cell {
   engine::Classification classification = engine::Classification::Point;
 };
 
-const char* modeName(volume::VolumeRenderMode m);             ///< dvr, mip, iso
-const char* interpName(volume::Interpolation i);              ///< linear, nearest
-const char* beamName(engine::BeamApproximation b);            ///< 4/3-earth, straight
+const char* modeName(volume::VolumeRenderMode m);   ///< dvr, mip, iso
+const char* interpName(volume::Interpolation i);    ///< linear, nearest
+const char* beamName(engine::BeamApproximation b);  ///< 4/3-earth, straight
 /// DVR: point or preintegrated; MIP and iso: "-" (classification does not apply).
 const char* classificationName(const Cell& c);
 /// "dvr step 250 m, scale 1, linear, 4/3-earth[, pre-integrated]" (the per-view table).

@@ -3,8 +3,8 @@
 // volume_bench.csv (one row per view x cell), volume_bench.png (error against frame time, log
 // time axis, Pareto front, default ringed). docs/bench-volume.md describes the format.
 #include <atmoglobe/bench/Cells.h>
-#include <atmoglobe/bench/VtkPeer.h>
 #include <atmoglobe/bench/Views.h>
+#include <atmoglobe/bench/VtkPeer.h>
 #include <atmoglobe/engine/PlotImage.h>
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/VolumeImage.h>
@@ -34,7 +34,7 @@ struct Aggregate {
   double maxAbs = 0.0;      ///< max over views
   double meanPsnrDb = 0.0;  ///< mean over views (each capped at 99 dB: identical images are +inf)
   double minPsnrDb = 0.0;
-  bool pareto = false;      ///< DVR only: no other DVR cell is at least as fast and as accurate
+  bool pareto = false;  ///< DVR only: no other DVR cell is at least as fast and as accurate
 };
 
 /// Per cell of `cells` that has rows (in the order of `cells`), with the Pareto front among DVR

@@ -15,15 +15,15 @@ namespace atmoglobe::bench {
 struct VolumeBenchOptions {
   std::string dataDir = "../shared/data";  ///< holds radar_nexrad/ and radar_odim/
   std::string outDir = "out/bench";
-  bool quick = false;                      ///< KLBB oblique only, a small grid, 160x90
-  int frames = 7;                          ///< timed frames per cell (median)
+  bool quick = false;  ///< KLBB oblique only, a small grid, 160x90
+  int frames = 7;      ///< timed frames per cell (median)
   double referenceStepMeters = 100.0;
-  int threads = 0;                         ///< reference and resampling threads; 0: hardware concurrency
+  int threads = 0;  ///< reference and resampling threads; 0: hardware concurrency
   bool peer = true;
-  bool referenceOnly = false;              ///< only fill the reference cache (no GL)
-  std::string peerScript;                  ///< empty: found (VtkPeer.h findPeerScript)
-  std::vector<std::string> viewNames;      ///< empty: every view
-  std::vector<double> stepsMeters;         ///< empty: the standard grid
+  bool referenceOnly = false;          ///< only fill the reference cache (no GL)
+  std::string peerScript;              ///< empty: found (VtkPeer.h findPeerScript)
+  std::vector<std::string> viewNames;  ///< empty: every view
+  std::vector<double> stepsMeters;     ///< empty: the standard grid
 };
 
 struct VolumeBenchOutcome {

@@ -29,8 +29,8 @@ struct PeerResult {
 
 /// What the peer produced for the report.
 struct PeerSection {
-  std::string note;                        ///< why it was skipped or what failed; empty: nothing to say
-  std::map<std::string, PeerGrid> grids;   ///< by volume key (the grid each VTK run was given)
+  std::string note;                       ///< why it was skipped or what failed; empty: nothing to say
+  std::map<std::string, PeerGrid> grids;  ///< by volume key (the grid each VTK run was given)
   std::vector<PeerResult> results;
 };
 
@@ -46,8 +46,8 @@ struct PeerSettings {
   std::filesystem::path outDir;  ///< the peer's files go to outDir/peer/
   std::string script;            ///< vtk_peer.py
   int widthPx = 0, heightPx = 0, frames = 1;
-  double maxVoxels = 2.7e8;      ///< the grid's voxel cap (3.2e7 for --quick)
-  int threads = 1;               ///< for the resampling
+  double maxVoxels = 2.7e8;  ///< the grid's voxel cap (3.2e7 for --quick)
+  int threads = 1;           ///< for the resampling
   double referenceStepMeters = 100.0;
 };
 
@@ -57,7 +57,7 @@ struct PeerSettings {
 /// says so. A script that fails is a note (the runs that finished before are kept, the script
 /// rewrites its result after each); the error is only for a grid that cannot be written.
 Result<PeerSection> runVtkPeer(const std::vector<std::unique_ptr<BenchVolume>>& volumes,
-                               const std::vector<BenchView>& views, const PeerSettings& settings,
-                               ReferenceStore& refs, std::ostream& log);
+                               const std::vector<BenchView>& views, const PeerSettings& settings, ReferenceStore& refs,
+                               std::ostream& log);
 
 }  // namespace atmoglobe::bench
