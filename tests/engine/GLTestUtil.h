@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <algorithm>
 #include <filesystem>
 #include <memory>
@@ -95,19 +97,23 @@ inline void expectMatchesGolden(const std::string& name, const globe::ImageRGBA8
   const int w = actual.width, h = actual.height;
   globe::ImageRGBA8 diff = globe::ImageRGBA8::filled(w, h, {0, 0, 0, 255});
   double sumAbs = 0.0;
-  int bad = 0;
+  int bad = 0, maxDiff = 0, differing = 0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const glm::ivec3 d = glm::abs(glm::ivec3(glm::ivec4(actual.at(x, y))) - glm::ivec3(glm::ivec4(golden->at(x, y))));
       sumAbs += d.r + d.g + d.b;
       const int m = std::max({d.r, d.g, d.b});
       if (m > 24) ++bad;
+      maxDiff = std::max(maxDiff, m);
+      differing += m > 0;
       const auto v = static_cast<std::uint8_t>(std::min(255, m * 8));
       diff.set(x, y, {v, v, v, 255});
     }
   }
   const double meanAbs = sumAbs / (3.0 * w * h);
   const double badFraction = static_cast<double>(bad) / (w * h);
+  std::cout << "golden " << name << ": " << differing << " of " << w * h << " pixels differ, max " << maxDiff
+            << " (8-bit), mean |diff| " << meanAbs << "\n";
   if (meanAbs > 1.0 || badFraction > 0.005) {
     const std::string diffPath = testOutputDir() + "/" + name + ".diff.png";
     EXPECT_TRUE(globe::writePng(diffPath, diff));
