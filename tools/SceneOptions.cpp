@@ -40,8 +40,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                  "NetCDF forecast grid to ray-march (CF or WRF; repeatable; replaces the scene's grids)");
   gg->add_option("--var", o.variables, "Grid variable (default: the file's default, see `atmoglobe info`)");
   gg->add_option("--time", o.times, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
-  gg->add_option("--grid-colors", o.gridColors,
-                 "Grid colour table: auto (by the variable's units/standard_name), cividis, NWS or a .pal file");
+  gg->add_option(
+      "--grid-colors", o.gridColors,
+      "Grid colour table: auto (by the variable: NWS for dBZ, turbo for temperature, greens for humidity, grayscale for cloud, viridis otherwise), viridis, turbo, grayscale, greens, cividis, NWS or a .pal file");
   gg->add_option("--grid-mode", o.gridModes, "Grid rendering: dvr, mip or iso");
   gg->add_option("--grid-step", o.gridSteps,
                  "Grid ray-march step (m; the radars' step integrates both where they overlap)");

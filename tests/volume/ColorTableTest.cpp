@@ -1,5 +1,6 @@
 // Colour tables: NWS reflectivity colours, cividis samples, GR/WCT .pal parsing and its errors.
 #include <atmoglobe/volume/ColorTable.h>
+#include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/RadarVolume.h>
 
 #include <gtest/gtest.h>
@@ -141,4 +142,61 @@ TEST(ColorTable, PalErrorsNameFileAndLine) {
   Result<ColorTable> fromDisk = readPalFile(path);
   ASSERT_FALSE(fromDisk.ok());
   EXPECT_NE(fromDisk.error().find(path + ":2:"), std::string::npos) << fromDisk.error();
+}
+
+// The sequential and rainbow tables: published end colours, lightness running the right way
+// (viridis, grayscale up; greens down), turbo from blue through green to red, and model variables
+// given them by meaning.
+TEST(ColorTable, SequentialAndRainbowTables) {
+  using atmoglobe::volume::Rgba8;
+  auto lightness = [](Rgba8 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  const auto viridis = atmoglobe::volume::viridisTable(0.0, 1.0);
+  EXPECT_EQ(viridis.map(0.0f), (Rgba8{0x44, 0x01, 0x54, 255}));
+  EXPECT_EQ(viridis.map(1.0f), (Rgba8{0xfd, 0xe7, 0x25, 255}));
+  const auto gray = atmoglobe::volume::grayscaleTable(-5.0, 5.0);
+  const auto greens = atmoglobe::volume::greensTable(0.0, 10.0);
+  double prevV = -1.0, prevG = -1.0, prevGreens = 1e9;
+  for (int k = 0; k <= 20; ++k) {
+    const float x = static_cast<float>(k) / 20.0f;
+    const double v = lightness(viridis.map(x)), g = lightness(gray.map(-5.0f + 10.0f * x)),
+                 gr = lightness(greens.map(10.0f * x));
+    EXPECT_GT(v, prevV) << x;
+    EXPECT_GE(g, prevG) << x;
+    EXPECT_LT(gr, prevGreens) << x;
+    prevV = v;
+    prevG = g;
+    prevGreens = gr;
+  }
+  EXPECT_EQ(gray.map(-5.0f), (Rgba8{0, 0, 0, 255}));
+  EXPECT_EQ(gray.map(5.0f), (Rgba8{255, 255, 255, 255}));
+  const auto turbo = atmoglobe::volume::turboTable(0.0, 1.0);
+  const Rgba8 low = turbo.map(0.15f), mid = turbo.map(0.5f), high = turbo.map(0.9f);
+  EXPECT_GT(low.b, low.r);
+  EXPECT_GT(mid.g, mid.r);
+  EXPECT_GT(mid.g, mid.b);
+  EXPECT_GT(high.r, high.g);
+  EXPECT_GT(high.r, high.b);
+  // Below the range: transparent, as every table.
+  EXPECT_EQ(turbo.map(-0.1f).a, 0);
+}
+
+TEST(ColorTable, ModelVariablesGetColoursByMeaning) {
+  using atmoglobe::volume::defaultColorsFor;
+  using atmoglobe::volume::FieldInfo;
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"t", "K", "air_temperature"}), "turbo");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"T2", "K", ""}), "turbo");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"rhumidity", "%", "relative_humidity"}), "greens");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"QVAPOR", "kg kg-1", ""}), "greens");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"QCLOUD", "kg kg-1", ""}), "grayscale");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"dbz", "dBZ", ""}), "NWS");
+  // A model's W is not a radar's spectrum width: its standard_name says so.
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"W", "m s-1", "upward_air_velocity"}), "viridis");
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"VRADH", "m/s", ""}), "auto") << "a radar velocity: by its kind";
+  EXPECT_EQ(defaultColorsFor(FieldInfo{"foo", "1", ""}), "viridis");
+  // "auto" on a model variable uses that table over the variable's values.
+  auto t = atmoglobe::volume::transferForField("auto", FieldInfo{"t", "K", "air_temperature"}, NAN, {210.0, 300.0});
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->colors.name(), "turbo");
+  EXPECT_DOUBLE_EQ(t->colors.stops().front().value, 210.0);
+  EXPECT_DOUBLE_EQ(t->colors.stops().back().value, 300.0);
 }

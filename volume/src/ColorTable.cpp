@@ -101,6 +101,76 @@ ColorTable cividisTable(double minValue, double maxValue) {
   return ColorTable("cividis", "", std::move(stops));
 }
 
+namespace {
+
+// An opaque table over [minValue, maxValue] from colours at equally spaced positions, linear
+// between them.
+ColorTable evenlySpacedTable(const char* name, const std::vector<Rgba8>& colors, double minValue, double maxValue) {
+  assert(std::isfinite(minValue) && std::isfinite(maxValue) && minValue < maxValue && colors.size() >= 2);
+  std::vector<ColorStop> stops;
+  const std::size_t n = colors.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double value = minValue + static_cast<double>(k) / static_cast<double>(n - 1) * (maxValue - minValue);
+    stops.push_back(ColorStop{value, colors[k], colors[std::min(k + 1, n - 1)]});
+  }
+  return ColorTable(name, "", std::move(stops));
+}
+
+}  // namespace
+
+ColorTable viridisTable(double minValue, double maxValue) {
+  // Viridis (van der Walt & Smith, matplotlib 2.0; CC0), the 9 equally spaced colours of the
+  // published 256-entry table.
+  return evenlySpacedTable("viridis",
+                           {{0x44, 0x01, 0x54, 255},
+                            {0x47, 0x2d, 0x7b, 255},
+                            {0x3b, 0x52, 0x8b, 255},
+                            {0x2c, 0x72, 0x8e, 255},
+                            {0x21, 0x91, 0x8c, 255},
+                            {0x28, 0xae, 0x80, 255},
+                            {0x5e, 0xc9, 0x62, 255},
+                            {0xad, 0xdc, 0x30, 255},
+                            {0xfd, 0xe7, 0x25, 255}},
+                           minValue, maxValue);
+}
+
+ColorTable turboTable(double minValue, double maxValue) {
+  // Turbo (Mikhailov 2019, Google AI blog "Turbo, an improved rainbow colormap"), from its
+  // published degree-5 polynomial approximation (R, G, B of x in [0, 1]), sampled at 17 points.
+  std::vector<Rgba8> colors;
+  auto poly = [](double x, const std::array<double, 6>& c) {
+    return c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * (c[4] + x * c[5]))));
+  };
+  constexpr std::array<double, 6> kR{0.13572138, 4.61539260, -42.66032258, 132.13108234, -152.94239396, 59.28637943};
+  constexpr std::array<double, 6> kG{0.09140261, 2.19418839, 4.84296658, -14.18503333, 4.27729857, 2.82956604};
+  constexpr std::array<double, 6> kB{0.10667330, 12.64194608, -60.58204836, 110.36276771, -89.90310912, 27.34824973};
+  auto to8 = [](double c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
+  for (int k = 0; k <= 16; ++k) {
+    const double x = k / 16.0;
+    colors.push_back(Rgba8{to8(poly(x, kR)), to8(poly(x, kG)), to8(poly(x, kB)), 255});
+  }
+  return evenlySpacedTable("turbo", colors, minValue, maxValue);
+}
+
+ColorTable grayscaleTable(double minValue, double maxValue) {
+  return evenlySpacedTable("grayscale", {{0, 0, 0, 255}, {255, 255, 255, 255}}, minValue, maxValue);
+}
+
+ColorTable greensTable(double minValue, double maxValue) {
+  // A single-hue sequential green (ColorBrewer "Greens", 9 classes: Brewer, colorbrewer2.org).
+  return evenlySpacedTable("greens",
+                           {{0xf7, 0xfc, 0xf5, 255},
+                            {0xe5, 0xf5, 0xe0, 255},
+                            {0xc7, 0xe9, 0xc0, 255},
+                            {0xa1, 0xd9, 0x9b, 255},
+                            {0x74, 0xc4, 0x76, 255},
+                            {0x41, 0xab, 0x5d, 255},
+                            {0x23, 0x8b, 0x45, 255},
+                            {0x00, 0x6d, 0x2c, 255},
+                            {0x00, 0x44, 0x1b, 255}},
+                           minValue, maxValue);
+}
+
 // ---------------------------------------------------------------------------------------------
 // .pal parsing
 

@@ -255,21 +255,53 @@ TransferFunction defaultTransferFor(FieldKind kind, double nyquistMps, const Val
   return ramp(cividisTable(lo, hi), lo, hi, 0.5);
 }
 
+namespace {
+
+// A CF standard_name that is not a radar moment's makes the field a model variable whatever its
+// name (W, V and T are radar names too: upward_air_velocity is not a spectrum width).
+FieldKind colourKind(const FieldInfo& f) {
+  if (!f.standardName.empty() && classifyField(FieldInfo{{}, {}, f.standardName}).kind == FieldKind::Other)
+    return FieldKind::Other;
+  return classifyField(f).kind;
+}
+
+}  // namespace
+
+std::string defaultColorsFor(const FieldInfo& field) {
+  const FieldKind kind = colourKind(field);
+  if (kind == FieldKind::Reflectivity) return "NWS";
+  if (kind != FieldKind::Other) return "auto";
+  const std::string sn = lower(field.standardName), n = lower(field.name), u = lower(field.units);
+  auto has = [](const std::string& s, const char* part) { return s.find(part) != std::string::npos; };
+  if (has(sn, "temperature") || n == "t" || n == "t2" || n == "tk" || u == "k" || u == "degc" || u == "celsius")
+    return "turbo";
+  if (has(sn, "humidity") || has(sn, "water_vapor") || n == "qvapor" || n == "rh" || n == "rhumidity") return "greens";
+  if (has(sn, "cloud") || n == "qcloud" || n == "qice" || n == "qsnow") return "grayscale";
+  return "viridis";
+}
+
 Result<TransferFunction> transferForField(const std::string& colors, const FieldInfo& field, double nyquistMps,
                                           const ValueRange& range) {
-  const FieldKind kind = classifyField(field).kind;
-  const std::string c = lower(colors);
+  const FieldKind kind = colourKind(field);
+  std::string c = lower(colors);
+  if ((c.empty() || c == "auto") && kind == FieldKind::Other) c = lower(defaultColorsFor(field));
   if (c.empty() || c == "auto") return defaultTransferFor(kind, nyquistMps, range);
   if (c == "nws") return defaultReflectivityTransfer();
   if (c == "velocity") return defaultTransferFor(FieldKind::Velocity, nyquistMps, range);
   TransferFunction t = defaultTransferFor(kind, nyquistMps, range);
-  if (c == "cividis") {
-    if (kind == FieldKind::Reflectivity) {
-      t.colors = cividisTable(-10.0, 70.0);
-    } else {
-      const auto& stops = t.colors.stops();
-      t.colors = cividisTable(stops.front().value, stops.back().value);
-    }
+  using TableMaker = ColorTable (*)(double, double);
+  struct Named {
+    const char* name;
+    TableMaker make;
+  };
+  for (const Named& m : {Named{"cividis", &cividisTable}, Named{"viridis", &viridisTable}, Named{"turbo", &turboTable},
+                         Named{"grayscale", &grayscaleTable}, Named{"greens", &greensTable}}) {
+    if (c != m.name) continue;
+    // Over the kind's range (reflectivity -10..70 dBZ; Other: the field's values).
+    const auto& stops = t.colors.stops();
+    const double lo = kind == FieldKind::Reflectivity ? -10.0 : stops.front().value;
+    const double hi = kind == FieldKind::Reflectivity ? 70.0 : stops.back().value;
+    t.colors = m.make(lo, hi > lo ? hi : lo + 1.0);
     return t;
   }
   auto table = readPalFile(colors);

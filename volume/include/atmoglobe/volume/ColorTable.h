@@ -76,6 +76,18 @@ ColorTable nwsReflectivityTable();
 /// entry 23 where red leaves 0. Precondition: min < max, both finite.
 ColorTable cividisTable(double minValue, double maxValue);
 
+/// Sequential and rainbow tables over [minValue, maxValue] (opaque; below: transparent; above:
+/// the last colour; linear between equally spaced colours). Precondition: min < max, finite.
+///  - viridis: perceptually uniform, colour-blind safe (matplotlib's default; 9 colours);
+///  - turbo: a rainbow with monotonic lightness in each half, readable by the colour-blind far
+///    better than jet (Google's published polynomial, 17 colours);
+///  - grayscale: black to white;
+///  - greens: a single-hue sequential green (ColorBrewer Greens, 9 classes).
+ColorTable viridisTable(double minValue, double maxValue);
+ColorTable turboTable(double minValue, double maxValue);
+ColorTable grayscaleTable(double minValue, double maxValue);
+ColorTable greensTable(double minValue, double maxValue);
+
 /// Parses the text of a GR/WCT colour table. Recognised lines (keys case-insensitive, ';' starts
 /// a comment, blank lines ignored):
 ///   Product: TEXT   Units: TEXT   Scale: X   Offset: X   Step: X   Decimals: N   RF: r g b

@@ -19,9 +19,11 @@
 //
 // Default colours and opacity by kind (defaultTransferFor): reflectivity the NWS table; velocity a
 // diverging green (towards the radar) / red (away) table centred on zero over +-Nyquist (when the
-// file gives none: the largest |value| of the field, else 30 m/s), more opaque the faster; spectrum width 0..16 m/s;
-// ZDR -2..8 dB; RhoHV 0.2..1.05 with most of the colours above 0.9; PhiDP 0..360 deg; KDP -2..8 deg/km; others cividis
-// over the field's value range. A table the user names still wins.
+// file gives none: the largest |value| of the field, else 30 m/s), more opaque the faster;
+// spectrum width 0..16 m/s; ZDR -2..8 dB; RhoHV 0.2..1.05 with most of the colours above 0.9;
+// PhiDP 0..360 deg; KDP -2..8 deg/km; other fields (model variables) by meaning, over their value
+// range (defaultColorsFor: turbo for temperature, greens for humidity, grayscale for cloud,
+// viridis otherwise). A table the user names still wins.
 #include <atmoglobe/volume/RadarVolume.h>
 #include <atmoglobe/volume/TransferFunction.h>
 #include <atmoglobe/volume/VolumeSampler.h>
@@ -63,10 +65,16 @@ DefaultField chooseDefaultFieldWithReason(const std::vector<FieldInfo>& fields);
 /// `range`: the field's values (velocity without Nyquist, Other).
 TransferFunction defaultTransferFor(FieldKind kind, double nyquistMps, const ValueRange& range);
 
-/// The transfer function a user's colour choice gives for a field: "auto" (by kind, as above),
-/// "NWS" (the reflectivity table and ramp), "cividis" (over -10..70 for reflectivity, else the
-/// kind's range), "velocity" (the diverging table over +-Nyquist), or a GR/WCT .pal file (with the
-/// kind's opacity ramp). Errors: the .pal file's.
+/// The default colour table of a field for "auto": by kind (above); for other fields (model
+/// variables) by standard_name, name or units: temperature -> "turbo", humidity -> "greens",
+/// cloud water and ice -> "grayscale", anything else -> "viridis".
+std::string defaultColorsFor(const FieldInfo& field);
+
+/// The transfer function a user's colour choice gives for a field: "auto" (defaultColorsFor),
+/// "NWS" (the reflectivity table and ramp), "cividis", "viridis", "turbo", "grayscale", "greens"
+/// (over -10..70 for reflectivity, else the kind's range or the field's values), "velocity" (the
+/// diverging table over +-Nyquist), or a GR/WCT .pal file (with the kind's opacity ramp). Errors:
+/// the .pal file's.
 Result<TransferFunction> transferForField(const std::string& colors, const FieldInfo& field, double nyquistMps,
                                           const ValueRange& range);
 
