@@ -44,6 +44,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       "--grid-colors", o.gridColors,
       "Grid colour table: auto (by the variable: NWS for dBZ, turbo for temperature, greens for humidity, grayscale for cloud, viridis otherwise), viridis, turbo, grayscale, greens, cividis, NWS or a .pal file");
   gg->add_option("--grid-mode", o.gridModes, "Grid rendering: dvr, mip or iso");
+  gg->add_option(
+      "--grid-crop", o.gridCrops,
+      "Grid crop box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian): only it is read and drawn");
   gg->add_option("--grid-step", o.gridSteps,
                  "Grid ray-march step (m; the radars' step integrates both where they overlap)");
   auto* g =
@@ -257,8 +260,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     return Ok{};
   };
   if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
-                  !o.gridSteps.empty())) {
-    return makeError("--var/--time/--grid-colors/--grid-mode/--grid-step need a --grid");
+                  !o.gridSteps.empty() || !o.gridCrops.empty())) {
+    return makeError("--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-crop need a --grid");
   }
   if (ng > 0) scene->grids.clear();  // --grid replaces the scene's grids
   for (std::size_t i = 0; i < ng; ++i) {
@@ -270,6 +273,16 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickGrid(o.gridColors, "--grid-colors", i, d.colors), pickGrid(o.gridModes, "--grid-mode", i, d.mode),
           pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
       if (!st) return st.forwardError();
+    }
+    std::string crop;
+    if (auto st = pickGrid(o.gridCrops, "--grid-crop", i, crop); !st) return st.forwardError();
+    if (!crop.empty()) {
+      auto v = parseNumbers(crop, 4, 4, "--grid-crop");
+      if (!v) return v.forwardError();
+      d.cropSouthDeg = (*v)[0];
+      d.cropNorthDeg = (*v)[1];
+      d.cropWestDeg = (*v)[2];
+      d.cropEastDeg = (*v)[3];
     }
     if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
     scene->grids.push_back(d);

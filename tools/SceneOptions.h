@@ -32,6 +32,7 @@ struct SceneOptions {
   // once (every grid) or once per grid.
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
   std::vector<double> gridSteps;
+  std::vector<std::string> gridCrops;  ///< "SOUTH,NORTH,WEST,EAST" (deg)
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);

@@ -194,7 +194,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       const std::string where = sourceName + ": grids[" + std::to_string(i++) + "]";
       if (auto s = checkKeys(r,
                              {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
-                              "iso_value", "classification", "geoid"},
+                              "iso_value", "classification", "geoid", "crop"},
                              where);
           !s) {
         return s.forwardError();
@@ -226,6 +226,16 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
         if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
         d.useGeoid = r["geoid"].get<bool>();
       }
+      if (r.contains("crop")) {
+        const json& c = r["crop"];
+        if (!c.is_array() || c.size() != 4 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number() ||
+            !c[3].is_number())
+          return makeError(where + ": \"crop\" must be [south, north, west, east] in degrees");
+        d.cropSouthDeg = c[0].get<double>();
+        d.cropNorthDeg = c[1].get<double>();
+        d.cropWestDeg = c[2].get<double>();
+        d.cropEastDeg = c[3].get<double>();
+      }
       if (auto s = validateGridLayer(d, where); !s) return s.forwardError();
       scene.grids.push_back(d);
     }
@@ -246,6 +256,11 @@ Status validateGridLayer(const GridLayerDescription& d, const std::string& where
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
   if (std::isinf(d.isoValue)) return makeError(where + ": iso value must be finite");
+  if (!(d.cropSouthDeg >= -90.0 && d.cropNorthDeg <= 90.0 && d.cropSouthDeg < d.cropNorthDeg))
+    return makeError(where + ": crop latitudes must satisfy -90 <= south < north <= 90");
+  if (!(std::isfinite(d.cropWestDeg) && std::isfinite(d.cropEastDeg) && std::abs(d.cropWestDeg) <= 360.0 &&
+        std::abs(d.cropEastDeg) <= 360.0))
+    return makeError(where + ": crop longitudes must be finite degrees in -360..360");
   return Ok{};
 }
 

@@ -103,6 +103,10 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   volume::GridReadOptions read;
   read.variable = d.variable;
   read.useGeoid = d.useGeoid;
+  read.crop.southDeg = d.cropSouthDeg;
+  read.crop.northDeg = d.cropNorthDeg;
+  read.crop.westDeg = d.cropWestDeg;
+  read.crop.eastDeg = d.cropEastDeg;
   if (!d.time.empty() && std::all_of(d.time.begin(), d.time.end(), [](char c) { return c >= '0' && c <= '9'; })) {
     if (d.time.size() > 9) return makeError(d.path + ": time index " + d.time + " is too large");
     read.timeIndex = static_cast<std::size_t>(std::stoul(d.time));

@@ -273,4 +273,25 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   EXPECT_GT(overlapDrawn, 100) << "the view must show the storm where radar and grid overlap";
   // As for two radars (VolumeKinds.OverlappingRadarsAreIntegratedTogether): below one 8-bit step.
   EXPECT_LT(mean, 1.0);
+
+  // A crop box: only its columns are read and drawn (one more on each side).
+  auto cropped = engine::parseSceneJson(
+      R"({"grids": [{"path": "@data/scene_grid.nc", "time": "1", "crop": [34.8, 35.2, -97.6, -97.0]}]})", "s.json", dir,
+      dir);
+  ASSERT_TRUE(cropped) << cropped.error();
+  // The full grid's figures before another layer is added (addGrid may move the layers).
+  const std::size_t fullColumns = (*grid)->volume->grid().nx * (*grid)->volume->grid().ny;
+  const std::uint64_t fullBytes = (*grid)->volume->grid().bytesRead;
+  auto small = (*renderer)->addGrid(cropped->grids[0]);
+  ASSERT_TRUE(small) << small.error();
+  const volume::GridVolume& sg = (*small)->volume->grid();
+  std::cout << "crop: " << sg.nx << " x " << sg.ny << " of " << fullColumns << " columns, " << sg.bytesRead << " of "
+            << fullBytes << " bytes read\n";
+  EXPECT_LT(sg.nx * sg.ny * 10, fullColumns);
+  EXPECT_LT(sg.bytesRead * 5, fullBytes);
+  EXPECT_LE(sg.latDeg.front(), 34.8);
+  EXPECT_GE(sg.latDeg.back(), 35.2);
+  auto badCrop = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "crop": [35, 34, 0, 1]}]})", "s.json", dir, dir);
+  ASSERT_FALSE(badCrop);
+  EXPECT_NE(badCrop.error().find("grids[0]: crop latitudes"), std::string::npos) << badCrop.error();
 }

@@ -75,6 +75,10 @@ struct GridLayerDescription {
   double isoValue = std::numeric_limits<double>::quiet_NaN();  ///< NaN: the middle of the value range
   std::string classification = "point";
   bool useGeoid = true;
+  /// Crop box (deg): only these columns are read and drawn (the reader keeps one more column
+  /// on each side so the cells cover the box). West > east crosses the antimeridian. Default:
+  /// everything.
+  double cropSouthDeg = -90.0, cropNorthDeg = 90.0, cropWestDeg = -180.0, cropEastDeg = 180.0;
 };
 
 /// Checks a grid layer's enumerated fields and numbers (as validateRadarLayer).

@@ -56,7 +56,8 @@ class SceneRendererGL {
   Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
   std::vector<RadarLayerGL>& radars() { return radars_; }
   /// Reads the variable and time step a grid layer names (only that hyperslab: GridReader.h),
-  /// places and uploads it. Drawn with the radars in one march where they overlap.
+  /// places and uploads it. Drawn with the radars in one march where they overlap. The pointer
+  /// returned (as addRadar's) is valid until the next layer is added.
   Result<const GridLayerGL*> addGrid(const GridLayerDescription& description);
   std::vector<GridLayerGL>& grids() { return grids_; }
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
