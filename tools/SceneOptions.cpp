@@ -97,6 +97,19 @@ Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t mi
   }
   return values;
 }
+// A per-layer option given once (every layer) or once per layer: layer i's value into `out`
+// (untouched when the option is not given).
+template <class V, class T>
+Status pickPerLayer(const std::vector<V>& values, const char* name, const char* layerOption, std::size_t layers,
+                    std::size_t i, T& out) {
+  if (values.empty()) return Ok{};
+  if (values.size() != 1 && values.size() != layers) {
+    return makeError(std::string(name) + ": give it once or once per " + layerOption + " (" + std::to_string(layers) +
+                     ")");
+  }
+  out = values.size() == 1 ? values[0] : values[i];
+  return Ok{};
+}
 }  // namespace
 
 Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
@@ -220,13 +233,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (!o.stations.empty()) scene->stationsPath = o.stations;
   for (const std::string& m : o.models) scene->models.push_back(m);
   const std::size_t nr = o.radars.size();
-  auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) -> Status {
-    if (values.empty()) return Ok{};
-    if (values.size() != 1 && values.size() != nr) {
-      return makeError(std::string(name) + ": give it once or once per --radar (" + std::to_string(nr) + ")");
-    }
-    out = values.size() == 1 ? values[0] : values[i];
-    return Ok{};
+  auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
+    return pickPerLayer(values, name, "--radar", nr, i, out);
   };
   if (nr == 0 &&
       (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
@@ -251,13 +259,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     scene->radars.push_back(d);
   }
   const std::size_t ng = o.grids.size();
-  auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) -> Status {
-    if (values.empty()) return Ok{};
-    if (values.size() != 1 && values.size() != ng) {
-      return makeError(std::string(name) + ": give it once or once per --grid (" + std::to_string(ng) + ")");
-    }
-    out = values.size() == 1 ? values[0] : values[i];
-    return Ok{};
+  auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
+    return pickPerLayer(values, name, "--grid", ng, i, out);
   };
   if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
                   !o.gridSteps.empty() || !o.gridCrops.empty())) {

@@ -3,8 +3,10 @@
 // and the default imagery pyramid built once from the Debian world image.
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
+#include <atmoglobe/volume/VolumeImage.h>
 
 #include <gtest/gtest.h>
 
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace atmoglobe::testutil {
 
@@ -120,6 +123,25 @@ inline void expectMatchesGolden(const std::string& name, const globe::ImageRGBA8
     ADD_FAILURE() << name << ": mean |diff| " << meanAbs << ", pixels off by >24: " << 100.0 * badFraction
                   << " %; actual " << actualPath << ", diff " << diffPath;
   }
+}
+
+/// The marcher's volume image of `layers` for a camera (no globe: empty depth), premultiplied,
+/// row 0 = top: what the GPU-against-reference tests compare.
+inline volume::VolumeImage renderVolumesGpu(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
+                                            const std::vector<engine::VolumeLayerGL>& layers) {
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  EXPECT_TRUE(fb);
+  (*fb)->bind();
+  glClearDepth(0.0);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  renderer.draw(camera, layers, **fb);
+  const std::vector<glm::vec4> img = renderer.readVolumeImage();
+  volume::VolumeImage out;
+  out.widthPx = camera.widthPx();
+  out.heightPx = camera.heightPx();
+  for (const glm::vec4& c : img) out.rgbaPremultiplied.push_back(glm::dvec4(c));
+  return out;
 }
 
 }  // namespace atmoglobe::testutil

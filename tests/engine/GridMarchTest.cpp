@@ -74,23 +74,6 @@ MappingError mappingError(engine::VolumeRendererGL& r, const Camera& camera, con
   return e;
 }
 
-volume::VolumeImage renderGpu(engine::VolumeRendererGL& renderer, const Camera& camera,
-                              const std::vector<engine::VolumeLayerGL>& layers) {
-  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
-  EXPECT_TRUE(fb);
-  (*fb)->bind();
-  glClearDepth(0.0);
-  glClearColor(0, 0, 0, 0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  renderer.draw(camera, layers, **fb);
-  const std::vector<glm::vec4> img = renderer.readVolumeImage();
-  volume::VolumeImage out;
-  out.widthPx = camera.widthPx();
-  out.heightPx = camera.heightPx();
-  for (const glm::vec4& c : img) out.rgbaPremultiplied.push_back(glm::dvec4(c));
-  return out;
-}
-
 }  // namespace
 
 // The mapping's float error against the double path. float32 ECEF near the Earth's radius
@@ -182,7 +165,7 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
       o.render.isoValue = 30.0;
       o.render.transfer = volume::defaultReflectivityTransfer();
       o.render.transfer.opacityReferenceMeters = c.stepMeters * 10.0;
-      const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{gl->get(), o}});
+      const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), o}});
       const volume::VolumeImage ref = volume::renderReference({{&(*gl)->referenceSampler(), o.render}},
                                                               engine::referenceCameraFor(camera), true, 2);
       const volume::ImageError e = volume::compareImages(gpu, ref);

@@ -51,19 +51,7 @@ class RadarMarch : public ::testing::Test {
   /// GPU volume image for a camera (no globe: empty depth), composited over black.
   volume::VolumeImage renderGpu(const Camera& camera, const engine::VolumeGL& gl,
                                 const engine::VolumeRenderOptions& options) {
-    auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
-    EXPECT_TRUE(fb);
-    (*fb)->bind();
-    glClearDepth(0.0);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    renderer_->draw(camera, gl, options, **fb);
-    const std::vector<glm::vec4> img = renderer_->readVolumeImage();
-    volume::VolumeImage out;
-    out.widthPx = camera.widthPx();
-    out.heightPx = camera.heightPx();
-    for (const glm::vec4& c : img) out.rgbaPremultiplied.push_back(glm::dvec4(c));
-    return out;
+    return testutil::renderVolumesGpu(*renderer_, camera, {engine::VolumeLayerGL{&gl, options}});
   }
 
   std::unique_ptr<engine::VolumeRendererGL> renderer_;

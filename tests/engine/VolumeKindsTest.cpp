@@ -27,23 +27,6 @@ using namespace atmoglobe;
 using engine::Camera;
 using engine::CameraPose;
 
-volume::VolumeImage renderGpu(engine::VolumeRendererGL& renderer, const Camera& camera,
-                              const std::vector<engine::VolumeLayerGL>& layers) {
-  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
-  EXPECT_TRUE(fb);
-  (*fb)->bind();
-  glClearDepth(0.0);
-  glClearColor(0, 0, 0, 0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  renderer.draw(camera, layers, **fb);
-  const std::vector<glm::vec4> img = renderer.readVolumeImage();
-  volume::VolumeImage out;
-  out.widthPx = camera.widthPx();
-  out.heightPx = camera.heightPx();
-  for (const glm::vec4& c : img) out.rgbaPremultiplied.push_back(glm::dvec4(c));
-  return out;
-}
-
 // A synthetic radar (10 PPI sweeps 0.5..9.5 deg, 360 rays, 400 gates of 250 m from 2125 m, to
 // ~102 km) with a Gaussian storm at (range, azimuth), centred at 3 deg elevation.
 volume::PolarVolume syntheticRadarAt(double latDeg, double lonDeg, double stormRangeMeters, double stormAzimuthDeg) {
@@ -105,7 +88,7 @@ TEST(VolumeKinds, AnalyticShellMatchesItsClosedFormOnGpuAndReference) {
   EXPECT_LE(maxAlphaError, 4.0 * k * options.render.stepMeters);
   // The mean error is far below the worst case (the sampling error averages out): a tenth of it.
   EXPECT_LE(sumAlphaError / (64 * 48), 0.4 * k * options.render.stepMeters);
-  const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{&gl, options}});
+  const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{&gl, options}});
   const volume::ImageError e = volume::compareImages(gpu, ref);
   std::cout << "shell: GPU vs reference: mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
   // Same samples at the same t_i; float32 positions move a sample across a sphere only where the
@@ -142,7 +125,8 @@ TEST(VolumeKinds, OverlappingRadarsAreIntegratedTogether) {
     options.render.mode = mode;
     const volume::VolumeImage ref =
         volume::renderReference({{&sa, options.render}, {&sb, options.render}}, rc, false, 2);
-    const volume::VolumeImage gpu = renderGpu(**renderer, camera, {{glA->get(), options}, {glB->get(), options}});
+    const volume::VolumeImage gpu =
+        testutil::renderVolumesGpu(**renderer, camera, {{glA->get(), options}, {glB->get(), options}});
     const volume::ImageError e = volume::compareImages(gpu, ref);
     std::cout << "two radars, mode " << static_cast<int>(mode) << ": GPU vs reference mean " << e.meanAbs << " max "
               << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
@@ -153,11 +137,12 @@ TEST(VolumeKinds, OverlappingRadarsAreIntegratedTogether) {
     // Skipping (each volume's own grid) does not change the picture.
     engine::VolumeRenderOptions skipping = options;
     skipping.skipEmptySpace = true;
-    const volume::VolumeImage gpuSkip = renderGpu(**renderer, camera, {{glA->get(), skipping}, {glB->get(), skipping}});
+    const volume::VolumeImage gpuSkip =
+        testutil::renderVolumesGpu(**renderer, camera, {{glA->get(), skipping}, {glB->get(), skipping}});
     EXPECT_LE(volume::compareImages(gpuSkip, gpu).maxAbs, 1.0) << "skipping changed the picture";
     // Where a ray crosses only one radar's clip sphere, the pair's picture is that radar's alone.
-    const volume::VolumeImage onlyA = renderGpu(**renderer, camera, {{glA->get(), options}});
-    const volume::VolumeImage onlyB = renderGpu(**renderer, camera, {{glB->get(), options}});
+    const volume::VolumeImage onlyA = testutil::renderVolumesGpu(**renderer, camera, {{glA->get(), options}});
+    const volume::VolumeImage onlyB = testutil::renderVolumesGpu(**renderer, camera, {{glB->get(), options}});
     int single = 0, overlap = 0, drawnInOverlap = 0;
     double maxDiff = 0.0;
     for (int y = 0; y < camera.heightPx(); ++y)
@@ -290,31 +275,31 @@ TEST(VolumeKinds, UniformsAreSetOncePerChange) {
   const std::vector<engine::VolumeLayerGL> layers = {{glA->get(), options}, {glB->get(), options}};
   const Camera camera(CameraPose{34.0, -97.2, 6e4, 0.0, -15.0, 0.0}, 50.0, 64, 32);
   const Camera moved(CameraPose{34.0, -97.1, 6e4, 0.0, -15.0, 0.0}, 50.0, 64, 32);
-  const volume::VolumeImage first = renderGpu(**renderer, camera, layers);
+  const volume::VolumeImage first = testutil::renderVolumesGpu(**renderer, camera, layers);
   const std::uint64_t afterFirst = (*renderer)->uniformUploads();
   EXPECT_GT(afterFirst, 0u);
-  const volume::VolumeImage again = renderGpu(**renderer, camera, layers);
+  const volume::VolumeImage again = testutil::renderVolumesGpu(**renderer, camera, layers);
   EXPECT_EQ((*renderer)->uniformUploads(), afterFirst) << "an unchanged frame must set no uniform";
   EXPECT_EQ(volume::compareImages(first, again).maxAbs, 0.0);
   // A camera move: the 7 shared uniforms and each volume's 10 generic ones (eye), no sampler's.
-  renderGpu(**renderer, moved, layers);
+  testutil::renderVolumesGpu(**renderer, moved, layers);
   EXPECT_EQ((*renderer)->uniformUploads(), afterFirst + 7 + 2 * 10);
   const std::uint64_t afterMove = (*renderer)->uniformUploads();
   // A beam change compiles another variant (BEAM is a define): a program of its own, set in full.
   (*glA)->setBeamApproximation(engine::BeamApproximation::StraightLine);
-  renderGpu(**renderer, moved, layers);
+  testutil::renderVolumesGpu(**renderer, moved, layers);
   EXPECT_GT((*renderer)->uniformUploads(), afterMove);
   (*glA)->setBeamApproximation(engine::BeamApproximation::EffectiveEarthLocalSphere);
   // Back to the first program and camera: A's version changed, so its sampler uniforms are set
   // again (1), the camera and both volumes' eyes too; the picture is the first one.
   const std::uint64_t beforeBack = (*renderer)->uniformUploads();
-  const volume::VolumeImage back = renderGpu(**renderer, camera, layers);
+  const volume::VolumeImage back = testutil::renderVolumesGpu(**renderer, camera, layers);
   EXPECT_EQ((*renderer)->uniformUploads(), beforeBack + 7 + 2 * 10 + 1);
   EXPECT_EQ(volume::compareImages(first, back).maxAbs, 0.0);
   // A fresh renderer draws the same picture.
   auto fresh = engine::VolumeRendererGL::create();
   ASSERT_TRUE(fresh);
-  EXPECT_EQ(volume::compareImages(first, renderGpu(**fresh, camera, layers)).maxAbs, 0.0);
+  EXPECT_EQ(volume::compareImages(first, testutil::renderVolumesGpu(**fresh, camera, layers)).maxAbs, 0.0);
 }
 
 // Radars whose clip spheres are apart are drawn in separate passes, back to front: seen so that

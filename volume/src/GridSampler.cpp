@@ -318,6 +318,30 @@ float GridSampler::columnValue(int column, std::size_t k) const {
   return grid_.values[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
 }
 
+std::optional<double> GridSampler::fractionalLevel(const GridColumns& cols, double heightMeters) const {
+  const std::size_t nz = grid_.nz;
+  if (nz == 0) return std::nullopt;
+  auto heightAt = [&](std::size_t k) {
+    double h = 0.0;
+    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
+    return h;
+  };
+  if (!(heightMeters >= heightAt(0) && heightMeters <= heightAt(nz - 1))) return std::nullopt;
+  if (nz == 1) return 0.0;
+  std::size_t lo = 0, hi = nz - 1;
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (heightAt(mid) <= heightMeters) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  const double hLo = heightAt(lo), hHi = heightAt(hi);
+  const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  return static_cast<double>(lo) + f;
+}
+
 VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double heightMeters,
                                          Interpolation interpolation) const {
   const GridVolume& g = grid_;
@@ -333,11 +357,8 @@ VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double he
     cols.weight[0] = 1.0;
     cols.count = 1;
   }
-  auto heightAt = [&](std::size_t k) {
-    double h = 0.0;
-    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
-    return h;
-  };
+  const std::optional<double> level = fractionalLevel(cols, heightMeters);
+  if (!level) return {};
   auto valueAt = [&](std::size_t k) {
     double v = 0.0;
     for (int c = 0; c < cols.count; ++c) {
@@ -347,57 +368,20 @@ VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double he
     }
     return v;
   };
-  const double bottom = heightAt(0), top = heightAt(g.nz - 1);
-  if (!(heightMeters >= bottom && heightMeters <= top)) return {};
-  double value = kNaN;
-  if (g.nz == 1) {
-    value = valueAt(0);
-  } else {
-    std::size_t lo = 0, hi = g.nz - 1;
-    while (hi - lo > 1) {
-      const std::size_t mid = (lo + hi) / 2;
-      if (heightAt(mid) <= heightMeters) {
-        lo = mid;
-      } else {
-        hi = mid;
-      }
-    }
-    const double hLo = heightAt(lo), hHi = heightAt(hi);
-    const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
-    if (interpolation == Interpolation::Nearest) {
-      value = valueAt(f < 0.5 ? lo : hi);
-    } else {
-      const double a = valueAt(lo), b = valueAt(hi);
-      value = (1.0 - f) * a + f * b;
-    }
-  }
+  const std::size_t lo = static_cast<std::size_t>(*level), hi = std::min(lo + 1, g.nz - 1);
+  const double f = *level - static_cast<double>(lo);
+  const double value = interpolation == Interpolation::Nearest ? valueAt(f < 0.5 ? lo : hi)
+                                                               : (1.0 - f) * valueAt(lo) + f * valueAt(hi);
   if (!std::isfinite(value)) return {};
   return {VolumeSample::State::Echo, value};
 }
 
 std::optional<glm::dvec3> GridSampler::gridIndex(double latDeg, double lonDeg, double heightMeters) const {
   const std::optional<glm::dvec2> ij = horizontalIndex(latDeg, lonDeg);
-  if (!ij || grid_.nz == 0) return std::nullopt;
-  const GridColumns cols = columnsAt(*ij);
-  auto heightAt = [&](std::size_t k) {
-    double h = 0.0;
-    for (int c = 0; c < cols.count; ++c) h += cols.weight[c] * columnHeight(cols.column[c], k);
-    return h;
-  };
-  if (!(heightMeters >= heightAt(0) && heightMeters <= heightAt(grid_.nz - 1))) return std::nullopt;
-  if (grid_.nz == 1) return glm::dvec3(*ij, 0.0);
-  std::size_t lo = 0, hi = grid_.nz - 1;
-  while (hi - lo > 1) {
-    const std::size_t mid = (lo + hi) / 2;
-    if (heightAt(mid) <= heightMeters) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  const double hLo = heightAt(lo), hHi = heightAt(hi);
-  const double f = hHi > hLo ? std::clamp((heightMeters - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
-  return glm::dvec3(*ij, static_cast<double>(lo) + f);
+  if (!ij) return std::nullopt;
+  const std::optional<double> level = fractionalLevel(columnsAt(*ij), heightMeters);
+  if (!level) return std::nullopt;
+  return glm::dvec3(*ij, *level);
 }
 
 VolumeSample GridSampler::sample(const glm::dvec3& ecef, Interpolation interpolation) const {

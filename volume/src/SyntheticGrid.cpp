@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/SyntheticGrid.h>
 
+#include "NcWriter.h"
+
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AtomicFile.h>
@@ -24,33 +26,6 @@ constexpr double kDbzScale = 0.01;  // dbz scale_factor (dB per count)
 constexpr short kDbzFill = -32768;  // dbz _FillValue (never written: nothing is missing)
 constexpr double kClearAirDbz = -30.0;
 constexpr double kEchoDbz = 5.0;  // what the summary counts as echo
-
-// netCDF-C call wrapper: the first failure is kept, naming the file and what was written.
-class NcWriter {
- public:
-  NcWriter(std::string path, int ncid) : path_(std::move(path)), ncid_(ncid) {}
-  bool ok() const { return err_.empty(); }
-  const std::string& error() const { return err_; }
-  void check(int status, const std::string& what) {
-    if (status != NC_NOERR && err_.empty())
-      err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
-  }
-  void text(int varid, const char* name, const std::string& value) {
-    check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
-  }
-  int var(const char* name, nc_type type, std::vector<int> dims) {
-    int id = -1;
-    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id),
-          name);
-    return id;
-  }
-  int ncid() const { return ncid_; }
-
- private:
-  std::string path_;
-  int ncid_;
-  std::string err_;
-};
 
 /// Hours from `a` to `b` (ISO 8601 UTC), through the CF time parser.
 double hoursBetween(const std::string& a, const std::string& b) {

@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/SyntheticRadar.h>
 
+#include "NcWriter.h"
+
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -169,33 +171,6 @@ std::string dbText(double v) {  // "5", "7.5": as a person writes it
 std::string osError(const std::string& path, const char* what, int err) {
   return path + ": " + what + ": " + std::strerror(err);
 }
-
-// netCDF-C call wrapper: on failure, an error naming the file and what was being written.
-class NcWriter {
- public:
-  NcWriter(std::string path, int ncid) : path_(std::move(path)), ncid_(ncid) {}
-  bool ok() const { return err_.empty(); }
-  const std::string& error() const { return err_; }
-  void check(int status, const std::string& what) {
-    if (status != NC_NOERR && err_.empty())
-      err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
-  }
-  void text(int varid, const char* name, const std::string& value) {
-    check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
-  }
-  int var(const char* name, nc_type type, std::vector<int> dims) {
-    int id = -1;
-    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id),
-          name);
-    return id;
-  }
-  int ncid() const { return ncid_; }
-
- private:
-  std::string path_;
-  int ncid_;
-  std::string err_;
-};
 
 bool parseIsoUtc(const std::string& s, std::tm* out) {
   int y, mo, d, h, mi, sec;

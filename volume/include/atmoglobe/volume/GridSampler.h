@@ -82,6 +82,9 @@ class GridSampler final : public VolumeSampler {
   bool hasPoleCaps() const { return poleCaps_; }
 
  private:
+  /// Step 3's level: lo + f by bisection in the columns' blended heights; nullopt below the
+  /// lowest or above the highest level there.
+  std::optional<double> fractionalLevel(const GridColumns& columns, double heightMeters) const;
   std::optional<glm::dvec2> curvilinearIndex(double latDeg, double lonDeg) const;
 
   const GridVolume& grid_;

@@ -1,0 +1,39 @@
+#pragma once
+// Private to the volume library: a netCDF-C call wrapper for the synthetic-file writers
+// (SyntheticRadar.cpp, SyntheticGrid.cpp). The first failure is kept, naming the file and what was
+// being written.
+#include <netcdf.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+class NcWriter {
+ public:
+  NcWriter(std::string path, int ncid) : path_(std::move(path)), ncid_(ncid) {}
+  bool ok() const { return err_.empty(); }
+  const std::string& error() const { return err_; }
+  void check(int status, const std::string& what) {
+    if (status != NC_NOERR && err_.empty())
+      err_ = path_ + ": netCDF write failed (" + what + "): " + nc_strerror(status);
+  }
+  void text(int varid, const char* name, const std::string& value) {
+    check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()), name);
+  }
+  int var(const char* name, nc_type type, std::vector<int> dims) {
+    int id = -1;
+    check(nc_def_var(ncid_, name, type, static_cast<int>(dims.size()), dims.empty() ? nullptr : dims.data(), &id),
+          name);
+    return id;
+  }
+  int ncid() const { return ncid_; }
+
+ private:
+  std::string path_;
+  int ncid_;
+  std::string err_;
+};
+
+}  // namespace atmoglobe::volume
