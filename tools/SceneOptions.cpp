@@ -75,7 +75,6 @@ std::string dataDirectory() {
   return ATMOGLOBE_DATA_DIR;
 }
 
-namespace {
 Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t minCount, std::size_t maxCount,
                                          const std::string& what) {
   std::vector<double> values;
@@ -97,6 +96,8 @@ Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t mi
   }
   return values;
 }
+
+namespace {
 // A per-layer option given once (every layer) or once per layer: layer i's value into `out`
 // (untouched when the option is not given).
 template <class V, class T>

@@ -51,5 +51,9 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text);
 Status parseSize(const std::string& text, int* widthPx, int* heightPx);
+/// Comma-separated finite numbers, between minCount and maxCount of them; `what` names the
+/// option in the message.
+Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t minCount, std::size_t maxCount,
+                                         const std::string& what);
 
 }  // namespace atmoglobe::tools

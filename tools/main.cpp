@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   commands.push_back(addInfoCommand(app));
   commands.push_back(addGatesCommand(app));
   commands.push_back(addExportConesCommand(app));
+  commands.push_back(addConvertCommand(app));
   commands.push_back(addSynthCommand(app));
   commands.push_back(addBenchCommand(app));
   if (argc > 1 && argv[1][0] != '-') {

@@ -107,12 +107,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   read.crop.northDeg = d.cropNorthDeg;
   read.crop.westDeg = d.cropWestDeg;
   read.crop.eastDeg = d.cropEastDeg;
-  if (!d.time.empty() && std::all_of(d.time.begin(), d.time.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-    if (d.time.size() > 9) return makeError(d.path + ": time index " + d.time + " is too large");
-    read.timeIndex = static_cast<std::size_t>(std::stoul(d.time));
-  } else {
-    read.timeIso8601 = d.time;
-  }
+  if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
   const volume::ValueRange range{grid->valueMin, grid->valueMax};

@@ -1057,4 +1057,15 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
   return info;
 }
 
+Status selectGridTime(const std::string& text, GridReadOptions& read) {
+  if (!text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    if (text.size() > 9) return makeError("time index " + text + " is too large");
+    read.timeIndex = static_cast<std::size_t>(std::stoul(text));
+    read.timeIso8601.clear();
+  } else {
+    read.timeIso8601 = text;
+  }
+  return Ok{};
+}
+
 }  // namespace atmoglobe::volume

@@ -58,6 +58,10 @@ struct GridReadOptions {
   bool useGeoid = true;
 };
 
+/// Sets the time step of `read` from a user's text: an index ("3": timeIndex) or an ISO 8601
+/// UTC time (timeIso8601); empty leaves the first step. Error: an index of more than 9 digits.
+Status selectGridTime(const std::string& text, GridReadOptions& read);
+
 /// A dimension of the file (every group), for `atmoglobe info`.
 struct GridDimensionInfo {
   std::string name;  ///< full path ("/lat", "/forecast/level")
