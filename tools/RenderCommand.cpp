@@ -6,10 +6,12 @@
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -23,7 +25,17 @@ struct RenderOptions {
   bool stats = false;
   bool reference = false;
   int threads = 2;
+  bool timeSeries = false;
+  int timeSubsteps = 1;
 };
+
+// NAME.png -> NAME_007.png (frame 7 of a series).
+std::string seriesPath(const std::string& output, std::size_t frame) {
+  const std::filesystem::path p(output);
+  char number[16];
+  std::snprintf(number, sizeof number, "_%03zu", frame);
+  return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
+}
 
 int runRender(const RenderOptions& o) {
   auto scene = resolveScene(o.scene);
@@ -44,13 +56,36 @@ int runRender(const RenderOptions& o) {
   // by the CPU reference renderer (double precision, exact inverse geolocation, same settings)
   // in the marcher's place.
   if (o.reference) (*renderer)->setReferenceVolumes(std::max(1, o.threads));
-  auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
-  if (!image) return fail("render", image.error());
-  if (o.reference) std::cerr << "reference volumes: " << stats.referenceSeconds << " s\n";
   const std::filesystem::path parent = std::filesystem::path(o.output).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec) return fail("render", parent.string() + ": cannot create directory: " + ec.message());
+  if (o.timeSeries) {
+    // One PNG per time step (and substep): NAME_000.png, NAME_001.png, ...
+    if (o.timeSubsteps < 1 || o.timeSubsteps > 100) return fail("render", "--time-substeps must be 1..100");
+    auto axis = engine::sceneTimeAxis(*scene);
+    if (!axis) return fail("render", axis.error());
+    for (const std::string& note : axis->notes) std::cerr << "atmoglobe render: " << note << "\n";
+    std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << scene->grids[axis->leadGrid].path
+              << "; colours and opacity stay those of the step first loaded\n";
+    std::size_t frame = 0;
+    for (std::size_t step = 0; step < axis->times.size(); ++step) {
+      const int subs = step + 1 < axis->times.size() ? o.timeSubsteps : 1;
+      for (int sub = 0; sub < subs; ++sub, ++frame) {
+        auto when = engine::showSceneTime(**renderer, *axis, step, static_cast<double>(sub) / o.timeSubsteps);
+        if (!when) return fail("render", when.error());
+        auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
+        if (!image) return fail("render", image.error());
+        const std::string path = seriesPath(o.output, frame);
+        if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
+        std::cout << path << " " << *when << std::endl;
+      }
+    }
+    return 0;
+  }
+  auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
+  if (!image) return fail("render", image.error());
+  if (o.reference) std::cerr << "reference volumes: " << stats.referenceSeconds << " s\n";
   if (auto s = globe::writePng(o.output, *image); !s) return fail("render", s.error());
   if (o.stats) {
     std::cerr << "renderer: " << (*context)->describe() << "\n"
@@ -81,6 +116,12 @@ Command addRenderCommand(CLI::App& root) {
               "Draw the volumes with the CPU reference renderer (double precision, exact geolocation; slow: "
               "~1-2 us per sample) in the GPU marcher's place; globe, markers, labels and models as always");
   c->add_option("--threads", options->threads, "Threads for --reference")->capture_default_str();
+  c->add_flag("--time-series", options->timeSeries,
+              "One PNG per time step of the scene's grids: -o NAME.png writes NAME_000.png, NAME_001.png, ... "
+              "(each path and its valid time printed)");
+  c->add_option("--time-substeps", options->timeSubsteps,
+                "With --time-series: frames per step, the grids interpolated linearly in time between steps")
+      ->capture_default_str();
   c->footer("Example: atmoglobe render --camera 46,8,2e6,0,-90,0 --size 1280x720 -o out/alps.png");
   return {c, [options] { return runRender(*options); }};
 }

@@ -99,7 +99,9 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   return &radars_.back();
 }
 
-Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& d) {
+namespace {
+// What a grid layer reads: its variable, crop and datum (the time step is set by the caller).
+volume::GridReadOptions gridReadOptions(const GridLayerDescription& d) {
   volume::GridReadOptions read;
   read.variable = d.variable;
   read.useGeoid = d.useGeoid;
@@ -107,6 +109,12 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   read.crop.northDeg = d.cropNorthDeg;
   read.crop.westDeg = d.cropWestDeg;
   read.crop.eastDeg = d.cropEastDeg;
+  return read;
+}
+}  // namespace
+
+Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& d) {
+  volume::GridReadOptions read = gridReadOptions(d);
   if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
@@ -130,8 +138,34 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
-  grids_.push_back(GridLayerGL{std::move(*gl), o});
+  grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, 0.0});
   return &grids_.back();
+}
+
+Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double fraction) {
+  if (index >= grids_.size()) return makeError("no grid layer " + std::to_string(index));
+  GridLayerGL& layer = grids_[index];
+  if (!(fraction >= 0.0 && fraction < 1.0)) return makeError(layer.description.path + ": time fraction outside [0, 1)");
+  if (layer.step == step && layer.stepFraction == fraction) return Ok{};
+  const GridLayerDescription& d = layer.description;
+  volume::GridReadOptions read = gridReadOptions(d);
+  read.timeIndex = step;
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (fraction > 0.0) {
+    read.timeIndex = step + 1;
+    auto next = volume::readGridVolume(d.path, read);
+    if (!next) return next.forwardError();
+    auto blended = volume::interpolateGridSteps(*grid, *next, fraction);
+    if (!blended) return blended.forwardError();
+    grid = std::move(blended);
+  }
+  auto gl = GridVolumeGL::create(*grid);
+  if (!gl) return gl.forwardError();
+  layer.volume = std::move(*gl);
+  layer.step = step;
+  layer.stepFraction = fraction;
+  return Ok{};
 }
 
 SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::vector<Marker>& markers,

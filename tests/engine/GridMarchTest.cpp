@@ -10,6 +10,7 @@
 #include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -277,4 +278,65 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   auto badCrop = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "crop": [35, 34, 0, 1]}]})", "s.json", dir, dir);
   ASSERT_FALSE(badCrop);
   EXPECT_NE(badCrop.error().find("grids[0]: crop latitudes"), std::string::npos) << badCrop.error();
+}
+
+// A time series: stepping a grid layer shows exactly what loading that step afresh shows, and a
+// frame between steps is the grids interpolated in time (neither end, the time between).
+TEST(GridMarch, TimeStepsMatchAFreshLoad) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGridOptions go;
+  go.nx = go.ny = 60;
+  go.levels = 16;
+  go.times = 3;
+  go.spacingKm = 5.0;
+  go.startTimeIso8601 = "2020-05-01T20:00:00Z";
+  ASSERT_TRUE(volume::writeSyntheticGrid(dir + "/series.nc", go));
+  auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 34.3, "lon_deg": -97.9, "height_m": 120000,
+      "heading_deg": 30, "pitch_deg": -45, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54],
+      "grids": [{"path": "@data/series.nc", "step_m": 500}]})",
+                                      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  auto axis = engine::sceneTimeAxis(*scene);
+  ASSERT_TRUE(axis) << axis.error();
+  ASSERT_EQ(axis->times.size(), 3u);
+  EXPECT_EQ(axis->times[2], "2020-05-01T22:00:00Z");
+
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto series = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(series);
+  ASSERT_TRUE((*series)->addGrid(scene->grids[0]));
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto first = (*series)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(first);
+
+  auto when = engine::showSceneTime(**series, *axis, 2);
+  ASSERT_TRUE(when) << when.error();
+  EXPECT_EQ(*when, "2020-05-01T22:00:00Z");
+  auto stepped = (*series)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(stepped);
+  // The same step loaded afresh, with the colours of step 0 (a series keeps the first step's).
+  auto fresh = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(fresh);
+  engine::GridLayerDescription d = scene->grids[0];
+  d.time = "2";
+  auto layer = (*fresh)->addGrid(d);
+  ASSERT_TRUE(layer);
+  (*fresh)->grids()[0].options = (*series)->grids()[0].options;
+  auto direct = (*fresh)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(direct);
+  EXPECT_EQ(stepped->pixels, direct->pixels) << "a stepped layer must draw as the step loaded directly";
+  EXPECT_NE(stepped->pixels, first->pixels) << "the storm moves between steps";
+
+  auto half = engine::showSceneTime(**series, *axis, 1, 0.5);
+  ASSERT_TRUE(half) << half.error();
+  EXPECT_EQ(*half, "2020-05-01T21:30:00Z");
+  EXPECT_EQ((*series)->grids()[0].volume->grid().validTime, "2020-05-01T21:30:00Z");
+  auto between = (*series)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(between);
+  EXPECT_NE(between->pixels, stepped->pixels);
+  EXPECT_FALSE(engine::showSceneTime(**series, *axis, 3));
 }

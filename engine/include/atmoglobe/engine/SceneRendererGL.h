@@ -46,6 +46,9 @@ struct RadarLayerGL {
 struct GridLayerGL {
   std::unique_ptr<GridVolumeGL> volume;
   VolumeRenderOptions options;
+  GridLayerDescription description;  ///< as added (its `time` is the step first loaded)
+  std::size_t step = 0;              ///< time step shown (index on the file's axis)
+  double stepFraction = 0.0;         ///< > 0: that far (0..1) towards step + 1, interpolated
 };
 
 class SceneRendererGL {
@@ -60,6 +63,11 @@ class SceneRendererGL {
   /// returned (as addRadar's) is valid until the next layer is added.
   Result<const GridLayerGL*> addGrid(const GridLayerDescription& description);
   std::vector<GridLayerGL>& grids() { return grids_; }
+  /// Shows grid `index` at time step `step` of its file (only that step is read), or, with
+  /// `fraction` in (0, 1), interpolated that far towards step + 1 (volume::interpolateGridSteps;
+  /// both steps are read). The layer keeps its render options: colours and opacity stay those of
+  /// the step first loaded (or of the description's range), so frames of a series compare.
+  Status setGridStep(std::size_t index, std::size_t step, double fraction = 0.0);
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 

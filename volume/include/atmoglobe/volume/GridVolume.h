@@ -11,6 +11,7 @@
 // a region across the antimeridian); curvilinear grids (WRF XLAT/XLONG, CF 2-D lat/lon) give a
 // latitude and a longitude per column (ny x nx, row-major), longitudes made continuous across
 // the grid (no jump of 360 between neighbours).
+#include <atmoglobe/globe/Result.h>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -104,5 +105,17 @@ struct GridVolume {
   double latDegAt(std::size_t j, std::size_t i) const { return curvilinear ? latDeg[j * nx + i] : latDeg[j]; }
   double lonDegAt(std::size_t j, std::size_t i) const { return curvilinear ? lonDeg[j * nx + i] : lonDeg[i]; }
 };
+
+/// A grid between two time steps of one variable and region: values and heights linear in time,
+/// value = (1 - fraction) a + fraction b (NaN where either is NaN: no value is invented where a
+/// step has none), heights the same way (they stay strictly increasing per column: a convex
+/// combination of two increasing sequences is increasing). validTime is the interpolated time
+/// (ISO 8601, to the second). Errors: different shapes, coordinates or variables, fraction
+/// outside [0, 1].
+Result<GridVolume> interpolateGridSteps(const GridVolume& a, const GridVolume& b, double fraction);
+
+/// The ISO 8601 time a `fraction` of the way from `fromIso` to `toIso` (both "YYYY-MM-DDTHH:MM:SSZ"
+/// on the proleptic Gregorian calendar), rounded to the second; empty if either does not parse.
+std::string interpolateIsoTime(const std::string& fromIso, const std::string& toIso, double fraction);
 
 }  // namespace atmoglobe::volume
