@@ -4,6 +4,9 @@
 //   shift + left drag  tilt (up/down) and turn (left/right)
 //   P                  save a screenshot (atmoglobe-screenshot-N.png in the working dir)
 //   R                  back to the scene's camera;  Esc/Q  quit
+//   Right / Left       next / previous time step of the scene's grids (a substep with
+//                      --time-substeps: the grids interpolated in time between steps)
+//   Space              play / pause the time steps (looping);  Home  the first step
 #include "Commands.h"
 #include "SceneOptions.h"
 
@@ -12,6 +15,7 @@
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 
@@ -22,6 +26,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace atmoglobe::tools {
 
@@ -29,8 +34,11 @@ namespace {
 
 struct ViewOptions {
   SceneOptions scene;
-  int frames = 0;          ///< >0: quit after this many frames (scripted use, tests)
-  std::string screenshot;  ///< with --frames: save the last frame here
+  int frames = 0;            ///< >0: quit after this many frames (scripted use, tests)
+  std::string screenshot;    ///< with --frames: save the last frame here
+  int timeSubsteps = 1;      ///< frames per time step (interpolated between steps)
+  double playSeconds = 0.5;  ///< time per frame while playing
+  bool play = false;         ///< start playing (with --frames: one frame per time position)
 };
 
 struct Interaction {
@@ -44,6 +52,18 @@ struct Interaction {
   bool screenshotRequested = false;
   double lastInputSeconds = -1e9;  ///< glfwGetTime() of the last camera change
   bool dirty = true;               ///< the picture must be redrawn
+  int timeMove = 0;                ///< time positions to move by (keys), applied by the loop
+  bool timeHome = false;
+  bool playing = false;
+};
+
+/// Where the viewer is on the scene's time axis: position = step * substeps + substep.
+struct TimeCursor {
+  std::optional<engine::SceneTimeAxis> axis;
+  int substeps = 1;
+  long position = 0;
+  double lastAdvanceSeconds = 0.0;
+  long count() const { return axis ? static_cast<long>(axis->times.size() - 1) * substeps + 1 : 1; }
 };
 
 /// While the camera moves (input in the last kSettleSeconds) volumes are marched at
@@ -117,7 +137,41 @@ int runView(const ViewOptions& o) {
       s.screenshotRequested = true;
       s.dirty = true;
     }
+    if (key == GLFW_KEY_RIGHT || key == GLFW_KEY_PERIOD) s.timeMove += 1;
+    if (key == GLFW_KEY_LEFT || key == GLFW_KEY_COMMA) s.timeMove -= 1;
+    if (key == GLFW_KEY_HOME) s.timeHome = true;
+    if (key == GLFW_KEY_SPACE) s.playing = !s.playing;
+    s.dirty = true;
   });
+
+  // The scene's time axis, when a grid has several steps (time keys and playing).
+  TimeCursor time;
+  time.substeps = std::clamp(o.timeSubsteps, 1, 100);
+  if (!scene->grids.empty()) {
+    auto axis = engine::sceneTimeAxis(*scene);
+    if (axis) {
+      for (const std::string& note : axis->notes) std::cerr << "atmoglobe view: " << note << "\n";
+      const auto& first = (*renderer)->grids()[axis->leadGrid];
+      time.position = static_cast<long>(first.step) * time.substeps;
+      time.axis = std::move(*axis);
+      std::cout << "time: " << time.axis->times[first.step] << " (step " << first.step + 1 << " of "
+                << time.axis->times.size() << "; Right/Left step, Space plays)" << std::endl;
+    }
+  }
+  state.playing = o.play && time.axis;
+  auto showTime = [&](long position) -> Status {
+    const long n = time.count();
+    position = ((position % n) + n) % n;  // loops at both ends
+    if (position == time.position) return Ok{};
+    time.position = position;
+    const auto step = static_cast<std::size_t>(position / time.substeps);
+    const double fraction = static_cast<double>(position % time.substeps) / time.substeps;
+    auto when = engine::showSceneTime(**renderer, *time.axis, step, fraction);
+    if (!when) return when.forwardError();
+    glfwSetWindowTitle(w, ("atmoglobe  " + *when).c_str());
+    std::cout << "time: " << *when << std::endl;
+    return Ok{};
+  };
 
   std::vector<double> fullImageScale;
   for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
@@ -126,11 +180,24 @@ int runView(const ViewOptions& o) {
   bool wasMoving = false;
   while (!glfwWindowShouldClose(w)) {
     const bool moving = glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
-    if (!state.dirty && !moving && !wasMoving && (*renderer)->globe().lastFrameComplete() && o.frames == 0) {
+    if (!state.dirty && !moving && !wasMoving && !state.playing && (*renderer)->globe().lastFrameComplete() &&
+        o.frames == 0) {
       glfwWaitEventsTimeout(0.1);  // nothing to redraw: sleep until input
       continue;
     }
     glfwPollEvents();
+    if (time.axis) {
+      long wanted = time.position + state.timeMove;
+      if (state.timeHome) wanted = 0;
+      const double now = glfwGetTime();
+      if (state.playing && (o.frames > 0 || now - time.lastAdvanceSeconds >= o.playSeconds)) {
+        wanted += 1;
+        time.lastAdvanceSeconds = now;
+      }
+      state.timeMove = 0;
+      state.timeHome = false;
+      if (auto st = showTime(wanted); !st) return fail("view", st.error());
+    }
     auto& radars = (*renderer)->radars();
     for (std::size_t i = 0; i < radars.size(); ++i) {
       radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
@@ -173,9 +240,16 @@ Command addViewCommand(CLI::App& root) {
   addSceneOptions(*c, options->scene);
   c->add_option("--frames", options->frames, "Quit after this many frames (scripted runs)");
   c->add_option("--screenshot", options->screenshot, "With --frames: save the last frame to this PNG");
+  c->add_option("--time-substeps", options->timeSubsteps,
+                "Time positions per grid time step: between steps the grids are interpolated linearly in time")
+      ->capture_default_str();
+  c->add_option("--play-seconds", options->playSeconds, "Seconds per time position while playing")
+      ->capture_default_str();
+  c->add_flag("--play", options->play, "Start playing the time steps (with --frames: one position per frame)");
   c->footer(
       "Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
-      "Keys: P screenshot, R reset camera, Esc/Q quit.");
+      "Keys: Right/Left next/previous time step, Space play/pause, Home first step, P screenshot, R reset camera, "
+      "Esc/Q quit.");
   return {c, [options] { return runView(*options); }};
 }
 
