@@ -15,6 +15,59 @@
 
 namespace atmoglobe::tools {
 
+namespace {
+// --range/--opacity/--crop/--crop-heights (prefix "--") or their --grid- twins.
+void addLayerSettingOptions(CLI::Option_group& g, const std::string& prefix, SceneOptions::LayerSettingTexts& t,
+                            const std::string& cropNote) {
+  g.add_option(prefix + "range", t.ranges,
+               "Colour table span MIN,MAX (field units; the table is stretched to it, its opacity ramp too)");
+  g.add_option(prefix + "opacity", t.opacities,
+               "Opacity ramp ZERO,FULL[,MAX[,PER_M]]: none at and below ZERO, MAX (0..1 per PER_M metres) at and "
+               "above FULL");
+  g.add_option(prefix + "crop", t.crops,
+               "Crop box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); " + cropNote);
+  g.add_option(prefix + "crop-heights", t.cropHeights, "Crop heights BOTTOM,TOP (m above mean sea level)");
+}
+
+// Layer i's settings from the texts (each given once for all layers or once per layer).
+template <typename Pick>
+Status pickLayerSettings(const SceneOptions::LayerSettingTexts& t, const std::string& prefix, Pick pick, std::size_t i,
+                         engine::VolumeLayerSettings& out) {
+  std::string range, opacity, crop, heights;
+  for (const Status& st :
+       {pick(t.ranges, (prefix + "range").c_str(), i, range),
+        pick(t.opacities, (prefix + "opacity").c_str(), i, opacity), pick(t.crops, (prefix + "crop").c_str(), i, crop),
+        pick(t.cropHeights, (prefix + "crop-heights").c_str(), i, heights)}) {
+    if (!st) return st;
+  }
+  if (!range.empty()) {
+    auto v = parseNumbers(range, 2, 2, prefix + "range");
+    if (!v) return v.forwardError();
+    out.valueRange = glm::dvec2((*v)[0], (*v)[1]);
+  }
+  if (!opacity.empty()) {
+    auto v = parseNumbers(opacity, 2, 4, prefix + "opacity");
+    if (!v) return v.forwardError();
+    out.opacity = *v;
+  }
+  if (!crop.empty()) {
+    auto v = parseNumbers(crop, 4, 4, prefix + "crop");
+    if (!v) return v.forwardError();
+    out.crop.southDeg = (*v)[0];
+    out.crop.northDeg = (*v)[1];
+    out.crop.westDeg = (*v)[2];
+    out.crop.eastDeg = (*v)[3];
+  }
+  if (!heights.empty()) {
+    auto v = parseNumbers(heights, 2, 2, prefix + "crop-heights");
+    if (!v) return v.forwardError();
+    out.crop.bottomMeters = (*v)[0];
+    out.crop.topMeters = (*v)[1];
+  }
+  return Ok{};
+}
+}  // namespace
+
 void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("scene", o.sceneFile, "Scene file (JSON; see README). Default: the embedded default scene");
   c.add_option("--camera", o.camera,
@@ -44,9 +97,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       "--grid-colors", o.gridColors,
       "Grid colour table: auto (by the variable: NWS for dBZ, turbo for temperature, greens for humidity, grayscale for cloud, viridis otherwise), viridis, turbo, grayscale, greens, cividis, NWS or a .pal file");
   gg->add_option("--grid-mode", o.gridModes, "Grid rendering: dvr, mip or iso");
-  gg->add_option(
-      "--grid-crop", o.gridCrops,
-      "Grid crop box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian): only it is read and drawn");
+  addLayerSettingOptions(*gg, "--grid-", o.gridSettings, "only its columns are read");
   gg->add_option("--grid-step", o.gridSteps,
                  "Grid ray-march step (m; the radars' step integrates both where they overlap)");
   auto* g =
@@ -67,6 +118,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   g->add_option("--classification", o.classifications,
                 "DVR between samples: point (default; each sample over one step) or preintegrated (neighbouring "
                 "samples as a linear segment: lower error at any step for 5-12 % more time)");
+  addLayerSettingOptions(*g, "--", o.radarSettings, "gates outside are not drawn");
   g->add_flag("--no-geoid", o.noGeoid, "Take antenna heights as ellipsoidal (no EGM96 conversion)");
 }
 
@@ -237,11 +289,12 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--radar", nr, i, out);
   };
-  if (nr == 0 &&
-      (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
-       !o.beams.empty() || !o.classifications.empty() || !o.imageScales.empty() || !o.isoValues.empty())) {
+  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() ||
+                  !o.interpolations.empty() || !o.beams.empty() || !o.classifications.empty() ||
+                  !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty())) {
     return makeError(
-        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso need a --radar");
+        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso/--range/--opacity/"
+        "--crop/--crop-heights need a --radar");
   }
   if (nr > 0) scene->radars.clear();  // like --imagery, --radar replaces the scene's radars
   for (std::size_t i = 0; i < nr; ++i) {
@@ -256,6 +309,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pick(o.isoValues, "--iso", i, d.isoValue)}) {
       if (!st) return st.forwardError();
     }
+    if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return st.forwardError();
     scene->radars.push_back(d);
   }
@@ -264,8 +318,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
   if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
-                  !o.gridSteps.empty() || !o.gridCrops.empty())) {
-    return makeError("--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-crop need a --grid");
+                  !o.gridSteps.empty() || !o.gridSettings.empty())) {
+    return makeError(
+        "--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "need a --grid");
   }
   if (ng > 0) scene->grids.clear();  // --grid replaces the scene's grids
   for (std::size_t i = 0; i < ng; ++i) {
@@ -278,16 +334,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
       if (!st) return st.forwardError();
     }
-    std::string crop;
-    if (auto st = pickGrid(o.gridCrops, "--grid-crop", i, crop); !st) return st.forwardError();
-    if (!crop.empty()) {
-      auto v = parseNumbers(crop, 4, 4, "--grid-crop");
-      if (!v) return v.forwardError();
-      d.cropSouthDeg = (*v)[0];
-      d.cropNorthDeg = (*v)[1];
-      d.cropWestDeg = (*v)[2];
-      d.cropEastDeg = (*v)[3];
-    }
+    if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
     scene->grids.push_back(d);
   }

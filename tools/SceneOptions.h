@@ -32,7 +32,13 @@ struct SceneOptions {
   // once (every grid) or once per grid.
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
   std::vector<double> gridSteps;
-  std::vector<std::string> gridCrops;  ///< "SOUTH,NORTH,WEST,EAST" (deg)
+  /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
+  /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".
+  struct LayerSettingTexts {
+    std::vector<std::string> ranges, opacities, crops, cropHeights;
+    bool empty() const { return ranges.empty() && opacities.empty() && crops.empty() && cropHeights.empty(); }
+  };
+  LayerSettingTexts radarSettings, gridSettings;
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -38,6 +40,62 @@ std::string resolvePath(const std::string& path, const std::string& baseDir, con
 }
 
 }  // namespace
+
+namespace {
+// "range", "opacity", "crop", "crop_heights_m" of a radar or grid layer.
+Status parseLayerSettings(const json& r, const std::string& where, VolumeLayerSettings& out) {
+  auto numbers = [&](const char* key, std::size_t lo, std::size_t hi, const char* form) -> Result<std::vector<double>> {
+    const json& a = r[key];
+    if (!a.is_array() || a.size() < lo || a.size() > hi) return makeError(where + ": \"" + key + "\" must be " + form);
+    std::vector<double> v;
+    for (const json& x : a) {
+      if (!x.is_number()) return makeError(where + ": \"" + key + "\" must be " + form);
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  if (r.contains("range")) {
+    auto v = numbers("range", 2, 2, "[min, max] in the field's units");
+    if (!v) return v.forwardError();
+    out.valueRange = glm::dvec2((*v)[0], (*v)[1]);
+  }
+  if (r.contains("opacity")) {
+    auto v = numbers("opacity", 2, 4, "[zero, full] or [zero, full, max] or [zero, full, max, per_m]");
+    if (!v) return v.forwardError();
+    out.opacity = *v;
+  }
+  if (r.contains("crop")) {
+    auto v = numbers("crop", 4, 4, "[south, north, west, east] in degrees");
+    if (!v) return v.forwardError();
+    out.crop.southDeg = (*v)[0];
+    out.crop.northDeg = (*v)[1];
+    out.crop.westDeg = (*v)[2];
+    out.crop.eastDeg = (*v)[3];
+  }
+  if (r.contains("crop_heights_m")) {
+    auto v = numbers("crop_heights_m", 2, 2, "[bottom, top] in metres above sea level");
+    if (!v) return v.forwardError();
+    out.crop.bottomMeters = (*v)[0];
+    out.crop.topMeters = (*v)[1];
+  }
+  return Ok{};
+}
+}  // namespace
+
+Status validateVolumeLayerSettings(const VolumeLayerSettings& s, const std::string& where) {
+  if (s.valueRange &&
+      !(std::isfinite(s.valueRange->x) && std::isfinite(s.valueRange->y) && s.valueRange->x < s.valueRange->y))
+    return makeError(where + ": range must be finite with min < max");
+  if (!s.opacity.empty()) {
+    const auto& o = s.opacity;
+    if (o.size() < 2 || o.size() > 4 || !std::all_of(o.begin(), o.end(), [](double x) { return std::isfinite(x); }))
+      return makeError(where + ": opacity must be 2 to 4 finite numbers: zero, full[, max[, per_m]]");
+    if (!(o[0] < o[1])) return makeError(where + ": opacity zero value must be below the full value");
+    if (o.size() > 2 && !(o[2] >= 0.0 && o[2] <= 1.0)) return makeError(where + ": opacity max must be in 0..1");
+    if (o.size() > 3 && !(o[3] > 0.0)) return makeError(where + ": opacity per_m must be > 0");
+  }
+  return volume::validateCropBox(s.crop, where);
+}
 
 Result<SceneDescription> parseSceneJson(std::string_view text, const std::string& sourceName,
                                         const std::string& baseDir, const std::string& dataDir) {
@@ -150,7 +208,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       const std::string where = sourceName + ": radars[" + std::to_string(i++) + "]";
       if (auto s = checkKeys(r,
                              {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
-                              "beam", "classification", "label", "geoid"},
+                              "beam", "classification", "label", "geoid", "range", "opacity", "crop", "crop_heights_m"},
                              where);
           !s) {
         return s.forwardError();
@@ -183,6 +241,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
         if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
         d.useGeoid = r["geoid"].get<bool>();
       }
+      if (auto st = parseLayerSettings(r, where, d.settings); !st) return st.forwardError();
       if (auto s = validateRadarLayer(d, where); !s) return s.forwardError();
       scene.radars.push_back(d);
     }
@@ -194,7 +253,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       const std::string where = sourceName + ": grids[" + std::to_string(i++) + "]";
       if (auto s = checkKeys(r,
                              {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
-                              "iso_value", "classification", "geoid", "crop"},
+                              "iso_value", "classification", "geoid", "range", "opacity", "crop", "crop_heights_m"},
                              where);
           !s) {
         return s.forwardError();
@@ -226,16 +285,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
         if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
         d.useGeoid = r["geoid"].get<bool>();
       }
-      if (r.contains("crop")) {
-        const json& c = r["crop"];
-        if (!c.is_array() || c.size() != 4 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number() ||
-            !c[3].is_number())
-          return makeError(where + ": \"crop\" must be [south, north, west, east] in degrees");
-        d.cropSouthDeg = c[0].get<double>();
-        d.cropNorthDeg = c[1].get<double>();
-        d.cropWestDeg = c[2].get<double>();
-        d.cropEastDeg = c[3].get<double>();
-      }
+      if (auto st = parseLayerSettings(r, where, d.settings); !st) return st.forwardError();
       if (auto s = validateGridLayer(d, where); !s) return s.forwardError();
       scene.grids.push_back(d);
     }
@@ -256,12 +306,7 @@ Status validateGridLayer(const GridLayerDescription& d, const std::string& where
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
   if (std::isinf(d.isoValue)) return makeError(where + ": iso value must be finite");
-  if (!(d.cropSouthDeg >= -90.0 && d.cropNorthDeg <= 90.0 && d.cropSouthDeg < d.cropNorthDeg))
-    return makeError(where + ": crop latitudes must satisfy -90 <= south < north <= 90");
-  if (!(std::isfinite(d.cropWestDeg) && std::isfinite(d.cropEastDeg) && std::abs(d.cropWestDeg) <= 360.0 &&
-        std::abs(d.cropEastDeg) <= 360.0))
-    return makeError(where + ": crop longitudes must be finite degrees in -360..360");
-  return Ok{};
+  return validateVolumeLayerSettings(d.settings, where);
 }
 
 Status validateRadarLayer(const RadarLayerDescription& d, const std::string& where) {
@@ -280,7 +325,7 @@ Status validateRadarLayer(const RadarLayerDescription& d, const std::string& whe
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e5)) return makeError(where + ": step must be in 1..100000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
   if (!std::isfinite(d.isoValue)) return makeError(where + ": iso value must be finite");
-  return Ok{};
+  return validateVolumeLayerSettings(d.settings, where);
 }
 
 Result<SceneDescription> loadSceneFile(const std::string& path, const std::string& dataDir) {

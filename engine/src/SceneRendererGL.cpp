@@ -3,7 +3,9 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
 #include <atmoglobe/volume/ColorTable.h>
+#include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/FieldKind.h>
+#include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
@@ -31,6 +33,27 @@ Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<Im
   return std::make_shared<globe::TileImageLoader>(std::move(opened), options);
 }
 
+Result<volume::TransferFunction> transferForLayer(const std::string& colors, const VolumeLayerSettings& settings,
+                                                  const volume::FieldInfo& field, double nyquistMps,
+                                                  const volume::ValueRange& range) {
+  auto transfer = volume::transferForField(colors, field, nyquistMps, range);
+  if (!transfer) return transfer.forwardError();
+  volume::TransferFunction t = std::move(*transfer);
+  if (settings.valueRange) t = volume::withValueRange(t, settings.valueRange->x, settings.valueRange->y);
+  if (!settings.opacity.empty()) t = volume::withOpacityRamp(t, settings.opacity);
+  return t;
+}
+
+namespace {
+// The EGM96 grid for crop heights above sea level (null when the layer does not use the geoid).
+Result<const volume::GeoidGrid*> cropGeoid(const VolumeLayerSettings& settings, bool useGeoid) {
+  if (settings.crop.coversEveryHeight() || !useGeoid) return static_cast<const volume::GeoidGrid*>(nullptr);
+  const auto& g = volume::defaultEgm96Grid();
+  if (!g) return makeError(g.error());
+  return &*g;
+}
+}  // namespace
+
 Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, const volume::FieldInfo& field,
                                                double nyquistMps, const volume::ValueRange& range) {
   VolumeRenderOptions o;
@@ -41,7 +64,7 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, c
                                                         : volume::Interpolation::Linear;
   o.render.stepMeters = d.stepMeters;
   o.render.isoValue = d.isoValue;
-  auto transfer = volume::transferForField(d.colors, field, nyquistMps, range);
+  auto transfer = transferForLayer(d.colors, d.settings, field, nyquistMps, range);
   if (!transfer) return transfer.forwardError();
   o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
@@ -78,6 +101,13 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   load.buildRenderLayout = true;
   auto radar = volume::loadRadar(d.path, load);
   if (!radar) return radar.forwardError();
+  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+    if (!(radar->layout->minValue <= radar->layout->maxValue))
+      return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
+  }
   auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
@@ -100,15 +130,27 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
 }
 
 namespace {
+// The crop box's cut of a grid as read (the reader already kept only the box's columns and one
+// more on each side; heights and the exact box are cut here).
+Status cropGridLayer(const GridLayerDescription& d, volume::GridVolume& grid) {
+  if (d.settings.crop.coversEveryLonLat() && d.settings.crop.coversEveryHeight()) return Ok{};
+  auto geoid = cropGeoid(d.settings, d.useGeoid);
+  if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+  volume::cropGrid(grid, d.settings.crop, *geoid);
+  if (!(grid.valueMin <= grid.valueMax))
+    return makeError(d.path + ": the crop box leaves no value of " + grid.variable);
+  return Ok{};
+}
+
 // What a grid layer reads: its variable, crop and datum (the time step is set by the caller).
 volume::GridReadOptions gridReadOptions(const GridLayerDescription& d) {
   volume::GridReadOptions read;
   read.variable = d.variable;
   read.useGeoid = d.useGeoid;
-  read.crop.southDeg = d.cropSouthDeg;
-  read.crop.northDeg = d.cropNorthDeg;
-  read.crop.westDeg = d.cropWestDeg;
-  read.crop.eastDeg = d.cropEastDeg;
+  read.crop.southDeg = d.settings.crop.southDeg;
+  read.crop.northDeg = d.settings.crop.northDeg;
+  read.crop.westDeg = d.settings.crop.westDeg;
+  read.crop.eastDeg = d.settings.crop.eastDeg;
   return read;
 }
 }  // namespace
@@ -118,6 +160,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
   const volume::ValueRange range{grid->valueMin, grid->valueMax};
   if (!(range.minValue <= range.maxValue))
     return makeError(d.path + ": " + grid->variable + " has no valid value at " +
@@ -130,8 +173,9 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
                                                         : volume::Interpolation::Linear;
   o.render.stepMeters = d.stepMeters;
   o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
-  auto transfer = volume::transferForField(d.colors, volume::FieldInfo{grid->variable, grid->units, grid->standardName},
-                                           std::numeric_limits<double>::quiet_NaN(), range);
+  auto transfer = transferForLayer(d.colors, d.settings,
+                                   volume::FieldInfo{grid->variable, grid->units, grid->standardName},
+                                   std::numeric_limits<double>::quiet_NaN(), range);
   if (!transfer) return transfer.forwardError();
   o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
@@ -152,10 +196,12 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
   read.timeIndex = step;
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
   if (fraction > 0.0) {
     read.timeIndex = step + 1;
     auto next = volume::readGridVolume(d.path, read);
     if (!next) return next.forwardError();
+    if (auto st = cropGridLayer(d, *next); !st) return st.forwardError();
     auto blended = volume::interpolateGridSteps(*grid, *next, fraction);
     if (!blended) return blended.forwardError();
     grid = std::move(blended);

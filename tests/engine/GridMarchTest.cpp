@@ -340,3 +340,69 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   EXPECT_NE(between->pixels, stepped->pixels);
   EXPECT_FALSE(engine::showSceneTime(**series, *axis, 3));
 }
+
+// Range, opacity ramp and crop box are one set of settings for radars and grids: parsed from the
+// scene, applied to the data before the GPU and the reference see it (so they still agree).
+TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticRadarOptions ro;
+  ro.elevationsDeg = {0.5, 1.5, 2.5, 3.5, 5.0, 7.0, 10.0};
+  ro.maxRangeMeters = 120e3;
+  ASSERT_TRUE(volume::writeSyntheticCfRadial(dir + "/crop_radar.nc", ro));
+  const char* json = R"({"camera": {"lat_deg": 34.6, "lon_deg": -97.8, "height_m": 60000,
+      "heading_deg": 20, "pitch_deg": -40, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54],
+      "radars": [{"path": "@data/crop_radar.nc", "step_m": 500, "crop_heights_m": [0, 5000],
+                  "crop": [34.5, 36, -98.5, -97], "range": [0, 80], "opacity": [20, 50, 0.6]}]})";
+  auto scene = engine::parseSceneJson(json, "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  const auto& settings = scene->radars[0].settings;
+  EXPECT_EQ(settings.crop.topMeters, 5000.0);
+  EXPECT_EQ(settings.crop.westDeg, -98.5);
+  ASSERT_TRUE(settings.valueRange);
+  EXPECT_EQ(settings.opacity.size(), 3u);
+
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer);
+  auto radar = (*renderer)->addRadar(scene->radars[0]);
+  ASSERT_TRUE(radar) << radar.error();
+  EXPECT_EQ((*radar)->options.render.transfer.opacityZeroValue, 20.0);
+  EXPECT_EQ((*radar)->options.render.transfer.maxOpacity, 0.6);
+  // Which gates are cut is checked gate by gate in Crop.RadarGatesOutsideBecomeNoDataByTheExactGeolocation;
+  // here: some are left, and the GPU and the reference draw the same cut data.
+  const volume::PolarVolume& polar = (*radar)->volume->polar();
+  std::size_t kept = 0;
+  for (float v : polar.values) kept += std::isnan(v) ? 0u : 1u;
+  EXPECT_GT(kept, 1000u);
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto gpu = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(gpu);
+  (*renderer)->setReferenceVolumes(2);
+  auto ref = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(ref);
+  double sum = 0.0;
+  for (std::size_t n = 0; n < gpu->pixels.size(); ++n) sum += std::abs(int(gpu->pixels[n]) - int(ref->pixels[n]));
+  const double mean = sum / static_cast<double>(gpu->pixels.size());
+  std::cout << "cropped radar: " << kept << " gates kept; mean |GPU - reference| " << mean << " (8-bit)\n";
+  EXPECT_LT(mean, 1.0);  // as the uncropped scenes: below one 8-bit step
+
+  // Bad settings name the JSON path and the problem.
+  auto bad = engine::parseSceneJson(R"({"radars": [{"path": "r.nc", "opacity": [50, 20]}]})", "s.json", dir, dir);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().find("radars[0]: opacity zero value must be below the full value"), std::string::npos)
+      << bad.error();
+  auto badHeights =
+      engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "crop_heights_m": [5000, 100]}]})", "s.json", dir, dir);
+  ASSERT_FALSE(badHeights);
+  EXPECT_NE(badHeights.error().find("grids[0]: crop heights"), std::string::npos) << badHeights.error();
+  auto allCut = engine::parseSceneJson(
+      R"({"radars": [{"path": "@data/crop_radar.nc", "crop_heights_m": [30000, 40000]}]})", "s.json", dir, dir);
+  ASSERT_TRUE(allCut);
+  auto none = (*renderer)->addRadar(allCut->radars[0]);
+  ASSERT_FALSE(none);
+  EXPECT_NE(none.error().find("the crop box leaves no measured value"), std::string::npos) << none.error();
+}

@@ -46,4 +46,31 @@ TransferFunction defaultReflectivityTransfer() {
   return tf;
 }
 
+TransferFunction withValueRange(const TransferFunction& tf, double lo, double hi) {
+  const auto& stops = tf.colors.stops();
+  if (stops.size() < 2 || !(lo < hi)) return tf;
+  // The table's span in field units: table units u = v * scale + offset.
+  const double scale = tf.colors.scale(), offset = tf.colors.offset();
+  const double a = (stops.front().value - offset) / scale;
+  const double b = (stops.back().value - offset) / scale;
+  const double k = (b - a) / (hi - lo);  // old field units per new field unit
+  TransferFunction out = tf;
+  // New value v reads the old table at a + (v - lo) k: u = (a + (v - lo) k) scale + offset.
+  out.colors = ColorTable(tf.colors.name(), tf.colors.units(), stops, k * scale, (a - lo * k) * scale + offset);
+  out.opacityZeroValue = lo + (tf.opacityZeroValue - a) / k;
+  out.opacityFullValue = lo + (tf.opacityFullValue - a) / k;
+  return out;
+}
+
+TransferFunction withOpacityRamp(const TransferFunction& tf, const std::vector<double>& ramp) {
+  TransferFunction out = tf;
+  if (ramp.size() >= 2) {
+    out.opacityZeroValue = ramp[0];
+    out.opacityFullValue = ramp[1];
+  }
+  if (ramp.size() >= 3) out.maxOpacity = ramp[2];
+  if (ramp.size() >= 4) out.opacityReferenceMeters = ramp[3];
+  return out;
+}
+
 }  // namespace atmoglobe::volume

@@ -21,10 +21,12 @@
 // directory of generated default data (ATMOGLOBE_DATA_DIR).
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/Crop.h>
 
 #include <glm/glm.hpp>
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,6 +48,25 @@ struct ImageryLayerDescription {
   std::string path;  ///< resolved (absolute or relative to the working directory)
 };
 
+/// What users set on any volume layer, radar or grid (JSON keys "range", "opacity", "crop",
+/// "crop_heights_m"; CLI --range/--opacity/--crop/--crop-heights and their --grid- twins).
+struct VolumeLayerSettings {
+  /// The colour table's span (min, max; field units). Empty: the kind's default (reflectivity
+  /// -10..70 dBZ, velocity +-Nyquist, model variables their values' range).
+  std::optional<glm::dvec2> valueRange;
+  /// Opacity ramp: [zero, full] values (field units): opacity 0 at and below zero, the maximum
+  /// at and above full; optionally [.., max] (0..1, per reference length) and [.., .., .., per_m]
+  /// (the reference length, m). Empty: the kind's default ramp.
+  std::vector<double> opacity;
+  /// Crop box: latitude/longitude and heights above sea level; outside it nothing is drawn
+  /// (grids read only its columns). Default: everything.
+  volume::CropBox crop;
+};
+
+/// Checks the settings (range min < max, opacity 2..4 finite numbers with zero != full, max in
+/// [0, 1], per_m > 0, the crop box). `where` starts the message.
+Status validateVolumeLayerSettings(const VolumeLayerSettings& settings, const std::string& where);
+
 /// A radar volume to ray-march (see VolumeRendererGL.h and RadarVolumeGL.h for the knobs).
 struct RadarLayerDescription {
   std::string path;                      ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
@@ -60,6 +81,7 @@ struct RadarLayerDescription {
   std::string classification = "point";  ///< DVR: "point" or "preintegrated" (VolumeRenderOptions::classification)
   std::string label;                     ///< site marker label; empty: the site name from the file
   bool useGeoid = true;
+  VolumeLayerSettings settings;
 };
 
 /// A forecast grid to ray-march (GridVolumeGL.h; the reader: volume/GridReader.h).
@@ -75,10 +97,9 @@ struct GridLayerDescription {
   double isoValue = std::numeric_limits<double>::quiet_NaN();  ///< NaN: the middle of the value range
   std::string classification = "point";
   bool useGeoid = true;
-  /// Crop box (deg): only these columns are read and drawn (the reader keeps one more column
-  /// on each side so the cells cover the box). West > east crosses the antimeridian. Default:
-  /// everything.
-  double cropSouthDeg = -90.0, cropNorthDeg = 90.0, cropWestDeg = -180.0, cropEastDeg = 180.0;
+  /// Range, opacity ramp and crop box. The crop's latitude/longitude box is also what is read
+  /// (the reader keeps one more column on each side so the cells cover the box).
+  VolumeLayerSettings settings;
 };
 
 /// Checks a grid layer's enumerated fields and numbers (as validateRadarLayer).

@@ -23,6 +23,12 @@ namespace atmoglobe::engine {
 Result<std::shared_ptr<globe::TileImageLoader>> openImagery(const std::vector<ImageryLayerDescription>& layers,
                                                             const globe::TileImageLoaderOptions& options);
 
+/// The transfer function of a layer: the field's (transferForField: colours by kind unless
+/// named) stretched to the user's value range and given the user's opacity ramp, where set.
+Result<volume::TransferFunction> transferForLayer(const std::string& colors, const VolumeLayerSettings& settings,
+                                                  const volume::FieldInfo& field, double nyquistMps,
+                                                  const volume::ValueRange& range);
+
 /// Render options of a radar layer description for the field it loaded (colours by the field's
 /// kind unless the description names a table: volume::transferForField; .pal errors).
 Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& description, const volume::FieldInfo& field,

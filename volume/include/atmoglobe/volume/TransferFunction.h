@@ -55,6 +55,16 @@ struct TransferFunction {
 /// Requires bins >= 1 and hi > lo.
 std::vector<glm::dvec4> transferIntegralTable(const TransferFunction& tf, double lo, double hi, int bins);
 
+/// `tf` stretched so that its colour table spans [lo, hi] (field units) instead of its first to
+/// last stop: the table is remapped linearly through its scale/offset (ColorTable's table-unit
+/// convention), and the opacity ramp's two values move with it. Precondition: lo < hi, a table
+/// with at least two stops (otherwise `tf` is returned unchanged).
+TransferFunction withValueRange(const TransferFunction& tf, double lo, double hi);
+
+/// `tf` with a user's opacity ramp: zero and full values (field units), and where given the
+/// maximum opacity (0..1) and its reference length (m).
+TransferFunction withOpacityRamp(const TransferFunction& tf, const std::vector<double>& zeroFullMaxPerMeters);
+
 /// NWS reflectivity colours (nwsReflectivityTable), opacity ramp 10 dBZ -> 60 dBZ, 0.8 per km.
 TransferFunction defaultReflectivityTransfer();
 
