@@ -156,7 +156,7 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
   auto yPixel = [&](double yv) { return L.bottom - (yv - g.yBottom()) / (g.yTop() - g.yBottom()) * L.height(); };
   const double xScale = cappi ? 1.0 : 0.001;  // axis units: degrees or km
   const double yScale = cappi ? 1.0 : 0.001;
-  const int xTarget = std::max(2, L.width() / 90), yTarget = std::max(2, L.height() / 60);
+  const int xTarget = std::max(3, L.width() / 90), yTarget = std::max(3, L.height() / 45);
   const std::vector<double> xTicks = niceTicks(g.xFirst() * xScale, g.xLast() * xScale, xTarget);
   const std::vector<double> yTicks = niceTicks(g.yBottom() * yScale, g.yTop() * yScale, yTarget);
   const int xDecimals = xTicks.size() > 1 ? decimalsFor(xTicks[1] - xTicks[0]) : 0;

@@ -231,7 +231,7 @@ void drawText(globe::ImageRGBA8& image, const Font& font, std::string_view utf8,
                                                             : mask.advancePx);
   const double ay = mask.baselineY - (valign == VAlign::Baseline ? 0.0
                                       : valign == VAlign::Top    ? m.ascentPx
-                                      : valign == VAlign::Middle ? 0.5 * 0.72 * m.ascentPx  // cap height ~0.72 ascent
+                                      : valign == VAlign::Middle ? 0.5 * 0.75 * m.ascentPx  // cap height ~0.75 ascent
                                                                  : m.descentPx);
   const std::vector<std::uint8_t> halo = style.haloRadiusPx > 0.0 ? dilateCoverage(mask, style.haloRadiusPx)
                                                                   : std::vector<std::uint8_t>{};
