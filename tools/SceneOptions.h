@@ -33,6 +33,9 @@ struct SceneOptions {
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
   std::vector<double> gridSteps;
   std::vector<std::string> gridCrops;  ///< "SOUTH,NORTH,WEST,EAST" (deg)
+  // Slices on the globe, of the scene's first radar (else its first grid): each is added.
+  std::vector<double> sliceHeights;     ///< CAPPI heights (m above sea level)
+  std::vector<std::string> slicePaths;  ///< cross-sections "LAT,LON;LAT,LON[;...]"
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
