@@ -283,8 +283,16 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
   drawText(img, font, o.subtitle, 12, 34, TextStyle{kSubtitlePx, {40, 40, 40, 255}, kWhite, 0.0}, HAlign::Left,
            VAlign::Top);
   if (o.synthetic) {
+    // Top right, on the first line (title, subtitle, the free line below) it does not overlap.
     const TextStyle red{kTitlePx, {200, 0, 0, 255}, kWhite, 2.0};
-    drawText(img, font, "SYNTHETIC DATA", o.widthPx - 12, 10, red, HAlign::Right, VAlign::Top);
+    const double markWidth = font.textWidthPx("SYNTHETIC DATA", kTitlePx);
+    double markY = 58;
+    if (12 + font.textWidthPx(o.title, kTitlePx) + 16 + markWidth <= o.widthPx - 12) {
+      markY = 10;
+    } else if (12 + font.textWidthPx(o.subtitle, kSubtitlePx) + 16 + markWidth <= o.widthPx - 12) {
+      markY = 32;
+    }
+    drawText(img, font, "SYNTHETIC DATA", o.widthPx - 12, markY, red, HAlign::Right, VAlign::Top);
     // Also on the data, where a cropped picture keeps it.
     drawText(img, font, "SYNTHETIC", L.left + 6, L.bottom - 6, TextStyle{kTickPx + 1, {200, 0, 0, 255}, kWhite, 2.0},
              HAlign::Left, VAlign::Bottom);
