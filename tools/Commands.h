@@ -22,6 +22,7 @@ Command addExportConesCommand(CLI::App& root);
 Command addSynthCommand(CLI::App& root);
 Command addBenchCommand(CLI::App& root);
 Command addConvertCommand(CLI::App& root);
+Command addSliceCommand(CLI::App& root);
 
 /// Embedded files from assets/ (default scene...), by file name.
 std::optional<std::string_view> embeddedAsset(std::string_view fileName);

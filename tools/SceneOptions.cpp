@@ -100,6 +100,10 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   addLayerSettingOptions(*gg, "--grid-", o.gridSettings, "only its columns are read");
   gg->add_option("--grid-step", o.gridSteps,
                  "Grid ray-march step (m; the radars' step integrates both where they overlap)");
+  auto* sl = c.add_option_group("Slices", "Drawn on the globe, of the scene's first radar (else its first grid)");
+  sl->add_option("--slice-height-m", o.sliceHeights, "A CAPPI at this height above sea level (m; repeatable)");
+  sl->add_option("--slice-path", o.slicePaths,
+                 "A vertical cross-section along geodesics through \"LAT,LON;LAT,LON[;...]\" (repeatable)");
   auto* g =
       c.add_option_group("Radar volumes", "Each option below is given once (all radars) or once per --radar, in order");
   g->add_option(
@@ -180,6 +184,11 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
               << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
               << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
               << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "") << "\n";
+  }
+  for (const engine::SliceLayerDescription& d : scene.slices) {
+    auto line = renderer.addSlice(d);
+    if (!line) return line.forwardError();
+    std::cerr << d.source.path << ": slice " << *line << "\n";
   }
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st) return st.forwardError();
@@ -337,6 +346,31 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
     scene->grids.push_back(d);
+  }
+  if (!o.sliceHeights.empty() || !o.slicePaths.empty()) {
+    engine::SliceLayerDescription base;
+    if (!scene->radars.empty()) {
+      base.source = {volume::SliceSourceOptions::Kind::Radar, scene->radars[0].path, scene->radars[0].field, "",
+                     scene->radars[0].useGeoid};
+    } else if (!scene->grids.empty()) {
+      base.source = {volume::SliceSourceOptions::Kind::Grid, scene->grids[0].path, scene->grids[0].variable,
+                     scene->grids[0].time, scene->grids[0].useGeoid};
+    } else {
+      return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
+    }
+    for (double h : o.sliceHeights) {
+      engine::SliceLayerDescription d = base;
+      d.request.heightMeters = h;
+      scene->slices.push_back(d);
+    }
+    for (const std::string& p : o.slicePaths) {
+      auto points = volume::parsePathText(p);
+      if (!points) return makeError("--slice-path: " + points.error());
+      engine::SliceLayerDescription d = base;
+      d.request.cappi = false;
+      d.request.path = *points;
+      scene->slices.push_back(d);
+    }
   }
   for (const auto& layer : scene->imagery) {
     if (!std::filesystem::exists(layer.path)) {

@@ -39,6 +39,9 @@ struct SceneOptions {
     bool empty() const { return ranges.empty() && opacities.empty() && crops.empty() && cropHeights.empty(); }
   };
   LayerSettingTexts radarSettings, gridSettings;
+  // Slices on the globe, of the scene's first radar (else its first grid): each is added.
+  std::vector<double> sliceHeights;     ///< CAPPI heights (m above sea level)
+  std::vector<std::string> slicePaths;  ///< cross-sections "LAT,LON;LAT,LON[;...]"
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);

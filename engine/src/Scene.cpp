@@ -105,7 +105,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   } catch (const json::parse_error& e) {
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
-  if (auto s = checkKeys(root, {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations"},
+  if (auto s = checkKeys(root,
+                         {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices"},
                          sourceName);
       !s) {
     return s.forwardError();
@@ -289,6 +290,11 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       if (auto s = validateGridLayer(d, where); !s) return s.forwardError();
       scene.grids.push_back(d);
     }
+  }
+  if (root.contains("slices")) {
+    auto slices = parseSliceLayersJson(root["slices"].dump(), sourceName + ": slices", baseDir, dataDir);
+    if (!slices) return slices.forwardError();
+    scene.slices = std::move(*slices);
   }
   return scene;
 }

@@ -94,6 +94,15 @@ Status SceneRendererGL::addModel(const std::string& glbPath) {
   return Ok{};
 }
 
+Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
+  if (!slices_) {
+    auto s = SliceRendererGL::create();
+    if (!s) return s.forwardError();
+    slices_ = std::move(*s);
+  }
+  return slices_->add(d);
+}
+
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
@@ -230,6 +239,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   glDisable(GL_CULL_FACE);
   stats.globe = globe_->draw(camera);
   for (const auto& model : models_) model->draw(camera);
+  if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
   // Every radar in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
   std::vector<VolumeLayerGL> layers;

@@ -15,11 +15,13 @@
 //   "stations": "stations.csv",                                // CSV or JSON station list
 //   "radars":  [{"path": "KLBB.ar2v", "field": "REF", "colors": "NWS", "mode": "dvr",
 //                "interpolation": "linear", "step_m": 250, "image_scale": 1.0,
-//                "iso_dbz": 40, "beam": "4/3", "classification": "point", "label": "KLBB"}]
+//                "iso_dbz": 40, "beam": "4/3", "classification": "point", "label": "KLBB"}],
+//   "slices":  [{"radar": "KLBB.ar2v", "height_m": 3000}]     // keys: SliceLayer.h
 // }
 // Relative paths are relative to the scene file's directory; "@data/" stands for the
 // directory of generated default data (ATMOGLOBE_DATA_DIR).
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/SliceLayer.h>
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/Crop.h>
 
@@ -114,8 +116,9 @@ struct SceneDescription {
   std::vector<Marker> markers;
   std::vector<RadarLayerDescription> radars;
   std::vector<GridLayerDescription> grids;
-  std::string stationsPath;         ///< station list drawn as markers (empty: none)
-  std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
+  std::vector<SliceLayerDescription> slices;  ///< CAPPIs and cross-sections on the globe (SliceLayer.h)
+  std::string stationsPath;                   ///< station list drawn as markers (empty: none)
+  std::vector<std::string> models;            ///< georeferenced .glb files (cone exports) to draw
 };
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).

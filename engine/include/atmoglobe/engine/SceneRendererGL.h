@@ -10,6 +10,7 @@
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/SliceRendererGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/TileImageLoader.h>
@@ -74,6 +75,9 @@ class SceneRendererGL {
   /// both steps are read). The layer keeps its render options: colours and opacity stay those of
   /// the step first loaded (or of the description's range), so frames of a series compare.
   Status setGridStep(std::size_t index, std::size_t step, double fraction = 0.0);
+  /// Samples a slice (CAPPI or cross-section) of the volume it names and draws it on the globe
+  /// (SliceRendererGL.h); returns a line for the user.
+  Result<std::string> addSlice(const SliceLayerDescription& description);
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 
@@ -99,6 +103,7 @@ class SceneRendererGL {
   std::vector<RadarLayerGL> radars_;
   std::vector<GridLayerGL> grids_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
+  std::unique_ptr<SliceRendererGL> slices_;
   int referenceThreads_ = 0;
 };
 

@@ -1,0 +1,354 @@
+// Slice plots (SlicePlot.h).
+#include <atmoglobe/engine/SlicePlot.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace atmoglobe::engine {
+namespace {
+
+// Margins (px) around the plot area: title and subtitle (and the path's point letters) above,
+// tick labels and the axis label below and left, the colour key right.
+constexpr int kTop = 84, kBottom = 54, kLeft = 78, kRight = 150;
+constexpr int kMinWidth = 320, kMinHeight = 240;
+constexpr double kTitlePx = 17.0, kSubtitlePx = 13.0, kTickPx = 12.0, kAxisPx = 13.0;
+const glm::u8vec4 kBlack{0, 0, 0, 255}, kWhite{255, 255, 255, 255}, kGridLine{0, 0, 0, 45};
+
+double mid(double a, double b) { return 0.5 * (a + b); }
+
+// The shape (width / height) of a CAPPI box at its middle latitude.
+double cappiAspect(const volume::LatLonBox& b) {
+  const double cosLat = std::cos(mid(b.southDeg, b.northDeg) * M_PI / 180.0);
+  return (b.eastDeg - b.westDeg) * std::max(cosLat, 0.05) / (b.northDeg - b.southDeg);
+}
+
+void fillRect(globe::ImageRGBA8& img, int x0, int y0, int x1, int y1, glm::u8vec4 c) {
+  for (int y = std::max(0, y0); y < std::min(img.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(img.width, x1); ++x) blendPixel(img, x, y, c, 255);
+}
+void hLine(globe::ImageRGBA8& img, int x0, int x1, int y, glm::u8vec4 c) { fillRect(img, x0, y, x1, y + 1, c); }
+void vLine(globe::ImageRGBA8& img, int x, int y0, int y1, glm::u8vec4 c) { fillRect(img, x, y0, x + 1, y1, c); }
+void frame(globe::ImageRGBA8& img, int x0, int y0, int x1, int y1, glm::u8vec4 c) {
+  hLine(img, x0 - 1, x1 + 1, y0 - 1, c);
+  hLine(img, x0 - 1, x1 + 1, y1, c);
+  vLine(img, x0 - 1, y0 - 1, y1 + 1, c);
+  vLine(img, x1, y0 - 1, y1 + 1, c);
+}
+
+int decimalsFor(double step) {
+  int d = 0;
+  while (d < 4 && std::abs(step * std::pow(10.0, d) - std::round(step * std::pow(10.0, d))) > 1e-6) ++d;
+  return d;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, std::abs(v) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : v);
+  return buf;
+}
+
+std::string pointLetter(std::size_t k) {
+  if (k < 26) return std::string(1, static_cast<char>('A' + k));
+  return std::string("P").append(std::to_string(k + 1));
+}
+
+}  // namespace
+
+std::vector<double> niceTicks(double lo, double hi, int target) {
+  std::vector<double> ticks;
+  if (!(hi > lo) || target < 1) return ticks;
+  const double raw = (hi - lo) / target;
+  const double p = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = p;
+  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
+    step = m * p;
+    if (step >= raw) break;
+  }
+  const double eps = 1e-9 * (hi - lo);
+  for (double v = std::ceil((lo - eps) / step) * step; v <= hi + eps; v += step) {
+    ticks.push_back(std::abs(v) < eps ? 0.0 : v);
+  }
+  return ticks;
+}
+
+std::string latitudeLabel(double latDeg, int decimals) {
+  const std::string n = fixed(std::abs(latDeg), decimals);
+  if (n == fixed(0.0, decimals)) return n + "°";
+  return n + (latDeg > 0 ? std::string("°N") : std::string("°S"));
+}
+
+std::string longitudeLabel(double lonDeg, int decimals) {
+  double l = std::fmod(lonDeg, 360.0);
+  if (l > 180.0) l -= 360.0;
+  if (l <= -180.0) l += 360.0;
+  const std::string n = fixed(std::abs(l), decimals);
+  if (n == fixed(0.0, decimals) || n == fixed(180.0, decimals)) return n + "°";
+  return n + (l > 0 ? std::string("°E") : std::string("°W"));
+}
+
+glm::u8vec4 slicePixelColor(const volume::ColorTable& colors, float value, glm::u8vec4 noEchoColor,
+                            glm::u8vec4 noDataColor) {
+  if (std::isnan(value)) return noDataColor;
+  if (std::isinf(value)) return noEchoColor;
+  const volume::Rgba8 c = colors.map(value);
+  if (c.a == 0) return noEchoColor;
+  return {c.r, c.g, c.b, 255};
+}
+
+int cappiImageHeightFor(const volume::LatLonBox& box, int widthPx) {
+  const double plotWidth = std::max(1, widthPx - kLeft - kRight);
+  const double h = plotWidth / cappiAspect(box) + kTop + kBottom;
+  return std::clamp(static_cast<int>(std::lround(h)), kMinHeight, 4096);
+}
+
+Result<SlicePlotLayout> layoutSlicePlot(const volume::SliceGeometry& g, int widthPx, int heightPx) {
+  if (widthPx < kMinWidth || heightPx < kMinHeight) {
+    return makeError("slice plot size " + std::to_string(widthPx) + "x" + std::to_string(heightPx) +
+                     " is too small: at least " + std::to_string(kMinWidth) + "x" + std::to_string(kMinHeight));
+  }
+  SlicePlotLayout l{kLeft, kTop, widthPx - kRight, heightPx - kBottom};
+  if (g.kind() == volume::SliceGeometry::Kind::Cappi) {
+    const volume::LatLonBox box{g.yBottom(), g.yTop(), g.xFirst(), g.xLast()};
+    const double aspect = cappiAspect(box);
+    if (!(aspect > 0.0) || !std::isfinite(aspect)) return makeError("CAPPI box has no area");
+    const int roomW = l.width(), roomH = l.height();
+    int w = roomW, h = static_cast<int>(std::lround(roomW / aspect));
+    if (h > roomH) {
+      h = roomH;
+      w = std::max(1, static_cast<int>(std::lround(roomH * aspect)));
+    }
+    h = std::max(h, 1);
+    l.left += (roomW - w) / 2;
+    l.right = l.left + w;
+    l.top += (roomH - h) / 2;
+    l.bottom = l.top + h;
+  }
+  return l;
+}
+
+Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const volume::SliceGeometry& g,
+                                        const SlicePlotOptions& o) {
+  const auto& fontResult = Font::dejaVuSans();
+  if (!fontResult) return fontResult.forwardError();
+  const Font& font = **fontResult;
+  auto layout = layoutSlicePlot(g, o.widthPx, o.heightPx);
+  if (!layout) return layout.forwardError();
+  const SlicePlotLayout L = *layout;
+  if (raster.columns < 1 || raster.rows < 1) return makeError("slice plot: empty raster");
+  globe::ImageRGBA8 img = globe::ImageRGBA8::filled(o.widthPx, o.heightPx, kWhite);
+  const bool cappi = g.kind() == volume::SliceGeometry::Kind::Cappi;
+
+  // --- the raster: one raster pixel under each plot pixel's centre ---
+  for (int py = L.top; py < L.bottom; ++py) {
+    const int row = std::min(raster.rows - 1, static_cast<int>((py - L.top + 0.5) * raster.rows / L.height()));
+    for (int px = L.left; px < L.right; ++px) {
+      const int col = std::min(raster.columns - 1, static_cast<int>((px - L.left + 0.5) * raster.columns / L.width()));
+      const float v = raster.at(col, row);
+      glm::u8vec4 c = slicePixelColor(o.colors, v, o.noEchoColor, o.noDataColor);
+      if (std::isnan(v) && (px + py) % 8 < 2) c = o.noDataHatchColor;  // diagonal hatching
+      img.set(px, py, c);
+    }
+  }
+
+  // Data value -> pixel along each axis.
+  auto xPixel = [&](double xv) { return L.left + (xv - g.xFirst()) / (g.xLast() - g.xFirst()) * L.width(); };
+  auto yPixel = [&](double yv) { return L.bottom - (yv - g.yBottom()) / (g.yTop() - g.yBottom()) * L.height(); };
+  const double xScale = cappi ? 1.0 : 0.001;  // axis units: degrees or km
+  const double yScale = cappi ? 1.0 : 0.001;
+  const int xTarget = std::max(3, L.width() / 90), yTarget = std::max(3, L.height() / 45);
+  const std::vector<double> xTicks = niceTicks(g.xFirst() * xScale, g.xLast() * xScale, xTarget);
+  const std::vector<double> yTicks = niceTicks(g.yBottom() * yScale, g.yTop() * yScale, yTarget);
+  const int xDecimals = xTicks.size() > 1 ? decimalsFor(xTicks[1] - xTicks[0]) : 0;
+  const int yDecimals = yTicks.size() > 1 ? decimalsFor(yTicks[1] - yTicks[0]) : 0;
+
+  // --- grid lines, then the frame and ticks ---
+  for (double t : xTicks) vLine(img, static_cast<int>(std::floor(xPixel(t / xScale))), L.top, L.bottom, kGridLine);
+  for (double t : yTicks) hLine(img, L.left, L.right, static_cast<int>(std::floor(yPixel(t / yScale))), kGridLine);
+  if (!cappi) {
+    // The path's interior points: dashed verticals.
+    const auto& d = g.path().pointDistancesMeters();
+    for (std::size_t k = 1; k + 1 < d.size(); ++k) {
+      const int x = static_cast<int>(std::floor(xPixel(d[k])));
+      for (int y = L.top; y < L.bottom; ++y)
+        if ((y - L.top) % 10 < 6) blendPixel(img, x, y, {0, 0, 0, 160}, 255);
+    }
+  }
+  frame(img, L.left, L.top, L.right, L.bottom, kBlack);
+  const TextStyle tick{kTickPx, kBlack, kWhite, 0.0};
+  for (double t : xTicks) {
+    const int x = static_cast<int>(std::floor(xPixel(t / xScale)));
+    vLine(img, x, L.bottom, L.bottom + 5, kBlack);
+    const std::string label = cappi ? longitudeLabel(t, xDecimals) : fixed(t, xDecimals);
+    drawText(img, font, label, x + 0.5, L.bottom + 8, tick, HAlign::Center, VAlign::Top);
+  }
+  for (double t : yTicks) {
+    const int y = static_cast<int>(std::floor(yPixel(t / yScale)));
+    hLine(img, L.left - 5, L.left, y, kBlack);
+    const std::string label = cappi ? latitudeLabel(t, yDecimals) : fixed(t, yDecimals);
+    drawText(img, font, label, L.left - 8, y + 0.5, tick, HAlign::Right, VAlign::Middle);
+  }
+  const TextStyle axis{kAxisPx, kBlack, kWhite, 0.0};
+  const std::string datum = volume::toString(g.datum());
+  const std::string xLabel = cappi ? "longitude" : "distance along the path (km)";
+  const std::string yLabel = cappi ? std::string("latitude") : std::string("height ").append(datum).append(" (km)");
+  drawText(img, font, xLabel, mid(L.left, L.right), L.bottom + 30, axis, HAlign::Center, VAlign::Top);
+  drawText(img, font, yLabel, 16, mid(L.top, L.bottom), axis, HAlign::Center, VAlign::Top, TextDirection::Up);
+
+  // --- marks on the plot ---
+  const TextStyle markLabel{kTickPx + 1, kBlack, kWhite, 2.0};
+  if (cappi) {
+    for (const SlicePlotMarker& m : o.markers) {
+      double lon = m.lonDeg;
+      while (lon < g.xFirst()) lon += 360.0;
+      while (lon > g.xLast()) lon -= 360.0;
+      const double x = xPixel(lon), y = yPixel(m.latDeg);
+      if (x < L.left || x >= L.right || y < L.top || y >= L.bottom) continue;
+      const int ix = static_cast<int>(std::floor(x)), iy = static_cast<int>(std::floor(y));
+      for (int pass = 0; pass < 2; ++pass) {
+        const glm::u8vec4 c = pass == 0 ? kWhite : kBlack;
+        const int w = pass == 0 ? 2 : 1;
+        for (int k = -6; k <= 6; ++k)
+          for (int s = -w + 1; s < w; ++s) {
+            blendPixel(img, ix + k, iy + s, c, 255);
+            blendPixel(img, ix + s, iy + k, c, 255);
+          }
+      }
+      drawText(img, font, m.label, x + 9, y - 4, markLabel, HAlign::Left, VAlign::Bottom);
+    }
+  } else {
+    const auto& d = g.path().pointDistancesMeters();
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const double x = xPixel(d[k]);
+      const HAlign align = k == 0 ? HAlign::Left : k + 1 == d.size() ? HAlign::Right : HAlign::Center;
+      // A small down-pointing triangle above the frame, the letter above it.
+      for (int r = 0; r < 6; ++r)
+        hLine(img, static_cast<int>(x) - (5 - r), static_cast<int>(x) + (5 - r) + 1, L.top - 9 + r, kBlack);
+      drawText(img, font, pointLetter(k),
+               k == 0              ? x - 5
+               : k + 1 == d.size() ? x + 5
+                                   : x,
+               L.top - 12, TextStyle{kAxisPx, kBlack, kWhite, 0.0}, align, VAlign::Bottom);
+    }
+  }
+
+  // --- colour key ---
+  const auto& stops = o.colors.stops();
+  if (!stops.empty()) {
+    const bool stepped =
+        std::all_of(stops.begin(), stops.end(), [](const volume::ColorStop& s) { return s.start == s.end; });
+    auto field = [&](double tableValue) { return (tableValue - o.colors.offset()) / o.colors.scale(); };
+    double lo = field(stops.front().value), hi = field(stops.back().value);
+    if (stepped && stops.size() >= 2) hi = field(2 * stops.back().value - stops[stops.size() - 2].value);
+    if (lo > hi) std::swap(lo, hi);
+    if (!(hi > lo)) hi = lo + 1.0;
+    const int kx0 = L.right + 22, kx1 = kx0 + 18;
+    const int ky0 = L.top + 22, ky1 = std::max(ky0 + 40, L.bottom - 64);
+    for (int y = ky0; y < ky1; ++y) {
+      const double v = hi - (y - ky0 + 0.5) / (ky1 - ky0) * (hi - lo);
+      const volume::Rgba8 c = o.colors.map(static_cast<float>(v));
+      fillRect(img, kx0, y, kx1, y + 1, glm::u8vec4{c.r, c.g, c.b, 255});
+    }
+    frame(img, kx0, ky0, kx1, ky1, kBlack);
+    std::vector<double> ticks;
+    if (stepped && stops.size() <= 40) {
+      const int every = std::max(1, static_cast<int>(std::ceil(16.0 * static_cast<double>(stops.size() + 1) /
+                                                               static_cast<double>(ky1 - ky0))));
+      for (std::size_t k = 0; k < stops.size(); k += static_cast<std::size_t>(every))
+        ticks.push_back(field(stops[k].value));
+    } else {
+      ticks = niceTicks(lo, hi, std::max(2, (ky1 - ky0) / 40));
+    }
+    const int keyDecimals = ticks.size() > 1 ? decimalsFor(std::abs(ticks[1] - ticks[0])) : 0;
+    for (double t : ticks) {
+      const int y = static_cast<int>(std::floor(ky0 + (hi - t) / (hi - lo) * (ky1 - ky0)));
+      hLine(img, kx1, kx1 + 4, y, kBlack);
+      drawText(img, font, fixed(t, keyDecimals), kx1 + 7, y + 0.5, tick, HAlign::Left, VAlign::Middle);
+    }
+    drawText(img, font, o.units.empty() ? std::string("(no units)") : o.units, mid(kx0, kx1), ky0 - 8,
+             TextStyle{kAxisPx, kBlack, kWhite, 0.0}, HAlign::Center, VAlign::Bottom);
+    // Swatches: no echo (and values below the key), no data.
+    const int sy = ky1 + 14;
+    fillRect(img, kx0, sy, kx1, sy + 12, o.noEchoColor);
+    frame(img, kx0, sy, kx1, sy + 12, kBlack);
+    drawText(img, font, "no echo", kx1 + 7, sy + 6, tick, HAlign::Left, VAlign::Middle);
+    for (int y = sy + 24; y < sy + 36; ++y)
+      for (int x = kx0; x < kx1; ++x) img.set(x, y, (x + y) % 8 < 2 ? o.noDataHatchColor : o.noDataColor);
+    frame(img, kx0, sy + 24, kx1, sy + 36, kBlack);
+    drawText(img, font, "no data", kx1 + 7, sy + 30, tick, HAlign::Left, VAlign::Middle);
+  }
+
+  // --- title, subtitle, SYNTHETIC ---
+  drawText(img, font, o.title, 12, 10, TextStyle{kTitlePx, kBlack, kWhite, 0.0}, HAlign::Left, VAlign::Top);
+  drawText(img, font, o.subtitle, 12, 34, TextStyle{kSubtitlePx, {40, 40, 40, 255}, kWhite, 0.0}, HAlign::Left,
+           VAlign::Top);
+  if (o.synthetic) {
+    // Top right, on the first line (title, subtitle, the free line below) it does not overlap.
+    const TextStyle red{kTitlePx, {200, 0, 0, 255}, kWhite, 2.0};
+    const double markWidth = font.textWidthPx("SYNTHETIC DATA", kTitlePx);
+    double markY = 58;
+    if (12 + font.textWidthPx(o.title, kTitlePx) + 16 + markWidth <= o.widthPx - 12) {
+      markY = 10;
+    } else if (12 + font.textWidthPx(o.subtitle, kSubtitlePx) + 16 + markWidth <= o.widthPx - 12) {
+      markY = 32;
+    }
+    drawText(img, font, "SYNTHETIC DATA", o.widthPx - 12, markY, red, HAlign::Right, VAlign::Top);
+    // Also on the data, where a cropped picture keeps it.
+    drawText(img, font, "SYNTHETIC", L.left + 6, L.bottom - 6, TextStyle{kTickPx + 1, {200, 0, 0, 255}, kWhite, 2.0},
+             HAlign::Left, VAlign::Bottom);
+  }
+  return img;
+}
+
+std::string utcLabel(const std::string& iso) {
+  if (iso.empty()) return "time unknown";
+  if (iso.size() == 20 && iso[10] == 'T' && iso[19] == 'Z') return iso.substr(0, 10) + " " + iso.substr(11, 8) + " UTC";
+  return iso;
+}
+
+SlicePlotOptions slicePlotOptionsFor(const volume::SliceSource& source, const volume::SliceGeometry& g,
+                                     const volume::TransferFunction& transfer, int widthPx, int heightPx) {
+  SlicePlotOptions o;
+  o.widthPx = widthPx;
+  o.heightPx = heightPx;
+  o.units = source.field().units;
+  o.synthetic = source.synthetic();
+  o.colors = transfer.colors;
+  std::string field = source.field().name;
+  if (!source.field().units.empty()) field += " (" + source.field().units + ")";
+  std::string time = source.isRadar() ? "volume start " : "valid ";
+  time += utcLabel(source.validTime());
+  if (g.kind() == volume::SliceGeometry::Kind::Cappi) {
+    char h[64];
+    std::snprintf(h, sizeof h, "%.2f", g.cappiHeightMeters() / 1000.0);
+    std::string height = h;
+    while (height.back() == '0') height.pop_back();
+    if (height.back() == '.') height += '0';
+    o.title = source.name() + "   " + field + "   CAPPI at " + height + " km " + volume::toString(g.datum());
+    o.subtitle = time;
+    if (const volume::PolarVolume* p = source.polar()) {
+      o.markers.push_back({p->site.latDeg, p->site.lonDeg, source.name()});
+    }
+  } else {
+    const auto& points = g.path().points();
+    char len[64];
+    std::snprintf(len, sizeof len, "%.0f km", g.path().lengthMeters() / 1000.0);
+    o.title = source.name() + "   " + field + "   cross-section " + pointLetter(0) + "–" +
+              pointLetter(points.size() - 1) + ", " + len;
+    o.subtitle = time + "    ";
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (k) o.subtitle += "  ";
+      o.subtitle += pointLetter(k);
+      o.subtitle += ' ';
+      o.subtitle += latitudeLabel(points[k].latDeg, 2);
+      o.subtitle += ' ';
+      o.subtitle += longitudeLabel(points[k].lonDeg, 2);
+    }
+  }
+  if (const volume::GridVolume* grid = source.grid(); grid && grid->approximateHeights) {
+    o.subtitle += "    heights APPROXIMATE";
+  }
+  return o;
+}
+
+}  // namespace atmoglobe::engine

@@ -1,0 +1,187 @@
+// `atmoglobe slice (--radar FILE [--field F] | --grid FILE [--var V] [--time T])
+//  (--height-m H [--box S,N,W,E] | --path "LAT,LON;LAT,LON[;...]" [--heights-m BOTTOM,TOP])
+//  [--datum msl|ellipsoid] [--colors NAME] [--range MIN,MAX] [--interpolation linear|nearest]
+//  [--size WxH] -o OUT.png`: a CAPPI or a vertical cross-section as a PNG with axes, a colour key,
+// title and time. The logic lives in volume/Slice.h, volume/SliceSource.h and engine/SlicePlot.h.
+#include "Commands.h"
+#include "SceneOptions.h"
+
+#include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/volume/SliceSource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace atmoglobe::tools {
+namespace {
+
+struct SliceOptions {
+  std::string radar, grid, field, time;
+  std::optional<double> heightMeters;
+  std::string path, box, heights, datum = "msl", colors = "auto", range, interpolation = "linear", size, output;
+  bool noGeoid = false;
+  int threads = 0;
+};
+
+Result<std::pair<double, double>> parsePair(const std::string& text, const std::string& what) {
+  const auto comma = text.find(',');
+  char* e1 = nullptr;
+  char* e2 = nullptr;
+  if (comma == std::string::npos) return makeError(what + ": expected two numbers A,B, got \"" + text + "\"");
+  const std::string a = text.substr(0, comma), b = text.substr(comma + 1);
+  const double x = std::strtod(a.c_str(), &e1), y = std::strtod(b.c_str(), &e2);
+  if (a.empty() || b.empty() || *e1 || *e2 || !std::isfinite(x) || !std::isfinite(y) || !(x < y)) {
+    return makeError(what + ": expected two finite numbers A,B with A < B, got \"" + text + "\"");
+  }
+  return std::pair{x, y};
+}
+
+int usage(const std::string& message) {
+  std::cerr << "atmoglobe slice: " << message << "\n";
+  return 2;
+}
+
+int runSlice(const SliceOptions& o) {
+  const char* cmd = "slice";
+  const auto start = std::chrono::steady_clock::now();
+  if (o.radar.empty() == o.grid.empty()) return usage("give exactly one of --radar FILE or --grid FILE");
+  if (o.heightMeters.has_value() == !o.path.empty()) return usage("give exactly one of --height-m H or --path POINTS");
+  if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
+  if (!o.box.empty() && !o.heightMeters) return usage("--box is for a CAPPI (--height-m)");
+  if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
+  if (o.datum != "msl" && o.datum != "ellipsoid") return usage("--datum: msl or ellipsoid, got \"" + o.datum + "\"");
+  if (o.interpolation != "linear" && o.interpolation != "nearest") {
+    return usage("--interpolation: linear or nearest, got \"" + o.interpolation + "\"");
+  }
+  volume::SliceRequest request;
+  request.cappi = o.heightMeters.has_value();
+  request.datum = o.datum == "msl" ? volume::SliceHeightDatum::SeaLevel : volume::SliceHeightDatum::Ellipsoid;
+  if (request.cappi) {
+    request.heightMeters = *o.heightMeters;
+    if (!o.box.empty()) {
+      auto box = volume::parseBoxText(o.box);
+      if (!box) return usage("--" + box.error());
+      request.box = *box;
+    }
+  } else {
+    auto path = volume::parsePathText(o.path);
+    if (!path) return usage("--path: " + path.error());
+    request.path = *path;
+    if (!o.heights.empty()) {
+      auto h = parsePair(o.heights, "--heights-m");
+      if (!h) return usage(h.error());
+      request.bottomMeters = h->first;
+      request.topMeters = h->second;
+    }
+  }
+  std::optional<volume::ValueRange> range;
+  if (!o.range.empty()) {
+    auto r = parsePair(o.range, "--range");
+    if (!r) return usage(r.error());
+    range = volume::ValueRange{r->first, r->second};
+  }
+  int width = 0, height = 0;
+  if (!o.size.empty()) {
+    if (auto st = parseSize(o.size, &width, &height); !st) return usage(st.error());
+  }
+
+  volume::SliceSourceOptions load;
+  load.kind = o.radar.empty() ? volume::SliceSourceOptions::Kind::Grid : volume::SliceSourceOptions::Kind::Radar;
+  load.path = o.radar.empty() ? o.grid : o.radar;
+  load.field = o.field;
+  load.time = o.time;
+  load.useGeoid = !o.noGeoid;
+  auto source = volume::SliceSource::load(load);
+  if (!source) return fail(cmd, source.error());
+  auto transfer = (*source)->transfer(o.colors, range);
+  if (!transfer) return fail(cmd, transfer.error());
+
+  // The image size (CAPPI: the box's shape by default), then the plot area, sampled one raster
+  // pixel per image pixel.
+  if (width == 0) {
+    width = request.cappi ? 900 : 1100;
+    if (request.cappi) {
+      auto probe = volume::sliceGeometryFor(**source, request);
+      if (!probe) return fail(cmd, probe.error());
+      const volume::LatLonBox box{probe->yBottom(), probe->yTop(), probe->xFirst(), probe->xLast()};
+      height = engine::cappiImageHeightFor(box, width);
+    } else {
+      height = 560;
+    }
+  }
+  request.columns = request.rows = 16;
+  auto probe = volume::sliceGeometryFor(**source, request);
+  if (!probe) return fail(cmd, probe.error());
+  auto layout = engine::layoutSlicePlot(*probe, width, height);
+  if (!layout) return usage("--size: " + layout.error());
+  request.columns = layout->width();
+  request.rows = layout->height();
+  auto geometry = volume::sliceGeometryFor(**source, request);
+  if (!geometry) return fail(cmd, geometry.error());
+  auto raster = volume::sampleSource(
+      **source, *geometry,
+      o.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear, o.threads);
+  if (!raster) return fail(cmd, raster.error());
+  const engine::SlicePlotOptions plot = engine::slicePlotOptionsFor(**source, *geometry, *transfer, width, height);
+  auto image = engine::drawSlicePlot(*raster, *geometry, plot);
+  if (!image) return fail(cmd, image.error());
+  if (auto st = globe::writePng(o.output, *image); !st) return fail(cmd, st.error());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  char figures[256];
+  std::snprintf(figures, sizeof figures, "%d x %d px; %zu echo, %zu no-echo, %zu no-data pixels", image->width,
+                image->height, raster->echoCount, raster->noEchoCount, raster->noDataCount);
+  std::cout << "wrote " << o.output << ": " << plot.title << "; " << figures;
+  if (raster->echoCount) {
+    char values[128];
+    std::snprintf(values, sizeof values, "; echo %.1f .. %.1f %s", raster->minEcho, raster->maxEcho,
+                  (*source)->field().units.c_str());
+    std::cout << values;
+  }
+  char time[64];
+  std::snprintf(time, sizeof time, "; %.2f s\n", seconds);
+  std::cout << time;
+  return 0;
+}
+
+}  // namespace
+
+Command addSliceCommand(CLI::App& root) {
+  auto opts = std::make_shared<SliceOptions>();
+  CLI::App* c = root.add_subcommand(
+      "slice",
+      "A CAPPI (horizontal slice at a height) or a vertical cross-section along a geodesic path through a radar "
+      "volume or a forecast grid, as a PNG with axes, colour key, title and valid time");
+  c->add_option("--radar", opts->radar, "Radar file (CfRadial, ODIM_H5, NEXRAD Level II)");
+  c->add_option("--grid", opts->grid, "Forecast grid (CF or WRF NetCDF)");
+  c->add_option("--field,--var", opts->field, "Radar field or grid variable (default: the file's default)");
+  c->add_option("--time", opts->time, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
+  c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
+  c->add_option("--box", opts->box,
+                "CAPPI box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); default: the volume's "
+                "extent");
+  c->add_option("--path", opts->path,
+                "Cross-section points \"LAT,LON;LAT,LON[;...]\" (deg), joined by WGS84 geodesics");
+  c->add_option("--heights-m", opts->heights,
+                "Cross-section heights BOTTOM,TOP (m above the datum); default 0 .. the volume's top, at most 20 km");
+  c->add_option("--datum", opts->datum,
+                "Heights above msl (mean sea level, EGM96 geoid; default) or ellipsoid (WGS84)");
+  c->add_option("--colors", opts->colors,
+                "Colour table as in render: auto (by the field), NWS, velocity, viridis, turbo, grayscale, greens, "
+                "cividis or a .pal file");
+  c->add_option("--range", opts->range, "Value range MIN,MAX of a continuous colour table (field units)");
+  c->add_option("--interpolation", opts->interpolation, "linear (default) or nearest, as the samplers define them");
+  c->add_option("--size", opts->size, "Image size WxH (default: 900 wide for a CAPPI, 1100x560 for a cross-section)");
+  c->add_flag("--no-geoid", opts->noGeoid, "Take heights above sea level in the file as ellipsoidal");
+  c->add_option("--threads", opts->threads, "Sampling threads (default: all cores)")->check(CLI::Range(0, 256));
+  c->add_option("-o,--output", opts->output, "Output PNG (written atomically)")->required();
+  return Command{c, [opts] { return runSlice(*opts); }};
+}
+
+}  // namespace atmoglobe::tools

@@ -1,0 +1,113 @@
+#pragma once
+// A volume loaded for slicing (Slice.h): a radar file (through loadRadar, RadarLoad.h) or one
+// variable at one time of a forecast grid (through readGridVolume, GridReader.h), with its
+// sampler and what a slice plot says about it (name, field, units, valid time, SYNTHETIC).
+// GL-free; `atmoglobe slice` and the scene's slices (engine) both start here.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridSampler.h>
+#include <atmoglobe/volume/GridVolume.h>
+#include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/RadarVolume.h>
+#include <atmoglobe/volume/Slice.h>
+#include <atmoglobe/volume/TransferFunction.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume {
+
+struct SliceSourceOptions {
+  enum class Kind { Radar, Grid };
+  Kind kind = Kind::Radar;
+  std::string path;
+  std::string field;     ///< radar field or grid variable; empty: the file's default
+  std::string time;      ///< grids: "" (first step), an index ("3") or an ISO 8601 UTC time
+  bool useGeoid = true;  ///< heights above sea level in the file -> ellipsoid through EGM96
+};
+
+class SliceSource {
+ public:
+  /// Reads the file (only the field or variable and time step asked for). Errors: the reader's
+  /// (naming the file), a grid variable without any valid value at that time.
+  static Result<std::unique_ptr<SliceSource>> load(const SliceSourceOptions& options);
+
+  const VolumeSampler& sampler() const { return *sampler_; }
+  const std::string& path() const { return path_; }
+  bool isRadar() const { return polar_.has_value(); }
+  const PolarVolume* polar() const { return polar_ ? &*polar_ : nullptr; }
+  const GridVolume* grid() const { return grid_ ? &*grid_ : nullptr; }
+
+  /// Radar: the site id ("KTLX"; the file name when the file gives none); grid: the file name.
+  const std::string& name() const { return name_; }
+  const FieldInfo& field() const { return field_; }
+  /// Radar: the volume start time; grid: the valid time of the step read (ISO 8601 UTC; "" if
+  /// the file has none).
+  const std::string& validTime() const { return validTime_; }
+  /// True when the file says it is synthetic (SYNTHETIC in its global title, source or comment
+  /// attribute: what `atmoglobe synth` writes).
+  bool synthetic() const { return synthetic_; }
+  /// The box the data can cover (polarExtent / gridExtent).
+  const LatLonBox& extent() const { return extent_; }
+  /// Heights (m above the WGS84 ellipsoid) between which the volume can have data: a radar's
+  /// antenna to the top beam's upper edge at the largest range (4/3-Earth model); a grid's
+  /// lowest and highest level.
+  double minHeightMeters() const { return minHeight_; }
+  double maxHeightMeters() const { return maxHeight_; }
+  /// Range of the echo values and the radar's Nyquist velocity (NaN for grids and when unknown).
+  ValueRange valueRange() const { return sampler_->valueRange(); }
+  double nyquistMps() const { return nyquist_; }
+  /// One line for messages and titles: "KTLX (radar)", "synthetic_grid.nc (grid, heights ...)".
+  std::string description() const;
+  /// The transfer function (its colour table is what the slice and the 3-D view draw) for a
+  /// colour choice ("auto", "NWS", "viridis", a .pal file... as transferForField), over `range`
+  /// when it is given (min < max), else over the field's own range.
+  Result<TransferFunction> transfer(const std::string& colors, const std::optional<ValueRange>& range = {}) const;
+
+ private:
+  SliceSource() = default;
+  std::optional<PolarVolume> polar_;
+  std::optional<GridVolume> grid_;
+  std::unique_ptr<VolumeSampler> sampler_;
+  std::string path_, name_, validTime_;
+  FieldInfo field_;
+  bool synthetic_ = false;
+  LatLonBox extent_;
+  double minHeight_ = 0.0, maxHeight_ = 0.0;
+  double nyquist_ = 0.0;
+};
+
+/// What to cut through a source: a CAPPI (cappi true: heightMeters over box) or a cross-section
+/// (path), the datum and the raster size. Defaults come from the source (sliceGeometryFor).
+struct SliceRequest {
+  bool cappi = true;
+  double heightMeters = 3000.0;                   ///< CAPPI height above the datum (m)
+  std::optional<LatLonBox> box;                   ///< CAPPI box; default: the source's extent
+  std::vector<LatLon> path;                       ///< cross-section points (two or more)
+  std::optional<double> bottomMeters, topMeters;  ///< cross-section heights; default 0 .. min(volume top, 20 km)
+  SliceHeightDatum datum = SliceHeightDatum::SeaLevel;
+  int columns = 512, rows = 512;
+};
+
+/// The request's geometry over `source` with its defaults filled in. Errors: the geometry's
+/// (bad box or path...), the EGM96 grid missing for heights above sea level, a CAPPI height
+/// outside the heights where the volume can have data (message gives them, above the datum).
+Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceRequest& request);
+
+/// Samples `geometry` through the source's sampler (sampleSlice). Error when no pixel has data:
+/// "FILE: no data on the CAPPI at 25 km above sea level (...)" / "... the path does not cross".
+Result<SliceRaster> sampleSource(const SliceSource& source, const SliceGeometry& geometry,
+                                 Interpolation interpolation = Interpolation::Linear, int threads = 0);
+
+/// Parses "LAT,LON;LAT,LON[;...]" (degrees; blanks allowed). Errors say which point is wrong.
+Result<std::vector<LatLon>> parsePathText(const std::string& text);
+/// Parses "SOUTH,NORTH,WEST,EAST" (degrees; west > east crosses the antimeridian and is made
+/// continuous) and validates it.
+Result<LatLonBox> parseBoxText(const std::string& text);
+
+/// True when a netCDF file's global title, source or comment attribute contains "SYNTHETIC".
+/// False for anything else (other formats, unreadable files).
+bool fileSaysSynthetic(const std::string& path);
+
+}  // namespace atmoglobe::volume
