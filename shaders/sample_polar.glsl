@@ -10,6 +10,8 @@
 // Variant constants (defines, one program per combination):
 //   VOL_INTERPOLATION  0 nearest, 1 linear
 //   VOL_BEAM           0 effective-Earth (4/3) on the local sphere, 1 straight lines
+//   VOL_EXAGGERATED    1: a vertical exaggeration is drawn (volume/VerticalExaggeration.h): each
+//                      point is moved back to its true height on the local sphere first
 // Injected constants: MAX_SWEEPS, RAY_TABLE_BINS, ELEVATION_BINS, STATE_ECHO, STATE_NOT_ECHO.
 
 uniform sampler2DArray VOL_values;    // RG16F, linear (nearest sampler for nearest interpolation): [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
@@ -28,11 +30,25 @@ uniform float VOL_h0;                       // antenna height above the ellipsoi
 uniform float VOL_meridionalRadius;         // M at the site (m)
 uniform float VOL_primeVerticalRadius;      // N at the site (m)
 uniform float VOL_effectiveRadius;          // Re = ke * R (m)
+uniform float VOL_exaggeration;             // vertical exaggeration (1: none)
 
 // --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
 // The float32 twin of volume::LocalSphereBeam::antennaCoordinates (same formulas).
 vec3 VOL_antennaCoordinates(vec3 p) {
   vec3 l = VOL_ecefToEnu * p;  // east, north, up
+#if VOL_EXAGGERATED
+  {
+    // The float32 twin of volume::LocalSphereBeam::unexaggerateEnu: back to height h / e along
+    // the local sphere's normal.
+    float dh0 = length(l.xy);
+    float c0 = dh0 > 0.0 ? l.y / dh0 : 1.0, s0 = dh0 > 0.0 ? l.x / dh0 : 0.0;
+    float rc0 = 1.0 / (c0 * c0 / VOL_meridionalRadius + s0 * s0 / VOL_primeVerticalRadius) + VOL_h0;
+    float w0 = l.z + rc0;
+    float dl0 = sqrt(dh0 * dh0 + w0 * w0);
+    float h0 = VOL_h0 + (dh0 * dh0 + l.z * l.z + 2.0 * l.z * rc0) / (dl0 + rc0);
+    l -= (1.0 - 1.0 / VOL_exaggeration) * h0 / dl0 * vec3(l.xy, w0);
+  }
+#endif
   float dh = length(l.xy);
   float az = degrees(atan(l.x, l.y));
   if (az < 0.0) az += 360.0;
@@ -183,6 +199,9 @@ vec2 VOL_interval(vec3 eyeRel, vec3 dir, float tMax) {
   span.x = max(span.x, 0.0);
   span.y = min(span.y, tMax);
   if (span.x >= span.y) return vec2(1.0, 0.0);
+#if VOL_EXAGGERATED
+  return span;
+#endif
   // Split [span] at the band's boundaries (in the site's ENU frame): four cuts, clamped into the
   // span and put in order by a sorting network, give five pieces.
   vec3 oL = VOL_ecefToEnu * eyeRel, dL = VOL_ecefToEnu * dir;

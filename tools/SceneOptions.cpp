@@ -1,5 +1,7 @@
 #include "SceneOptions.h"
 
+#include <atmoglobe/volume/VerticalExaggeration.h>
+
 #include "Commands.h"
 
 #include <atmoglobe/volume/Geoid.h>
@@ -75,6 +77,8 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                "heading clockwise from north, pitch 0 = horizontal, -90 = down (use --camera=-33,... "
                "when the first value is negative)");
   c.add_option("--fov", o.fovDeg, "Vertical field of view (degrees)");
+  c.add_option("--exaggeration", o.exaggeration,
+               "Vertical exaggeration of radars, grids, slices and markers alike (0.1..100; 1 = true scale)");
   c.add_option("--size", o.size, "Image size WxH in pixels (e.g. 1280x720)");
   c.add_option("--imagery", o.imageryDirs,
                "Imagery pyramid directory made by `atmoglobe tiles` (replaces the scene's layers; repeatable)");
@@ -171,6 +175,7 @@ Status pickPerLayer(const std::vector<V>& values, const char* name, const char* 
 
 Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
                      std::vector<engine::Marker>* markers) {
+  if (auto st = renderer.setVerticalExaggeration(scene.verticalExaggeration); !st) return st;
   for (const engine::RadarLayerDescription& d : scene.radars) {
     auto layer = renderer.addRadar(d);
     if (!layer) return layer.forwardError();
@@ -255,6 +260,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     auto pose = parseCameraPose(o.camera);
     if (!pose) return pose.forwardError();
     scene->camera = *pose;
+  }
+  if (o.exaggeration != 0.0) {
+    if (auto st = volume::validateVerticalExaggeration(o.exaggeration, "--exaggeration"); !st) return st.forwardError();
+    scene->verticalExaggeration = o.exaggeration;
   }
   if (o.fovDeg != 0.0) {
     if (!(o.fovDeg > 0.0 && o.fovDeg < 180.0)) return makeError("--fov: must be in (0, 180) degrees");

@@ -14,9 +14,10 @@ namespace atmoglobe::tools {
 
 struct SceneOptions {
   std::string sceneFile;
-  std::string camera;   ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
-  double fovDeg = 0.0;  ///< 0: the scene's
-  std::string size;     ///< "WxH"
+  std::string camera;         ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
+  double fovDeg = 0.0;        ///< 0: the scene's
+  double exaggeration = 0.0;  ///< 0: the scene's vertical exaggeration
+  std::string size;           ///< "WxH"
   std::vector<std::string> imageryDirs;
   std::vector<std::string> xyzDirs;
   std::vector<std::string> markers;  ///< "LAT,LON[,HEIGHT[,LABEL]]"

@@ -11,7 +11,7 @@
 
 namespace atmoglobe::engine {
 
-Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::PolarVolume& v) {
+Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::PolarVolume& v, double exaggeration) {
   using C = MarchConstants;
   const int n = static_cast<int>(v.sweeps.size());
   if (n < 1 || n > C::kMaxSweeps) {
@@ -28,6 +28,8 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
   gl->polar_ = std::make_shared<volume::PolarVolume>(v);
   gl->sampler_ = std::make_unique<volume::PolarSampler>(*gl->polar_);
+  gl->exaggeration_ = exaggeration;
+  if (exaggeration != 1.0) gl->exaggerated_ = std::make_unique<volume::ExaggeratedSampler>(*gl->sampler_, exaggeration);
   gl->beamModel_ = volume::localSphereBeam(v.site, v.beam);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
 
@@ -91,7 +93,7 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
     glTextureSubImage2D(gl->rayTable_, 0, 0, 0, bins, n + 1, GL_RED, GL_FLOAT, table.data());
     gl->gpuBytes_ += table.size() * 4;
   }
-  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(v));
+  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(v, exaggeration));
   return gl;
 }
 
@@ -102,7 +104,8 @@ RadarVolumeGL::~RadarVolumeGL() {
 
 std::vector<std::string> RadarVolumeGL::samplerDefines(const VolumeRenderOptions& options) const {
   return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
-          std::string("BEAM ") + (beam_ == BeamApproximation::StraightLine ? "1" : "0")};
+          std::string("BEAM ") + (beam_ == BeamApproximation::StraightLine ? "1" : "0"),
+          std::string("EXAGGERATED ") + (exaggeration_ != 1.0 ? "1" : "0")};
 }
 
 void RadarVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
@@ -125,7 +128,17 @@ void RadarVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform1f(u(p + "halfBeamDeg"), static_cast<float>(0.5 * v.beamWidthDeg));
   // Clip sphere: holds every point within maxRange along the bent beams (PolarVolume.h).
   const double clipRadius = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
-  glUniform1f(u(p + "maxRange"), static_cast<float>(clipRadius));
+  // Exaggerated: the clip sphere grows by |e - 1| times the highest point the beams reach (the
+  // ray interval is then the sphere alone: the straight-elevation band does not hold bent beams
+  // stretched vertically).
+  double topHeight = 0.0, ground = 0.0;
+  if (!v.sweeps.empty())
+    volume::beamHeightAndGroundDistance(clipRadius, v.sweeps.back().elevationDeg + 0.5 * v.beamWidthDeg,
+                                        beamModel_.antennaHeightMeters, beamModel_.effectiveRadiusMeters, &topHeight,
+                                        &ground);
+  const double grow = std::abs(exaggeration_ - 1.0) * (std::abs(topHeight) + std::abs(beamModel_.antennaHeightMeters));
+  glUniform1f(u(p + "maxRange"), static_cast<float>(clipRadius + grow));
+  glUniform1f(u(p + "exaggeration"), static_cast<float>(exaggeration_));
   const volume::StraightElevationBand band = volume::straightElevationBand(v, beam_ == BeamApproximation::StraightLine);
   glUniform2f(u(p + "straightElevationClipSin"),
               static_cast<float>(std::sin(degreesToRadians(band.loDegAt(clipRadius)))),

@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <nlohmann/json.hpp>
 
@@ -106,7 +107,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
   if (auto s = checkKeys(root,
-                         {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices"},
+                         {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
+                          "vertical_exaggeration"},
                          sourceName);
       !s) {
     return s.forwardError();
@@ -130,6 +132,11 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     if (auto s = validatePose(scene.camera); !s) return makeError(sourceName + ": " + s.error());
   }
   {
+    auto exaggeration = number(root, "vertical_exaggeration", scene.verticalExaggeration, sourceName);
+    if (!exaggeration) return exaggeration.forwardError();
+    scene.verticalExaggeration = *exaggeration;
+    if (auto st = volume::validateVerticalExaggeration(scene.verticalExaggeration, sourceName); !st)
+      return st.forwardError();
     auto fov = number(root, "fov_deg", scene.fovYDeg, sourceName);
     if (!fov) return fov.forwardError();
     if (*fov <= 0.0 || *fov >= 180.0) return makeError(sourceName + ": fov_deg must be in (0, 180)");

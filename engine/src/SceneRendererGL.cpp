@@ -8,6 +8,7 @@
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <algorithm>
 #include <chrono>
@@ -94,12 +95,21 @@ Status SceneRendererGL::addModel(const std::string& glbPath) {
   return Ok{};
 }
 
+Status SceneRendererGL::setVerticalExaggeration(double factor) {
+  if (auto st = volume::validateVerticalExaggeration(factor, "scene"); !st) return st;
+  if (!radars_.empty() || !grids_.empty() || (slices_ && slices_->size() > 0))
+    return makeError("the vertical exaggeration must be set before volumes and slices are added");
+  exaggeration_ = factor;
+  return Ok{};
+}
+
 Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
   if (!slices_) {
     auto s = SliceRendererGL::create();
     if (!s) return s.forwardError();
     slices_ = std::move(*s);
   }
+  slices_->setVerticalExaggeration(exaggeration_);
   return slices_->add(d);
 }
 
@@ -120,7 +130,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
-  auto gl = RadarVolumeGL::create(*radar->layout);
+  auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
   if (!gl) return gl.forwardError();
   (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
                                                    : BeamApproximation::EffectiveEarthLocalSphere);
@@ -130,7 +140,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.datumNote = radar->site.datumNote;
   layer.siteMarker.latDeg = radar->site.site.latDeg;
   layer.siteMarker.lonDeg = radar->site.site.lonDeg;
-  layer.siteMarker.heightMeters = radar->site.site.antennaHeightEllipsoidMeters;
+  layer.siteMarker.heightMeters = radar->site.site.antennaHeightEllipsoidMeters;  // exaggerated when drawn
   layer.siteMarker.color = glm::vec3(1.0f, 1.0f, 1.0f);
   layer.siteMarker.sizePx = 12.0f;
   layer.siteMarker.label = d.label.empty() ? radar->volume.site.name : d.label;
@@ -189,6 +199,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
   o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
+  volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
   grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, 0.0});
@@ -215,6 +226,7 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
     if (!blended) return blended.forwardError();
     grid = std::move(blended);
   }
+  volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
   layer.volume = std::move(*gl);
@@ -255,6 +267,8 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   } else if (!layers.empty()) {
     volumeRenderer_->draw(camera, layers, target);
   }
+  if (exaggeration_ != 1.0)
+    for (Marker& m : all) m.heightMeters *= exaggeration_;
   markers_->draw(camera, all);
   stats.cpuMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;

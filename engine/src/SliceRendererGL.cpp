@@ -4,6 +4,7 @@
 #include <atmoglobe/engine/SliceRendererGL.h>
 
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/globe/Ellipsoid.h>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -16,17 +17,27 @@
 namespace atmoglobe::engine {
 namespace {
 
-void pushVertex(std::vector<float>& out, const volume::SliceGeometry& g, const glm::dvec3& origin, double x, double y) {
-  const glm::vec3 p(g.ecefAt(x, y) - origin);
+// The slice point at pixel (x, y), drawn at `factor` times its height (vertical exaggeration).
+glm::dvec3 drawnEcef(const volume::SliceGeometry& g, double x, double y, double factor) {
+  const glm::dvec3 p = g.ecefAt(x, y);
+  if (factor == 1.0) return p;
+  globe::Geodetic geo = globe::ecefToGeodetic(p);
+  geo.heightMeters *= factor;
+  return globe::geodeticToEcef(geo);
+}
+
+void pushVertex(std::vector<float>& out, const volume::SliceGeometry& g, const glm::dvec3& origin, double x, double y,
+                double factor) {
+  const glm::vec3 p(drawnEcef(g, x, y, factor) - origin);
   out.insert(out.end(), {p.x, p.y, p.z, static_cast<float>(x / g.columns()), static_cast<float>(y / g.rows())});
 }
 
 }  // namespace
 
-SliceMesh buildSliceMesh(const volume::SliceGeometry& g, double maxSegmentMeters) {
+SliceMesh buildSliceMesh(const volume::SliceGeometry& g, double maxSegmentMeters, double exaggeration) {
   SliceMesh m;
   const double cols = g.columns(), rows = g.rows();
-  m.originEcef = g.ecefAt(0.5 * cols, 0.5 * rows);
+  m.originEcef = drawnEcef(g, 0.5 * cols, 0.5 * rows, exaggeration);
   // Column and row stops (continuous pixel coordinates) of the vertices.
   std::vector<double> xs, ys;
   if (g.kind() == volume::SliceGeometry::Kind::Cappi) {
@@ -48,17 +59,17 @@ SliceMesh buildSliceMesh(const volume::SliceGeometry& g, double maxSegmentMeters
   }
   const auto nx = static_cast<std::uint32_t>(xs.size()), ny = static_cast<std::uint32_t>(ys.size());
   for (double y : ys)
-    for (double x : xs) pushVertex(m.vertices, g, m.originEcef, x, y);
+    for (double x : xs) pushVertex(m.vertices, g, m.originEcef, x, y, exaggeration);
   for (std::uint32_t b = 0; b + 1 < ny; ++b)
     for (std::uint32_t a = 0; a + 1 < nx; ++a) {
       const std::uint32_t i = b * nx + a;
       m.indices.insert(m.indices.end(), {i, i + 1, i + nx, i + 1, i + nx + 1, i + nx});
     }
   // The outline: top edge, right edge, bottom edge back, left edge up.
-  for (double x : xs) pushVertex(m.outline, g, m.originEcef, x, ys.front());
-  for (std::size_t b = 1; b < ys.size(); ++b) pushVertex(m.outline, g, m.originEcef, xs.back(), ys[b]);
-  for (std::size_t a = xs.size() - 1; a-- > 0;) pushVertex(m.outline, g, m.originEcef, xs[a], ys.back());
-  for (std::size_t b = ys.size() - 1; b-- > 0;) pushVertex(m.outline, g, m.originEcef, xs.front(), ys[b]);
+  for (double x : xs) pushVertex(m.outline, g, m.originEcef, x, ys.front(), exaggeration);
+  for (std::size_t b = 1; b < ys.size(); ++b) pushVertex(m.outline, g, m.originEcef, xs.back(), ys[b], exaggeration);
+  for (std::size_t a = xs.size() - 1; a-- > 0;) pushVertex(m.outline, g, m.originEcef, xs[a], ys.back(), exaggeration);
+  for (std::size_t b = ys.size() - 1; b-- > 0;) pushVertex(m.outline, g, m.originEcef, xs.front(), ys[b], exaggeration);
   return m;
 }
 
@@ -94,7 +105,7 @@ SliceRendererGL::~SliceRendererGL() {
 
 void SliceRendererGL::add(const volume::SliceGeometry& geometry, const volume::SliceRaster& raster,
                           const volume::ColorTable& colors, double opacity) {
-  const SliceMesh mesh = buildSliceMesh(geometry);
+  const SliceMesh mesh = buildSliceMesh(geometry, 5000.0, exaggeration_);
   const globe::ImageRGBA8 texture = sliceTexture(raster, colors, opacity);
   SliceGL s;
   s.originEcef = mesh.originEcef;

@@ -105,7 +105,7 @@ Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
   }
   // The default radar variant now, so that a broken shader is an error here, not a missing volume.
   MarchVariant v;
-  v.volumes.push_back({"sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0"}});
+  v.volumes.push_back({"sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0", "EXAGGERATED 0"}});
   if (!r->marchProgram(v)) return makeError("volume_march.frag: " + r->programErrors_.begin()->second);
   glCreateVertexArrays(1, &r->vao_);
   glCreateSamplers(1, &r->nearestSampler_);

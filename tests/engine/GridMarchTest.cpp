@@ -14,6 +14,7 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
 #include <atmoglobe/volume/SyntheticGrid.h>
@@ -405,4 +406,66 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   auto none = (*renderer)->addRadar(allCut->radars[0]);
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().find("the crop box leaves no measured value"), std::string::npos) << none.error();
+}
+
+// A vertical exaggeration drawn by the GPU matches the reference (which applies it exactly in
+// double) for a radar and a grid together, and both move up together.
+TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGridOptions go;
+  go.nx = go.ny = 60;
+  go.levels = 16;
+  go.times = 1;
+  go.spacingKm = 5.0;
+  go.startTimeIso8601 = "2020-05-01T21:00:00Z";
+  ASSERT_TRUE(volume::writeSyntheticGrid(dir + "/ex_grid.nc", go));
+  volume::SyntheticRadarOptions ro;
+  ro.elevationsDeg = {0.5, 1.5, 2.5, 3.5, 5.0, 7.0, 10.0};
+  ro.maxRangeMeters = 120e3;
+  ASSERT_TRUE(volume::writeSyntheticCfRadial(dir + "/ex_radar.nc", ro));
+  auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 34.3, "lon_deg": -98.0, "height_m": 40000,
+      "heading_deg": 40, "pitch_deg": -20, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54], "vertical_exaggeration": 3,
+      "radars": [{"path": "@data/ex_radar.nc", "step_m": 500}],
+      "grids": [{"path": "@data/ex_grid.nc", "step_m": 500}]})",
+                                      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  EXPECT_EQ(scene->verticalExaggeration, 3.0);
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer);
+  ASSERT_TRUE((*renderer)->setVerticalExaggeration(scene->verticalExaggeration));
+  ASSERT_TRUE((*renderer)->addRadar(scene->radars[0]));
+  auto grid = (*renderer)->addGrid(scene->grids[0]);
+  ASSERT_TRUE(grid);
+  EXPECT_FALSE((*renderer)->setVerticalExaggeration(2.0)) << "only before layers are added";
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto gpu = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(gpu);
+  (*renderer)->setReferenceVolumes(2);
+  auto ref = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(ref);
+  double sum = 0.0;
+  int drawn = 0;
+  for (std::size_t n = 0; n < gpu->pixels.size(); n += 4) {
+    for (int c = 0; c < 3; ++c) sum += std::abs(int(gpu->pixels[n + c]) - int(ref->pixels[n + c]));
+    drawn += ref->pixels[n] + ref->pixels[n + 1] + ref->pixels[n + 2] > 0 ? 1 : 0;
+  }
+  const double mean = sum / (3.0 * camera.widthPx() * camera.heightPx());
+  std::cout << "exaggeration 3: " << drawn << " pixels drawn; mean |GPU - reference| " << mean << " (8-bit)\n";
+  EXPECT_GT(drawn, 500);
+  EXPECT_LT(mean, 1.0);  // as the true-scale scenes: below one 8-bit step
+  // The grid as drawn: every height three times the file's (the reader's heights, re-read).
+  volume::GridReadOptions read;
+  auto plain = volume::readGridVolume(dir + "/ex_grid.nc", read);
+  ASSERT_TRUE(plain);
+  EXPECT_FLOAT_EQ((*grid)->volume->grid().heightAboveEllipsoidMeters[123],
+                  3.0f * plain->heightAboveEllipsoidMeters[123]);
+  auto bad = engine::parseSceneJson(R"({"vertical_exaggeration": 0})", "s.json", dir, dir);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().find("vertical exaggeration must be a number from 0.1 to 100"), std::string::npos)
+      << bad.error();
 }

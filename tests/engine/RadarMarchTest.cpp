@@ -132,8 +132,8 @@ TEST_F(RadarMarch, EveryMarchVariantCompiles) {
       v.preintegrated = preintegrated == 1;
       for (int k = 0; k < engine::MarchConstants::kMaxVolumes; ++k)
         v.volumes.push_back(k % 2 ? std::pair<std::string, std::vector<std::string>>{"sample_shell.glsl", {}}
-                                  : std::pair<std::string, std::vector<std::string>>{"sample_polar.glsl",
-                                                                                     {"INTERPOLATION 1", "BEAM 0"}});
+                                  : std::pair<std::string, std::vector<std::string>>{
+                                        "sample_polar.glsl", {"INTERPOLATION 1", "BEAM 0", "EXAGGERATED 0"}});
       EXPECT_NE((*renderer)->marchProgram(v), nullptr) << "8 mixed volumes, mode " << mode << " " << preintegrated;
     }
 }

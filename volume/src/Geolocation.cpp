@@ -261,4 +261,32 @@ glm::dvec3 LocalSphereBeam::enuOf(double rangeMeters, double azimuthDeg, double 
   return {horizontal * sa, horizontal * ca, d * std::cos(psi) - (rAlpha + antennaHeightMeters)};
 }
 
+namespace {
+// Height above the local sphere of `enu`'s azimuth and the sphere's outward unit normal there.
+void localSphereHeightAndNormal(const LocalSphereBeam& b, const glm::dvec3& l, double* h, glm::dvec3* n) {
+  const double dh = std::hypot(l.x, l.y);
+  const double ca = dh > 0.0 ? l.y / dh : 1.0, sa = dh > 0.0 ? l.x / dh : 0.0;
+  const double rAlpha = 1.0 / (ca * ca / b.meridionalRadiusMeters + sa * sa / b.primeVerticalRadiusMeters);
+  const double rc = rAlpha + b.antennaHeightMeters;
+  const double w = l.z + rc;
+  const double dl = std::sqrt(dh * dh + w * w);
+  *h = b.antennaHeightMeters + (dh * dh + l.z * l.z + 2.0 * l.z * rc) / (dl + rc);
+  *n = glm::dvec3(l.x, l.y, w) / dl;
+}
+}  // namespace
+
+glm::dvec3 LocalSphereBeam::exaggerateEnu(const glm::dvec3& enu, double factor) const {
+  double h = 0.0;
+  glm::dvec3 n{0.0};
+  localSphereHeightAndNormal(*this, enu, &h, &n);
+  return enu + (factor - 1.0) * h * n;
+}
+
+glm::dvec3 LocalSphereBeam::unexaggerateEnu(const glm::dvec3& enu, double factor) const {
+  double h = 0.0;
+  glm::dvec3 n{0.0};
+  localSphereHeightAndNormal(*this, enu, &h, &n);
+  return enu - (1.0 - 1.0 / factor) * h * n;
+}
+
 }  // namespace atmoglobe::volume

@@ -368,7 +368,7 @@ ValueRange PolarSampler::valueRange() const { return {volume_.minValue, volume_.
 
 std::string PolarSampler::description() const { return volume_.fieldName + " from " + volume_.sourcePath; }
 
-OccupancyGrid buildOccupancyGrid(const PolarVolume& v) {
+OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
   const LocalSphereBeam beam = localSphereBeam(v.site, v.beam);
   const int n = static_cast<int>(v.sweeps.size());
   const double hb = 0.5 * v.beamWidthDeg;
@@ -397,7 +397,8 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v) {
         for (double r : {rA, 0.5 * (rA + rB), rB})
           for (double az : {azA, 0.5 * (azA + azB), azB})
             for (double el : {elLo, 0.5 * (elLo + elHi), elHi}) {
-              const glm::dvec3 p = beam.enuOf(r, az, el);
+              const glm::dvec3 p = exaggeration == 1.0 ? beam.enuOf(r, az, el)
+                                                       : beam.exaggerateEnu(beam.enuOf(r, az, el), exaggeration);
               b.lo = glm::min(b.lo, p);
               b.hi = glm::max(b.hi, p);
             }
@@ -411,8 +412,10 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v) {
         const double azSpanRad = degreesToRadians(azB - azA), elSpanRad = degreesToRadians(elHi - elLo);
         const double bulge = rB * (2.0 - std::cos(0.5 * azSpanRad) - std::cos(0.5 * elSpanRad)) +
                              rB * rB / (8.0 * beam.effectiveRadiusMeters) + 50.0;
-        b.lo -= glm::dvec3(bulge);
-        b.hi += glm::dvec3(bulge);
+        // Exaggerated, the arcs between the points bulge by up to the factor more (vertically).
+        const double margin = bulge * std::max(1.0, exaggeration);
+        b.lo -= glm::dvec3(margin);
+        b.hi += glm::dvec3(margin);
         boxes.push_back(b);
       }
     }

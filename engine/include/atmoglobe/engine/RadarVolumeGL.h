@@ -6,6 +6,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <memory>
 
@@ -25,7 +26,8 @@ enum class BeamApproximation {
 
 class RadarVolumeGL final : public VolumeGL {
  public:
-  static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume);
+  /// `exaggeration`: the scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none).
+  static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume, double exaggeration = 1.0);
   ~RadarVolumeGL() override;
   RadarVolumeGL(const RadarVolumeGL&) = delete;
   RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
@@ -45,12 +47,17 @@ class RadarVolumeGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return {polar_->minValue, polar_->maxValue}; }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return polar_->fieldName + " from " + polar_->sourcePath; }
-  const volume::VolumeSampler& referenceSampler() const override { return *sampler_; }
+  const volume::VolumeSampler& referenceSampler() const override {
+    return exaggerated_ ? static_cast<const volume::VolumeSampler&>(*exaggerated_) : *sampler_;
+  }
+  double exaggeration() const { return exaggeration_; }
 
  private:
   RadarVolumeGL() = default;
   std::shared_ptr<const volume::PolarVolume> polar_;
   std::unique_ptr<volume::PolarSampler> sampler_;  ///< over *polar_
+  double exaggeration_ = 1.0;
+  std::unique_ptr<volume::ExaggeratedSampler> exaggerated_;  ///< over *sampler_ when exaggeration_ != 1
   volume::LocalSphereBeam beamModel_;
   BeamApproximation beam_ = BeamApproximation::EffectiveEarthLocalSphere;
   GLuint values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer

@@ -7,6 +7,7 @@
 //   "camera":  {"lat_deg": 47, "lon_deg": 8, "height_m": 2e6,
 //               "heading_deg": 0, "pitch_deg": -90, "roll_deg": 0},
 //   "fov_deg": 60,
+//   "vertical_exaggeration": 1,
 //   "size":    [1280, 720],
 //   "imagery": [{"type": "pyramid", "path": "@data/earth"},      // bottom layer first
 //               {"type": "xyz", "path": "my_xyz_tiles"}],
@@ -119,6 +120,9 @@ struct SceneDescription {
   std::vector<SliceLayerDescription> slices;  ///< CAPPIs and cross-sections on the globe (SliceLayer.h)
   std::string stationsPath;                   ///< station list drawn as markers (empty: none)
   std::vector<std::string> models;            ///< georeferenced .glb files (cone exports) to draw
+  /// Heights above the ellipsoid drawn this many times higher, for every volume, slice and
+  /// marker alike (JSON "vertical_exaggeration", CLI --exaggeration; 0.1..100, 1 = true scale).
+  double verticalExaggeration = 1.0;
 };
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).

@@ -78,6 +78,12 @@ class SceneRendererGL {
   /// Samples a slice (CAPPI or cross-section) of the volume it names and draws it on the globe
   /// (SliceRendererGL.h); returns a line for the user.
   Result<std::string> addSlice(const SliceLayerDescription& description);
+  /// The scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none): radars, grids,
+  /// slices and markers are drawn at that many times their height above the ellipsoid, so they
+  /// stay aligned. Call before adding layers (it applies to layers added afterwards; an error
+  /// once any volume or slice is loaded). Cone models (.glb) are drawn as exported.
+  Status setVerticalExaggeration(double factor);
+  double verticalExaggeration() const { return exaggeration_; }
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 
@@ -105,6 +111,7 @@ class SceneRendererGL {
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   std::unique_ptr<SliceRendererGL> slices_;
   int referenceThreads_ = 0;
+  double exaggeration_ = 1.0;
 };
 
 }  // namespace atmoglobe::engine

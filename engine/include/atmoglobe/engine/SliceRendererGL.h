@@ -36,7 +36,9 @@ struct SliceMesh {
   std::vector<std::uint32_t> indices;
   std::vector<float> outline;
 };
-SliceMesh buildSliceMesh(const volume::SliceGeometry& geometry, double maxSegmentMeters = 5000.0);
+/// `exaggeration`: heights drawn that many times higher (volume/VerticalExaggeration.h).
+SliceMesh buildSliceMesh(const volume::SliceGeometry& geometry, double maxSegmentMeters = 5000.0,
+                         double exaggeration = 1.0);
 
 /// The raster's texture: echo pixels in the table's RGB with alpha = opacity (values below the
 /// table, no echo and no data: transparent). Row 0 = raster row 0.
@@ -61,6 +63,8 @@ class SliceRendererGL {
   /// blending).
   void draw(const Camera& camera) const;
   std::size_t size() const { return slices_.size(); }
+  /// The scene's vertical exaggeration for slices added from now on (1: none).
+  void setVerticalExaggeration(double factor) { exaggeration_ = factor; }
 
  private:
   struct SliceGL {
@@ -71,6 +75,7 @@ class SliceRendererGL {
   SliceRendererGL() = default;
   ShaderProgramGL program_;
   std::vector<SliceGL> slices_;
+  double exaggeration_ = 1.0;
 };
 
 }  // namespace atmoglobe::engine

@@ -135,6 +135,11 @@ struct LocalSphereBeam {
   AntennaCoordinates antennaCoordinates(const glm::dvec3& enu) const;
   /// The forward map: ENU position (m) of (range, azimuth, elevation).
   glm::dvec3 enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const;
+  /// Vertical exaggeration on the local sphere (VerticalExaggeration.h): the point at height h
+  /// above the sphere (of this azimuth's normal-section radius) moved along the sphere's normal
+  /// to height e h (exaggerateEnu), and back (unexaggerateEnu). Exact inverses of each other.
+  glm::dvec3 exaggerateEnu(const glm::dvec3& enu, double factor) const;
+  glm::dvec3 unexaggerateEnu(const glm::dvec3& enu, double factor) const;
   /// ECEF -> the site's ENU frame (m).
   glm::dvec3 enuOfEcef(const glm::dvec3& ecef) const { return glm::transpose(enuToEcef) * (ecef - antennaEcef); }
 };

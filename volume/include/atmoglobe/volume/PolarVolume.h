@@ -163,7 +163,10 @@ class PolarSampler final : public VolumeSampler {
 /// support under the linear rule (its gates +-1, its rays +-1, from the sweep below to the sweep
 /// above, +- half a beam at the ends) is bounded by the box of 27 points on it (the local-sphere
 /// beam model, LocalSphereBeam::enuOf), dilated by the support's largest bulge between them.
-OccupancyGrid buildOccupancyGrid(const PolarVolume& v);
+/// The empty-space grid of the volume as drawn with a vertical exaggeration `factor` (1: true
+/// scale): every support box's sample points are exaggerated on the local sphere and the box's
+/// margin grows by the factor.
+OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration = 1.0);
 
 /// Bytes a Cartesian grid would need to hold this volume at the radar's near-range
 /// resolution (the finest gate spacing, in x, y and z, over the box enclosing maxRange and
