@@ -12,7 +12,7 @@ PKGS=(
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip
   netcdf-bin clang-format zlib1g-dev teem-apps
-  fonts-dejavu-core
+  fonts-dejavu-core libimgui-dev
 )
 
 missing=()

@@ -16,6 +16,7 @@
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
+#include <atmoglobe/engine/ViewerPanelGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 
@@ -39,6 +40,7 @@ struct ViewOptions {
   int timeSubsteps = 1;      ///< frames per time step (interpolated between steps)
   double playSeconds = 0.5;  ///< time per frame while playing
   bool play = false;         ///< start playing (with --frames: one frame per time position)
+  bool noPanel = false;      ///< no control panel
 };
 
 struct Interaction {
@@ -52,6 +54,7 @@ struct Interaction {
   bool screenshotRequested = false;
   double lastInputSeconds = -1e9;  ///< glfwGetTime() of the last camera change
   bool dirty = true;               ///< the picture must be redrawn
+  bool uiDirty = true;             ///< only the panel must be redrawn (over the last picture)
   int timeMove = 0;                ///< time positions to move by (keys), applied by the loop
   bool timeHome = false;
   bool playing = false;
@@ -62,6 +65,7 @@ struct TimeCursor {
   std::optional<engine::SceneTimeAxis> axis;
   int substeps = 1;
   long position = 0;
+  std::string label;  ///< valid time shown
   double lastAdvanceSeconds = 0.0;
   long count() const { return axis ? static_cast<long>(axis->times.size() - 1) * substeps + 1 : 1; }
 };
@@ -96,13 +100,16 @@ int runView(const ViewOptions& o) {
   glfwSetWindowUserPointer(w, &state);
   glfwSetMouseButtonCallback(w, [](GLFWwindow* win, int button, int action, int mods) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    s.uiDirty = true;
     if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+    if (action == GLFW_PRESS && engine::ViewerPanelGL::capturesMouse()) return;  // a click on the panel
     s.dragging = action == GLFW_PRESS;
     s.tilting = s.dragging && (mods & GLFW_MOD_SHIFT);
     glfwGetCursorPos(win, &s.lastX, &s.lastY);
   });
   glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    s.uiDirty = true;  // hover highlights in the panel
     if (!s.dragging) return;
     int width = 0, height = 0;
     glfwGetWindowSize(win, &width, &height);
@@ -118,6 +125,7 @@ int runView(const ViewOptions& o) {
   });
   glfwSetScrollCallback(w, [](GLFWwindow* win, double, double yoff) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
+    if (engine::ViewerPanelGL::capturesMouse()) return;
     int width = 0, height = 0;
     glfwGetWindowSize(win, &width, &height);
     double x = 0, y = 0;
@@ -127,7 +135,7 @@ int runView(const ViewOptions& o) {
   });
   glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
-    if (action != GLFW_PRESS) return;
+    if (action != GLFW_PRESS || engine::ViewerPanelGL::capturesKeyboard()) return;
     if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(win, GLFW_TRUE);
     if (key == GLFW_KEY_R) {
       s.pose = s.initial;
@@ -153,6 +161,7 @@ int runView(const ViewOptions& o) {
       for (const std::string& note : axis->notes) std::cerr << "atmoglobe view: " << note << "\n";
       const auto& first = (*renderer)->grids()[axis->leadGrid];
       time.position = static_cast<long>(first.step) * time.substeps;
+      time.label = axis->times[first.step];
       time.axis = std::move(*axis);
       std::cout << "time: " << time.axis->times[first.step] << " (step " << first.step + 1 << " of "
                 << time.axis->times.size() << "; Right/Left step, Space plays)" << std::endl;
@@ -169,9 +178,24 @@ int runView(const ViewOptions& o) {
     auto when = engine::showSceneTime(**renderer, *time.axis, step, fraction);
     if (!when) return when.forwardError();
     glfwSetWindowTitle(w, ("atmoglobe  " + *when).c_str());
+    time.label = *when;
     std::cout << "time: " << *when << std::endl;
     return Ok{};
   };
+
+  // The control panel, after the window's own callbacks (its backend chains to them).
+  std::unique_ptr<engine::ViewerPanelGL> panel;
+  if (!o.noPanel) {
+    auto p = engine::ViewerPanelGL::create(w);
+    if (!p) return fail("view", p.error());
+    panel = std::move(*p);
+  }
+  engine::ViewerPanelState panelState;
+  for (const auto& r : (*renderer)->radars())
+    panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
+  for (const auto& g : (*renderer)->grids())
+    panelState.layers.push_back("grid " + g.volume->grid().variable + " (" + g.description.path + ")");
+  double frameMs = 0.0;
 
   std::vector<double> fullImageScale;
   for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
@@ -182,6 +206,26 @@ int runView(const ViewOptions& o) {
     const bool moving = glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
     if (!state.dirty && !moving && !wasMoving && !state.playing && (*renderer)->globe().lastFrameComplete() &&
         o.frames == 0) {
+      if (state.uiDirty && panel && target) {
+        // Only the panel changed: the last picture again with the panel over it.
+        state.uiDirty = false;
+        glBlitNamedFramebuffer(target->id(), 0, 0, 0, target->widthPx(), target->heightPx(), 0, 0, target->widthPx(),
+                               target->heightPx(), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        const int before = panelState.timePosition;
+        panelState.timePosition = static_cast<int>(time.position);
+        panelState.playing = state.playing;
+        if (panel->draw(panelState)) {
+          state.timeMove += panelState.timePosition - before;
+          state.playing = panelState.playing;
+          state.dirty = true;
+        }
+        if (panelState.screenshotRequested) {
+          panelState.screenshotRequested = false;
+          state.screenshotRequested = true;
+          state.dirty = true;
+        }
+        glfwSwapBuffers(w);
+      }
       glfwWaitEventsTimeout(0.1);  // nothing to redraw: sleep until input
       continue;
     }
@@ -214,15 +258,39 @@ int runView(const ViewOptions& o) {
     }
     const engine::Camera camera(state.pose, state.fovYDeg, fbw, fbh);
     // Our own target has a float depth buffer (reverse-Z); the window's may not.
+    const double t0 = glfwGetTime();
     (*renderer)->renderFrame(camera, markers, *target);
     glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glFinish();
+    frameMs = 1000.0 * (glfwGetTime() - t0);
+    if (panel) {
+      state.uiDirty = false;
+      panelState.timePositions = time.axis ? static_cast<int>(time.count()) : 0;
+      panelState.timePosition = static_cast<int>(time.position);
+      panelState.timeLabel = time.label;
+      panelState.playing = state.playing;
+      panelState.frameMilliseconds = frameMs;
+      const int before = panelState.timePosition;
+      if (panel->draw(panelState)) {
+        state.timeMove += panelState.timePosition - before;
+        state.playing = panelState.playing;
+        state.dirty = true;
+      }
+      if (panelState.screenshotRequested) {
+        panelState.screenshotRequested = false;
+        state.screenshotRequested = true;
+        state.dirty = true;
+      }
+    }
     ++frame;
     const bool last = o.frames > 0 && frame >= o.frames;
     if (state.screenshotRequested || (last && !o.screenshot.empty())) {
       const std::string path = (last && !o.screenshot.empty())
                                    ? o.screenshot
                                    : "atmoglobe-screenshot-" + std::to_string(++state.screenshotCount) + ".png";
-      if (auto s = globe::writePng(path, target->readColor()); !s) return fail("view", s.error());
+      // What the user sees: the scene with the panel over it.
+      const globe::ImageRGBA8 shot = panel ? engine::readWindowColorGL(fbw, fbh) : target->readColor();
+      if (auto s = globe::writePng(path, shot); !s) return fail("view", s.error());
       std::cout << "screenshot: " << path << std::endl;
       state.screenshotRequested = false;
     }
@@ -246,6 +314,7 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--play-seconds", options->playSeconds, "Seconds per time position while playing")
       ->capture_default_str();
   c->add_flag("--play", options->play, "Start playing the time steps (with --frames: one position per frame)");
+  c->add_flag("--no-panel", options->noPanel, "No control panel (time slider, layers, frame time, screenshot)");
   c->footer(
       "Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
       "Keys: Right/Left next/previous time step, Space play/pause, Home first step, P screenshot, R reset camera, "

@@ -48,20 +48,32 @@ void FramebufferGL::bind() const {
   glViewport(0, 0, width_, height_);
 }
 
-globe::ImageRGBA8 FramebufferGL::readColor() const {
+namespace {
+// RGBA8 of a framebuffer's colour (top row first).
+globe::ImageRGBA8 readColorOf(GLuint fbo, GLenum buffer, int width, int height) {
   globe::ImageRGBA8 image;
-  image.width = width_;
-  image.height = height_;
-  const std::size_t rowBytes = static_cast<std::size_t>(width_) * 4;
-  std::vector<std::uint8_t> raw(rowBytes * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  image.width = width;
+  image.height = height;
+  const std::size_t rowBytes = static_cast<std::size_t>(width) * 4;
+  std::vector<std::uint8_t> raw(rowBytes * static_cast<std::size_t>(height));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glReadBuffer(buffer);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
   image.pixels.resize(raw.size());
-  for (int y = 0; y < height_; ++y) {  // GL rows start at the bottom
+  for (int y = 0; y < height; ++y) {  // GL rows start at the bottom
     std::memcpy(image.pixels.data() + static_cast<std::size_t>(y) * rowBytes,
-                raw.data() + static_cast<std::size_t>(height_ - 1 - y) * rowBytes, rowBytes);
+                raw.data() + static_cast<std::size_t>(height - 1 - y) * rowBytes, rowBytes);
   }
+  return image;
+}
+}  // namespace
+
+globe::ImageRGBA8 FramebufferGL::readColor() const { return readColorOf(fbo_, GL_COLOR_ATTACHMENT0, width_, height_); }
+
+globe::ImageRGBA8 readWindowColorGL(int widthPx, int heightPx) {
+  globe::ImageRGBA8 image = readColorOf(0, GL_BACK, widthPx, heightPx);
+  for (std::size_t n = 3; n < image.pixels.size(); n += 4) image.pixels[n] = 255;  // the window is opaque
   return image;
 }
 

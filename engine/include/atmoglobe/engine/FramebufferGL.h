@@ -32,4 +32,8 @@ class FramebufferGL {
   GLuint fbo_ = 0, color_ = 0, depth_ = 0;
 };
 
+/// The current window's back buffer (what the next swap shows: the scene and the panel), top
+/// row first, opaque.
+globe::ImageRGBA8 readWindowColorGL(int widthPx, int heightPx);
+
 }  // namespace atmoglobe::engine
