@@ -3,6 +3,7 @@
 // (tools/bench/README.md).
 #include "Commands.h"
 
+#include <atmoglobe/bench/GridLoad.h>
 #include <atmoglobe/bench/VolumeBench.h>
 
 #include <iostream>
@@ -12,8 +13,8 @@ namespace atmoglobe::tools {
 
 Command addBenchCommand(CLI::App& root) {
   auto o = std::make_shared<bench::VolumeBenchOptions>();
-  CLI::App* c =
-      root.add_subcommand("bench", "Measure the radar volume marcher's speed/accuracy trade (and the VTK peer)");
+  CLI::App* c = root.add_subcommand(
+      "bench", "Measure the volume marcher's speed/accuracy trade on radars or grids (and the VTK peer)");
   c->add_option("--data", o->dataDir, "Directory holding radar_nexrad/ and radar_odim/ (default ../shared/data)");
   c->add_option("--out", o->outDir, "Output directory (default out/bench)");
   c->add_flag("--quick", o->quick, "One view, a small grid, 160x90 (a smoke test)");
@@ -29,7 +30,21 @@ Command addBenchCommand(CLI::App& root) {
                 "Only this view (repeatable): KLBB-oblique, KLBB-down, AU40-oblique, AU40-down");
   c->add_option("--steps", o->stepsMeters, "Only these DVR step sizes (m), e.g. --steps 250 1000")
       ->check(CLI::Range(10.0, 20000.0));
-  return {c, [o] {
+  c->add_flag(
+      "--grids", o->grids,
+      "The forecast-grid bench on the built-in SYNTHETIC grids (regional 400x400x35, global 0.25 deg 1440x721x37)");
+  c->add_option("--grid", o->gridFile, "The forecast-grid bench on this grid file (CF or WRF netCDF)");
+  c->add_option("--var", o->gridVariable, "With --grid: the variable (default: the reader's choice)");
+  c->add_option("--time", o->gridTimeIndex, "With --grid: the time step index (default 0)");
+  c->add_option("--load-runs", o->loadRuns, "Grids: timed runs per load case (median)")->check(CLI::Range(1, 100));
+  c->add_flag("!--no-load", o->load, "Grids: skip the load cases");
+  c->add_flag("!--no-big", o->big, "Grids: skip the 1280x720 frames");
+  c->add_option("--peer-voxels", o->gridPeerMaxVoxels, "Grids: the peer's Cartesian grid cap (voxels)")
+      ->check(CLI::Range(1e5, 1e9));
+  auto probe = std::make_shared<std::vector<std::string>>();
+  c->add_option("--load-probe", *probe, "(internal) run one load case: JOB.json RESULT.json")->expected(2)->group("");
+  return {c, [o, probe] {
+            if (!probe->empty()) return bench::runLoadProbe((*probe)[0], (*probe)[1]);
             Result<bench::VolumeBenchOutcome> r = bench::runVolumeBench(*o, std::cout);
             if (!r) return fail("bench", r.error());
             for (const std::string& file : r->files) std::cout << file << "\n";

@@ -164,3 +164,64 @@ TEST(SyntheticGrid, OptionsAreChecked) {
   EXPECT_FALSE(writeSyntheticGrid(path, o).ok());
   EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written on bad options";
 }
+
+// The SYNTHETIC global grid (the grid bench's global case): ERA5's layout read back as a global
+// pressure-level grid with heights from its geopotential, and weather with structure.
+TEST(SyntheticGrid, GlobalGridReadsBackAsAGlobalPressureLevelGrid) {
+  const std::string path = atmoglobe_test::freshTestDir("synthetic_global_grid") + "/global.nc";
+  SyntheticGlobalGridOptions o;
+  o.nx = 144;
+  o.ny = 73;
+  SyntheticGridSummary s;
+  ASSERT_TRUE(writeSyntheticGlobalGrid(path, o, &s).ok());
+  EXPECT_EQ(s.levels, 37u);
+  EXPECT_GT(s.echoValues, 0u);
+  EXPECT_GT(s.maxDbz, 45.0);  // cyclone eyewalls and ITCZ cells
+  EXPECT_LT(s.maxDbz, 65.0);
+  auto g = readGridVolume(path, {});
+  ASSERT_TRUE(g.ok()) << g.error();
+  EXPECT_EQ(g->variable, "/dbz");
+  EXPECT_EQ(g->nx, 144u);
+  EXPECT_EQ(g->ny, 73u);
+  EXPECT_EQ(g->nz, 37u);
+  EXPECT_TRUE(g->wrapsLongitude);
+  EXPECT_DOUBLE_EQ(g->latDeg.front(), -90.0);  // turned round: row 0 the south pole
+  EXPECT_DOUBLE_EQ(g->latDeg.back(), 90.0);
+  EXPECT_EQ(g->verticalKind, VerticalKind::Pressure);
+  EXPECT_EQ(g->heightSource, HeightSource::GeopotentialField);
+  EXPECT_FALSE(g->approximateHeights);
+  EXPECT_EQ(g->fileLevelStep, -1);  // written top first, as ERA5
+  EXPECT_DOUBLE_EQ(g->levelValues.front(), 100000.0);
+  // 500 hPa: the standard atmosphere's 5574 m, 4.5 % higher at the equator and lower at the
+  // poles (+- the geoid, < 110 m, and the wave term, 1 %).
+  const std::size_t k500 = 15;
+  ASSERT_DOUBLE_EQ(g->levelValues[k500], 50000.0);
+  const double hEq = g->heightMeters(k500, 36, 0), hPole = g->heightMeters(k500, 72, 0);
+  EXPECT_NEAR(hEq, 5574.0 * 1.045, 120.0);
+  EXPECT_NEAR(hPole, 5574.0 * 0.955, 120.0);
+  // Values: clear air is -30 dBZ, nothing missing.
+  EXPECT_FLOAT_EQ(g->valueMin, -30.0f);
+  for (float v : g->values) ASSERT_TRUE(std::isfinite(v));
+}
+
+// The field's shapes, through its public formula: a cyclone's eye is clear and its eyewall
+// strong; far from every system it is clear air; a frontal band has a bright band at 2.5 km.
+TEST(SyntheticGrid, GlobalFieldHasCyclonesAndFrontsWhereItSays) {
+  EXPECT_LT(syntheticGlobalDbz(19.0, -62.0, 1000.0, 0.0, 7), 30.0);                       // the eye
+  const double eyewall = syntheticGlobalDbz(19.0 + 35.0 / 111.0, -62.0, 1000.0, 0.0, 7);  // 35 km north
+  EXPECT_GT(eyewall, 45.0);
+  EXPECT_LT(syntheticGlobalDbz(19.0 + 35.0 / 111.0, -62.0, 17000.0, 0.0, 7), eyewall - 20.0);
+  EXPECT_DOUBLE_EQ(syntheticGlobalDbz(-35.0, -120.0, 1000.0, 0.0, 7), -30.0);  // the south Pacific subtropics
+  // The northern storm track at longitude 60 E, where the band is active (3 lon + 50 = 230 deg:
+  // sin = -0.77, active 0.12 < 0.2) -- use 20 E instead: 110 deg, active 0.97.
+  const double lon = 20.0;
+  const double track =
+      47.0 + 7.0 * std::sin((4.0 * lon + 30.0) * M_PI / 180.0) + 3.0 * std::sin(7.0 * lon * M_PI / 180.0);
+  EXPECT_GT(syntheticGlobalDbz(track, lon, 2500.0, 0.0, 7), syntheticGlobalDbz(track, lon, 1500.0, 0.0, 7) + 4.0);
+  EXPECT_GT(syntheticGlobalDbz(track, lon, 1500.0, 0.0, 7), 25.0);
+  // Geopotential increases upwards in every column (levels must be monotonic).
+  for (double lat : {-90.0, -45.0, 0.0, 60.0, 90.0})
+    for (std::size_t k = 1; k < era5PressureLevelsHpa().size(); ++k)
+      EXPECT_LT(syntheticGlobalGeopotential(lat, 33.0, era5PressureLevelsHpa()[k]),
+                syntheticGlobalGeopotential(lat, 33.0, era5PressureLevelsHpa()[k - 1]));
+}

@@ -55,6 +55,34 @@ def make_property(tf):
     return prop
 
 
+def make_ellipsoid(matrix):
+    """The Earth as an opaque black ellipsoid: the unit sphere through a row-major 4x4 matrix
+    (scale to the WGS84 axes, then ECEF -> the job's frame), 0.25 degree facets (chord sag ~60 m)."""
+    sphere = vtk.vtkSphereSource()
+    sphere.SetRadius(1.0)
+    sphere.SetThetaResolution(1440)
+    sphere.SetPhiResolution(720)
+    m = vtk.vtkMatrix4x4()
+    for r in range(4):
+        for c in range(4):
+            m.SetElement(r, c, matrix[4 * r + c])
+    xf = vtk.vtkTransform()
+    xf.SetMatrix(m)
+    f = vtk.vtkTransformPolyDataFilter()
+    f.SetInputConnection(sphere.GetOutputPort())
+    f.SetTransform(xf)
+    mapper = vtk.vtkPolyDataMapper()
+    mapper.SetInputConnection(f.GetOutputPort())
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    p = actor.GetProperty()
+    p.SetColor(0, 0, 0)
+    p.SetAmbient(0.0)
+    p.SetDiffuse(0.0)
+    p.SetSpecular(0.0)
+    return actor
+
+
 def make_mapper(name, sample_distance):
     if name == "gpu":
         m = vtk.vtkGPUVolumeRayCastMapper()
@@ -96,6 +124,8 @@ def main():
         ren = vtk.vtkRenderer()
         ren.SetBackground(0, 0, 0)
         ren.AddVolume(volume)
+        if "ellipsoid_matrix" in job:  # grid views: the Earth hides what is behind it
+            ren.AddActor(make_ellipsoid(job["ellipsoid_matrix"]))
         win.AddRenderer(ren)
         for view in job["views"]:
             win.SetSize(view["width"], view["height"])

@@ -16,6 +16,8 @@ const char* beamName(engine::BeamApproximation b) {
   return b == engine::BeamApproximation::EffectiveEarthLocalSphere ? "4/3-earth" : "straight";
 }
 
+const char* beamName(const Cell& c) { return c.beamApplies ? beamName(c.beam) : "-"; }
+
 const char* classificationName(const Cell& c) {
   if (c.mode != volume::VolumeRenderMode::Dvr) return "-";
   return c.classification == engine::Classification::Preintegrated ? "preintegrated" : "point";
@@ -24,14 +26,16 @@ const char* classificationName(const Cell& c) {
 std::string cellLabel(const Cell& c) {
   std::ostringstream s;
   s << modeName(c.mode) << " step " << formatG(c.stepMeters) << " m, scale " << formatG(c.imageScale) << ", "
-    << interpName(c.interpolation) << ", " << beamName(c.beam);
+    << interpName(c.interpolation);
+  if (c.beamApplies) s << ", " << beamName(c.beam);
   if (c.classification == engine::Classification::Preintegrated) s << ", pre-integrated";
   return s.str();
 }
 
 bool sameCell(const Cell& a, const Cell& b) {
   return a.mode == b.mode && a.stepMeters == b.stepMeters && a.imageScale == b.imageScale &&
-         a.interpolation == b.interpolation && a.beam == b.beam && a.classification == b.classification;
+         a.interpolation == b.interpolation && a.beam == b.beam && a.classification == b.classification &&
+         a.beamApplies == b.beamApplies;
 }
 
 bool isEngineDefault(const Cell& c) {
@@ -66,15 +70,17 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride) {
   return a;
 }
 
-std::vector<Cell> gridCells(const GridAxes& axes) {
+std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis) {
   std::vector<Cell> cells;
   for (double step : axes.stepsMeters)
     for (double scale : axes.imageScales)
       for (auto interp : {volume::Interpolation::Nearest, volume::Interpolation::Linear})
         for (auto beam :
              {engine::BeamApproximation::EffectiveEarthLocalSphere, engine::BeamApproximation::StraightLine}) {
+          if (!beamAxis && beam != engine::BeamApproximation::EffectiveEarthLocalSphere) continue;
           Cell c;
           c.stepMeters = step, c.imageScale = scale, c.interpolation = interp, c.beam = beam;
+          c.beamApplies = beamAxis;
           cells.push_back(c);
           // Pre-integration assumes the field linear between samples: with linear interpolation only.
           if (interp == volume::Interpolation::Linear) {
@@ -85,6 +91,7 @@ std::vector<Cell> gridCells(const GridAxes& axes) {
   for (auto mode : {volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
     Cell c;
     c.mode = mode;
+    c.beamApplies = beamAxis;
     cells.push_back(c);
   }
   return cells;

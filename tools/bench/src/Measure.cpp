@@ -15,17 +15,22 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera, engine::RadarVolumeGL& volume,
+GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera, engine::VolumeGL& volume,
                     const engine::VolumeRenderOptions& options, engine::BeamApproximation beam,
-                    engine::FramebufferGL& target, int frames, bool warmUp) {
-  volume.setBeamApproximation(beam);
+                    engine::FramebufferGL& target, int frames, bool warmUp, const std::vector<float>* depth) {
+  if (auto* radar = dynamic_cast<engine::RadarVolumeGL*>(&volume)) radar->setBeamApproximation(beam);
   std::vector<double> ms;
   for (int f = warmUp ? -1 : 0; f < frames; ++f) {
+    if (depth) {
+      glTextureSubImage2D(target.depthTexture(), 0, 0, 0, target.widthPx(), target.heightPx(), GL_DEPTH_COMPONENT,
+                          GL_FLOAT, depth->data());
+      glFinish();
+    }
     const auto t0 = Clock::now();
     target.bind();
     glClearDepth(0.0);
     glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glClear(depth ? GL_COLOR_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     renderer.draw(camera, volume, options, target);
     glFinish();
     if (f >= 0) ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
@@ -34,13 +39,16 @@ GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& ca
 }
 
 std::vector<GpuRun> timeCellsRoundRobinGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
-                                          engine::RadarVolumeGL& volume, const std::vector<Cell>& cells,
-                                          engine::FramebufferGL& target, int frames) {
+                                          engine::VolumeGL& volume, const std::vector<Cell>& cells,
+                                          engine::FramebufferGL& target, int frames, const std::vector<float>* depth,
+                                          const volume::TransferFunction* transfer) {
   std::vector<std::vector<double>> frameMs(cells.size());
   std::vector<GpuRun> runs(cells.size());
   for (int f = -1; f < frames; ++f) {
     for (std::size_t ci = 0; ci < cells.size(); ++ci) {
-      GpuRun run = timeFramesGL(renderer, camera, volume, optionsFor(cells[ci]), cells[ci].beam, target, 1, false);
+      engine::VolumeRenderOptions options = optionsFor(cells[ci]);
+      if (transfer) options.render.transfer = *transfer;
+      GpuRun run = timeFramesGL(renderer, camera, volume, options, cells[ci].beam, target, 1, false, depth);
       if (f >= 0) frameMs[ci].push_back(run.medianMs);
       if (f + 1 == frames) runs[ci].image = std::move(run.image);
     }

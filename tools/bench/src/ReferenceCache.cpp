@@ -20,13 +20,16 @@ namespace fs = std::filesystem;
 std::string referenceKey(const BenchView& view, int widthPx, int heightPx, const volume::VolumeRenderSettings& s) {
   std::ostringstream k;
   const engine::CameraPose& p = view.pose;
-  k << "ref-v1|" << view.volume->path << "|" << view.volume->polar.fieldName << "|" << formatG(p.latDeg) << ","
-    << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << "," << formatG(p.headingDeg) << "," << formatG(p.pitchDeg)
-    << "," << formatG(p.rollDeg) << "|fov " << formatG(view.fovYDeg) << "|" << widthPx << "x" << heightPx << "|"
-    << modeName(s.mode) << "|" << interpName(s.interpolation) << "|step " << formatG(s.stepMeters) << "|iso "
-    << formatG(s.isoValue) << "|term " << formatG(s.earlyTerminationAlpha) << "|tf " << s.transfer.colors.name() << ","
+  k << "ref-v1|" << view.volume->cacheIdentity() << "|" << view.volume->fieldName();
+  if (view.volume->kind == VolumeKind::Grid) k << "@" << view.volume->gridRead.timeIndex;
+  k << "|" << formatG(p.latDeg) << "," << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << ","
+    << formatG(p.headingDeg) << "," << formatG(p.pitchDeg) << "," << formatG(p.rollDeg) << "|fov "
+    << formatG(view.fovYDeg) << "|" << widthPx << "x" << heightPx << "|" << modeName(s.mode) << "|"
+    << interpName(s.interpolation) << "|step " << formatG(s.stepMeters) << "|iso " << formatG(s.isoValue) << "|term "
+    << formatG(s.earlyTerminationAlpha) << "|tf " << s.transfer.colors.name() << ","
     << formatG(s.transfer.opacityZeroValue) << "," << formatG(s.transfer.opacityFullValue) << ","
-    << formatG(s.transfer.maxOpacity) << "," << formatG(s.transfer.opacityReferenceMeters) << "|no-occlusion";
+    << formatG(s.transfer.maxOpacity) << "," << formatG(s.transfer.opacityReferenceMeters)
+    << (view.occludeByEllipsoid ? "|ellipsoid" : "|no-occlusion");
   return k.str();
 }
 
@@ -88,11 +91,16 @@ bool writeCachedReference(const fs::path& file, const std::string& key, const vo
 }
 
 volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters) {
+  return referenceSettings(mode, stepMeters, volume::defaultReflectivityTransfer());
+}
+
+volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters,
+                                               const volume::TransferFunction& transfer) {
   volume::VolumeRenderSettings s;
   s.mode = mode;
   s.interpolation = volume::Interpolation::Linear;
   s.stepMeters = stepMeters;
-  s.transfer = volume::defaultReflectivityTransfer();
+  s.transfer = transfer;
   return s;
 }
 
@@ -110,8 +118,10 @@ volume::VolumeImage ReferenceStore::get(const BenchView& view, int widthPx, int 
          << s.stepMeters << " m ..." << std::flush;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  volume::VolumeImage img =
-      volume::renderReference(view.volume->polar, s, engine::referenceCameraFor(camera), false, threads);
+  // A radar: the same image as renderReference(polar, ...) (one PolarSampler layer).
+  volume::VolumeImage img = volume::renderReference({volume::ReferenceLayer{&view.volume->referenceSampler(), s}},
+                                                    engine::referenceCameraFor(camera), view.occludeByEllipsoid,
+                                                    threads);
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   secondsRendering += sec;
   ++rendered;

@@ -70,7 +70,7 @@ void writeCsv(std::ostream& csv, const std::vector<Row>& rows) {
          "max_abs,psnr_db,engine_default\n";
   for (const Row& r : rows) {
     csv << r.view << "," << r.volume << "," << modeName(r.cell.mode) << "," << r.cell.stepMeters << ","
-        << r.cell.imageScale << "," << interpName(r.cell.interpolation) << "," << beamName(r.cell.beam) << ","
+        << r.cell.imageScale << "," << interpName(r.cell.interpolation) << "," << beamName(r.cell) << ","
         << classificationName(r.cell) << "," << r.widthPx << "," << r.heightPx << "," << formatG(r.medianMs, 5) << ","
         << formatG(r.error.meanAbs, 5) << "," << formatG(r.error.maxAbs, 5) << "," << formatG(r.error.psnrDb, 5) << ","
         << (isEngineDefault(r.cell) ? 1 : 0) << "\n";
@@ -79,8 +79,9 @@ void writeCsv(std::ostream& csv, const std::vector<Row>& rows) {
 
 engine::ScatterPlot errorTimePlot(const BenchReport& report) {
   engine::ScatterPlot plot;
-  plot.title = "Radar volume marcher: error vs frame time (" + std::to_string(report.widthPx) + "x" +
-               std::to_string(report.heightPx) + ", mean of " + std::to_string(report.views.size()) + " views)";
+  plot.title = std::string(report.kind == "grid" ? "Forecast grids" : "Radar volume marcher") +
+               ": error vs frame time (" + std::to_string(report.widthPx) + "x" + std::to_string(report.heightPx) +
+               ", mean of " + std::to_string(report.views.size()) + " views)";
   plot.xLabel = "median frame time (ms, log)";
   plot.yLabel = "mean abs error vs reference (8-bit steps)";
   plot.logX = true;
@@ -159,10 +160,10 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
   std::sort(sorted.begin(), sorted.end(), [](const Aggregate& a, const Aggregate& b) { return a.meanMs < b.meanMs; });
   for (const Aggregate& a : sorted) {
     md << "| " << modeName(a.cell.mode) << " | " << formatG(a.cell.stepMeters) << " | " << formatG(a.cell.imageScale)
-       << " | " << interpName(a.cell.interpolation) << " | " << beamName(a.cell.beam) << " | "
-       << classificationName(a.cell) << " | " << formatG(a.meanMs, 4) << " | " << formatG(a.meanAbs, 3) << " | "
-       << formatG(a.maxAbs, 3) << " | " << formatG(a.meanPsnrDb, 3) << " | " << formatG(a.minPsnrDb, 3) << " | "
-       << (a.pareto ? "yes" : "") << " | " << (isEngineDefault(a.cell) ? "**yes**" : "") << " |\n";
+       << " | " << interpName(a.cell.interpolation) << " | " << beamName(a.cell) << " | " << classificationName(a.cell)
+       << " | " << formatG(a.meanMs, 4) << " | " << formatG(a.meanAbs, 3) << " | " << formatG(a.maxAbs, 3) << " | "
+       << formatG(a.meanPsnrDb, 3) << " | " << formatG(a.minPsnrDb, 3) << " | " << (a.pareto ? "yes" : "") << " | "
+       << (isEngineDefault(a.cell) ? "**yes**" : "") << " |\n";
   }
   md << "\n## Per view\n\n| view | setting | frame (ms) | mean abs | max abs | PSNR (dB) |\n|---|---|---|---|---|---|\n";
   for (const Row& row : r.rows)
@@ -207,22 +208,157 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
   md << "\nTotal bench time: " << formatG(r.totalSeconds, 4) << " s.\n";
 }
 
+const Row* fastestAtOrBelowError(const std::vector<Row>& rows, const std::string& view, double meanAbs) {
+  const Row* best = nullptr;
+  for (const Row& r : rows)
+    if (r.view == view && r.cell.mode == volume::VolumeRenderMode::Dvr && r.error.meanAbs <= meanAbs &&
+        (!best || r.medianMs < best->medianMs))
+      best = &r;
+  return best;
+}
+
+void writeGridMarkdown(std::ostream& md, const BenchReport& r) {
+  md << "# atmoglobe bench: forecast grids\n\n";
+  md << "Machine: " << r.machine << "\n\n";
+  md << "Volume only over black, each view occluded by the WGS84 ellipsoid (the reference stops at it, the marcher "
+        "gets its exact depth). The GPU draws the crop of the grid the view can see; the reference (double, "
+        "linear, step "
+     << formatG(r.referenceStepMeters)
+     << " m, full resolution) samples the whole grid, so a crop that cut off anything visible would show as "
+        "error. Frame: median of "
+     << r.frames
+     << " frames (glFinish after each, round-robin over the cells). Error: mean / max absolute "
+        "difference in 8-bit steps over RGB, PSNR.\n\n";
+  md << "## Grids\n\n| grid | file | variable |\n|---|---|---|\n";
+  for (const VolumeSummary& v : r.volumes) md << "| " << v.key << " | " << v.path << " | " << v.fieldName << " |\n";
+  md << "\n## Views\n\n| view | lat | lon | height (m) | heading | pitch | fovY | GPU volume (crop) |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const BenchView& v : r.views) {
+    double gpu = 0;
+    for (const Row& row : r.rows)
+      if (row.view == v.name) gpu = static_cast<double>(row.gpuBytes);
+    md << "| " << v.name << " | " << formatG(v.pose.latDeg, 7) << " | " << formatG(v.pose.lonDeg, 7) << " | "
+       << formatG(v.pose.heightMeters) << " | " << formatG(v.pose.headingDeg, 4) << " | " << formatG(v.pose.pitchDeg, 4)
+       << " | " << formatG(v.fovYDeg) << " | lat " << formatG(v.crop.southDeg, 4) << ".." << formatG(v.crop.northDeg, 4)
+       << ", lon " << formatG(v.crop.westDeg, 5) << ".." << formatG(v.crop.eastDeg, 5) << ": " << formatG(gpu / 1e6, 4)
+       << " MB |\n";
+  }
+  if (!r.loads.empty()) {
+    md << "\n## Load: the reader against the I/O floor\n\n"
+          "Each case in a fresh child process (peak = its VmHWM); median of the timed runs, page cache warm. Floor: "
+          "plain nc_get_vara of the same hyperslabs (the variable and what the heights come from) into a buffer "
+          "of the stored type, no conversion. Bytes: the reader's bytesRead / the floor's elements x stored size.\n\n"
+          "| grid | case | columns x levels | reader (ms) | floor (ms) | reader / floor | reader bytes | floor bytes | "
+          "reader peak (MB) | floor peak (MB) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const LoadCase& c : r.loads) {
+      md << "| " << c.grid << " | " << c.name << " | ";
+      if (c.hasReader) md << c.reader.columns << " x " << c.reader.levels;
+      md << " | " << (c.hasReader ? formatG(c.reader.medianMs, 4) : "-") << " | " << formatG(c.floor.medianMs, 4)
+         << " | "
+         << (c.hasReader && c.floor.medianMs > 0 ? formatG(c.reader.medianMs / c.floor.medianMs, 3) + "x" : "-")
+         << " | " << (c.hasReader ? formatG(static_cast<double>(c.reader.bytes) / 1e6, 4) + " MB" : "-") << " | "
+         << formatG(static_cast<double>(c.floor.bytes) / 1e6, 4) << " MB | "
+         << (c.hasReader ? formatG(c.reader.peakRssMb, 4) : "-") << " | " << formatG(c.floor.peakRssMb, 4) << " |";
+      if (!c.reader.error.empty() || !c.floor.error.empty()) md << " " << c.reader.error << " " << c.floor.error;
+      md << "\n";
+    }
+  }
+  if (!r.convergence.empty()) {
+    md << "\nReference convergence (DVR, 80x45, step " << formatG(r.referenceStepMeters) << " m against "
+       << formatG(r.referenceStepMeters / 2) << " m):\n\n| view | mean abs | max abs | PSNR dB |\n|---|---|---|---|\n";
+    for (const auto& c : r.convergence)
+      md << "| " << c.view << " | " << formatG(c.error.meanAbs, 3) << " | " << formatG(c.error.maxAbs, 3) << " | "
+         << formatG(c.error.psnrDb, 3) << " |\n";
+  }
+  md << "\nReferences: " << r.referencesRendered << " rendered this run (" << formatG(r.referenceSeconds, 4) << " s on "
+     << r.referenceThreads << " threads), " << r.referencesCached << " from the cache.\n";
+  md << "\n## All settings at " << r.widthPx << "x" << r.heightPx << ", mean over views (sorted by time)\n\n"
+     << "| mode | step (m) | scale | interp. | classification | frame (ms) | mean abs | max abs | PSNR mean (dB) | "
+        "PSNR min (dB) | Pareto | default |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::vector<Aggregate> sorted = r.aggregates;
+  std::sort(sorted.begin(), sorted.end(), [](const Aggregate& a, const Aggregate& b) { return a.meanMs < b.meanMs; });
+  for (const Aggregate& a : sorted) {
+    md << "| " << modeName(a.cell.mode) << " | " << formatG(a.cell.stepMeters) << " | " << formatG(a.cell.imageScale)
+       << " | " << interpName(a.cell.interpolation) << " | " << classificationName(a.cell) << " | "
+       << formatG(a.meanMs, 4) << " | " << formatG(a.meanAbs, 3) << " | " << formatG(a.maxAbs, 3) << " | "
+       << formatG(a.meanPsnrDb, 3) << " | " << formatG(a.minPsnrDb, 3) << " | " << (a.pareto ? "yes" : "") << " | "
+       << (isEngineDefault(a.cell) ? "**yes**" : "") << " |\n";
+  }
+  auto perView = [&](const std::vector<Row>& rows, const std::string& title) {
+    md << "\n## " << title << "\n\n| view | size | setting | frame (ms) | mean abs | max abs | PSNR (dB) |\n"
+       << "|---|---|---|---|---|---|---|\n";
+    for (const Row& row : rows)
+      md << "| " << row.view << " | " << row.widthPx << "x" << row.heightPx << " | " << cellLabel(row.cell)
+         << (isEngineDefault(row.cell) ? " (default)" : "") << " | " << formatG(row.medianMs, 4) << " | "
+         << formatG(row.error.meanAbs, 3) << " | " << formatG(row.error.maxAbs, 3) << " | "
+         << formatG(row.error.psnrDb, 3) << " |\n";
+  };
+  perView(r.bigRows, "1280x720 (DVR, linear, point; error against the 1280x720 reference)");
+  perView(r.rows, "Per view at " + std::to_string(r.widthPx) + "x" + std::to_string(r.heightPx));
+  md << "\n## Peer: each view's crop resampled to a Cartesian grid, rendered by VTK\n\n";
+  if (!r.peer.note.empty()) md << r.peer.note << "\n\n";
+  for (const auto& [key, g] : r.peer.grids) {
+    md << "- " << key << ": grid " << g.nx << " x " << g.ny << " x " << g.nz << " at " << formatG(g.spacingMeters, 4)
+       << " m (finest level spacing where the data are visible " << formatG(g.nativeSpacingMeters, 4)
+       << " m), float32: " << formatG(g.bytes() / 1e6, 5) << " MB. "
+       << (g.coarsenedReason.empty() ? "" : "Coarsened: " + g.coarsenedReason + ". ") << "Resampled in "
+       << formatG(g.resampleSeconds, 3) << " s with the grid's own exact sampler; trilinear reconstruction against "
+       << "it over " << g.reconstructionPoints << " random points (values below the zero-opacity value as that "
+       << "value): max " << formatG(g.maxReconstructionError, 3) << ", rms " << formatG(g.rmsReconstructionError, 3)
+       << " (field units).\n";
+  }
+  if (!r.peer.results.empty()) {
+    md << "\nOurs against each VTK run at equal or lower error: the fastest of our DVR cells on that view whose "
+          "mean abs error is at most VTK's. Memory: our GPU volume (the crop: values, heights, lookup tables, "
+          "empty-space grid) against VTK's Cartesian grid, and VTK's process peak. Target: faster and at least "
+          "10x less memory.\n\n"
+          "| view | VTK mapper | VTK frame (ms) | VTK mean abs / PSNR | VTK grid (MB) | VTK peak RSS (MB) | ours: "
+          "setting | ours (ms) | ours mean abs / PSNR | our GPU volume (MB) | faster | less memory (grid) | "
+          "target |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const PeerResult& p : r.peer.results) {
+      const auto git = r.peer.grids.find(p.view);
+      const double vtkBytes = git != r.peer.grids.end() ? git->second.bytes() : 0.0;
+      md << "| " << p.view << " | " << p.mapper << " | " << formatG(p.medianMs, 4) << " | "
+         << (p.ok ? formatG(p.error.meanAbs, 3) + " / " + formatG(p.error.psnrDb, 3) : "-") << " | "
+         << formatG(vtkBytes / 1e6, 4) << " | " << formatG(p.peakRssMb, 4) << " | ";
+      const Row* ours = p.ok ? fastestAtOrBelowError(r.rows, p.view, p.error.meanAbs) : nullptr;
+      if (!ours) {
+        md << "none at that error | | | | | | no |\n";
+        continue;
+      }
+      const double speed = p.medianMs / ours->medianMs, mem = vtkBytes / static_cast<double>(ours->gpuBytes);
+      md << cellLabel(ours->cell) << " | " << formatG(ours->medianMs, 4) << " | " << formatG(ours->error.meanAbs, 3)
+         << " / " << formatG(ours->error.psnrDb, 3) << " | " << formatG(static_cast<double>(ours->gpuBytes) / 1e6, 4)
+         << " | " << formatG(speed, 3) << "x | " << formatG(mem, 3) << "x | "
+         << (speed > 1.0 && mem >= 10.0 ? "met" : "not met") << " |\n";
+    }
+    md << "\nVTK notes:";
+    for (const PeerResult& p : r.peer.results) md << " " << p.view << " " << p.mapper << ": " << p.note << ";";
+    md << "\n";
+  }
+  md << "\nTotal bench time: " << formatG(r.totalSeconds, 4) << " s.\n";
+}
+
 Status writeReport(const std::string& outDir, const BenchReport& report, std::vector<std::string>* written) {
   const fs::path dir(outDir);
-  const std::string csvPath = (dir / "volume_bench.csv").string();
+  const std::string stem = report.kind == "grid" ? "grid_bench" : "volume_bench";
+  const std::string csvPath = (dir / (stem + ".csv")).string();
   {
     std::ofstream csv(csvPath);
-    writeCsv(csv, report.rows);
+    std::vector<Row> rows = report.rows;
+    rows.insert(rows.end(), report.bigRows.begin(), report.bigRows.end());
+    writeCsv(csv, rows);
     if (!csv) return makeError(csvPath + ": cannot write");
   }
-  const std::string pngPath = (dir / "volume_bench.png").string();
+  const std::string pngPath = (dir / (stem + ".png")).string();
   if (auto s = globe::writePng(pngPath, engine::drawScatterPlot(errorTimePlot(report), 960, 600)); !s) {
     return s.forwardError();
   }
-  const std::string mdPath = (dir / "volume_bench.md").string();
+  const std::string mdPath = (dir / (stem + ".md")).string();
   {
     std::ofstream md(mdPath);
-    writeMarkdown(md, report);
+    if (report.kind == "grid") writeGridMarkdown(md, report);
+    else writeMarkdown(md, report);
     if (!md) return makeError(mdPath + ": cannot write");
   }
   if (written) *written = {mdPath, csvPath, pngPath};

@@ -1,6 +1,7 @@
 #include <atmoglobe/bench/Views.h>
 
 #include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <algorithm>
@@ -22,6 +23,14 @@ std::vector<std::string> benchViewNames(const std::vector<BenchFile>& files, boo
     if (!quick) names.push_back(f.key + "-down");
   }
   return names;
+}
+
+const volume::VolumeSampler& BenchVolume::referenceSampler() const {
+  if (!sampler_) {
+    if (kind == VolumeKind::Grid) sampler_ = std::make_shared<volume::GridSampler>(*grid);
+    else sampler_ = std::make_shared<volume::PolarSampler>(polar);
+  }
+  return *sampler_;
 }
 
 Result<BenchVolume> loadBenchVolume(const std::string& key, const std::string& path) {
@@ -55,7 +64,12 @@ BenchView obliqueView(const std::string& name, const BenchVolume& v, double bear
   const volume::GeolocationSite& s = v.polar.site;
   const globe::GeodesicPoint g = globe::geodesicDirect(s.latDeg, s.lonDeg, bearingDeg, distanceMeters);
   const glm::dvec3 site = globe::geodeticToEcef({s.latDeg, s.lonDeg, s.antennaHeightEllipsoidMeters});
-  return {name, &v, lookAtPose({g.latDeg, g.lonDeg, heightMeters}, site), 50.0};
+  BenchView view;
+  view.name = name;
+  view.volume = &v;
+  view.pose = lookAtPose({g.latDeg, g.lonDeg, heightMeters}, site);
+  view.fovYDeg = 50.0;
+  return view;
 }
 
 BenchView topDownView(const std::string& name, const BenchVolume& v, double heightMeters) {
@@ -65,7 +79,12 @@ BenchView topDownView(const std::string& name, const BenchVolume& v, double heig
   p.heightMeters = heightMeters;
   p.headingDeg = 0.0;
   p.pitchDeg = -90.0;
-  return {name, &v, p, 60.0};
+  BenchView view;
+  view.name = name;
+  view.volume = &v;
+  view.pose = p;
+  view.fovYDeg = 60.0;
+  return view;
 }
 
 std::vector<BenchView> standardViews(const std::vector<std::unique_ptr<BenchVolume>>& volumes, bool quick) {

@@ -2,6 +2,8 @@
 
 #include <atmoglobe/bench/Cells.h>
 #include <atmoglobe/bench/Format.h>
+#include <atmoglobe/bench/GridLoad.h>
+#include <atmoglobe/bench/GridViews.h>
 #include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/bench/ReferenceCache.h>
 #include <atmoglobe/bench/Report.h>
@@ -36,6 +38,7 @@ constexpr volume::VolumeRenderMode kModes[] = {volume::VolumeRenderMode::Dvr, vo
 }  // namespace
 
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostream& log) {
+  if (o.grids || !o.gridFile.empty()) return runGridBench(o, log);
   const auto tStart = Clock::now();
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::error_code ec;
@@ -145,6 +148,7 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
       r.widthPx = w, r.heightPx = h;
       r.medianMs = runs[ci].medianMs;
       r.error = volume::compareImages(fromRgba8(runs[ci].image), ref[c.mode]);
+      r.gpuBytes = view.volume->gl->gpuBytes();
       report.rows.push_back(r);
       if (isEngineDefault(c)) {
         const std::string png = (fs::path(o.outDir) / (view.name + "-gpu-" + modeName(c.mode) + ".png")).string();
@@ -192,6 +196,235 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
     ps.widthPx = w, ps.heightPx = h;
     ps.frames = o.frames;
     ps.maxVoxels = o.quick ? 3.2e7 : 2.7e8;
+    ps.threads = threads;
+    ps.referenceStepMeters = o.referenceStepMeters;
+    Result<PeerSection> peer = runVtkPeer(volumes, views, ps, refs, log);
+    if (!peer) return peer.forwardError();
+    report.peer = std::move(*peer);
+  }
+
+  report.referencesRendered = refs.rendered;
+  report.referencesCached = refs.cached;
+  report.referenceThreads = threads;
+  report.referenceSeconds = refs.secondsRendering;
+  report.referenceCacheDir = refs.dir.string();
+  report.totalSeconds = std::chrono::duration<double>(Clock::now() - tStart).count();
+  VolumeBenchOutcome outcome;
+  if (Status s = writeReport(o.outDir, report, &outcome.files); !s) return s.forwardError();
+  outcome.peerNote = report.peer.note;
+  return outcome;
+}
+
+Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& o, std::ostream& log) {
+  const auto tStart = Clock::now();
+  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::error_code ec;
+  fs::create_directories(fs::path(o.outDir) / "reference-cache", ec);
+  if (ec) return makeError(o.outDir + ": cannot create directory: " + ec.message());
+
+  std::vector<GridBenchFile> files;
+  if (o.gridFile.empty()) {
+    files = builtinGridFiles(fs::path(o.outDir) / "grids");
+  } else {
+    files.push_back({fs::path(o.gridFile).stem().string(), o.gridFile, o.gridVariable, o.gridTimeIndex, false});
+  }
+  std::vector<std::string> knownViews;
+  for (const GridBenchFile& f : files)
+    for (const std::string& n : gridViewNames(f, o.quick)) knownViews.push_back(n);
+  for (const std::string& name : o.viewNames) {
+    if (std::find(knownViews.begin(), knownViews.end(), name) == knownViews.end()) {
+      std::string known;
+      for (const std::string& k : knownViews) known.append(known.empty() ? "" : ", ").append(k);
+      return makeError("--view " + name + ": no such view (grid views" + (o.quick ? " with --quick" : "") + ": " +
+                       known + ")");
+    }
+  }
+  auto wanted = [&](const std::string& view) {
+    return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
+  };
+
+  std::unique_ptr<engine::HeadlessContextGL> context;
+  std::unique_ptr<engine::VolumeRendererGL> renderer;
+  std::string glName = "none";
+  if (!o.referenceOnly) {
+    auto c = engine::HeadlessContextGL::create();
+    if (!c) return c.forwardError();
+    context = std::move(*c);
+    glName = context->describe();
+    auto r = engine::VolumeRendererGL::create();
+    if (!r) return r.forwardError();
+    renderer = std::move(*r);
+  }
+
+  std::vector<std::unique_ptr<BenchVolume>> volumes;
+  std::vector<BenchView> views;
+  for (const GridBenchFile& file : files) {
+    const std::vector<std::string> names = gridViewNames(file, o.quick);
+    if (std::none_of(names.begin(), names.end(), wanted)) continue;
+    if (Status st = ensureGridFile(file, log); !st) return st.forwardError();
+    auto v = loadGridBenchVolume(file);
+    if (!v) return v.forwardError();
+    volumes.push_back(std::make_unique<BenchVolume>(std::move(*v)));
+    const BenchVolume& bv = *volumes.back();
+    log << bv.key << ": " << bv.path << ", " << bv.grid->variable << " at " << bv.grid->validTime << ", " << bv.grid->nx
+        << " x " << bv.grid->ny << " x " << bv.grid->nz << "\n";
+    for (BenchView& view : gridViews(bv, o.quick)) {
+      if (!wanted(view.name)) continue;
+      if (!o.referenceOnly) {
+        if (Status st = attachCropGL(view); !st) return st.forwardError();
+        log << "  view " << view.name << ": crop lat " << formatG(view.crop.southDeg, 5) << ".."
+            << formatG(view.crop.northDeg, 5) << ", lon " << formatG(view.crop.westDeg, 5) << ".."
+            << formatG(view.crop.eastDeg, 5) << ", " << formatG(static_cast<double>(view.cropBytesRead) / 1e6, 4)
+            << " MB read, GPU " << formatG(static_cast<double>(view.gl->gpuBytes()) / 1e6, 4) << " MB\n";
+      }
+      views.push_back(std::move(view));
+    }
+  }
+
+  const int w = o.quick ? 160 : 320, h = o.quick ? 90 : 180;
+  const int bw = 1280, bh = 720;
+  const std::vector<Cell> cells = gridCells(standardAxes(o.quick, o.stepsMeters), false);
+  // At 1280x720: DVR, linear, point classification, the bench's steps among {250, 1000} m (the
+  // default and the interactive one) at every scale.
+  std::vector<Cell> bigCells;
+  for (const Cell& c : cells)
+    if (c.mode == volume::VolumeRenderMode::Dvr && c.interpolation == volume::Interpolation::Linear &&
+        c.classification == engine::Classification::Point && (c.stepMeters == 250.0 || c.stepMeters == 1000.0) &&
+        (!o.quick || isEngineDefault(c)))
+      bigCells.push_back(c);
+
+  ReferenceStore refs;
+  refs.dir = fs::path(o.outDir) / "reference-cache";
+  refs.threads = threads;
+  refs.log = &log;
+  auto settingsFor = [&](const BenchView& view, volume::VolumeRenderMode mode, double step) {
+    return referenceSettings(mode, step, view.volume->transfer);
+  };
+
+  if (o.referenceOnly) {
+    for (const BenchView& view : views) {
+      for (auto mode : kModes) refs.get(view, w, h, settingsFor(view, mode, o.referenceStepMeters));
+      if (o.big && !bigCells.empty())
+        refs.get(view, bw, bh, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters));
+      if (!o.quick) {
+        refs.get(view, 80, 45, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters));
+        refs.get(view, 80, 45, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters / 2.0));
+      }
+    }
+    log << "references: " << refs.rendered << " rendered (" << refs.secondsRendering << " s), " << refs.cached
+        << " cached, in " << refs.dir.string() << "\n";
+    return VolumeBenchOutcome{};
+  }
+
+  BenchReport report;
+  report.kind = "grid";
+  report.machine = machineLine(glName);
+  report.widthPx = w, report.heightPx = h;
+  report.frames = o.frames;
+  report.referenceStepMeters = o.referenceStepMeters;
+  report.views = views;
+  for (const auto& v : volumes) {
+    VolumeSummary s;
+    s.key = v->key;
+    s.path = v->path;
+    s.fieldName = v->grid->variable + " at " + v->grid->validTime + " (" + std::to_string(v->grid->nx) + " x " +
+                  std::to_string(v->grid->ny) + " x " + std::to_string(v->grid->nz) + ", " + v->grid->heightNote + ")";
+    s.sweeps = v->grid->nz;
+    report.volumes.push_back(s);
+  }
+
+  // Load: each case in a child process (its own peak memory).
+  if (o.load) {
+    std::string self = o.selfExe;
+    if (self.empty()) self = fs::read_symlink("/proc/self/exe", ec).string();
+    for (const auto& v : volumes) {
+      std::vector<LoadCase> c = measureGridLoads(*v, views, self, o.outDir, o.loadRuns, log);
+      report.loads.insert(report.loads.end(), c.begin(), c.end());
+    }
+  }
+
+  auto target = engine::FramebufferGL::create(w, h);
+  if (!target) return target.forwardError();
+  for (const BenchView& view : views) {
+    log << "view " << view.name << " (" << w << "x" << h << ")\n";
+    const engine::Camera camera(view.pose, view.fovYDeg, w, h);
+    const std::vector<float> depth = ellipsoidDepth(camera);
+    std::map<volume::VolumeRenderMode, volume::VolumeImage> ref;
+    for (auto mode : kModes) {
+      ref[mode] = refs.get(view, w, h, settingsFor(view, mode, o.referenceStepMeters));
+      const std::string png = (fs::path(o.outDir) / (view.name + "-reference-" + modeName(mode) + ".png")).string();
+      if (auto s = globe::writePng(png, toRgba8(ref[mode])); !s) return s.forwardError();
+    }
+    std::vector<GpuRun> runs = timeCellsRoundRobinGL(*renderer, camera, *view.glVolume(), cells, **target, o.frames,
+                                                     &depth, &view.volume->transfer);
+    for (std::size_t ci = 0; ci < cells.size(); ++ci) {
+      Row r;
+      r.view = view.name;
+      r.volume = view.volume->key;
+      r.cell = cells[ci];
+      r.widthPx = w, r.heightPx = h;
+      r.medianMs = runs[ci].medianMs;
+      r.error = volume::compareImages(fromRgba8(runs[ci].image), ref[cells[ci].mode]);
+      r.gpuBytes = view.glVolume()->gpuBytes();
+      report.rows.push_back(r);
+      if (isEngineDefault(cells[ci])) {
+        const std::string png =
+            (fs::path(o.outDir) / (view.name + "-gpu-" + modeName(cells[ci].mode) + ".png")).string();
+        if (auto s = globe::writePng(png, runs[ci].image); !s) return s.forwardError();
+      }
+    }
+  }
+
+  if (o.big && !bigCells.empty()) {
+    auto bigTarget = engine::FramebufferGL::create(bw, bh);
+    if (!bigTarget) return bigTarget.forwardError();
+    for (const BenchView& view : views) {
+      log << "view " << view.name << " (" << bw << "x" << bh << ")\n";
+      const engine::Camera camera(view.pose, view.fovYDeg, bw, bh);
+      const std::vector<float> depth = ellipsoidDepth(camera);
+      const volume::VolumeImage ref =
+          refs.get(view, bw, bh, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters));
+      std::vector<GpuRun> runs = timeCellsRoundRobinGL(*renderer, camera, *view.glVolume(), bigCells, **bigTarget,
+                                                       std::min(o.frames, 3), &depth, &view.volume->transfer);
+      for (std::size_t ci = 0; ci < bigCells.size(); ++ci) {
+        Row r;
+        r.view = view.name;
+        r.volume = view.volume->key;
+        r.cell = bigCells[ci];
+        r.widthPx = bw, r.heightPx = bh;
+        r.medianMs = runs[ci].medianMs;
+        r.error = volume::compareImages(fromRgba8(runs[ci].image), ref);
+        r.gpuBytes = view.glVolume()->gpuBytes();
+        report.bigRows.push_back(r);
+        if (isEngineDefault(bigCells[ci])) {
+          const std::string png = (fs::path(o.outDir) / (view.name + "-1280-gpu-dvr.png")).string();
+          if (auto s = globe::writePng(png, runs[ci].image); !s) return s.forwardError();
+          const std::string rpng = (fs::path(o.outDir) / (view.name + "-1280-reference-dvr.png")).string();
+          if (auto s = globe::writePng(rpng, toRgba8(ref)); !s) return s.forwardError();
+        }
+      }
+    }
+  }
+
+  for (const BenchView& view : views) {
+    if (o.quick) break;
+    const volume::VolumeImage a =
+        refs.get(view, 80, 45, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters));
+    const volume::VolumeImage b =
+        refs.get(view, 80, 45, settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters / 2.0));
+    report.convergence.push_back({view.name, volume::compareImages(a, b)});
+  }
+  report.aggregates = aggregate(report.rows, cells);
+
+  if (!o.peer) {
+    report.peer.note = "peer skipped (--no-peer)";
+  } else {
+    PeerSettings ps;
+    ps.outDir = o.outDir;
+    ps.script = findPeerScript(o.peerScript);
+    ps.widthPx = w, ps.heightPx = h;
+    ps.frames = o.frames;
+    ps.maxVoxels = o.quick ? 3.2e7 : o.gridPeerMaxVoxels;
     ps.threads = threads;
     ps.referenceStepMeters = o.referenceStepMeters;
     Result<PeerSection> peer = runVtkPeer(volumes, views, ps, refs, log);

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace atmoglobe::volume {
 
@@ -68,5 +69,41 @@ Status validateSyntheticGridOptions(const SyntheticGridOptions& options);
 /// takes under a second and makes a file of about 1.6 MB.
 Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& options,
                           SyntheticGridSummary* summary = nullptr);
+
+/// A SYNTHETIC global forecast grid on pressure levels, laid out as ERA5's 0.25-degree pressure-level
+/// files are: latitudes 90 .. -90 (north to south, both poles included), longitudes 0 .. 359.75,
+/// the 37 ERA5 levels written top first (1 .. 1000 hPa), `z` geopotential (m2 s-2, standard_name
+/// geopotential, float) so that the reader takes heights from it, and `dbz` simulated
+/// reflectivity (short, scale 0.01) holding weather with structure at every scale: tropical
+/// cyclones (eye, eyewall, spiral rain bands), mid-latitude frontal rain bands along wavy storm
+/// tracks (with a bright band at the melting level) and scattered convective cells along the
+/// ITCZ; clear air -30 dBZ. The geopotential is the standard atmosphere's, thicker in the tropics
+/// and thinner towards the poles (+-4.5 %), with planetary waves in mid-latitudes. What the grid
+/// bench draws as its global case (tools/bench, docs/grids.md "Benchmark").
+struct SyntheticGlobalGridOptions {
+  std::size_t nx = 1440, ny = 721;  ///< columns (0..360, exclusive) and rows (pole to pole, inclusive)
+  std::size_t times = 1;
+  std::string startTimeIso8601 = "2020-09-01T12:00:00Z";
+  double stepHours = 6.0;
+  int seed = 7;          ///< places the convective cells
+  int deflateLevel = 1;  ///< netCDF-4 zlib level 0..9 (0: contiguous, uncompressed)
+};
+
+/// The 37 ERA5 pressure levels (hPa), top first as ERA5 writes them.
+const std::vector<double>& era5PressureLevelsHpa();
+
+/// The synthetic global field: reflectivity (dBZ) at geodetic latitude/longitude (deg) and
+/// height above sea level `zMeters`, at `hours` after the start (the systems move); -30 in clear
+/// air. The geopotential (m2 s-2) of pressure level `pressureHpa` there. Exposed for the tests.
+double syntheticGlobalDbz(double latDeg, double lonDeg, double zMeters, double hours, int seed);
+double syntheticGlobalGeopotential(double latDeg, double lonDeg, double pressureHpa);
+
+/// Checks the options (nx 8..2880, ny 5..1441, times 1..100). Errors name the option.
+Status validateSyntheticGlobalGridOptions(const SyntheticGlobalGridOptions& options);
+
+/// Writes the global grid to `path` atomically. The default (1440 x 721 x 37, one step) takes a
+/// few seconds and makes a file of about 100 MB (the geopotential is most of it).
+Status writeSyntheticGlobalGrid(const std::string& path, const SyntheticGlobalGridOptions& options,
+                                SyntheticGridSummary* summary = nullptr);
 
 }  // namespace atmoglobe::volume

@@ -17,11 +17,15 @@ struct Cell {
   volume::Interpolation interpolation = volume::Interpolation::Linear;
   engine::BeamApproximation beam = engine::BeamApproximation::EffectiveEarthLocalSphere;
   engine::Classification classification = engine::Classification::Point;
+  /// False for kinds without a beam model (forecast grids): `beam` is then not an axis of the
+  /// grid and prints as "-".
+  bool beamApplies = true;
 };
 
 const char* modeName(volume::VolumeRenderMode m);   ///< dvr, mip, iso
 const char* interpName(volume::Interpolation i);    ///< linear, nearest
 const char* beamName(engine::BeamApproximation b);  ///< 4/3-earth, straight
+const char* beamName(const Cell& c);                ///< beamName(c.beam), or "-" where the kind has no beam
 /// DVR: point or preintegrated; MIP and iso: "-" (classification does not apply).
 const char* classificationName(const Cell& c);
 /// "dvr step 250 m, scale 1, linear, 4/3-earth[, pre-integrated]" (the per-view table).
@@ -47,7 +51,8 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride);
 
 /// DVR: every step x scale x {nearest, linear} x {4/3-Earth, straight} with point
 /// classification, each linear cell again pre-integrated (pre-integration assumes the field
-/// linear between samples); then MIP and iso at the default.
-std::vector<Cell> gridCells(const GridAxes& axes);
+/// linear between samples); then MIP and iso at the default. `beamAxis` false (forecast grids:
+/// no beam model): the straight-beam cells are left out and every cell has beamApplies false.
+std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis = true);
 
 }  // namespace atmoglobe::bench

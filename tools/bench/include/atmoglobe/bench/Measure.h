@@ -26,18 +26,25 @@ struct GpuRun {
 /// approximation `beam`; one untimed warm-up frame when `warmUp`, then `frames` timed frames,
 /// each ended by glFinish. The image is the last frame's composite: for imageScale < 1 that is
 /// the marcher's small image upsampled bilinearly by the composite pass, exactly what a user sees.
-GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera, engine::RadarVolumeGL& volume,
+/// `beam` applies to radar volumes only. `depth` (GL rows, bottom first; ellipsoidDepth), when
+/// given, is written into the target's depth before each frame, outside the timed part, instead
+/// of clearing it: the globe's depth without drawing the globe.
+GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera, engine::VolumeGL& volume,
                     const engine::VolumeRenderOptions& options, engine::BeamApproximation beam,
-                    engine::FramebufferGL& target, int frames, bool warmUp = true);
+                    engine::FramebufferGL& target, int frames, bool warmUp = true,
+                    const std::vector<float>* depth = nullptr);
 
 /// timeFramesGL for every cell, frames taken round-robin over the cells (frame 1 of every
 /// cell, then frame 2, ...) after one untimed round: a slow spell of a shared machine then
 /// lands on every cell alike instead of on whichever cells it happened to overlap (in per-cell
 /// runs one cell's median came out 2x its neighbours' now and then). Per cell: the median and
 /// the last frame.
+/// `transfer`: what the cells draw with (optionsFor's default reflectivity table when null).
 std::vector<GpuRun> timeCellsRoundRobinGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
-                                          engine::RadarVolumeGL& volume, const std::vector<Cell>& cells,
-                                          engine::FramebufferGL& target, int frames);
+                                          engine::VolumeGL& volume, const std::vector<Cell>& cells,
+                                          engine::FramebufferGL& target, int frames,
+                                          const std::vector<float>* depth = nullptr,
+                                          const volume::TransferFunction* transfer = nullptr);
 
 /// 8-bit RGBA (premultiplied, as read back) -> the reference's double image, / 255.
 volume::VolumeImage fromRgba8(const globe::ImageRGBA8& img);

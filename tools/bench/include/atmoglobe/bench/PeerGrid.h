@@ -1,8 +1,12 @@
 #pragma once
-// The peer's input: a radar volume resampled onto a Cartesian grid in the site's ENU frame, with
-// a fast inverse (ENU -> antenna coordinates) whose error against the exact one is measured.
+// The peer's input: a volume resampled onto a Cartesian grid in a local ENU frame. Radar volumes
+// through a fast inverse (ENU -> antenna coordinates) whose error against the exact one is
+// measured; any other kind (forecast grids) through its own exact VolumeSampler, with the
+// trilinear reconstruction's error measured and bounded.
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 
 #include <glm/glm.hpp>
 
@@ -57,6 +61,13 @@ struct PeerGrid {
   std::string coarsenedReason;
   double maxRangeErrorMeters = 0.0, maxAzimuthErrorDeg = 0.0, maxElevationErrorDeg = 0.0;
   double resampleSeconds = 0.0;
+  /// Sampler-resampled grids: the frame (ECEF origin of the ENU axes the grid is laid in), and
+  /// the trilinear reconstruction's error against the sampler (field units, values below the
+  /// transfer function's zero-opacity value taken as that value) at random points of the box.
+  glm::dvec3 frameOriginEcef{0.0};
+  glm::dmat3 frameEnuToEcef{1.0};
+  double maxReconstructionError = 0.0, rmsReconstructionError = 0.0;
+  int reconstructionPoints = 0;
   double bytes() const { return static_cast<double>(nx) * ny * nz * sizeof(float); }
 };
 
@@ -69,5 +80,47 @@ struct PeerGrid {
 /// `values`: x fastest, then y, then z. No visible gate: nx == 0 and `values` untouched.
 PeerGrid buildPeerGrid(const volume::PolarVolume& v, double emptyValue, double visibleAbove, double maxVoxels,
                        int threads, std::vector<float>* values);
+
+/// ENU axes (columns east, north, up in ECEF) at a geodetic point, and the point.
+struct PeerFrame {
+  glm::dvec3 originEcef{0.0};
+  glm::dmat3 enuToEcef{1.0};
+  glm::dvec3 toEcef(const glm::dvec3& enu) const { return originEcef + enuToEcef * enu; }
+  glm::dvec3 toEnu(const glm::dvec3& ecef) const { return glm::transpose(enuToEcef) * (ecef - originEcef); }
+};
+PeerFrame enuFrameAt(double latDeg, double lonDeg, double heightMeters);
+
+/// The layout over the box [lo, hi] (frame metres, margins included): `nativeSpacingMeters`
+/// unless a side would exceed 2048 voxels or the grid `maxVoxels`, then coarsened uniformly (the
+/// reason says from what). Voxel (0,0,0)'s centre at lo.
+PeerGrid layoutPeerGrid(const glm::dvec3& lo, const glm::dvec3& hi, double nativeSpacingMeters, double maxVoxels);
+
+/// The box of a forecast grid's visible data in `frame`: every grid point whose value is above
+/// `visibleAbove`, plus a margin of one horizontal grid spacing (the cells around them); the
+/// native spacing is the finest level spacing at those points (a Cartesian grid must resolve the
+/// levels). False when no value is visible.
+bool gridPeerBox(const volume::GridVolume& grid, const PeerFrame& frame, double visibleAbove, glm::dvec3* lo,
+                 glm::dvec3* hi, double* nativeSpacingMeters);
+
+/// Fills `values` (x fastest) with the sampler's linear sample at each voxel centre of `g`
+/// (frame -> ECEF in double: the sampler's exact rule, no approximation); no echo / no data ->
+/// `emptyValue`. Sets g.resampleSeconds and the frame.
+void resampleSampler(const volume::VolumeSampler& sampler, const PeerFrame& frame, PeerGrid& g, double emptyValue,
+                     int threads, std::vector<float>* values);
+
+/// Trilinear interpolation of `values` at frame point `enu` (what VTK's linear interpolation
+/// does between voxel centres); `emptyValue` outside the grid.
+double trilinearAt(const PeerGrid& g, const std::vector<float>& values, const glm::dvec3& enu, double emptyValue);
+
+/// The resampled grid against the sampler at `samples` uniformly random points of the grid's box
+/// (seeded): max and RMS of |max(trilinear, floor) - max(sample, floor)|, non-echo samples taken
+/// as emptyValue. Stored into g.
+void measureReconstructionError(const volume::VolumeSampler& sampler, const PeerFrame& frame, PeerGrid& g,
+                                const std::vector<float>& values, double emptyValue, double floorValue, int samples,
+                                std::uint64_t seed = 12345);
+
+/// The classical bound on trilinear interpolation between samples h apart of a field with
+/// bounded second derivatives: |f - I f| <= h^2 / 8 (max|f_xx| + max|f_yy| + max|f_zz|).
+double trilinearErrorBound(double spacingMeters, double sumMaxSecondDerivatives);
 
 }  // namespace atmoglobe::bench

@@ -20,8 +20,9 @@
 
 namespace atmoglobe::bench {
 
-/// The key of a reference image: volume path and field, camera pose, fovY, size, mode,
-/// interpolation, step, iso value, early termination and transfer function ("ref-v1|...").
+/// The key of a reference image: volume identity (radars: the path) and field (grids: @time
+/// step), camera pose, fovY, size, mode, interpolation, step, iso value, early termination,
+/// transfer function and occlusion (radars "no-occlusion", grids "ellipsoid") ("ref-v1|...").
 /// Every number through formatG (10 digits).
 std::string referenceKey(const BenchView& view, int widthPx, int heightPx, const volume::VolumeRenderSettings& s);
 
@@ -45,6 +46,9 @@ bool writeCachedReference(const std::filesystem::path& file, const std::string& 
 /// The settings every reference is rendered with: linear interpolation, the default
 /// reflectivity transfer function, `mode`, `stepMeters` (defaults for the rest).
 volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters);
+/// The same with the volume's own transfer function (grids: by the variable).
+volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters,
+                                               const volume::TransferFunction& transfer);
 
 /// Reference images on demand: from the cache in `dir`, else rendered (occlusion off, on
 /// `threads` threads, progress on `log`) and stored.

@@ -3,6 +3,7 @@
 // volume_bench.csv (one row per view x cell), volume_bench.png (error against frame time, log
 // time axis, Pareto front, default ringed). docs/bench-volume.md describes the format.
 #include <atmoglobe/bench/Cells.h>
+#include <atmoglobe/bench/GridLoad.h>
 #include <atmoglobe/bench/Views.h>
 #include <atmoglobe/bench/VtkPeer.h>
 #include <atmoglobe/engine/PlotImage.h>
@@ -24,6 +25,7 @@ struct Row {
   int widthPx = 0, heightPx = 0;
   double medianMs = 0.0;
   volume::ImageError error;
+  std::size_t gpuBytes = 0;  ///< the GPU volume drawn (a grid view: its crop)
 };
 
 /// One cell over the views.
@@ -60,7 +62,8 @@ struct Convergence {  ///< the reference step against half of it
 };
 
 struct BenchReport {
-  std::string machine;  ///< machineLine()
+  std::string kind = "radar";  ///< "radar": volume_bench.*; "grid": grid_bench.*
+  std::string machine;         ///< machineLine()
   int widthPx = 0, heightPx = 0;
   int frames = 0;
   double referenceStepMeters = 0.0;
@@ -74,6 +77,8 @@ struct BenchReport {
   std::vector<Row> rows;
   std::vector<Aggregate> aggregates;
   std::vector<BigTiming> big;
+  std::vector<Row> bigRows;     ///< grids: 1280x720 cells with their error
+  std::vector<LoadCase> loads;  ///< grids: the load cases
   PeerSection peer;
   double totalSeconds = 0.0;
 };
@@ -83,11 +88,18 @@ std::string machineLine(const std::string& gl);
 
 void writeCsv(std::ostream& out, const std::vector<Row>& rows);
 void writeMarkdown(std::ostream& out, const BenchReport& report);
+/// The grid bench's markdown: load table, per-view settings at both sizes, the peer against ours
+/// at equal or lower error (time and memory ratios), the target verdict per view.
+void writeGridMarkdown(std::ostream& out, const BenchReport& report);
+
+/// Ours against one peer run: the fastest of `rows` (same view and size) whose mean abs error is
+/// at most the peer's. Null when none is.
+const Row* fastestAtOrBelowError(const std::vector<Row>& rows, const std::string& view, double meanAbs);
 /// The error-vs-time plot of the DVR aggregates.
 engine::ScatterPlot errorTimePlot(const BenchReport& report);
 
-/// The report's three files in `outDir`, their paths in `written` (md, csv, png). Errors name
-/// the file.
+/// The report's three files in `outDir` (volume_bench.* or, for grids, grid_bench.*), their
+/// paths in `written` (md, csv, png). Errors name the file.
 Status writeReport(const std::string& outDir, const BenchReport& report, std::vector<std::string>* written);
 
 }  // namespace atmoglobe::bench

@@ -24,6 +24,17 @@ struct VolumeBenchOptions {
   std::string peerScript;              ///< empty: found (VtkPeer.h findPeerScript)
   std::vector<std::string> viewNames;  ///< empty: every view
   std::vector<double> stepsMeters;     ///< empty: the standard grid
+
+  // --- forecast grids (runGridBench; docs/grids.md "Benchmark") ---
+  bool grids = false;        ///< the grid bench: the built-in synthetic grids, or gridFile
+  std::string gridFile;      ///< a grid file instead of the built-in ones
+  std::string gridVariable;  ///< with gridFile; empty: the reader's default
+  std::size_t gridTimeIndex = 0;
+  int loadRuns = 5;                   ///< timed runs per load case (median), each case in a child process
+  bool load = true;                   ///< measure the load cases
+  bool big = true;                    ///< frames and errors at 1280x720 too
+  double gridPeerMaxVoxels = 1.35e8;  ///< the peer's Cartesian grid cap for grids (540 MB float32; quick 3.2e7)
+  std::string selfExe;                ///< the executable the load probes run (`--load-probe`); empty: /proc/self/exe
 };
 
 struct VolumeBenchOutcome {
@@ -34,5 +45,12 @@ struct VolumeBenchOutcome {
 /// Runs the bench, progress on `log`. Errors: an unknown view name (checked before anything is
 /// loaded), a volume that cannot be loaded, no GL context, a file that cannot be written.
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& options, std::ostream& log);
+
+/// The same bench for forecast grids (options.grids or options.gridFile set; runVolumeBench
+/// sends them here): per grid the load cases (GridLoad.h), then per view (GridViews.h, each
+/// drawing its crop, occluded by the ellipsoid) the settings grid at the bench size and a DVR
+/// subset at 1280x720, each against the reference of the whole grid, and the VTK peer per view.
+/// Writes grid_bench.md / .csv / .png.
+Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& options, std::ostream& log);
 
 }  // namespace atmoglobe::bench
