@@ -21,12 +21,26 @@ Result<std::unique_ptr<HeadlessContextGL>> HeadlessContextGL::create() {
   auto getPlatformDisplay =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (!getPlatformDisplay) return makeError("EGL: eglGetPlatformDisplayEXT is not available");
-  EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (display == EGL_NO_DISPLAY) {
-    return makeError("EGL: no display on the Mesa surfaceless platform (is libegl-mesa0 installed?)");
-  }
+  // Mesa's surfaceless platform (llvmpipe and Mesa GPU drivers); else the first EGL device that
+  // initialises (EGL_EXT_platform_device: NVIDIA's driver without a display).
   EGLint major = 0, minor = 0;
-  if (!eglInitialize(display, &major, &minor)) return makeError("EGL: eglInitialize failed");
+  EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (display != EGL_NO_DISPLAY && !eglInitialize(display, &major, &minor)) display = EGL_NO_DISPLAY;
+  if (display == EGL_NO_DISPLAY) {
+    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    EGLDeviceEXT devices[8];
+    EGLint count = 0;
+    if (queryDevices && queryDevices(8, devices, &count)) {
+      for (EGLint i = 0; i < count && display == EGL_NO_DISPLAY; ++i) {
+        display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+        if (display != EGL_NO_DISPLAY && !eglInitialize(display, &major, &minor)) display = EGL_NO_DISPLAY;
+      }
+    }
+  }
+  if (display == EGL_NO_DISPLAY) {
+    return makeError(
+        "EGL: no display on the Mesa surfaceless platform nor on an EGL device (is libegl-mesa0 installed?)");
+  }
   if (!eglBindAPI(EGL_OPENGL_API)) {
     eglTerminate(display);
     return makeError("EGL: desktop OpenGL API not available");
