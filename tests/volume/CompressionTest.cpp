@@ -255,7 +255,7 @@ TEST(Compression, BadCompressedInputGivesClearErrors) {
   // A wrapper around something that is no radar format ("wrong magic inside").
   const std::string text = "just some text, not a radar volume\n";
   const std::string notRadar = writeFile("text.gz", gzip(Bytes(text.begin(), text.end())));
-  expectError(notRadar, {notRadar + " (gzip): not a CfRadial", "inside the gzip wrapper", "6a 75 73 74"});
+  expectError(notRadar, {notRadar + " (gzip): not a CfRadial", "Rainbow 5 inside the gzip wrapper", "6a 75 73 74"});
   const std::string notRadarBz = writeFile("text.bz2", bzip2(Bytes(text.begin(), text.end())));
   expectError(notRadarBz, {notRadarBz + " (bzip2): not a CfRadial", "inside the bzip2 wrapper"});
   // Trailing garbage after the stream.

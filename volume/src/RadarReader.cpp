@@ -132,7 +132,7 @@ RadarFormat detectInMemory(const std::vector<unsigned char>& b, bool* hdf5) {
   return RadarFormat::Unknown;
 }
 
-const char* kFormatList = "a CfRadial, ODIM_H5, NEXRAD Level II, Sigmet/IRIS RAW or Rainbow 5 file";
+const char* kFormatList = "a CfRadial, ODIM_H5 or NEXRAD Level II file, nor Sigmet/IRIS RAW or Rainbow 5";
 
 /// A gzip/bzip2-wrapped file: decompressed into memory, detected and read from there.
 Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& options, RadarFormat* detectedOnly) {
