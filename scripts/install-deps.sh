@@ -11,7 +11,7 @@ PKGS=(
   libcli11-dev
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip
-  netcdf-bin clang-format zlib1g-dev teem-apps
+  netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps
   fonts-dejavu-core libimgui-dev
 )
 

@@ -1,4 +1,5 @@
-// Bad input for the CfRadial and ODIM_H5 readers: every case must give an error naming
+// Bad input for the CfRadial and ODIM_H5 readers (and truncated Sigmet/Rainbow files; their own
+// tests truncate them at many more offsets): every case must give an error naming
 // the file and the problem, never crash, hang or allocate what the file cannot hold.
 // (Run once under -DATMOGLOBE_SANITIZE=ON to check the "no crash" part with ASan/UBSan.)
 //
@@ -274,7 +275,8 @@ TEST(BadInput, TruncatedRealFiles) {
   for (const std::string& src :
        {kData + "/radar_cfradial/example_plot_ppi_single_sweep.nc", kData + "/radar_cfradial/MLL2217907250U.003.nc",
         kData + "/radar_cfradial/cfrad.20211011_201733.023_to_20211011_201745.299_DOW8_RHI.nc",
-        kData + "/radar_odim/40_20181220_060630.pvol.h5", kData + "/radar_odim/bewid.pvol.hdf"}) {
+        kData + "/radar_odim/40_20181220_060630.pvol.h5", kData + "/radar_odim/bewid.pvol.hdf",
+        kData + "/radar_sigmet/SUR210819000227.RAWKPJV", kData + "/radar_rainbow/2013051000000600dBZ.vol"}) {
     SKIP_WITHOUT_TEST_DATA(src);
     std::ifstream in(src, std::ios::binary);
     std::vector<char> head(4096);

@@ -1,6 +1,9 @@
 #include <atmoglobe/volume/NetcdfFile.h>
 
+#include <atmoglobe/volume/Compression.h>
+
 #include <netcdf_filter.h>
+#include <netcdf_mem.h>
 
 #include <dlfcn.h>
 
@@ -102,31 +105,67 @@ std::size_t ncTypeSize(nc_type type) {
 
 bool ncTypeIsNumeric(nc_type type) { return type != NC_CHAR && ncTypeSize(type) != 0; }
 
+namespace {
+/// nc_open / nc_open_mem with the HDF5 file id that the open added (see closeLeakedAttributes()).
+struct Opened {
+  int status = NC_NOERR;
+  int ncid = -1;
+  bool hdf5 = false;
+  std::int64_t hdf5FileId = -1;
+};
+template <class OpenFn>
+Opened openTracked(OpenFn&& openFn) {
+  Opened o;
+  std::vector<h5::hid_t> filesBefore = h5::openIds(h5::kObjAll, h5::kObjFile);
+  std::sort(filesBefore.begin(), filesBefore.end());
+  o.status = openFn(&o.ncid);
+  if (o.status != NC_NOERR) return o;
+  int mode = 0;
+  int formatx = 0;
+  if (nc_inq_format_extended(o.ncid, &formatx, &mode) == NC_NOERR) o.hdf5 = (formatx == NC_FORMATX_NC_HDF5);
+  if (o.hdf5) {
+    // The one HDF5 file id that the open added is this file's.
+    std::vector<h5::hid_t> added;
+    for (h5::hid_t id : h5::openIds(h5::kObjAll, h5::kObjFile))
+      if (!std::binary_search(filesBefore.begin(), filesBefore.end(), id)) added.push_back(id);
+    if (added.size() == 1) o.hdf5FileId = added.front();
+  }
+  return o;
+}
+
+std::string openFailure(const std::string& label, int st) {
+  const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
+  return label + ": cannot open as netCDF/HDF5: " + ncError(st) +
+         (corrupt ? " (the file may be truncated or corrupt)" : "");
+}
+}  // namespace
+
 Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) return makeError(path + ": cannot read file: " + ec.message());
-  int ncid = -1;
-  std::vector<h5::hid_t> filesBefore = h5::openIds(h5::kObjAll, h5::kObjFile);
-  std::sort(filesBefore.begin(), filesBefore.end());
-  const int st = nc_open(path.c_str(), NC_NOWRITE, &ncid);
-  if (st != NC_NOERR) {
-    const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
-    return makeError(path + ": cannot open as netCDF/HDF5: " + ncError(st) +
-                     (corrupt ? " (the file may be truncated or corrupt)" : ""));
+  auto wrapper = fileCompression(path);
+  if (!wrapper) return wrapper.forwardError();
+  if (*wrapper != Compression::None) {
+    auto content = readFileBytes(path);
+    if (!content) return content.forwardError();
+    return openMemory(content->label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
   }
-  int mode = 0;
-  int formatx = 0;
-  bool hdf5 = false;
-  if (nc_inq_format_extended(ncid, &formatx, &mode) == NC_NOERR) hdf5 = (formatx == NC_FORMATX_NC_HDF5);
-  NetcdfFile file(path, ncid, size, hdf5);
-  if (hdf5) {
-    // The one HDF5 file id that nc_open added is this file's (see closeLeakedAttributes()).
-    std::vector<h5::hid_t> added;
-    for (h5::hid_t id : h5::openIds(h5::kObjAll, h5::kObjFile))
-      if (!std::binary_search(filesBefore.begin(), filesBefore.end(), id)) added.push_back(id);
-    if (added.size() == 1) file.hdf5FileId_ = added.front();
-  }
+  const Opened o = openTracked([&](int* ncid) { return nc_open(path.c_str(), NC_NOWRITE, ncid); });
+  if (o.status != NC_NOERR) return makeError(openFailure(path, o.status));
+  NetcdfFile file(path, o.ncid, size, o.hdf5);
+  file.hdf5FileId_ = o.hdf5FileId;
+  return file;
+}
+
+Result<NetcdfFile> NetcdfFile::openMemory(const std::string& label, std::shared_ptr<std::vector<unsigned char>> bytes) {
+  if (!bytes || bytes->empty()) return makeError(label + ": cannot open as netCDF/HDF5: the content is empty");
+  const Opened o = openTracked(
+      [&](int* ncid) { return nc_open_mem(label.c_str(), NC_NOWRITE, bytes->size(), bytes->data(), ncid); });
+  if (o.status != NC_NOERR) return makeError(openFailure(label, o.status));
+  NetcdfFile file(label, o.ncid, bytes->size(), o.hdf5);
+  file.hdf5FileId_ = o.hdf5FileId;
+  file.memory_ = std::move(bytes);
   return file;
 }
 
@@ -146,7 +185,7 @@ void NetcdfFile::close() {
 
 NetcdfFile::NetcdfFile(NetcdfFile&& other) noexcept
     : path_(std::move(other.path_)), ncid_(other.ncid_), fileSize_(other.fileSize_), hdf5_(other.hdf5_),
-      hdf5FileId_(other.hdf5FileId_), dataBytesRead_(other.dataBytesRead_) {
+      hdf5FileId_(other.hdf5FileId_), memory_(std::move(other.memory_)), dataBytesRead_(other.dataBytesRead_) {
   other.ncid_ = -1;
   other.hdf5FileId_ = -1;
 }
@@ -159,6 +198,7 @@ NetcdfFile& NetcdfFile::operator=(NetcdfFile&& other) noexcept {
     fileSize_ = other.fileSize_;
     hdf5_ = other.hdf5_;
     hdf5FileId_ = other.hdf5FileId_;
+    memory_ = std::move(other.memory_);
     dataBytesRead_ = other.dataBytesRead_;
     other.ncid_ = -1;
     other.hdf5FileId_ = -1;
@@ -486,11 +526,27 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
   return makeError(message("variable '" + var.name + "' is not text"));
 }
 
+bool hasNetcdfSignature(const unsigned char* bytes, std::size_t size) {
+  if (size >= 4 && bytes[0] == 'C' && bytes[1] == 'D' && bytes[2] == 'F' &&
+      (bytes[3] == 1 || bytes[3] == 2 || bytes[3] == 5))
+    return true;
+  // HDF5 puts its superblock at 0, 512, 1024, 2048 ... (a user block before it).
+  constexpr std::array<unsigned char, 8> kHdf5 = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  for (std::size_t off = 0; off + 8 <= size; off = (off == 0 ? 512 : off * 2)) {
+    if (std::memcmp(bytes + off, kHdf5.data(), 8) == 0) return true;
+  }
+  return false;
+}
+
 bool hasNetcdfSignature(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::array<unsigned char, 8> head{};
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  if (compressionOf(head.data(), static_cast<std::size_t>(in.gcount())) != Compression::None) {
+    const std::vector<unsigned char> content = peekFileContent(path, std::size_t{1} << 16);
+    return hasNetcdfSignature(content.data(), content.size());
+  }
   if (in.gcount() >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' &&
       (head[3] == 1 || head[3] == 2 || head[3] == 5))
     return true;

@@ -440,6 +440,11 @@ Result<RadarVolume> readNexradLevel2(const std::string& path, const ReadOptions&
   in.seekg(0);
   std::vector<unsigned char> file(static_cast<std::size_t>(size));
   if (size > 0 && !in.read(reinterpret_cast<char*>(file.data()), size)) return makeError(path + ": read error");
+  return readNexradLevel2(path, file, options);
+}
+
+Result<RadarVolume> readNexradLevel2(const std::string& path, const std::vector<unsigned char>& file,
+                                     const ReadOptions& options) {
   if (file.size() < kVolumeHeaderBytes || !looksLikeNexradLevel2(file.data(), file.size())) {
     return makeError(path + ": not a NEXRAD Level II file (no 24-byte 'AR2V00' volume header)");
   }

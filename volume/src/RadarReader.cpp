@@ -1,10 +1,13 @@
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <atmoglobe/volume/CfRadialReader.h>
+#include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/OdimReader.h>
+#include <atmoglobe/volume/RainbowReader.h>
+#include <atmoglobe/volume/SigmetReader.h>
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +30,8 @@ const char* toString(RadarFormat f) {
     case RadarFormat::CfRadial: return "CfRadial";
     case RadarFormat::OdimH5: return "ODIM_H5";
     case RadarFormat::NexradLevel2: return "NEXRAD Level II";
+    case RadarFormat::SigmetIris: return "Sigmet/IRIS RAW";
+    case RadarFormat::Rainbow5: return "Rainbow 5";
   }
   return "unknown";
 }
@@ -79,12 +84,14 @@ Result<RadarFormat> detectByMagic(const std::string& path, bool* hdf5) {
   if (ec) return makeError(path + ": cannot read file: " + ec.message());
   std::ifstream in(path, std::ios::binary);
   if (!in) return makeError(path + ": cannot open file for reading");
-  std::array<unsigned char, 8> head{};
+  std::array<unsigned char, 64> head{};
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   const auto n = static_cast<std::size_t>(in.gcount());
   if (n >= 4 && head[0] == 'C' && head[1] == 'D' && head[2] == 'F' && (head[3] == 1 || head[3] == 2 || head[3] == 5))
     return RadarFormat::CfRadial;
   if (n >= 4 && head[0] == 'A' && head[1] == 'R' && head[2] == '2' && head[3] == 'V') return RadarFormat::NexradLevel2;
+  if (looksLikeSigmetRaw(head.data(), n)) return RadarFormat::SigmetIris;
+  if (looksLikeRainbow5(head.data(), n)) return RadarFormat::Rainbow5;
   *hdf5 = hasHdf5Signature(in, size);
   return RadarFormat::Unknown;
 }
@@ -102,9 +109,88 @@ std::string firstBytesText(const std::string& path) {
   return os.str();
 }
 
+std::string firstBytesText(const std::vector<unsigned char>& bytes) {
+  if (bytes.empty()) return "the content is empty";
+  std::ostringstream os;
+  os << "it starts with bytes";
+  for (std::size_t i = 0; i < std::min<std::size_t>(8, bytes.size()); ++i)
+    os << ' ' << std::hex << std::setw(2) << std::setfill('0') << static_cast<int>(bytes[i]);
+  return os.str();
+}
+
+/// The format of a decompressed content (the rules of detectRadarFormat on bytes); HDF5 content
+/// comes back as Unknown with *hdf5 = true.
+RadarFormat detectInMemory(const std::vector<unsigned char>& b, bool* hdf5) {
+  *hdf5 = false;
+  const std::size_t n = b.size();
+  if (n >= 4 && b[0] == 'C' && b[1] == 'D' && b[2] == 'F' && (b[3] == 1 || b[3] == 2 || b[3] == 5))
+    return RadarFormat::CfRadial;
+  if (looksLikeNexradLevel2(b.data(), n)) return RadarFormat::NexradLevel2;
+  if (looksLikeSigmetRaw(b.data(), n)) return RadarFormat::SigmetIris;
+  if (looksLikeRainbow5(b.data(), n)) return RadarFormat::Rainbow5;
+  *hdf5 = hasNetcdfSignature(b.data(), n);
+  return RadarFormat::Unknown;
+}
+
+const char* kFormatList = "a CfRadial, ODIM_H5 or NEXRAD Level II file, nor Sigmet/IRIS RAW or Rainbow 5";
+
+/// A gzip/bzip2-wrapped file: decompressed into memory, detected and read from there.
+Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& options, RadarFormat* detectedOnly) {
+  auto content = readFileBytes(path);
+  if (!content) return content.forwardError();
+  const std::string& label = content->label;
+  bool hdf5 = false;
+  RadarFormat format = detectInMemory(content->bytes, &hdf5);
+  Result<RadarVolume> vol =
+      makeError(label + ": not " + std::string(kFormatList) + " inside the " + toString(content->compression) +
+                " wrapper (" + firstBytesText(content->bytes) + ")");
+  if (hdf5) {
+    auto opened =
+        NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
+    if (!opened) return opened.forwardError();
+    format = classifyHdf5(*opened);
+    if (detectedOnly) {
+      *detectedOnly = format;
+      return RadarVolume{};
+    }
+    if (format == RadarFormat::CfRadial) vol = readCfRadial(*opened, options);
+    else if (format == RadarFormat::OdimH5) vol = readOdimH5(*opened, options);
+    else vol = makeError(label + ": an HDF5/netCDF-4 file that is neither ODIM_H5 nor CfRadial");
+  } else {
+    if (detectedOnly) {
+      *detectedOnly = format;
+      return RadarVolume{};
+    }
+    switch (format) {
+      case RadarFormat::CfRadial: {
+        auto opened =
+            NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
+        if (!opened) return opened.forwardError();
+        vol = readCfRadial(*opened, options);
+        break;
+      }
+      case RadarFormat::NexradLevel2: vol = readNexradLevel2(label, content->bytes, options); break;
+      case RadarFormat::SigmetIris: vol = readSigmetIris(label, content->bytes, options); break;
+      case RadarFormat::Rainbow5: vol = readRainbow5(label, content->bytes, options); break;
+      default: break;
+    }
+  }
+  if (!vol) return vol;
+  vol->sourcePath = path;
+  vol->compression = toString(content->compression);
+  return vol;
+}
+
 }  // namespace
 
 Result<RadarFormat> detectRadarFormat(const std::string& path) {
+  auto wrapper = fileCompression(path);
+  if (wrapper && *wrapper != Compression::None) {
+    RadarFormat format = RadarFormat::Unknown;
+    auto st = readWrapped(path, {}, &format);
+    if (!st) return st.forwardError();
+    return format;
+  }
   bool hdf5 = false;
   auto magic = detectByMagic(path, &hdf5);
   if (!magic || !hdf5) return magic;
@@ -114,6 +200,8 @@ Result<RadarFormat> detectRadarFormat(const std::string& path) {
 }
 
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options) {
+  if (auto wrapper = fileCompression(path); wrapper && *wrapper != Compression::None)
+    return readWrapped(path, options, nullptr);
   bool hdf5 = false;
   auto format = detectByMagic(path, &hdf5);
   if (!format) return format.forwardError();
@@ -134,9 +222,11 @@ Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& 
     case RadarFormat::CfRadial: return readCfRadial(path, options);
     case RadarFormat::OdimH5: return readOdimH5(path, options);
     case RadarFormat::NexradLevel2: return readNexradLevel2(path, options);
+    case RadarFormat::SigmetIris: return readSigmetIris(path, options);
+    case RadarFormat::Rainbow5: return readRainbow5(path, options);
     case RadarFormat::Unknown: break;
   }
-  return makeError(path + ": not a CfRadial, ODIM_H5 or NEXRAD Level II file (" + firstBytesText(path) + ")");
+  return makeError(path + ": not " + std::string(kFormatList) + " (" + firstBytesText(path) + ")");
 }
 
 Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std::string& requested,
@@ -178,6 +268,7 @@ std::string describeVolumeJson(const RadarVolume& v) {
   nlohmann::ordered_json j;
   j["format"] = v.format;
   j["file"] = v.sourcePath;
+  if (!v.compression.empty()) j["compression"] = v.compression;
   j["site"] = {{"name", v.site.name},
                {"lat_deg", v.site.latDeg},
                {"lon_deg", v.site.lonDeg},
@@ -221,7 +312,7 @@ std::string describeVolumeText(const RadarVolume& v) {
   std::ostringstream os;
   os << std::fixed;
   os << "file:    " << v.sourcePath << "\n";
-  os << "format:  " << v.format << "\n";
+  os << "format:  " << v.format << (v.compression.empty() ? "" : " (" + v.compression + "-compressed file)") << "\n";
   os << "site:    " << (v.site.name.empty() ? "(unnamed)" : v.site.name) << std::setprecision(5) << "  lat "
      << v.site.latDeg << " deg  lon " << v.site.lonDeg << " deg  antenna height " << std::setprecision(1)
      << v.site.antennaHeightMeters << " m (" << toString(v.site.heightDatum) << ")\n";

@@ -49,7 +49,14 @@ inline constexpr double kMaxCompressionRatio = 1100.0;
 class NetcdfFile {
  public:
   /// Opens read-only. Fails with "PATH: cannot open as netCDF/HDF5: <netCDF-C message>".
+  /// A gzip- or bzip2-wrapped file (Compression.h) is decompressed into memory and opened there
+  /// (openMemory); its messages then start "PATH (gzip): ".
   static Result<NetcdfFile> open(const std::string& path);
+
+  /// Opens a netCDF/HDF5 file image held in memory (netCDF-C's nc_open_mem), read-only. `label`
+  /// names it in messages ("FILE (gzip)"); the handle keeps `bytes` alive until it closes.
+  /// fileSizeBytes() is the image's size (the bound checkReadable() applies).
+  static Result<NetcdfFile> openMemory(const std::string& label, std::shared_ptr<std::vector<unsigned char>> bytes);
 
   NetcdfFile(NetcdfFile&& other) noexcept;
   NetcdfFile& operator=(NetcdfFile&& other) noexcept;
@@ -141,14 +148,18 @@ class NetcdfFile {
   int ncid_ = -1;
   std::uintmax_t fileSize_ = 0;
   bool hdf5_ = false;
-  std::int64_t hdf5FileId_ = -1;  ///< HDF5 file id that nc_open created (-1: unknown / not HDF5)
+  std::int64_t hdf5FileId_ = -1;                        ///< HDF5 file id that nc_open created (-1: unknown / not HDF5)
+  std::shared_ptr<std::vector<unsigned char>> memory_;  ///< the image of an in-memory open (openMemory)
   mutable std::uint64_t dataBytesRead_ = 0;
 };
 
 /// True when the file starts like a netCDF file: classic "CDF\x01", "CDF\x02", "CDF\x05", or the
 /// HDF5 signature at offset 0, 512, 1024, 2048 ... (netCDF-4). False for anything else,
-/// including a file that cannot be read.
+/// including a file that cannot be read. A gzip/bzip2-wrapped file is judged by its content (the
+/// first 64 KiB, so an HDF5 user block of up to 32 KiB).
 bool hasNetcdfSignature(const std::string& path);
+/// The same test on bytes in memory (the signature offsets that lie inside them).
+bool hasNetcdfSignature(const unsigned char* bytes, std::size_t size);
 
 /// Calls f(T{}) with T the C++ type matching a numeric netCDF type (the readers read a
 /// field in its stored type and decode it themselves). Error for text/compound types.

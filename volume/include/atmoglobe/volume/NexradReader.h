@@ -27,6 +27,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace atmoglobe::volume {
 
@@ -36,6 +37,11 @@ inline constexpr std::size_t kNexradMaxRecordBytes = std::size_t{64} << 20;
 /// Reads a NEXRAD Level II Archive II file (bzip2-compressed LDM records of message 31).
 /// The default field (empty ReadOptions::fieldName) is REF. Errors name the file and the problem.
 Result<RadarVolume> readNexradLevel2(const std::string& path, const ReadOptions& options);
+
+/// The same on a file's content already in memory (a decompressed .gz/.bz2 wrapper); `label`
+/// names it in messages ("FILE (gzip)") and becomes RadarVolume::sourcePath.
+Result<RadarVolume> readNexradLevel2(const std::string& label, const std::vector<unsigned char>& bytes,
+                                     const ReadOptions& options);
 
 /// True when `bytes` (the first bytes of a file, at least 8) start like an Archive II file.
 bool looksLikeNexradLevel2(const unsigned char* bytes, std::size_t size);

@@ -2,7 +2,9 @@
 // Radar file entry point: detect the format from the file's content and read it.
 //
 // Formats: CfRadial 1.x (netCDF classic or netCDF-4), ODIM_H5 PVOL/SCAN (HDF5, read through
-// netCDF-C), NEXRAD Level II Archive II. The file name is never used to decide.
+// netCDF-C), NEXRAD Level II Archive II, Sigmet/IRIS RAW, Rainbow 5 volumes; each of them also
+// gzip- or bzip2-wrapped (Compression.h: unwrapped in memory, the format detected from the
+// content, messages "FILE (gzip): ..."). The file name is never used to decide.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/RadarVolume.h>
 
@@ -11,7 +13,7 @@
 
 namespace atmoglobe::volume {
 
-enum class RadarFormat { Unknown, CfRadial, OdimH5, NexradLevel2 };
+enum class RadarFormat { Unknown, CfRadial, OdimH5, NexradLevel2, SigmetIris, Rainbow5 };
 const char* toString(RadarFormat f);
 
 /// Detects the format from the file's content:
@@ -21,12 +23,17 @@ const char* toString(RadarFormat f);
 ///     `object` attribute -> OdimH5; Conventions mentioning CF/Radial or CF-Radial (also in
 ///     the `version` attribute), or a root variable sweep_start_ray_index -> CfRadial
 ///   "AR2V" at offset 0                                                   -> NexradLevel2
+///   IRIS product_hdr (id 27) of a RAW product (type 15) at offset 0      -> SigmetIris
+///   "<volume" at offset 0 (after blanks)                                 -> Rainbow5
+///   gzip (1f 8b) or bzip2 ("BZh1".."BZh9") at offset 0                   -> the format of the
+///     decompressed content, by the rules above
 /// Anything else (including a readable HDF5/netCDF file with neither mark) -> Unknown.
 /// Errors: the file cannot be opened or read.
 Result<RadarFormat> detectRadarFormat(const std::string& path);
 
 /// Detects the format and reads the file with the matching reader. Unknown formats are an
-/// error naming the file and its first bytes.
+/// error naming the file and its first bytes. A compressed file is read from memory;
+/// RadarVolume::compression says which wrapper it had.
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options);
 
 /// Picks the field decoded when ReadOptions::fieldName is empty: the reflectivity field by
@@ -45,6 +52,7 @@ Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std:
 std::string normalizeIso8601(const std::string& text);
 
 /// The volume's metadata as one JSON object (for `atmoglobe info --json`): format, file,
+/// compression ("gzip"/"bzip2", only for a wrapped file),
 /// site {name, lat_deg, lon_deg, height_m, height_datum}, time, beam_width_deg,
 /// sweeps[] {index, index_in_file, fixed_angle_deg, fixed_angle_kind, mode, rays, gates,
 /// first_gate_m, gate_spacing_m}, fields[] {name, units}, loaded_field.

@@ -68,6 +68,9 @@ struct FieldInfo {
 struct RadarVolume {
   std::string format;      ///< "CfRadial", "ODIM_H5", "NEXRAD Level II"
   std::string sourcePath;  ///< file it was read from
+  /// "gzip" or "bzip2" when the file was a compressed wrapper around the format (Compression.h),
+  /// empty for a plain file.
+  std::string compression;
   RadarSite site;
   std::string timeIso8601;    ///< volume start time, UTC, e.g. "2016-06-01T15:00:25Z"
   double beamWidthDeg = 0.0;  ///< half-power beam width if known, else 0
