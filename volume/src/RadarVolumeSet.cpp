@@ -383,6 +383,8 @@ Result<RadarVolume> assemble(const Group& g, const RadarSetOptions& o, const std
 
   std::vector<Sweep> sweeps;
   std::vector<std::string> sweepFile;
+  std::size_t emptySweeps = 0;
+  std::vector<std::string> emptyFrom;
   for (std::size_t i = 0; i < order.size(); ++i) {
     const Entry& e = *order[i];
     const bool holds = i < holding;
@@ -420,7 +422,12 @@ Result<RadarVolume> assemble(const Group& g, const RadarSetOptions& o, const std
         }
       }
       if (duplicate) continue;
-      if (!holds && ro.loadValues) s.values.assign(s.rayCount() * s.gateCount, kNoData);
+      if (!holds) {
+        if (ro.loadValues) s.values.assign(s.rayCount() * s.gateCount, kNoData);
+        ++emptySweeps;
+        if (std::find(emptyFrom.begin(), emptyFrom.end(), e.paths.front()) == emptyFrom.end())
+          emptyFrom.push_back(e.paths.front());
+      }
       sweeps.push_back(std::move(s));
       sweepFile.push_back(e.paths.front());
     }
@@ -440,12 +447,9 @@ Result<RadarVolume> assemble(const Group& g, const RadarSetOptions& o, const std
     for (const std::string& d : duplicates) list += (list.empty() ? "" : "; ") + d;
     out.warnings.push_back("sweeps at an elevation another file already gave are dropped: " + list);
   }
-  const bool anyKeptEmpty = holding < order.size() && ro.loadValues;
-  if (anyKeptEmpty && !loaded.empty()) {
-    std::vector<std::string> without;
-    for (std::size_t i = holding; i < order.size(); ++i) without.push_back(order[i]->paths.front());
-    out.warnings.push_back("files without " + loaded + " (" + joinNames(without) +
-                           "): their sweeps at elevations no other file has are kept as no data");
+  if (emptySweeps > 0 && !loaded.empty()) {
+    out.warnings.push_back(std::to_string(emptySweeps) + " sweeps of files without " + loaded + " (" +
+                           joinNames(emptyFrom) + "), at elevations no file with it has, are kept as no data");
   }
   out.warnings.insert(out.warnings.end(), readerWarnings.begin(), readerWarnings.end());
   // Files come in scan order; sorting their sweeps by elevation is the assembly, not a repair.
