@@ -8,6 +8,9 @@
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarReader.h>
+#include <atmoglobe/volume/RadarVolumeSet.h>
+
+#include <nlohmann/json.hpp>
 
 #include <iostream>
 #include <memory>
@@ -19,6 +22,7 @@ Command addInfoCommand(CLI::App& root) {
   struct Options {
     std::string file;
     std::string variable;
+    std::string nexradSites;
     bool json = false;
   };
   auto opts = std::make_shared<Options>();
@@ -27,12 +31,46 @@ Command addInfoCommand(CLI::App& root) {
                               "Describe a radar file (CfRadial, ODIM_H5, NEXRAD Level II: format, site, "
                               "time, sweeps and fields) or a forecast grid (CF netCDF, WRF: dimensions, "
                               "variables, grid, vertical coordinate and heights, times, extent)");
-  c.app->add_option("FILE", opts->file, "Radar file or forecast grid (netCDF)")->required();
+  c.app
+      ->add_option("FILE", opts->file,
+                   "Radar file or forecast grid (netCDF); or the files of radar volumes split over files: a "
+                   "directory, a glob pattern (quoted: \"dir/*.h5\") or a comma-separated list (one entry per "
+                   "assembled volume)")
+      ->required();
+  c.app->add_option("--nexrad-sites", opts->nexradSites,
+                    "NEXRAD site list (CSV or JSON) giving the position of legacy NEXRAD Level II files, which "
+                    "hold only the ICAO id (default: $ATMOGLOBE_NEXRAD_SITES)");
   c.app->add_flag("--json", opts->json, "Print one JSON object instead of text");
   c.app->add_option("--variable", opts->variable,
                     "Grid files: the variable whose grid, vertical coordinate and heights are described "
                     "(default: the reader's default variable)");
   c.run = [opts] {
+    if (volume::isRadarFileSet(opts->file)) {
+      auto paths = volume::expandRadarPaths(opts->file);
+      if (!paths) return fail("info", paths.error());
+      volume::RadarSetOptions set;
+      set.read.loadValues = false;  // metadata only
+      set.read.nexradSiteList = opts->nexradSites;
+      set.label = opts->file;
+      auto volumes = volume::readRadarVolumeGroups(*paths, set);
+      if (!volumes) return fail("info", volumes.error());
+      if (opts->json) {
+        nlohmann::ordered_json j;
+        j["set"] = opts->file;
+        j["files"] = paths->size();
+        j["volumes"] = nlohmann::ordered_json::array();
+        for (const volume::RadarVolume& v : *volumes)
+          j["volumes"].push_back(nlohmann::ordered_json::parse(volume::describeVolumeJson(v)));
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::cout << opts->file << ": " << paths->size() << " files, " << volumes->size() << " volume"
+                  << (volumes->size() == 1 ? "" : "s") << "\n";
+        for (std::size_t i = 0; i < volumes->size(); ++i)
+          std::cout << "\n--- volume " << i + 1 << " of " << volumes->size() << "\n"
+                    << volume::describeVolumeText((*volumes)[i]);
+      }
+      return 0;
+    }
     if (volume::isGridFile(opts->file)) {
       auto info = volume::describeGridFile(opts->file, opts->variable);
       if (!info) return fail("info", info.error());
@@ -42,6 +80,7 @@ Command addInfoCommand(CLI::App& root) {
     if (!opts->variable.empty()) return fail("info", opts->file + ": --variable applies to forecast grids only");
     volume::ReadOptions ro;
     ro.loadValues = false;  // metadata only: fast, no field array read
+    ro.nexradSiteList = opts->nexradSites;
     auto vol = volume::readRadarVolume(opts->file, ro);
     if (!vol) {
       // Library messages start with the file name: "atmoglobe info: FILE: reason". A netCDF file

@@ -112,7 +112,8 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       c.add_option_group("Radar volumes", "Each option below is given once (all radars) or once per --radar, in order");
   g->add_option(
       "--radar", o.radars,
-      "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars)");
+      "Radar file to ray-march (CfRadial, ODIM_H5, NEXRAD Level II; repeatable; replaces the scene's radars); "
+      "or ONE volume split over files: a directory, a quoted glob (\"dir/*.h5\") or a comma-separated list");
   g->add_option("--field", o.fields, "Field to render (default: reflectivity)");
   g->add_option(
       "--colors", o.colors,

@@ -342,8 +342,14 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));
   }
 
-  std::stable_sort(vol.sweeps.begin(), vol.sweeps.end(),
-                   [](const Sweep& x, const Sweep& y) { return x.fixedAngleDeg < y.fixedAngleDeg; });
+  // Rays outside every sweep's index range (antenna transitions between sweeps) are not read.
+  std::size_t inSweeps = 0;
+  for (const Sweep& sw : vol.sweeps) inSweeps += sw.rayCount();
+  if (inSweeps < *nTime) {
+    vol.warnings.push_back(std::to_string(*nTime - inSweeps) + " of the file's " + std::to_string(*nTime) +
+                           " rays lie outside every sweep's ray index range (antenna transitions) and are left out");
+  }
+  sortSweepsByAngle(vol);
   return vol;
 }
 

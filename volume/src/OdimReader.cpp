@@ -116,6 +116,20 @@ struct OdimDecoder {
   }
 };
 
+/// "YYYY-MM-DDTHH:MM:SSZ" from an ODIM date (YYYYMMDD) and time (HHMMSS) attribute pair found
+/// in `chain`; empty when either is absent or malformed.
+std::string odimDateTime(const NetcdfFile& f, const GroupChain& chain, const std::string& dateName,
+                         const std::string& timeName) {
+  const auto dg = findAttrGroup(f, chain, dateName);
+  const auto tg = findAttrGroup(f, chain, timeName);
+  if (!dg || !tg) return {};
+  auto d = f.attributeString(*dg, NC_GLOBAL, dateName);
+  auto t = f.attributeString(*tg, NC_GLOBAL, timeName);
+  if (!d || !t || d->size() != 8 || t->size() < 6) return {};
+  return normalizeIso8601(d->substr(0, 4) + "-" + d->substr(4, 2) + "-" + d->substr(6, 2) + "T" + t->substr(0, 2) +
+                          ":" + t->substr(2, 2) + ":" + t->substr(4, 2) + "Z");
+}
+
 double wrap360(double a) {
   double x = std::fmod(a, 360.0);
   if (x < 0) x += 360.0;
@@ -182,6 +196,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
   RadarVolume vol;
   vol.format = "ODIM_H5";
   vol.sourcePath = path;
+  vol.singleScanFile = *object == "SCAN";
   auto lat = requiredDouble(f, {rootWhere}, "lat", "/where");
   if (!lat) return lat.forwardError();
   auto lon = requiredDouble(f, {rootWhere}, "lon", "/where");
@@ -241,6 +256,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
 
     Sweep sw;
     sw.indexInFile = static_cast<int>(dataBySweep.size());
+    sw.startTimeIso8601 = odimDateTime(f, {dsWhat}, "startdate", "starttime");
+    sw.endTimeIso8601 = odimDateTime(f, {dsWhat}, "enddate", "endtime");
     sw.fixedAngleDeg = *elangle;
     sw.mode = SweepMode::Ppi;
     sw.firstGateRangeMeters = *rstart * 1000.0 + *rscale / 2.0;  // rstart (km) is the start of bin 0
@@ -314,6 +331,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
     vol.loadedField = *it;
     // The arrays of the chosen quantity are checked against the sweep geometry even for a
     // metadata-only read (cheap: no data is read); the others are never touched.
+    std::string withoutQuantity, sameCodes;
     for (std::size_t s = 0; s < vol.sweeps.size(); ++s) {
       Sweep& sw = vol.sweeps[s];
       const std::size_t n = sw.rayCount() * sw.gateCount;
@@ -321,6 +339,8 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
                                    [&](const DataGroup& d) { return d.quantity == it->name; });
       if (dg == dataBySweep[s].end()) {
         if (options.loadValues) sw.values.assign(n, kNoData);  // this sweep did not measure the quantity
+        withoutQuantity += (withoutQuantity.empty() ? "" : ", ") + std::string("/") + datasets[s].second + " (" +
+                           formatNumber(sw.fixedAngleDeg) + " deg)";
         continue;
       }
       auto var = dataArray(f, *dg, sw, "/" + datasets[s].second);
@@ -334,6 +354,9 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       decoder.offset = optionalDouble(f, chain, "offset").value_or(0.0);
       if (const auto nodata = optionalDouble(f, chain, "nodata")) decoder.nodata = *nodata;
       if (const auto undetect = optionalDouble(f, chain, "undetect")) decoder.undetect = *undetect;
+      if (decoder.nodata == decoder.undetect && sameCodes.empty()) {
+        sameCodes = dg->path + " (nodata = undetect = " + formatNumber(decoder.nodata) + ")";
+      }
       assignPopulated(sw.values, n, 0.0f);
       Status st = visitNumericType(var->type, [&](auto tag) -> Status {
         using T = decltype(tag);
@@ -342,12 +365,18 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       });
       if (!st) return st.forwardError();
     }
+    if (!withoutQuantity.empty()) {
+      vol.warnings.push_back("sweeps " + withoutQuantity + " hold no " + it->name + ": they are kept as no data");
+    }
+    if (!sameCodes.empty()) {
+      vol.warnings.push_back("nodata and undetect are the same code in " + sameCodes +
+                             ": such gates cannot be told apart and are read as no data (not as no echo)");
+    }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no quantity '" + options.fieldName + "': the file holds no dataM groups"));
   }
 
-  std::stable_sort(vol.sweeps.begin(), vol.sweeps.end(),
-                   [](const Sweep& x, const Sweep& y) { return x.fixedAngleDeg < y.fixedAngleDeg; });
+  sortSweepsByAngle(vol);
   return vol;
 }
 

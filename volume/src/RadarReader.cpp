@@ -16,6 +16,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -92,6 +93,7 @@ Result<RadarFormat> detectByMagic(const std::string& path, bool* hdf5) {
   if (n >= 4 && head[0] == 'A' && head[1] == 'R' && head[2] == '2' && head[3] == 'V') return RadarFormat::NexradLevel2;
   if (looksLikeSigmetRaw(head.data(), n)) return RadarFormat::SigmetIris;
   if (looksLikeRainbow5(head.data(), n)) return RadarFormat::Rainbow5;
+  if (n >= 8 && std::memcmp(head.data(), "ARCHIVE2", 8) == 0) return RadarFormat::NexradLevel2;  // legacy header
   *hdf5 = hasHdf5Signature(in, size);
   return RadarFormat::Unknown;
 }
@@ -274,6 +276,8 @@ std::string describeVolumeJson(const RadarVolume& v) {
                {"lon_deg", v.site.lonDeg},
                {"height_m", v.site.antennaHeightMeters},
                {"height_datum", toString(v.site.heightDatum)}};
+  if (!v.siteLocationSource.empty()) j["site"]["location_source"] = v.siteLocationSource;
+  if (!v.sourceFiles.empty()) j["files"] = v.sourceFiles;
   j["time"] = v.timeIso8601;
   j["beam_width_deg"] = v.beamWidthDeg > 0 ? nlohmann::ordered_json(v.beamWidthDeg) : nlohmann::ordered_json(nullptr);
   nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
@@ -287,7 +291,10 @@ std::string describeVolumeJson(const RadarVolume& v) {
                       {"rays", s.rayCount()},
                       {"gates", s.gateCount},
                       {"first_gate_m", s.firstGateRangeMeters},
-                      {"gate_spacing_m", s.gateSpacingMeters}});
+                      {"gate_spacing_m", s.gateSpacingMeters},
+                      {"complete", s.complete}});
+    if (!s.startTimeIso8601.empty()) sweeps.back()["start_time"] = s.startTimeIso8601;
+    if (!s.endTimeIso8601.empty()) sweeps.back()["end_time"] = s.endTimeIso8601;
   }
   j["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json fields = nlohmann::ordered_json::array();
@@ -304,6 +311,7 @@ std::string describeVolumeJson(const RadarVolume& v) {
   j["default_field"] = {{"name", d.name}, {"reason", d.reason}};
   if (std::isfinite(v.nyquistVelocityMps)) j["nyquist_velocity_mps"] = v.nyquistVelocityMps;
   j["loaded_field"] = v.loadedField.name;
+  j["warnings"] = v.warnings;
   // NaN cannot be written to JSON; the readers reject NaN metadata, so dump() never fails.
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
@@ -312,10 +320,15 @@ std::string describeVolumeText(const RadarVolume& v) {
   std::ostringstream os;
   os << std::fixed;
   os << "file:    " << v.sourcePath << "\n";
+  if (!v.sourceFiles.empty()) {
+    os << "files:   " << v.sourceFiles.size() << " assembled into this volume\n";
+    for (const std::string& f : v.sourceFiles) os << "  " << f << "\n";
+  }
   os << "format:  " << v.format << (v.compression.empty() ? "" : " (" + v.compression + "-compressed file)") << "\n";
   os << "site:    " << (v.site.name.empty() ? "(unnamed)" : v.site.name) << std::setprecision(5) << "  lat "
      << v.site.latDeg << " deg  lon " << v.site.lonDeg << " deg  antenna height " << std::setprecision(1)
      << v.site.antennaHeightMeters << " m (" << toString(v.site.heightDatum) << ")\n";
+  if (!v.siteLocationSource.empty()) os << "         position from " << v.siteLocationSource << "\n";
   os << "time:    " << (v.timeIso8601.empty() ? "(unknown)" : v.timeIso8601) << "\n";
   if (v.beamWidthDeg > 0) os << "beam:    " << std::setprecision(2) << v.beamWidthDeg << " deg\n";
   os << "sweeps:  " << v.sweeps.size() << "\n";
@@ -326,7 +339,7 @@ std::string describeVolumeText(const RadarVolume& v) {
        << (s.mode == SweepMode::Rhi ? "a" : " ") << " " << std::setw(5) << std::left << toString(s.mode) << std::right
        << " " << std::setw(5) << s.rayCount() << "  " << std::setw(5) << s.gateCount << "  " << std::setw(12)
        << std::setprecision(1) << s.firstGateRangeMeters << "  " << std::setw(14) << std::setprecision(2)
-       << s.gateSpacingMeters << "\n";
+       << s.gateSpacingMeters << (s.complete ? "" : "  partial") << "\n";
   }
   if (std::any_of(v.sweeps.begin(), v.sweeps.end(), [](const Sweep& s) { return s.mode == SweepMode::Rhi; }))
     os << "  (a: the fixed angle of an RHI sweep is its azimuth)\n";
@@ -340,6 +353,7 @@ std::string describeVolumeText(const RadarVolume& v) {
   }
   const DefaultField d = chooseDefaultFieldWithReason(v.fields);
   if (!d.name.empty()) os << "default field: " << d.name << " (" << d.reason << ")\n";
+  for (const std::string& w : v.warnings) os << "warning: " << w << "\n";
   return os.str();
 }
 

@@ -28,6 +28,9 @@ struct RadarLoadOptions {
   /// held once (set keepSweepValues to keep both).
   bool buildRenderLayout = false;
   bool keepSweepValues = false;
+  /// NEXRAD site list for legacy NEXRAD files (ReadOptions::nexradSiteList; empty:
+  /// $ATMOGLOBE_NEXRAD_SITES).
+  std::string nexradSiteList;
 };
 
 struct LoadedRadar {
@@ -36,12 +39,17 @@ struct LoadedRadar {
   /// keepSweepValues.
   RadarVolume volume;
   /// The antenna on the WGS84 ellipsoid, the undulation applied and the datum note for users.
+  /// The note also says where the position came from when not from the file (legacy NEXRAD:
+  /// the site list), followed by one "\nwarning: ..." line per RadarVolume::warnings entry, so
+  /// every tool that prints the note shows what the readers repaired or found missing.
   SiteResolution site;
   /// The render layout (only with buildRenderLayout).
   std::optional<PolarVolume> layout;
 };
 
-/// Reads `path` and prepares it as `options` say. Errors name the file and the problem: the
+/// Reads `path` and prepares it as `options` say. `path` may name one file or a set of files of
+/// one volume (a directory, a glob pattern, a comma-separated list: RadarVolumeSet.h,
+/// isRadarFileSet), assembled by readRadarVolumeSet. Errors name the file and the problem: the
 /// reader's (unreadable file, unknown format, no such field: "FILE: no field 'X' (the file has:
 /// ...)"), the site's ("FILE: <what is wrong with the site>"), the layout's ("FILE: RHI volumes
 /// cannot be volume-rendered yet; ...", "FILE: no PPI sweep ...").

@@ -22,7 +22,7 @@ const char* toString(RadarFormat f);
 ///     netCDF-C: root attribute Conventions starting "ODIM_H5", or a /what group with an
 ///     `object` attribute -> OdimH5; Conventions mentioning CF/Radial or CF-Radial (also in
 ///     the `version` attribute), or a root variable sweep_start_ray_index -> CfRadial
-///   "AR2V" at offset 0                                                   -> NexradLevel2
+///   "AR2V" or "ARCHIVE2" (legacy) at offset 0                            -> NexradLevel2
 ///   IRIS product_hdr (id 27) of a RAW product (type 15) at offset 0      -> SigmetIris
 ///   "<volume" at offset 0 (after blanks)                                 -> Rainbow5
 ///   gzip (1f 8b) or bzip2 ("BZh1".."BZh9") at offset 0                   -> the format of the
@@ -53,11 +53,13 @@ std::string normalizeIso8601(const std::string& text);
 
 /// The volume's metadata as one JSON object (for `atmoglobe info --json`): format, file,
 /// compression ("gzip"/"bzip2", only for a wrapped file),
-/// site {name, lat_deg, lon_deg, height_m, height_datum}, time, beam_width_deg,
-/// sweeps[] {index, index_in_file, fixed_angle_deg, fixed_angle_kind, mode, rays, gates,
-/// first_gate_m, gate_spacing_m}, fields[] {name, units}, loaded_field.
+/// site {name, lat_deg, lon_deg, height_m, height_datum[, location_source]}, files (when
+/// assembled from several), time, beam_width_deg, sweeps[] {index, index_in_file,
+/// fixed_angle_deg, fixed_angle_kind, mode, rays, gates, first_gate_m, gate_spacing_m, complete
+/// [, start_time, end_time]}, fields[] {name, units, ...}, loaded_field, warnings[].
 std::string describeVolumeJson(const RadarVolume& v);
-/// The same as human-readable text, one sweep per line.
+/// The same as human-readable text, one sweep per line ("partial" after an incomplete one), then
+/// one "warning: ..." line per warning.
 std::string describeVolumeText(const RadarVolume& v);
 
 }  // namespace atmoglobe::volume

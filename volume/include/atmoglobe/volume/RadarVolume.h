@@ -53,6 +53,12 @@ struct Sweep {
   /// Decoded values of the loaded field, ray-major: values[ray * gateCount + gate].
   /// Empty when no field was loaded (metadata-only read).
   std::vector<float> values;
+  /// When the sweep was scanned (UTC, "YYYY-MM-DDTHH:MM:SSZ"), empty when the file does not say
+  /// (ODIM datasetN/what start/end date and time; NEXRAD first and last radial).
+  std::string startTimeIso8601, endTimeIso8601;
+  /// false: the sweep was cut short (a NEXRAD volume in progress); its missing azimuths are
+  /// no-data rays and RadarVolume::warnings says which.
+  bool complete = true;
 
   std::size_t rayCount() const { return azimuthDeg.size(); }
   double gateRangeMeters(std::uint32_t gate) const { return firstGateRangeMeters + gate * gateSpacingMeters; }
@@ -72,6 +78,9 @@ struct RadarVolume {
   /// empty for a plain file.
   std::string compression;
   RadarSite site;
+  /// Where the site position comes from when not from the file itself (legacy NEXRAD Level II
+  /// gives none: "NEXRAD site list FILE (KTLX: ...)"); empty: the file.
+  std::string siteLocationSource;
   std::string timeIso8601;    ///< volume start time, UTC, e.g. "2016-06-01T15:00:25Z"
   double beamWidthDeg = 0.0;  ///< half-power beam width if known, else 0
   /// Largest Nyquist (unambiguous) velocity of the volume's sweeps (m/s), NaN if the file does
@@ -80,7 +89,22 @@ struct RadarVolume {
   std::vector<FieldInfo> fields;  ///< every field the file holds
   FieldInfo loadedField;          ///< the field decoded into Sweep::values (name empty if none)
   std::vector<Sweep> sweeps;      ///< sorted by fixed angle (stable: file order for equal angles)
+  /// What the reader dropped, repaired or could not find (antenna-transition rays left out,
+  /// duplicate rays dropped, split cuts without the field left out, sweeps stored out of
+  /// order and sorted, missing elevations, incomplete cuts, files merged ...), one sentence
+  /// each, for users (`info` prints them, `--json` lists them). Empty: the file was read as it is.
+  std::vector<std::string> warnings;
+  /// The files assembled into this volume when it came from several (RadarVolumeSet.h); empty
+  /// when it is the one file `sourcePath`.
+  std::vector<std::string> sourceFiles;
+  /// The file holds one sweep of a volume cycle (ODIM object SCAN): volumes are assembled
+  /// from such files by RadarVolumeSet.h.
+  bool singleScanFile = false;
 };
+
+/// Sorts the sweeps by fixed angle (stable: file order for equal angles); when that changes their
+/// order, adds a warning giving the stored order.
+void sortSweepsByAngle(RadarVolume& volume);
 
 struct ReadOptions {
   /// Field to decode. Empty: pick the reflectivity field if the file has one
@@ -88,6 +112,9 @@ struct ReadOptions {
   std::string fieldName;
   /// false: read metadata only (site, sweeps, ray angles, fields), decode no values.
   bool loadValues = true;
+  /// NEXRAD site list (CSV or JSON, StationList.h) giving the position of legacy NEXRAD Level II
+  /// files, which carry only the ICAO id. Empty: $ATMOGLOBE_NEXRAD_SITES.
+  std::string nexradSiteList;
 };
 
 }  // namespace atmoglobe::volume
