@@ -27,6 +27,7 @@ struct RenderOptions {
   int threads = 2;
   bool timeSeries = false;
   int timeSubsteps = 1;
+  bool noLegend = false;
 };
 
 // NAME.png -> NAME_007.png (frame 7 of a series).
@@ -76,6 +77,9 @@ int runRender(const RenderOptions& o) {
         if (!when) return fail("render", when.error());
         auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
         if (!image) return fail("render", image.error());
+        if (!o.noLegend)
+          if (auto st = engine::drawFrameLegend(*image, (*renderer)->legendFor(camera)); !st)
+            return fail("render", st.error());
         const std::string path = seriesPath(o.output, frame);
         if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
         std::cout << path << " " << *when << std::endl;
@@ -86,6 +90,9 @@ int runRender(const RenderOptions& o) {
   auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
   if (!image) return fail("render", image.error());
   if (o.reference) std::cerr << "reference volumes: " << stats.referenceSeconds << " s\n";
+  if (!o.noLegend)
+    if (auto st = engine::drawFrameLegend(*image, (*renderer)->legendFor(camera)); !st)
+      return fail("render", st.error());
   if (auto s = globe::writePng(o.output, *image); !s) return fail("render", s.error());
   if (o.stats) {
     std::cerr << "renderer: " << (*context)->describe() << "\n"
@@ -116,6 +123,8 @@ Command addRenderCommand(CLI::App& root) {
               "Draw the volumes with the CPU reference renderer (double precision, exact geolocation; slow: "
               "~1-2 us per sample) in the GPU marcher's place; globe, markers, labels and models as always");
   c->add_option("--threads", options->threads, "Threads for --reference")->capture_default_str();
+  c->add_flag("--no-legend", options->noLegend,
+              "No title, colour keys, scale bar or SYNTHETIC mark drawn over the picture");
   c->add_flag("--time-series", options->timeSeries,
               "One PNG per time step of the scene's grids: -o NAME.png writes NAME_000.png, NAME_001.png, ... "
               "(each path and its valid time printed)");

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 
+#include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
 #include <atmoglobe/volume/ColorTable.h>
@@ -8,6 +10,7 @@
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <algorithm>
@@ -144,6 +147,9 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.siteMarker.color = glm::vec3(1.0f, 1.0f, 1.0f);
   layer.siteMarker.sizePx = 12.0f;
   layer.siteMarker.label = d.label.empty() ? radar->volume.site.name : d.label;
+  layer.siteName = radar->volume.site.name;
+  layer.timeIso8601 = radar->volume.timeIso8601;
+  layer.synthetic = volume::fileSaysSynthetic(d.path);
   radars_.push_back(std::move(layer));
   return &radars_.back();
 }
@@ -202,7 +208,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
-  grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, 0.0});
+  grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, volume::fileSaysSynthetic(d.path), 0.0});
   return &grids_.back();
 }
 
@@ -295,6 +301,38 @@ Result<globe::ImageRGBA8> SceneRendererGL::renderToImage(const Camera& camera, c
     return makeError("imagery: " + e);
   }
   return target.readColor();
+}
+
+FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
+  FrameLegend legend;
+  std::string what;
+  auto add = [&](const std::string& s) { what += (what.empty() ? "" : "  |  ") + s; };
+  for (const RadarLayerGL& r : radars_) {
+    const volume::PolarVolume& p = r.volume->polar();
+    const std::string name = r.siteName.empty() ? std::string("radar") : r.siteName;
+    add(name + "  " + p.fieldName);
+    legend.subtitles.push_back(name + " volume start " + utcLabel(r.timeIso8601));
+    legend.keys.push_back(LegendKey{name + " " + p.fieldName, p.fieldUnits, r.options.render.transfer.colors});
+    legend.synthetic = legend.synthetic || r.synthetic;
+  }
+  for (const GridLayerGL& g : grids_) {
+    const volume::GridVolume& v = g.volume->grid();
+    std::string variable = v.variable;
+    if (!variable.empty() && variable.front() == '/') variable.erase(0, 1);
+    add(variable + " (forecast grid)");
+    legend.subtitles.push_back(variable + " valid " + utcLabel(v.validTime) +
+                               (v.approximateHeights ? "  (heights approximate)" : ""));
+    legend.keys.push_back(LegendKey{variable, v.units, g.options.render.transfer.colors});
+    legend.synthetic = legend.synthetic || g.synthetic;
+  }
+  legend.title = what;
+  if (exaggeration_ != 1.0) legend.subtitles.push_back("vertical exaggeration x" + fixed(exaggeration_, 1));
+  // Scale at the image centre: the ground distance one pixel spans there.
+  const glm::dvec3 dir = camera.pixelRayDirection(0.5 * camera.widthPx(), 0.5 * camera.heightPx());
+  if (auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), dir)) {
+    legend.metersPerPixel = glm::length(*hit - camera.eyeEcef()) / camera.focalLengthPx();
+  }
+  return legend;
 }
 
 }  // namespace atmoglobe::engine

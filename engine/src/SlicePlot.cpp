@@ -1,6 +1,8 @@
 // Slice plots (SlicePlot.h).
 #include <atmoglobe/engine/SlicePlot.h>
 
+#include <atmoglobe/engine/Legend.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,54 +25,12 @@ double cappiAspect(const volume::LatLonBox& b) {
   return (b.eastDeg - b.westDeg) * std::max(cosLat, 0.05) / (b.northDeg - b.southDeg);
 }
 
-void fillRect(globe::ImageRGBA8& img, int x0, int y0, int x1, int y1, glm::u8vec4 c) {
-  for (int y = std::max(0, y0); y < std::min(img.height, y1); ++y)
-    for (int x = std::max(0, x0); x < std::min(img.width, x1); ++x) blendPixel(img, x, y, c, 255);
-}
-void hLine(globe::ImageRGBA8& img, int x0, int x1, int y, glm::u8vec4 c) { fillRect(img, x0, y, x1, y + 1, c); }
-void vLine(globe::ImageRGBA8& img, int x, int y0, int y1, glm::u8vec4 c) { fillRect(img, x, y0, x + 1, y1, c); }
-void frame(globe::ImageRGBA8& img, int x0, int y0, int x1, int y1, glm::u8vec4 c) {
-  hLine(img, x0 - 1, x1 + 1, y0 - 1, c);
-  hLine(img, x0 - 1, x1 + 1, y1, c);
-  vLine(img, x0 - 1, y0 - 1, y1 + 1, c);
-  vLine(img, x1, y0 - 1, y1 + 1, c);
-}
-
-int decimalsFor(double step) {
-  int d = 0;
-  while (d < 4 && std::abs(step * std::pow(10.0, d) - std::round(step * std::pow(10.0, d))) > 1e-6) ++d;
-  return d;
-}
-
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, std::abs(v) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : v);
-  return buf;
-}
-
 std::string pointLetter(std::size_t k) {
   if (k < 26) return std::string(1, static_cast<char>('A' + k));
   return std::string("P").append(std::to_string(k + 1));
 }
 
 }  // namespace
-
-std::vector<double> niceTicks(double lo, double hi, int target) {
-  std::vector<double> ticks;
-  if (!(hi > lo) || target < 1) return ticks;
-  const double raw = (hi - lo) / target;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  double step = p;
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
-    step = m * p;
-    if (step >= raw) break;
-  }
-  const double eps = 1e-9 * (hi - lo);
-  for (double v = std::ceil((lo - eps) / step) * step; v <= hi + eps; v += step) {
-    ticks.push_back(std::abs(v) < eps ? 0.0 : v);
-  }
-  return ticks;
-}
 
 std::string latitudeLabel(double latDeg, int decimals) {
   const std::string n = fixed(std::abs(latDeg), decimals);
@@ -235,38 +195,9 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
   // --- colour key ---
   const auto& stops = o.colors.stops();
   if (!stops.empty()) {
-    const bool stepped =
-        std::all_of(stops.begin(), stops.end(), [](const volume::ColorStop& s) { return s.start == s.end; });
-    auto field = [&](double tableValue) { return (tableValue - o.colors.offset()) / o.colors.scale(); };
-    double lo = field(stops.front().value), hi = field(stops.back().value);
-    if (stepped && stops.size() >= 2) hi = field(2 * stops.back().value - stops[stops.size() - 2].value);
-    if (lo > hi) std::swap(lo, hi);
-    if (!(hi > lo)) hi = lo + 1.0;
     const int kx0 = L.right + 22, kx1 = kx0 + 18;
     const int ky0 = L.top + 22, ky1 = std::max(ky0 + 40, L.bottom - 64);
-    for (int y = ky0; y < ky1; ++y) {
-      const double v = hi - (y - ky0 + 0.5) / (ky1 - ky0) * (hi - lo);
-      const volume::Rgba8 c = o.colors.map(static_cast<float>(v));
-      fillRect(img, kx0, y, kx1, y + 1, glm::u8vec4{c.r, c.g, c.b, 255});
-    }
-    frame(img, kx0, ky0, kx1, ky1, kBlack);
-    std::vector<double> ticks;
-    if (stepped && stops.size() <= 40) {
-      const int every = std::max(1, static_cast<int>(std::ceil(16.0 * static_cast<double>(stops.size() + 1) /
-                                                               static_cast<double>(ky1 - ky0))));
-      for (std::size_t k = 0; k < stops.size(); k += static_cast<std::size_t>(every))
-        ticks.push_back(field(stops[k].value));
-    } else {
-      ticks = niceTicks(lo, hi, std::max(2, (ky1 - ky0) / 40));
-    }
-    const int keyDecimals = ticks.size() > 1 ? decimalsFor(std::abs(ticks[1] - ticks[0])) : 0;
-    for (double t : ticks) {
-      const int y = static_cast<int>(std::floor(ky0 + (hi - t) / (hi - lo) * (ky1 - ky0)));
-      hLine(img, kx1, kx1 + 4, y, kBlack);
-      drawText(img, font, fixed(t, keyDecimals), kx1 + 7, y + 0.5, tick, HAlign::Left, VAlign::Middle);
-    }
-    drawText(img, font, o.units.empty() ? std::string("(no units)") : o.units, mid(kx0, kx1), ky0 - 8,
-             TextStyle{kAxisPx, kBlack, kWhite, 0.0}, HAlign::Center, VAlign::Bottom);
+    drawColorKey(img, font, o.colors, o.units, kx0, ky0, kx1, ky1, tick, TextStyle{kAxisPx, kBlack, kWhite, 0.0});
     // Swatches: no echo (and values below the key), no data.
     const int sy = ky1 + 14;
     fillRect(img, kx0, sy, kx1, sy + 12, o.noEchoColor);

@@ -240,3 +240,39 @@ TEST(SlicePlot, SyntheticRadarCrossSectionPngHasTheSizeAskedFor) {
   EXPECT_EQ(back->height, 360);
   EXPECT_FALSE(std::filesystem::exists(png + ".tmp"));
 }
+
+// The frame legend: its colour key shows the table's colours top (high) to bottom (low), and the
+// scale bar is a round length drawn at the image's scale.
+TEST(FrameLegend, KeyColoursAndScaleBarLength) {
+  if (!engine::Font::dejaVuSans()) GTEST_SKIP() << "DejaVu Sans not installed (fonts-dejavu-core)";
+  globe::ImageRGBA8 img = globe::ImageRGBA8::filled(640, 360, {0, 0, 0, 255});
+  engine::FrameLegend legend;
+  legend.title = "KTLX  DBZ";
+  legend.keys.push_back(engine::LegendKey{"KTLX DBZ", "dBZ", volume::nwsReflectivityTable()});
+  legend.metersPerPixel = 250.0;  // a fifth of the width is 32 km: the bar is 20 km = 80 px
+  legend.synthetic = true;
+  ASSERT_TRUE(engine::drawFrameLegend(img, legend));
+  // The key is the rightmost coloured column band: find a column whose pixels match the table.
+  const double scale = 360.0 / 720.0 < 0.6 ? 0.6 : 360.0 / 720.0;
+  const int x = 640 - static_cast<int>(46 * scale) - static_cast<int>(14 * scale) / 2;
+  const int y0 = static_cast<int>(60 * scale) + static_cast<int>(36 * scale), y1 = 360 - static_cast<int>(40 * scale);
+  // NWS: a stepped table from -20 to 80 dBZ (75 + one band); a row's value is linear in y.
+  int matched = 0, rows = 0;
+  for (int y = y0 + 2; y < y1 - 2; y += 7) {
+    const double v = 80.0 - (y - y0 + 0.5) / (y1 - y0) * 100.0;
+    const volume::Rgba8 want = volume::nwsReflectivityTable().map(static_cast<float>(v));
+    const std::size_t i = (static_cast<std::size_t>(y) * 640 + static_cast<std::size_t>(x)) * 4;
+    ++rows;
+    matched += img.pixels[i] == want.r && img.pixels[i + 1] == want.g && img.pixels[i + 2] == want.b ? 1 : 0;
+  }
+  // Rows on a band edge may take the neighbouring band: all but a few match.
+  EXPECT_GE(matched, rows - 3) << matched << " of " << rows;
+  // The scale bar: a white run along its row, 80 px long.
+  const int yb = 360 - static_cast<int>(14 * scale);
+  int run = 0;
+  for (int xx = 0; xx < 640; ++xx) {
+    const std::size_t i = (static_cast<std::size_t>(yb) * 640 + static_cast<std::size_t>(xx)) * 4;
+    run += img.pixels[i] == 255 && img.pixels[i + 1] == 255 && img.pixels[i + 2] == 255 ? 1 : 0;
+  }
+  EXPECT_EQ(run, 80);
+}

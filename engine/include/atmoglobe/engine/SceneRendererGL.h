@@ -7,6 +7,7 @@
 #include <atmoglobe/engine/GlobeRendererGL.h>
 #include <atmoglobe/engine/GltfModelRendererGL.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -46,7 +47,10 @@ struct RadarLayerGL {
   std::unique_ptr<RadarVolumeGL> volume;
   VolumeRenderOptions options;
   Marker siteMarker;
-  std::string datumNote;  ///< which vertical datum / geoid undulation was used
+  std::string datumNote;    ///< which vertical datum / geoid undulation was used
+  std::string siteName;     ///< as the file names it
+  std::string timeIso8601;  ///< volume start
+  bool synthetic = false;   ///< the file says SYNTHETIC
 };
 
 /// A forecast grid loaded for rendering: its GPU volume (with its CPU twin) and its options.
@@ -55,6 +59,7 @@ struct GridLayerGL {
   VolumeRenderOptions options;
   GridLayerDescription description;  ///< as added (its `time` is the step first loaded)
   std::size_t step = 0;              ///< time step shown (index on the file's axis)
+  bool synthetic = false;            ///< the file says SYNTHETIC
   double stepFraction = 0.0;         ///< > 0: that far (0..1) towards step + 1, interpolated
 };
 
@@ -84,6 +89,10 @@ class SceneRendererGL {
   /// once any volume or slice is loaded). Cone models (.glb) are drawn as exported.
   Status setVerticalExaggeration(double factor);
   double verticalExaggeration() const { return exaggeration_; }
+  /// The legend of the frame `camera` shows (Legend.h): a key per volume layer, the sites /
+  /// grids with their fields and valid times in UTC, the scale at the image centre (none when
+  /// the centre is sky), and SYNTHETIC when any layer's file says so.
+  FrameLegend legendFor(const Camera& camera) const;
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 

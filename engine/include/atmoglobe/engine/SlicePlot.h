@@ -9,6 +9,7 @@
 // Colours: an Echo value takes the table's RGB (its alpha, the 3-D view's opacity, is not used:
 // a slice is opaque); values the table leaves transparent (below its first stop) are drawn as
 // "no echo", and the key says so.
+#include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/engine/TextRaster.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/ColorTable.h>
@@ -79,9 +80,6 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
 /// the same rule with no echo and no data transparent.
 glm::u8vec4 slicePixelColor(const volume::ColorTable& colors, float value, glm::u8vec4 noEchoColor,
                             glm::u8vec4 noDataColor);
-
-/// "Nice" tick values (1, 2, 2.5 or 5 x 10^k apart) inside [lo, hi], about `target` of them.
-std::vector<double> niceTicks(double lo, double hi, int target);
 
 /// Latitude / longitude labels: "35.5°N", "97°W" (decimals as the step needs).
 std::string latitudeLabel(double latDeg, int decimals);

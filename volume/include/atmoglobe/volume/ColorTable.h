@@ -36,6 +36,7 @@ struct ColorStop {
   double value = 0.0;  ///< band start, in table units (see ColorTable::scale/offset)
   Rgba8 start;         ///< colour at `value`
   Rgba8 end;           ///< colour approached at the next stop's value (== start: solid band)
+  friend bool operator==(const ColorStop&, const ColorStop&) = default;
 };
 
 class ColorTable {
