@@ -14,6 +14,7 @@
 #include <atmoglobe/engine/CameraController.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/engine/ViewerPanelGL.h>
@@ -58,6 +59,8 @@ struct Interaction {
   int timeMove = 0;                ///< time positions to move by (keys), applied by the loop
   bool timeHome = false;
   bool playing = false;
+  bool readoutWanted = false;  ///< the cursor moved: recompute the value under it
+  double cursorX = 0, cursorY = 0;
 };
 
 /// Where the viewer is on the scene's time axis: position = step * substeps + substep.
@@ -110,7 +113,12 @@ int runView(const ViewOptions& o) {
   glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) {
     auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
     s.uiDirty = true;  // hover highlights in the panel
-    if (!s.dragging) return;
+    if (!s.dragging) {
+      s.readoutWanted = true;
+      s.cursorX = x;
+      s.cursorY = y;
+      return;
+    }
     int width = 0, height = 0;
     glfwGetWindowSize(win, &width, &height);
     const double dx = x - s.lastX, dy = y - s.lastY;
@@ -206,6 +214,16 @@ int runView(const ViewOptions& o) {
     const bool moving = glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
     if (!state.dirty && !moving && !wasMoving && !state.playing && (*renderer)->globe().lastFrameComplete() &&
         o.frames == 0) {
+      if (state.readoutWanted && panel && target && !engine::ViewerPanelGL::capturesMouse()) {
+        state.readoutWanted = false;
+        int ww = 0, wh = 0;
+        glfwGetWindowSize(w, &ww, &wh);
+        // Window coordinates to framebuffer pixels (they differ on high-DPI screens).
+        const double sx = ww > 0 ? static_cast<double>(target->widthPx()) / ww : 1.0;
+        const double sy = wh > 0 ? static_cast<double>(target->heightPx()) / wh : 1.0;
+        const engine::Camera camera(state.pose, state.fovYDeg, target->widthPx(), target->heightPx());
+        panelState.readout = engine::readoutAt(**renderer, camera, state.cursorX * sx, state.cursorY * sy).lines;
+      }
       if (state.uiDirty && panel && target) {
         // Only the panel changed: the last picture again with the panel over it.
         state.uiDirty = false;

@@ -77,6 +77,11 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   }
   for (const std::string& line : s.layers) ImGui::TextUnformatted(line.c_str());
   ImGui::Text("frame %.1f ms", s.frameMilliseconds);
+  if (!s.readout.empty()) {
+    ImGui::Separator();
+    ImGui::TextUnformatted("Under the cursor");
+    for (const std::string& line : s.readout) ImGui::TextUnformatted(line.c_str());
+  }
   if (ImGui::Button("Screenshot")) s.screenshotRequested = true;
   ImGui::End();
   ImGui::Render();

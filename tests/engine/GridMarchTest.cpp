@@ -8,6 +8,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
@@ -468,4 +469,44 @@ TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
   ASSERT_FALSE(bad);
   EXPECT_NE(bad.error().find("vertical exaggeration must be a number from 0.1 to 100"), std::string::npos)
       << bad.error();
+}
+
+// The value under the cursor: the first echo along the pixel's ray from the volumes' CPU twins,
+// and where the ray meets the ground.
+TEST(GridMarch, ReadoutUnderTheCursor) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticRadarOptions ro;
+  ro.elevationsDeg = {0.5, 1.5, 2.5, 3.5, 5.0, 7.0, 10.0};
+  ro.maxRangeMeters = 120e3;
+  ASSERT_TRUE(volume::writeSyntheticCfRadial(dir + "/readout_radar.nc", ro));
+  auto scene = engine::parseSceneJson(R"({"radars": [{"path": "@data/readout_radar.nc"}]})", "s.json", dir, dir);
+  ASSERT_TRUE(scene);
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer);
+  auto radar = (*renderer)->addRadar(scene->radars[0]);
+  ASSERT_TRUE(radar) << radar.error();
+  // Straight down over the synthetic storm's core (50 km west, 36 km south of the site).
+  const volume::PolarVolume& p = (*radar)->volume->polar();
+  const globe::GeodesicPoint above = globe::geodesicDirect(p.site.latDeg, p.site.lonDeg, 234.25, 61.6e3);
+  const engine::CameraPose pose{above.latDeg, above.lonDeg, 200e3, 0.0, -90.0, 0.0};
+  const Camera camera(pose, 30.0, 64, 48);
+  const engine::CursorReadout r = engine::readoutAt(**renderer, camera, 32.0, 24.0, 50.0);
+  ASSERT_TRUE(r.groundLatLonHeight);
+  // Straight down, the centre ray meets the ground below the eye (float-free double path).
+  EXPECT_NEAR(r.groundLatLonHeight->x, above.latDeg, 1e-7);
+  EXPECT_NEAR(r.groundLatLonHeight->y, above.lonDeg, 1e-7);
+  ASSERT_GE(r.lines.size(), 2u);
+  std::cout << r.lines[0] << "\n" << r.lines.back() << "\n";
+  // The radar line: its value is the reference sampler's at the first echo (searched at 50 m).
+  const std::string& line = r.lines[0];
+  EXPECT_EQ(line.rfind((*radar)->siteName + " " + p.fieldName + ": ", 0), 0u) << line;
+  EXPECT_NE(line.find("azimuth 234."), std::string::npos) << "the gate read lies south-west, below the eye: " << line;
+  // Pitched up at the horizon's sky: nothing under the cursor but sky.
+  const Camera up(engine::CameraPose{above.latDeg, above.lonDeg, 2000.0, 0.0, 60.0, 0.0}, 30.0, 64, 48);
+  const engine::CursorReadout sky = engine::readoutAt(**renderer, up, 32.0, 24.0);
+  EXPECT_FALSE(sky.groundLatLonHeight);
+  EXPECT_EQ(sky.lines.back(), "sky");
 }

@@ -70,11 +70,13 @@ class SceneRendererGL {
   /// Reads, places and uploads a radar volume (the only field asked for is decoded).
   Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
   std::vector<RadarLayerGL>& radars() { return radars_; }
+  const std::vector<RadarLayerGL>& radars() const { return radars_; }
   /// Reads the variable and time step a grid layer names (only that hyperslab: GridReader.h),
   /// places and uploads it. Drawn with the radars in one march where they overlap. The pointer
   /// returned (as addRadar's) is valid until the next layer is added.
   Result<const GridLayerGL*> addGrid(const GridLayerDescription& description);
   std::vector<GridLayerGL>& grids() { return grids_; }
+  const std::vector<GridLayerGL>& grids() const { return grids_; }
   /// Shows grid `index` at time step `step` of its file (only that step is read), or, with
   /// `fraction` in (0, 1), interpolated that far towards step + 1 (volume::interpolateGridSteps;
   /// both steps are read). The layer keeps its render options: colours and opacity stay those of

@@ -25,6 +25,7 @@ struct ViewerPanelState {
   bool playing = false;             ///< in/out
   std::vector<std::string> layers;  ///< one line per layer (what is loaded)
   double frameMilliseconds = 0.0;
+  std::vector<std::string> readout;  ///< the value under the cursor (Readout.h), one line each
   bool screenshotRequested = false;  ///< out: the Screenshot button was pressed
 };
 

@@ -1,0 +1,29 @@
+#pragma once
+// The value under the cursor (issue 12): where the pixel's ray meets the ground (latitude,
+// longitude, height above sea level and above the ellipsoid) and, for each volume the ray
+// crosses before the ground, the first echo along it: the value with its units and, for radars,
+// the site, the nearest sweep's elevation, and the azimuth and range of the gate read. GL-free:
+// the volumes' CPU twins (VolumeGL::referenceSampler, the exact sampling rule in double) are
+// sampled along the ray, so the readout is the reference's value, not a guess from the picture.
+#include <atmoglobe/engine/Camera.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+class SceneRendererGL;
+
+struct CursorReadout {
+  std::optional<glm::dvec3> groundLatLonHeight;  ///< lat, lon (deg), 0 m (the ray's ellipsoid hit)
+  double seaLevelHeightMeters = 0.0;             ///< of the ground point: minus the EGM96 undulation
+  std::vector<std::string> lines;                ///< one per volume hit, then the position
+};
+
+/// The readout at pixel (x, y) of `camera` (pixels from the top left, as the mouse gives them).
+/// Volumes are searched with `stepMeters` (the first echo is found to within that step along the ray).
+CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, double xPx, double yPx,
+                        double stepMeters = 100.0);
+
+}  // namespace atmoglobe::engine
