@@ -64,10 +64,10 @@ int runRender(const RenderOptions& o) {
   if (o.timeSeries) {
     // One PNG per time step (and substep): NAME_000.png, NAME_001.png, ...
     if (o.timeSubsteps < 1 || o.timeSubsteps > 100) return fail("render", "--time-substeps must be 1..100");
-    auto axis = engine::sceneTimeAxis(*scene);
+    auto axis = engine::sceneTimeAxis(*scene, **renderer);
     if (!axis) return fail("render", axis.error());
     for (const std::string& note : axis->notes) std::cerr << "atmoglobe render: " << note << "\n";
-    std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << scene->grids[axis->leadGrid].path
+    std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << axis->leadName
               << "; colours and opacity stay those of the step first loaded\n";
     std::size_t frame = 0;
     for (std::size_t step = 0; step < axis->times.size(); ++step) {

@@ -1,4 +1,4 @@
-// `atmoglobe synth -o FILE.nc [--seed N] [--storm-east KM] [--storm-north KM] [--noise DB]`:
+// `atmoglobe synth -o FILE.nc [--seed N] [--storm-east KM] [--storm-north KM] [--noise DB] [--time ISO]`:
 // writes a SYNTHETIC CfRadial 1.4 volume (KTLX site, VCP 212 angles, an analytic supercell and
 // stratiform area) for the default scene and for tests. See volume/SyntheticRadar.h.
 // `atmoglobe synth --grid -o FILE.nc [--grid-size NX,NY,LEVELS,TIMES] [--spacing KM]`: a SYNTHETIC
@@ -68,6 +68,8 @@ Command addSynthCommand(CLI::App& root) {
   c.app->add_option("--storm-north", opts->synth.stormNorthKm, "Storm centre north of the site (km)")
       ->capture_default_str();
   c.app->add_option("--noise", opts->synth.noiseDbz, "Gate noise standard deviation (dB)")->capture_default_str();
+  c.app->add_option("--time", opts->synth.startTimeIso8601, "Volume start time, UTC (YYYY-MM-DDTHH:MM:SSZ)")
+      ->capture_default_str();
   c.app->add_flag("--grid", opts->grid,
                   "Write a SYNTHETIC CF forecast grid instead (netCDF-4): simulated reflectivity of the same storm "
                   "moving ENE with a squall line, 400 x 400 columns 5 km apart around KTLX, 35 levels above ground "

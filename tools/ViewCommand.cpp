@@ -160,19 +160,20 @@ int runView(const ViewOptions& o) {
     s.dirty = true;
   });
 
-  // The scene's time axis, when a grid has several steps (time keys and playing).
+  // The scene's time axis, when a grid has several steps or a radar is a loop (time keys and playing).
   TimeCursor time;
   time.substeps = std::clamp(o.timeSubsteps, 1, 100);
-  if (!scene->grids.empty()) {
-    auto axis = engine::sceneTimeAxis(*scene);
+  if (!scene->grids.empty() || !scene->radars.empty()) {
+    auto axis = engine::sceneTimeAxis(*scene, **renderer);
     if (axis) {
       for (const std::string& note : axis->notes) std::cerr << "atmoglobe view: " << note << "\n";
-      const auto& first = (*renderer)->grids()[axis->leadGrid];
-      time.position = static_cast<long>(first.step) * time.substeps;
-      time.label = axis->times[first.step];
+      const std::size_t first = axis->leadIsRadar ? (*renderer)->radars()[axis->leadGrid].step
+                                                  : (*renderer)->grids()[axis->leadGrid].step;
+      time.position = static_cast<long>(first) * time.substeps;
+      time.label = axis->times[first];
       time.axis = std::move(*axis);
-      std::cout << "time: " << time.axis->times[first.step] << " (step " << first.step + 1 << " of "
-                << time.axis->times.size() << "; Right/Left step, Space plays)" << std::endl;
+      std::cout << "time: " << time.axis->times[first] << " (step " << first + 1 << " of " << time.axis->times.size()
+                << "; Right/Left step, Space plays)" << std::endl;
     }
   }
   state.playing = o.play && time.axis;

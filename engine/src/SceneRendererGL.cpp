@@ -10,6 +10,7 @@
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/RadarVolumeSet.h>
 #include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
@@ -116,7 +117,56 @@ Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
   return slices_->add(d);
 }
 
+namespace {
+// The volumes of a radar loop: a set (directory, glob, list) holding several times of one site.
+// Empty when `path` is one file or one volume. Metadata only.
+Result<std::pair<std::vector<std::string>, std::vector<std::string>>> radarLoopSteps(const std::string& path,
+                                                                                     const std::string& field) {
+  std::pair<std::vector<std::string>, std::vector<std::string>> out;
+  if (!volume::isRadarFileSet(path)) return out;
+  auto paths = volume::expandRadarPaths(path);
+  if (!paths) return paths.forwardError();
+  volume::RadarSetOptions o;
+  o.read.loadValues = false;
+  o.read.fieldName = field;
+  auto groups = volume::readRadarVolumeGroups(*paths, o);
+  if (!groups || groups->size() < 2) return out;  // one volume (or an error loadRadar reports)
+  for (const auto& g : *groups) {
+    if (std::abs(g.site.latDeg - groups->front().site.latDeg) > 0.01 ||
+        std::abs(g.site.lonDeg - groups->front().site.lonDeg) > 0.01)
+      return out;  // several sites: not a loop (loadRadar says why)
+  }
+  std::vector<const volume::RadarVolume*> byTime;
+  for (const auto& g : *groups) byTime.push_back(&g);
+  std::stable_sort(byTime.begin(), byTime.end(),
+                   [](const auto* a, const auto* b) { return a->timeIso8601 < b->timeIso8601; });
+  for (const auto* g : byTime) {
+    std::string files;
+    for (const std::string& f : g->sourceFiles) files += (files.empty() ? "" : ",") + f;
+    if (files.empty()) files = g->sourcePath;
+    out.first.push_back(files);
+    out.second.push_back(g->timeIso8601);
+  }
+  return out;
+}
+}  // namespace
+
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
+  auto loop = radarLoopSteps(d.path, d.field);
+  if (!loop) return loop.forwardError();
+  if (!loop->first.empty()) {
+    // A loop: show the latest volume; the others are steps of the scene's time axis.
+    RadarLayerDescription latest = d;
+    latest.path = loop->first.back();
+    auto layer = addRadar(latest);
+    if (!layer) return layer;
+    RadarLayerGL& added = radars_.back();
+    added.description = d;
+    added.loopFiles = std::move(loop->first);
+    added.loopTimes = std::move(loop->second);
+    added.step = added.loopFiles.size() - 1;
+    return &added;
+  }
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
   load.useGeoid = d.useGeoid;
@@ -150,6 +200,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.siteName = radar->volume.site.name;
   layer.timeIso8601 = radar->volume.timeIso8601;
   layer.synthetic = volume::fileSaysSynthetic(d.path);
+  layer.description = d;
   radars_.push_back(std::move(layer));
   return &radars_.back();
 }
@@ -210,6 +261,34 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   if (!gl) return gl.forwardError();
   grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, volume::fileSaysSynthetic(d.path), 0.0});
   return &grids_.back();
+}
+
+Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
+  if (index >= radars_.size()) return makeError("no radar layer " + std::to_string(index));
+  RadarLayerGL& layer = radars_[index];
+  if (step >= layer.loopFiles.size())
+    return makeError(layer.description.path + ": no loop step " + std::to_string(step));
+  if (step == layer.step) return Ok{};
+  const RadarLayerDescription& d = layer.description;
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(layer.loopFiles[step], load);
+  if (!radar) return radar.forwardError();
+  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  }
+  auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
+  if (!gl) return gl.forwardError();
+  (*gl)->setBeamApproximation(layer.volume->beamApproximation());
+  layer.volume = std::move(*gl);
+  layer.timeIso8601 = radar->volume.timeIso8601;
+  layer.datumNote = radar->site.datumNote;
+  layer.step = step;
+  return Ok{};
 }
 
 Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double fraction) {

@@ -47,10 +47,16 @@ struct RadarLayerGL {
   std::unique_ptr<RadarVolumeGL> volume;
   VolumeRenderOptions options;
   Marker siteMarker;
-  std::string datumNote;    ///< which vertical datum / geoid undulation was used
-  std::string siteName;     ///< as the file names it
-  std::string timeIso8601;  ///< volume start
-  bool synthetic = false;   ///< the file says SYNTHETIC
+  std::string datumNote;              ///< which vertical datum / geoid undulation was used
+  std::string siteName;               ///< as the file names it
+  std::string timeIso8601;            ///< volume start
+  bool synthetic = false;             ///< the file says SYNTHETIC
+  RadarLayerDescription description;  ///< as added
+  /// A radar loop (a directory, glob or list holding several times of one site): each time's
+  /// files (a comma list loadRadar reads as one volume) and volume time, oldest first; empty for
+  /// one volume. `step` is the one shown (the latest when added).
+  std::vector<std::string> loopFiles, loopTimes;
+  std::size_t step = 0;
 };
 
 /// A forecast grid loaded for rendering: its GPU volume (with its CPU twin) and its options.
@@ -82,6 +88,9 @@ class SceneRendererGL {
   /// both steps are read). The layer keeps its render options: colours and opacity stay those of
   /// the step first loaded (or of the description's range), so frames of a series compare.
   Status setGridStep(std::size_t index, std::size_t step, double fraction = 0.0);
+  /// Shows radar `index` (a loop) at its volume `step` (RadarLayerGL::loopFiles; only that
+  /// volume is read), keeping its render options so frames compare.
+  Status setRadarStep(std::size_t index, std::size_t step);
   /// Samples a slice (CAPPI or cross-section) of the volume it names and draws it on the globe
   /// (SliceRendererGL.h); returns a line for the user.
   Result<std::string> addSlice(const SliceLayerDescription& description);
