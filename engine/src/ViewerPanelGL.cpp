@@ -2,6 +2,7 @@
 
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <epoxy/gl.h>
 #include <imgui.h>
 
 #include <filesystem>
@@ -45,6 +46,7 @@ bool ViewerPanelGL::capturesMouse() { return gPanelAlive && ImGui::GetIO().WantC
 bool ViewerPanelGL::capturesKeyboard() { return gPanelAlive && ImGui::GetIO().WantCaptureKeyboard; }
 
 bool ViewerPanelGL::draw(ViewerPanelState& s) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);  // the window's: the scene's target may still be bound
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
