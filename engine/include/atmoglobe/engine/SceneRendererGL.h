@@ -7,6 +7,7 @@
 #include <atmoglobe/engine/GlobeRendererGL.h>
 #include <atmoglobe/engine/GltfModelRendererGL.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/MapRendererGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -37,6 +38,7 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& desc
 
 struct SceneFrameStats {
   GlobeFrameStats globe;
+  MapFrameStats map;
   double cpuMilliseconds = 0.0;   ///< time to issue the frame (without waiting for the GPU)
   double referenceSeconds = 0.0;  ///< time of the CPU reference volumes (setReferenceVolumes), else 0
 };
@@ -84,6 +86,14 @@ class SceneRendererGL {
   /// once any volume or slice is loaded). Cone models (.glb) are drawn as exported.
   Status setVerticalExaggeration(double factor);
   double verticalExaggeration() const { return exaggeration_; }
+  /// Map context (MapRendererGL.h), drawn after the globe, models and slices, before the volumes:
+  /// GSHHG coastlines and borders (off until set; an error names a missing GSHHG file), user vector
+  /// files (returns a line for the user), range rings and spokes around each radar (every 50 km to
+  /// its maximum range, every 30 deg).
+  Status setMapContext(bool enabled);
+  Result<std::string> addOverlay(const MapOverlayDescription& overlay);
+  void setRangeRings(bool enabled) { rangeRings_ = enabled; }
+  MapRendererGL& map() { return *map_; }
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 
@@ -110,6 +120,9 @@ class SceneRendererGL {
   std::vector<GridLayerGL> grids_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   std::unique_ptr<SliceRendererGL> slices_;
+  std::unique_ptr<MapRendererGL> map_;
+  bool rangeRings_ = false;
+  std::size_t radarsWithRings_ = 0;
   int referenceThreads_ = 0;
   double exaggeration_ = 1.0;
 };
