@@ -40,6 +40,9 @@ std::unique_ptr<MapRendererGL::ChunkGL> uploadChunk(const map::LineChunk& c) {
   return chunk;
 }
 
+// x - hi, narrowed; not inlined for the reason in map/src/GeoLines.cpp (GCC 12 SLP bug).
+[[gnu::noinline]] float lowPartOf(double x, float hi) { return static_cast<float>(x - static_cast<double>(hi)); }
+
 glm::dvec3 surface(double lonDeg, double latDeg, double heightMeters = 0.0) {
   return globe::geodeticToEcef({std::clamp(latDeg, -90.0, 90.0), lonDeg, heightMeters});
 }
@@ -176,7 +179,8 @@ void MapRendererGL::drawChunk(const Camera& camera, const ChunkGL& chunk, const 
   if (chunk.segments == 0) return;
   const glm::dvec3 eyeRel = camera.eyeEcef() - chunk.originEcef;
   const glm::vec3 eyeHi(eyeRel);
-  const glm::vec3 eyeLo(eyeRel - glm::dvec3(eyeHi));
+  glm::vec3 eyeLo;
+  for (int k = 0; k < 3; ++k) eyeLo[k] = lowPartOf(eyeRel[k], eyeHi[k]);
   glUniform3fv(program_.uniform("u_eyeHi"), 1, glm::value_ptr(eyeHi));
   glUniform3fv(program_.uniform("u_eyeLo"), 1, glm::value_ptr(eyeLo));
   const glm::dvec3 invRadii(1.0 / globe::kWgs84A, 1.0 / globe::kWgs84A, 1.0 / globe::kWgs84B);
@@ -249,6 +253,8 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
     } layers[3] = {{shore, map::kCoastLevels}, {border, map::kNationalBorderLevels}, {border, map::kStateBorderLevels}};
     for (int layer = 0; layer < 3; ++layer) {
       if (!layers[layer].file) continue;
+      // State/province borders clutter whole-hemisphere views: shown from the low level down.
+      if (layer == 2 && res == map::GshhgResolution::Crude) continue;
       for (int b : bins) {
         ChunkGL* c = use({layer, static_cast<int>(res), b}, [&]() -> std::unique_ptr<ChunkGL> {
           auto lines = layers[layer].file->readBin(b, layers[layer].levels);

@@ -91,11 +91,19 @@ double chordSagMeters(double segmentMeters) {
 }
 
 namespace {
+// x - hi, narrowed. Not inlined: GCC 12's SLP vectorizer at -O2/-O3 turns the inlined
+// float(x - double(float(x))) of the y and z lanes into 0 (seen on Debian 12's g++ 12.2; the
+// GeoLines.ChunkPoints test catches it).
+[[gnu::noinline]] float lowPart(double x, float hi) { return static_cast<float>(x - static_cast<double>(hi)); }
+
 void pushPoint(LineChunk& c, const glm::dvec3& ecef) {
   const glm::dvec3 d = ecef - c.originEcef;
-  const glm::vec3 hi(d);
-  const glm::vec3 lo(d - glm::dvec3(hi));
-  c.vertices.insert(c.vertices.end(), {hi.x, hi.y, hi.z, lo.x, lo.y, lo.z});
+  float hi[3], lo[3];
+  for (int k = 0; k < 3; ++k) {
+    hi[k] = static_cast<float>(d[k]);
+    lo[k] = lowPart(d[k], hi[k]);
+  }
+  c.vertices.insert(c.vertices.end(), {hi[0], hi[1], hi[2], lo[0], lo[1], lo[2]});
 }
 }  // namespace
 

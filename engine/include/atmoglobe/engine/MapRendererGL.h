@@ -6,7 +6,8 @@
 // - Level of detail by camera height (map/MapLod.h): one GSHHG resolution per frame, coarse at
 //   global views, finer when close; only the bins in view are read (a bin is dropped when its
 //   bounding sphere is outside the frustum or all its samples are behind the horizon) and built
-//   (densified along the geodesic to the level's segment length), then kept in a cache.
+//   (densified along the geodesic to the level's segment length), then kept in a cache. State
+//   and province borders are left out at the crude level (whole-hemisphere views).
 // - Precision: each chunk (a GSHHG bin, or a piece of a user line) is float32 (hi, lo) pairs
 //   relative to a double origin; the shader subtracts the eye's (hi, lo), so points are placed
 //   relative to the eye to sub-millimetre precision from 1 m to 1e7 m.
