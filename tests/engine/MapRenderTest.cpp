@@ -60,8 +60,8 @@ struct MapRender : ::testing::Test {
 }  // namespace
 
 TEST_F(MapRender, CoastlineFromTenThousandKilometres) {
-  const std::string coast = map::gshhgPath(map::defaultGshhgDirectory(), map::GshhgKind::Shoreline,
-                                           map::GshhgResolution::Crude);
+  const std::string coast =
+      map::gshhgPath(map::defaultGshhgDirectory(), map::GshhgKind::Shoreline, map::GshhgResolution::Crude);
   if (!std::filesystem::exists(coast)) GTEST_SKIP() << coast << " missing (apt-get install gmt-gshhg)";
   ASSERT_TRUE(renderer_->setMapContext(true));
   const engine::MapLineStyle magenta{glm::vec3(1.0f, 0.0f, 1.0f), 2.0f, 1.0f};
