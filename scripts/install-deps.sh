@@ -13,6 +13,7 @@ PKGS=(
   opencollada-tools libxml2-utils nodejs unzip
   netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps
   fonts-dejavu-core libimgui-dev
+  gmt-gshhg libgdal-dev
 )
 
 missing=()

@@ -91,6 +91,13 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                "or JSON (array of objects, or id -> object)");
   c.add_option("--cones", o.models,
                "A cone export (.glb from `atmoglobe export-cones`) to draw at its place (repeatable)");
+  auto* mg = c.add_option_group("Map context", "Coastlines and borders (GSHHG, Debian gmt-gshhg), vector overlays");
+  mg->add_flag("--no-map", o.noMap, "No coastlines, country or state borders (drawn by default)");
+  mg->add_option("--overlay", o.overlays,
+                 "Vector file drawn as map lines: GeoJSON, shapefile, KML/KMZ, GeoPackage, ... (GDAL/OGR; any CRS; "
+                 "repeatable)");
+  mg->add_flag("--range-rings", o.rangeRings,
+               "Range rings every 50 km and azimuth spokes every 30 deg around each radar");
   auto* gg =
       c.add_option_group("Forecast grids", "Each option below is given once (all grids) or once per --grid, in order");
   gg->add_option("--grid", o.grids,
@@ -199,6 +206,15 @@ Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescr
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st) return st.forwardError();
   }
+  // Map context on by default; missing GSHHG files only warn (the picture still renders).
+  if (auto st = renderer.setMapContext(scene.mapContext); !st)
+    std::cerr << "warning: " << st.error() << " (drawn without coastlines and borders; --no-map silences this)\n";
+  for (const engine::MapOverlayDescription& d : scene.overlays) {
+    auto line = renderer.addOverlay(d);
+    if (!line) return line.forwardError();
+    std::cerr << d.path << ": overlay: " << *line << "\n";
+  }
+  renderer.setRangeRings(scene.rangeRings);
   if (!scene.stationsPath.empty()) {
     auto stations = volume::readStationList(scene.stationsPath);
     if (!stations) return stations.forwardError();
@@ -303,6 +319,13 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     scene->markers.push_back(marker);
   }
   if (!o.stations.empty()) scene->stationsPath = o.stations;
+  if (o.noMap) scene->mapContext = false;
+  if (o.rangeRings) scene->rangeRings = true;
+  for (const std::string& path : o.overlays) {
+    engine::MapOverlayDescription d;
+    d.path = path;
+    scene->overlays.push_back(d);
+  }
   for (const std::string& m : o.models) scene->models.push_back(m);
   const std::size_t nr = o.radars.size();
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {

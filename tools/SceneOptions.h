@@ -43,6 +43,10 @@ struct SceneOptions {
   // Slices on the globe, of the scene's first radar (else its first grid): each is added.
   std::vector<double> sliceHeights;     ///< CAPPI heights (m above sea level)
   std::vector<std::string> slicePaths;  ///< cross-sections "LAT,LON;LAT,LON[;...]"
+  // Map context (MapRendererGL.h).
+  bool noMap = false;                 ///< --no-map: no GSHHG coastlines and borders
+  std::vector<std::string> overlays;  ///< --overlay FILE (repeatable)
+  bool rangeRings = false;            ///< --range-rings
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);

@@ -108,7 +108,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   }
   if (auto s = checkKeys(root,
                          {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
-                          "vertical_exaggeration"},
+                          "vertical_exaggeration", "map_context", "overlays", "range_rings"},
                          sourceName);
       !s) {
     return s.forwardError();
@@ -298,12 +298,47 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
       scene.grids.push_back(d);
     }
   }
+  for (auto [key, out] :
+       {std::pair<const char*, bool*>{"map_context", &scene.mapContext}, {"range_rings", &scene.rangeRings}}) {
+    if (!root.contains(key)) continue;
+    if (!root[key].is_boolean()) return makeError(sourceName + ": \"" + key + "\" must be true or false");
+    *out = root[key].get<bool>();
+  }
+  if (root.contains("overlays")) {
+    if (!root["overlays"].is_array()) return makeError(sourceName + ": overlays must be an array");
+    int i = 0;
+    for (const json& o : root["overlays"]) {
+      const std::string where = sourceName + ": overlays[" + std::to_string(i++) + "]";
+      if (auto s = checkKeys(o, {"path", "color", "width_px"}, where); !s) return s.forwardError();
+      if (!o.contains("path") || !o["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+      MapOverlayDescription d;
+      d.path = resolvePath(o["path"].get<std::string>(), baseDir, dataDir);
+      if (o.contains("color")) {
+        const json& c = o["color"];
+        if (!c.is_array() || c.size() != 3 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number())
+          return makeError(where + ": color must be [r, g, b] with numbers in 0..1");
+        d.color = glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>());
+      }
+      auto width = number(o, "width_px", d.widthPx, where);
+      if (!width) return width.forwardError();
+      d.widthPx = static_cast<float>(*width);
+      if (auto st = validateMapOverlay(d, where); !st) return st.forwardError();
+      scene.overlays.push_back(d);
+    }
+  }
   if (root.contains("slices")) {
     auto slices = parseSliceLayersJson(root["slices"].dump(), sourceName + ": slices", baseDir, dataDir);
     if (!slices) return slices.forwardError();
     scene.slices = std::move(*slices);
   }
   return scene;
+}
+
+Status validateMapOverlay(const MapOverlayDescription& d, const std::string& where) {
+  for (int k = 0; k < 3; ++k)
+    if (!(d.color[k] >= 0.0f && d.color[k] <= 1.0f)) return makeError(where + ": color components must be in 0..1");
+  if (!(d.widthPx >= 0.5f && d.widthPx <= 16.0f)) return makeError(where + ": width_px must be in 0.5..16");
+  return Ok{};
 }
 
 Status validateGridLayer(const GridLayerDescription& d, const std::string& where) {

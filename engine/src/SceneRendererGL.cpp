@@ -4,6 +4,7 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
+#include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/FieldKind.h>
@@ -89,7 +90,16 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
   auto rv = VolumeRendererGL::create();
   if (!rv) return rv.forwardError();
   r->volumeRenderer_ = std::move(*rv);
+  auto map = MapRendererGL::create(map::defaultGshhgDirectory());
+  if (!map) return map.forwardError();
+  r->map_ = std::move(*map);
   return r;
+}
+
+Status SceneRendererGL::setMapContext(bool enabled) { return map_->setBuiltinLayers(enabled); }
+
+Result<std::string> SceneRendererGL::addOverlay(const MapOverlayDescription& d) {
+  return map_->addOverlay(d.path, MapLineStyle{d.color, d.widthPx, 1.0f});
 }
 
 Status SceneRendererGL::addModel(const std::string& glbPath) {
@@ -337,6 +347,13 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   stats.globe = globe_->draw(camera);
   for (const auto& model : models_) model->draw(camera);
   if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
+  for (; rangeRings_ && radarsWithRings_ < radars_.size(); ++radarsWithRings_) {
+    const RadarLayerGL& radar = radars_[radarsWithRings_];
+    map_->addLines(map::rangeRingsAndSpokes(radar.siteMarker.latDeg, radar.siteMarker.lonDeg,
+                                            radar.volume->polar().maxRangeMeters),
+                   MapLineStyle{glm::vec3(0.95f, 0.9f, 0.55f), 1.0f, 0.7f});
+  }
+  stats.map = map_->draw(camera);  // writes no depth: the march sees the globe's
   // Every radar in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
   std::vector<VolumeLayerGL> layers;

@@ -17,7 +17,10 @@
 //   "radars":  [{"path": "KLBB.ar2v", "field": "REF", "colors": "NWS", "mode": "dvr",
 //                "interpolation": "linear", "step_m": 250, "image_scale": 1.0,
 //                "iso_dbz": 40, "beam": "4/3", "classification": "point", "label": "KLBB"}],
-//   "slices":  [{"radar": "KLBB.ar2v", "height_m": 3000}]     // keys: SliceLayer.h
+//   "slices":  [{"radar": "KLBB.ar2v", "height_m": 3000}],    // keys: SliceLayer.h
+//   "map_context": true,                                       // GSHHG coastlines and borders
+//   "overlays": [{"path": "counties.shp", "color": [1, 0.8, 0.2], "width_px": 1.5}],
+//   "range_rings": false                                       // every 50 km, spokes every 30 deg
 // }
 // Relative paths are relative to the scene file's directory; "@data/" stands for the
 // directory of generated default data (ATMOGLOBE_DATA_DIR).
@@ -105,6 +108,16 @@ struct GridLayerDescription {
   VolumeLayerSettings settings;
 };
 
+/// A user vector file drawn as map lines (JSON "overlays", CLI --overlay; MapRendererGL.h).
+struct MapOverlayDescription {
+  std::string path;                    ///< GeoJSON, shapefile, KML/KMZ, GeoPackage, ... (GDAL/OGR)
+  glm::vec3 color{1.0f, 0.85f, 0.2f};  ///< 0..1
+  float widthPx = 1.5f;                ///< 0.5..16
+};
+
+/// Checks an overlay's colour (0..1) and width (0.5..16 px).
+Status validateMapOverlay(const MapOverlayDescription& overlay, const std::string& where);
+
 /// Checks a grid layer's enumerated fields and numbers (as validateRadarLayer).
 Status validateGridLayer(const GridLayerDescription& grid, const std::string& where);
 
@@ -123,6 +136,11 @@ struct SceneDescription {
   /// Heights above the ellipsoid drawn this many times higher, for every volume, slice and
   /// marker alike (JSON "vertical_exaggeration", CLI --exaggeration; 0.1..100, 1 = true scale).
   double verticalExaggeration = 1.0;
+  /// Map context: GSHHG coastlines, country and state borders (JSON "map_context", CLI --no-map).
+  bool mapContext = true;
+  std::vector<MapOverlayDescription> overlays;  ///< user vector files (JSON "overlays", CLI --overlay)
+  bool rangeRings =
+      false;  ///< range rings and azimuth spokes around each radar (JSON "range_rings", CLI --range-rings)
 };
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).

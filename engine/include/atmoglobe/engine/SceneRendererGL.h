@@ -8,6 +8,7 @@
 #include <atmoglobe/engine/GltfModelRendererGL.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/Legend.h>
+#include <atmoglobe/engine/MapRendererGL.h>
 #include <atmoglobe/engine/MarkerRendererGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -38,6 +39,7 @@ Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& desc
 
 struct SceneFrameStats {
   GlobeFrameStats globe;
+  MapFrameStats map;
   double cpuMilliseconds = 0.0;   ///< time to issue the frame (without waiting for the GPU)
   double referenceSeconds = 0.0;  ///< time of the CPU reference volumes (setReferenceVolumes), else 0
 };
@@ -104,6 +106,14 @@ class SceneRendererGL {
   /// grids with their fields and valid times in UTC, the scale at the image centre (none when
   /// the centre is sky), and SYNTHETIC when any layer's file says so.
   FrameLegend legendFor(const Camera& camera) const;
+  /// Map context (MapRendererGL.h), drawn after the globe, models and slices, before the volumes:
+  /// GSHHG coastlines and borders (off until set; an error names a missing GSHHG file), user vector
+  /// files (returns a line for the user), range rings and spokes around each radar (every 50 km to
+  /// its maximum range, every 30 deg).
+  Status setMapContext(bool enabled);
+  Result<std::string> addOverlay(const MapOverlayDescription& overlay);
+  void setRangeRings(bool enabled) { rangeRings_ = enabled; }
+  MapRendererGL& map() { return *map_; }
   /// Loads a georeferenced .glb (e.g. from `atmoglobe export-cones`) to draw over the globe.
   Status addModel(const std::string& glbPath);
 
@@ -130,6 +140,9 @@ class SceneRendererGL {
   std::vector<GridLayerGL> grids_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   std::unique_ptr<SliceRendererGL> slices_;
+  std::unique_ptr<MapRendererGL> map_;
+  bool rangeRings_ = false;
+  std::size_t radarsWithRings_ = 0;
   int referenceThreads_ = 0;
   double exaggeration_ = 1.0;
 };

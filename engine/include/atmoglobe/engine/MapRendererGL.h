@@ -1,0 +1,106 @@
+#pragma once
+// Map context on the globe: GSHHG coastlines and WDBII country and state/province borders (Debian
+// gmt-gshhg, map/Gshhg.h), user vector files (map/VectorFile.h) and range rings, as lines on the
+// ellipsoid.
+//
+// - Level of detail by camera height (map/MapLod.h): one GSHHG resolution per frame, coarse at
+//   global views, finer when close; only the bins in view are read (a bin is dropped when its
+//   bounding sphere is outside the frustum or all its samples are behind the horizon) and built
+//   (densified along the geodesic to the level's segment length), then kept in a cache. State
+//   and province borders are left out at the crude level (whole-hemisphere views).
+// - Precision: each chunk (a GSHHG bin, or a piece of a user line) is float32 (hi, lo) pairs
+//   relative to a double origin; the shader subtracts the eye's (hi, lo), so points are placed
+//   relative to the eye to sub-millimetre precision from 1 m to 1e7 m.
+// - Occlusion, no z-fighting: drawn after the globe with the depth test on and depth writes off,
+//   each line's depth pulled toward the eye by a relative lift (kDepthLift: 1 %, far above the
+//   chord sag of the lines and the float rounding of the globe), and the far side of the Earth
+//   cut analytically per fragment ((V - P) . P > 0 in scaled space), so the lift never lets a
+//   line show through the Earth; tests count the pixels (MapRender tests).
+// - Width in pixels (screen-space quads, antialiased edges) and colour per layer.
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/map/GeoLines.h>
+#include <atmoglobe/map/Gshhg.h>
+
+#include <epoxy/gl.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+/// The relative depth lift of map lines (see above).
+inline constexpr float kMapDepthLift = 0.01f;
+
+struct MapLineStyle {
+  glm::vec3 color{1.0f};
+  float widthPx = 1.5f;
+  float opacity = 1.0f;
+};
+
+struct MapFrameStats {
+  map::GshhgResolution resolution = map::GshhgResolution::Crude;
+  int binsInView = 0;
+  int chunksDrawn = 0;
+  int chunksBuilt = 0;
+  std::size_t segmentsDrawn = 0;
+};
+
+class MapRendererGL {
+ public:
+  /// `gshhgDir`: where the binned GSHHG files are (map::defaultGshhgDirectory()).
+  static Result<std::unique_ptr<MapRendererGL>> create(const std::string& gshhgDir);
+  ~MapRendererGL();
+  MapRendererGL(const MapRendererGL&) = delete;
+  MapRendererGL& operator=(const MapRendererGL&) = delete;
+
+  /// Coastlines, country and state borders from GSHHG (on by default). Checks that the crude
+  /// files open: an error names the file when they do not (the layers then stay off).
+  Status setBuiltinLayers(bool enabled);
+  bool builtinLayers() const { return builtin_; }
+  /// Styles of the three built-in layers: 0 coast, 1 country borders, 2 state/province borders.
+  void setBuiltinStyle(int layer, const MapLineStyle& style) { builtinStyle_[layer] = style; }
+  /// Reads a user vector file (GDAL/OGR) and adds it as a layer; returns a line for the user.
+  Result<std::string> addOverlay(const std::string& path, const MapLineStyle& style);
+  /// Adds lines (range rings, tests) as a layer.
+  void addLines(const std::vector<map::GeoPolyline>& lines, const MapLineStyle& style);
+
+  /// Draws into the bound framebuffer (after the globe: depth test on, writes off, blending).
+  MapFrameStats draw(const Camera& camera);
+
+  struct ChunkGL;
+
+ private:
+  MapRendererGL() = default;
+  struct Overlay {
+    std::vector<std::vector<map::GeoPolyline>> pieces;  ///< grouped, each group one chunk
+    std::vector<glm::dvec4> spheres;                    ///< per group: centre (ECEF), radius
+    MapLineStyle style;
+  };
+  struct BinSamples {
+    glm::dvec3 center{0.0};
+    double radius = 0.0;
+    std::vector<glm::dvec3> samples;
+  };
+  bool binVisible(const Camera& camera, const globe::ViewState& view, const map::GshhgBinBox& box) const;
+  const map::GshhgFile* file(map::GshhgKind kind, map::GshhgResolution r);
+  void drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style);
+
+  std::string gshhgDir_;
+  bool builtin_ = false;
+  MapLineStyle builtinStyle_[3];
+  ShaderProgramGL program_;
+  GLuint vao_ = 0;
+  std::map<std::pair<int, int>, std::unique_ptr<map::GshhgFile>> files_;  ///< (kind, resolution)
+  std::map<std::pair<int, int>, bool> fileFailed_;
+  /// Cached chunks: key (layer, resolution, bin or group).
+  std::map<std::tuple<int, int, int>, std::unique_ptr<ChunkGL>> chunks_;
+  std::size_t chunkBytes_ = 0;
+  std::vector<Overlay> overlays_;
+  std::uint64_t frame_ = 0;
+};
+
+}  // namespace atmoglobe::engine

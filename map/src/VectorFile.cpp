@@ -1,0 +1,150 @@
+#include <atmoglobe/map/VectorFile.h>
+
+#include <gdal.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+namespace atmoglobe::map {
+
+namespace {
+
+struct DatasetCloser {
+  void operator()(void* ds) const { GDALClose(ds); }
+};
+struct SrsDeleter {
+  void operator()(void* s) const { OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(s)); }
+};
+struct TransformDeleter {
+  void operator()(void* t) const { OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(t)); }
+};
+
+// Appends the lines of `g` (line strings, polygon rings; recursing into collections).
+Status collect(OGRGeometryH g, OGRCoordinateTransformationH transform, const std::string& path,
+               VectorFileContents& out) {
+  if (!g) return Ok{};
+  const OGRwkbGeometryType type = wkbFlatten(OGR_G_GetGeometryType(g));
+  switch (type) {
+    case wkbPoint:
+    case wkbMultiPoint:
+      out.points += type == wkbPoint ? 1u : static_cast<std::size_t>(OGR_G_GetGeometryCount(g));
+      return Ok{};
+    case wkbLineString:
+    case wkbLinearRing: {
+      const int n = OGR_G_GetPointCount(g);
+      if (n < 2) return Ok{};
+      std::vector<double> x(static_cast<std::size_t>(n)), y(x.size());
+      for (int i = 0; i < n; ++i) {
+        x[static_cast<std::size_t>(i)] = OGR_G_GetX(g, i);
+        y[static_cast<std::size_t>(i)] = OGR_G_GetY(g, i);
+      }
+      if (transform) {
+        std::vector<int> ok(x.size(), 0);
+        if (!OCTTransformEx(transform, n, x.data(), y.data(), nullptr, ok.data()))
+          return makeError(path + ": a geometry could not be transformed to WGS84");
+        for (int v : ok)
+          if (!v) return makeError(path + ": a point could not be transformed to WGS84");
+      }
+      GeoPolyline line;
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || std::abs(y[i]) > 90.0 + 1e-9 || std::abs(x[i]) > 540.0)
+          return makeError(path + ": coordinate (" + std::to_string(x[i]) + ", " + std::to_string(y[i]) +
+                           ") is not a longitude/latitude on the Earth (wrong CRS or a broken file)");
+        const double lon = x[i] >= 180.0 || x[i] < -180.0 ? std::remainder(x[i], 360.0) : x[i];
+        line.lonLatDeg.emplace_back(lon, std::clamp(y[i], -90.0, 90.0));
+      }
+      out.lines.push_back(std::move(line));
+      ++(type == wkbLineString ? out.lineStrings : out.rings);
+      return Ok{};
+    }
+    case wkbPolygon:
+      for (int i = 0; i < OGR_G_GetGeometryCount(g); ++i) {
+        OGRGeometryH ring = OGR_G_GetGeometryRef(g, i);
+        // Rings report as line strings through the C API: count them as rings.
+        const std::size_t before = out.lineStrings;
+        if (auto st = collect(ring, transform, path, out); !st) return st;
+        if (out.lineStrings > before) {
+          out.lineStrings = before;
+          ++out.rings;
+        }
+      }
+      return Ok{};
+    default: {
+      const int n = OGR_G_GetGeometryCount(g);
+      if (n > 0) {
+        for (int i = 0; i < n; ++i)
+          if (auto st = collect(OGR_G_GetGeometryRef(g, i), transform, path, out); !st) return st;
+        return Ok{};
+      }
+      // Curves and other types: linearised.
+      if (OGR_GT_IsCurve(type) || OGR_GT_IsSurface(type)) {
+        OGRGeometryH linear = OGR_G_GetLinearGeometry(g, 0.0, nullptr);
+        Status st = collect(linear, transform, path, out);
+        OGR_G_DestroyGeometry(linear);
+        return st;
+      }
+      return Ok{};
+    }
+  }
+}
+
+}  // namespace
+
+Result<VectorFileContents> readVectorFile(const std::string& path) {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+  if (!std::filesystem::exists(path)) return makeError(path + ": no such file");
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  std::unique_ptr<void, DatasetCloser> ds(
+      GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+  std::string gdalMessage = CPLGetLastErrorMsg();
+  CPLPopErrorHandler();
+  if (!ds)
+    return makeError(path + ": not a vector file GDAL/OGR can read (GeoJSON, shapefile, KML/KMZ, GeoPackage, ...)" +
+                     (gdalMessage.empty() ? std::string() : ": " + gdalMessage));
+  const int layers = GDALDatasetGetLayerCount(ds.get());
+  if (layers <= 0) return makeError(path + ": no vector layer in the file");
+  VectorFileContents out;
+  std::unique_ptr<void, SrsDeleter> wgs84(OSRNewSpatialReference(nullptr));
+  OSRImportFromEPSG(static_cast<OGRSpatialReferenceH>(wgs84.get()), 4326);
+  OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(wgs84.get()), OAMS_TRADITIONAL_GIS_ORDER);
+  for (int l = 0; l < layers; ++l) {
+    OGRLayerH layer = GDALDatasetGetLayer(ds.get(), l);
+    OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+    std::unique_ptr<void, TransformDeleter> transform;
+    if (srs) {
+      out.layerCrs.push_back(OSRGetName(srs) ? OSRGetName(srs) : "(unnamed)");
+      std::unique_ptr<void, SrsDeleter> source(OSRClone(srs));
+      OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(source.get()), OAMS_TRADITIONAL_GIS_ORDER);
+      CPLPushErrorHandler(CPLQuietErrorHandler);
+      transform.reset(OCTNewCoordinateTransformation(static_cast<OGRSpatialReferenceH>(source.get()),
+                                                     static_cast<OGRSpatialReferenceH>(wgs84.get())));
+      const std::string msg = CPLGetLastErrorMsg();
+      CPLPopErrorHandler();
+      if (!transform)
+        return makeError(path + ": layer " + OGR_L_GetName(layer) + ": its CRS (" + out.layerCrs.back() +
+                         ") cannot be transformed to WGS84" + (msg.empty() ? std::string() : ": " + msg));
+    } else {
+      out.layerCrs.push_back("(none: taken as WGS 84 longitude/latitude)");
+    }
+    OGR_L_ResetReading(layer);
+    while (OGRFeatureH f = OGR_L_GetNextFeature(layer)) {
+      ++out.features;
+      Status st =
+          collect(OGR_F_GetGeometryRef(f), static_cast<OGRCoordinateTransformationH>(transform.get()), path, out);
+      OGR_F_Destroy(f);
+      if (!st) return st.forwardError();
+    }
+  }
+  if (out.lines.empty())
+    return makeError(path + ": no line or polygon in " + std::to_string(out.features) + " features (" +
+                     std::to_string(out.points) + " points, which are not drawn)");
+  return out;
+}
+
+}  // namespace atmoglobe::map

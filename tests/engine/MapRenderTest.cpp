@@ -1,0 +1,120 @@
+// Map lines over the globe (MapRendererGL): visible where expected from 1e7 m and from 1 m, and
+// not hidden by the globe (the pixels they cover with the globe drawn first, counted against the
+// same lines drawn alone).
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/map/Gshhg.h>
+
+#include "GLTestUtil.h"
+
+#include <filesystem>
+
+using namespace atmoglobe;
+
+namespace {
+
+// Pixels whose colour is close to the line colour (1, 0, 1): magenta appears nowhere else.
+int countLinePixels(const globe::ImageRGBA8& image) {
+  int n = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const glm::u8vec4 p = image.at(x, y);
+      n += p.r > 160 && p.b > 160 && p.g < 100;
+    }
+  return n;
+}
+
+bool lineNear(const globe::ImageRGBA8& image, glm::dvec2 px, int radius) {
+  for (int y = static_cast<int>(px.y) - radius; y <= static_cast<int>(px.y) + radius; ++y)
+    for (int x = static_cast<int>(px.x) - radius; x <= static_cast<int>(px.x) + radius; ++x) {
+      if (x < 0 || y < 0 || x >= image.width || y >= image.height) continue;
+      const glm::u8vec4 p = image.at(x, y);
+      if (p.r > 160 && p.b > 160 && p.g < 100) return true;
+    }
+  return false;
+}
+
+struct MapRender : ::testing::Test {
+  void SetUp() override {
+    testutil::glContext();
+    auto loader = engine::openImagery({}, {});  // no imagery: the globe's base colour
+    ASSERT_TRUE(loader) << loader.error();
+    auto r = engine::SceneRendererGL::create(*loader);
+    ASSERT_TRUE(r) << r.error();
+    renderer_ = std::move(*r);
+  }
+  // The frame with the globe (withGlobe) or the lines alone on black.
+  globe::ImageRGBA8 render(const engine::Camera& camera, bool withGlobe) {
+    auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+    EXPECT_TRUE(fb);
+    testutil::beginReverseZ(**fb);
+    if (withGlobe) renderer_->globe().draw(camera);
+    renderer_->map().draw(camera);
+    glFinish();
+    return (*fb)->readColor();
+  }
+  std::unique_ptr<engine::SceneRendererGL> renderer_;
+};
+
+}  // namespace
+
+TEST_F(MapRender, CoastlineFromTenThousandKilometres) {
+  const std::string coast =
+      map::gshhgPath(map::defaultGshhgDirectory(), map::GshhgKind::Shoreline, map::GshhgResolution::Crude);
+  if (!std::filesystem::exists(coast)) GTEST_SKIP() << coast << " missing (apt-get install gmt-gshhg)";
+  ASSERT_TRUE(renderer_->setMapContext(true));
+  const engine::MapLineStyle magenta{glm::vec3(1.0f, 0.0f, 1.0f), 2.0f, 1.0f};
+  for (int layer = 0; layer < 3; ++layer) renderer_->map().setBuiltinStyle(layer, magenta);
+  const engine::Camera camera({38.0, -9.0, 1e7, 0.0, -90.0, 0.0}, 60.0, 480, 360);
+  const globe::ImageRGBA8 with = render(camera, true), alone = render(camera, false);
+  // Cabo da Roca (crude coast within 25 km: ~2 px here at ~12 km/px) has a line within 3 px.
+  const auto cape = camera.projectToPixel(globe::geodeticToEcef({38.7804, -9.4989, 0.0}));
+  ASSERT_TRUE(cape);
+  EXPECT_TRUE(lineNear(with, *cape, 3));
+  // The middle of the Atlantic (35 N, 40 W) has none within 10 px.
+  const auto ocean = camera.projectToPixel(globe::geodeticToEcef({35.0, -40.0, 0.0}));
+  ASSERT_TRUE(ocean);
+  EXPECT_FALSE(lineNear(with, *ocean, 10));
+  // Not hidden by the globe: the same pixels with the globe as alone (lines alone have no depth
+  // to test against; the far side is cut analytically in both). 0.5 %: antialiased edge pixels
+  // blended over the base colour instead of black can cross the magenta threshold differently.
+  const int nWith = countLinePixels(with), nAlone = countLinePixels(alone);
+  EXPECT_GT(nAlone, 2000);
+  EXPECT_NEAR(nWith, nAlone, 0.005 * nAlone) << "with globe " << nWith << ", alone " << nAlone;
+  std::cout << "1e7 m: line pixels with the globe " << nWith << ", alone " << nAlone << "\n";
+}
+
+TEST_F(MapRender, LineFromOneMetre) {
+  // A 2 km geodesic line through (38.78 N, 9.49 W); the camera 1 m above its middle, looking down
+  // at 60 deg: the line crosses the picture's centre (its ground footprint is ~1.2 m across).
+  const double lat = 38.78, lon = -9.49;
+  const auto a = globe::geodesicDirect(lat, lon, 60.0, 1000.0), b = globe::geodesicDirect(lat, lon, 240.0, 1000.0);
+  renderer_->map().addLines({{{{a.lonDeg, a.latDeg}, {b.lonDeg, b.latDeg}}}}, {glm::vec3(1, 0, 1), 3.0f, 1.0f});
+  const engine::Camera camera({lat, lon, 1.0, 0.0, -90.0, 0.0}, 60.0, 320, 240);
+  const globe::ImageRGBA8 with = render(camera, true), alone = render(camera, false);
+  // The line through the nadir: at the centre, and at the projected point 0.3 m along it.
+  const auto mid = camera.projectToPixel(globe::geodeticToEcef({lat, lon, 0.0}));
+  const auto q = globe::geodesicDirect(lat, lon, 60.0, 0.3);
+  const auto along = camera.projectToPixel(globe::geodeticToEcef({q.latDeg, q.lonDeg, 0.0}));
+  ASSERT_TRUE(mid && along);
+  EXPECT_TRUE(lineNear(with, *mid, 1));
+  EXPECT_TRUE(lineNear(with, *along, 1));
+  // 0.3 m to the side (azimuth 150): ~60 px away at 1 m, no line.
+  const auto s = globe::geodesicDirect(lat, lon, 150.0, 0.3);
+  const auto side = camera.projectToPixel(globe::geodeticToEcef({s.latDeg, s.lonDeg, 0.0}));
+  ASSERT_TRUE(side);
+  EXPECT_FALSE(lineNear(with, *side, 3));
+  const int nWith = countLinePixels(with), nAlone = countLinePixels(alone);
+  EXPECT_GT(nAlone, 500);
+  EXPECT_NEAR(nWith, nAlone, 0.005 * nAlone) << "with globe " << nWith << ", alone " << nAlone;
+  std::cout << "1 m: line pixels with the globe " << nWith << ", alone " << nAlone << "\n";
+}
+
+TEST_F(MapRender, LinesBehindTheEarthAreHidden) {
+  // A line on the far side of the Earth (antipode of the view centre) draws nothing.
+  renderer_->map().addLines({{{{170.0, -38.0}, {172.0, -36.0}}}}, {glm::vec3(1, 0, 1), 3.0f, 1.0f});
+  const engine::Camera camera({38.0, -9.0, 1e7, 0.0, -90.0, 0.0}, 60.0, 320, 240);
+  EXPECT_EQ(countLinePixels(render(camera, true)), 0);
+  EXPECT_EQ(countLinePixels(render(camera, false)), 0);  // the analytic horizon cut, not the depth
+}
