@@ -289,6 +289,7 @@ int runView(const ViewOptions& o) {
       panelState.timeLabel = time.label;
       panelState.playing = state.playing;
       panelState.frameMilliseconds = frameMs;
+      panelState.legend = (*renderer)->legendFor(camera);
       const int before = panelState.timePosition;
       if (panel->draw(panelState)) {
         state.timeMove += panelState.timePosition - before;

@@ -49,6 +49,33 @@ std::vector<double> niceTicks(double lo, double hi, int target) {
   return ticks;
 }
 
+std::vector<LegendKey> mergeLegendKeys(const std::vector<LegendKey>& in) {
+  // Layers with the same table and units share one key (its title names them all).
+  std::vector<LegendKey> keys;
+  for (const LegendKey& k : in) {
+    auto same = std::find_if(keys.begin(), keys.end(), [&](const LegendKey& o) {
+      return o.units == k.units && o.colors.stops() == k.colors.stops() && o.colors.scale() == k.colors.scale() &&
+             o.colors.offset() == k.colors.offset();
+    });
+    if (same == keys.end()) keys.push_back(k);
+    else same->title += ", " + k.title;
+  }
+  return keys;
+}
+
+glm::dvec2 colorKeyRange(const volume::ColorTable& colors) {
+  const auto& stops = colors.stops();
+  if (stops.empty()) return {0.0, 1.0};
+  const bool stepped =
+      std::all_of(stops.begin(), stops.end(), [](const volume::ColorStop& s) { return s.start == s.end; });
+  auto field = [&](double tableValue) { return (tableValue - colors.offset()) / colors.scale(); };
+  double lo = field(stops.front().value), hi = field(stops.back().value);
+  if (stepped && stops.size() >= 2) hi = field(2 * stops.back().value - stops[stops.size() - 2].value);
+  if (lo > hi) std::swap(lo, hi);
+  if (!(hi > lo)) hi = lo + 1.0;
+  return {lo, hi};
+}
+
 void drawColorKey(globe::ImageRGBA8& img, const Font& font, const volume::ColorTable& colors, const std::string& units,
                   int kx0, int ky0, int kx1, int ky1, const TextStyle& tick, const TextStyle& unitsStyle) {
   const auto& stops = colors.stops();
@@ -57,10 +84,8 @@ void drawColorKey(globe::ImageRGBA8& img, const Font& font, const volume::ColorT
   const bool stepped =
       std::all_of(stops.begin(), stops.end(), [](const volume::ColorStop& s) { return s.start == s.end; });
   auto field = [&](double tableValue) { return (tableValue - colors.offset()) / colors.scale(); };
-  double lo = field(stops.front().value), hi = field(stops.back().value);
-  if (stepped && stops.size() >= 2) hi = field(2 * stops.back().value - stops[stops.size() - 2].value);
-  if (lo > hi) std::swap(lo, hi);
-  if (!(hi > lo)) hi = lo + 1.0;
+  const glm::dvec2 range = colorKeyRange(colors);
+  const double lo = range.x, hi = range.y;
   for (int y = ky0; y < ky1; ++y) {
     const double v = hi - (y - ky0 + 0.5) / (ky1 - ky0) * (hi - lo);
     const volume::Rgba8 c = colors.map(static_cast<float>(v));
@@ -123,17 +148,7 @@ Status drawFrameLegend(globe::ImageRGBA8& img, const FrameLegend& legend) {
   const int keyWidth = static_cast<int>(14 * scale), column = static_cast<int>(70 * scale);
   const int top = static_cast<int>(60 * scale), bottom = img.height - static_cast<int>(40 * scale);
   int x1 = img.width - static_cast<int>(46 * scale);
-  // Layers with the same table and units share one key (its title names them all).
-  std::vector<LegendKey> keys;
-  for (const LegendKey& k : legend.keys) {
-    auto same = std::find_if(keys.begin(), keys.end(), [&](const LegendKey& o) {
-      return o.units == k.units && o.colors.stops() == k.colors.stops() && o.colors.scale() == k.colors.scale() &&
-             o.colors.offset() == k.colors.offset();
-    });
-    if (same == keys.end()) keys.push_back(k);
-    else same->title += ", " + k.title;
-  }
-  for (const LegendKey& k : keys) {
+  for (const LegendKey& k : mergeLegendKeys(legend.keys)) {
     if (bottom - top < 60 || x1 - keyWidth < img.width / 2) break;  // no room: fewer keys rather than overlap
     drawColorKey(img, font, k.colors, k.units, x1 - keyWidth, top + static_cast<int>(36 * scale), x1, bottom, tick,
                  line);

@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace atmoglobe::engine {
@@ -78,6 +79,36 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
     ImGui::Separator();
   }
   for (const std::string& line : s.layers) ImGui::TextUnformatted(line.c_str());
+  for (const std::string& line : s.legend.subtitles) ImGui::TextUnformatted(line.c_str());
+  if (s.legend.synthetic) ImGui::TextColored(ImVec4(1.0f, 0.25f, 0.25f, 1.0f), "SYNTHETIC DATA");
+  // Colour keys, horizontal: the table's colours from low to high with a few values under them.
+  for (const LegendKey& k : mergeLegendKeys(s.legend.keys)) {
+    ImGui::TextUnformatted((k.title + "  [" + k.units + "]").c_str());
+    const glm::dvec2 range = colorKeyRange(k.colors);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = 260.0f, height = 14.0f;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int x = 0; x < static_cast<int>(width); ++x) {
+      const double v = range.x + (x + 0.5) / width * (range.y - range.x);
+      const volume::Rgba8 c = k.colors.map(static_cast<float>(v));
+      draw->AddRectFilled(ImVec2(origin.x + static_cast<float>(x), origin.y),
+                          ImVec2(origin.x + static_cast<float>(x) + 1.0f, origin.y + height),
+                          IM_COL32(c.r, c.g, c.b, 255));
+    }
+    // Tick values under the bar, each at its place.
+    const std::vector<double> ticks = niceTicks(range.x, range.y, 5);
+    const int decimals = decimalsFor(ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0);
+    for (double t : ticks) {
+      const std::string label = fixed(t, decimals);
+      const float x = origin.x + static_cast<float>((t - range.x) / (range.y - range.x)) * width;
+      draw->AddLine(ImVec2(x, origin.y + height), ImVec2(x, origin.y + height + 3.0f), IM_COL32(255, 255, 255, 255));
+      const float w = ImGui::CalcTextSize(label.c_str()).x;
+      draw->AddText(
+          ImVec2(std::clamp(x - 0.5f * w, origin.x - 4.0f, origin.x + width + 4.0f - w), origin.y + height + 3.0f),
+          IM_COL32(255, 255, 255, 255), label.c_str());
+    }
+    ImGui::Dummy(ImVec2(width, height + 4.0f + ImGui::GetTextLineHeight()));
+  }
   ImGui::Text("frame %.1f ms", s.frameMilliseconds);
   if (!s.readout.empty()) {
     ImGui::Separator();

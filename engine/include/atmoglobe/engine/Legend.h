@@ -50,6 +50,13 @@ struct FrameLegend {
   bool synthetic = false;              ///< draws SYNTHETIC DATA
 };
 
+/// The keys with layers of the same table and units merged into one (titles joined by ", ").
+std::vector<LegendKey> mergeLegendKeys(const std::vector<LegendKey>& keys);
+
+/// The value range a key shows (field units): the table's first to last value (a stepped table
+/// one band more), low first.
+glm::dvec2 colorKeyRange(const volume::ColorTable& colors);
+
 /// Draws `legend` over `image`: title and subtitles top left, keys along the right edge (side
 /// by side when several), the scale bar bottom left (a round length of about a fifth of the
 /// width), SYNTHETIC DATA top right in red. Errors: the font's.

@@ -7,6 +7,7 @@
 // Input: the backends chain to the window's own GLFW callbacks; while the pointer is over the
 // panel (capturesMouse) or a widget has the keyboard (capturesKeyboard) the viewer leaves those
 // events to it.
+#include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/globe/Result.h>
 
 #include <memory>
@@ -26,6 +27,7 @@ struct ViewerPanelState {
   std::vector<std::string> layers;  ///< one line per layer (what is loaded)
   double frameMilliseconds = 0.0;
   std::vector<std::string> readout;  ///< the value under the cursor (Readout.h), one line each
+  FrameLegend legend;                ///< what the frame shows (SceneRendererGL::legendFor): times, keys
   bool screenshotRequested = false;  ///< out: the Screenshot button was pressed
 };
 
