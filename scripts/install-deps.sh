@@ -13,6 +13,7 @@ PKGS=(
   opencollada-tools libxml2-utils nodejs unzip
   netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps
   fonts-dejavu-core libimgui-dev
+  clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, run briefly in CI by scripts/test-sanitized.sh)
 )
 
 missing=()
