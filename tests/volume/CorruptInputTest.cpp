@@ -4,6 +4,7 @@
 // allocation of terabytes). Inputs: the small synthetic grid seed of the fuzz corpus
 // (fuzz/corpus/grid, made with ncgen) and, for the radar readers, the real sample files.
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/RainbowReader.h>
 #include <atmoglobe/volume/SigmetReader.h>
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -142,5 +144,26 @@ TEST(CorruptInput, BitFlippedRadarFilesReadOrFailNamingTheFile) {
     if (!c.ok()) {
       EXPECT_NE(c.error().find(label + ".ar2v"), std::string::npos) << c.error();
     }
+  }
+}
+
+TEST(CorruptInput, FuzzFoundOverlongClassicNamesAreRefused) {
+  // fuzz_grid findings (fuzz/corpus/grid/crash-*): classic headers naming a dimension with
+  // thousands of characters, which netCDF-C copied into NC_MAX_NAME-sized buffers (a stack
+  // overflow under ASan). Now refused before netCDF-C opens the file, from disk and from memory.
+  for (const char* name : {"crash-overlong-dimension-name-1.nc", "crash-overlong-dimension-name-2.nc"}) {
+    const std::string path = std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/grid/" + name;
+    ASSERT_TRUE(std::filesystem::exists(path)) << path;
+    auto r = readGridVolume(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().rfind(path, 0), 0u) << r.error();
+    EXPECT_NE(r.error().find("dimension name of"), std::string::npos) << r.error();
+    auto d = describeGridFile(path);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().find("header is corrupt"), std::string::npos) << d.error();
+    auto bytes = std::make_shared<std::vector<unsigned char>>(readAll(path));
+    auto m = NetcdfFile::openMemory("in-memory.nc", bytes);
+    ASSERT_FALSE(m.ok());
+    EXPECT_EQ(m.error().rfind("in-memory.nc: ", 0), 0u) << m.error();
   }
 }
