@@ -167,3 +167,21 @@ TEST(CorruptInput, FuzzFoundOverlongClassicNamesAreRefused) {
     EXPECT_EQ(m.error().rfind("in-memory.nc: ", 0), 0u) << m.error();
   }
 }
+
+TEST(CorruptInput, FuzzFoundHeaderCountsBeyondTheFileAreRefused) {
+  // fuzz_grid findings (fuzz/corpus/grid/oom-header-counts-*): classic headers claiming more
+  // attribute values or variable dimensions than the file holds, for which netCDF-C allocated
+  // 7 to 9 GB before reading them. Now refused from the header walk, naming the file.
+  int files = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/grid")) {
+    if (entry.path().filename().string().rfind("oom-header-counts-", 0) != 0) continue;
+    ++files;
+    const std::string path = entry.path().string();
+    auto r = readGridVolume(path);
+    ASSERT_FALSE(r.ok()) << path;
+    EXPECT_EQ(r.error().rfind(path, 0), 0u) << r.error();
+    EXPECT_NE(r.error().find("claimed in a file of"), std::string::npos) << r.error();
+  }
+  EXPECT_EQ(files, 3);
+}

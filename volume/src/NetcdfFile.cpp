@@ -140,7 +140,11 @@ Opened openTracked(OpenFn&& openFn) {
 /// netCDF-C opens the file, and a name over NC_MAX_NAME is refused. Returns what is wrong, or ""
 /// (also for headers this walk cannot follow: netCDF-C then judges them). netCDF-4/HDF5 names
 /// are bounded by the netCDF-4 layer.
-std::string classicHeaderProblem(const unsigned char* p, std::size_t size) {
+/// `totalBytes`: the whole file's size (`size` may be only its head). A count of dimensions,
+/// attributes or variables that the rest of the file cannot hold (each entry takes 8 bytes at
+/// least) is refused too: netCDF-C allocated such counts before reading them (fuzz_grid: a 9 GB
+/// calloc from a 20 kB file).
+std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::size_t totalBytes) {
   if (size < 8 || p[0] != 'C' || p[1] != 'D' || p[2] != 'F') return {};
   const int version = p[3];
   if (version != 1 && version != 2 && version != 5) return {};
@@ -166,6 +170,16 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size) {
   };
   auto pad4 = [](std::uint64_t n) { return (n + 3) / 4 * 4; };
   std::string problem;
+  auto count = [&](const char* what) -> std::uint64_t {
+    const std::uint64_t n = get(countBytes);
+    if (!ran && n > (totalBytes - std::min(at, totalBytes)) / 8) {
+      if (problem.empty())
+        problem = std::to_string(n) + " " + what + " claimed in a file of " + std::to_string(totalBytes) + " bytes";
+      ran = true;
+      return 0;
+    }
+    return n;
+  };
   auto name = [&](const char* what) {
     const std::uint64_t n = get(countBytes);
     if (!ran && n > NC_MAX_NAME && problem.empty())
@@ -191,31 +205,41 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size) {
   };
   auto attributes = [&]() {
     get(4);  // NC_ATTRIBUTE or ZERO
-    const std::uint64_t n = get(countBytes);
+    const std::uint64_t n = count("attributes");
     for (std::uint64_t a = 0; a < n && !ran && problem.empty(); ++a) {
       name("attribute");
       const std::uint64_t bytes = typeBytes(get(4));
-      const std::uint64_t count = get(countBytes);
-      if (bytes == 0 || count > size) {
-        ran = true;
+      const std::uint64_t values = get(countBytes);
+      if (bytes == 0) {
+        ran = true;  // an unknown type: left to netCDF-C
         return;
       }
-      skip(pad4(count * bytes));
+      if (!ran && values > (totalBytes - std::min(at, totalBytes)) / bytes) {
+        if (problem.empty())
+          problem = "an attribute of " + std::to_string(values) + " values claimed in a file of " +
+                    std::to_string(totalBytes) + " bytes";
+        return;
+      }
+      skip(pad4(values * bytes));
     }
   };
   get(4);  // NC_DIMENSION or ZERO
-  const std::uint64_t ndims = get(countBytes);
+  const std::uint64_t ndims = count("dimensions");
   for (std::uint64_t d = 0; d < ndims && !ran && problem.empty(); ++d) {
     name("dimension");
     get(countBytes);
   }
   attributes();
   get(4);  // NC_VARIABLE or ZERO
-  const std::uint64_t nvars = get(countBytes);
+  const std::uint64_t nvars = count("variables");
   for (std::uint64_t v = 0; v < nvars && !ran && problem.empty(); ++v) {
     name("variable");
     const std::uint64_t rank = get(countBytes);
-    if (rank > size) break;
+    if (!ran && rank > (totalBytes - std::min(at, totalBytes)) / 4) {
+      problem = "a variable of " + std::to_string(rank) + " dimensions claimed in a file of " +
+                std::to_string(totalBytes) + " bytes";
+      break;
+    }
     skip(rank * countBytes);
     attributes();
     get(4);                     // nc_type
@@ -247,7 +271,7 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
     // The classic header's names, before netCDF-C reads them (classicHeaderProblem): the first
     // 16 MiB at most (a header that needs more is left to netCDF-C).
     std::vector<unsigned char> head = peekFileContent(path, std::min<std::size_t>(size, std::size_t{16} << 20));
-    if (auto bad = classicHeaderProblem(head.data(), head.size()); !bad.empty())
+    if (auto bad = classicHeaderProblem(head.data(), head.size(), size); !bad.empty())
       return makeError(path + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
   }
   const Opened o = openTracked([&](int* ncid) { return nc_open(path.c_str(), NC_NOWRITE, ncid); });
@@ -259,7 +283,7 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
 
 Result<NetcdfFile> NetcdfFile::openMemory(const std::string& label, std::shared_ptr<std::vector<unsigned char>> bytes) {
   if (!bytes || bytes->empty()) return makeError(label + ": cannot open as netCDF/HDF5: the content is empty");
-  if (auto bad = classicHeaderProblem(bytes->data(), bytes->size()); !bad.empty())
+  if (auto bad = classicHeaderProblem(bytes->data(), bytes->size(), bytes->size()); !bad.empty())
     return makeError(label + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
   const Opened o = openTracked(
       [&](int* ncid) { return nc_open_mem(label.c_str(), NC_NOWRITE, bytes->size(), bytes->data(), ncid); });
