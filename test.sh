@@ -4,6 +4,9 @@
 # checkout. Without them the tests that read them (ctest label realdata) are skipped, with the
 # reason. With CI=true they must all run: a missing data directory, or any realdata test that
 # does not run, is a failure (ATMOGLOBE_REQUIRE_TEST_DATA=1 turns each skip into a failure).
+# With ATMOGLOBE_SANITIZED_TESTS=1 the whole suite then runs again under AddressSanitizer
+# + UndefinedBehaviorSanitizer, followed by a short fuzz run of every fuzz target
+# (scripts/test-sanitized.sh, in build-sanitize/ and build-fuzz/).
 set -euo pipefail
 cd "$(dirname "$0")"
 data="${ATMOGLOBE_TEST_DATA:-$(cd .. && pwd)/shared/data}"
@@ -37,4 +40,9 @@ if [ -n "$skipped_realdata" ]; then
   echo "test.sh: $n of $(echo "$realdata" | wc -l) realdata tests skipped (set ATMOGLOBE_TEST_DATA), because:"
   grep -o 'real sample data not found at [^;]*(set ATMOGLOBE_TEST_DATA)' Testing/Temporary/LastTest.log |
     sort | uniq -c | sed 's/^ */  /' || true
+fi
+cd ..
+# Not yet on by default in CI: its time on CI's machine with this whole suite is not measured.
+if [ "${ATMOGLOBE_SANITIZED_TESTS:-}" = "1" ]; then
+  ./scripts/test-sanitized.sh
 fi

@@ -133,6 +133,122 @@ Opened openTracked(OpenFn&& openFn) {
   return o;
 }
 
+/// Classic-format headers (CDF-1/2/5) carry names of any length, and netCDF-C 4.9.0 copies them
+/// whole into the caller's buffer (nc_inq_dimname and the like), where every caller, here and in
+/// the grid reader, has NC_MAX_NAME + 1 bytes: a corrupt header overflowed them (fuzz_grid; a
+/// 538-byte file naming a dimension with 4099 characters). So the header is walked here, before
+/// netCDF-C opens the file, and a name over NC_MAX_NAME is refused. Returns what is wrong, or ""
+/// (also for headers this walk cannot follow: netCDF-C then judges them). netCDF-4/HDF5 names
+/// are bounded by the netCDF-4 layer.
+/// `totalBytes`: the whole file's size (`size` may be only its head). A count of dimensions,
+/// attributes or variables that the rest of the file cannot hold (each entry takes 8 bytes at
+/// least) is refused too: netCDF-C allocated such counts before reading them (fuzz_grid: a 9 GB
+/// calloc from a 20 kB file).
+std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::size_t totalBytes) {
+  if (size < 8 || p[0] != 'C' || p[1] != 'D' || p[2] != 'F') return {};
+  const int version = p[3];
+  if (version != 1 && version != 2 && version != 5) return {};
+  const std::size_t countBytes = version == 5 ? 8 : 4;  // nelems, name lengths, dim lengths
+  std::size_t at = 4 + countBytes;                      // magic, numrecs
+  bool ran = false;                                     // ran past the bytes we have
+  auto get = [&](std::size_t n) -> std::uint64_t {
+    if (ran || at + n > size) {
+      ran = true;
+      return 0;
+    }
+    std::uint64_t v = 0;
+    for (std::size_t i = 0; i < n; ++i) v = (v << 8) | p[at + i];
+    at += n;
+    return v;
+  };
+  auto skip = [&](std::uint64_t n) {
+    if (ran || n > size - at) {
+      ran = true;
+      return;
+    }
+    at += static_cast<std::size_t>(n);
+  };
+  auto pad4 = [](std::uint64_t n) { return (n + 3) / 4 * 4; };
+  std::string problem;
+  auto count = [&](const char* what) -> std::uint64_t {
+    const std::uint64_t n = get(countBytes);
+    if (!ran && n > (totalBytes - std::min(at, totalBytes)) / 8) {
+      if (problem.empty())
+        problem = std::to_string(n) + " " + what + " claimed in a file of " + std::to_string(totalBytes) + " bytes";
+      ran = true;
+      return 0;
+    }
+    return n;
+  };
+  auto name = [&](const char* what) {
+    const std::uint64_t n = get(countBytes);
+    if (!ran && n > NC_MAX_NAME && problem.empty())
+      problem = std::string("a ") + what + " name of " + std::to_string(n) + " characters (at most " +
+                std::to_string(NC_MAX_NAME) + ")";
+    skip(pad4(n));
+  };
+  auto typeBytes = [](std::uint64_t t) -> std::uint64_t {
+    switch (t) {
+      case NC_BYTE:
+      case NC_CHAR:
+      case NC_UBYTE: return 1;
+      case NC_SHORT:
+      case NC_USHORT: return 2;
+      case NC_INT:
+      case NC_FLOAT:
+      case NC_UINT: return 4;
+      case NC_DOUBLE:
+      case NC_INT64:
+      case NC_UINT64: return 8;
+      default: return 0;
+    }
+  };
+  auto attributes = [&]() {
+    get(4);  // NC_ATTRIBUTE or ZERO
+    const std::uint64_t n = count("attributes");
+    for (std::uint64_t a = 0; a < n && !ran && problem.empty(); ++a) {
+      name("attribute");
+      const std::uint64_t bytes = typeBytes(get(4));
+      const std::uint64_t values = get(countBytes);
+      if (bytes == 0) {
+        ran = true;  // an unknown type: left to netCDF-C
+        return;
+      }
+      if (!ran && values > (totalBytes - std::min(at, totalBytes)) / bytes) {
+        if (problem.empty())
+          problem = "an attribute of " + std::to_string(values) + " values claimed in a file of " +
+                    std::to_string(totalBytes) + " bytes";
+        return;
+      }
+      skip(pad4(values * bytes));
+    }
+  };
+  get(4);  // NC_DIMENSION or ZERO
+  const std::uint64_t ndims = count("dimensions");
+  for (std::uint64_t d = 0; d < ndims && !ran && problem.empty(); ++d) {
+    name("dimension");
+    get(countBytes);
+  }
+  attributes();
+  get(4);  // NC_VARIABLE or ZERO
+  const std::uint64_t nvars = count("variables");
+  for (std::uint64_t v = 0; v < nvars && !ran && problem.empty(); ++v) {
+    name("variable");
+    const std::uint64_t rank = get(countBytes);
+    if (!ran && rank > (totalBytes - std::min(at, totalBytes)) / 4) {
+      problem = "a variable of " + std::to_string(rank) + " dimensions claimed in a file of " +
+                std::to_string(totalBytes) + " bytes";
+      break;
+    }
+    skip(rank * countBytes);
+    attributes();
+    get(4);                     // nc_type
+    get(countBytes);            // vsize
+    get(version == 1 ? 4 : 8);  // begin
+  }
+  return problem;
+}
+
 std::string openFailure(const std::string& label, int st) {
   const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
   return label + ": cannot open as netCDF/HDF5: " + ncError(st) +
@@ -151,6 +267,13 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
     if (!content) return content.forwardError();
     return openMemory(content->label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
   }
+  {
+    // The classic header's names, before netCDF-C reads them (classicHeaderProblem): the first
+    // 16 MiB at most (a header that needs more is left to netCDF-C).
+    std::vector<unsigned char> head = peekFileContent(path, std::min<std::size_t>(size, std::size_t{16} << 20));
+    if (auto bad = classicHeaderProblem(head.data(), head.size(), size); !bad.empty())
+      return makeError(path + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
+  }
   const Opened o = openTracked([&](int* ncid) { return nc_open(path.c_str(), NC_NOWRITE, ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(path, o.status));
   NetcdfFile file(path, o.ncid, size, o.hdf5);
@@ -160,6 +283,8 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
 
 Result<NetcdfFile> NetcdfFile::openMemory(const std::string& label, std::shared_ptr<std::vector<unsigned char>> bytes) {
   if (!bytes || bytes->empty()) return makeError(label + ": cannot open as netCDF/HDF5: the content is empty");
+  if (auto bad = classicHeaderProblem(bytes->data(), bytes->size(), bytes->size()); !bad.empty())
+    return makeError(label + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
   const Opened o = openTracked(
       [&](int* ncid) { return nc_open_mem(label.c_str(), NC_NOWRITE, bytes->size(), bytes->data(), ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(label, o.status));

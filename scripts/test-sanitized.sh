@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# scripts/test-sanitized.sh   the whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer,
+# then a short fuzz run of every fuzz target over its kept corpus (when clang is installed).
+# Called by test.sh when CI=true (or ATMOGLOBE_SANITIZED_TESTS=1); builds in build-sanitize/ and
+# build-fuzz/, beside the Release build/.
+#
+# Sanitized build: GCC (the project's compiler, so the same warnings are errors), -O1 -g1 without
+# -DNDEBUG (asserts on), -fno-sanitize-recover=all (every ASan/UBSan report ends the test with a
+# failure), warnings as errors. Every test executable, library and tool is built this way, so the
+# CLI tests run a sanitized `atmoglobe` too.
+# Leaks: detect_leaks=1 (LeakSanitizer on, in our code and the tests), with the suppressions of
+# scripts/lsan-suppressions.txt, which name third-party libraries only (netCDF-C/HDF5 after a
+# failed open, Mesa/LLVM driver state held for the process's life in the GL tests).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$(pwd)"
+seconds="${ATMOGLOBE_FUZZ_SECONDS:-10}"
+start=$SECONDS
+
+flags="-O1 -g1"
+if [ ! -f build-sanitize/CMakeCache.txt ]; then
+  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags" \
+    -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON >/dev/null
+fi
+cmake --build build-sanitize -j "$(nproc)"
+echo "test-sanitized.sh: sanitized build done after $((SECONDS - start)) s"
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan-suppressions.txt:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+(cd build-sanitize && ctest --output-on-failure --timeout 1800 -j "$(nproc)")
+echo "test-sanitized.sh: sanitized tests passed after $((SECONDS - start)) s"
+
+if command -v clang++ >/dev/null 2>&1; then
+  if [ ! -f build-fuzz/CMakeCache.txt ]; then
+    cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+      "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags" \
+      -DATMOGLOBE_FUZZ=ON -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON -DATMOGLOBE_BUILD_TESTS=OFF >/dev/null
+  fi
+  cmake --build build-fuzz -j "$(nproc)" --target fuzz
+  fuzz/run.sh build-fuzz "$seconds"
+  echo "test-sanitized.sh: fuzz run (${seconds} s per target) passed after $((SECONDS - start)) s"
+else
+  echo "test-sanitized.sh: clang++ not installed: no fuzz run (scripts/install-deps.sh installs it)"
+fi
