@@ -103,7 +103,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   json root;
   try {
     root = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers beyond double (fuzz_scene)
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
   if (auto s = checkKeys(root,

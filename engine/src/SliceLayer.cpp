@@ -52,7 +52,7 @@ Result<std::vector<SliceLayerDescription>> parseSliceLayersJson(std::string_view
   json root;
   try {
     root = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers beyond double (fuzz_scene)
     return makeError(where + ": not valid JSON: " + e.what());
   }
   if (!root.is_array()) return makeError(where + " must be an array");

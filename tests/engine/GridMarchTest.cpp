@@ -562,3 +562,11 @@ TEST(GridMarch, RadarLoopFromADirectory) {
   ASSERT_TRUE(first);
   EXPECT_NE(first->pixels, last->pixels) << "the storm moved 10 km between the first and the last volume";
 }
+
+// fuzz_scene found it: a number beyond double killed the process (std::terminate from an
+// uncaught json::out_of_range); it is a "not valid JSON" error naming the scene.
+TEST(SceneJson, NumbersBeyondDoubleAreAnError) {
+  auto scene = engine::parseSceneJson(R"({"fov_deg": -2e1111111111})", "big.json", ".", ".");
+  ASSERT_FALSE(scene);
+  EXPECT_NE(scene.error().find("big.json: not valid JSON"), std::string::npos) << scene.error();
+}
