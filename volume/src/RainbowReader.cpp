@@ -1,4 +1,5 @@
 #include <atmoglobe/volume/RainbowReader.h>
+#include "ReadUnwrapped.h"
 
 #include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -421,14 +422,10 @@ Result<RadarVolume> readRainbow5(const std::string& label, const std::vector<uns
 }
 
 Result<RadarVolume> readRainbow5(const std::string& path, const ReadOptions& options) {
-  auto content = readFileBytes(path);
-  if (!content) return content.forwardError();
-  auto vol = readRainbow5(content->label, content->bytes, options);
-  if (vol && content->compression != Compression::None) {
-    vol->sourcePath = path;
-    vol->compression = toString(content->compression);
-  }
-  return vol;
+  return readUnwrapped(path, options,
+                       [](const std::string& label, const std::vector<unsigned char>& bytes, const ReadOptions& o) {
+                         return readRainbow5(label, bytes, o);
+                       });
 }
 
 }  // namespace atmoglobe::volume

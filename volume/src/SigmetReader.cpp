@@ -1,4 +1,5 @@
 #include <atmoglobe/volume/SigmetReader.h>
+#include "ReadUnwrapped.h"
 
 #include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -435,14 +436,10 @@ Result<RadarVolume> readSigmetIris(const std::string& label, const std::vector<u
 }
 
 Result<RadarVolume> readSigmetIris(const std::string& path, const ReadOptions& options) {
-  auto content = readFileBytes(path);
-  if (!content) return content.forwardError();
-  auto vol = readSigmetIris(content->label, content->bytes, options);
-  if (vol && content->compression != Compression::None) {
-    vol->sourcePath = path;
-    vol->compression = toString(content->compression);
-  }
-  return vol;
+  return readUnwrapped(path, options,
+                       [](const std::string& label, const std::vector<unsigned char>& bytes, const ReadOptions& o) {
+                         return readSigmetIris(label, bytes, o);
+                       });
 }
 
 }  // namespace atmoglobe::volume
