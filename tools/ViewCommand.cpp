@@ -1,23 +1,41 @@
-// atmoglobe view: the desktop globe viewer (GLFW window).
-//   left drag          orbit (move over the ground)
-//   wheel              zoom toward the point under the cursor
-//   shift + left drag  tilt (up/down) and turn (left/right)
-//   P                  save a screenshot (atmoglobe-screenshot-N.png in the working dir)
-//   R                  back to the scene's camera;  Esc/Q  quit
-//   Right / Left       next / previous time step of the scene's grids (a substep with
-//                      --time-substeps: the grids interpolated in time between steps)
-//   Space              play / pause the time steps (looping);  Home  the first step
+// atmoglobe view: the desktop globe viewer (GLFW window). Navigation (engine/CameraController.h):
+//   left drag             grab the globe: the ground point under the pointer stays under it
+//                         (the globe turns about its centre; at any tilt)
+//   wheel                 zoom toward the point under the cursor (exact at any tilt)
+//   shift + left drag,    tilt (up/down) and turn (left/right) about the ground point at the
+//   right drag            view centre
+//   arrows, W A S D       move (the ground at the centre slides by a tenth of the view)
+//   shift + Left/Right    turn about the view centre
+//   + / -                 zoom in / out at the view centre
+//   PageUp / PageDown     tilt toward the horizon / back toward straight down
+//   H or R                fly home (the scene's camera)
+//   Fly-to box (panel)    fly to a radar, station, place or LAT,LON; also --fly-to NAME
+// Time (scene grids and radar loops):
+//   . / ,                 next / previous time step (a substep with --time-substeps)
+//   Space                 play / pause (looping);  Home  the first step
+// Other: P  screenshot (atmoglobe-screenshot-N.png in the working directory);  Esc/Q  quit.
+// (Right/Left used to step time; arrows now move the camera, as in globe viewers, and time
+// keeps the , . keys it already had.)
+//
+// --script FILE (engine/ViewerScript.h) replays mouse, wheel, key and text input through the very
+// callbacks GLFW calls (the ones installed on the window, so the panel's ImGui backend sees them
+// too), one step per frame, plus camera jumps, waits, flights and screenshots; the value under
+// the pointer is printed as `readout: ...` lines. Then --frames more frames (default 1) are drawn
+// and --screenshot saved.
 #include "Commands.h"
 #include "SceneOptions.h"
 
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/CameraController.h>
 #include <atmoglobe/engine/ContextGL.h>
+#include <atmoglobe/engine/FlyToWindowGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/Gazetteer.h>
 #include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/engine/ViewerPanelGL.h>
+#include <atmoglobe/engine/ViewerScript.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 
@@ -26,7 +44,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <functional>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -42,6 +66,14 @@ struct ViewOptions {
   double playSeconds = 0.5;  ///< time per frame while playing
   bool play = false;         ///< start playing (with --frames: one frame per time position)
   bool noPanel = false;      ///< no control panel
+  std::string script;        ///< --script FILE
+  std::string flyTo;         ///< --fly-to NAME: start above it
+};
+
+struct Flight {
+  engine::CameraPose from, to;
+  double startSeconds = 0.0;
+  double seconds = 1.0;
 };
 
 struct Interaction {
@@ -49,10 +81,12 @@ struct Interaction {
   engine::CameraPose initial;
   bool dragging = false;
   bool tilting = false;
+  std::optional<glm::dvec3> grabbed;  ///< the ground point held by a drag (none: pressed on the sky)
   double lastX = 0, lastY = 0;
   double fovYDeg = 60;
   int screenshotCount = 0;
   bool screenshotRequested = false;
+  std::string screenshotPath;      ///< a script's screenshot file
   double lastInputSeconds = -1e9;  ///< glfwGetTime() of the last camera change
   bool dirty = true;               ///< the picture must be redrawn
   bool uiDirty = true;             ///< only the panel must be redrawn (over the last picture)
@@ -61,7 +95,24 @@ struct Interaction {
   bool playing = false;
   bool readoutWanted = false;  ///< the cursor moved: recompute the value under it
   double cursorX = 0, cursorY = 0;
+  std::optional<Flight> flight;
+  bool flyHome = false;
+  bool scripted = false;
+  double scriptSeconds = 0.0;  ///< a script's clock: kScriptFrameSeconds per frame
 };
+
+/// While the camera moves (input in the last kSettleSeconds) volumes are marched at
+/// kMovingImageScale of their resolution; once it rests, one full-quality frame is drawn
+/// and nothing more until something changes.
+constexpr double kSettleSeconds = 0.3;
+constexpr double kMovingImageScale = 0.25;
+/// A script's clock runs at this many seconds per frame (flights take a fixed number of frames).
+constexpr double kScriptFrameSeconds = 0.25;
+constexpr double kPanFraction = 0.1;      ///< arrows/WASD: a tenth of the view
+constexpr double kKeyZoomFactor = 0.7;    ///< + / -
+constexpr double kKeyTiltDeg = 5.0;       ///< PageUp / PageDown
+constexpr double kKeyTurnDeg = 10.0;      ///< shift + Left / Right
+constexpr double kDegreesPerPixel = 0.2;  ///< tilt/turn drags
 
 /// Where the viewer is on the scene's time axis: position = step * substeps + substep.
 struct TimeCursor {
@@ -73,18 +124,262 @@ struct TimeCursor {
   long count() const { return axis ? static_cast<long>(axis->times.size() - 1) * substeps + 1 : 1; }
 };
 
-/// While the camera moves (input in the last kSettleSeconds) volumes are marched at
-/// kMovingImageScale of their resolution; once it rests, one full-quality frame is drawn
-/// and nothing more until something changes.
-constexpr double kSettleSeconds = 0.3;
-constexpr double kMovingImageScale = 0.25;
+Interaction& stateOf(GLFWwindow* win) { return *static_cast<Interaction*>(glfwGetWindowUserPointer(win)); }
+
+void windowSize(GLFWwindow* win, int* width, int* height) {
+  glfwGetWindowSize(win, width, height);
+  *width = std::max(*width, 1);
+  *height = std::max(*height, 1);
+}
+
+double clockSeconds(const Interaction& s) { return s.scripted ? s.scriptSeconds : glfwGetTime(); }
 
 void touched(Interaction& s) {
   s.lastInputSeconds = glfwGetTime();
   s.dirty = true;
 }
 
+/// The user moved the camera: a flight under way stops where it is.
+void userMoved(Interaction& s) {
+  s.flight.reset();
+  touched(s);
+}
+
+void startFlight(Interaction& s, const engine::CameraPose& to) {
+  s.flight = Flight{s.pose, to, clockSeconds(s), engine::flightSeconds(s.pose, to)};
+  touched(s);
+}
+
+// The window's input callbacks. A script calls them too (through the callbacks installed on the
+// window, which the panel's ImGui backend chains to these).
+void onMouseButton(GLFWwindow* win, int button, int action, int mods) {
+  auto& s = stateOf(win);
+  s.uiDirty = true;
+  if (button != GLFW_MOUSE_BUTTON_LEFT && button != GLFW_MOUSE_BUTTON_RIGHT) return;
+  if (action != GLFW_PRESS) {
+    s.dragging = false;
+    s.grabbed.reset();
+    s.readoutWanted = true;
+    return;
+  }
+  if (engine::ViewerPanelGL::capturesMouse()) return;  // a click on the panel
+  int width = 0, height = 0;
+  windowSize(win, &width, &height);
+  s.dragging = true;
+  s.tilting = button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT);
+  s.lastX = s.cursorX;
+  s.lastY = s.cursorY;
+  s.grabbed.reset();
+  if (!s.tilting) s.grabbed = engine::groundUnderPixel(s.pose, s.fovYDeg, width, height, s.cursorX, s.cursorY);
+  s.flight.reset();
+}
+
+void onCursorPos(GLFWwindow* win, double x, double y) {
+  auto& s = stateOf(win);
+  s.uiDirty = true;  // hover highlights in the panel
+  s.cursorX = x;
+  s.cursorY = y;
+  if (!s.dragging) {
+    s.readoutWanted = true;
+    return;
+  }
+  int width = 0, height = 0;
+  windowSize(win, &width, &height);
+  const double dx = x - s.lastX, dy = y - s.lastY;
+  s.lastX = x;
+  s.lastY = y;
+  if (dx == 0.0 && dy == 0.0) return;
+  userMoved(s);
+  if (s.tilting) {
+    engine::tiltAboutCentre(s.pose, s.fovYDeg, width, height, dx * kDegreesPerPixel, -dy * kDegreesPerPixel);
+  } else if (s.grabbed) {
+    engine::dragGroundPoint(s.pose, s.fovYDeg, width, height, *s.grabbed, x, y);  // false beyond the limb: stays
+  } else {
+    engine::orbitByPixels(s.pose, s.fovYDeg, height, dx, dy);
+  }
+}
+
+void onScroll(GLFWwindow* win, double, double yoff) {
+  auto& s = stateOf(win);
+  if (engine::ViewerPanelGL::capturesMouse()) return;
+  int width = 0, height = 0;
+  windowSize(win, &width, &height);
+  userMoved(s);
+  engine::zoomTowardPixel(s.pose, s.fovYDeg, width, height, s.cursorX, s.cursorY, std::pow(0.8, yoff));
+}
+
+void onChar(GLFWwindow* win, unsigned int) { stateOf(win).uiDirty = true; }  // typing into the panel
+
+void onKey(GLFWwindow* win, int key, int, int action, int mods) {
+  auto& s = stateOf(win);
+  s.uiDirty = true;
+  if (action == GLFW_RELEASE || engine::ViewerPanelGL::capturesKeyboard()) return;
+  const bool repeat = action == GLFW_REPEAT;
+  const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
+  int width = 0, height = 0;
+  windowSize(win, &width, &height);
+  auto pan = [&](double fx, double fy) {
+    userMoved(s);
+    engine::panByFraction(s.pose, s.fovYDeg, width, height, fx, fy);
+  };
+  auto tilt = [&](double dHeadingDeg, double dPitchDeg) {
+    userMoved(s);
+    engine::tiltAboutCentre(s.pose, s.fovYDeg, width, height, dHeadingDeg, dPitchDeg);
+  };
+  auto zoom = [&](double factor) {
+    userMoved(s);
+    engine::zoomTowardPixel(s.pose, s.fovYDeg, width, height, 0.5 * width, 0.5 * height, factor);
+  };
+  switch (key) {
+    case GLFW_KEY_ESCAPE:
+    case GLFW_KEY_Q: glfwSetWindowShouldClose(win, GLFW_TRUE); break;
+    case GLFW_KEY_R:
+    case GLFW_KEY_H:
+      if (!repeat) s.flyHome = true;
+      break;
+    case GLFW_KEY_P:
+      if (!repeat) s.screenshotRequested = true;
+      break;
+    case GLFW_KEY_LEFT: shift ? tilt(-kKeyTurnDeg, 0.0) : pan(kPanFraction, 0.0); break;
+    case GLFW_KEY_RIGHT: shift ? tilt(kKeyTurnDeg, 0.0) : pan(-kPanFraction, 0.0); break;
+    case GLFW_KEY_A: pan(kPanFraction, 0.0); break;
+    case GLFW_KEY_D: pan(-kPanFraction, 0.0); break;
+    case GLFW_KEY_UP:
+    case GLFW_KEY_W: pan(0.0, kPanFraction); break;
+    case GLFW_KEY_DOWN:
+    case GLFW_KEY_S: pan(0.0, -kPanFraction); break;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD: zoom(kKeyZoomFactor); break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: zoom(1.0 / kKeyZoomFactor); break;
+    case GLFW_KEY_PAGE_UP: tilt(0.0, kKeyTiltDeg); break;
+    case GLFW_KEY_PAGE_DOWN: tilt(0.0, -kKeyTiltDeg); break;
+    case GLFW_KEY_PERIOD: s.timeMove += 1; break;
+    case GLFW_KEY_COMMA: s.timeMove -= 1; break;
+    case GLFW_KEY_HOME:
+      if (!repeat) s.timeHome = true;
+      break;
+    case GLFW_KEY_SPACE:
+      if (!repeat) s.playing = !s.playing;
+      break;
+    default: break;
+  }
+  s.dirty = true;
+}
+
+/// GLFW key codes of the script's key names (engine::scriptKeyNames()).
+int glfwKeyOf(const std::string& name) {
+  if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') return GLFW_KEY_A + (name[0] - 'A');
+  if (name.size() == 1 && name[0] >= '0' && name[0] <= '9') return GLFW_KEY_0 + (name[0] - '0');
+  static const std::map<std::string, int> keys = {
+      {"Right", GLFW_KEY_RIGHT},         {"Left", GLFW_KEY_LEFT},      {"Up", GLFW_KEY_UP},
+      {"Down", GLFW_KEY_DOWN},           {"PageUp", GLFW_KEY_PAGE_UP}, {"PageDown", GLFW_KEY_PAGE_DOWN},
+      {"Home", GLFW_KEY_HOME},           {"End", GLFW_KEY_END},        {"Space", GLFW_KEY_SPACE},
+      {"Enter", GLFW_KEY_ENTER},         {"Escape", GLFW_KEY_ESCAPE},  {"Tab", GLFW_KEY_TAB},
+      {"Backspace", GLFW_KEY_BACKSPACE}, {"Plus", GLFW_KEY_KP_ADD},    {"Minus", GLFW_KEY_MINUS},
+      {"Comma", GLFW_KEY_COMMA},         {"Period", GLFW_KEY_PERIOD}};
+  const auto it = keys.find(name);
+  return it == keys.end() ? GLFW_KEY_UNKNOWN : it->second;
+}
+
+/// The callbacks installed on the window now (the panel's backend, chaining to ours), which a
+/// script calls exactly as GLFW would.
+struct InstalledCallbacks {
+  GLFWcursorposfun cursorPos = nullptr;
+  GLFWmousebuttonfun mouseButton = nullptr;
+  GLFWscrollfun scroll = nullptr;
+  GLFWkeyfun key = nullptr;
+  GLFWcharfun character = nullptr;
+  GLFWcursorenterfun cursorEnter = nullptr;
+  static InstalledCallbacks of(GLFWwindow* w) {
+    InstalledCallbacks c;
+    c.cursorPos = glfwSetCursorPosCallback(w, nullptr);
+    glfwSetCursorPosCallback(w, c.cursorPos);
+    c.mouseButton = glfwSetMouseButtonCallback(w, nullptr);
+    glfwSetMouseButtonCallback(w, c.mouseButton);
+    c.scroll = glfwSetScrollCallback(w, nullptr);
+    glfwSetScrollCallback(w, c.scroll);
+    c.key = glfwSetKeyCallback(w, nullptr);
+    glfwSetKeyCallback(w, c.key);
+    c.character = glfwSetCharCallback(w, nullptr);
+    glfwSetCharCallback(w, c.character);
+    c.cursorEnter = glfwSetCursorEnterCallback(w, nullptr);
+    glfwSetCursorEnterCallback(w, c.cursorEnter);
+    return c;
+  }
+};
+
+/// A script as steps, one per frame; a step returns false to be run again next frame (waiting
+/// for a flight to land).
+struct ScriptRunner {
+  std::string path;
+  std::deque<std::pair<int, std::function<bool()>>> steps;  ///< (line, step)
+  int line = 0;                                             ///< of the step running
+};
+
+/// UTF-8 bytes to code points (the character callback's unit); invalid bytes pass as themselves.
+std::vector<unsigned int> codePoints(const std::string& text) {
+  std::vector<unsigned int> out;
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const int extra = c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : c >= 0xC0 ? 1 : 0;
+    unsigned int cp = extra == 0 ? c : (c & (0x3Fu >> extra));
+    std::size_t j = 1;
+    for (; j <= static_cast<std::size_t>(extra) && i + j < text.size(); ++j)
+      cp = (cp << 6) | (static_cast<unsigned char>(text[i + j]) & 0x3Fu);
+    out.push_back(cp);
+    i += j;
+  }
+  return out;
+}
+
+/// Names to fly to: the scene's radars and markers, $ATMOGLOBE_NEXRAD_SITES, tzdata's cities.
+engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const std::vector<engine::Marker>& markers) {
+  constexpr double kRadarViewMeters = 4e5;  // the 230 km of a radar's range in a 60 deg view
+  constexpr double kMarkerViewMeters = 2e5;
+  constexpr double kPlaceViewMeters = 1e5;
+  engine::Gazetteer g;
+  for (const auto& r : renderer.radars()) {
+    const volume::GeolocationSite& site = r.volume->polar().site;
+    engine::Place p;
+    for (const std::string& n : {r.siteName, r.siteMarker.label})
+      if (!n.empty()) p.names.push_back(n);
+    if (p.names.empty()) p.names.push_back("radar");
+    p.kind = "radar";
+    p.latDeg = site.latDeg;
+    p.lonDeg = globe::wrapLongitudeDeg(site.lonDeg);
+    p.viewHeightMeters = kRadarViewMeters;
+    g.add(std::move(p));
+  }
+  for (const engine::Marker& m : markers) {
+    if (m.label.empty()) continue;
+    g.add(engine::Place{{m.label}, "marker", m.latDeg, m.lonDeg, kMarkerViewMeters});
+  }
+  if (const char* sites = std::getenv("ATMOGLOBE_NEXRAD_SITES"); sites && *sites) {
+    if (auto s = g.addStationList(sites, "NEXRAD site", kRadarViewMeters); !s)
+      std::cerr << "atmoglobe view: fly-to names: " << s.error() << " (NEXRAD sites left out)\n";
+  }
+  if (std::filesystem::exists(engine::kZoneTabPath)) {
+    if (auto s = g.addZoneTab(engine::kZoneTabPath, kPlaceViewMeters); !s)
+      std::cerr << "atmoglobe view: fly-to names: " << s.error() << "\n";
+  }
+  return g;
+}
+
+std::string describe(const engine::Place& p) {
+  char where[64];
+  std::snprintf(where, sizeof where, " at %.4f, %.4f", p.latDeg, p.lonDeg);
+  return p.names.front() + " (" + p.kind + ")" + where;
+}
+
 int runView(const ViewOptions& o) {
+  // A bad script is reported before any window opens.
+  std::vector<engine::ScriptAction> actions;
+  if (!o.script.empty()) {
+    auto parsed = engine::readViewerScript(o.script);
+    if (!parsed) return fail("view", parsed.error());
+    actions = std::move(*parsed);
+  }
   auto scene = resolveScene(o.scene);
   if (!scene) return fail("view", scene.error());
   auto window = engine::WindowGL::create(scene->widthPx, scene->heightPx, "atmoglobe");
@@ -95,70 +390,25 @@ int runView(const ViewOptions& o) {
   if (!renderer) return fail("view", renderer.error());
   std::vector<engine::Marker> markers = scene->markers;
   if (auto s = populateScene(**renderer, *scene, &markers); !s) return fail("view", s.error());
+  const engine::Gazetteer gazetteer = buildGazetteer(**renderer, markers);
 
   Interaction state;
   state.pose = state.initial = scene->camera;
   state.fovYDeg = scene->fovYDeg;
+  state.scripted = !o.script.empty();
+  if (!o.flyTo.empty()) {
+    auto place = gazetteer.find(o.flyTo);
+    if (!place) return fail("view", place.error());
+    state.pose = engine::viewOfPlace(*place);
+    std::cout << "fly to: " << describe(*place) << std::endl;
+  }
   GLFWwindow* w = (*window)->handle();
   glfwSetWindowUserPointer(w, &state);
-  glfwSetMouseButtonCallback(w, [](GLFWwindow* win, int button, int action, int mods) {
-    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
-    s.uiDirty = true;
-    if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-    if (action == GLFW_PRESS && engine::ViewerPanelGL::capturesMouse()) return;  // a click on the panel
-    s.dragging = action == GLFW_PRESS;
-    s.tilting = s.dragging && (mods & GLFW_MOD_SHIFT);
-    glfwGetCursorPos(win, &s.lastX, &s.lastY);
-  });
-  glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) {
-    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
-    s.uiDirty = true;  // hover highlights in the panel
-    if (!s.dragging) {
-      s.readoutWanted = true;
-      s.cursorX = x;
-      s.cursorY = y;
-      return;
-    }
-    int width = 0, height = 0;
-    glfwGetWindowSize(win, &width, &height);
-    const double dx = x - s.lastX, dy = y - s.lastY;
-    s.lastX = x;
-    s.lastY = y;
-    touched(s);
-    if (s.tilting) {
-      engine::tiltByPixels(s.pose, dx, dy);
-    } else {
-      engine::orbitByPixels(s.pose, s.fovYDeg, std::max(height, 1), dx, dy);
-    }
-  });
-  glfwSetScrollCallback(w, [](GLFWwindow* win, double, double yoff) {
-    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
-    if (engine::ViewerPanelGL::capturesMouse()) return;
-    int width = 0, height = 0;
-    glfwGetWindowSize(win, &width, &height);
-    double x = 0, y = 0;
-    glfwGetCursorPos(win, &x, &y);
-    touched(s);
-    engine::zoomTowardPixel(s.pose, s.fovYDeg, std::max(width, 1), std::max(height, 1), x, y, std::pow(0.8, yoff));
-  });
-  glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
-    auto& s = *static_cast<Interaction*>(glfwGetWindowUserPointer(win));
-    if (action != GLFW_PRESS || engine::ViewerPanelGL::capturesKeyboard()) return;
-    if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(win, GLFW_TRUE);
-    if (key == GLFW_KEY_R) {
-      s.pose = s.initial;
-      touched(s);
-    }
-    if (key == GLFW_KEY_P) {
-      s.screenshotRequested = true;
-      s.dirty = true;
-    }
-    if (key == GLFW_KEY_RIGHT || key == GLFW_KEY_PERIOD) s.timeMove += 1;
-    if (key == GLFW_KEY_LEFT || key == GLFW_KEY_COMMA) s.timeMove -= 1;
-    if (key == GLFW_KEY_HOME) s.timeHome = true;
-    if (key == GLFW_KEY_SPACE) s.playing = !s.playing;
-    s.dirty = true;
-  });
+  glfwSetMouseButtonCallback(w, onMouseButton);
+  glfwSetCursorPosCallback(w, onCursorPos);
+  glfwSetScrollCallback(w, onScroll);
+  glfwSetKeyCallback(w, onKey);
+  glfwSetCharCallback(w, onChar);
 
   // The scene's time axis, when a grid has several steps or a radar is a loop (time keys and playing).
   TimeCursor time;
@@ -173,7 +423,7 @@ int runView(const ViewOptions& o) {
       time.label = axis->times[first];
       time.axis = std::move(*axis);
       std::cout << "time: " << time.axis->times[first] << " (step " << first + 1 << " of " << time.axis->times.size()
-                << "; Right/Left step, Space plays)" << std::endl;
+                << "; . and , step, Space plays)" << std::endl;
     }
   }
   state.playing = o.play && time.axis;
@@ -199,61 +449,240 @@ int runView(const ViewOptions& o) {
     if (!p) return fail("view", p.error());
     panel = std::move(*p);
   }
+  engine::FlyToWindowState flyState;
   engine::ViewerPanelState panelState;
+  panelState.extraWindows = [&flyState] { engine::drawFlyToWindow(flyState); };
   for (const auto& r : (*renderer)->radars())
     panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
   for (const auto& g : (*renderer)->grids())
     panelState.layers.push_back("grid " + g.volume->grid().variable + " (" + g.description.path + ")");
   double frameMs = 0.0;
 
+  // A fly-to asked for by the box (Enter or Fly), or by a script's flyto through the same state.
+  auto handleFlyRequest = [&]() -> Status {
+    if (!flyState.requested) return Ok{};
+    flyState.requested = false;
+    auto place = gazetteer.find(flyState.query);
+    if (!place) {
+      flyState.message = place.error();
+      std::cout << "fly to: " << place.error() << std::endl;
+      return place.forwardError();
+    }
+    flyState.message = "to " + describe(*place);
+    std::cout << "fly to: " << describe(*place) << std::endl;
+    startFlight(state, engine::viewOfPlace(*place));
+    return Ok{};
+  };
+
+  // The script as steps through the installed callbacks.
+  ScriptRunner script;
+  script.path = o.script;
+  if (state.scripted) {
+    const InstalledCallbacks cb = InstalledCallbacks::of(w);
+    auto add = [&](int line, std::function<bool()> step) { script.steps.emplace_back(line, std::move(step)); };
+    auto move = [w, cb](double x, double y) {
+      return [w, cb, x, y] {
+        glfwSetCursorPos(w, x, y);  // the real pointer too: ImGui 1.86 polls it
+        if (cb.cursorPos) cb.cursorPos(w, x, y);
+        return true;
+      };
+    };
+    auto button = [w, cb](int b, int action, int mods) {
+      return [w, cb, b, action, mods] {
+        if (cb.mouseButton) cb.mouseButton(w, b, action, mods);
+        return true;
+      };
+    };
+    add(0, [w, cb] {
+      if (cb.cursorEnter) cb.cursorEnter(w, GLFW_TRUE);  // the pointer is in the window
+      return true;
+    });
+    for (const engine::ScriptAction& a : actions) {
+      using Kind = engine::ScriptAction::Kind;
+      const int mods = (a.shift ? GLFW_MOD_SHIFT : 0) | (a.ctrl ? GLFW_MOD_CONTROL : 0);
+      const int b = a.button == 0   ? GLFW_MOUSE_BUTTON_LEFT
+                    : a.button == 1 ? GLFW_MOUSE_BUTTON_RIGHT
+                                    : GLFW_MOUSE_BUTTON_MIDDLE;
+      const auto& n = a.numbers;
+      switch (a.kind) {
+        case Kind::Camera:
+          add(a.line, [&state, n] {
+            engine::CameraPose p{n[0],
+                                 globe::wrapLongitudeDeg(n[1]),
+                                 n[2],
+                                 n.size() > 3 ? n[3] : 0.0,
+                                 n.size() > 4 ? n[4] : -90.0,
+                                 n.size() > 5 ? n[5] : 0.0};
+            state.pose = p;
+            userMoved(state);
+            return true;
+          });
+          break;
+        case Kind::Move: add(a.line, move(n[0], n[1])); break;
+        case Kind::Down: add(a.line, button(b, GLFW_PRESS, mods)); break;
+        case Kind::Up: add(a.line, button(b, GLFW_RELEASE, mods)); break;
+        case Kind::Click:
+          add(a.line, move(n[0], n[1]));
+          add(a.line, button(b, GLFW_PRESS, mods));
+          add(a.line, button(b, GLFW_RELEASE, mods));
+          break;
+        case Kind::Drag: {
+          const int steps = n.size() > 4 ? static_cast<int>(n[4]) : 8;
+          add(a.line, move(n[0], n[1]));
+          add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods));
+          for (int k = 1; k <= steps; ++k)
+            add(a.line, move(n[0] + (n[2] - n[0]) * k / steps, n[1] + (n[3] - n[1]) * k / steps));
+          add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods));
+          break;
+        }
+        case Kind::Wheel:
+          add(a.line, move(n[0], n[1]));
+          add(a.line, [w, cb, clicks = n[2]] {
+            if (cb.scroll) cb.scroll(w, 0.0, clicks);
+            return true;
+          });
+          break;
+        case Kind::Key: {
+          const int key = glfwKeyOf(a.text);
+          add(a.line, [w, cb, key, mods] {
+            if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_PRESS, mods);
+            return true;
+          });
+          add(a.line, [w, cb, key, mods] {
+            if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_RELEASE, mods);
+            return true;
+          });
+          break;
+        }
+        case Kind::Type:
+          add(a.line, [w, cb, chars = codePoints(a.text)] {
+            if (cb.character)
+              for (unsigned int c : chars) cb.character(w, c);
+            return true;
+          });
+          break;
+        case Kind::Wait:
+          for (int k = 0; k < static_cast<int>(n[0]); ++k) add(a.line, [] { return true; });
+          break;
+        case Kind::FlyTo:
+          add(a.line, [&flyState, name = a.text] {
+            std::snprintf(flyState.query, sizeof flyState.query, "%s", name.c_str());
+            flyState.requested = true;
+            return true;
+          });
+          add(a.line, [&state, &flyState] { return !flyState.requested && !state.flight; });
+          break;
+        case Kind::Readout:
+          add(a.line, [&state] {
+            state.readoutWanted = true;
+            return true;
+          });
+          break;
+        case Kind::Screenshot:
+          add(a.line, [&state, file = a.text] {
+            state.screenshotPath = file;
+            state.screenshotRequested = true;
+            return true;
+          });
+          break;
+      }
+    }
+  }
+  std::vector<std::string> lastPrintedReadout;
+  auto updateReadout = [&](const engine::FramebufferGL& target) {
+    if (!state.readoutWanted || state.dragging || engine::ViewerPanelGL::capturesMouse()) return;
+    if (!panel && !state.scripted) return;
+    state.readoutWanted = false;
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(w, &ww, &wh);
+    // Window coordinates to framebuffer pixels (they differ on high-DPI screens).
+    const double sx = ww > 0 ? static_cast<double>(target.widthPx()) / ww : 1.0;
+    const double sy = wh > 0 ? static_cast<double>(target.heightPx()) / wh : 1.0;
+    const engine::Camera camera(state.pose, state.fovYDeg, target.widthPx(), target.heightPx());
+    panelState.readout = engine::readoutAt(**renderer, camera, state.cursorX * sx, state.cursorY * sy).lines;
+    state.uiDirty = true;
+    if (state.scripted && panelState.readout != lastPrintedReadout) {
+      char at[64];
+      std::snprintf(at, sizeof at, "readout at pixel %.1f, %.1f", state.cursorX, state.cursorY);
+      std::cout << at << std::endl;
+      for (const std::string& line : panelState.readout) std::cout << "readout: " << line << std::endl;
+      lastPrintedReadout = panelState.readout;
+    }
+  };
+  auto drawPanel = [&](const engine::Camera* camera) {
+    if (!panel) return;
+    state.uiDirty = false;
+    panelState.timePositions = time.axis ? static_cast<int>(time.count()) : 0;
+    panelState.timePosition = static_cast<int>(time.position);
+    panelState.timeLabel = time.label;
+    panelState.playing = state.playing;
+    panelState.frameMilliseconds = frameMs;
+    if (camera) panelState.legend = (*renderer)->legendFor(*camera);
+    const int before = panelState.timePosition;
+    if (panel->draw(panelState)) {
+      state.timeMove += panelState.timePosition - before;
+      state.playing = panelState.playing;
+      state.dirty = true;
+    }
+    if (panelState.screenshotRequested) {
+      panelState.screenshotRequested = false;
+      state.screenshotRequested = true;
+      state.dirty = true;
+    }
+  };
+
   std::vector<double> fullImageScale;
   for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
   std::unique_ptr<engine::FramebufferGL> target;
   int frame = 0;
+  int framesAfterScript = 0;
   bool wasMoving = false;
+  const bool batch = o.frames > 0 || state.scripted;
   while (!glfwWindowShouldClose(w)) {
-    const bool moving = glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
-    if (!state.dirty && !moving && !wasMoving && !state.playing && (*renderer)->globe().lastFrameComplete() &&
-        o.frames == 0) {
-      if (state.readoutWanted && panel && target && !engine::ViewerPanelGL::capturesMouse()) {
-        state.readoutWanted = false;
-        int ww = 0, wh = 0;
-        glfwGetWindowSize(w, &ww, &wh);
-        // Window coordinates to framebuffer pixels (they differ on high-DPI screens).
-        const double sx = ww > 0 ? static_cast<double>(target->widthPx()) / ww : 1.0;
-        const double sy = wh > 0 ? static_cast<double>(target->heightPx()) / wh : 1.0;
-        const engine::Camera camera(state.pose, state.fovYDeg, target->widthPx(), target->heightPx());
-        panelState.readout = engine::readoutAt(**renderer, camera, state.cursorX * sx, state.cursorY * sy).lines;
-      }
+    if (state.flyHome) {
+      state.flyHome = false;
+      startFlight(state, state.initial);
+    }
+    if (state.flight) {
+      const double t = (clockSeconds(state) - state.flight->startSeconds) / state.flight->seconds;
+      state.pose = engine::flightPose(state.flight->from, state.flight->to, t);
+      touched(state);
+      if (t >= 1.0) state.flight.reset();
+    }
+    // A script's run is deterministic: full quality except while flying.
+    const bool moving = state.scripted ? state.flight.has_value()
+                                       : glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
+    if (!batch && !state.dirty && !moving && !wasMoving && !state.playing && !state.screenshotRequested &&
+        (*renderer)->globe().lastFrameComplete()) {
+      if (target) updateReadout(*target);
       if (state.uiDirty && panel && target) {
         // Only the panel changed: the last picture again with the panel over it.
-        state.uiDirty = false;
         glBlitNamedFramebuffer(target->id(), 0, 0, 0, target->widthPx(), target->heightPx(), 0, 0, target->widthPx(),
                                target->heightPx(), GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        const int before = panelState.timePosition;
-        panelState.timePosition = static_cast<int>(time.position);
-        panelState.playing = state.playing;
-        if (panel->draw(panelState)) {
-          state.timeMove += panelState.timePosition - before;
-          state.playing = panelState.playing;
-          state.dirty = true;
-        }
-        if (panelState.screenshotRequested) {
-          panelState.screenshotRequested = false;
-          state.screenshotRequested = true;
-          state.dirty = true;
-        }
+        drawPanel(nullptr);
         glfwSwapBuffers(w);
+      }
+      if (auto s = handleFlyRequest(); !s) {
+        // Shown in the box; the viewer goes on.
       }
       glfwWaitEventsTimeout(0.1);  // nothing to redraw: sleep until input
       continue;
     }
     glfwPollEvents();
+    if (state.scripted && target) {
+      if (!script.steps.empty()) {
+        script.line = script.steps.front().first;
+        if (script.steps.front().second()) script.steps.pop_front();
+      } else {
+        ++framesAfterScript;
+      }
+      state.scriptSeconds += kScriptFrameSeconds;
+    }
     if (time.axis) {
       long wanted = time.position + state.timeMove;
       if (state.timeHome) wanted = 0;
       const double now = glfwGetTime();
-      if (state.playing && (o.frames > 0 || now - time.lastAdvanceSeconds >= o.playSeconds)) {
+      if (state.playing && (batch || now - time.lastAdvanceSeconds >= o.playSeconds)) {
         wanted += 1;
         time.lastAdvanceSeconds = now;
       }
@@ -261,62 +690,66 @@ int runView(const ViewOptions& o) {
       state.timeHome = false;
       if (auto st = showTime(wanted); !st) return fail("view", st.error());
     }
-    auto& radars = (*renderer)->radars();
-    for (std::size_t i = 0; i < radars.size(); ++i) {
-      radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
-    }
-    wasMoving = moving;
-    state.dirty = false;
     int fbw = 0, fbh = 0;
     glfwGetFramebufferSize(w, &fbw, &fbh);
     if (fbw < 1 || fbh < 1) continue;
-    if (!target || target->widthPx() != fbw || target->heightPx() != fbh) {
+    const bool resized = !target || target->widthPx() != fbw || target->heightPx() != fbh;
+    if (resized) {
       auto t = engine::FramebufferGL::create(fbw, fbh);
       if (!t) return fail("view", t.error());
       target = std::move(*t);
     }
     const engine::Camera camera(state.pose, state.fovYDeg, fbw, fbh);
-    // Our own target has a float depth buffer (reverse-Z); the window's may not.
-    const double t0 = glfwGetTime();
-    (*renderer)->renderFrame(camera, markers, *target);
-    glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    glFinish();
-    frameMs = 1000.0 * (glfwGetTime() - t0);
-    if (panel) {
-      state.uiDirty = false;
-      panelState.timePositions = time.axis ? static_cast<int>(time.count()) : 0;
-      panelState.timePosition = static_cast<int>(time.position);
-      panelState.timeLabel = time.label;
-      panelState.playing = state.playing;
-      panelState.frameMilliseconds = frameMs;
-      panelState.legend = (*renderer)->legendFor(camera);
-      const int before = panelState.timePosition;
-      if (panel->draw(panelState)) {
-        state.timeMove += panelState.timePosition - before;
-        state.playing = panelState.playing;
-        state.dirty = true;
+    // A script redraws the scene only when something changed (else the last picture with the
+    // panel over it); everything else draws every frame it gets here.
+    const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
+                             !(*renderer)->globe().lastFrameComplete();
+    if (sceneNeeded) {
+      auto& radars = (*renderer)->radars();
+      for (std::size_t i = 0; i < radars.size(); ++i) {
+        radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
       }
-      if (panelState.screenshotRequested) {
-        panelState.screenshotRequested = false;
-        state.screenshotRequested = true;
-        state.dirty = true;
-      }
+      wasMoving = moving;
+      state.dirty = false;
+      // Our own target has a float depth buffer (reverse-Z); the window's may not.
+      const double t0 = glfwGetTime();
+      (*renderer)->renderFrame(camera, markers, *target);
+      glFinish();
+      frameMs = 1000.0 * (glfwGetTime() - t0);
     }
+    glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    drawPanel(&camera);
+    if (auto s = handleFlyRequest(); !s && state.scripted) {
+      return fail("view", script.path + " line " + std::to_string(script.line) + ": " + s.error());
+    }
+    if (!moving || state.scripted) updateReadout(*target);
     ++frame;
-    const bool last = o.frames > 0 && frame >= o.frames;
-    if (state.screenshotRequested || (last && !o.screenshot.empty())) {
-      const std::string path = (last && !o.screenshot.empty())
-                                   ? o.screenshot
-                                   : "atmoglobe-screenshot-" + std::to_string(++state.screenshotCount) + ".png";
+    const bool last = state.scripted ? script.steps.empty() && framesAfterScript >= std::max(o.frames, 1)
+                                     : o.frames > 0 && frame >= o.frames;
+    std::vector<std::string> shots;
+    if (state.screenshotRequested) {
+      shots.push_back(!state.screenshotPath.empty()
+                          ? state.screenshotPath
+                          : "atmoglobe-screenshot-" + std::to_string(++state.screenshotCount) + ".png");
+      state.screenshotRequested = false;
+      state.screenshotPath.clear();
+    }
+    if (last && !o.screenshot.empty()) shots.push_back(o.screenshot);
+    if (!shots.empty()) {
       // What the user sees: the scene with the panel over it.
       const globe::ImageRGBA8 shot = panel ? engine::readWindowColorGL(fbw, fbh) : target->readColor();
-      if (auto s = globe::writePng(path, shot); !s) return fail("view", s.error());
-      std::cout << "screenshot: " << path << std::endl;
-      state.screenshotRequested = false;
+      for (const std::string& path : shots) {
+        if (auto s = globe::writePng(path, shot); !s) {
+          if (state.scripted && !last)
+            return fail("view", script.path + " line " + std::to_string(script.line) + ": " + s.error());
+          return fail("view", s.error());
+        }
+        std::cout << "screenshot: " << path << std::endl;
+      }
     }
     glfwSwapBuffers(w);
     if (last) break;
-    if (o.frames > 0) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
+    if (batch) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
   }
   return 0;
 }
@@ -326,8 +759,9 @@ Command addViewCommand(CLI::App& root) {
   auto options = std::make_shared<ViewOptions>();
   CLI::App* c = root.add_subcommand("view", "Open the desktop globe viewer (needs a display; e.g. xvfb-run -a)");
   addSceneOptions(*c, options->scene);
-  c->add_option("--frames", options->frames, "Quit after this many frames (scripted runs)");
-  c->add_option("--screenshot", options->screenshot, "With --frames: save the last frame to this PNG");
+  c->add_option("--frames", options->frames,
+                "Quit after this many frames (with --script: frames drawn after the script, default 1)");
+  c->add_option("--screenshot", options->screenshot, "With --frames or --script: save the last frame to this PNG");
   c->add_option("--time-substeps", options->timeSubsteps,
                 "Time positions per grid time step: between steps the grids are interpolated linearly in time")
       ->capture_default_str();
@@ -335,10 +769,16 @@ Command addViewCommand(CLI::App& root) {
       ->capture_default_str();
   c->add_flag("--play", options->play, "Start playing the time steps (with --frames: one position per frame)");
   c->add_flag("--no-panel", options->noPanel, "No control panel (time slider, layers, frame time, screenshot)");
+  c->add_option("--script", options->script,
+                "Replay this file of viewer actions (mouse, wheel, keys, text, camera, waits, flyto, readout, "
+                "screenshot; see engine/ViewerScript.h and the README), then quit");
+  c->add_option("--fly-to", options->flyTo,
+                "Start above this radar, marker, NEXRAD site ($ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
+                "LAT,LON[,HEIGHT]");
   c->footer(
-      "Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
-      "Keys: Right/Left next/previous time step, Space play/pause, Home first step, P screenshot, R reset camera, "
-      "Esc/Q quit.");
+      "Mouse: drag to grab and turn the globe, wheel to zoom toward the cursor, shift+drag or right-drag to tilt/turn.\n"
+      "Keys: arrows/WASD move, +/- zoom, PageUp/PageDown tilt, shift+Left/Right turn, H or R fly home;\n"
+      "      . / , next/previous time step, Space play/pause, Home first step, P screenshot, Esc/Q quit.");
   return {c, [options] { return runView(*options); }};
 }
 

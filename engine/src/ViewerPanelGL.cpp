@@ -117,6 +117,7 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   }
   if (ImGui::Button("Screenshot")) s.screenshotRequested = true;
   ImGui::End();
+  if (s.extraWindows) s.extraWindows();
   ImGui::Render();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   return changed;

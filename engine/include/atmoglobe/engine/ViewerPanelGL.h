@@ -10,6 +10,7 @@
 #include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/globe/Result.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,9 +27,10 @@ struct ViewerPanelState {
   bool playing = false;             ///< in/out
   std::vector<std::string> layers;  ///< one line per layer (what is loaded)
   double frameMilliseconds = 0.0;
-  std::vector<std::string> readout;  ///< the value under the cursor (Readout.h), one line each
-  FrameLegend legend;                ///< what the frame shows (SceneRendererGL::legendFor): times, keys
-  bool screenshotRequested = false;  ///< out: the Screenshot button was pressed
+  std::vector<std::string> readout;    ///< the value under the cursor (Readout.h), one line each
+  FrameLegend legend;                  ///< what the frame shows (SceneRendererGL::legendFor): times, keys
+  bool screenshotRequested = false;    ///< out: the Screenshot button was pressed
+  std::function<void()> extraWindows;  ///< more ImGui windows drawn in the panel's frame (the fly-to box)
 };
 
 class ViewerPanelGL {

@@ -1,0 +1,18 @@
+#pragma once
+// The viewer's "Fly to" box (issue 12 point 3): a small Dear ImGui window with a text field and
+// a button, drawn inside the control panel's ImGui frame (ViewerPanelState::extraWindows). Enter
+// or the button asks for a flight; the viewer looks the text up (Gazetteer.h) and reports back.
+#include <string>
+
+namespace atmoglobe::engine {
+
+struct FlyToWindowState {
+  char query[128] = {};    ///< the text field
+  bool requested = false;  ///< out: Enter or "Fly" pressed with `query` filled in
+  std::string message;     ///< shown under the field: where the flight goes, or why it cannot
+};
+
+/// Draws the window at the top right of the display. Call only inside an ImGui frame.
+void drawFlyToWindow(FlyToWindowState& state);
+
+}  // namespace atmoglobe::engine
