@@ -13,6 +13,7 @@ PKGS=(
   opencollada-tools libxml2-utils nodejs unzip
   netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps
   fonts-dejavu-core libimgui-dev
+  tzdata   # /usr/share/zoneinfo/zone1970.tab: the viewer's fly-to place names (engine/Gazetteer.h)
   gmt-gshhg libgdal-dev
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
 )

@@ -589,10 +589,17 @@ int runView(const ViewOptions& o) {
     }
   }
   std::vector<std::string> lastPrintedReadout;
+  std::optional<engine::CameraPose> readoutPose;  ///< the camera of the last readout
   auto updateReadout = [&](const engine::FramebufferGL& target) {
+    const auto& p = state.pose;
+    if (!readoutPose || readoutPose->latDeg != p.latDeg || readoutPose->lonDeg != p.lonDeg ||
+        readoutPose->heightMeters != p.heightMeters || readoutPose->headingDeg != p.headingDeg ||
+        readoutPose->pitchDeg != p.pitchDeg)
+      state.readoutWanted = true;  // the camera moved under a resting pointer
     if (!state.readoutWanted || state.dragging || engine::ViewerPanelGL::capturesMouse()) return;
     if (!panel && !state.scripted) return;
     state.readoutWanted = false;
+    readoutPose = state.pose;
     int ww = 0, wh = 0;
     glfwGetWindowSize(w, &ww, &wh);
     // Window coordinates to framebuffer pixels (they differ on high-DPI screens).

@@ -6,7 +6,8 @@ namespace atmoglobe::engine {
 
 void drawFlyToWindow(FlyToWindowState& state) {
   const ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 10.0f, 10.0f), ImGuiCond_Always, ImVec2(1.0f, 0.0f));
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 10.0f, io.DisplaySize.y - 10.0f), ImGuiCond_Always,
+                          ImVec2(1.0f, 1.0f));
   ImGui::SetNextWindowBgAlpha(0.8f);
   ImGui::Begin("Fly to", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
   ImGui::SetNextItemWidth(180.0f);

@@ -12,7 +12,7 @@ struct FlyToWindowState {
   std::string message;     ///< shown under the field: where the flight goes, or why it cannot
 };
 
-/// Draws the window at the top right of the display. Call only inside an ImGui frame.
+/// Draws the window at the bottom right of the display (clear of the panel, top left). Call only inside an ImGui frame.
 void drawFlyToWindow(FlyToWindowState& state);
 
 }  // namespace atmoglobe::engine
