@@ -451,7 +451,10 @@ int runView(const ViewOptions& o) {
   }
   engine::FlyToWindowState flyState;
   engine::ViewerPanelState panelState;
-  panelState.extraWindows = [&flyState] { engine::drawFlyToWindow(flyState); };
+  panelState.extraWindows = [&flyState, scripted = state.scripted] {
+    engine::drawFlyToWindow(flyState);
+    if (scripted) engine::drawPointerMark();  // no system cursor in a scripted screenshot
+  };
   for (const auto& r : (*renderer)->radars())
     panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
   for (const auto& g : (*renderer)->grids())

@@ -2,6 +2,8 @@
 
 #include <imgui.h>
 
+#include <utility>
+
 namespace atmoglobe::engine {
 
 void drawFlyToWindow(FlyToWindowState& state) {
@@ -20,4 +22,20 @@ void drawFlyToWindow(FlyToWindowState& state) {
   ImGui::End();
 }
 
+}  // namespace atmoglobe::engine
+
+namespace atmoglobe::engine {
+void drawPointerMark() {
+  const ImVec2 p = ImGui::GetIO().MousePos;
+  if (p.x < -1e6f || p.y < -1e6f) return;  // ImGui's "no pointer"
+  ImDrawList* draw = ImGui::GetForegroundDrawList();
+  for (const auto& [color, width] :
+       {std::pair{IM_COL32(0, 0, 0, 255), 3.0f}, std::pair{IM_COL32(255, 255, 255, 255), 1.0f}}) {
+    draw->AddCircle(p, 7.0f, color, 16, width);
+    draw->AddLine(ImVec2(p.x - 12.0f, p.y), ImVec2(p.x - 4.0f, p.y), color, width);
+    draw->AddLine(ImVec2(p.x + 4.0f, p.y), ImVec2(p.x + 12.0f, p.y), color, width);
+    draw->AddLine(ImVec2(p.x, p.y - 12.0f), ImVec2(p.x, p.y - 4.0f), color, width);
+    draw->AddLine(ImVec2(p.x, p.y + 4.0f), ImVec2(p.x, p.y + 12.0f), color, width);
+  }
+}
 }  // namespace atmoglobe::engine

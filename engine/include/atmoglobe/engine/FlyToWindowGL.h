@@ -16,3 +16,9 @@ struct FlyToWindowState {
 void drawFlyToWindow(FlyToWindowState& state);
 
 }  // namespace atmoglobe::engine
+
+namespace atmoglobe::engine {
+/// A crosshair where ImGui sees the pointer: scripted screenshots carry no system cursor, so this
+/// shows which place the readout is of. Call only inside an ImGui frame.
+void drawPointerMark();
+}  // namespace atmoglobe::engine
