@@ -732,7 +732,7 @@ int runView(const ViewOptions& o) {
     if (auto s = handleFlyRequest(); !s && state.scripted) {
       return fail("view", script.path + " line " + std::to_string(script.line) + ": " + s.error());
     }
-    if (!moving || state.scripted) updateReadout(*target);
+    if (!moving) updateReadout(*target);  // not mid-flight: the place under the pointer keeps changing
     ++frame;
     const bool last = state.scripted ? script.steps.empty() && framesAfterScript >= std::max(o.frames, 1)
                                      : o.frames > 0 && frame >= o.frames;
