@@ -20,7 +20,7 @@ struct Hit {
 
 // The first echo of `sampler` along eye + t dir, t in its ray interval up to tMax.
 std::optional<Hit> firstEcho(const volume::VolumeSampler& sampler, const glm::dvec3& eye, const glm::dvec3& dir,
-                             double tMax, double step) {
+                             double tMax, double step, volume::Interpolation interpolation) {
   const volume::RayInterval span = sampler.rayInterval(eye, dir);
   const double t0 = std::max(span.tEnterMeters, 0.0), t1 = std::min(span.tExitMeters, tMax);
   if (!(t1 > t0)) return std::nullopt;
@@ -28,7 +28,7 @@ std::optional<Hit> firstEcho(const volume::VolumeSampler& sampler, const glm::dv
   for (long k = 0; k <= n; ++k) {
     const double t = std::min(t1, t0 + static_cast<double>(k) * step);
     const glm::dvec3 p = eye + t * dir;
-    const volume::VolumeSample s = sampler.sample(p, volume::Interpolation::Linear);
+    const volume::VolumeSample s = sampler.sample(p, interpolation);
     if (s.state == volume::VolumeSample::State::Echo) return Hit{t, s.value, p};
   }
   return std::nullopt;
@@ -55,7 +55,10 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     out.seaLevelHeightMeters = geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
   }
   for (const RadarLayerGL& r : scene.radars()) {
-    const auto hit = firstEcho(r.volume->referenceSampler(), eye, dir, tGround, stepMeters);
+    // Radars: the first gate with an echo along the ray, read as stored (nearest-neighbour
+    // sampling), so the value and the gate are those `atmoglobe gates` lists.
+    const auto hit =
+        firstEcho(r.volume->referenceSampler(), eye, dir, tGround, stepMeters, volume::Interpolation::Nearest);
     if (!hit) continue;
     const volume::PolarVolume& p = r.volume->polar();
     // Antenna coordinates of the true point (the drawn one mapped back under an exaggeration).
@@ -66,17 +69,17 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
       trueEcef = globe::geodeticToEcef(g);
     }
     const volume::AntennaCoordinates a = volume::antennaCoordinatesExact(p.site, p.beam, trueEcef);
-    double nearest = p.sweeps.empty() ? a.elevationDeg : p.sweeps.front().elevationDeg;
-    for (const auto& s : p.sweeps)
-      if (std::abs(s.elevationDeg - a.elevationDeg) < std::abs(nearest - a.elevationDeg)) nearest = s.elevationDeg;
+    const auto gate = volume::nearestGate(p, a.rangeMeters, a.azimuthDeg, a.elevationDeg);
+    if (!gate) continue;  // cannot happen for an echo sample; kept for safety
     const globe::Geodetic g = globe::ecefToGeodetic(trueEcef);
     out.lines.push_back((r.siteName.empty() ? std::string("radar") : r.siteName) + " " + p.fieldName + ": " +
-                        format("%.1f ", hit->value) + p.fieldUnits +
-                        format("  (sweep %.2f deg, azimuth %.1f deg, range %.2f km, height %.0f m)", nearest,
-                               a.azimuthDeg, a.rangeMeters / 1000.0, g.heightMeters));
+                        format("%.1f ", static_cast<double>(gate->value)) + p.fieldUnits +
+                        format("  (sweep %.2f deg, azimuth %.1f deg, range %.3f km, height %.0f m)", gate->elevationDeg,
+                               gate->azimuthDeg, gate->rangeMeters / 1000.0, g.heightMeters));
   }
   for (const GridLayerGL& gl : scene.grids()) {
-    const auto hit = firstEcho(gl.volume->referenceSampler(), eye, dir, tGround, stepMeters);
+    const auto hit =
+        firstEcho(gl.volume->referenceSampler(), eye, dir, tGround, stepMeters, volume::Interpolation::Linear);
     if (!hit) continue;
     const volume::GridVolume& v = gl.volume->grid();
     const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);

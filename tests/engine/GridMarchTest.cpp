@@ -504,6 +504,28 @@ TEST(GridMarch, ReadoutUnderTheCursor) {
   const std::string& line = r.lines[0];
   EXPECT_EQ(line.rfind((*radar)->siteName + " " + p.fieldName + ": ", 0), 0u) << line;
   EXPECT_NE(line.find("azimuth 234."), std::string::npos) << "the gate read lies south-west, below the eye: " << line;
+  // The gate read is stored in the volume: its value is one of that sweep's stored values at the
+  // printed azimuth (a ray centre) and range (a gate centre), to the print rounding.
+  double value = 0, sweepDeg = 0, azimuthDeg = 0, rangeKm = 0;
+  const std::size_t colon = line.find(": ");
+  ASSERT_EQ(std::sscanf(line.c_str() + colon + 2, "%lf %*s (sweep %lf deg, azimuth %lf deg, range %lf km", &value,
+                        &sweepDeg, &azimuthDeg, &rangeKm),
+            4)
+      << line;
+  bool found = false;
+  for (int k = 0; k < static_cast<int>(p.sweeps.size()); ++k) {
+    const volume::PolarSweepLayout& s = p.sweeps[static_cast<std::size_t>(k)];
+    if (std::abs(s.elevationDeg - sweepDeg) > 0.005) continue;  // printed with 2 decimals
+    for (int ray = 0; ray < s.rayCount; ++ray) {
+      if (std::abs(static_cast<double>(s.azimuthDeg[static_cast<std::size_t>(ray)]) - azimuthDeg) > 0.05) continue;
+      const double g = (rangeKm * 1000.0 - s.firstGateRangeMeters) / s.gateSpacingMeters;
+      const int gate = static_cast<int>(std::lround(g));
+      ASSERT_NEAR(g, gate, 0.5 / s.gateSpacingMeters) << "the range printed to 1 m is a gate centre: " << line;
+      const float stored = p.value(k, ray, gate);
+      found = found || (volume::isMeasuredValue(stored) && std::abs(static_cast<double>(stored) - value) <= 0.05);
+    }
+  }
+  EXPECT_TRUE(found) << "no stored gate has the readout's value at its sweep, azimuth and range: " << line;
   // Pitched up at the horizon's sky: nothing under the cursor but sky.
   const Camera up(engine::CameraPose{above.latDeg, above.lonDeg, 2000.0, 0.0, 60.0, 0.0}, 30.0, 64, 48);
   const engine::CursorReadout sky = engine::readoutAt(**renderer, up, 32.0, 24.0);

@@ -2,9 +2,8 @@
 // under Xvfb that flies to the radar by name, grab-drags, zooms, tilts, steps time, flies to the
 // storm and moves the pointer over it, then
 //  1. the `readout:` line (site, field, value, sweep, azimuth, range) must agree with
-//     `atmoglobe gates` of the volume shown: the gate named by azimuth and range exists in the
-//     sweep named, and the value lies within the values of the gates around that point (the
-//     readout interpolates between neighbouring rays, gates and sweeps, so it lies within them);
+//     `atmoglobe gates` of the volume shown: the gate named by sweep, azimuth and range is one
+//     row of `gates`, with an echo, and the readout's value is that row's value;
 //  2. the screenshot must show the panel: the same script without the panel (--no-panel) gives a
 //     picture that differs inside the panel's box and matches outside it.
 // Usage: node view_script_check.js XVFB_RUN ATMOGLOBE RADAR_LOOP_DIR SCRIPT OUT_DIR
@@ -115,20 +114,16 @@ function gatesAround(k) {
   return rows;
 }
 const here = gatesAround(nearest);
-// The gate read: within half a ray (1 deg rays) and half a gate (250 m) of the readout, plus the
-// readout's print rounding (0.05 deg, 5 m).
-const gate = here.filter((g) => g.dAz <= 0.55 && Math.abs(g.range - rangeKm) <= 0.13);
-if (gate.length === 0) fail(`no gate of sweep ${nearest} at azimuth ${azimuthDeg}, range ${rangeKm} km`);
+// The readout reads one gate as stored (nearest-neighbour) and prints its ray azimuth with 1
+// decimal and its range in km with 3 (to the metre), so exactly one row of `gates` must match:
+// azimuth within the 0.05 deg print rounding, range within 0.5 m, and the value within the 0.05
+// print rounding of one decimal.
+const gate = here.filter((g) => g.dAz <= 0.05 + 1e-9 && Math.abs(g.range - rangeKm) <= 0.0005);
+if (gate.length !== 1) fail(`${gate.length} gates of sweep ${nearest} at azimuth ${azimuthDeg}, range ${rangeKm} km (expected 1)`);
 console.log('gate read: ' + gate[0].line);
-const around = [...here];
-if (nearest > 0) around.push(...gatesAround(nearest - 1));
-if (nearest + 1 < sweeps.length) around.push(...gatesAround(nearest + 1));
-const values = around.map((g) => g.value).filter((v) => Number.isFinite(v));
-if (values.length === 0) fail('no echo in the gates around the readout');
-const lo = Math.min(...values), hi = Math.max(...values);
-// 0.05: the readout prints one decimal.
-if (value < lo - 0.05 || value > hi + 0.05) fail(`readout ${value} is outside the neighbouring gates' ${lo} .. ${hi}`);
-console.log(`readout value ${value} within the ${values.length} neighbouring gates' ${lo} .. ${hi}`);
+if (!Number.isFinite(gate[0].value)) fail(`the gate read has no echo in gates: ${gate[0].line}`);
+if (Math.abs(gate[0].value - value) > 0.05 + 1e-9) fail(`readout ${value} is not the gate's value ${gate[0].value}`);
+console.log(`readout value ${value} = the gate's ${gate[0].value}`);
 
 // The panel: the same script without it must differ inside the panel's box, and not elsewhere.
 const noPanelShot = path.join(outDir, 'view_script_no_panel.png');

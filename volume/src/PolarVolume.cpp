@@ -53,12 +53,8 @@ void accumulateSweep(const PolarVolume& v, int k, double rangeMeters, double az,
   const double a = rayCoordinate(s, az);
   const int n = s.rayCount;
   const int lastGate = s.gateCount - 1;
-  if (interpolation == Interpolation::Nearest) {
-    const int ray = static_cast<int>(roundHalfUp(a)) % n;
-    const int gate = std::clamp(static_cast<int>(roundHalfUp(g)), 0, lastGate);
-    acc->add(v.value(k, ray, gate), sweepWeight);
-    return;
-  }
+  assert(interpolation == Interpolation::Linear);  // Nearest: nearestGate
+  (void)interpolation;
   const double a0 = std::floor(a);
   const double g0 = std::floor(g);
   const double fa = a - a0;
@@ -247,6 +243,31 @@ Result<PolarVolume> buildPolarVolume(const RadarVolume& volume, const SiteResolu
   return out;
 }
 
+std::optional<PolarGate> nearestGate(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg) {
+  if (v.sweeps.empty() || !std::isfinite(rangeMeters) || !std::isfinite(azimuthDeg) || !std::isfinite(elevationDeg))
+    return std::nullopt;
+  const double hb = 0.5 * v.beamWidthDeg;
+  if (elevationDeg < v.sweeps.front().elevationDeg - hb || elevationDeg > v.sweeps.back().elevationDeg + hb)
+    return std::nullopt;  // below the lowest beam / cone of silence
+  int k = 0;
+  for (int j = 1; j < static_cast<int>(v.sweeps.size()); ++j)  // strict <: ties keep the lower sweep
+    if (std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(j)].elevationDeg) <
+        std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(k)].elevationDeg))
+      k = j;
+  const PolarSweepLayout& s = v.sweeps[static_cast<std::size_t>(k)];
+  const double g = (rangeMeters - s.firstGateRangeMeters) / s.gateSpacingMeters;
+  if (!(g >= -0.5 && g <= s.gateCount - 0.5)) return std::nullopt;  // outside the gates
+  PolarGate out;
+  out.sweep = k;
+  out.ray = static_cast<int>(roundHalfUp(rayCoordinate(s, azimuthDeg))) % s.rayCount;
+  out.gate = std::clamp(static_cast<int>(roundHalfUp(g)), 0, s.gateCount - 1);
+  out.elevationDeg = s.elevationDeg;
+  out.azimuthDeg = static_cast<double>(s.azimuthDeg[static_cast<std::size_t>(out.ray)]);
+  out.rangeMeters = s.firstGateRangeMeters + out.gate * s.gateSpacingMeters;
+  out.value = v.value(k, out.ray, out.gate);
+  return out;
+}
+
 PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg,
                         Interpolation interpolation) {
   assert(!v.sweeps.empty());
@@ -261,12 +282,7 @@ PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuth
 
   Accumulator acc;
   if (interpolation == Interpolation::Nearest) {
-    int best = 0;
-    for (int k = 1; k < n; ++k)  // strict <: ties keep the lower sweep
-      if (std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(k)].elevationDeg) <
-          std::abs(elevationDeg - v.sweeps[static_cast<std::size_t>(best)].elevationDeg))
-        best = k;
-    accumulateSweep(v, best, rangeMeters, az, 1.0, interpolation, &acc);
+    if (const auto gate = nearestGate(v, rangeMeters, az, elevationDeg)) acc.add(gate->value, 1.0);
   } else if (elevationDeg <= e0) {
     accumulateSweep(v, 0, rangeMeters, az, 1.0, interpolation, &acc);
   } else if (elevationDeg >= eTop) {

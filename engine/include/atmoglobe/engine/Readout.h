@@ -2,7 +2,8 @@
 // The value under the cursor (issue 12): where the pixel's ray meets the ground (latitude,
 // longitude, height above sea level and above the ellipsoid) and, for each volume the ray
 // crosses before the ground, the first echo along it: the value with its units and, for radars,
-// the site, the nearest sweep's elevation, and the azimuth and range of the gate read. GL-free:
+// the site, the gate read (sweep elevation, ray azimuth, gate range) and its stored value: radars
+// are sampled nearest-neighbour here, so the readout is a row of `atmoglobe gates`. GL-free:
 // the volumes' CPU twins (VolumeGL::referenceSampler, the exact sampling rule in double) are
 // sampled along the ray, so the readout is the reference's value, not a guess from the picture.
 #include <atmoglobe/engine/Camera.h>

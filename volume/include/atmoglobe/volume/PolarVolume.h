@@ -47,6 +47,7 @@
 #include <atmoglobe/volume/VolumeSampler.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,18 @@ using PolarSample = VolumeSample;
 /// The sampling rule above, in double precision. Azimuth any value (wrapped to [0, 360)).
 PolarSample samplePolar(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg,
                         Interpolation interpolation);
+
+/// The gate nearest-neighbour sampling reads (the same rule as Interpolation::Nearest: the
+/// sweep nearest in elevation within half a beam width of the lowest/highest sweep, the ray
+/// nearest in ray coordinate, the gate nearest in range), with its centre and stored value.
+/// Indices are into the render layout (sweeps sorted by elevation, rays by azimuth); the
+/// centre (elevation, azimuth, range) identifies the gate in the file. nullopt outside the gates.
+struct PolarGate {
+  int sweep = 0, ray = 0, gate = 0;
+  double elevationDeg = 0.0, azimuthDeg = 0.0, rangeMeters = 0.0;
+  float value = 0.0f;  ///< as stored: a measurement, kNoEcho or kNoData
+};
+std::optional<PolarGate> nearestGate(const PolarVolume& v, double rangeMeters, double azimuthDeg, double elevationDeg);
 
 /// Ray coordinate (step 2 of the rule, in [0, rayCount)) of an azimuth (any value, wrapped).
 double rayCoordinate(const PolarSweepLayout& sweep, double azimuthDeg);
