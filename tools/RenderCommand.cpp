@@ -96,7 +96,7 @@ int runRender(const RenderOptions& o) {
             return fail("render", st.error());
         const std::string path = seriesPath(o.output, frame);
         if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
-        std::cout << path << " " << *when << std::endl;
+        progress.print(path + " " + *when, stdout);  // the result line, not mixed into a bar
         progress.advance(1, *when);
       }
     }

@@ -45,7 +45,8 @@ std::string formatDuration(double seconds) {
 }
 
 double estimateRemainingSeconds(const ProgressState& s) {
-  if (s.total == 0 || s.done == 0 || !(s.elapsedSeconds > 0.0)) return -1.0;
+  // Unknown before anything is done or in the first quarter second (too little to go by).
+  if (s.total == 0 || s.done == 0 || !(s.elapsedSeconds >= 0.25)) return -1.0;
   if (s.done >= s.total) return 0.0;
   return s.elapsedSeconds / static_cast<double>(s.done) * static_cast<double>(s.total - s.done);
 }
@@ -57,9 +58,9 @@ std::string formatProgressBar(const ProgressState& s, std::size_t widthChars) {
   if (s.total > 0) tail.append("/").append(std::to_string(s.total));
   tail.append("  ").append(formatDuration(s.elapsedSeconds)).append(" elapsed");
   if (s.total > 0) tail.append("  ETA ").append(formatDuration(estimateRemainingSeconds(s)));
-  // The bar takes what is left, between 10 and 30 cells; the item what remains after it.
+  // The bar takes what is left, between 10 and 20 cells; the item what remains after it.
   const std::size_t fixed = s.label.size() + 3 + tail.size();
-  const std::size_t cells = widthChars > fixed + 10 ? std::min<std::size_t>(30, widthChars - fixed) : 10;
+  const std::size_t cells = widthChars > fixed + 10 ? std::min<std::size_t>(20, widthChars - fixed) : 10;
   std::string bar = s.label + " [";
   if (s.total > 0) {
     const std::size_t filled = std::min(s.done, s.total) * cells / s.total;
@@ -68,7 +69,7 @@ std::string formatProgressBar(const ProgressState& s, std::size_t widthChars) {
     bar.append(cells, '.');
   }
   bar.append("]").append(tail);
-  if (!s.item.empty() && bar.size() + 2 < widthChars) {
+  if (!s.item.empty() && bar.size() + 12 <= widthChars) {  // an item cut to under 10 characters says nothing
     std::string item = s.item;
     const std::size_t room = widthChars - bar.size() - 2;
     if (item.size() > room) item = std::string("...").append(item.substr(item.size() - (room > 3 ? room - 3 : 0)));
@@ -130,11 +131,14 @@ void Progress::update(std::size_t done, std::string_view item) {
   reportLocked(false);
 }
 
-void Progress::print(std::string_view line) {
+void Progress::print(std::string_view line, std::FILE* out) {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::FILE* out = options_.stream ? options_.stream : stderr;
+  if (!out) out = options_.stream ? options_.stream : stderr;
   if (style_ == ProgressStyle::Bar && drewBar_ && !finished_) {
-    std::fprintf(out, "\r\x1b[K%.*s\n", static_cast<int>(line.size()), line.data());
+    std::fputs("\r\x1b[K", options_.stream);  // the bar's line cleared, the line printed, the bar below it
+    std::fflush(options_.stream);
+    std::fprintf(out, "%.*s\n", static_cast<int>(line.size()), line.data());
+    std::fflush(out);
     lastDraw_ = -1.0;
     reportLocked(true);
   } else {

@@ -176,3 +176,28 @@ TEST(Progress, BarRedrawsOneLineInPlace) {
   EXPECT_EQ(static_cast<int>(std::count(text.begin(), text.end(), '\n')), 1) << text;
   EXPECT_NE(text.find("tiles: done, 4/4 in 0:04"), std::string::npos) << text;
 }
+
+TEST(Progress, EtaIsUnknownInTheFirstQuarterSecond) {
+  EXPECT_LT(estimateRemainingSeconds({"x", 1, 170, 0.01, ""}), 0.0);  // not "ETA 0:00" from one quick tile
+  EXPECT_EQ(formatProgressLine({"x", 1, 170, 0.01, ""}), "x: 0% (1/170), 0:00 elapsed, ETA --:--");
+}
+
+TEST(Progress, MessagesPrintAboveTheBar) {
+  Captured c;
+  Progress p("loading", 3, c.options(ProgressStyle::Bar));
+  c.seconds = 1.0;
+  p.advance(1, "a.nc");
+  p.print("a.nc: antenna height ...");
+  const std::string text = c.text();
+  // The bar's line is cleared, the message ends with its own newline, and the bar is drawn again.
+  const std::size_t message = text.find("\r\x1b[Ka.nc: antenna height ...\n");
+  ASSERT_NE(message, std::string::npos) << text;
+  EXPECT_NE(text.find("\rloading [", message), std::string::npos) << text;
+}
+
+TEST(Progress, MessagesInLogsArePlainLines) {
+  Captured c;
+  Progress p("loading", 3, c.options(ProgressStyle::Lines));
+  p.print("hello");
+  EXPECT_EQ(c.text(), "hello\n");
+}

@@ -72,7 +72,8 @@ class Progress {
   void advance(std::size_t count = 1, std::string_view item = {});
   /// A message line that must not be mixed into the bar: on a terminal the bar is cleared, the
   /// line printed and the bar drawn again below it; otherwise (and when quiet) just the line.
-  void print(std::string_view line);
+  /// `out`: where the line goes (default: the progress stream), e.g. stdout for a result line.
+  void print(std::string_view line, std::FILE* out = nullptr);
   /// Sets the count done (a callback that reports totals, e.g. buildPyramid's).
   void update(std::size_t done, std::string_view item = {});
   /// The last line ("LABEL: done, N/N in 0:12"); with failed = true, "LABEL: stopped at ...".
