@@ -2,6 +2,7 @@
 // VTK peer (docs/bench-volume.md). Option parsing only: the bench is the atmoglobe::bench library
 // (tools/bench/README.md).
 #include "Commands.h"
+#include "SceneOptions.h"
 
 #include <atmoglobe/bench/GridLoad.h>
 #include <atmoglobe/bench/VolumeBench.h>
@@ -41,6 +42,7 @@ Command addBenchCommand(CLI::App& root) {
   c->add_flag("!--no-big", o->big, "Grids: skip the 1280x720 frames");
   c->add_option("--peer-voxels", o->gridPeerMaxVoxels, "Grids: the peer's Cartesian grid cap (voxels)")
       ->check(CLI::Range(1e5, 1e9));
+  addQuietOption(*c);
   auto probe = std::make_shared<std::vector<std::string>>();
   c->add_option("--load-probe", *probe, "(internal) run one load case: JOB.json RESULT.json")->expected(2)->group("");
   return {c, [o, probe] {

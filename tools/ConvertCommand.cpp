@@ -5,11 +5,14 @@
 #include "Commands.h"
 #include "SceneOptions.h"
 
+#include <atmoglobe/globe/Progress.h>
 #include <atmoglobe/volume/NrrdExport.h>
 
 #include <array>
 #include <iostream>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 namespace atmoglobe::tools {
@@ -42,6 +45,7 @@ Command addConvertCommand(CLI::App& root) {
       ->check(CLI::IsMember({"linear", "nearest"}));
   c.app->add_flag("--raw", opts->raw, "Raw encoding instead of gzip");
   c.app->add_flag("--no-geoid", opts->noGeoid, "Read heights above sea level as ellipsoidal (no EGM96)");
+  addQuietOption(*c.app);
   c.run = [opts] {
     volume::NrrdExportOptions o;
     o.inputPath = opts->file;
@@ -75,7 +79,16 @@ Command addConvertCommand(CLI::App& root) {
     o.interpolation = opts->interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear;
     o.gzip = !opts->raw;
     o.useGeoid = !opts->noGeoid;
+    // Height levels resampled (reported from the worker threads; the total comes with the first).
+    std::optional<globe::Progress> progress;
+    std::mutex progressMutex;
+    o.progress = [&](std::size_t done, std::size_t levels) {
+      std::lock_guard<std::mutex> lock(progressMutex);
+      if (!progress) progress.emplace("resampling levels", levels);
+      progress->update(done);
+    };
     auto report = volume::exportNrrd(o);
+    if (progress) progress->finish(!report);
     if (!report) return fail("convert", report.error());
     const auto& s = report->spec;
     std::cerr << "atmoglobe convert: " << o.outputPath << ": " << report->kindText << " " << report->field

@@ -8,6 +8,7 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/globe/Progress.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
 #include <algorithm>
@@ -28,6 +29,7 @@ struct RenderOptions {
   bool timeSeries = false;
   int timeSubsteps = 1;
   bool noLegend = false;
+  bool strict = false;
 };
 
 // NAME.png -> NAME_007.png (frame 7 of a series).
@@ -48,7 +50,18 @@ int runRender(const RenderOptions& o) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   if (!renderer) return fail("render", renderer.error());
   std::vector<engine::Marker> markers = scene->markers;
-  if (auto s = populateScene(**renderer, *scene, &markers); !s) return fail("render", s.error());
+  // Inputs that fail are reported and left out (exit 3 once the picture is written), unless --strict.
+  std::vector<std::string> inputErrors;
+  if (auto s = populateScene(**renderer, *scene, &markers, o.strict ? nullptr : &inputErrors); !s)
+    return fail("render", s.error());
+  for (const std::string& e : inputErrors) std::cerr << "atmoglobe render: error: " << e << "\n";
+  auto done = [&]() {
+    if (inputErrors.empty()) return 0;
+    std::cerr << "atmoglobe render: rendered with " << inputErrors.size() << " input error"
+              << (inputErrors.size() > 1 ? "s" : "") << " (exit status " << kExitRenderedWithErrors
+              << "; --strict stops at the first)\n";
+    return kExitRenderedWithErrors;
+  };
   auto target = engine::FramebufferGL::create(scene->widthPx, scene->heightPx);
   if (!target) return fail("render", target.error());
   const engine::Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
@@ -70,6 +83,7 @@ int runRender(const RenderOptions& o) {
     std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << axis->leadName
               << "; colours and opacity stay those of the step first loaded\n";
     std::size_t frame = 0;
+    globe::Progress progress("frames", (axis->times.size() - 1) * static_cast<std::size_t>(o.timeSubsteps) + 1);
     for (std::size_t step = 0; step < axis->times.size(); ++step) {
       const int subs = step + 1 < axis->times.size() ? o.timeSubsteps : 1;
       for (int sub = 0; sub < subs; ++sub, ++frame) {
@@ -82,10 +96,12 @@ int runRender(const RenderOptions& o) {
             return fail("render", st.error());
         const std::string path = seriesPath(o.output, frame);
         if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
-        std::cout << path << " " << *when << std::endl;
+        progress.print(path + " " + *when, stdout);  // the result line, not mixed into a bar
+        progress.advance(1, *when);
       }
     }
-    return 0;
+    progress.finish();
+    return done();
   }
   auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
   if (!image) return fail("render", image.error());
@@ -109,7 +125,7 @@ int runRender(const RenderOptions& o) {
     }
   }
   std::cout << o.output << "\n";
-  return 0;
+  return done();
 }
 }  // namespace
 
@@ -123,6 +139,9 @@ Command addRenderCommand(CLI::App& root) {
               "Draw the volumes with the CPU reference renderer (double precision, exact geolocation; slow: "
               "~1-2 us per sample) in the GPU marcher's place; globe, markers, labels and models as always");
   c->add_option("--threads", options->threads, "Threads for --reference")->capture_default_str();
+  c->add_flag("--strict", options->strict,
+              "Stop at the first input that cannot be loaded (exit 1); by default each is reported, left out, and "
+              "the picture written with exit status 3");
   c->add_flag("--no-legend", options->noLegend,
               "No title, colour keys, scale bar or SYNTHETIC mark drawn over the picture");
   c->add_flag("--time-series", options->timeSeries,

@@ -7,7 +7,10 @@
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/StationList.h>
 
+#include <atmoglobe/globe/Progress.h>
+
 #include <iostream>
+#include <optional>
 
 #include <cerrno>
 #include <cmath>
@@ -70,7 +73,14 @@ Status pickLayerSettings(const SceneOptions::LayerSettingTexts& t, const std::st
 }
 }  // namespace
 
+void addQuietOption(CLI::App& c) {
+  c.add_flag_callback(
+      "-q,--quiet", [] { globe::setDefaultProgressStyle(globe::ProgressStyle::Quiet); },
+      "No progress output (a bar on a terminal, plain lines otherwise)");
+}
+
 void addSceneOptions(CLI::App& c, SceneOptions& o) {
+  addQuietOption(c);
   c.add_option("scene", o.sceneFile, "Scene file (JSON; see README). Default: the embedded default scene");
   c.add_option("--camera", o.camera,
                "Camera LAT,LON,HEIGHT,HEADING,PITCH,ROLL: degrees, metres above the WGS84 ellipsoid, "
@@ -166,6 +176,11 @@ Result<std::vector<double>> parseNumbers(const std::string& text, std::size_t mi
 }
 
 namespace {
+// Where a layer's key was given: "scene.json: /radars/2" + "/path", or the CLI option.
+std::string keyAt(const std::string& origin, const char* key, const std::string& option) {
+  return origin.rfind("--", 0) == 0 ? option : origin + "/" + key;
+}
+
 // A per-layer option given once (every layer) or once per layer: layer i's value into `out`
 // (untouched when the option is not given).
 template <class V, class T>
@@ -181,56 +196,173 @@ Status pickPerLayer(const std::vector<V>& values, const char* name, const char* 
 }
 }  // namespace
 
-Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
-                     std::vector<engine::Marker>* markers) {
+Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription& scene,
+                     std::vector<engine::Marker>* markers, std::vector<std::string>* errors) {
   if (auto st = renderer.setVerticalExaggeration(scene.verticalExaggeration); !st) return st;
-  for (const engine::RadarLayerDescription& d : scene.radars) {
-    auto layer = renderer.addRadar(d);
-    if (!layer) return layer.forwardError();
-    std::cerr << d.path << ": " << (*layer)->datumNote << "\n";
+  // One input's failure: fatal without `errors`, else kept and the layer left out.
+  auto problem = [&](const std::string& message) -> Status {
+    if (!errors) return makeError(message);
+    errors->push_back(message);
+    return Ok{};
+  };
+  for (const std::string& e : scene.inputErrors)
+    if (auto st = problem(e); !st) return st;
+  const auto& origins = scene.origins;
+  const std::size_t inputs = scene.radars.size() + scene.grids.size() + scene.slices.size() + scene.overlays.size();
+  // Several inputs: progress (a bar on a terminal, lines in logs); one is quick enough alone.
+  std::optional<globe::Progress> progress;
+  if (inputs > 1) progress.emplace("loading", inputs);
+  auto step = [&](const std::string& path) {
+    if (progress) progress->advance(1, std::filesystem::path(path).filename().string());
+  };
+  auto say = [&](const std::string& line) {
+    if (progress) progress->print(line);
+    else std::cerr << line << "\n";
+  };
+  engine::SceneDescription::Origins kept;
+  {
+    std::vector<engine::RadarLayerDescription> loaded;
+    for (std::size_t i = 0; i < scene.radars.size(); ++i) {
+      const engine::RadarLayerDescription& d = scene.radars[i];
+      const std::string origin = engine::layerOrigin(origins.radars, i, "--radar");
+      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
+      if (st && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
+        st = engine::checkInputFile(d.colors, keyAt(origin, "colors", "--colors"));
+      std::string note;
+      if (st) {
+        auto layer = renderer.addRadar(d);
+        if (layer) note = (*layer)->datumNote;
+        else st = makeError(origin + ": " + layer.error());
+      }
+      step(d.path);
+      if (!st) {
+        if (auto f = problem(st.error()); !f) return f;
+        continue;
+      }
+      say(d.path + ": " + note);
+      loaded.push_back(d);
+      kept.radars.push_back(origin);
+    }
+    scene.radars = std::move(loaded);
   }
-  for (const engine::GridLayerDescription& d : scene.grids) {
-    auto layer = renderer.addGrid(d);
-    if (!layer) return layer.forwardError();
-    const volume::GridVolume& g = (*layer)->volume->grid();
-    std::cerr << d.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
-              << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
-              << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
-              << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "") << "\n";
+  {
+    std::vector<engine::GridLayerDescription> loaded;
+    for (std::size_t i = 0; i < scene.grids.size(); ++i) {
+      const engine::GridLayerDescription& d = scene.grids[i];
+      const std::string origin = engine::layerOrigin(origins.grids, i, "--grid");
+      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
+      if (st && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
+        st = engine::checkInputFile(d.colors, keyAt(origin, "colors", "--grid-colors"));
+      std::string line;
+      if (st) {
+        auto layer = renderer.addGrid(d);
+        if (layer) {
+          const volume::GridVolume& g = (*layer)->volume->grid();
+          std::ostringstream text;
+          text << d.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
+               << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
+               << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
+               << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "");
+          line = text.str();
+        } else {
+          st = makeError(origin + ": " + layer.error());
+        }
+      }
+      step(d.path);
+      if (!st) {
+        if (auto f = problem(st.error()); !f) return f;
+        continue;
+      }
+      say(line);
+      loaded.push_back(d);
+      kept.grids.push_back(origin);
+    }
+    scene.grids = std::move(loaded);
   }
-  for (const engine::SliceLayerDescription& d : scene.slices) {
-    auto line = renderer.addSlice(d);
-    if (!line) return line.forwardError();
-    std::cerr << d.source.path << ": slice " << *line << "\n";
+  {
+    std::vector<engine::SliceLayerDescription> loaded;
+    for (std::size_t i = 0; i < scene.slices.size(); ++i) {
+      const engine::SliceLayerDescription& d = scene.slices[i];
+      const bool isRadar = d.source.kind == volume::SliceSourceOptions::Kind::Radar;
+      const std::string origin = engine::layerOrigin(origins.slices, i, "--slice-height-m/--slice-path");
+      Status st = engine::checkInputFile(d.source.path, keyAt(origin, isRadar ? "radar" : "grid", origin));
+      std::string line;
+      if (st) {
+        auto added = renderer.addSlice(d);
+        if (added) line = *added;
+        else st = makeError(origin + ": " + added.error());
+      }
+      step(d.source.path);
+      if (!st) {
+        if (auto f = problem(st.error()); !f) return f;
+        continue;
+      }
+      say(d.source.path + ": slice " + line);
+      loaded.push_back(d);
+      kept.slices.push_back(origin);
+    }
+    scene.slices = std::move(loaded);
   }
   for (const std::string& m : scene.models) {
-    if (auto st = renderer.addModel(m); !st) return st.forwardError();
+    if (auto st = renderer.addModel(m); !st)
+      if (auto f = problem("--cones: " + st.error()); !f) return f;
   }
   // Map context on by default; missing GSHHG files only warn (the picture still renders).
   if (auto st = renderer.setMapContext(scene.mapContext); !st)
     std::cerr << "warning: " << st.error() << " (drawn without coastlines and borders; --no-map silences this)\n";
-  for (const engine::MapOverlayDescription& d : scene.overlays) {
-    auto line = renderer.addOverlay(d);
-    if (!line) return line.forwardError();
-    std::cerr << d.path << ": overlay: " << *line << "\n";
+  {
+    std::vector<engine::MapOverlayDescription> loaded;
+    for (std::size_t i = 0; i < scene.overlays.size(); ++i) {
+      const engine::MapOverlayDescription& d = scene.overlays[i];
+      const std::string origin = engine::layerOrigin(origins.overlays, i, "--overlay");
+      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
+      std::string line;
+      if (st) {
+        auto added = renderer.addOverlay(d);
+        if (added) line = *added;
+        else st = makeError(origin + ": " + added.error());
+      }
+      step(d.path);
+      if (!st) {
+        if (auto f = problem(st.error()); !f) return f;
+        continue;
+      }
+      say(d.path + ": overlay: " + line);
+      loaded.push_back(d);
+      kept.overlays.push_back(origin);
+    }
+    scene.overlays = std::move(loaded);
   }
+  if (progress) progress->finish();
   renderer.setRangeRings(scene.rangeRings);
   if (!scene.stationsPath.empty()) {
-    auto stations = volume::readStationList(scene.stationsPath);
-    if (!stations) return stations.forwardError();
-    const auto& geoid = volume::defaultEgm96Grid();
-    for (const volume::Station& s : *stations) {
-      engine::Marker m;
-      m.latDeg = s.latDeg;
-      m.lonDeg = s.lonDeg;
-      // Station elevations are above mean sea level; markers sit on the ellipsoid's scale.
-      m.heightMeters = s.elevationMeters + (geoid ? geoid->undulationMeters(s.latDeg, s.lonDeg) : 0.0);
-      m.color = glm::vec3(1.0f, 0.85f, 0.1f);
-      m.sizePx = 9.0f;
-      m.label = s.id;
-      markers->push_back(m);
+    const std::string origin = scene.origins.stations.empty() ? "--stations" : scene.origins.stations;
+    Status st = engine::checkInputFile(scene.stationsPath, origin);
+    if (st) {
+      auto stations = volume::readStationList(scene.stationsPath);
+      if (!stations) {
+        st = makeError(origin + ": " + stations.error());
+      } else {
+        const auto& geoid = volume::defaultEgm96Grid();
+        for (const volume::Station& s : *stations) {
+          engine::Marker m;
+          m.latDeg = s.latDeg;
+          m.lonDeg = s.lonDeg;
+          // Station elevations are above mean sea level; markers sit on the ellipsoid's scale.
+          m.heightMeters = s.elevationMeters + (geoid ? geoid->undulationMeters(s.latDeg, s.lonDeg) : 0.0);
+          m.color = glm::vec3(1.0f, 0.85f, 0.1f);
+          m.sizePx = 9.0f;
+          m.label = s.id;
+          markers->push_back(m);
+        }
+      }
     }
+    if (!st)
+      if (auto f = problem(st.error()); !f) return f;
   }
+  kept.imagery = scene.origins.imagery;
+  kept.stations = scene.origins.stations;
+  scene.origins = std::move(kept);
   return Ok{};
 }
 
@@ -289,12 +421,20 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (!o.size.empty()) {
     if (auto s = parseSize(o.size, &scene->widthPx, &scene->heightPx); !s) return s.forwardError();
   }
+  auto& origins = scene->origins;
   if (!o.imageryDirs.empty()) {
     scene->imagery.clear();
-    for (const std::string& d : o.imageryDirs)
+    origins.imagery.clear();
+    for (const std::string& d : o.imageryDirs) {
       scene->imagery.push_back({engine::ImageryLayerDescription::Type::Pyramid, d});
+      origins.imagery.push_back("--imagery");
+    }
   }
-  for (const std::string& d : o.xyzDirs) scene->imagery.push_back({engine::ImageryLayerDescription::Type::Xyz, d});
+  origins.imagery.resize(scene->imagery.size());
+  for (const std::string& d : o.xyzDirs) {
+    scene->imagery.push_back({engine::ImageryLayerDescription::Type::Xyz, d});
+    origins.imagery.push_back("--xyz");
+  }
   for (const std::string& m : o.markers) {
     // LAT,LON[,HEIGHT[,LABEL]]: the label is everything after the third comma.
     std::string numbers = m, label;
@@ -318,13 +458,18 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     }
     scene->markers.push_back(marker);
   }
-  if (!o.stations.empty()) scene->stationsPath = o.stations;
+  if (!o.stations.empty()) {
+    scene->stationsPath = o.stations;
+    origins.stations = "--stations";
+  }
   if (o.noMap) scene->mapContext = false;
   if (o.rangeRings) scene->rangeRings = true;
+  origins.overlays.resize(scene->overlays.size());
   for (const std::string& path : o.overlays) {
     engine::MapOverlayDescription d;
     d.path = path;
     scene->overlays.push_back(d);
+    origins.overlays.push_back("--overlay");
   }
   for (const std::string& m : o.models) scene->models.push_back(m);
   const std::size_t nr = o.radars.size();
@@ -338,7 +483,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
         "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
-  if (nr > 0) scene->radars.clear();  // like --imagery, --radar replaces the scene's radars
+  if (nr > 0) {  // like --imagery, --radar replaces the scene's radars
+    scene->radars.clear();
+    origins.radars.clear();
+  }
   for (std::size_t i = 0; i < nr; ++i) {
     engine::RadarLayerDescription d;
     d.path = o.radars[i];
@@ -352,7 +500,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       if (!st) return st.forwardError();
     }
     if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();
-    if (auto st = engine::validateRadarLayer(d, "--radar " + d.path); !st) return st.forwardError();
+    if (auto st = engine::validateRadarLayer(d, "--radar"); !st) return st.forwardError();
     scene->radars.push_back(d);
   }
   const std::size_t ng = o.grids.size();
@@ -365,7 +513,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
         "--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
-  if (ng > 0) scene->grids.clear();  // --grid replaces the scene's grids
+  if (ng > 0) {  // --grid replaces the scene's grids
+    scene->grids.clear();
+    origins.grids.clear();
+  }
   for (std::size_t i = 0; i < ng; ++i) {
     engine::GridLayerDescription d;
     d.path = o.grids[i];
@@ -377,7 +528,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       if (!st) return st.forwardError();
     }
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
-    if (auto st = engine::validateGridLayer(d, "--grid " + d.path); !st) return st.forwardError();
+    if (auto st = engine::validateGridLayer(d, "--grid"); !st) return st.forwardError();
     scene->grids.push_back(d);
   }
   if (!o.sliceHeights.empty() || !o.slicePaths.empty()) {
@@ -405,7 +556,12 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       scene->slices.push_back(d);
     }
   }
-  for (const auto& layer : scene->imagery) {
+  // A missing imagery directory leaves that layer out (said in inputErrors: the rest renders).
+  std::vector<engine::ImageryLayerDescription> present;
+  std::vector<std::string> presentOrigins;
+  for (std::size_t i = 0; i < scene->imagery.size(); ++i) {
+    const auto& layer = scene->imagery[i];
+    const std::string origin = engine::layerOrigin(origins.imagery, i, "--imagery");
     if (!std::filesystem::exists(layer.path)) {
       std::string hint;
       if (layer.path.rfind(dataDirectory(), 0) == 0) {
@@ -414,9 +570,15 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
             "/usr/share/xplanet/images/earth.jpg -o " +
             dataDirectory() + "/earth)";
       }
-      return makeError("imagery directory " + layer.path + " does not exist" + hint);
+      scene->inputErrors.push_back(keyAt(origin, "path", origin) + ": imagery directory not found: " + layer.path +
+                                   hint);
+      continue;
     }
+    present.push_back(layer);
+    presentOrigins.push_back(origin);
   }
+  scene->imagery = std::move(present);
+  origins.imagery = std::move(presentOrigins);
   return scene;
 }
 

@@ -49,7 +49,15 @@ struct SceneOptions {
   bool rangeRings = false;            ///< --range-rings
 };
 
+/// Exit status of `render` when the picture was written but some inputs failed (each reported);
+/// `--strict` makes the first failure fatal (exit 1) instead.
+inline constexpr int kExitRenderedWithErrors = 3;
+
+/// The scene options, and `--quiet` (no progress output: globe::setDefaultProgressStyle).
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+
+/// `-q,--quiet` on a command: no progress bars or lines (globe/Progress.h).
+void addQuietOption(CLI::App& command);
 
 /// Directory of generated default data: $ATMOGLOBE_DATA_DIR, else the build's.
 std::string dataDirectory();
@@ -58,10 +66,18 @@ std::string dataDirectory();
 Result<engine::SceneDescription> resolveScene(const SceneOptions& options);
 
 /// Loads what the scene needs beyond imagery into the renderer: radar volumes (their site
-/// markers included), forecast grids and the station list as markers (appended to `markers`). Prints the
-/// vertical datum used for each radar to stderr.
-Status populateScene(engine::SceneRendererGL& renderer, const engine::SceneDescription& scene,
-                     std::vector<engine::Marker>* markers);
+/// markers included), forecast grids, slices, overlays and the station list as markers (appended
+/// to `markers`). Prints the vertical datum used for each radar to stderr, and progress when there
+/// are several inputs (globe/Progress.h).
+///
+/// An input that cannot be loaded (file not found, unreadable, bad content) is one message naming
+/// where it was given and the file: "scene.json: /radars/2/path: file not found: /data/x.nc". With
+/// `errors` null the first such message is returned (the caller stops); otherwise each is appended
+/// to `errors`, that layer is left out of `scene` (so that `scene` describes what the renderer
+/// holds, e.g. for SceneTime) and the others still load. scene.inputErrors (found by
+/// resolveScene) are reported the same way.
+Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription& scene,
+                     std::vector<engine::Marker>* markers, std::vector<std::string>* errors = nullptr);
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text);
 Status parseSize(const std::string& text, int* widthPx, int* heightPx);

@@ -5,7 +5,11 @@
 #include <string>
 
 #include "Commands.h"
+#include "SceneOptions.h"
 #include "atmoglobe/globe/ImageryPyramid.h"
+#include "atmoglobe/globe/Progress.h"
+
+#include <optional>
 
 namespace atmoglobe::tools {
 
@@ -29,12 +33,21 @@ Command addTilesCommand(CLI::App& root) {
       ->add_option("--max-level", options->maxLevel,
                    "Deepest level to build (default: the smallest level at least as fine as the image)")
       ->check(CLI::Range(0, globe::kMaxPyramidLevel));
+  addQuietOption(*c.app);
   c.run = [options] {
     globe::PyramidBuildOptions buildOptions;
     buildOptions.maxLevel = options->maxLevel;
+    // Tiles written so far (the total is known once the image is read).
+    std::optional<globe::Progress> progress;
+    buildOptions.progress = [&progress](std::uint64_t written, std::uint64_t total) {
+      if (!progress) progress.emplace("tiles", static_cast<std::size_t>(total));
+      progress->update(static_cast<std::size_t>(written));
+      return true;
+    };
     globe::PyramidInfo info;
     const auto start = std::chrono::steady_clock::now();
     Status built = globe::buildPyramid(options->image, options->outDir, buildOptions, &info);
+    if (progress) progress->finish(!built);
     if (!built) return fail("tiles", built.error());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s: levels 0..%d, %llu tiles of %d px, %.2f s\n", options->outDir.c_str(), info.maxLevel,

@@ -1,13 +1,15 @@
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
+#include "SceneJsonFields.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 namespace atmoglobe::engine {
@@ -15,23 +17,7 @@ namespace atmoglobe::engine {
 namespace {
 
 using json = nlohmann::json;
-
-Status checkKeys(const json& object, const std::set<std::string>& allowed, const std::string& where) {
-  if (!object.is_object()) return makeError(where + ": expected a JSON object");
-  for (auto it = object.begin(); it != object.end(); ++it) {
-    if (!allowed.count(it.key())) return makeError(where + ": unknown key \"" + it.key() + "\"");
-  }
-  return Ok{};
-}
-
-Result<double> number(const json& object, const char* key, double fallback, const std::string& where) {
-  if (!object.contains(key)) return fallback;
-  const json& v = object.at(key);
-  if (!v.is_number()) return makeError(where + ": \"" + key + "\" must be a number");
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) return makeError(where + ": \"" + key + "\" must be finite");
-  return d;
-}
+using scenejson::Object;
 
 std::string resolvePath(const std::string& path, const std::string& baseDir, const std::string& dataDir) {
   if (path.rfind("@data", 0) == 0) return dataDir + path.substr(5);
@@ -40,48 +26,157 @@ std::string resolvePath(const std::string& path, const std::string& baseDir, con
   return (std::filesystem::path(baseDir) / p).string();
 }
 
-}  // namespace
-
-namespace {
 // "range", "opacity", "crop", "crop_heights_m" of a radar or grid layer.
-Status parseLayerSettings(const json& r, const std::string& where, VolumeLayerSettings& out) {
-  auto numbers = [&](const char* key, std::size_t lo, std::size_t hi, const char* form) -> Result<std::vector<double>> {
-    const json& a = r[key];
-    if (!a.is_array() || a.size() < lo || a.size() > hi) return makeError(where + ": \"" + key + "\" must be " + form);
-    std::vector<double> v;
-    for (const json& x : a) {
-      if (!x.is_number()) return makeError(where + ": \"" + key + "\" must be " + form);
-      v.push_back(x.get<double>());
-    }
-    return v;
-  };
-  if (r.contains("range")) {
-    auto v = numbers("range", 2, 2, "[min, max] in the field's units");
-    if (!v) return v.forwardError();
-    out.valueRange = glm::dvec2((*v)[0], (*v)[1]);
+Status parseLayerSettings(const Object& o, VolumeLayerSettings& out) {
+  std::vector<double> v;
+  if (auto st = o.numbers("range", v, 2, 2, "[min, max] (field units)"); !st) return st;
+  if (o.has("range")) out.valueRange = glm::dvec2(v[0], v[1]);
+  if (auto st = o.numbers("opacity", out.opacity, 2, 4, "[zero, full[, max[, per_m]]]"); !st) return st;
+  v.clear();
+  if (auto st = o.numbers("crop", v, 4, 4, "[south, north, west, east] (deg)", -360.0, 360.0); !st) return st;
+  if (o.has("crop")) {
+    out.crop.southDeg = v[0];
+    out.crop.northDeg = v[1];
+    out.crop.westDeg = v[2];
+    out.crop.eastDeg = v[3];
   }
-  if (r.contains("opacity")) {
-    auto v = numbers("opacity", 2, 4, "[zero, full] or [zero, full, max] or [zero, full, max, per_m]");
-    if (!v) return v.forwardError();
-    out.opacity = *v;
-  }
-  if (r.contains("crop")) {
-    auto v = numbers("crop", 4, 4, "[south, north, west, east] in degrees");
-    if (!v) return v.forwardError();
-    out.crop.southDeg = (*v)[0];
-    out.crop.northDeg = (*v)[1];
-    out.crop.westDeg = (*v)[2];
-    out.crop.eastDeg = (*v)[3];
-  }
-  if (r.contains("crop_heights_m")) {
-    auto v = numbers("crop_heights_m", 2, 2, "[bottom, top] in metres above sea level");
-    if (!v) return v.forwardError();
-    out.crop.bottomMeters = (*v)[0];
-    out.crop.topMeters = (*v)[1];
+  v.clear();
+  if (auto st = o.numbers("crop_heights_m", v, 2, 2, "[bottom, top] (m above sea level)"); !st) return st;
+  if (o.has("crop_heights_m")) {
+    out.crop.bottomMeters = v[0];
+    out.crop.topMeters = v[1];
   }
   return Ok{};
 }
+
+// A colour table: a name (case ignored) or a .pal file (resolved like every path).
+Status parseColors(const Object& o, std::string& out, std::initializer_list<const char*> names,
+                   const std::string& baseDir, const std::string& dataDir) {
+  if (auto st = o.string("colors", out); !st) return st;
+  if (!o.has("colors")) return Ok{};
+  std::string lower = out;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::vector<std::string> known;
+  for (const char* n : names) {
+    if (lower == n) return Ok{};
+    known.push_back(n);
+  }
+  if (lower.size() > 4 && lower.substr(lower.size() - 4) == ".pal") {
+    out = resolvePath(out, baseDir, dataDir);
+    return Ok{};
+  }
+  std::string message = std::string("\"").append(out).append("\" is neither a colour table (");
+  for (std::size_t i = 0; i < known.size(); ++i) message += (i ? ", " : "") + known[i];
+  message += ") nor a .pal file";
+  if (const std::string hint = scenejson::closestKey(lower, known); !hint.empty())
+    message.append(" (did you mean \"").append(hint).append("\"?)");
+  return o.error("colors", message);
+}
+
+// A layer's "path": required, a string, resolved.
+Status parsePath(const Object& o, const char* key, std::string& out, const char* what, const std::string& baseDir,
+                 const std::string& dataDir) {
+  if (auto st = o.require(key, what); !st) return st;
+  if (auto st = o.string(key, out); !st) return st;
+  if (out.empty()) return o.error(key, "empty path");
+  out = resolvePath(out, baseDir, dataDir);
+  return Ok{};
+}
+
+// Runs each check in order; the first error wins.
+template <class... Checks>
+Status all(Checks&&... checks) {
+  Status result = Ok{};
+  ((result ? (result = checks()) : result), ...);
+  return result;
+}
+
+Status parseRadar(const Object& r, const std::string& baseDir, const std::string& dataDir, RadarLayerDescription& d) {
+  if (auto st =
+          r.checkObject({"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz", "beam",
+                         "classification", "label", "geoid", "range", "opacity", "crop", "crop_heights_m"});
+      !st)
+    return st;
+  Status st =
+      all([&] { return parsePath(r, "path", d.path, "a radar file, directory, glob or comma list", baseDir, dataDir); },
+          [&] { return r.string("field", d.field); },
+          [&] {
+            return parseColors(r, d.colors,
+                               {"auto", "nws", "cividis", "velocity", "viridis", "turbo", "grayscale", "greens"},
+                               baseDir, dataDir);
+          },
+          [&] {
+            return r.choice("mode", d.mode, {"dvr", "mip", "iso"});
+          },
+          [&] {
+            return r.choice("interpolation", d.interpolation, {"nearest", "linear"});
+          },
+          [&] {
+            return r.choice("beam", d.beam, {"4/3", "straight"});
+          },
+          [&] {
+            return r.choice("classification", d.classification, {"point", "preintegrated"});
+          },
+          [&] { return r.string("label", d.label); }, [&] { return r.number("step_m", d.stepMeters, 1.0, 1e5, "m"); },
+          [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
+          [&] { return r.number("iso_dbz", d.isoValue, -1e30, 1e30, "(field units)"); },
+          [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
+  if (!st) return st;
+  return validateRadarLayer(d, r.where());
+}
+
+Status parseGrid(const Object& r, const std::string& baseDir, const std::string& dataDir, GridLayerDescription& d) {
+  if (auto st = r.checkObject({"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
+                               "iso_value", "classification", "geoid", "range", "opacity", "crop", "crop_heights_m"});
+      !st)
+    return st;
+  Status st = all([&] { return parsePath(r, "path", d.path, "a CF or WRF netCDF file", baseDir, dataDir); },
+                  [&] { return r.string("variable", d.variable); }, [&] { return r.string("time", d.time); },
+                  [&] {
+                    return parseColors(
+                        r, d.colors, {"auto", "nws", "cividis", "viridis", "turbo", "grayscale", "greens", "velocity"},
+                        baseDir, dataDir);
+                  },
+                  [&] {
+                    return r.choice("mode", d.mode, {"dvr", "mip", "iso"});
+                  },
+                  [&] {
+                    return r.choice("interpolation", d.interpolation, {"nearest", "linear"});
+                  },
+                  [&] {
+                    return r.choice("classification", d.classification, {"point", "preintegrated"});
+                  },
+                  [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
+                  [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
+                  [&] { return r.number("iso_value", d.isoValue, -1e30, 1e30, "(variable units)"); },
+                  [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
+  if (!st) return st;
+  return validateGridLayer(d, r.where());
+}
+
+Status parseMarker(const Object& m, Marker& marker) {
+  if (auto st = m.checkObject({"lat_deg", "lon_deg", "height_m", "label", "color", "size_px"}); !st) return st;
+  return all([&] { return m.require("lat_deg", "latitude, deg"); },
+             [&] { return m.require("lon_deg", "longitude, deg"); },
+             [&] { return m.number("lat_deg", marker.latDeg, -90.0, 90.0, "deg"); },
+             [&] { return m.number("lon_deg", marker.lonDeg, -360.0, 360.0, "deg"); },
+             [&] { return m.number("height_m", marker.heightMeters, -1.2e4, 1e8, "m"); },
+             [&] { return m.number("size_px", marker.sizePx, 1.0, 256.0, "px"); },
+             [&] { return m.string("label", marker.label); }, [&] { return m.color("color", marker.color); });
+}
+
 }  // namespace
+
+std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback) {
+  return index < origins.size() && !origins[index].empty() ? origins[index] : fallback;
+}
+
+Status checkInputFile(const std::string& path, const std::string& where) {
+  if (path.find_first_of("*?[,") != std::string::npos) return Ok{};  // a glob or a list: the reader says
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return makeError(where + ": file not found: " + path);
+  return Ok{};
+}
 
 Status validateVolumeLayerSettings(const VolumeLayerSettings& s, const std::string& where) {
   if (s.valueRange &&
@@ -106,230 +201,130 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers beyond double (fuzz_scene)
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
-  if (auto s = checkKeys(root,
-                         {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
-                          "vertical_exaggeration", "map_context", "overlays", "range_rings"},
-                         sourceName);
+  const Object top(root, sourceName, "");
+  if (auto s = top.checkObject({"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations",
+                                "slices", "vertical_exaggeration", "map_context", "overlays", "range_rings"});
       !s) {
     return s.forwardError();
   }
   SceneDescription scene;
-  if (root.contains("camera")) {
-    const json& c = root["camera"];
-    const std::string where = sourceName + ": camera";
-    if (auto s = checkKeys(c, {"lat_deg", "lon_deg", "height_m", "heading_deg", "pitch_deg", "roll_deg"}, where); !s) {
-      return s.forwardError();
-    }
-    const std::pair<const char*, double*> fields[] = {
-        {"lat_deg", &scene.camera.latDeg},        {"lon_deg", &scene.camera.lonDeg},
-        {"height_m", &scene.camera.heightMeters}, {"heading_deg", &scene.camera.headingDeg},
-        {"pitch_deg", &scene.camera.pitchDeg},    {"roll_deg", &scene.camera.rollDeg}};
-    for (auto [key, out] : fields) {
-      auto v = number(c, key, *out, where);
-      if (!v) return v.forwardError();
-      *out = *v;
-    }
-    if (auto s = validatePose(scene.camera); !s) return makeError(sourceName + ": " + s.error());
-  }
-  {
-    auto exaggeration = number(root, "vertical_exaggeration", scene.verticalExaggeration, sourceName);
-    if (!exaggeration) return exaggeration.forwardError();
-    scene.verticalExaggeration = *exaggeration;
-    if (auto st = volume::validateVerticalExaggeration(scene.verticalExaggeration, sourceName); !st)
+  if (top.has("camera")) {
+    const Object c = top.member("camera");
+    CameraPose& p = scene.camera;
+    if (auto st = all(
+            [&] {
+              return c.checkObject({"lat_deg", "lon_deg", "height_m", "heading_deg", "pitch_deg", "roll_deg"});
+            },
+            [&] { return c.number("lat_deg", p.latDeg, -90.0, 90.0, "deg"); },
+            [&] { return c.number("lon_deg", p.lonDeg, -360.0, 360.0, "deg"); },
+            [&] { return c.number("height_m", p.heightMeters, -6.3e6, 1e10, "m"); },
+            [&] { return c.number("heading_deg", p.headingDeg, -360.0, 360.0, "deg"); },
+            [&] { return c.number("pitch_deg", p.pitchDeg, -90.0, 90.0, "deg"); },
+            [&] { return c.number("roll_deg", p.rollDeg, -180.0, 180.0, "deg"); });
+        !st)
       return st.forwardError();
-    auto fov = number(root, "fov_deg", scene.fovYDeg, sourceName);
-    if (!fov) return fov.forwardError();
-    if (*fov <= 0.0 || *fov >= 180.0) return makeError(sourceName + ": fov_deg must be in (0, 180)");
-    scene.fovYDeg = *fov;
+    if (auto s = validatePose(scene.camera); !s) return makeError(c.where() + ": " + s.error());
   }
-  if (root.contains("size")) {
-    const json& s = root["size"];
-    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer() ||
-        s[0].get<long long>() < 1 || s[1].get<long long>() < 1 || s[0].get<long long>() > 16384 ||
-        s[1].get<long long>() > 16384) {
-      return makeError(sourceName + ": size must be [width, height] with integers in 1..16384");
-    }
-    scene.widthPx = s[0].get<int>();
-    scene.heightPx = s[1].get<int>();
+  if (auto st = top.number("vertical_exaggeration", scene.verticalExaggeration, 0.1, 100.0); !st)
+    return st.forwardError();
+  if (auto st = volume::validateVerticalExaggeration(scene.verticalExaggeration, top.where("vertical_exaggeration"));
+      !st)
+    return st.forwardError();
+  if (auto st = top.number("fov_deg", scene.fovYDeg, 0.0, 180.0, "deg"); !st) return st.forwardError();
+  if (!(scene.fovYDeg > 0.0 && scene.fovYDeg < 180.0))
+    return top.error("fov_deg", "must be above 0 and below 180 deg").forwardError();
+  if (top.has("size")) {
+    std::vector<double> v;
+    if (auto st = top.numbers("size", v, 2, 2, "[width, height] (px)", 1.0, 16384.0); !st) return st.forwardError();
+    for (std::size_t i = 0; i < 2; ++i)
+      if (!root["size"][i].is_number_integer())
+        return makeError(top.where("size") + "/" + std::to_string(i) + ": " +
+                         scenejson::expected("an integer", root["size"][i]));
+    scene.widthPx = static_cast<int>(v[0]);
+    scene.heightPx = static_cast<int>(v[1]);
   }
-  if (root.contains("imagery")) {
-    if (!root["imagery"].is_array()) return makeError(sourceName + ": imagery must be an array");
-    int i = 0;
-    for (const json& layer : root["imagery"]) {
-      const std::string where = sourceName + ": imagery[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(layer, {"type", "path"}, where); !s) return s.forwardError();
-      if (!layer.contains("path") || !layer["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+  for (const char* key : {"imagery", "markers", "radars", "grids", "overlays", "slices"})
+    if (auto st = top.array(key); !st) return st.forwardError();
+  if (top.has("imagery")) {
+    for (std::size_t i = 0; i < root["imagery"].size(); ++i) {
+      const Object layer = top.element("imagery", i);
       ImageryLayerDescription d;
-      const std::string type = layer.value("type", std::string("pyramid"));
-      if (type == "pyramid") d.type = ImageryLayerDescription::Type::Pyramid;
-      else if (type == "xyz") d.type = ImageryLayerDescription::Type::Xyz;
-      else return makeError(where + ": type must be \"pyramid\" or \"xyz\", not \"" + type + "\"");
-      d.path = resolvePath(layer["path"].get<std::string>(), baseDir, dataDir);
+      std::string type = "pyramid";
+      if (auto st = all(
+              [&] {
+                return layer.checkObject({"type", "path"});
+              },
+              [&] {
+                return layer.choice("type", type, {"pyramid", "xyz"});
+              },
+              [&] { return parsePath(layer, "path", d.path, "an imagery directory", baseDir, dataDir); });
+          !st)
+        return st.forwardError();
+      d.type = type == "xyz" ? ImageryLayerDescription::Type::Xyz : ImageryLayerDescription::Type::Pyramid;
       scene.imagery.push_back(d);
+      scene.origins.imagery.push_back(layer.where());
     }
   }
-  if (root.contains("markers")) {
-    if (!root["markers"].is_array()) return makeError(sourceName + ": markers must be an array");
-    int i = 0;
-    for (const json& m : root["markers"]) {
-      const std::string where = sourceName + ": markers[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(m, {"lat_deg", "lon_deg", "height_m", "label", "color", "size_px"}, where); !s) {
-        return s.forwardError();
-      }
-      if (!m.contains("lat_deg") || !m.contains("lon_deg")) return makeError(where + ": needs lat_deg and lon_deg");
+  if (top.has("markers")) {
+    for (std::size_t i = 0; i < root["markers"].size(); ++i) {
       Marker marker;
-      auto lat = number(m, "lat_deg", 0, where), lon = number(m, "lon_deg", 0, where),
-           h = number(m, "height_m", 0, where), size = number(m, "size_px", marker.sizePx, where);
-      for (auto* r : {&lat, &lon, &h, &size}) {
-        if (!*r) return makeError(r->error());
-      }
-      marker.latDeg = *lat;
-      marker.lonDeg = *lon;
-      marker.heightMeters = *h;
-      marker.sizePx = static_cast<float>(*size);
-      if (auto s = globe::validateGeodetic({marker.latDeg, marker.lonDeg, marker.heightMeters}, where.c_str()); !s) {
-        return s.forwardError();
-      }
-      if (marker.sizePx < 1.0f || marker.sizePx > 256.0f) return makeError(where + ": size_px must be in 1..256");
-      if (m.contains("label")) {
-        if (!m["label"].is_string()) return makeError(where + ": label must be a string");
-        marker.label = m["label"].get<std::string>();
-      }
-      if (m.contains("color")) {
-        const json& c = m["color"];
-        if (!c.is_array() || c.size() != 3 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number()) {
-          return makeError(where + ": color must be [r, g, b] with numbers in 0..1");
-        }
-        marker.color = glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>());
-      }
+      if (auto st = parseMarker(top.element("markers", i), marker); !st) return st.forwardError();
       scene.markers.push_back(marker);
     }
   }
-  if (root.contains("stations")) {
-    if (!root["stations"].is_string()) return makeError(sourceName + ": stations must be a file path");
-    scene.stationsPath = resolvePath(root["stations"].get<std::string>(), baseDir, dataDir);
+  if (top.has("stations")) {
+    if (auto st = top.string("stations", scene.stationsPath); !st) return st.forwardError();
+    if (scene.stationsPath.empty()) return top.error("stations", "empty path").forwardError();
+    scene.stationsPath = resolvePath(scene.stationsPath, baseDir, dataDir);
+    scene.origins.stations = top.where("stations");
   }
-  if (root.contains("radars")) {
-    if (!root["radars"].is_array()) return makeError(sourceName + ": radars must be an array");
-    int i = 0;
-    for (const json& r : root["radars"]) {
-      const std::string where = sourceName + ": radars[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(r,
-                             {"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz",
-                              "beam", "classification", "label", "geoid", "range", "opacity", "crop", "crop_heights_m"},
-                             where);
-          !s) {
-        return s.forwardError();
-      }
+  if (top.has("radars")) {
+    for (std::size_t i = 0; i < root["radars"].size(); ++i) {
+      const Object r = top.element("radars", i);
       RadarLayerDescription d;
-      if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
-      d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
-      for (auto [key, out] : {std::pair<const char*, std::string*>{"field", &d.field},
-                              {"colors", &d.colors},
-                              {"mode", &d.mode},
-                              {"interpolation", &d.interpolation},
-                              {"beam", &d.beam},
-                              {"classification", &d.classification},
-                              {"label", &d.label}}) {
-        if (!r.contains(key)) continue;
-        if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
-        *out = r[key].get<std::string>();
-      }
-      if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
-        d.colors = resolvePath(d.colors, baseDir, dataDir);
-      }
-      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters},
-                              {"image_scale", &d.imageScale},
-                              {"iso_dbz", &d.isoValue}}) {
-        auto v = number(r, key, *out, where);
-        if (!v) return v.forwardError();
-        *out = *v;
-      }
-      if (r.contains("geoid")) {
-        if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
-        d.useGeoid = r["geoid"].get<bool>();
-      }
-      if (auto st = parseLayerSettings(r, where, d.settings); !st) return st.forwardError();
-      if (auto s = validateRadarLayer(d, where); !s) return s.forwardError();
+      if (auto st = parseRadar(r, baseDir, dataDir, d); !st) return st.forwardError();
       scene.radars.push_back(d);
+      scene.origins.radars.push_back(r.where());
     }
   }
-  if (root.contains("grids")) {
-    if (!root["grids"].is_array()) return makeError(sourceName + ": grids must be an array");
-    int i = 0;
-    for (const json& r : root["grids"]) {
-      const std::string where = sourceName + ": grids[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(r,
-                             {"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
-                              "iso_value", "classification", "geoid", "range", "opacity", "crop", "crop_heights_m"},
-                             where);
-          !s) {
-        return s.forwardError();
-      }
+  if (top.has("grids")) {
+    for (std::size_t i = 0; i < root["grids"].size(); ++i) {
+      const Object r = top.element("grids", i);
       GridLayerDescription d;
-      if (!r.contains("path") || !r["path"].is_string()) return makeError(where + ": needs a \"path\" string");
-      d.path = resolvePath(r["path"].get<std::string>(), baseDir, dataDir);
-      for (auto [key, out] : {std::pair<const char*, std::string*>{"variable", &d.variable},
-                              {"time", &d.time},
-                              {"colors", &d.colors},
-                              {"mode", &d.mode},
-                              {"interpolation", &d.interpolation},
-                              {"classification", &d.classification}}) {
-        if (!r.contains(key)) continue;
-        if (!r[key].is_string()) return makeError(where + ": \"" + key + "\" must be a string");
-        *out = r[key].get<std::string>();
-      }
-      if (r.contains("colors") && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal") {
-        d.colors = resolvePath(d.colors, baseDir, dataDir);
-      }
-      for (auto [key, out] : {std::pair<const char*, double*>{"step_m", &d.stepMeters},
-                              {"image_scale", &d.imageScale},
-                              {"iso_value", &d.isoValue}}) {
-        auto v = number(r, key, *out, where);
-        if (!v) return v.forwardError();
-        *out = *v;
-      }
-      if (r.contains("geoid")) {
-        if (!r["geoid"].is_boolean()) return makeError(where + ": \"geoid\" must be true or false");
-        d.useGeoid = r["geoid"].get<bool>();
-      }
-      if (auto st = parseLayerSettings(r, where, d.settings); !st) return st.forwardError();
-      if (auto s = validateGridLayer(d, where); !s) return s.forwardError();
+      if (auto st = parseGrid(r, baseDir, dataDir, d); !st) return st.forwardError();
       scene.grids.push_back(d);
+      scene.origins.grids.push_back(r.where());
     }
   }
-  for (auto [key, out] :
-       {std::pair<const char*, bool*>{"map_context", &scene.mapContext}, {"range_rings", &scene.rangeRings}}) {
-    if (!root.contains(key)) continue;
-    if (!root[key].is_boolean()) return makeError(sourceName + ": \"" + key + "\" must be true or false");
-    *out = root[key].get<bool>();
-  }
-  if (root.contains("overlays")) {
-    if (!root["overlays"].is_array()) return makeError(sourceName + ": overlays must be an array");
-    int i = 0;
-    for (const json& o : root["overlays"]) {
-      const std::string where = sourceName + ": overlays[" + std::to_string(i++) + "]";
-      if (auto s = checkKeys(o, {"path", "color", "width_px"}, where); !s) return s.forwardError();
-      if (!o.contains("path") || !o["path"].is_string()) return makeError(where + ": needs a \"path\" string");
+  if (auto st = all([&] { return top.boolean("map_context", scene.mapContext); },
+                    [&] { return top.boolean("range_rings", scene.rangeRings); });
+      !st)
+    return st.forwardError();
+  if (top.has("overlays")) {
+    for (std::size_t i = 0; i < root["overlays"].size(); ++i) {
+      const Object o = top.element("overlays", i);
       MapOverlayDescription d;
-      d.path = resolvePath(o["path"].get<std::string>(), baseDir, dataDir);
-      if (o.contains("color")) {
-        const json& c = o["color"];
-        if (!c.is_array() || c.size() != 3 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number())
-          return makeError(where + ": color must be [r, g, b] with numbers in 0..1");
-        d.color = glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>());
-      }
-      auto width = number(o, "width_px", d.widthPx, where);
-      if (!width) return width.forwardError();
-      d.widthPx = static_cast<float>(*width);
-      if (auto st = validateMapOverlay(d, where); !st) return st.forwardError();
+      if (auto st = all(
+              [&] {
+                return o.checkObject({"path", "color", "width_px"});
+              },
+              [&] { return parsePath(o, "path", d.path, "a vector file", baseDir, dataDir); },
+              [&] { return o.color("color", d.color); },
+              [&] { return o.number("width_px", d.widthPx, 0.5, 16.0, "px"); });
+          !st)
+        return st.forwardError();
       scene.overlays.push_back(d);
+      scene.origins.overlays.push_back(o.where());
     }
   }
-  if (root.contains("slices")) {
-    auto slices = parseSliceLayersJson(root["slices"].dump(), sourceName + ": slices", baseDir, dataDir);
-    if (!slices) return slices.forwardError();
-    scene.slices = std::move(*slices);
+  if (top.has("slices")) {
+    for (std::size_t i = 0; i < root["slices"].size(); ++i) {
+      const Object o = top.element("slices", i);
+      SliceLayerDescription d;
+      if (auto st = parseSliceLayer(o, baseDir, dataDir, d); !st) return st.forwardError();
+      scene.slices.push_back(std::move(d));
+      scene.origins.slices.push_back(o.where());
+    }
   }
   return scene;
 }

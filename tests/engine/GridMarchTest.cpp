@@ -209,11 +209,12 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   // Errors name the JSON path and the problem.
   auto typo = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "varaible": "dbz"}]})", "s.json", dir, dir);
   ASSERT_FALSE(typo);
-  EXPECT_NE(typo.error().find("grids[0]"), std::string::npos) << typo.error();
+  EXPECT_NE(typo.error().find("s.json: /grids/0/varaible: unknown key"), std::string::npos) << typo.error();
   EXPECT_NE(typo.error().find("varaible"), std::string::npos) << typo.error();
   auto wrongType = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "time": 3}]})", "s.json", dir, dir);
   ASSERT_FALSE(wrongType);
-  EXPECT_NE(wrongType.error().find("\"time\" must be a string"), std::string::npos) << wrongType.error();
+  EXPECT_NE(wrongType.error().find("/grids/0/time: expected a string, got integer"), std::string::npos)
+      << wrongType.error();
 
   auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 34.6, "lon_deg": -97.8, "height_m": 60000,
       "heading_deg": 20, "pitch_deg": -40, "roll_deg": 0}, "fov_deg": 50, "size": [96, 54],
@@ -280,7 +281,7 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   EXPECT_GE(sg.latDeg.back(), 35.2);
   auto badCrop = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "crop": [35, 34, 0, 1]}]})", "s.json", dir, dir);
   ASSERT_FALSE(badCrop);
-  EXPECT_NE(badCrop.error().find("grids[0]: crop latitudes"), std::string::npos) << badCrop.error();
+  EXPECT_NE(badCrop.error().find("/grids/0: crop latitudes"), std::string::npos) << badCrop.error();
 }
 
 // A time series: stepping a grid layer shows exactly what loading that step afresh shows, and a
@@ -395,12 +396,12 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   // Bad settings name the JSON path and the problem.
   auto bad = engine::parseSceneJson(R"({"radars": [{"path": "r.nc", "opacity": [50, 20]}]})", "s.json", dir, dir);
   ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().find("radars[0]: opacity zero value must be below the full value"), std::string::npos)
+  EXPECT_NE(bad.error().find("/radars/0: opacity zero value must be below the full value"), std::string::npos)
       << bad.error();
   auto badHeights =
       engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "crop_heights_m": [5000, 100]}]})", "s.json", dir, dir);
   ASSERT_FALSE(badHeights);
-  EXPECT_NE(badHeights.error().find("grids[0]: crop heights"), std::string::npos) << badHeights.error();
+  EXPECT_NE(badHeights.error().find("/grids/0: crop heights"), std::string::npos) << badHeights.error();
   auto allCut = engine::parseSceneJson(
       R"({"radars": [{"path": "@data/crop_radar.nc", "crop_heights_m": [30000, 40000]}]})", "s.json", dir, dir);
   ASSERT_TRUE(allCut);
@@ -467,7 +468,7 @@ TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
                   3.0f * plain->heightAboveEllipsoidMeters[123]);
   auto bad = engine::parseSceneJson(R"({"vertical_exaggeration": 0})", "s.json", dir, dir);
   ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().find("vertical exaggeration must be a number from 0.1 to 100"), std::string::npos)
+  EXPECT_NE(bad.error().find("s.json: /vertical_exaggeration: 0 is out of range 0.1..100"), std::string::npos)
       << bad.error();
 }
 

@@ -110,7 +110,7 @@ TEST(SliceGlobe, SceneSlicesAreParsedAndChecked) {
   EXPECT_EQ(scene->slices[1].opacity, 0.5);
   for (auto [text, message] :
        {std::pair{R"({"slices": [{"radar": "a.nc", "height_m": 1, "hieght": 2}]})",
-                  "slices[0]: unknown key \"hieght\""},
+                  "scene.json: /slices/0/hieght: unknown key \"hieght\""},
         std::pair{R"({"slices": [{"radar": "a.nc"}]})", "\"height_m\" (a CAPPI) or \"path\""},
         std::pair{R"({"slices": [{"radar": "a.nc", "path": [[35, -98]]}]})", "at least two points"},
         std::pair{R"({"slices": [{"height_m": 1000}]})", "needs a \"radar\" or a \"grid\""},

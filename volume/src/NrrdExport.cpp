@@ -12,6 +12,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -196,7 +197,8 @@ RegularGridSpec defaultRegularGrid(const PolarVolume& radar, HeightDatum datum, 
 }
 
 Result<std::vector<float>> resampleRegular(const VolumeSampler& sampler, const RegularGridSpec& spec,
-                                           Interpolation interpolation, const GeoidGrid* geoid, unsigned threads) {
+                                           Interpolation interpolation, const GeoidGrid* geoid, unsigned threads,
+                                           const std::function<void(std::size_t, std::size_t)>& levelDone) {
   if (auto st = validateRegularGridSpec(spec, std::numeric_limits<std::size_t>::max()); !st) return st.forwardError();
   const bool geographic = spec.kind == RegularGridKind::Geographic;
   if (geographic && spec.datum == HeightDatum::MeanSeaLevel && !geoid)
@@ -246,9 +248,14 @@ Result<std::vector<float>> resampleRegular(const VolumeSampler& sampler, const R
   unsigned n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
   n = static_cast<unsigned>(std::min<std::size_t>(n, spec.nz));
   std::vector<std::thread> pool;
+  std::atomic<std::size_t> levelsDone{0};
   for (unsigned t = 0; t < n; ++t) {
     pool.emplace_back([&, t] {
-      for (std::size_t k = t; k < spec.nz; k += n) level(k);
+      for (std::size_t k = t; k < spec.nz; k += n) {
+        level(k);
+        const std::size_t done = ++levelsDone;
+        if (levelDone) levelDone(done, spec.nz);
+      }
     });
   }
   for (auto& th : pool) th.join();
@@ -501,7 +508,7 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
     }
   }
   if (auto st = validateRegularGridSpec(spec, o.maxSamples); !st) return makeError(o.outputPath + ": " + st.error());
-  auto values = resampleRegular(*sampler, spec, o.interpolation, geoid, o.threads);
+  auto values = resampleRegular(*sampler, spec, o.interpolation, geoid, o.threads, o.progress);
   if (!values) return makeError(o.outputPath + ": " + values.error());
   for (float v : *values) report.finiteValues += std::isfinite(v) ? 1u : 0u;
   meta.content = report.field + (report.units.empty() ? "" : " (" + report.units + ")") + " from " + in;

@@ -15,6 +15,7 @@
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/globe/Progress.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
 #include <algorithm>
@@ -129,6 +130,7 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
 
   auto target = engine::FramebufferGL::create(w, h);
   if (!target) return target.forwardError();
+  globe::Progress progress("bench views", views.size());  // stderr; the log is stdout
   for (const BenchView& view : views) {
     log << "view " << view.name << " (" << w << "x" << h << ")\n";
     const engine::Camera camera(view.pose, view.fovYDeg, w, h);
@@ -155,6 +157,7 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
         if (auto s = globe::writePng(png, runs[ci].image); !s) return s.forwardError();
       }
     }
+    progress.advance(1, view.name);
   }
 
   // The default at 1280x720 (time only: a reference at that size would take ~15x longer).
@@ -345,6 +348,7 @@ Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& o, std::ostrea
 
   auto target = engine::FramebufferGL::create(w, h);
   if (!target) return target.forwardError();
+  globe::Progress progress("bench views", views.size());  // stderr; the log is stdout
   for (const BenchView& view : views) {
     log << "view " << view.name << " (" << w << "x" << h << ")\n";
     const engine::Camera camera(view.pose, view.fovYDeg, w, h);
@@ -373,6 +377,7 @@ Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& o, std::ostrea
         if (auto s = globe::writePng(png, runs[ci].image); !s) return s.forwardError();
       }
     }
+    progress.advance(1, view.name);
   }
 
   if (o.big && !bigCells.empty()) {

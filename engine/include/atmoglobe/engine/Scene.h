@@ -2,28 +2,14 @@
 // A scene description: what to draw and from where. GL-free (parsed and validated on the
 // CPU; the GL renderers consume it).
 //
-// JSON form (every key optional; unknown keys are errors, so typos do not pass silently):
-// {
-//   "camera":  {"lat_deg": 47, "lon_deg": 8, "height_m": 2e6,
-//               "heading_deg": 0, "pitch_deg": -90, "roll_deg": 0},
-//   "fov_deg": 60,
-//   "vertical_exaggeration": 1,
-//   "size":    [1280, 720],
-//   "imagery": [{"type": "pyramid", "path": "@data/earth"},      // bottom layer first
-//               {"type": "xyz", "path": "my_xyz_tiles"}],
-//   "markers": [{"lat_deg": 33.65, "lon_deg": -101.81, "height_m": 1000,
-//                "label": "KLBB", "color": [1, 0.2, 0.1], "size_px": 14}],
-//   "stations": "stations.csv",                                // CSV or JSON station list
-//   "radars":  [{"path": "KLBB.ar2v", "field": "REF", "colors": "NWS", "mode": "dvr",
-//                "interpolation": "linear", "step_m": 250, "image_scale": 1.0,
-//                "iso_dbz": 40, "beam": "4/3", "classification": "point", "label": "KLBB"}],
-//   "slices":  [{"radar": "KLBB.ar2v", "height_m": 3000}],    // keys: SliceLayer.h
-//   "map_context": true,                                       // GSHHG coastlines and borders
-//   "overlays": [{"path": "counties.shp", "color": [1, 0.8, 0.2], "width_px": 1.5}],
-//   "range_rings": false                                       // every 50 km, spokes every 30 deg
-// }
+// JSON form: docs/scenes.md (every key, its type, units, default and range; examples in
+// assets/scenes/). Validation is strict: unknown keys (with the closest known key as a hint),
+// wrong types and out-of-range values are errors naming the JSON pointer, e.g.
+//   scene.json: /camera/height_m: expected a number, got string
 // Relative paths are relative to the scene file's directory; "@data/" stands for the
-// directory of generated default data (ATMOGLOBE_DATA_DIR).
+// directory of generated default data (ATMOGLOBE_DATA_DIR). Whether input files exist is
+// checked when they are loaded (checkInputFile), one layer at a time, so that one bad file
+// does not stop the others.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/SliceLayer.h>
 #include <atmoglobe/globe/Result.h>
@@ -141,7 +127,23 @@ struct SceneDescription {
   std::vector<MapOverlayDescription> overlays;  ///< user vector files (JSON "overlays", CLI --overlay)
   bool rangeRings =
       false;  ///< range rings and azimuth spokes around each radar (JSON "range_rings", CLI --range-rings)
+  /// Where each layer was given, for messages: "scene.json: /radars/2" (a JSON pointer) or a CLI
+  /// option ("--radar"); parallel to the vectors above (layerOrigin() tolerates missing entries).
+  struct Origins {
+    std::vector<std::string> imagery, radars, grids, slices, overlays;
+    std::string stations;
+  } origins;
+  /// Input problems found before loading (a missing imagery directory): the layer is left out
+  /// and the message kept here, "ORIGIN/KEY: file not found: PATH".
+  std::vector<std::string> inputErrors;
 };
+
+/// origins[index], or `fallback` when there is none.
+std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback);
+
+/// Checks that an input file or directory exists: else "WHERE: file not found: PATH". Radar paths
+/// holding a glob ("*?[") or a comma list are left to the reader.
+Status checkInputFile(const std::string& path, const std::string& where);
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).
 Status validateRadarLayer(const RadarLayerDescription& radar, const std::string& where);

@@ -24,6 +24,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -73,7 +74,8 @@ RegularGridSpec defaultRegularGrid(const PolarVolume& radar, HeightDatum datum, 
 /// data or no echo. `geoid` is required when spec.datum is SeaLevel for a geographic grid.
 /// Threads split the z levels.
 Result<std::vector<float>> resampleRegular(const VolumeSampler& sampler, const RegularGridSpec& spec,
-                                           Interpolation interpolation, const GeoidGrid* geoid, unsigned threads = 0);
+                                           Interpolation interpolation, const GeoidGrid* geoid, unsigned threads = 0,
+                                           const std::function<void(std::size_t, std::size_t)>& levelDone = {});
 
 struct NrrdMetadata {
   std::string content;     ///< one line: what the values are ("QCLOUD (kg kg-1) ...")
@@ -110,6 +112,9 @@ struct NrrdExportOptions {
   /// Refused above this many samples (4 bytes each in memory, before compression).
   std::size_t maxSamples = std::size_t{1} << 29;
   unsigned threads = 0;  ///< 0: all hardware threads
+  /// Optional: called (from worker threads, in any order) after each height level is resampled,
+  /// with (levels done, levels): `atmoglobe convert`'s progress.
+  std::function<void(std::size_t, std::size_t)> progress;
 };
 
 struct NrrdExportReport {

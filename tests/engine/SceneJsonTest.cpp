@@ -1,0 +1,123 @@
+// Scene JSON (engine/Scene.h): errors name the JSON pointer and the problem; every example in
+// assets/scenes/ parses. GL-free.
+#include <atmoglobe/engine/Scene.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+using namespace atmoglobe;
+
+namespace {
+// The error of a scene that must not parse.
+std::string errorOf(const std::string& text) {
+  auto scene = engine::parseSceneJson(text, "scene.json", "/base", "/data");
+  EXPECT_FALSE(scene) << text;
+  return scene ? std::string() : scene.error();
+}
+}  // namespace
+
+TEST(SceneJson, UnknownKeysNameTheirPointerAndTheClosestKey) {
+  EXPECT_EQ(errorOf(R"({"camera": {"lat_deg": 1, "hieght_m": 1000}})"),
+            "scene.json: /camera/hieght_m: unknown key \"hieght_m\" (did you mean \"height_m\"?)");
+  EXPECT_EQ(errorOf(R"({"radar": []})"), "scene.json: /radar: unknown key \"radar\" (did you mean \"radars\"?)");
+  EXPECT_EQ(errorOf(R"({"radars": [{"path": "a.nc"}, {"path": "b.nc", "feild": "VEL"}]})"),
+            "scene.json: /radars/1/feild: unknown key \"feild\" (did you mean \"field\"?)");
+  // Nothing close: the keys allowed there are listed.
+  const std::string far = errorOf(R"({"overlays": [{"path": "x.geojson", "zzzzzz": 1}]})");
+  EXPECT_EQ(far, "scene.json: /overlays/0/zzzzzz: unknown key \"zzzzzz\" (keys here: path color width_px)");
+  // Pointer tokens are escaped (RFC 6901).
+  EXPECT_EQ(errorOf(R"({"a/b~c": 1})").rfind("scene.json: /a~1b~0c: unknown key", 0), 0u);
+}
+
+TEST(SceneJson, WrongTypesSayWhatWasExpectedAndWhatCame) {
+  EXPECT_EQ(errorOf(R"({"camera": {"height_m": "high"}})"),
+            "scene.json: /camera/height_m: expected a number, got string");
+  EXPECT_EQ(errorOf(R"({"grids": [{"path": "g.nc", "time": 3}]})"),
+            "scene.json: /grids/0/time: expected a string, got integer");
+  EXPECT_EQ(errorOf(R"({"map_context": "yes"})"), "scene.json: /map_context: expected true or false, got string");
+  EXPECT_EQ(errorOf(R"({"radars": {"path": "a.nc"}})"), "scene.json: /radars: expected an array, got object");
+  EXPECT_EQ(errorOf(R"({"radars": [{"path": "a.nc", "range": [0, "70"]}]})"),
+            "scene.json: /radars/0/range/1: expected a number, got string");
+  EXPECT_EQ(errorOf(R"({"size": [640.5, 480]})"), "scene.json: /size/0: expected an integer, got number");
+  EXPECT_EQ(errorOf(R"({"markers": [[1, 2]]})"), "scene.json: /markers/0: expected an object, got array");
+  EXPECT_EQ(errorOf(R"([1, 2])"), "scene.json: /: expected an object, got array");
+  EXPECT_EQ(errorOf(R"({"slices": [{"radar": 5, "height_m": 1000}]})"),
+            "scene.json: /slices/0/radar: expected a string, got integer");
+}
+
+TEST(SceneJson, OutOfRangeValuesNameTheRange) {
+  EXPECT_EQ(errorOf(R"({"radars": [{"path": "a.nc"}, {"path": "b.nc"}, {"path": "c.nc", "step_m": 0}]})"),
+            "scene.json: /radars/2/step_m: 0 is out of range 1..100000 m");
+  EXPECT_EQ(errorOf(R"({"camera": {"lat_deg": 95}})"), "scene.json: /camera/lat_deg: 95 is out of range -90..90 deg");
+  EXPECT_EQ(errorOf(R"({"size": [0, 480]})"), "scene.json: /size/0: 0 is out of range 1..16384");
+  EXPECT_EQ(errorOf(R"({"markers": [{"lat_deg": 1, "lon_deg": 2, "color": [1, 2, 0]}]})"),
+            "scene.json: /markers/0/color/1: 2 is out of range 0..1");
+  EXPECT_EQ(errorOf(R"({"slices": [{"radar": "a.nc", "height_m": 1000, "opacity": 2}]})"),
+            "scene.json: /slices/0/opacity: 2 is out of range 0..1");
+  EXPECT_EQ(errorOf(R"({"slices": [{"radar": "a.nc", "height_m": 1000, "resolution_px": 10}]})"),
+            "scene.json: /slices/0/resolution_px: 10 is out of range 64..4096 px");
+  EXPECT_EQ(errorOf(R"({"fov_deg": 0})"), "scene.json: /fov_deg: must be above 0 and below 180 deg");
+  EXPECT_EQ(errorOf(R"({"overlays": [{"path": "x.geojson", "width_px": 40}]})"),
+            "scene.json: /overlays/0/width_px: 40 is out of range 0.5..16 px");
+}
+
+TEST(SceneJson, EnumeratedValuesListTheChoices) {
+  EXPECT_EQ(errorOf(R"({"radars": [{"path": "a.nc", "mode": "volume"}]})"),
+            "scene.json: /radars/0/mode: \"volume\" is not one of \"dvr\", \"mip\", \"iso\"");
+  EXPECT_EQ(errorOf(R"({"imagery": [{"type": "wms", "path": "x"}]})"),
+            "scene.json: /imagery/0/type: \"wms\" is not one of \"pyramid\", \"xyz\"");
+  const std::string colors = errorOf(R"({"radars": [{"path": "a.nc", "colors": "NWZ"}]})");
+  EXPECT_EQ(colors.rfind("scene.json: /radars/0/colors: \"NWZ\" is neither a colour table (", 0), 0u) << colors;
+  EXPECT_NE(colors.find("(did you mean \"nws\"?)"), std::string::npos) << colors;
+}
+
+TEST(SceneJson, MissingRequiredKeysAreNamed) {
+  EXPECT_EQ(errorOf(R"({"radars": [{"field": "DBZ"}]})"),
+            "scene.json: /radars/0: needs \"path\" (a radar file, directory, glob or comma list)");
+  EXPECT_EQ(errorOf(R"({"markers": [{"lat_deg": 1}]})"), "scene.json: /markers/0: needs \"lon_deg\" (longitude, deg)");
+  EXPECT_EQ(errorOf(R"({"grids": [{"path": ""}]})"), "scene.json: /grids/0/path: empty path");
+}
+
+TEST(SceneJson, LayersRememberTheirPointerForLoadErrors) {
+  auto scene = engine::parseSceneJson(
+      R"({"radars": [{"path": "a.nc"}, {"path": "b.nc"}, {"path": "c.nc"}], "grids": [{"path": "@data/g.nc"}],
+          "overlays": [{"path": "o.geojson"}], "stations": "s.csv",
+          "slices": [{"grid": "g.nc", "height_m": 3000}]})",
+      "scene.json", "/base", "/data");
+  ASSERT_TRUE(scene) << scene.error();
+  ASSERT_EQ(scene->origins.radars.size(), 3u);
+  EXPECT_EQ(scene->origins.radars[2], "scene.json: /radars/2");
+  EXPECT_EQ(scene->radars[2].path, "/base/c.nc");
+  EXPECT_EQ(scene->origins.grids.at(0), "scene.json: /grids/0");
+  EXPECT_EQ(scene->grids[0].path, "/data/g.nc");
+  EXPECT_EQ(scene->origins.overlays.at(0), "scene.json: /overlays/0");
+  EXPECT_EQ(scene->origins.slices.at(0), "scene.json: /slices/0");
+  EXPECT_EQ(scene->origins.stations, "scene.json: /stations");
+  EXPECT_EQ(engine::layerOrigin(scene->origins.radars, 7, "--radar x"), "--radar x");
+}
+
+TEST(SceneJson, MissingInputFilesAreNamedWithTheirPointer) {
+  const std::string missing = ATMOGLOBE_TEST_OUTPUT_DIR + "/no_such_radar.nc";
+  auto st = engine::checkInputFile(missing, "scene.json: /radars/2/path");
+  ASSERT_FALSE(st);
+  EXPECT_EQ(st.error(), "scene.json: /radars/2/path: file not found: " + missing);
+  EXPECT_TRUE(engine::checkInputFile(ATMOGLOBE_TEST_OUTPUT_DIR, "x"));            // exists
+  EXPECT_TRUE(engine::checkInputFile(ATMOGLOBE_TEST_OUTPUT_DIR + "/*.h5", "x"));  // a glob: the reader says
+  EXPECT_TRUE(engine::checkInputFile(missing + "," + missing + "2", "x"));        // a list: the reader says
+}
+
+// Every example scene shipped in assets/scenes/ parses (each is also rendered by the CLI test
+// cli.scene_examples_*, which needs the generated data).
+TEST(SceneJson, EveryExampleSceneParses) {
+  const std::filesystem::path dir = std::filesystem::path(ATMOGLOBE_SOURCE_DIR) / "assets" / "scenes";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    ++count;
+    auto scene = engine::loadSceneFile(entry.path().string(), "/data");
+    EXPECT_TRUE(scene) << entry.path() << ": " << (scene ? "" : scene.error());
+  }
+  EXPECT_GE(count, 4) << "the schema document promises examples";
+}
