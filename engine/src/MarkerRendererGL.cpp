@@ -136,6 +136,10 @@ void MarkerRendererGL::drawLabels(const Camera& camera, const std::vector<Marker
   glUniform4f(labelProgram_.uniform("u_haloColor"), 0.0f, 0.0f, 0.0f, 0.85f);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  // No depth test: a label spans ground nearer to the eye than its marker (the globe's depth
+  // there would cut it); whether it shows was decided above for the marker (horizon test).
+  const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST);
+  glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glBindVertexArray(labelVao_);
   for (std::size_t i = 0; i < placed.size(); ++i) {
@@ -144,6 +148,7 @@ void MarkerRendererGL::drawLabels(const Camera& camera, const std::vector<Marker
   }
   glBindVertexArray(0);
   glBindTextureUnit(0, 0);
+  if (depthTest) glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
 }

@@ -25,7 +25,8 @@ class MarkerRendererGL {
   static Result<std::unique_ptr<MarkerRendererGL>> create(MarkerStyle style);
   ~MarkerRendererGL();
   /// Draws into the bound framebuffer, depth-tested against what is already there, with
-  /// each marker's label beside it at the marker's depth: DejaVu Sans (TextRaster.h) in white
+  /// each marker's label beside it (no depth test; labels of markers behind the Earth are left
+  /// out): DejaVu Sans (TextRaster.h) in white
   /// with a dark halo, placed so that labels never overlap each other or other markers
   /// (LabelPlacement.h: bigger markers, i.e. radar sites, first; labels with no free slot are
   /// left out). Label textures are made once per distinct text and kept.

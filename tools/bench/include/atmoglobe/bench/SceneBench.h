@@ -3,7 +3,7 @@
 // and frame time of scenes of 1, 4 and 16 radar volumes, 1 and 10 time steps, a whole-globe
 // and a regional view, to show that cost follows what the view shows, not what the files hold.
 //
-// Data: SYNTHETIC CfRadial volumes (SyntheticRadar.h, full VCP 212 size) at 16 NEXRAD sites
+// Data: SYNTHETIC CfRadial volumes (SyntheticRadar.h: VCP 212, 360 rays, 500 m gates to 230 km) at 16 NEXRAD sites
 // (positions from a station list in DATA/stations when there is one, else built in), 10 times
 // each (a loop directory per site), written once under OUT/scenes/data.
 // Each case runs in a fresh child process (`atmoglobe bench --scene-probe JOB RESULT`, no
