@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 
@@ -149,4 +150,25 @@ TEST(GifAnimation, BadFramesAndFilesNameThePath) {
   auto r = engine::readGifFrames(std::string(ATMOGLOBE_SOURCE_DIR) + "/tests/golden/radar_klbb_dvr.png");
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().find("radar_klbb_dvr.png"), std::string::npos) << r.error();
+}
+
+TEST(Mp4Animation, WithoutFfmpegTheErrorSaysSoAndAFailingFfmpegLeavesNoFile) {
+  const std::string dir = ATMOGLOBE_TEST_OUTPUT_DIR + "/fake-path";
+  std::filesystem::create_directories(dir);
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  setenv("PATH", dir.c_str(), 1);  // no ffmpeg there
+  EXPECT_EQ(engine::findFfmpeg(), "");
+  auto st = engine::encodeMp4(dir + "/f_%03d.png", 4.0, outPath("none.mp4"));
+  ASSERT_FALSE(st);
+  EXPECT_NE(st.error().find("ffmpeg not found on PATH"), std::string::npos) << st.error();
+  // An "ffmpeg" that fails (a copy of false(1)): started through posix_spawn, its exit status
+  // reported, nothing left at the target or beside it.
+  std::filesystem::copy_file("/bin/false", dir + "/ffmpeg", std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(engine::findFfmpeg(), dir + "/ffmpeg");
+  st = engine::encodeMp4(dir + "/f_%03d.png", 4.0, outPath("failed.mp4"));
+  setenv("PATH", saved.c_str(), 1);
+  ASSERT_FALSE(st);
+  EXPECT_NE(st.error().find("ffmpeg failed (exit 1)"), std::string::npos) << st.error();
+  EXPECT_FALSE(std::filesystem::exists(outPath("failed.mp4")));
 }
