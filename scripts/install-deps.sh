@@ -15,6 +15,7 @@ PKGS=(
   fonts-dejavu-core libimgui-dev
   tzdata   # /usr/share/zoneinfo/zone1970.tab: the viewer's fly-to place names (engine/Gazetteer.h)
   gmt-gshhg libgdal-dev
+  libgif-dev   # animated GIF of render --time-series (engine/AnimationWriter)
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
 )
 

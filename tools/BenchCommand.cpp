@@ -5,6 +5,7 @@
 #include "SceneOptions.h"
 
 #include <atmoglobe/bench/GridLoad.h>
+#include <atmoglobe/bench/SceneBench.h>
 #include <atmoglobe/bench/VolumeBench.h>
 
 #include <iostream>
@@ -43,10 +44,28 @@ Command addBenchCommand(CLI::App& root) {
   c->add_option("--peer-voxels", o->gridPeerMaxVoxels, "Grids: the peer's Cartesian grid cap (voxels)")
       ->check(CLI::Range(1e5, 1e9));
   addQuietOption(*c);
+  auto scenes = std::make_shared<bool>(false);
+  c->add_flag("--scenes", *scenes,
+              "The scene-load bench: load time, peak memory and frame time of scenes of 1/4/16 SYNTHETIC radars, 1/10 "
+              "time steps, globe and regional views (docs/scene-load.md); --load-runs children per scene");
+  auto sceneProbe = std::make_shared<std::vector<std::string>>();
+  c->add_option("--scene-probe", *sceneProbe, "(internal) run one scene case: JOB.json RESULT.json")
+      ->expected(2)
+      ->group("");
   auto probe = std::make_shared<std::vector<std::string>>();
   c->add_option("--load-probe", *probe, "(internal) run one load case: JOB.json RESULT.json")->expected(2)->group("");
-  return {c, [o, probe] {
+  return {c, [o, probe, scenes, sceneProbe] {
             if (!probe->empty()) return bench::runLoadProbe((*probe)[0], (*probe)[1]);
+            if (!sceneProbe->empty()) return bench::runSceneProbe((*sceneProbe)[0], (*sceneProbe)[1]);
+            if (*scenes) {
+              bench::SceneBenchOptions so;
+              so.dataDir = o->dataDir;
+              so.outDir = o->outDir;
+              so.runs = o->loadRuns;
+              auto r = bench::runSceneBench(so, std::cout);
+              if (!r) return fail("bench", r.error());
+              return 0;
+            }
             Result<bench::VolumeBenchOutcome> r = bench::runVolumeBench(*o, std::cout);
             if (!r) return fail("bench", r.error());
             for (const std::string& file : r->files) std::cout << file << "\n";

@@ -2,16 +2,19 @@
 #include "Commands.h"
 #include "SceneOptions.h"
 
+#include <atmoglobe/engine/AnimationWriter.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
+#include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/Progress.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -30,6 +33,9 @@ struct RenderOptions {
   int timeSubsteps = 1;
   bool noLegend = false;
   bool strict = false;
+  bool loadAll = false;                 ///< --load-all: no view culling of radars at load
+  std::vector<std::string> animations;  ///< --animation FILE.gif / FILE.mp4
+  double framesPerSecond = 4.0;
 };
 
 // NAME.png -> NAME_007.png (frame 7 of a series).
@@ -43,6 +49,14 @@ std::string seriesPath(const std::string& output, std::size_t frame) {
 int runRender(const RenderOptions& o) {
   auto scene = resolveScene(o.scene);
   if (!scene) return fail("render", scene.error());
+  if (!o.loadAll) {
+    // Load only what the camera shows: radars whose volume is outside the view are not read.
+    const engine::Camera view(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+    const engine::CullOutcome cull = engine::cullRadarsOutsideView(*scene, view);
+    if (!cull.culled.empty())
+      std::cerr << "atmoglobe render: " << cull.culled.size() << " of " << cull.culled.size() + cull.kept
+                << " radars outside the view, not loaded (--load-all loads them)\n";
+  }
   auto context = engine::HeadlessContextGL::create();
   if (!context) return fail("render", context.error());
   auto loader = engine::openImagery(scene->imagery, {});
@@ -74,6 +88,7 @@ int runRender(const RenderOptions& o) {
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec) return fail("render", parent.string() + ": cannot create directory: " + ec.message());
+  if (!o.animations.empty() && !o.timeSeries) return fail("render", "--animation needs --time-series");
   if (o.timeSeries) {
     // One PNG per time step (and substep): NAME_000.png, NAME_001.png, ...
     if (o.timeSubsteps < 1 || o.timeSubsteps > 100) return fail("render", "--time-substeps must be 1..100");
@@ -82,6 +97,23 @@ int runRender(const RenderOptions& o) {
     for (const std::string& note : axis->notes) std::cerr << "atmoglobe render: " << note << "\n";
     std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << axis->leadName
               << "; colours and opacity stay those of the step first loaded\n";
+    // --animation: a GIF takes each frame as it is made; an MP4 is encoded from the PNGs after.
+    std::vector<std::unique_ptr<engine::GifAnimationWriter>> gifs;
+    std::vector<std::string> gifPaths, mp4s;
+    for (const std::string& a : o.animations) {
+      const std::string ext = std::filesystem::path(a).extension().string();
+      if (ext == ".gif" || ext == ".GIF") {
+        auto gif = engine::GifAnimationWriter::create(a, scene->widthPx, scene->heightPx,
+                                                      static_cast<int>(std::lround(1000.0 / o.framesPerSecond)));
+        if (!gif) return fail("render", gif.error());
+        gifs.push_back(std::move(*gif));
+        gifPaths.push_back(a);
+      } else if (ext == ".mp4" || ext == ".MP4") {
+        mp4s.push_back(a);
+      } else {
+        return fail("render", "--animation " + a + ": the name must end in .gif or .mp4");
+      }
+    }
     std::size_t frame = 0;
     globe::Progress progress("frames", (axis->times.size() - 1) * static_cast<std::size_t>(o.timeSubsteps) + 1);
     for (std::size_t step = 0; step < axis->times.size(); ++step) {
@@ -96,11 +128,30 @@ int runRender(const RenderOptions& o) {
             return fail("render", st.error());
         const std::string path = seriesPath(o.output, frame);
         if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
+        for (auto& gif : gifs)
+          if (auto s = gif->addFrame(*image); !s) return fail("render", s.error());
         progress.print(path + " " + *when, stdout);  // the result line, not mixed into a bar
         progress.advance(1, *when);
       }
     }
     progress.finish();
+    for (std::size_t i = 0; i < gifs.size(); ++i) {
+      if (auto s = gifs[i]->finish(); !s) return fail("render", s.error());
+      progress.print(gifPaths[i] + " (" + std::to_string(frame) + " frames)", stdout);
+    }
+    for (const std::string& mp4 : mp4s) {
+      // The PNGs just written, NAME_%03d.png (frames beyond 999 keep counting: %03d widens).
+      const std::filesystem::path p(o.output);
+      const std::string pattern = (p.parent_path() / (p.stem().string() + "_%03d" + p.extension().string())).string();
+      if (auto s = engine::encodeMp4(pattern, o.framesPerSecond, mp4); !s) {
+        if (engine::findFfmpeg().empty()) {
+          std::cerr << "atmoglobe render: skipped " << mp4 << ": ffmpeg not found on PATH (Debian package ffmpeg)\n";
+          continue;
+        }
+        return fail("render", s.error());
+      }
+      progress.print(mp4 + " (" + std::to_string(frame) + " frames)", stdout);
+    }
     return done();
   }
   auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
@@ -149,6 +200,14 @@ Command addRenderCommand(CLI::App& root) {
               "(each path and its valid time printed)");
   c->add_option("--time-substeps", options->timeSubsteps,
                 "With --time-series: frames per step, the grids interpolated linearly in time between steps")
+      ->capture_default_str();
+  c->add_flag("--load-all", options->loadAll,
+              "Load every radar of the scene, also those whose volume is outside the camera's view");
+  c->add_option("--animation", options->animations,
+                "With --time-series: also an animated FILE.gif (giflib, 256 colours per frame) or FILE.mp4 "
+                "(H.264 through ffmpeg when it is on PATH; skipped with a message otherwise); repeatable");
+  c->add_option("--fps", options->framesPerSecond, "With --animation: frames per second")
+      ->check(CLI::Range(0.1, 60.0))
       ->capture_default_str();
   c->footer("Example: atmoglobe render --camera 46,8,2e6,0,-90,0 --size 1280x720 -o out/alps.png");
   return {c, [options] { return runRender(*options); }};

@@ -4,7 +4,11 @@
 
 #include "VertexLayoutGL.h"
 
-#include <stb/stb_easy_font.h>
+#include <atmoglobe/engine/LabelPlacement.h>
+#include <atmoglobe/engine/TextRaster.h>
+#include <atmoglobe/globe/Horizon.h>
+
+#include <iostream>
 
 #include <cmath>
 
@@ -37,9 +41,9 @@ Result<std::unique_ptr<MarkerRendererGL>> MarkerRendererGL::create(MarkerStyle s
   r->labelProgram_ = std::move(*labels);
   glCreateVertexArrays(1, &r->labelVao_);
   glCreateBuffers(1, &r->labelVbo_);
-  glVertexArrayVertexBuffer(r->labelVao_, 0, r->labelVbo_, 0, sizeof(float) * 7);
+  glVertexArrayVertexBuffer(r->labelVao_, 0, r->labelVbo_, 0, sizeof(float) * 5);
   floatAttributeGL(r->labelVao_, 0, 3, 0);
-  floatAttributeGL(r->labelVao_, 1, 4, sizeof(float) * 3);
+  floatAttributeGL(r->labelVao_, 1, 2, sizeof(float) * 3);
   return r;
 }
 
@@ -48,48 +52,105 @@ MarkerRendererGL::~MarkerRendererGL() {
   if (vbo_) glDeleteBuffers(1, &vbo_);
   if (labelVao_) glDeleteVertexArrays(1, &labelVao_);
   if (labelVbo_) glDeleteBuffers(1, &labelVbo_);
+  for (auto& [text, t] : labelTextures_) glDeleteTextures(1, &t.texture);
+}
+
+const MarkerRendererGL::LabelTexture* MarkerRendererGL::labelTexture(const std::string& text) {
+  if (auto it = labelTextures_.find(text); it != labelTextures_.end()) return &it->second;
+  const auto& font = Font::dejaVuSans();
+  if (!font) {
+    if (!fontWarned_) std::cerr << "warning: marker labels not drawn: " << font.error() << "\n";
+    fontWarned_ = true;
+    return nullptr;
+  }
+  // Margin: the halo's radius plus one pixel of anti-aliasing around it.
+  const int margin = static_cast<int>(std::ceil(kLabelHaloRadiusPx)) + 1;
+  const TextMask mask = (*font)->rasterize(text, kLabelPixelHeight, margin);
+  if (mask.width <= 0 || mask.height <= 0) return nullptr;
+  const std::vector<std::uint8_t> halo = dilateCoverage(mask, kLabelHaloRadiusPx);
+  std::vector<std::uint8_t> rg(mask.coverage.size() * 2);
+  for (std::size_t i = 0; i < mask.coverage.size(); ++i) rg[2 * i] = mask.coverage[i], rg[2 * i + 1] = halo[i];
+  LabelTexture t;
+  t.widthPx = mask.width;
+  t.heightPx = mask.height;
+  glCreateTextures(GL_TEXTURE_2D, 1, &t.texture);
+  glTextureStorage2D(t.texture, 1, GL_RG8, mask.width, mask.height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(t.texture, 0, 0, 0, mask.width, mask.height, GL_RG, GL_UNSIGNED_BYTE, rg.data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  // Quads are placed on whole pixels with the mask's size: nearest sampling copies it exactly.
+  glTextureParameteri(t.texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return &labelTextures_.emplace(text, t).first->second;
 }
 
 void MarkerRendererGL::drawLabels(const Camera& camera, const std::vector<Marker>& markers, float depthLift) {
-  constexpr float kScale = 2.0f;  // stb_easy_font glyphs are ~6x7 px; doubled for legibility
-  std::vector<float> vertices;    // x, y, z (NDC), r, g, b, a
-  std::vector<char> quads(64 * 1024);
   const double w = camera.widthPx(), h = camera.heightPx();
+  // Markers in view (in front of the camera, not behind the Earth): each is an obstacle for
+  // the labels; those with a label are candidates, bigger markers (radar sites) first.
+  std::vector<LabelCandidate> candidates;
+  std::vector<const LabelTexture*> textures;
+  std::vector<float> depths;
   for (const Marker& m : markers) {
-    if (m.label.empty()) continue;
     const glm::dvec3 ecef = globe::geodeticToEcef({m.latDeg, m.lonDeg, m.heightMeters});
+    if (globe::isOccludedByEllipsoid(camera.eyeEcef(), ecef)) continue;
     const auto px = camera.projectToPixel(ecef);
-    if (!px) continue;
+    if (!px || px->x < -m.sizePx || px->y < -m.sizePx || px->x > w + m.sizePx || px->y > h + m.sizePx) continue;
+    const LabelTexture* t = m.label.empty() ? nullptr : labelTexture(m.label);
     const double along = glm::dot(ecef - camera.eyeEcef(), camera.forwardEcef());
-    const float depth = static_cast<float>(camera.nearMeters() / along) * depthLift;
-    std::string text = m.label;
-    const int n = stb_easy_font_print(0.0f, 0.0f, text.data(), nullptr, quads.data(), static_cast<int>(quads.size()));
-    const float x0 = static_cast<float>(px->x) + 0.5f * m.sizePx + 4.0f;
-    const float y0 = static_cast<float>(px->y) - 7.0f * kScale * 0.5f;
-    // A dark shadow offset by one pixel, then the text.
-    for (int pass = 0; pass < 2; ++pass) {
-      const float off = pass == 0 ? 1.0f : 0.0f;
-      const glm::vec4 color = pass == 0 ? glm::vec4(0, 0, 0, 1) : glm::vec4(1, 1, 1, 1);
-      for (int q = 0; q < n; ++q) {
-        const float* v = reinterpret_cast<const float*>(quads.data() + static_cast<std::size_t>(q) * 64);
-        glm::vec2 corner[4];
-        for (int c = 0; c < 4; ++c) {
-          const float sx = x0 + off + kScale * v[c * 4 + 0], sy = y0 + off + kScale * v[c * 4 + 1];
-          corner[c] = glm::vec2(static_cast<float>(sx / w * 2.0 - 1.0), static_cast<float>(1.0 - sy / h * 2.0));
-        }
-        for (int idx : {0, 1, 2, 0, 2, 3}) {
-          vertices.insert(vertices.end(), {corner[idx].x, corner[idx].y, depth, color.r, color.g, color.b, color.a});
-        }
-      }
-    }
+    LabelCandidate c;
+    c.anchorXPx = px->x;
+    c.anchorYPx = px->y;
+    c.markerRadiusPx = 0.5 * m.sizePx;
+    c.widthPx = t ? t->widthPx : 0.0;  // no label: an obstacle only
+    c.heightPx = t ? t->heightPx : 0.0;
+    c.priority = m.sizePx;
+    candidates.push_back(c);
+    textures.push_back(t);
+    depths.push_back(static_cast<float>(camera.nearMeters() / along) * depthLift);
   }
-  if (vertices.empty()) return;
+  // The halo margin is inside the box already: no further gap is needed.
+  const std::vector<PlacedLabel> placed = placeLabels(candidates, {w, h, 0.0});
+  if (placed.empty()) return;
+  std::vector<float> vertices;  // x, y, z (NDC), u, v
+  for (const PlacedLabel& p : placed) {
+    const float x0 = static_cast<float>(std::round(p.box.leftPx)), y0 = static_cast<float>(std::round(p.box.topPx));
+    const float x1 = x0 + static_cast<float>(p.box.widthPx), y1 = y0 + static_cast<float>(p.box.heightPx);
+    const float depth = depths[p.candidate];
+    auto ndcX = [&](float x) { return static_cast<float>(x / w * 2.0 - 1.0); };
+    auto ndcY = [&](float y) { return static_cast<float>(1.0 - y / h * 2.0); };
+    const float corner[4][4] = {{ndcX(x0), ndcY(y0), 0.0f, 0.0f},
+                                {ndcX(x1), ndcY(y0), 1.0f, 0.0f},
+                                {ndcX(x1), ndcY(y1), 1.0f, 1.0f},
+                                {ndcX(x0), ndcY(y1), 0.0f, 1.0f}};
+    for (int idx : {0, 1, 2, 0, 2, 3})
+      vertices.insert(vertices.end(), {corner[idx][0], corner[idx][1], depth, corner[idx][2], corner[idx][3]});
+  }
   glNamedBufferData(labelVbo_, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(),
                     GL_STREAM_DRAW);
   labelProgram_.use();
+  glUniform1i(labelProgram_.uniform("u_mask"), 0);
+  glUniform4f(labelProgram_.uniform("u_textColor"), 1.0f, 1.0f, 1.0f, 1.0f);
+  glUniform4f(labelProgram_.uniform("u_haloColor"), 0.0f, 0.0f, 0.0f, 0.85f);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  // No depth test: a label spans ground nearer to the eye than its marker (the globe's depth
+  // there would cut it); whether it shows was decided above for the marker (horizon test).
+  const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
   glBindVertexArray(labelVao_);
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size() / 7));
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    glBindTextureUnit(0, textures[placed[i].candidate]->texture);
+    glDrawArrays(GL_TRIANGLES, static_cast<GLint>(i * 6), 6);
+  }
   glBindVertexArray(0);
+  glBindTextureUnit(0, 0);
+  if (depthTest) glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
 }
 
 void MarkerRendererGL::draw(const Camera& camera, const std::vector<Marker>& markers, float depthLift) {

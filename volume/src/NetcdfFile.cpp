@@ -13,6 +13,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <system_error>
 
 namespace atmoglobe::volume {
@@ -554,6 +556,31 @@ std::uint64_t slabBytes(const NcVar& var, const std::vector<std::size_t>& count)
 }
 }  // namespace
 
+namespace {
+std::mutex& tallyMutex() {
+  static std::mutex m;
+  return m;
+}
+std::map<std::string, std::uint64_t>& tally() {
+  static std::map<std::string, std::uint64_t> t;
+  return t;
+}
+void tallyRead(const std::string& variable, std::uint64_t bytes) {
+  const std::lock_guard<std::mutex> lock(tallyMutex());
+  tally()[variable] += bytes;
+}
+}  // namespace
+
+std::map<std::string, std::uint64_t> netcdfReadTally() {
+  const std::lock_guard<std::mutex> lock(tallyMutex());
+  return tally();
+}
+
+void resetNetcdfReadTally() {
+  const std::lock_guard<std::mutex> lock(tallyMutex());
+  tally().clear();
+}
+
 template <class T>
 Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& start,
                             const std::vector<std::size_t>& count, T* out) const {
@@ -565,6 +592,7 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
   }
   const int st = getVara(var.groupId, var.varId, start.data(), count.data(), out);
   dataBytesRead_ += slabBytes(var, count);
+  tallyRead(var.name, slabBytes(var, count));
   if (st != NC_NOERR && st != NC_ERANGE)
     return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
   if (st == NC_ERANGE)
@@ -588,6 +616,7 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
   }
   const int st = getVars(var.groupId, var.varId, start.data(), count.data(), stride.data(), out);
   dataBytesRead_ += slabBytes(var, count);
+  tallyRead(var.name, slabBytes(var, count));
   if (st != NC_NOERR && st != NC_ERANGE)
     return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
   if (st == NC_ERANGE)
@@ -628,6 +657,7 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
     std::string s(len, '\0');
     const int st = nc_get_vara_text(var.groupId, var.varId, start.data(), count.data(), s.data());
     dataBytesRead_ += len;
+    tallyRead(var.name, len);
     if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
     trimRight(s);
     return s;
@@ -641,7 +671,7 @@ Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) cons
     }
     char* p = nullptr;
     const int st = nc_get_vara_string(var.groupId, var.varId, start.data(), count.data(), &p);
-    if (st == NC_NOERR && p) dataBytesRead_ += std::strlen(p);
+    if (st == NC_NOERR && p) dataBytesRead_ += std::strlen(p), tallyRead(var.name, std::strlen(p));
     if (st != NC_NOERR) return makeError(message("reading variable '" + var.name + "': " + ncError(st)));
     std::string s = p ? std::string(p) : std::string();
     nc_free_string(1, &p);

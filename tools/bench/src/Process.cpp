@@ -11,6 +11,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -60,9 +61,11 @@ ProgramExit runProgram(const std::vector<std::string>& argv, bool quiet) {
   }
   int status = 0;
   pid_t waited = 0;
+  struct rusage usage {};
   do {
-    waited = waitpid(pid, &status, 0);
+    waited = wait4(pid, &status, 0, &usage);
   } while (waited < 0 && errno == EINTR);
+  if (waited >= 0) result.maxRssKb = usage.ru_maxrss;
   if (waited < 0) {
     result.error = std::string("waitpid: ").append(std::strerror(errno));
     return result;

@@ -1,6 +1,7 @@
 #pragma once
 // Station markers: round point sprites at geodetic positions, depth-tested against the
-// globe (hidden behind the Earth), positioned relative to the eye in double on the CPU.
+// globe (hidden behind the Earth), positioned relative to the eye in double on the CPU, with
+// TrueType labels that do not pile up.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/ShaderProgramGL.h>
@@ -9,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace atmoglobe::engine {
@@ -23,14 +25,27 @@ class MarkerRendererGL {
   static Result<std::unique_ptr<MarkerRendererGL>> create(MarkerStyle style);
   ~MarkerRendererGL();
   /// Draws into the bound framebuffer, depth-tested against what is already there, with
-  /// each marker's label (stb_easy_font, 2x scale) beside it at the marker's depth.
+  /// each marker's label beside it (no depth test; labels of markers behind the Earth are left
+  /// out): DejaVu Sans (TextRaster.h) in white
+  /// with a dark halo, placed so that labels never overlap each other or other markers
+  /// (LabelPlacement.h: bigger markers, i.e. radar sites, first; labels with no free slot are
+  /// left out). Label textures are made once per distinct text and kept.
   /// depthLift > 1 moves each marker's depth toward the eye by that factor (a marker on
   /// the ground then wins against the ground it sits on).
   void draw(const Camera& camera, const std::vector<Marker>& markers, float depthLift = 1.001f);
 
  private:
   MarkerRendererGL() = default;
+  struct LabelTexture {
+    GLuint texture = 0;  ///< RG8: text coverage, halo coverage
+    int widthPx = 0, heightPx = 0;
+  };
+  static constexpr double kLabelPixelHeight = 15.0;  ///< ascent - descent (px)
+  static constexpr double kLabelHaloRadiusPx = 2.0;  ///< dark outline around the glyphs
   void drawLabels(const Camera& camera, const std::vector<Marker>& markers, float depthLift);
+  const LabelTexture* labelTexture(const std::string& text);
+  std::unordered_map<std::string, LabelTexture> labelTextures_;
+  bool fontWarned_ = false;
   MarkerStyle style_ = MarkerStyle::Disc;
   ShaderProgramGL program_;
   ShaderProgramGL labelProgram_;

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -152,6 +153,13 @@ class NetcdfFile {
   std::shared_ptr<std::vector<unsigned char>> memory_;  ///< the image of an in-memory open (openMemory)
   mutable std::uint64_t dataBytesRead_ = 0;
 };
+
+/// Process-wide (every NetcdfFile, every thread): bytes of variable data read per variable name
+/// (NcVar::name), counted as dataBytesRead() counts them, since the last resetNetcdfReadTally().
+/// For tests that check a reader read only what it was asked for (a scene naming one field of
+/// a many-field file reads that field's data and no other field's).
+std::map<std::string, std::uint64_t> netcdfReadTally();
+void resetNetcdfReadTally();
 
 /// True when the file starts like a netCDF file: classic "CDF\x01", "CDF\x02", "CDF\x05", or the
 /// HDF5 signature at offset 0, 512, 1024, 2048 ... (netCDF-4). False for anything else,

@@ -11,6 +11,7 @@ struct ProgramExit {
   int exitCode = -1;     ///< exit status when it exited normally, else -1
   int signal = 0;        ///< the signal that ended it, else 0
   std::string error;     ///< why it could not be started (strerror)
+  long maxRssKb = 0;     ///< the child's peak resident set (ru_maxrss from wait4, KiB)
 
   bool succeeded() const { return started && signal == 0 && exitCode == 0; }
   /// "exit 3", "killed by signal 9 (Killed)", "not started: No such file or directory".

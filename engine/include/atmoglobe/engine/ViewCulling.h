@@ -1,0 +1,51 @@
+#pragma once
+// Load only what the view shows (issue 12 point 8), GL-free.
+//
+// A radar volume lies inside a sphere about its antenna: every gate is on a beam whose path
+// length is the gate's slant range, so no gate is farther from the antenna (in a straight line)
+// than the last gate's range, plus half a gate and the beam's half-width there. With vertical
+// exaggeration e > 1 heights above the ellipsoid grow e times, so the radius is scaled by e
+// (conservative). A volume whose sphere lies wholly outside one frustum plane, or wholly behind
+// the WGS84 ellipsoid seen from the eye (a horizon culling point in scaled space, Horizon.h), is
+// not visible from that camera, and `render` does not load it (its file is only opened for the
+// site and the range: a metadata read).
+//
+// Not for the viewer: there the camera moves, so every volume is loaded.
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/globe/Result.h>
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+struct BoundingSphere {
+  glm::dvec3 centerEcef{0.0};
+  double radiusMeters = 0.0;
+};
+
+/// false only if no point of the sphere can be seen from the camera (outside the frustum or
+/// hidden behind the ellipsoid). Conservative: true when unsure (an eye inside the ellipsoid, a
+/// sphere too large for a horizon point).
+bool sphereMayBeVisible(const Camera& camera, const BoundingSphere& sphere);
+
+/// The bounding sphere of the radar volume at `path` (one file, or the first file of a set or a
+/// loop: one site) from a metadata-only read: antenna on the ellipsoid (MSL heights taken as
+/// ellipsoidal: the geoid's +-110 m is far inside the margin), radius as the file comment says.
+/// A file that gives no gate geometry without its field gets a radius of 500 km (more than any
+/// weather radar's range). Errors name the file.
+Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration);
+
+struct CullOutcome {
+  std::size_t kept = 0;
+  std::vector<std::string> culled;  ///< paths of the radars left out
+};
+
+/// Removes from `scene.radars` the radars not visible from `camera` (their sphere as above).
+/// A radar whose metadata cannot be read is kept (loading it reports the error).
+CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera);
+
+}  // namespace atmoglobe::engine
