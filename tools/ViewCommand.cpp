@@ -389,7 +389,10 @@ int runView(const ViewOptions& o) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   if (!renderer) return fail("view", renderer.error());
   std::vector<engine::Marker> markers = scene->markers;
-  if (auto s = populateScene(**renderer, *scene, &markers); !s) return fail("view", s.error());
+  // An input that fails is reported and left out; the rest is shown (as `render` does).
+  std::vector<std::string> inputErrors;
+  if (auto s = populateScene(**renderer, *scene, &markers, &inputErrors); !s) return fail("view", s.error());
+  for (const std::string& e : inputErrors) std::cerr << "atmoglobe view: error: " << e << "\n";
   const engine::Gazetteer gazetteer = buildGazetteer(**renderer, markers);
 
   Interaction state;

@@ -37,19 +37,27 @@ std::vector<PlacedLabel> placeLabels(const std::vector<LabelCandidate>& candidat
   for (std::size_t i : order) {
     const LabelCandidate& c = candidates[i];
     if (!(c.widthPx > 0.0 && c.heightPx > 0.0)) continue;
-    for (LabelSlot slot : {LabelSlot::Right, LabelSlot::Left, LabelSlot::Above, LabelSlot::Below, LabelSlot::AboveRight,
-                           LabelSlot::BelowRight, LabelSlot::AboveLeft, LabelSlot::BelowLeft}) {
-      const LabelBox b = labelBoxAt(c, slot, o.gapPx);
-      if (b.leftPx < 0.0 || b.topPx < 0.0 || b.leftPx + b.widthPx > o.imageWidthPx ||
-          b.topPx + b.heightPx > o.imageHeightPx)
-        continue;
-      bool free = std::none_of(placed.begin(), placed.end(), [&](const PlacedLabel& p) { return p.box.overlaps(b); });
-      for (std::size_t k = 0; free && k < discs.size(); ++k)
-        if (k != i && discs[k].overlaps(b)) free = false;
-      if (free) {
-        placed.push_back({i, b, slot});
-        break;
+    // First a slot that covers no marker; failing that, one that covers only markers of lower
+    // priority (a radar's name over a station's dot rather than no name at all).
+    for (const bool coverLower : {false, true}) {
+      bool done = false;
+      for (LabelSlot slot :
+           {LabelSlot::Right, LabelSlot::Left, LabelSlot::Above, LabelSlot::Below, LabelSlot::AboveRight,
+            LabelSlot::BelowRight, LabelSlot::AboveLeft, LabelSlot::BelowLeft}) {
+        const LabelBox b = labelBoxAt(c, slot, o.gapPx);
+        if (b.leftPx < 0.0 || b.topPx < 0.0 || b.leftPx + b.widthPx > o.imageWidthPx ||
+            b.topPx + b.heightPx > o.imageHeightPx)
+          continue;
+        bool free = std::none_of(placed.begin(), placed.end(), [&](const PlacedLabel& p) { return p.box.overlaps(b); });
+        for (std::size_t k = 0; free && k < discs.size(); ++k)
+          if (k != i && discs[k].overlaps(b) && !(coverLower && candidates[k].priority < c.priority)) free = false;
+        if (free) {
+          placed.push_back({i, b, slot});
+          done = true;
+          break;
+        }
       }
+      if (done) break;
     }
   }
   return placed;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 using namespace atmoglobe::engine;
@@ -79,7 +80,8 @@ TEST(LabelPlacement, RandomMarkersNeverGiveOverlappingLabelsOrCoverAMarker) {
     EXPECT_EQ(b.widthPx, c[placed[i].candidate].widthPx);
     for (std::size_t j = i + 1; j < placed.size(); ++j) EXPECT_FALSE(b.overlaps(placed[j].box)) << i << " " << j;
     for (std::size_t k = 0; k < c.size(); ++k) {
-      if (k != placed[i].candidate) {
+      // Only markers of lower priority may be covered (the second round of a crowded label).
+      if (k != placed[i].candidate && c[k].priority >= c[placed[i].candidate].priority) {
         EXPECT_FALSE(b.overlaps(disc(c[k]))) << "label " << i << " covers marker " << k;
       }
     }
@@ -96,4 +98,21 @@ TEST(LabelPlacement, MarkersWithoutLabelsAreObstacles) {
   ASSERT_EQ(placed.size(), 1u);
   EXPECT_EQ(placed[0].candidate, 0u);
   EXPECT_NE(placed[0].slot, LabelSlot::Right);
+}
+
+TEST(LabelPlacement, AHighPriorityLabelAmongDenseMarkersCoversLowerOnesRatherThanVanish) {
+  // A radar (priority 2) ringed by stations (priority 1) 12 px away on all sides: every slot
+  // covers a station's disc, so without the second round it would have no label.
+  std::vector<LabelCandidate> c{label(200, 200, 2.0)};
+  for (int k = 0; k < 16; ++k) {
+    const double a = k * 2.0 * 3.141592653589793 / 16.0;
+    c.push_back(label(200 + 40 * std::cos(a), 200 + 40 * std::sin(a), 1.0, 0.0, 0.0));  // unlabelled dots
+    c.push_back(label(200 + 14 * std::cos(a), 200 + 14 * std::sin(a), 1.0, 0.0, 0.0));
+  }
+  const auto placed = placeLabels(c, {640, 480, 2.0});
+  ASSERT_EQ(placed.size(), 1u);
+  EXPECT_EQ(placed[0].candidate, 0u);
+  // An equal-priority ring is not covered: the label is dropped.
+  for (std::size_t k = 1; k < c.size(); ++k) c[k].priority = 2.0;
+  EXPECT_TRUE(placeLabels(c, {640, 480, 2.0}).empty());
 }

@@ -4,8 +4,10 @@
 // Greedy placement by priority: candidates are taken highest priority first (ties: input
 // order). Each tries, in order, the slots beside its marker: right, left, above, below, then the
 // four diagonal corners; a slot is taken when the label's box lies wholly inside the image and
-// overlaps no box placed before and no marker disc (the label's own disc excepted). A label with
-// no free slot is dropped (the marker is still drawn). The result is a set of boxes no two of
+// overlaps no box placed before and no marker disc (the label's own disc excepted); when no slot
+// is free, the slots are tried again allowing the label to cover discs of markers of strictly
+// lower priority (so a radar keeps its name among dense stations). A label with no slot left is
+// dropped (the marker is still drawn). The result is a set of boxes no two of
 // which overlap, so every placed label is readable; which labels survive is decided by priority.
 // This is the classic greedy heuristic of cartographic label placement (the optimum is
 // NP-hard); it is O(n^2) in the labels, ~0.1 ms for the 160 NEXRAD sites.
