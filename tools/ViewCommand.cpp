@@ -200,14 +200,13 @@ int runView(const ViewOptions& o) {
     panel = std::move(*p);
   }
   engine::ViewerPanelState panelState;
+  panelState.scene = renderer->get();  // the panel edits the layers live
   for (const auto& r : (*renderer)->radars())
     panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
   for (const auto& g : (*renderer)->grids())
     panelState.layers.push_back("grid " + g.volume->grid().variable + " (" + g.description.path + ")");
   double frameMs = 0.0;
 
-  std::vector<double> fullImageScale;
-  for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
   std::unique_ptr<engine::FramebufferGL> target;
   int frame = 0;
   bool wasMoving = false;
@@ -263,7 +262,8 @@ int runView(const ViewOptions& o) {
     }
     auto& radars = (*renderer)->radars();
     for (std::size_t i = 0; i < radars.size(); ++i) {
-      radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
+      const double full = radars[i].description.imageScale;  // the panel may change it
+      radars[i].options.imageScale = moving ? std::min(full, kMovingImageScale) : full;
     }
     wasMoving = moving;
     state.dirty = false;
