@@ -2,6 +2,7 @@
 
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/OpacityEditor.h>
 #include <atmoglobe/volume/ValueHistogram.h>
 
@@ -14,6 +15,7 @@
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -38,6 +40,8 @@ struct ViewerPanelGL::Editing {
   std::map<std::size_t, Histogram> histograms;
   /// The control point being dragged: layer and index.
   std::optional<std::pair<std::size_t, std::size_t>> dragging;
+  /// The variables each grid layer's file holds that readGridVolume can read (read once).
+  std::map<std::size_t, std::vector<std::string>> gridVariables;
   float exaggeration = 1.0f;
   std::string error;  ///< the last edit's error, shown until the next edit succeeds
 };
@@ -284,6 +288,26 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         rd.settings.valueRange.reset();
         rd.settings.opacity.clear();
         edited = true;
+      }
+    }
+    // Variable (grids whose file holds several): read again from the file, at the step shown.
+    if (!isRadar) {
+      if (!e.gridVariables.count(i)) {
+        std::vector<std::string>& names = e.gridVariables[i];
+        if (auto info = volume::describeGridFile(gd.path, grid->volume->grid().variable))
+          for (const volume::GridVariableInfo& v : info->variables)
+            if (v.onGrid) names.push_back(v.name);
+      }
+      if (e.gridVariables[i].size() > 1) {
+        std::string variable = grid->volume->grid().variable;
+        if (comboOf("variable", variable, e.gridVariables[i])) {
+          gd.variable = variable;
+          gd.settings.opacityPoints.clear();  // in the old variable's units
+          gd.settings.valueRange.reset();
+          gd.settings.opacity.clear();
+          gd.isoValue = std::numeric_limits<double>::quiet_NaN();  // the middle of its range
+          edited = true;
+        }
       }
     }
     edited = comboOf("colours", *k.colors, colorTableChoices()) || edited;

@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -264,6 +265,35 @@ TEST_F(SceneEdits, EditedCurveFrameMatchesTheReferenceFrame) {
   EXPECT_GT(edit, 1.0) << "the edit must show in the frame";
   // GridMarchTest's scene tolerance (radar + grid frame against the reference): below one 8-bit step.
   EXPECT_LT(error, 1.0);
+}
+
+// Switching the field of a many-field file reads that field (the panel's field list), and the
+// colours follow its kind.
+TEST(SceneFieldSwitch, RealNexradFieldSwitchReadsThatField) {
+  const std::string klbb = atmoglobe_test::testDataPath("radar_nexrad/KLBB20160601_150025_V06");
+  SKIP_WITHOUT_TEST_DATA(klbb);
+  testutil::glContext();
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  auto r = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(r) << r.error();
+  engine::RadarLayerDescription d;
+  d.path = klbb;
+  ASSERT_TRUE((*r)->addRadar(d));
+  engine::RadarLayerGL& layer = (*r)->radars()[0];
+  EXPECT_EQ(layer.volume->polar().fieldName, "REF");
+  ASSERT_GT(layer.fields.size(), 1u);
+  ASSERT_NE(std::find(layer.fields.begin(), layer.fields.end(), "VEL"), layer.fields.end());
+  const volume::ColorTable refColors = layer.options.render.transfer.colors;
+  d.field = "VEL";
+  ASSERT_TRUE((*r)->setRadarDescription(0, d));
+  EXPECT_EQ(layer.volume->polar().fieldName, "VEL");
+  EXPECT_EQ(layer.loadedField.name, "VEL");
+  EXPECT_LT(layer.volume->polar().minValue, 0.0f) << "velocities towards the radar are negative";
+  EXPECT_NE(layer.options.render.transfer.colors.stops(), refColors.stops()) << "velocity colours, not NWS";
+  d.field = "NOPE";
+  EXPECT_FALSE((*r)->setRadarDescription(0, d));
+  EXPECT_EQ(layer.volume->polar().fieldName, "VEL") << "a failed switch leaves the layer as it was";
 }
 
 }  // namespace
