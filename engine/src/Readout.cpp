@@ -55,6 +55,7 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     out.seaLevelHeightMeters = geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
   }
   for (const RadarLayerGL& r : scene.radars()) {
+    if (!r.visible) continue;  // switched off in the panel
     const auto hit = firstEcho(r.volume->referenceSampler(), eye, dir, tGround, stepMeters);
     if (!hit) continue;
     const volume::PolarVolume& p = r.volume->polar();
@@ -76,6 +77,7 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
                                a.azimuthDeg, a.rangeMeters / 1000.0, g.heightMeters));
   }
   for (const GridLayerGL& gl : scene.grids()) {
+    if (!gl.visible) continue;
     const auto hit = firstEcho(gl.volume->referenceSampler(), eye, dir, tGround, stepMeters);
     if (!hit) continue;
     const volume::GridVolume& v = gl.volume->grid();

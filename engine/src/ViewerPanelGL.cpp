@@ -469,7 +469,6 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     }
     if (edited) {
       report(isRadar ? scene.setRadarDescription(i, rd) : scene.setGridDescription(i, gd));
-      if (e.error.empty() && !isRadar) e.crops.erase(i);
     }
     ImGui::TreePop();
     ImGui::PopID();
