@@ -325,9 +325,10 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
                 : grid->firstRange;
     if (*k.mode == "iso") {
       float iso = static_cast<float>(options.render.isoValue);
-      ImGui::SliderFloat("iso value", &iso, static_cast<float>(range.minValue), static_cast<float>(range.maxValue),
-                         "%.1f");
-      if (ImGui::IsItemDeactivatedAfterEdit()) {
+      // Applied while dragging (options only, cheap): a value kept only until release would be
+      // lost, since the slider's variable is refilled from the layer every frame.
+      if (ImGui::SliderFloat("iso value", &iso, static_cast<float>(range.minValue), static_cast<float>(range.maxValue),
+                             "%.1f")) {
         *k.isoValue = iso;
         edited = true;
       }
@@ -418,14 +419,12 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     }
     if (ImGui::TreeNode("quality")) {
       float step = static_cast<float>(*k.stepMeters);
-      ImGui::SliderFloat("step (m)", &step, 25.0f, 2000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
-      if (ImGui::IsItemDeactivatedAfterEdit()) {
+      if (ImGui::SliderFloat("step (m)", &step, 25.0f, 2000.0f, "%.0f", ImGuiSliderFlags_Logarithmic)) {
         *k.stepMeters = step;
         edited = true;
       }
       float scale = static_cast<float>(*k.imageScale);
-      ImGui::SliderFloat("image scale", &scale, 0.1f, 1.0f, "%.2f");
-      if (ImGui::IsItemDeactivatedAfterEdit()) {
+      if (ImGui::SliderFloat("image scale", &scale, 0.1f, 1.0f, "%.2f")) {
         *k.imageScale = scale;
         edited = true;
       }
