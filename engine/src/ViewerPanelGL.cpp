@@ -115,11 +115,7 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
     }
     ImGui::Separator();
   }
-  if (s.scene) {
-    changed = drawLayers(*s.scene) || changed;
-  } else {
-    for (const std::string& line : s.layers) ImGui::TextUnformatted(line.c_str());
-  }
+  for (const std::string& line : s.layers) ImGui::TextUnformatted(line.c_str());
   for (const std::string& line : s.legend.subtitles) ImGui::TextUnformatted(line.c_str());
   if (s.legend.synthetic) ImGui::TextColored(ImVec4(1.0f, 0.25f, 0.25f, 1.0f), "SYNTHETIC DATA");
   // Colour keys, horizontal: the table's colours from low to high with a few values under them.
@@ -161,6 +157,19 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   const ImVec2 panelMin = ImGui::GetWindowPos();
   const ImVec2 panelMax(panelMin.x + ImGui::GetWindowSize().x, panelMin.y + ImGui::GetWindowSize().y);
   ImGui::End();
+  // The layer controls in their own window at the top right, so the main panel (top left) keeps
+  // its size and the middle of the picture stays free; at most the window's height less room
+  // for a box at the bottom right (then it scrolls).
+  if (s.scene) {
+    ImGui::SetNextWindowPos(ImVec2(display.x - 10.0f, 10.0f), ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(FLT_MAX, std::max(100.0f, display.y - 90.0f)));
+    ImGui::Begin("Layers", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PushItemWidth(kEditorMaxWidth - 120.0f);
+    changed = drawLayers(*s.scene) || changed;
+    ImGui::PopItemWidth();
+    ImGui::End();
+  }
   // The scale bar, bottom left over the picture: the one rendered PNGs carry (Legend.h).
   const float fbScale = std::max(ImGui::GetIO().DisplayFramebufferScale.x, 1.0f);
   if (const ScaleBar bar = scaleBarFor(s.legend.metersPerPixel, static_cast<int>(display.x * fbScale));
@@ -236,7 +245,6 @@ struct LayerKnobs {
 bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
   Editing& e = *editing_;
   bool changed = false;
-  if (!ImGui::CollapsingHeader("Layers", ImGuiTreeNodeFlags_DefaultOpen)) return false;
   auto report = [&](const Status& st) {
     if (!st) {
       e.error = st.error();
@@ -477,7 +485,11 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     e.exaggeration = static_cast<float>(scene.verticalExaggeration());
   ImGui::SliderFloat("vertical exaggeration", &e.exaggeration, 1.0f, 20.0f, "x%.1f", ImGuiSliderFlags_Logarithmic);
   if (ImGui::IsItemDeactivatedAfterEdit()) report(scene.changeVerticalExaggeration(e.exaggeration));
-  if (!e.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", e.error.c_str());
+  if (!e.error.empty()) {
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kEditorMaxWidth);
+    ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", e.error.c_str());
+    ImGui::PopTextWrapPos();
+  }
   // What is loaded: CPU and GPU bytes per volume layer.
   if (ImGui::CollapsingHeader("Loaded (memory)", ImGuiTreeNodeFlags_DefaultOpen) &&
       ImGui::BeginTable("##memory", 3, ImGuiTableFlags_SizingFixedFit)) {
@@ -506,7 +518,6 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     ImGui::TextUnformatted(formatBytes(gpu).c_str());
     ImGui::EndTable();
   }
-  ImGui::Separator();
   return changed;
 }
 
