@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -274,8 +275,11 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     ImGui::SameLine();
     const std::string title = isRadar ? "radar " + radar->siteMarker.label + "  " + radar->volume->polar().fieldName
                                       : "grid " + grid->volume->grid().variable;
-    const bool open =
-        ImGui::TreeNodeEx("##layer", position == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", title.c_str());
+    // Closed until opened (ATMOGLOBE_PANEL_OPEN=1 opens the first, for screenshots of the
+    // controls): the window stays small and leaves the picture free.
+    static const bool openFirst = std::getenv("ATMOGLOBE_PANEL_OPEN") != nullptr;
+    const bool open = ImGui::TreeNodeEx("##layer", openFirst && position == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0,
+                                        "%s", title.c_str());
     if (!open) {
       ImGui::PopID();
       continue;
