@@ -458,6 +458,7 @@ int runView(const ViewOptions& o) {
     engine::drawFlyToWindow(flyState);
     if (scripted) engine::drawPointerMark();  // no system cursor in a scripted screenshot
   };
+  panelState.scene = renderer->get();  // the panel edits the layers live
   for (const auto& r : (*renderer)->radars())
     panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
   for (const auto& g : (*renderer)->grids())
@@ -644,8 +645,6 @@ int runView(const ViewOptions& o) {
     }
   };
 
-  std::vector<double> fullImageScale;
-  for (const auto& radar : (*renderer)->radars()) fullImageScale.push_back(radar.options.imageScale);
   std::unique_ptr<engine::FramebufferGL> target;
   int frame = 0;
   int framesAfterScript = 0;
@@ -720,7 +719,8 @@ int runView(const ViewOptions& o) {
     if (sceneNeeded) {
       auto& radars = (*renderer)->radars();
       for (std::size_t i = 0; i < radars.size(); ++i) {
-        radars[i].options.imageScale = moving ? std::min(fullImageScale[i], kMovingImageScale) : fullImageScale[i];
+        const double full = radars[i].description.imageScale;  // the panel may change it
+        radars[i].options.imageScale = moving ? std::min(full, kMovingImageScale) : full;
       }
       wasMoving = moving;
       state.dirty = false;

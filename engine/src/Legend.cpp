@@ -121,6 +121,16 @@ double roundLength(double maxMeters) {
 }
 }  // namespace
 
+ScaleBar scaleBarFor(double metersPerPixel, int widthPx) {
+  ScaleBar bar;
+  if (!(metersPerPixel > 0.0 && std::isfinite(metersPerPixel)) || widthPx < 1) return bar;
+  bar.meters = roundLength(metersPerPixel * widthPx / 5.0);
+  bar.lengthPx = static_cast<int>(std::lround(bar.meters / metersPerPixel));
+  bar.label = bar.meters >= 1000.0 ? fixed(bar.meters / 1000.0, bar.meters >= 10000.0 ? 0 : 1) + " km"
+                                   : fixed(bar.meters, 0) + " m";
+  return bar;
+}
+
 Status drawFrameLegend(globe::ImageRGBA8& img, const FrameLegend& legend) {
   const auto& fontResult = Font::dejaVuSans();
   if (!fontResult) return makeError(fontResult.error());
@@ -156,15 +166,12 @@ Status drawFrameLegend(globe::ImageRGBA8& img, const FrameLegend& legend) {
     x1 -= column;
   }
   // Scale bar: a round length of at most a fifth of the width, at the image centre's scale.
-  if (legend.metersPerPixel > 0.0 && std::isfinite(legend.metersPerPixel)) {
-    const double meters = roundLength(legend.metersPerPixel * img.width / 5.0);
-    const int px = static_cast<int>(std::lround(meters / legend.metersPerPixel));
+  if (const ScaleBar bar = scaleBarFor(legend.metersPerPixel, img.width); bar.meters > 0.0) {
+    const int px = bar.lengthPx;
     const int x0 = static_cast<int>(12 * scale), yb = img.height - static_cast<int>(14 * scale);
     fillRect(img, x0 - 1, yb - 1, x0 + px + 1, yb + 3, black);
     fillRect(img, x0, yb, x0 + px, yb + 2, white);
-    const std::string text = meters >= 1000.0 ? fixed(meters / 1000.0, meters >= 10000.0 ? 0 : 1) + " km"
-                                              : fixed(meters, 0) + " m";
-    drawText(img, font, text + " (at the centre)", x0, yb - 4 * scale, tick, HAlign::Left, VAlign::Bottom);
+    drawText(img, font, bar.label + " (at the centre)", x0, yb - 4 * scale, tick, HAlign::Left, VAlign::Bottom);
   }
   return Ok{};
 }

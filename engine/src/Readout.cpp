@@ -55,6 +55,7 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     out.seaLevelHeightMeters = geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
   }
   for (const RadarLayerGL& r : scene.radars()) {
+    if (!r.visible) continue;  // switched off in the panel
     // Radars: the first gate with an echo along the ray, read as stored (nearest-neighbour
     // sampling), so the value and the gate are those `atmoglobe gates` lists.
     const auto hit =
@@ -78,6 +79,7 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
                                gate->azimuthDeg, gate->rangeMeters / 1000.0, g.heightMeters));
   }
   for (const GridLayerGL& gl : scene.grids()) {
+    if (!gl.visible) continue;
     const auto hit =
         firstEcho(gl.volume->referenceSampler(), eye, dir, tGround, stepMeters, volume::Interpolation::Linear);
     if (!hit) continue;

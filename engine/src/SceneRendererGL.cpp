@@ -1,5 +1,6 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 
+#include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SlicePlot.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
@@ -47,6 +48,7 @@ Result<volume::TransferFunction> transferForLayer(const std::string& colors, con
   volume::TransferFunction t = std::move(*transfer);
   if (settings.valueRange) t = volume::withValueRange(t, settings.valueRange->x, settings.valueRange->y);
   if (!settings.opacity.empty()) t = volume::withOpacityRamp(t, settings.opacity);
+  if (settings.opacityPoints.size() >= 2) t = volume::withOpacityPoints(t, settings.opacityPoints);
   return t;
 }
 
@@ -211,6 +213,9 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.timeIso8601 = radar->volume.timeIso8601;
   layer.synthetic = volume::fileSaysSynthetic(d.path);
   layer.description = d;
+  for (const volume::FieldInfo& f : radar->volume.fields) layer.fields.push_back(f.name);
+  layer.loadedField = radar->volume.loadedField;
+  layer.nyquistMps = radar->volume.nyquistVelocityMps;
   radars_.push_back(std::move(layer));
   return &radars_.back();
 }
@@ -241,6 +246,29 @@ volume::GridReadOptions gridReadOptions(const GridLayerDescription& d) {
 }
 }  // namespace
 
+namespace {
+// A grid layer's render options; colours over `range` (the values of the step first loaded).
+Result<VolumeRenderOptions> gridRenderOptions(const GridLayerDescription& d, const volume::GridVolume& grid,
+                                              const volume::ValueRange& range) {
+  VolumeRenderOptions o;
+  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
+                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
+                                    : volume::VolumeRenderMode::Dvr;
+  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
+                                                        : volume::Interpolation::Linear;
+  o.render.stepMeters = d.stepMeters;
+  o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
+  auto transfer = transferForLayer(d.colors, d.settings,
+                                   volume::FieldInfo{grid.variable, grid.units, grid.standardName},
+                                   std::numeric_limits<double>::quiet_NaN(), range);
+  if (!transfer) return transfer.forwardError();
+  o.render.transfer = std::move(*transfer);
+  o.imageScale = d.imageScale;
+  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
+  return o;
+}
+}  // namespace
+
 Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& d) {
   volume::GridReadOptions read = gridReadOptions(d);
   if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
@@ -251,25 +279,19 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   if (!(range.minValue <= range.maxValue))
     return makeError(d.path + ": " + grid->variable + " has no valid value at " +
                      (grid->validTime.empty() ? std::string("the step read") : grid->validTime));
-  VolumeRenderOptions o;
-  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
-                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
-                                    : volume::VolumeRenderMode::Dvr;
-  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
-                                                        : volume::Interpolation::Linear;
-  o.render.stepMeters = d.stepMeters;
-  o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
-  auto transfer = transferForLayer(d.colors, d.settings,
-                                   volume::FieldInfo{grid->variable, grid->units, grid->standardName},
-                                   std::numeric_limits<double>::quiet_NaN(), range);
-  if (!transfer) return transfer.forwardError();
-  o.render.transfer = std::move(*transfer);
-  o.imageScale = d.imageScale;
-  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
+  auto o = gridRenderOptions(d, *grid, range);
+  if (!o) return o.forwardError();
   volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
-  grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, volume::fileSaysSynthetic(d.path), 0.0});
+  GridLayerGL layer;
+  layer.volume = std::move(*gl);
+  layer.options = std::move(*o);
+  layer.description = d;
+  layer.step = grid->timeIndex;
+  layer.synthetic = volume::fileSaysSynthetic(d.path);
+  layer.firstRange = range;
+  grids_.push_back(std::move(layer));
   return &grids_.back();
 }
 
@@ -306,7 +328,12 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
   GridLayerGL& layer = grids_[index];
   if (!(fraction >= 0.0 && fraction < 1.0)) return makeError(layer.description.path + ": time fraction outside [0, 1)");
   if (layer.step == step && layer.stepFraction == fraction) return Ok{};
-  const GridLayerDescription& d = layer.description;
+  return reloadGrid(index, layer.description, step, fraction);
+}
+
+Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription& d, std::size_t step,
+                                   double fraction) {
+  GridLayerGL& layer = grids_[index];
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
   auto grid = volume::readGridVolume(d.path, read);
@@ -357,11 +384,16 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   // Every radar in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
   std::vector<VolumeLayerGL> layers;
-  for (const RadarLayerGL& radar : radars_) {
-    layers.push_back(VolumeLayerGL{radar.volume.get(), radar.options});
-    all.push_back(radar.siteMarker);
+  for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
+    if (i < radars_.size()) {
+      const RadarLayerGL& radar = radars_[i];
+      if (!radar.visible) continue;
+      layers.push_back(VolumeLayerGL{radar.volume.get(), radar.options});
+      all.push_back(radar.siteMarker);
+    } else if (const GridLayerGL& grid = grids_[i - radars_.size()]; grid.visible) {
+      layers.push_back(VolumeLayerGL{grid.volume.get(), grid.options});
+    }
   }
-  for (const GridLayerGL& grid : grids_) layers.push_back(VolumeLayerGL{grid.volume.get(), grid.options});
   if (!layers.empty() && referenceThreads_ > 0) {
     const auto t0 = std::chrono::steady_clock::now();
     volumeRenderer_->drawReference(camera, layers, target, referenceThreads_);
@@ -404,6 +436,7 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
   std::string what;
   auto add = [&](const std::string& s) { what += (what.empty() ? "" : "  |  ") + s; };
   for (const RadarLayerGL& r : radars_) {
+    if (!r.visible) continue;
     const volume::PolarVolume& p = r.volume->polar();
     const std::string name = r.siteName.empty() ? std::string("radar") : r.siteName;
     add(name + "  " + p.fieldName);
@@ -412,6 +445,7 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
     legend.synthetic = legend.synthetic || r.synthetic;
   }
   for (const GridLayerGL& g : grids_) {
+    if (!g.visible) continue;
     const volume::GridVolume& v = g.volume->grid();
     std::string variable = v.variable;
     if (!variable.empty() && variable.front() == '/') variable.erase(0, 1);
@@ -429,6 +463,160 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
     legend.metersPerPixel = glm::length(*hit - camera.eyeEcef()) / camera.focalLengthPx();
   }
   return legend;
+}
+
+// --- Live edits (the control panel) ---
+
+Status SceneRendererGL::setRadarDescription(std::size_t index, const RadarLayerDescription& d) {
+  if (index >= radars_.size()) return makeError("no radar layer " + std::to_string(index));
+  RadarLayerGL& layer = radars_[index];
+  if (auto st = validateRadarLayer(d, d.path); !st) return st;
+  if (auto st = validateVolumeLayerSettings(d.settings, d.path); !st) return st;
+  switch (radarLayerChange(layer.description, d)) {
+    case LayerChange::None: return Ok{};
+    case LayerChange::Reload: return reloadRadar(index, d);
+    case LayerChange::Options: break;
+  }
+  const volume::PolarVolume& p = layer.volume->polar();
+  auto options = radarRenderOptions(d, layer.loadedField, layer.nyquistMps, {p.minValue, p.maxValue});
+  if (!options) return options.forwardError();
+  layer.options = std::move(*options);
+  layer.volume->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
+                                                          : BeamApproximation::EffectiveEarthLocalSphere);
+  if (!d.label.empty()) layer.siteMarker.label = d.label;
+  layer.description = d;
+  return Ok{};
+}
+
+Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescription& d) {
+  RadarLayerGL& layer = radars_[index];
+  std::vector<std::string> files = layer.loopFiles, times = layer.loopTimes;
+  std::size_t step = layer.step;
+  if (d.path != layer.description.path || d.field != layer.description.field) {
+    auto loop = radarLoopSteps(d.path, d.field);  // another field may sit in other files of the set
+    if (!loop) return loop.forwardError();
+    if (loop->first.size() != files.size()) step = loop->first.empty() ? 0 : loop->first.size() - 1;
+    files = std::move(loop->first);
+    times = std::move(loop->second);
+  }
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(files.empty() ? d.path : files[step], load);
+  if (!radar) return radar.forwardError();
+  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+    if (!(radar->layout->minValue <= radar->layout->maxValue))
+      return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
+  }
+  auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
+                                    {radar->layout->minValue, radar->layout->maxValue});
+  if (!options) return options.forwardError();
+  auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
+  if (!gl) return gl.forwardError();
+  (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
+                                                   : BeamApproximation::EffectiveEarthLocalSphere);
+  layer.volume = std::move(*gl);
+  layer.options = std::move(*options);
+  layer.datumNote = radar->site.datumNote;
+  layer.timeIso8601 = radar->volume.timeIso8601;
+  layer.loadedField = radar->volume.loadedField;
+  layer.nyquistMps = radar->volume.nyquistVelocityMps;
+  layer.fields.clear();
+  for (const volume::FieldInfo& f : radar->volume.fields) layer.fields.push_back(f.name);
+  layer.loopFiles = std::move(files);
+  layer.loopTimes = std::move(times);
+  layer.step = step;
+  if (!d.label.empty()) layer.siteMarker.label = d.label;
+  layer.description = d;
+  return Ok{};
+}
+
+Status SceneRendererGL::setGridDescription(std::size_t index, const GridLayerDescription& d) {
+  if (index >= grids_.size()) return makeError("no grid layer " + std::to_string(index));
+  GridLayerGL& layer = grids_[index];
+  if (auto st = validateGridLayer(d, d.path); !st) return st;
+  if (auto st = validateVolumeLayerSettings(d.settings, d.path); !st) return st;
+  switch (gridLayerChange(layer.description, d)) {
+    case LayerChange::None: return Ok{};
+    case LayerChange::Reload: {
+      GridLayerDescription previous = layer.description;
+      volume::ValueRange previousRange = layer.firstRange;
+      if (d.variable != previous.variable || d.path != previous.path) layer.firstRange = {};  // new colours' range
+      if (auto st = reloadGrid(index, d, layer.step, layer.stepFraction); !st) {
+        layer.firstRange = previousRange;
+        return st;
+      }
+      if (!(layer.firstRange.minValue < layer.firstRange.maxValue)) {
+        const volume::GridVolume& g = layer.volume->grid();
+        layer.firstRange = {g.valueMin, g.valueMax};
+      }
+      break;
+    }
+    case LayerChange::Options: break;
+  }
+  auto o = gridRenderOptions(d, layer.volume->grid(), layer.firstRange);
+  if (!o) return o.forwardError();
+  layer.options = std::move(*o);
+  layer.description = d;
+  return Ok{};
+}
+
+Status SceneRendererGL::changeVerticalExaggeration(double factor) {
+  if (auto st = volume::validateVerticalExaggeration(factor, "scene"); !st) return st;
+  if (factor == exaggeration_) return Ok{};
+  if (slices_ && slices_->size() > 0)
+    return makeError("the scene has slices: its vertical exaggeration is fixed when they are sampled");
+  const double previous = exaggeration_;
+  exaggeration_ = factor;
+  for (RadarLayerGL& layer : radars_) {
+    auto gl = RadarVolumeGL::create(layer.volume->polar(), factor);  // from the CPU copy: no read
+    if (!gl) {
+      exaggeration_ = previous;
+      return gl.forwardError();
+    }
+    (*gl)->setBeamApproximation(layer.volume->beamApproximation());
+    layer.volume = std::move(*gl);
+  }
+  for (std::size_t i = 0; i < grids_.size(); ++i) {
+    if (auto st = reloadGrid(i, grids_[i].description, grids_[i].step, grids_[i].stepFraction); !st) return st;
+  }
+  return Ok{};
+}
+
+Status SceneRendererGL::setVolumeOrder(const std::vector<std::size_t>& order) {
+  std::vector<std::size_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 0; i < sorted.size(); ++i)
+    if (sorted[i] != i) return makeError("the volume order is not a permutation of the layers");
+  if (sorted.size() != volumeLayerCount()) return makeError("the volume order must name every layer once");
+  volumeOrder_ = order;
+  return Ok{};
+}
+
+std::vector<std::size_t> SceneRendererGL::volumeOrder() const {
+  if (volumeOrder_.size() == volumeLayerCount()) return volumeOrder_;
+  std::vector<std::size_t> order(volumeLayerCount());  // layers added since: radars, then grids
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  return order;
+}
+
+std::vector<LayerMemory> SceneRendererGL::layerMemory() const {
+  std::vector<LayerMemory> out;
+  for (const RadarLayerGL& r : radars_) {
+    const volume::PolarVolume& p = r.volume->polar();
+    out.push_back(LayerMemory{"radar " + r.siteMarker.label + " " + p.fieldName, p.byteSize(), r.volume->gpuBytes()});
+  }
+  for (const GridLayerGL& g : grids_) {
+    const volume::GridVolume& v = g.volume->grid();
+    const std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
+                              (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
+    out.push_back(LayerMemory{"grid " + v.variable, cpu, g.volume->gpuBytes()});
+  }
+  return out;
 }
 
 }  // namespace atmoglobe::engine

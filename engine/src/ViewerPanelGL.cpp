@@ -1,19 +1,53 @@
 #include <atmoglobe/engine/ViewerPanelGL.h>
 
+#include <atmoglobe/engine/LayerEdit.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/OpacityEditor.h>
+#include <atmoglobe/volume/ValueHistogram.h>
+
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <epoxy/gl.h>
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
 
 namespace atmoglobe::engine {
 
 namespace {
 constexpr const char* kUiFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 bool gPanelAlive = false;
+constexpr int kHistogramBins = 96;
+constexpr float kEditorMaxWidth = 300.0f, kEditorHeight = 110.0f;
 }  // namespace
+
+struct ViewerPanelGL::Editing {
+  /// Crop boxes being typed (applied with "Apply crop"), per layer in the single index.
+  std::map<std::size_t, volume::CropBox> crops;
+  std::map<std::size_t, bool> cropHeights;
+  /// Histograms per layer, kept while the layer's GPU volume is the same object.
+  struct Histogram {
+    const void* volume = nullptr;
+    volume::ValueHistogram h;
+  };
+  std::map<std::size_t, Histogram> histograms;
+  /// The control point being dragged: layer and index.
+  std::optional<std::pair<std::size_t, std::size_t>> dragging;
+  /// The variables each grid layer's file holds that readGridVolume can read (read once).
+  std::map<std::size_t, std::vector<std::string>> gridVariables;
+  float exaggeration = 1.0f;
+  std::string error;  ///< the last edit's error, shown until the next edit succeeds
+};
+
+ViewerPanelGL::ViewerPanelGL() : editing_(std::make_unique<Editing>()) {}
 
 Result<std::unique_ptr<ViewerPanelGL>> ViewerPanelGL::create(GLFWwindow* window) {
   if (gPanelAlive) return makeError("one viewer panel per process");
@@ -54,7 +88,11 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   bool changed = false;
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.8f);
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  // As tall as its contents, at most the window's height (then it scrolls).
+  ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(FLT_MAX, std::max(100.0f, display.y - 20.0f)));
   ImGui::Begin("atmoglobe", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::PushItemWidth(kEditorMaxWidth - 120.0f);
   if (s.timePositions > 1) {
     ImGui::TextUnformatted(("Valid time  " + s.timeLabel).c_str());
     int position = s.timePosition;
@@ -116,10 +154,375 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
     for (const std::string& line : s.readout) ImGui::TextUnformatted(line.c_str());
   }
   if (ImGui::Button("Screenshot")) s.screenshotRequested = true;
+  ImGui::PopItemWidth();
+  const ImVec2 panelMin = ImGui::GetWindowPos();
+  const ImVec2 panelMax(panelMin.x + ImGui::GetWindowSize().x, panelMin.y + ImGui::GetWindowSize().y);
   ImGui::End();
+  // The layer controls in their own window at the top right, so the main panel (top left) keeps
+  // its size and the middle of the picture stays free; at most the window's height less room
+  // for a box at the bottom right (then it scrolls).
+  if (s.scene) {
+    ImGui::SetNextWindowPos(ImVec2(display.x - 10.0f, 10.0f), ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(FLT_MAX, std::max(100.0f, display.y - 90.0f)));
+    ImGui::Begin("Layers", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PushItemWidth(kEditorMaxWidth - 120.0f);
+    changed = drawLayers(*s.scene) || changed;
+    ImGui::PopItemWidth();
+    ImGui::End();
+  }
+  // The scale bar, bottom left over the picture: the one rendered PNGs carry (Legend.h).
+  const float fbScale = std::max(ImGui::GetIO().DisplayFramebufferScale.x, 1.0f);
+  if (const ScaleBar bar = scaleBarFor(s.legend.metersPerPixel, static_cast<int>(display.x * fbScale));
+      s.scaleBar && bar.meters > 0.0) {
+    ImDrawList* bg = ImGui::GetBackgroundDrawList();
+    const float px = static_cast<float>(bar.lengthPx) / fbScale;
+    const float yb = display.y - 14.0f;
+    // Bottom left as on PNGs; right of the panel where the panel covers that corner.
+    const bool covered = panelMin.x < 12.0f + px && panelMax.y > yb - 4.0f - ImGui::GetTextLineHeight();
+    const float x0 = covered ? panelMax.x + 12.0f : 12.0f;
+    bg->AddRectFilled(ImVec2(x0 - 1.0f, yb - 1.0f), ImVec2(x0 + px + 1.0f, yb + 3.0f), IM_COL32(0, 0, 0, 255));
+    bg->AddRectFilled(ImVec2(x0, yb), ImVec2(x0 + px, yb + 2.0f), IM_COL32(255, 255, 255, 255));
+    const std::string label = bar.label + " (at the centre)";
+    const float th = ImGui::GetTextLineHeight();
+    for (const ImVec2 d : {ImVec2(-1, 0), ImVec2(1, 0), ImVec2(0, -1), ImVec2(0, 1)})  // halo
+      bg->AddText(ImVec2(x0 + d.x, yb - 4.0f - th + d.y), IM_COL32(0, 0, 0, 255), label.c_str());
+    bg->AddText(ImVec2(x0, yb - 4.0f - th), IM_COL32(255, 255, 255, 255), label.c_str());
+  }
   if (s.extraWindows) s.extraWindows();
   ImGui::Render();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  return changed;
+}
+
+namespace {
+const char* const kModes[] = {"dvr", "mip", "iso"};
+const char* const kModeLabels[] = {"DVR", "MIP", "iso"};
+const char* const kInterpolations[] = {"linear", "nearest"};
+const char* const kBeams[] = {"4/3", "straight"};
+const char* const kClassifications[] = {"point", "preintegrated"};
+
+template <std::size_t N>
+bool comboOf(const char* label, std::string& value, const char* const (&choices)[N]) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, value.c_str())) {
+    for (const char* c : choices) {
+      if (ImGui::Selectable(c, value == c)) {
+        changed = value != c;
+        value = c;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+bool comboOf(const char* label, std::string& value, const std::vector<std::string>& choices) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, value.empty() ? "(default)" : value.c_str())) {
+    for (const std::string& c : choices) {
+      if (ImGui::Selectable(c.c_str(), value == c)) {
+        changed = value != c;
+        value = c;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// The settings a radar and a grid description share, edited in one place.
+struct LayerKnobs {
+  std::string* colors;
+  std::string* mode;
+  std::string* interpolation;
+  double* stepMeters;
+  double* imageScale;
+  double* isoValue;
+  std::string* classification;
+  VolumeLayerSettings* settings;
+};
+}  // namespace
+
+bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
+  Editing& e = *editing_;
+  bool changed = false;
+  auto report = [&](const Status& st) {
+    if (!st) {
+      e.error = st.error();
+    } else {
+      e.error.clear();
+    }
+    changed = true;
+  };
+  const std::size_t radarCount = scene.radars().size();
+  std::vector<std::size_t> order = scene.volumeOrder();
+  for (std::size_t position = 0; position < order.size(); ++position) {
+    const std::size_t i = order[position];
+    const bool isRadar = i < radarCount;
+    RadarLayerGL* radar = isRadar ? &scene.radars()[i] : nullptr;
+    GridLayerGL* grid = isRadar ? nullptr : &scene.grids()[i - radarCount];
+    ImGui::PushID(static_cast<int>(i));
+    bool& visible = isRadar ? radar->visible : grid->visible;
+    if (ImGui::Checkbox("##on", &visible)) changed = true;
+    ImGui::SameLine();
+    if (ImGui::ArrowButton("##up", ImGuiDir_Up) && position > 0) {
+      report(scene.setVolumeOrder(moveInOrder(order, position, -1)));
+    }
+    ImGui::SameLine();
+    if (ImGui::ArrowButton("##down", ImGuiDir_Down) && position + 1 < order.size()) {
+      report(scene.setVolumeOrder(moveInOrder(order, position, +1)));
+    }
+    ImGui::SameLine();
+    const std::string title = isRadar ? "radar " + radar->siteMarker.label + "  " + radar->volume->polar().fieldName
+                                      : "grid " + grid->volume->grid().variable;
+    // Closed until opened (ATMOGLOBE_PANEL_OPEN=1 opens the first, for screenshots of the
+    // controls): the window stays small and leaves the picture free.
+    static const bool openFirst = std::getenv("ATMOGLOBE_PANEL_OPEN") != nullptr;
+    const bool open = ImGui::TreeNodeEx("##layer", openFirst && position == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0,
+                                        "%s", title.c_str());
+    if (!open) {
+      ImGui::PopID();
+      continue;
+    }
+    RadarLayerDescription rd = isRadar ? radar->description : RadarLayerDescription{};
+    GridLayerDescription gd = isRadar ? GridLayerDescription{} : grid->description;
+    LayerKnobs k = isRadar ? LayerKnobs{&rd.colors,     &rd.mode,     &rd.interpolation,  &rd.stepMeters,
+                                        &rd.imageScale, &rd.isoValue, &rd.classification, &rd.settings}
+                           : LayerKnobs{&gd.colors,     &gd.mode,     &gd.interpolation,  &gd.stepMeters,
+                                        &gd.imageScale, &gd.isoValue, &gd.classification, &gd.settings};
+    bool edited = false;
+    // Field (radars with several): another field is read from the file again.
+    if (isRadar && radar->fields.size() > 1) {
+      std::string field = radar->volume->polar().fieldName;
+      if (comboOf("field", field, radar->fields)) {
+        rd.field = field;
+        rd.settings.opacityPoints.clear();  // in the old field's units
+        rd.settings.valueRange.reset();
+        rd.settings.opacity.clear();
+        edited = true;
+      }
+    }
+    // Variable (grids whose file holds several): read again from the file, at the step shown.
+    if (!isRadar) {
+      if (!e.gridVariables.count(i)) {
+        std::vector<std::string>& names = e.gridVariables[i];
+        if (auto info = volume::describeGridFile(gd.path, grid->volume->grid().variable))
+          for (const volume::GridVariableInfo& v : info->variables)
+            if (v.onGrid) names.push_back(v.name);
+      }
+      if (e.gridVariables[i].size() > 1) {
+        std::string variable = grid->volume->grid().variable;
+        if (comboOf("variable", variable, e.gridVariables[i])) {
+          gd.variable = variable;
+          gd.settings.opacityPoints.clear();  // in the old variable's units
+          gd.settings.valueRange.reset();
+          gd.settings.opacity.clear();
+          gd.isoValue = std::numeric_limits<double>::quiet_NaN();  // the middle of its range
+          edited = true;
+        }
+      }
+    }
+    edited = comboOf("colours", *k.colors, colorTableChoices()) || edited;
+    // Mode and iso value.
+    for (int m = 0; m < 3; ++m) {
+      if (m > 0) ImGui::SameLine();
+      if (ImGui::RadioButton(kModeLabels[m], *k.mode == kModes[m]) && *k.mode != kModes[m]) {
+        *k.mode = kModes[m];
+        edited = true;
+      }
+    }
+    const VolumeRenderOptions& options = isRadar ? radar->options : grid->options;
+    const volume::ValueRange range =
+        isRadar ? volume::ValueRange{radar->volume->polar().minValue, radar->volume->polar().maxValue}
+                : grid->firstRange;
+    if (*k.mode == "iso") {
+      float iso = static_cast<float>(options.render.isoValue);
+      // Applied while dragging (options only, cheap): a value kept only until release would be
+      // lost, since the slider's variable is refilled from the layer every frame.
+      if (ImGui::SliderFloat("iso value", &iso, static_cast<float>(range.minValue), static_cast<float>(range.maxValue),
+                             "%.1f")) {
+        *k.isoValue = iso;
+        edited = true;
+      }
+    }
+    // Transfer-function editor: opacity control points over the histogram of the field's values.
+    if (ImGui::TreeNodeEx("transfer function", ImGuiTreeNodeFlags_DefaultOpen)) {
+      const void* volumeId = isRadar ? static_cast<const void*>(radar->volume.get())
+                                     : static_cast<const void*>(grid->volume.get());
+      Editing::Histogram& cached = e.histograms[i];
+      if (cached.volume != volumeId) {
+        cached.volume = volumeId;
+        cached.h = isRadar ? volume::valueHistogram(radar->volume->polar(), kHistogramBins)
+                           : volume::valueHistogram(grid->volume->grid(), kHistogramBins);
+      }
+      const volume::ValueHistogram& h = cached.h;
+      const volume::TransferFunction& tf = options.render.transfer;
+      std::vector<glm::dvec2> points = volume::opacityCurveOf(tf);
+      double lo = h.lo, hi = h.hi;
+      for (const glm::dvec2& p : points) {
+        if (std::isfinite(p.x) && std::abs(p.x) < 1e29) {
+          lo = std::min(lo, p.x);
+          hi = std::max(hi, p.x);
+        }
+      }
+      const ImVec2 o = ImGui::GetCursorScreenPos();
+      const float editorWidth = kEditorMaxWidth;  // the window fits itself to it
+      ImGui::InvisibleButton("##tf", ImVec2(editorWidth, kEditorHeight),
+                             ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+      const bool hovered = ImGui::IsItemHovered();
+      ImDrawList* d = ImGui::GetWindowDrawList();
+      d->AddRectFilled(o, ImVec2(o.x + editorWidth, o.y + kEditorHeight), IM_COL32(20, 20, 24, 255));
+      auto xOf = [&](double v) { return o.x + static_cast<float>((v - lo) / (hi - lo)) * editorWidth; };
+      auto yOf = [&](double a) { return o.y + static_cast<float>(1.0 - a) * kEditorHeight; };
+      // Histogram (counts on a log scale, so rare strong echoes still show), coloured by the table.
+      const double logMax = std::log1p(static_cast<double>(h.largestCount()));
+      const double binWidth = (h.hi - h.lo) / static_cast<double>(h.counts.size());
+      for (std::size_t b = 0; b < h.counts.size() && logMax > 0.0; ++b) {
+        const double v0 = h.lo + static_cast<double>(b) * binWidth;
+        const double frac = std::log1p(static_cast<double>(h.counts[b])) / logMax;
+        const volume::Rgba8 c = tf.colors.map(static_cast<float>(v0 + 0.5 * binWidth));
+        d->AddRectFilled(ImVec2(xOf(v0), yOf(frac)), ImVec2(std::max(xOf(v0 + binWidth), xOf(v0) + 1.0f), yOf(0.0)),
+                         IM_COL32(c.r / 2 + 40, c.g / 2 + 40, c.b / 2 + 40, 255));
+      }
+      // The opacity curve and its points.
+      std::vector<ImVec2> line;
+      line.emplace_back(o.x, yOf(points.front().y));  // the end points' opacity beyond them (the ramp: 0 below)
+      for (const glm::dvec2& p : points) line.emplace_back(xOf(p.x), yOf(p.y));
+      line.emplace_back(o.x + editorWidth, yOf(points.back().y));
+      d->AddPolyline(line.data(), static_cast<int>(line.size()), IM_COL32(255, 255, 255, 255), 0, 2.0f);
+      for (const glm::dvec2& p : points)
+        d->AddCircleFilled(ImVec2(xOf(p.x), yOf(p.y)), 4.0f, IM_COL32(255, 200, 40, 255));
+      // Editing: left click adds a point (or takes the one under the pointer to drag), right click
+      // deletes the point under the pointer.
+      const ImVec2 mouse = ImGui::GetIO().MousePos;
+      const glm::dvec2 at(lo + (mouse.x - o.x) / editorWidth * (hi - lo), 1.0 - (mouse.y - o.y) / kEditorHeight);
+      const glm::dvec2 perPixel((hi - lo) / editorWidth, 1.0 / kEditorHeight);
+      bool pointsEdited = false;
+      if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+        if (auto picked = volume::pickOpacityPoint(points, at, perPixel, 6.0)) {
+          e.dragging = std::make_pair(i, *picked);
+        } else {
+          e.dragging = std::make_pair(i, volume::addOpacityPoint(points, at));
+          pointsEdited = true;
+        }
+      }
+      if (e.dragging && e.dragging->first == i && ImGui::IsMouseDown(ImGuiMouseButton_Left) &&
+          ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0.0f)) {
+        pointsEdited = volume::moveOpacityPoint(points, e.dragging->second, at, perPixel.x) || pointsEdited;
+      }
+      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) e.dragging.reset();
+      if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+        if (auto picked = volume::pickOpacityPoint(points, at, perPixel, 6.0))
+          pointsEdited = volume::deleteOpacityPoint(points, *picked) || pointsEdited;
+      }
+      if (pointsEdited) {
+        k.settings->opacityPoints = points;
+        edited = true;
+      }
+      ImGui::Text("%.1f .. %.1f   %zu points%s", lo, hi, points.size(),
+                  tf.opacityPoints.empty() ? " (default ramp)" : "");
+      ImGui::TextDisabled("click: add/drag  right click: delete");
+      if (ImGui::Button("Reset opacity")) {
+        k.settings->opacityPoints.clear();
+        k.settings->opacity.clear();
+        edited = true;
+      }
+      ImGui::TreePop();
+    }
+    if (ImGui::TreeNode("quality")) {
+      float step = static_cast<float>(*k.stepMeters);
+      if (ImGui::SliderFloat("step (m)", &step, 25.0f, 2000.0f, "%.0f", ImGuiSliderFlags_Logarithmic)) {
+        *k.stepMeters = step;
+        edited = true;
+      }
+      float scale = static_cast<float>(*k.imageScale);
+      if (ImGui::SliderFloat("image scale", &scale, 0.1f, 1.0f, "%.2f")) {
+        *k.imageScale = scale;
+        edited = true;
+      }
+      edited = comboOf("interpolation", *k.interpolation, kInterpolations) || edited;
+      if (isRadar) edited = comboOf("beam", rd.beam, kBeams) || edited;
+      edited = comboOf("classification", *k.classification, kClassifications) || edited;
+      ImGui::TreePop();
+    }
+    if (ImGui::TreeNode("crop box")) {
+      if (!e.crops.count(i)) {
+        e.crops[i] = k.settings->crop;
+        e.cropHeights[i] = !k.settings->crop.coversEveryHeight();
+      }
+      volume::CropBox& c = e.crops[i];
+      ImGui::InputDouble("south (deg)", &c.southDeg, 0.1, 1.0, "%.3f");
+      ImGui::InputDouble("north (deg)", &c.northDeg, 0.1, 1.0, "%.3f");
+      ImGui::InputDouble("west (deg)", &c.westDeg, 0.1, 1.0, "%.3f");
+      ImGui::InputDouble("east (deg)", &c.eastDeg, 0.1, 1.0, "%.3f");
+      bool& heights = e.cropHeights[i];
+      ImGui::Checkbox("heights (m above sea level)", &heights);
+      if (heights) {
+        if (std::isinf(c.bottomMeters)) c.bottomMeters = 0.0;
+        if (std::isinf(c.topMeters)) c.topMeters = 20000.0;
+        ImGui::InputDouble("bottom (m)", &c.bottomMeters, 100.0, 1000.0, "%.0f");
+        ImGui::InputDouble("top (m)", &c.topMeters, 100.0, 1000.0, "%.0f");
+      }
+      if (ImGui::Button("Apply crop")) {
+        volume::CropBox box = c;
+        if (!heights) box.bottomMeters = -INFINITY, box.topMeters = INFINITY;
+        k.settings->crop = box;
+        edited = true;
+      }
+      ImGui::SameLine();
+      if (ImGui::Button("No crop")) {
+        c = volume::CropBox{};
+        heights = false;
+        k.settings->crop = c;
+        edited = true;
+      }
+      ImGui::TreePop();
+    }
+    if (edited) {
+      report(isRadar ? scene.setRadarDescription(i, rd) : scene.setGridDescription(i, gd));
+    }
+    ImGui::TreePop();
+    ImGui::PopID();
+  }
+  // Scene-wide: vertical exaggeration (volumes re-uploaded or read again when released).
+  if (e.exaggeration != static_cast<float>(scene.verticalExaggeration()) && !ImGui::IsAnyItemActive())
+    e.exaggeration = static_cast<float>(scene.verticalExaggeration());
+  ImGui::SliderFloat("vertical exaggeration", &e.exaggeration, 1.0f, 20.0f, "x%.1f", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::IsItemDeactivatedAfterEdit()) report(scene.changeVerticalExaggeration(e.exaggeration));
+  if (!e.error.empty()) {
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kEditorMaxWidth);
+    ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", e.error.c_str());
+    ImGui::PopTextWrapPos();
+  }
+  // What is loaded: CPU and GPU bytes per volume layer.
+  if (ImGui::CollapsingHeader("Loaded (memory)", ImGuiTreeNodeFlags_DefaultOpen) &&
+      ImGui::BeginTable("##memory", 3, ImGuiTableFlags_SizingFixedFit)) {
+    ImGui::TableSetupColumn("layer");
+    ImGui::TableSetupColumn("CPU");
+    ImGui::TableSetupColumn("GPU");
+    ImGui::TableHeadersRow();
+    std::uint64_t cpu = 0, gpu = 0;
+    for (const LayerMemory& m : scene.layerMemory()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(m.name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(formatBytes(m.cpuBytes).c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(formatBytes(m.gpuBytes).c_str());
+      cpu += m.cpuBytes;
+      gpu += m.gpuBytes;
+    }
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted("total");
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(formatBytes(cpu).c_str());
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(formatBytes(gpu).c_str());
+    ImGui::EndTable();
+  }
   return changed;
 }
 

@@ -273,6 +273,7 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
                                     s.transfer.opacityReferenceMeters,
                                     s.transfer.colors.offset(),
                                     s.transfer.colors.scale()};
+    for (const glm::dvec2& p : s.transfer.opacityPoints) fingerprint.insert(fingerprint.end(), {p.x, p.y});
     for (const auto& stop : stops) {
       fingerprint.push_back(stop.value);
       for (const volume::Rgba8& c : {stop.start, stop.end})

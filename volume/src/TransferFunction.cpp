@@ -9,6 +9,23 @@ namespace atmoglobe::volume {
 glm::dvec4 TransferFunction::classify(double value) const {
   if (!std::isfinite(value)) return glm::dvec4(0.0);
   const Rgba8 c = colors.map(static_cast<float>(value));
+  if (opacityPoints.size() >= 2) {
+    double a = 0.0;
+    if (value > opacityZeroValue) {
+      const auto next = std::upper_bound(opacityPoints.begin(), opacityPoints.end(), value,
+                                         [](double v, const glm::dvec2& p) { return v < p.x; });
+      if (next == opacityPoints.begin()) {
+        a = next->y;
+      } else if (next == opacityPoints.end()) {
+        a = opacityPoints.back().y;
+      } else {
+        const glm::dvec2& p0 = *(next - 1);
+        const glm::dvec2& p1 = *next;
+        a = p0.y + (value - p0.x) / (p1.x - p0.x) * (p1.y - p0.y);
+      }
+    }
+    return glm::dvec4(c.r / 255.0, c.g / 255.0, c.b / 255.0, a * (c.a / 255.0));
+  }
   double ramp = 0.0;
   if (value >= opacityFullValue) {
     ramp = 1.0;
@@ -59,12 +76,55 @@ TransferFunction withValueRange(const TransferFunction& tf, double lo, double hi
   out.colors = ColorTable(tf.colors.name(), tf.colors.units(), stops, k * scale, (a - lo * k) * scale + offset);
   out.opacityZeroValue = lo + (tf.opacityZeroValue - a) / k;
   out.opacityFullValue = lo + (tf.opacityFullValue - a) / k;
+  if (tf.opacityZeroValue <= -1e30) out.opacityZeroValue = tf.opacityZeroValue;  // "everything" stays so
+  for (glm::dvec2& p : out.opacityPoints) p.x = lo + (p.x - a) / k;
   return out;
+}
+
+TransferFunction withOpacityPoints(const TransferFunction& tf, std::vector<glm::dvec2> points) {
+  TransferFunction out = tf;
+  std::stable_sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x; });
+  // Equal values: keep the last (a vertical step is two points a hair apart, not one value twice).
+  std::vector<glm::dvec2> kept;
+  for (glm::dvec2 p : points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    p.y = std::clamp(p.y, 0.0, 1.0);
+    if (!kept.empty() && kept.back().x == p.x) {
+      kept.back() = p;
+    } else {
+      kept.push_back(p);
+    }
+  }
+  if (kept.size() < 2) {
+    out.opacityPoints.clear();
+    return out;
+  }
+  out.opacityPoints = kept;
+  out.opacityZeroValue = -1e30;
+  for (const glm::dvec2& p : kept) {
+    if (p.y > 0.0) break;
+    out.opacityZeroValue = p.x;
+  }
+  out.maxOpacity = 0.0;
+  out.opacityFullValue = kept.back().x;
+  for (const glm::dvec2& p : kept) {
+    if (p.y > out.maxOpacity) {
+      out.maxOpacity = p.y;
+      out.opacityFullValue = p.x;
+    }
+  }
+  return out;
+}
+
+std::vector<glm::dvec2> opacityCurveOf(const TransferFunction& tf) {
+  if (tf.opacityPoints.size() >= 2) return tf.opacityPoints;
+  return {glm::dvec2(tf.opacityZeroValue, 0.0), glm::dvec2(tf.opacityFullValue, tf.maxOpacity)};
 }
 
 TransferFunction withOpacityRamp(const TransferFunction& tf, const std::vector<double>& ramp) {
   TransferFunction out = tf;
   if (ramp.size() >= 2) {
+    out.opacityPoints.clear();
     out.opacityZeroValue = ramp[0];
     out.opacityFullValue = ramp[1];
   }

@@ -57,6 +57,17 @@ std::vector<LegendKey> mergeLegendKeys(const std::vector<LegendKey>& keys);
 /// one band more), low first.
 glm::dvec2 colorKeyRange(const volume::ColorTable& colors);
 
+/// The scale bar of an image `widthPx` wide at `metersPerPixel` (at its centre): a round length
+/// (1, 2, 5 x 10^k m) of at most a fifth of the width, its length in pixels and its label
+/// ("20 km", "500 m"). meters 0: none (metersPerPixel not positive and finite). The PNG legend and
+/// the viewer draw this same bar.
+struct ScaleBar {
+  double meters = 0.0;
+  int lengthPx = 0;
+  std::string label;
+};
+ScaleBar scaleBarFor(double metersPerPixel, int widthPx);
+
 /// Draws `legend` over `image`: title and subtitles top left, keys along the right edge (side
 /// by side when several), the scale bar bottom left (a round length of about a fifth of the
 /// width), SYNTHETIC DATA top right in red. Errors: the font's.

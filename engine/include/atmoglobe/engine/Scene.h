@@ -50,6 +50,10 @@ struct VolumeLayerSettings {
   /// at and above full; optionally [.., max] (0..1, per reference length) and [.., .., .., per_m]
   /// (the reference length, m). Empty: the kind's default ramp.
   std::vector<double> opacity;
+  /// Opacity control points (value, opacity per reference length) from the viewer's
+  /// transfer-function editor (volume::withOpacityPoints; applied after range and ramp). Empty:
+  /// none. Not a scene key (yet).
+  std::vector<glm::dvec2> opacityPoints;
   /// Crop box: latitude/longitude and heights above sea level; outside it nothing is drawn
   /// (grids read only its columns). Default: everything.
   volume::CropBox crop;

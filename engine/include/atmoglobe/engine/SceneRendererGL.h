@@ -17,6 +17,7 @@
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/TileImageLoader.h>
 
+#include <cstdint>
 #include <memory>
 
 namespace atmoglobe::engine {
@@ -59,6 +60,12 @@ struct RadarLayerGL {
   /// one volume. `step` is the one shown (the latest when added).
   std::vector<std::string> loopFiles, loopTimes;
   std::size_t step = 0;
+  // For the control panel (setRadarDescription): the fields the file holds, the field loaded
+  // and the velocity scale its colours were made with, whether it is drawn.
+  std::vector<std::string> fields;
+  volume::FieldInfo loadedField;
+  double nyquistMps = 0.0;
+  bool visible = true;
 };
 
 /// A forecast grid loaded for rendering: its GPU volume (with its CPU twin) and its options.
@@ -69,6 +76,15 @@ struct GridLayerGL {
   std::size_t step = 0;              ///< time step shown (index on the file's axis)
   bool synthetic = false;            ///< the file says SYNTHETIC
   double stepFraction = 0.0;         ///< > 0: that far (0..1) towards step + 1, interpolated
+  volume::ValueRange firstRange{};   ///< the values of the step first loaded (its colours' range)
+  bool visible = true;               ///< drawn (the control panel switches layers off)
+};
+
+/// What one volume layer holds in memory (the control panel's "loaded" table).
+struct LayerMemory {
+  std::string name;            ///< "radar KTLX DBZH", "grid /dbz"
+  std::uint64_t cpuBytes = 0;  ///< the CPU copy kept for the reference and readout (values, heights)
+  std::uint64_t gpuBytes = 0;  ///< its textures (VolumeGL::gpuBytes: values, tables, empty-space grid)
 };
 
 class SceneRendererGL {
@@ -102,6 +118,28 @@ class SceneRendererGL {
   /// once any volume or slice is loaded). Cone models (.glb) are drawn as exported.
   Status setVerticalExaggeration(double factor);
   double verticalExaggeration() const { return exaggeration_; }
+  // --- Live edits (the viewer's control panel; LayerEdit.h says what each change needs) ---
+  /// Applies an edited description to radar `index`: render options only (colours, opacity
+  /// range / ramp / control points, mode, iso value, step, image scale, interpolation, beam,
+  /// classification) or, for another field, datum or crop box, the volume read again (a loop:
+  /// its steps found again for that field, the step shown kept). On error the layer is unchanged.
+  Status setRadarDescription(std::size_t index, const RadarLayerDescription& description);
+  /// The same for grid `index` (another variable, time, datum or crop: the step shown read again).
+  Status setGridDescription(std::size_t index, const GridLayerDescription& description);
+  /// Changes the vertical exaggeration of a loaded scene: radars re-uploaded from their CPU
+  /// copy, grids read again (their heights are exaggerated in place). An error (nothing changed)
+  /// when the scene has slices (they keep the factor they were sampled with).
+  Status changeVerticalExaggeration(double factor);
+  /// Volume layers in a single index: radars 0..R-1, then grids R..R+G-1.
+  std::size_t volumeLayerCount() const { return radars_.size() + grids_.size(); }
+  /// The order volume layers are handed to the marcher (which layer's mode and step lead where
+  /// volumes overlap, VolumeRendererGL::draw): a permutation of 0..volumeLayerCount()-1;
+  /// default radars then grids. Errors: not a permutation.
+  Status setVolumeOrder(const std::vector<std::size_t>& order);
+  std::vector<std::size_t> volumeOrder() const;
+  /// CPU and GPU bytes per volume layer, in the single index.
+  std::vector<LayerMemory> layerMemory() const;
+
   /// The legend of the frame `camera` shows (Legend.h): a key per volume layer, the sites /
   /// grids with their fields and valid times in UTC, the scale at the image centre (none when
   /// the centre is sky), and SYNTHETIC when any layer's file says so.
@@ -145,6 +183,9 @@ class SceneRendererGL {
   std::size_t radarsWithRings_ = 0;
   int referenceThreads_ = 0;
   double exaggeration_ = 1.0;
+  std::vector<std::size_t> volumeOrder_;  ///< empty: radars then grids
+  Status reloadRadar(std::size_t index, const RadarLayerDescription& description);
+  Status reloadGrid(std::size_t index, const GridLayerDescription& description, std::size_t step, double fraction);
 };
 
 }  // namespace atmoglobe::engine

@@ -1,8 +1,15 @@
 #pragma once
 // The viewer's control panel (Dear ImGui, Debian libimgui-dev, with its GLFW and OpenGL 3
-// backends) drawn over the window after the scene. For now it holds what the viewer already
-// does: the time slider (step, play, interpolated substeps), the layers and the frame time; the
-// rest of the panel (transfer-function editor, per-layer settings) builds on it.
+// backends) drawn over the window after the scene: the time slider (step, play, interpolated
+// substeps); per volume layer (with ViewerPanelState::scene set) on/off, draw order, field,
+// colour table, a transfer-function editor (opacity control points over a histogram of the
+// field's values: volume/OpacityEditor.h, volume/ValueHistogram.h), mode and iso value, quality
+// knobs (step, image scale, interpolation, beam model, classification), crop box; the scene's
+// vertical exaggeration; what is loaded (CPU and GPU bytes per layer); colour keys, the readout,
+// the frame time, the screenshot button; and a scale bar over the picture (Legend.h's
+// scaleBarFor, the bar rendered PNGs carry). Edits go to the SceneRendererGL at once
+// (setRadarDescription, setGridDescription, setVolumeOrder, changeVerticalExaggeration) and
+// draw() returns true so the viewer redraws. docs/viewer-panel.md describes it.
 //
 // Input: the backends chain to the window's own GLFW callbacks; while the pointer is over the
 // panel (capturesMouse) or a widget has the keyboard (capturesKeyboard) the viewer leaves those
@@ -19,6 +26,8 @@ struct GLFWwindow;
 
 namespace atmoglobe::engine {
 
+class SceneRendererGL;
+
 /// What the panel shows and what the user changed in it this frame.
 struct ViewerPanelState {
   int timePositions = 0;            ///< positions on the time axis (0: no axis; the slider is hidden)
@@ -31,6 +40,9 @@ struct ViewerPanelState {
   FrameLegend legend;                  ///< what the frame shows (SceneRendererGL::legendFor): times, keys
   bool screenshotRequested = false;    ///< out: the Screenshot button was pressed
   std::function<void()> extraWindows;  ///< more ImGui windows drawn in the panel's frame (the fly-to box)
+  /// The scene the layer controls edit (not owned); null: the layers are listed (`layers`) only.
+  SceneRendererGL* scene = nullptr;
+  bool scaleBar = true;  ///< draw the scale bar (legend.metersPerPixel) bottom left
 };
 
 class ViewerPanelGL {
@@ -48,7 +60,10 @@ class ViewerPanelGL {
   static bool capturesKeyboard();
 
  private:
-  ViewerPanelGL() = default;
+  ViewerPanelGL();
+  struct Editing;  ///< what the panel remembers between frames (pending crop boxes, histograms, drags)
+  std::unique_ptr<Editing> editing_;
+  bool drawLayers(SceneRendererGL& scene);
 };
 
 }  // namespace atmoglobe::engine
