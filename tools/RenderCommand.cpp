@@ -9,6 +9,7 @@
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/StepCache.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -36,6 +37,15 @@ std::string seriesPath(const std::string& output, std::size_t frame) {
   char number[16];
   std::snprintf(number, sizeof number, "_%03zu", frame);
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
+}
+
+// One line of what the series held (docs/memory.md; the memory-budget test reads it).
+void printMemoryLine(const volume::StepCache::Stats& c, std::uint64_t rssBeforeBytes, std::uint64_t rssFirstBytes) {
+  const auto mib = [](std::uint64_t b) { return std::to_string(b / 1048576); };
+  std::cerr << "memory: budget " << mib(c.budgetBytes) << " MiB, steps held peak " << mib(c.peakHeldBytes) << " MiB ("
+            << c.misses << " misses, " << c.hits << " hits, " << c.drops << " dropped); RSS before the series "
+            << mib(rssBeforeBytes) << " MiB, after its first frame " << mib(rssFirstBytes) << " MiB, peak RSS "
+            << mib(volume::peakResidentBytes()) << " MiB\n";
 }
 
 int runRender(const RenderOptions& o) {
@@ -70,6 +80,8 @@ int runRender(const RenderOptions& o) {
     std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << axis->leadName
               << "; colours and opacity stay those of the step first loaded\n";
     std::size_t frame = 0;
+    const std::uint64_t rssBefore = volume::currentResidentBytes();
+    std::uint64_t rssFirst = 0;  // peak RSS after the first frame (shaders compiled, one step shown)
     for (std::size_t step = 0; step < axis->times.size(); ++step) {
       const int subs = step + 1 < axis->times.size() ? o.timeSubsteps : 1;
       for (int sub = 0; sub < subs; ++sub, ++frame) {
@@ -83,8 +95,10 @@ int runRender(const RenderOptions& o) {
         const std::string path = seriesPath(o.output, frame);
         if (auto s = globe::writePng(path, *image); !s) return fail("render", s.error());
         std::cout << path << " " << *when << std::endl;
+        if (frame == 0) rssFirst = volume::peakResidentBytes();
       }
     }
+    printMemoryLine((*renderer)->stepCache().stats(), rssBefore, rssFirst);
     return 0;
   }
   auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);

@@ -42,6 +42,7 @@ struct ViewOptions {
   double playSeconds = 0.5;  ///< time per frame while playing
   bool play = false;         ///< start playing (with --frames: one frame per time position)
   bool noPanel = false;      ///< no control panel
+  bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
 };
 
 struct Interaction {
@@ -177,6 +178,11 @@ int runView(const ViewOptions& o) {
     }
   }
   state.playing = o.play && time.axis;
+  // Background loading (docs/memory.md): the steps after the one shown are read on a worker.
+  std::unique_ptr<engine::ScenePrefetcher> prefetch;
+  if (time.axis && !o.noPrefetch) prefetch = std::make_unique<engine::ScenePrefetcher>(**renderer, *time.axis);
+  if (prefetch) prefetch->request(static_cast<std::size_t>(time.position / time.substeps));
+  std::vector<double> stallMs;  // time each step change held the frame loop
   auto showTime = [&](long position) -> Status {
     const long n = time.count();
     position = ((position % n) + n) % n;  // loops at both ends
@@ -184,8 +190,11 @@ int runView(const ViewOptions& o) {
     time.position = position;
     const auto step = static_cast<std::size_t>(position / time.substeps);
     const double fraction = static_cast<double>(position % time.substeps) / time.substeps;
+    const double stallStart = glfwGetTime();
     auto when = engine::showSceneTime(**renderer, *time.axis, step, fraction);
     if (!when) return when.forwardError();
+    stallMs.push_back(1000.0 * (glfwGetTime() - stallStart));
+    if (prefetch) prefetch->request(step);
     glfwSetWindowTitle(w, ("atmoglobe  " + *when).c_str());
     time.label = *when;
     std::cout << "time: " << *when << std::endl;
@@ -318,6 +327,7 @@ int runView(const ViewOptions& o) {
     if (last) break;
     if (o.frames > 0) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
   }
+  if (!stallMs.empty()) std::cerr << engine::stallSummary(stallMs, prefetch != nullptr) << "\n";
   return 0;
 }
 }  // namespace
@@ -335,6 +345,8 @@ Command addViewCommand(CLI::App& root) {
       ->capture_default_str();
   c->add_flag("--play", options->play, "Start playing the time steps (with --frames: one position per frame)");
   c->add_flag("--no-panel", options->noPanel, "No control panel (time slider, layers, frame time, screenshot)");
+  c->add_flag("--no-prefetch", options->noPrefetch,
+              "Read each time step when it is shown instead of ahead on a worker thread (for comparison)");
   c->footer(
       "Mouse: drag to orbit, wheel to zoom toward the cursor, shift+drag to tilt/turn.\n"
       "Keys: Right/Left next/previous time step, Space play/pause, Home first step, P screenshot, R reset camera, "

@@ -6,8 +6,11 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <atmoglobe/volume/Decimate.h>
+
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 
 namespace atmoglobe::engine {
@@ -25,6 +28,29 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
     return makeError(name + ": " + grid.variable +
                      ": a grid needs at least 2 columns, rows and levels to be drawn (has " + std::to_string(grid.nx) +
                      " x " + std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + ")");
+  // A grid the GPU cannot hold (its 3-D texture size, GL_OUT_OF_MEMORY, or the artificial limit
+  // $ATMOGLOBE_MAX_TEXTURE_BYTES) is drawn at half the resolution, and so on, with a warning.
+  GLint max3d = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  volume::GridVolume reduced;
+  const volume::GridVolume* g = &grid;
+  for (int halvings = 0;; ++halvings) {
+    std::string tooLarge;
+    auto gl = createAt(*g, name, &tooLarge);
+    if (gl || tooLarge.empty()) return gl;
+    if (halvings == kMaxHalvings || g->nx < 4 || g->ny < 4)
+      return makeError(name + ": " + g->variable + ": " + tooLarge + ", even at 1/" + std::to_string(1 << halvings) +
+                       " of the resolution (crop the grid)");
+    reduced = volume::decimateGrid(*g, 2, static_cast<long>(g->nz) > max3d);
+    std::cerr << "atmoglobe: warning: " << name << ": " << g->variable << ": " << tooLarge
+              << "; drawn at lower resolution, " << reduced.nx << " x " << reduced.ny << " x " << reduced.nz
+              << " (every 2nd column and row" << (reduced.nz < g->nz ? " and level" : "") << ")\n";
+    g = &reduced;
+  }
+}
+
+Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::createAt(const volume::GridVolume& grid, const std::string& name,
+                                                             std::string* tooLarge) {
   std::unique_ptr<GridVolumeGL> gl(new GridVolumeGL());
   gl->grid_ = std::make_shared<volume::GridVolume>(grid);
   gl->sampler_ = std::make_unique<volume::GridSampler>(*gl->grid_);
@@ -37,10 +63,18 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
                                 static_cast<int>(g.nz));
   GLint max3d = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
-  if (gl->textureSize_.x > max3d || gl->textureSize_.y > max3d || gl->textureSize_.z > max3d)
-    return makeError(name + ": " + g.variable + ": " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " +
-                     std::to_string(g.nz) + " exceeds the GPU's 3-D texture size " + std::to_string(max3d) +
-                     " (crop the grid)");
+  const std::size_t textureBytes =
+      static_cast<std::size_t>(gl->textureSize_.x) * gl->textureSize_.y * gl->textureSize_.z * sizeof(glm::vec2);
+  const std::string shape = std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " + std::to_string(g.nz);
+  if (gl->textureSize_.x > max3d || gl->textureSize_.y > max3d || gl->textureSize_.z > max3d) {
+    *tooLarge = shape + " exceeds the GPU's 3-D texture size " + std::to_string(max3d);
+    return makeError(name + ": " + *tooLarge);
+  }
+  if (const std::size_t limit = textureByteLimit(); limit > 0 && textureBytes > limit) {
+    *tooLarge = shape + " needs a " + megabytes(textureBytes) + " texture, over the GPU memory limit " +
+                megabytes(limit) + " ($ATMOGLOBE_MAX_TEXTURE_BYTES)";
+    return makeError(name + ": " + *tooLarge);
+  }
   const volume::BoundingSphere sphere = s.boundingSphere();
   gl->origin_ = sphere.centreEcef;
 
@@ -75,7 +109,12 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
       }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
+  clearErrorsGL();
   glTextureStorage3D(gl->values_, 1, GL_RG32F, ts.x, ts.y, ts.z);
+  if (outOfMemoryGL()) {
+    *tooLarge = shape + ": the GPU is out of memory (GL_OUT_OF_MEMORY) for its " + megabytes(textureBytes) + " texture";
+    return makeError(name + ": " + *tooLarge);  // ~GridVolumeGL deletes the texture
+  }
   glTextureSubImage3D(gl->values_, 0, 0, 0, 0, ts.x, ts.y, ts.z, GL_RG, GL_FLOAT, texels.data());
   gl->gpuBytes_ = texels.size() * sizeof(glm::vec2);
 

@@ -2,12 +2,15 @@
 
 #include <atmoglobe/globe/Angles.h>
 
+#include <atmoglobe/volume/Decimate.h>
+
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 
 namespace atmoglobe::engine {
 
@@ -21,10 +24,43 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   GLint maxSize = 0, maxLayers = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-  if (v.maxGates + 1 > maxSize || v.maxRays + 1 > maxSize || C::kRayTableBins + 1 > maxSize || n + 1 > maxLayers) {
-    return makeError(v.sourcePath + ": " + std::to_string(v.maxGates) + " gates x " + std::to_string(v.maxRays) +
-                     " rays exceed the GPU's texture size " + std::to_string(maxSize));
+  if (C::kRayTableBins + 1 > maxSize || n + 1 > maxLayers)
+    return makeError(v.sourcePath + ": " + std::to_string(n) + " sweeps: the GPU's texture limits (size " +
+                     std::to_string(maxSize) + ", layers " + std::to_string(maxLayers) + ") are too small");
+  // A volume the GPU cannot hold (texture size, GL_OUT_OF_MEMORY, or the artificial limit
+  // $ATMOGLOBE_MAX_TEXTURE_BYTES) is drawn with every 2nd gate (and ray, where rays exceed the
+  // texture size), and so on, with a warning.
+  volume::PolarVolume reduced;
+  const volume::PolarVolume* p = &v;
+  for (int halvings = 0;; ++halvings) {
+    std::string tooLarge;
+    const std::string shape = std::to_string(p->maxGates) + " gates x " + std::to_string(p->maxRays) + " rays x " +
+                              std::to_string(n) + " sweeps";
+    const std::size_t bytes = static_cast<std::size_t>(p->maxGates + 1) * (p->maxRays + 1) * n * 4;
+    if (p->maxGates + 1 > maxSize || p->maxRays + 1 > maxSize) {
+      tooLarge = shape + " exceed the GPU's texture size " + std::to_string(maxSize);
+    } else if (const std::size_t limit = textureByteLimit(); limit > 0 && bytes > limit) {
+      tooLarge = shape + " need a " + megabytes(bytes) + " texture, over the GPU memory limit " + megabytes(limit) +
+                 " ($ATMOGLOBE_MAX_TEXTURE_BYTES)";
+    } else {
+      auto gl = createAt(*p, exaggeration);
+      if (gl) return gl;
+      tooLarge = shape + ": the GPU is out of memory (GL_OUT_OF_MEMORY) for its " + megabytes(bytes) + " texture";
+    }
+    if (halvings == kMaxHalvings || p->maxGates < 8)
+      return makeError(v.sourcePath + ": " + tooLarge + ", even at 1/" + std::to_string(1 << halvings) +
+                       " of the resolution");
+    reduced = volume::decimatePolar(*p, 2, p->maxRays + 1 > maxSize);
+    std::cerr << "atmoglobe: warning: " << v.sourcePath << ": " << tooLarge << "; drawn at lower resolution, "
+              << reduced.maxGates << " gates x " << reduced.maxRays << " rays (every 2nd gate"
+              << (reduced.maxRays < p->maxRays ? " and ray" : "") << ")\n";
+    p = &reduced;
   }
+}
+
+std::unique_ptr<RadarVolumeGL> RadarVolumeGL::createAt(const volume::PolarVolume& v, double exaggeration) {
+  using C = MarchConstants;
+  const int n = static_cast<int>(v.sweeps.size());
   std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
   gl->polar_ = std::make_shared<volume::PolarVolume>(v);
   gl->sampler_ = std::make_unique<volume::PolarSampler>(*gl->polar_);
@@ -43,7 +79,9 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   {
     const int w = v.maxGates + 1, h = v.maxRays + 1;
     gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+    clearErrorsGL();
     glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
+    if (outOfMemoryGL()) return nullptr;  // ~RadarVolumeGL deletes the texture
     // Converted to half floats here and uploaded a layer at a time: the staging buffer is one
     // layer (KLBB: 5.3 MB), not the whole volume as float pairs.
     std::vector<std::uint32_t> layer(static_cast<std::size_t>(w) * h);

@@ -108,7 +108,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   }
   if (auto s = checkKeys(root,
                          {"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
-                          "vertical_exaggeration", "map_context", "overlays", "range_rings"},
+                          "vertical_exaggeration", "map_context", "overlays", "range_rings", "memory_budget_mb"},
                          sourceName);
       !s) {
     return s.forwardError();
@@ -141,6 +141,11 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     if (!fov) return fov.forwardError();
     if (*fov <= 0.0 || *fov >= 180.0) return makeError(sourceName + ": fov_deg must be in (0, 180)");
     scene.fovYDeg = *fov;
+    auto budget = number(root, "memory_budget_mb", scene.memoryBudgetMb, sourceName);
+    if (!budget) return budget.forwardError();
+    if (!(*budget >= 0.0 && *budget <= 1.0e9))
+      return makeError(sourceName + ": memory_budget_mb must be in [0, 1e9] (MiB; 0: the default)");
+    scene.memoryBudgetMb = *budget;
   }
   if (root.contains("size")) {
     const json& s = root["size"];

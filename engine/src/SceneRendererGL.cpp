@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
 
 #include <atmoglobe/engine/SlicePlot.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace atmoglobe::engine {
 
@@ -161,6 +163,33 @@ Result<std::pair<std::vector<std::string>, std::vector<std::string>>> radarLoopS
 }
 }  // namespace
 
+namespace {
+// What a GPU volume costs the budget: its CPU twin, its empty-space grid on the CPU, its textures.
+std::uint64_t occupancyHostBytes(const VolumeGL& v) {
+  const volume::OccupancyGrid& o = v.occupancy().grid();
+  return (o.maxValues.capacity() + o.blockMaxValues.capacity()) * sizeof(float);
+}
+std::uint64_t budgetBytes(const GridVolumeGL& v) {
+  return volume::gridVolumeBytes(v.grid()) + occupancyHostBytes(v) + v.gpuBytes();
+}
+std::uint64_t budgetBytes(const RadarVolumeGL& v) {
+  return volume::polarVolumeBytes(v.polar()) + occupancyHostBytes(v) + v.gpuBytes();
+}
+
+// A radar step in the cache: its GPU volume with the time and datum note the layer shows.
+// The layer holds the volume through an alias of this entry, so the cache sees it in use.
+struct RadarStepGL {
+  std::shared_ptr<RadarVolumeGL> volume;
+  std::string timeIso8601, datumNote;
+};
+void cacheRadarStep(volume::StepCache& cache, RadarLayerGL& layer, const std::string& key) {
+  auto entry = std::make_shared<RadarStepGL>(RadarStepGL{std::move(layer.volume), layer.timeIso8601, layer.datumNote});
+  layer.volume = std::shared_ptr<RadarVolumeGL>(entry, entry->volume.get());
+  const std::uint64_t bytes = budgetBytes(*entry->volume);
+  cache.put(key, std::move(entry), bytes);
+}
+}  // namespace
+
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   auto loop = radarLoopSteps(d.path, d.field);
   if (!loop) return loop.forwardError();
@@ -175,6 +204,9 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
     added.loopFiles = std::move(loop->first);
     added.loopTimes = std::move(loop->second);
     added.step = added.loopFiles.size() - 1;
+    // The shown volume counts against the memory budget under its step's key.
+    cache_->erase(stepKey(true, radars_.size() - 1, 0, true));
+    cacheRadarStep(*cache_, added, stepKey(true, radars_.size() - 1, added.step, true));
     return &added;
   }
   volume::RadarLoadOptions load;
@@ -212,6 +244,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.synthetic = volume::fileSaysSynthetic(d.path);
   layer.description = d;
   radars_.push_back(std::move(layer));
+  cacheRadarStep(*cache_, radars_.back(), stepKey(true, radars_.size() - 1, 0, true));
   return &radars_.back();
 }
 
@@ -270,7 +303,44 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
   grids_.push_back(GridLayerGL{std::move(*gl), o, d, grid->timeIndex, volume::fileSaysSynthetic(d.path), 0.0});
+  const GridVolumeGL& shown = *grids_.back().volume;
+  cache_->put(stepKey(false, grids_.size() - 1, grid->timeIndex, true), grids_.back().volume, budgetBytes(shown));
   return &grids_.back();
+}
+
+namespace {
+// netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
+std::mutex& stepReadMutex() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
+
+Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
+  const std::lock_guard lock(stepReadMutex());
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(files, load);
+  if (!radar) return radar.forwardError();
+  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  }
+  return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote};
+}
+
+Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
+  const std::lock_guard lock(stepReadMutex());
+  volume::GridReadOptions read = gridReadOptions(d);
+  read.timeIndex = step;
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
+  volume::exaggerateGrid(*grid, exaggeration);
+  return grid;
 }
 
 Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
@@ -279,26 +349,45 @@ Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
   if (step >= layer.loopFiles.size())
     return makeError(layer.description.path + ": no loop step " + std::to_string(step));
   if (step == layer.step) return Ok{};
-  const RadarLayerDescription& d = layer.description;
-  volume::RadarLoadOptions load;
-  load.fieldName = d.field;
-  load.useGeoid = d.useGeoid;
-  load.buildRenderLayout = true;
-  auto radar = volume::loadRadar(layer.loopFiles[step], load);
-  if (!radar) return radar.forwardError();
-  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
-    auto geoid = cropGeoid(d.settings, d.useGeoid);
-    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
-    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  cache_->releaseDropped();  // GPU volumes dropped by a worker's put die here, on the GL thread
+  const std::string key = stepKey(true, index, step, true);
+  if (auto cached = cache_->get<RadarStepGL>(key)) {
+    layer.volume = std::shared_ptr<RadarVolumeGL>(cached, cached->volume.get());
+    layer.timeIso8601 = cached->timeIso8601;
+    layer.datumNote = cached->datumNote;
+  } else {
+    // Prepared ahead by a ScenePrefetcher, else read now.
+    const std::string cpuKey = stepKey(true, index, step, false);
+    std::shared_ptr<const RadarStepData> data = cache_->get<RadarStepData>(cpuKey);
+    if (!data) {
+      auto read = prepareRadarStep(layer.description, layer.loopFiles[step]);
+      if (!read) return read.forwardError();
+      data = std::make_shared<const RadarStepData>(std::move(*read));
+    }
+    auto gl = RadarVolumeGL::create(data->layout, exaggeration_);
+    if (!gl) return gl.forwardError();
+    (*gl)->setBeamApproximation(layer.volume->beamApproximation());
+    layer.volume = std::move(*gl);
+    layer.timeIso8601 = data->timeIso8601;
+    layer.datumNote = data->datumNote;
+    cache_->erase(cpuKey);  // the GPU volume holds its own copy
+    cacheRadarStep(*cache_, layer, key);
   }
-  auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
-  if (!gl) return gl.forwardError();
-  (*gl)->setBeamApproximation(layer.volume->beamApproximation());
-  layer.volume = std::move(*gl);
-  layer.timeIso8601 = radar->volume.timeIso8601;
-  layer.datumNote = radar->site.datumNote;
   layer.step = step;
+  cache_->releaseDropped();
   return Ok{};
+}
+
+Result<std::shared_ptr<const volume::GridVolume>> SceneRendererGL::gridStepData(std::size_t index, std::size_t step) {
+  if (auto gl = cache_->get<GridVolumeGL>(stepKey(false, index, step, true)))
+    return std::shared_ptr<const volume::GridVolume>(gl, &gl->grid());
+  const std::string cpuKey = stepKey(false, index, step, false);
+  if (auto cpu = cache_->get<volume::GridVolume>(cpuKey)) return cpu;
+  auto grid = prepareGridStep(grids_[index].description, step, exaggeration_);
+  if (!grid) return grid.forwardError();
+  auto shared = std::make_shared<const volume::GridVolume>(std::move(*grid));
+  cache_->put(cpuKey, shared, volume::gridVolumeBytes(*shared));
+  return shared;
 }
 
 Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double fraction) {
@@ -306,27 +395,33 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
   GridLayerGL& layer = grids_[index];
   if (!(fraction >= 0.0 && fraction < 1.0)) return makeError(layer.description.path + ": time fraction outside [0, 1)");
   if (layer.step == step && layer.stepFraction == fraction) return Ok{};
-  const GridLayerDescription& d = layer.description;
-  volume::GridReadOptions read = gridReadOptions(d);
-  read.timeIndex = step;
-  auto grid = volume::readGridVolume(d.path, read);
-  if (!grid) return grid.forwardError();
-  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
-  if (fraction > 0.0) {
-    read.timeIndex = step + 1;
-    auto next = volume::readGridVolume(d.path, read);
-    if (!next) return next.forwardError();
-    if (auto st = cropGridLayer(d, *next); !st) return st.forwardError();
-    auto blended = volume::interpolateGridSteps(*grid, *next, fraction);
-    if (!blended) return blended.forwardError();
-    grid = std::move(blended);
+  cache_->releaseDropped();  // GPU volumes dropped by a worker's put die here, on the GL thread
+  const std::string key = stepKey(false, index, step, true, fraction);
+  if (auto cached = cache_->get<GridVolumeGL>(key)) {
+    layer.volume = std::const_pointer_cast<GridVolumeGL>(cached);
+  } else {
+    auto grid = gridStepData(index, step);
+    if (!grid) return grid.forwardError();
+    std::shared_ptr<const volume::GridVolume> shown = *grid;
+    if (fraction > 0.0) {
+      auto next = gridStepData(index, step + 1);
+      if (!next) return next.forwardError();
+      auto blended = volume::interpolateGridSteps(**grid, **next, fraction);
+      if (!blended) return blended.forwardError();
+      shown = std::make_shared<const volume::GridVolume>(std::move(*blended));
+    }
+    auto gl = GridVolumeGL::create(*shown);
+    if (!gl) return gl.forwardError();
+    shown.reset();
+    grid->reset();
+    layer.volume = std::move(*gl);
+    // A whole step's CPU data now live in its GPU volume's twin (interpolation keeps both ends).
+    if (fraction == 0.0) cache_->erase(stepKey(false, index, step, false));
+    cache_->put(key, layer.volume, budgetBytes(*layer.volume));
   }
-  volume::exaggerateGrid(*grid, exaggeration_);
-  auto gl = GridVolumeGL::create(*grid);
-  if (!gl) return gl.forwardError();
-  layer.volume = std::move(*gl);
   layer.step = step;
   layer.stepFraction = fraction;
+  cache_->releaseDropped();
   return Ok{};
 }
 

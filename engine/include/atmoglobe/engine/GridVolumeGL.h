@@ -23,9 +23,13 @@ namespace atmoglobe::engine {
 
 class GridVolumeGL final : public VolumeGL {
  public:
-  /// Uploads `grid` (copied: the volume keeps its CPU twin for the reference). Errors: an empty
-  /// grid, a texture larger than the GPU allows.
+  /// Uploads `grid` (copied: the volume keeps its CPU twin for the reference). A grid whose
+  /// texture the GPU cannot hold (GL_MAX_3D_TEXTURE_SIZE, GL_OUT_OF_MEMORY, or the limit
+  /// textureByteLimit() sets) is uploaded at half the resolution (volume::decimateGrid; up to
+  /// kMaxHalvings times) with a warning line on stderr. Errors: an empty grid, a grid too large
+  /// even then.
   static Result<std::unique_ptr<GridVolumeGL>> create(const volume::GridVolume& grid);
+  static constexpr int kMaxHalvings = 4;
   ~GridVolumeGL() override;
 
   const volume::GridVolume& grid() const { return *grid_; }
@@ -41,6 +45,9 @@ class GridVolumeGL final : public VolumeGL {
 
  private:
   GridVolumeGL() = default;
+  /// One try at the grid's own resolution; `tooLarge` says why when the GPU cannot hold it.
+  static Result<std::unique_ptr<GridVolumeGL>> createAt(const volume::GridVolume& grid, const std::string& name,
+                                                        std::string* tooLarge);
   std::shared_ptr<const volume::GridVolume> grid_;
   std::unique_ptr<volume::GridSampler> sampler_;
   glm::dvec3 origin_{0.0};

@@ -27,7 +27,11 @@ enum class BeamApproximation {
 class RadarVolumeGL final : public VolumeGL {
  public:
   /// `exaggeration`: the scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none).
+  /// A volume whose values texture the GPU cannot hold (GL_MAX_TEXTURE_SIZE, GL_OUT_OF_MEMORY, or
+  /// the limit textureByteLimit() sets) is uploaded with every 2nd gate (volume::decimatePolar;
+  /// up to kMaxHalvings times) and a warning line on stderr.
   static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume, double exaggeration = 1.0);
+  static constexpr int kMaxHalvings = 4;
   ~RadarVolumeGL() override;
   RadarVolumeGL(const RadarVolumeGL&) = delete;
   RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
@@ -54,6 +58,8 @@ class RadarVolumeGL final : public VolumeGL {
 
  private:
   RadarVolumeGL() = default;
+  /// One try at the volume's own resolution; null on GL_OUT_OF_MEMORY.
+  static std::unique_ptr<RadarVolumeGL> createAt(const volume::PolarVolume& volume, double exaggeration);
   std::shared_ptr<const volume::PolarVolume> polar_;
   std::unique_ptr<volume::PolarSampler> sampler_;  ///< over *polar_
   double exaggeration_ = 1.0;

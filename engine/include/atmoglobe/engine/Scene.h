@@ -141,6 +141,9 @@ struct SceneDescription {
   std::vector<MapOverlayDescription> overlays;  ///< user vector files (JSON "overlays", CLI --overlay)
   bool rangeRings =
       false;  ///< range rings and azimuth spokes around each radar (JSON "range_rings", CLI --range-rings)
+  /// Memory budget of time steps and loop volumes, MiB (JSON "memory_budget_mb", CLI
+  /// --memory-budget; 0: volume::defaultMemoryBudgetBytes(), a quarter of RAM). docs/memory.md.
+  double memoryBudgetMb = 0.0;
 };
 
 /// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).
