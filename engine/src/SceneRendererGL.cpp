@@ -378,16 +378,24 @@ Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
   return Ok{};
 }
 
+Result<std::shared_ptr<const GridVolumeGL::Prepared>> SceneRendererGL::gridStepPrepared(std::size_t index,
+                                                                                        std::size_t step) {
+  const std::string cpuKey = stepKey(false, index, step, false);
+  if (auto cpu = cache_->get<GridVolumeGL::Prepared>(cpuKey)) return cpu;
+  auto grid = prepareGridStep(grids_[index].description, step, exaggeration_);
+  if (!grid) return grid.forwardError();
+  if (auto st = GridVolumeGL::checkDrawable(*grid); !st) return st.forwardError();
+  auto prepared = GridVolumeGL::prepare(*grid);
+  cache_->put(cpuKey, prepared, prepared->bytes());
+  return prepared;
+}
+
 Result<std::shared_ptr<const volume::GridVolume>> SceneRendererGL::gridStepData(std::size_t index, std::size_t step) {
   if (auto gl = cache_->get<GridVolumeGL>(stepKey(false, index, step, true)))
     return std::shared_ptr<const volume::GridVolume>(gl, &gl->grid());
-  const std::string cpuKey = stepKey(false, index, step, false);
-  if (auto cpu = cache_->get<volume::GridVolume>(cpuKey)) return cpu;
-  auto grid = prepareGridStep(grids_[index].description, step, exaggeration_);
-  if (!grid) return grid.forwardError();
-  auto shared = std::make_shared<const volume::GridVolume>(std::move(*grid));
-  cache_->put(cpuKey, shared, volume::gridVolumeBytes(*shared));
-  return shared;
+  auto prepared = gridStepPrepared(index, step);
+  if (!prepared) return prepared.forwardError();
+  return std::shared_ptr<const volume::GridVolume>(*prepared, (*prepared)->grid.get());
 }
 
 Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double fraction) {
@@ -400,20 +408,22 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
   if (auto cached = cache_->get<GridVolumeGL>(key)) {
     layer.volume = std::const_pointer_cast<GridVolumeGL>(cached);
   } else {
-    auto grid = gridStepData(index, step);
-    if (!grid) return grid.forwardError();
-    std::shared_ptr<const volume::GridVolume> shown = *grid;
-    if (fraction > 0.0) {
+    Result<std::unique_ptr<GridVolumeGL>> gl = makeError("");
+    if (fraction == 0.0) {
+      // Prepared ahead by a ScenePrefetcher (only the upload is left), else read and prepared now.
+      auto prepared = gridStepPrepared(index, step);
+      if (!prepared) return prepared.forwardError();
+      gl = GridVolumeGL::create(std::move(*prepared));
+    } else {
+      auto grid = gridStepData(index, step);
+      if (!grid) return grid.forwardError();
       auto next = gridStepData(index, step + 1);
       if (!next) return next.forwardError();
       auto blended = volume::interpolateGridSteps(**grid, **next, fraction);
       if (!blended) return blended.forwardError();
-      shown = std::make_shared<const volume::GridVolume>(std::move(*blended));
+      gl = GridVolumeGL::create(*blended);
     }
-    auto gl = GridVolumeGL::create(*shown);
     if (!gl) return gl.forwardError();
-    shown.reset();
-    grid->reset();
     layer.volume = std::move(*gl);
     // A whole step's CPU data now live in its GPU volume's twin (interpolation keeps both ends).
     if (fraction == 0.0) cache_->erase(stepKey(false, index, step, false));

@@ -185,10 +185,10 @@ void ScenePrefetcher::run() {
           break;
         }
         auto grid = prepareGridStep(grids_[g].description, step, exaggeration_);
-        if (!grid) continue;  // the GL thread reads it again and reports the error
-        auto shared = std::make_shared<const volume::GridVolume>(std::move(*grid));
-        lastStepBytes = volume::gridVolumeBytes(*shared);
-        cache_->put(stepKey(false, g, step, false), std::move(shared), lastStepBytes);
+        if (!grid || !GridVolumeGL::checkDrawable(*grid)) continue;  // the GL thread reads it again, says why
+        auto prepared = GridVolumeGL::prepare(*grid);                // texels, lookup tables, empty-space grid
+        lastStepBytes = prepared->bytes();
+        cache_->put(stepKey(false, g, step, false), std::move(prepared), lastStepBytes);
         std::lock_guard lock(mutex_);
         ++prepared_;
       }

@@ -155,6 +155,8 @@ class SceneRendererGL {
   std::shared_ptr<volume::StepCache> cache_ = std::make_shared<volume::StepCache>();
   /// Grid `index`'s step, CPU side: from its GPU volume's twin, the cache, or read (and cached).
   Result<std::shared_ptr<const volume::GridVolume>> gridStepData(std::size_t index, std::size_t step);
+  /// Grid `index`'s step ready for upload: from the cache (a ScenePrefetcher's), or read and prepared now (and cached).
+  Result<std::shared_ptr<const GridVolumeGL::Prepared>> gridStepPrepared(std::size_t index, std::size_t step);
 };
 
 }  // namespace atmoglobe::engine
