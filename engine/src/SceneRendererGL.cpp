@@ -329,7 +329,7 @@ Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std
     if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
     volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
   }
-  return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote};
+  return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
 }
 
 Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
@@ -358,13 +358,15 @@ Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
   } else {
     // Prepared ahead by a ScenePrefetcher, else read now.
     const std::string cpuKey = stepKey(true, index, step, false);
+    cache_->waitWhileLoading(cpuKey);  // a background loader's read in flight: wait, do not read twice
     std::shared_ptr<const RadarStepData> data = cache_->get<RadarStepData>(cpuKey);
     if (!data) {
       auto read = prepareRadarStep(layer.description, layer.loopFiles[step]);
       if (!read) return read.forwardError();
       data = std::make_shared<const RadarStepData>(std::move(*read));
     }
-    auto gl = RadarVolumeGL::create(data->layout, exaggeration_);
+    auto gl = data->prepared ? RadarVolumeGL::create(data->prepared)
+                             : RadarVolumeGL::create(data->layout, exaggeration_);
     if (!gl) return gl.forwardError();
     (*gl)->setBeamApproximation(layer.volume->beamApproximation());
     layer.volume = std::move(*gl);
@@ -381,6 +383,7 @@ Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
 Result<std::shared_ptr<const GridVolumeGL::Prepared>> SceneRendererGL::gridStepPrepared(std::size_t index,
                                                                                         std::size_t step) {
   const std::string cpuKey = stepKey(false, index, step, false);
+  cache_->waitWhileLoading(cpuKey);  // a background loader's read in flight: wait, do not read twice
   if (auto cpu = cache_->get<GridVolumeGL::Prepared>(cpuKey)) return cpu;
   auto grid = prepareGridStep(grids_[index].description, step, exaggeration_);
   if (!grid) return grid.forwardError();

@@ -202,9 +202,11 @@ void ScenePrefetcher::run() {
           break;
         }
         auto data = prepareRadarStep(radars_[r].description, radars_[r].loopFiles[step]);
-        if (!data) continue;
+        if (!data || !RadarVolumeGL::checkDrawable(data->layout)) continue;    // the GL thread says why
+        data->prepared = RadarVolumeGL::prepare(data->layout, exaggeration_);  // layers, tables, empty-space grid
+        data->layout = volume::PolarVolume{};
         auto shared = std::make_shared<const RadarStepData>(std::move(*data));
-        lastStepBytes = volume::polarVolumeBytes(shared->layout);
+        lastStepBytes = shared->prepared->bytes();
         cache_->put(stepKey(true, r, step, false), std::move(shared), lastStepBytes);
         std::lock_guard lock(mutex_);
         ++prepared_;

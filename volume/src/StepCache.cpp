@@ -75,6 +75,26 @@ void StepCache::put(const std::string& key, std::shared_ptr<const void> data, st
   held_ += bytes;
   enforceLocked();
   peak_ = std::max(peak_, held_);
+  if (const auto it = std::find(loading_.begin(), loading_.end(), key); it != loading_.end()) {
+    loading_.erase(it);
+    loaded_.notify_all();
+  }
+}
+
+void StepCache::markLoading(const std::string& key) {
+  std::lock_guard lock(mutex_);
+  loading_.push_back(key);
+}
+
+void StepCache::abandonLoading(const std::string& key) {
+  std::lock_guard lock(mutex_);
+  if (const auto it = std::find(loading_.begin(), loading_.end(), key); it != loading_.end()) loading_.erase(it);
+  loaded_.notify_all();
+}
+
+void StepCache::waitWhileLoading(const std::string& key) {
+  std::unique_lock lock(mutex_);
+  loaded_.wait(lock, [&] { return std::find(loading_.begin(), loading_.end(), key) == loading_.end(); });
 }
 
 void StepCache::enforceLocked() {

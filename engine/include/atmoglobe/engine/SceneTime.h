@@ -67,8 +67,11 @@ Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& descripti
 /// A radar loop's volume as the renderer draws it, CPU side only: read (`files`: one loop step),
 /// cropped; its time and datum note.
 struct RadarStepData {
-  volume::PolarVolume layout;
+  volume::PolarVolume layout;  ///< empty once `prepared` holds it
   std::string timeIso8601, datumNote;
+  /// Ready for upload (RadarVolumeGL::prepare at the scene's exaggeration), made by the
+  /// background loader; null: upload from `layout`.
+  std::shared_ptr<const RadarVolumeGL::Prepared> prepared;
 };
 Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& description, const std::string& files);
 

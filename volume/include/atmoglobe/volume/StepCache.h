@@ -15,6 +15,7 @@
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
+#include <condition_variable>
 #include <cstdint>
 #include <list>
 #include <memory>
@@ -66,6 +67,12 @@ class StepCache {
   bool fitsBesidesInUse(std::uint64_t bytes) const;
   /// Destroys the dropped data on the calling thread (the GL thread, for GPU volumes).
   void releaseDropped();
+  /// A background loader says it is loading `key` (so the thread that shows it waits for it
+  /// instead of reading it twice); put() or abandonLoading() ends that.
+  void markLoading(const std::string& key);
+  void abandonLoading(const std::string& key);
+  /// Blocks while `key` is being loaded by a background loader.
+  void waitWhileLoading(const std::string& key);
 
   struct Stats {
     std::uint64_t budgetBytes = 0;
@@ -87,6 +94,8 @@ class StepCache {
     std::uint64_t bytes = 0;
   };
   mutable std::mutex mutex_;
+  std::condition_variable loaded_;
+  std::vector<std::string> loading_;
   std::uint64_t budget_;
   std::list<Entry> lru_;  ///< most recently used first
   std::unordered_map<std::string, std::list<Entry>::iterator> index_;
