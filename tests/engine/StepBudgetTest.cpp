@@ -182,3 +182,20 @@ TEST(GpuMemory, RadarOverTheLimitIsDrawnWithFewerGates) {
 }
 
 }  // namespace
+
+namespace {
+using namespace atmoglobe;
+
+TEST(StepBudget, SceneKeyIsParsedAndChecked) {
+  auto scene = engine::parseSceneJson(R"({"memory_budget_mb": 64})", "s.json", "", "");
+  ASSERT_TRUE(scene) << scene.error();
+  EXPECT_EQ(scene->memoryBudgetMb, 64.0);
+  EXPECT_EQ(engine::parseSceneJson("{}", "s.json", "", "")->memoryBudgetMb, 0.0);  // 0: the default
+  for (const char* bad : {R"({"memory_budget_mb": -1})", R"({"memory_budget_mb": "lots"})"}) {
+    auto wrong = engine::parseSceneJson(bad, "s.json", "", "");
+    ASSERT_FALSE(wrong) << bad;
+    EXPECT_NE(wrong.error().find("memory_budget_mb"), std::string::npos) << wrong.error();
+  }
+}
+
+}  // namespace
