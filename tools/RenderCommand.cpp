@@ -12,6 +12,7 @@
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/Progress.h>
 #include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/StepCache.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,6 +45,15 @@ std::string seriesPath(const std::string& output, std::size_t frame) {
   char number[16];
   std::snprintf(number, sizeof number, "_%03zu", frame);
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
+}
+
+// One line of what the series held (docs/memory.md; the memory-budget test reads it).
+void printMemoryLine(const volume::StepCache::Stats& c, std::uint64_t rssBeforeBytes, std::uint64_t rssFirstBytes) {
+  const auto mib = [](std::uint64_t b) { return std::to_string(b / 1048576); };
+  std::cerr << "memory: budget " << mib(c.budgetBytes) << " MiB, steps held peak " << mib(c.peakHeldBytes) << " MiB ("
+            << c.misses << " misses, " << c.hits << " hits, " << c.drops << " dropped); RSS before the series "
+            << mib(rssBeforeBytes) << " MiB, after its first frame " << mib(rssFirstBytes) << " MiB, peak RSS "
+            << mib(volume::peakResidentBytes()) << " MiB\n";
 }
 
 int runRender(const RenderOptions& o) {
@@ -115,6 +125,8 @@ int runRender(const RenderOptions& o) {
       }
     }
     std::size_t frame = 0;
+    const std::uint64_t rssBefore = volume::currentResidentBytes();
+    std::uint64_t rssFirst = 0;  // peak RSS after the first frame (shaders compiled, one step shown)
     globe::Progress progress("frames", (axis->times.size() - 1) * static_cast<std::size_t>(o.timeSubsteps) + 1);
     for (std::size_t step = 0; step < axis->times.size(); ++step) {
       const int subs = step + 1 < axis->times.size() ? o.timeSubsteps : 1;
@@ -132,9 +144,11 @@ int runRender(const RenderOptions& o) {
           if (auto s = gif->addFrame(*image); !s) return fail("render", s.error());
         progress.print(path + " " + *when, stdout);  // the result line, not mixed into a bar
         progress.advance(1, *when);
+        if (frame == 0) rssFirst = volume::peakResidentBytes();
       }
     }
     progress.finish();
+    printMemoryLine((*renderer)->stepCache().stats(), rssBefore, rssFirst);
     for (std::size_t i = 0; i < gifs.size(); ++i) {
       if (auto s = gifs[i]->finish(); !s) return fail("render", s.error());
       progress.print(gifPaths[i] + " (" + std::to_string(frame) + " frames)", stdout);

@@ -87,6 +87,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                "heading clockwise from north, pitch 0 = horizontal, -90 = down (use --camera=-33,... "
                "when the first value is negative)");
   c.add_option("--fov", o.fovDeg, "Vertical field of view (degrees)");
+  c.add_option("--memory-budget", o.memoryBudgetMb,
+               "Memory budget of time steps and loop volumes, MiB (CPU data and GPU textures; steps not shown are "
+               "dropped least recently used and read again; default a quarter of RAM; docs/memory.md)");
   c.add_option("--exaggeration", o.exaggeration,
                "Vertical exaggeration of radars, grids, slices and markers alike (0.1..100; 1 = true scale)");
   c.add_option("--size", o.size, "Image size WxH in pixels (e.g. 1280x720)");
@@ -199,6 +202,8 @@ Status pickPerLayer(const std::vector<V>& values, const char* name, const char* 
 Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription& scene,
                      std::vector<engine::Marker>* markers, std::vector<std::string>* errors) {
   if (auto st = renderer.setVerticalExaggeration(scene.verticalExaggeration); !st) return st;
+  if (scene.memoryBudgetMb > 0.0)
+    renderer.setMemoryBudget(static_cast<std::uint64_t>(scene.memoryBudgetMb * 1048576.0));
   // One input's failure: fatal without `errors`, else kept and the layer left out.
   auto problem = [&](const std::string& message) -> Status {
     if (!errors) return makeError(message);
@@ -413,6 +418,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (o.exaggeration != 0.0) {
     if (auto st = volume::validateVerticalExaggeration(o.exaggeration, "--exaggeration"); !st) return st.forwardError();
     scene->verticalExaggeration = o.exaggeration;
+  }
+  if (o.memoryBudgetMb != 0.0) {
+    if (!(o.memoryBudgetMb > 0.0 && o.memoryBudgetMb <= 1.0e9))
+      return makeError("--memory-budget: must be in (0, 1e9] MiB");
+    scene->memoryBudgetMb = o.memoryBudgetMb;
   }
   if (o.fovDeg != 0.0) {
     if (!(o.fovDeg > 0.0 && o.fovDeg < 180.0)) return makeError("--fov: must be in (0, 180) degrees");

@@ -14,10 +14,11 @@ namespace atmoglobe::tools {
 
 struct SceneOptions {
   std::string sceneFile;
-  std::string camera;         ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
-  double fovDeg = 0.0;        ///< 0: the scene's
-  double exaggeration = 0.0;  ///< 0: the scene's vertical exaggeration
-  std::string size;           ///< "WxH"
+  std::string camera;           ///< "LAT,LON,HEIGHT,HEADING,PITCH,ROLL"
+  double fovDeg = 0.0;          ///< 0: the scene's
+  double exaggeration = 0.0;    ///< 0: the scene's vertical exaggeration
+  double memoryBudgetMb = 0.0;  ///< 0: the scene's memory budget (docs/memory.md)
+  std::string size;             ///< "WxH"
   std::vector<std::string> imageryDirs;
   std::vector<std::string> xyzDirs;
   std::vector<std::string> markers;  ///< "LAT,LON[,HEIGHT[,LABEL]]"

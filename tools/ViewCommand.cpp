@@ -68,6 +68,7 @@ struct ViewOptions {
   bool noPanel = false;      ///< no control panel
   std::string script;        ///< --script FILE
   std::string flyTo;         ///< --fly-to NAME: start above it
+  bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
 };
 
 struct Flight {
@@ -430,6 +431,11 @@ int runView(const ViewOptions& o) {
     }
   }
   state.playing = o.play && time.axis;
+  // Background loading (docs/memory.md): the steps after the one shown are read on a worker.
+  std::unique_ptr<engine::ScenePrefetcher> prefetch;
+  if (time.axis && !o.noPrefetch) prefetch = std::make_unique<engine::ScenePrefetcher>(**renderer, *time.axis);
+  if (prefetch) prefetch->request(static_cast<std::size_t>(time.position / time.substeps));
+  std::vector<double> stallMs;  // time each step change held the frame loop
   auto showTime = [&](long position) -> Status {
     const long n = time.count();
     position = ((position % n) + n) % n;  // loops at both ends
@@ -437,8 +443,11 @@ int runView(const ViewOptions& o) {
     time.position = position;
     const auto step = static_cast<std::size_t>(position / time.substeps);
     const double fraction = static_cast<double>(position % time.substeps) / time.substeps;
+    const double stallStart = glfwGetTime();
     auto when = engine::showSceneTime(**renderer, *time.axis, step, fraction);
     if (!when) return when.forwardError();
+    stallMs.push_back(1000.0 * (glfwGetTime() - stallStart));
+    if (prefetch) prefetch->request(step);
     glfwSetWindowTitle(w, ("atmoglobe  " + *when).c_str());
     time.label = *when;
     std::cout << "time: " << *when << std::endl;
@@ -764,6 +773,7 @@ int runView(const ViewOptions& o) {
     if (last) break;
     if (batch) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
   }
+  if (!stallMs.empty()) std::cerr << engine::stallSummary(stallMs, prefetch != nullptr) << "\n";
   return 0;
 }
 }  // namespace
@@ -788,6 +798,8 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--fly-to", options->flyTo,
                 "Start above this radar, marker, NEXRAD site ($ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
                 "LAT,LON[,HEIGHT]");
+  c->add_flag("--no-prefetch", options->noPrefetch,
+              "Read each time step when it is shown instead of ahead on a worker thread (for comparison)");
   c->footer(
       "Mouse: drag to grab and turn the globe, wheel to zoom toward the cursor, shift+drag or right-drag to tilt/turn.\n"
       "Keys: arrows/WASD move, +/- zoom, PageUp/PageDown tilt, shift+Left/Right turn, H or R fly home;\n"

@@ -6,8 +6,12 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/StepCache.h>
+
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 
 namespace atmoglobe::engine {
@@ -20,41 +24,69 @@ constexpr int kLookupEntries = 4096;  // per axis of a rectilinear grid's tables
 }  // namespace
 
 Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVolume& grid) {
-  const std::string name = grid.path.empty() ? std::string("grid") : grid.path;
+  if (auto st = checkDrawable(grid); !st) return st.forwardError();
+  return create(prepare(grid));
+}
+
+Status GridVolumeGL::checkDrawable(const volume::GridVolume& grid) {
   if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2)
-    return makeError(name + ": " + grid.variable +
+    return makeError((grid.path.empty() ? std::string("grid") : grid.path) + ": " + grid.variable +
                      ": a grid needs at least 2 columns, rows and levels to be drawn (has " + std::to_string(grid.nx) +
                      " x " + std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + ")");
-  std::unique_ptr<GridVolumeGL> gl(new GridVolumeGL());
-  gl->grid_ = std::make_shared<volume::GridVolume>(grid);
-  gl->sampler_ = std::make_unique<volume::GridSampler>(*gl->grid_);
-  const volume::GridVolume& g = *gl->grid_;
-  const volume::GridSampler& s = *gl->sampler_;
-  const bool wraps = g.wrapsLongitude && !g.curvilinear;
-  const bool caps = s.hasPoleCaps();
-  gl->rowOffset_ = caps ? 1 : 0;
-  gl->textureSize_ = glm::ivec3(static_cast<int>(g.nx) + (wraps ? 1 : 0), static_cast<int>(g.ny) + (caps ? 2 : 0),
-                                static_cast<int>(g.nz));
+  return Ok{};
+}
+
+Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(std::shared_ptr<const Prepared> prepared) {
+  const std::string name = prepared->grid->path.empty() ? std::string("grid") : prepared->grid->path;
+  // A grid the GPU cannot hold (its 3-D texture size, GL_OUT_OF_MEMORY, or the artificial limit
+  // $ATMOGLOBE_MAX_TEXTURE_BYTES) is drawn at half the resolution, and so on, with a warning.
   GLint max3d = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
-  if (gl->textureSize_.x > max3d || gl->textureSize_.y > max3d || gl->textureSize_.z > max3d)
-    return makeError(name + ": " + g.variable + ": " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " +
-                     std::to_string(g.nz) + " exceeds the GPU's 3-D texture size " + std::to_string(max3d) +
-                     " (crop the grid)");
-  const volume::BoundingSphere sphere = s.boundingSphere();
-  gl->origin_ = sphere.centreEcef;
+  for (int halvings = 0;; ++halvings) {
+    std::string tooLarge;
+    auto gl = upload(prepared, name, &tooLarge);
+    if (gl || tooLarge.empty()) return gl;
+    const volume::GridVolume& g = *prepared->grid;
+    if (halvings == kMaxHalvings || g.nx < 4 || g.ny < 4)
+      return makeError(name + ": " + g.variable + ": " + tooLarge + ", even at 1/" + std::to_string(1 << halvings) +
+                       " of the resolution (crop the grid)");
+    volume::GridVolume reduced = volume::decimateGrid(g, 2, static_cast<long>(g.nz) > max3d);
+    std::cerr << "atmoglobe: warning: " << name << ": " << g.variable << ": " << tooLarge
+              << "; drawn at lower resolution, " << reduced.nx << " x " << reduced.ny << " x " << reduced.nz
+              << " (every 2nd column and row" << (reduced.nz < g.nz ? " and level" : "") << ")\n";
+    prepared = prepare(reduced);
+  }
+}
 
+std::uint64_t GridVolumeGL::Prepared::bytes() const {
+  return volume::gridVolumeBytes(*grid) + texels.capacity() * sizeof(glm::vec2) + lookup.capacity() * sizeof(float) +
+         (occupancy.maxValues.capacity() + occupancy.blockMaxValues.capacity()) * sizeof(float);
+}
+
+std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume::GridVolume& grid) {
+  auto pr = std::make_shared<Prepared>();
+  pr->grid = std::make_shared<const volume::GridVolume>(grid);
+  pr->sampler = std::make_shared<const volume::GridSampler>(*pr->grid);
+  const volume::GridVolume& g = *pr->grid;
+  const volume::GridSampler& s = *pr->sampler;
+  const bool wraps = g.wrapsLongitude && !g.curvilinear;
+  const bool caps = s.hasPoleCaps();
+  pr->rowOffset = caps ? 1 : 0;
+  pr->textureSize = glm::ivec3(static_cast<int>(g.nx) + (wraps ? 1 : 0), static_cast<int>(g.ny) + (caps ? 2 : 0),
+                               static_cast<int>(g.nz));
+  const volume::BoundingSphere sphere = s.boundingSphere();
+  pr->origin = sphere.centreEcef;
   // The column of texture column tc, row tr: a grid column, a copy of column 0, or a pole.
   const int nx = static_cast<int>(g.nx), ny = static_cast<int>(g.ny);
   auto columnOf = [&](int tc, int tr) {
-    const int r = tr - gl->rowOffset_;
+    const int r = tr - pr->rowOffset;
     if (r < 0) return int{volume::GridColumns::kSouthPole};
     if (r >= ny) return int{volume::GridColumns::kNorthPole};
     return r * nx + (tc % nx);
   };
   // Position of a texture column/row (for the empty-space boxes).
   auto latLonOf = [&](int tc, int tr) {
-    const int r = tr - gl->rowOffset_;
+    const int r = tr - pr->rowOffset;
     if (r < 0) return glm::dvec2(-90.0, g.lonDeg[0]);
     if (r >= ny) return glm::dvec2(90.0, g.lonDeg[0]);
     const int c = tc % nx;
@@ -63,8 +95,9 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
   };
 
   // Values and heights: RG32F (value or kMissing, height above the ellipsoid).
-  const glm::ivec3 ts = gl->textureSize_;
-  std::vector<glm::vec2> texels(static_cast<std::size_t>(ts.x) * ts.y * ts.z);
+  const glm::ivec3 ts = pr->textureSize;
+  std::vector<glm::vec2>& texels = pr->texels;
+  texels.resize(static_cast<std::size_t>(ts.x) * ts.y * ts.z);
   for (int k = 0; k < ts.z; ++k)
     for (int tr = 0; tr < ts.y; ++tr)
       for (int tc = 0; tc < ts.x; ++tc) {
@@ -73,22 +106,17 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
         texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] = glm::vec2(
             std::isfinite(v) ? v : kMissing, static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
       }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
-  glTextureStorage3D(gl->values_, 1, GL_RG32F, ts.x, ts.y, ts.z);
-  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, ts.x, ts.y, ts.z, GL_RG, GL_FLOAT, texels.data());
-  gl->gpuBytes_ = texels.size() * sizeof(glm::vec2);
-
   // Lookup tables, computed by the CPU sampler's own horizontalIndex (exact at the entries).
   if (!g.curvilinear) {
     const double lonStart = g.lonDeg[0];
     const double lonSpan = wraps ? 360.0 : g.lonDeg[g.nx - 1] - g.lonDeg[0];
     const double latStart = caps ? -90.0 : g.latDeg[0];
     const double latSpan = (caps ? 90.0 : g.latDeg[g.ny - 1]) - latStart;
-    gl->lonRange_ = glm::vec2(static_cast<float>(lonStart), static_cast<float>(lonSpan));
-    gl->latRange_ = glm::vec2(static_cast<float>(latStart), static_cast<float>(latSpan));
-    gl->lookupSize_ = glm::ivec2(kLookupEntries, 2);
-    std::vector<float> table(2 * kLookupEntries);
+    pr->lonRange = glm::vec2(static_cast<float>(lonStart), static_cast<float>(lonSpan));
+    pr->latRange = glm::vec2(static_cast<float>(latStart), static_cast<float>(latSpan));
+    pr->lookupSize = glm::ivec2(kLookupEntries, 2);
+    std::vector<float>& table = pr->lookup;
+    table.assign(2 * kLookupEntries, 0.0f);
     for (int e = 0; e < kLookupEntries; ++e) {
       const double f = static_cast<double>(e) / (kLookupEntries - 1);
       const double lon = lonStart + f * lonSpan;
@@ -99,20 +127,17 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
                      : static_cast<float>(ijLon ? ijLon->x : static_cast<double>(g.nx - 1));
       const double lat = std::clamp(latStart + f * latSpan, -90.0, 90.0);
       const auto ijLat = s.horizontalIndex(lat, g.lonDeg[0]);
-      table[kLookupEntries + e] = static_cast<float>((ijLat ? ijLat->y : 0.0) + gl->rowOffset_);
+      table[kLookupEntries + e] = static_cast<float>((ijLat ? ijLat->y : 0.0) + pr->rowOffset);
     }
-    gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
-    glTextureStorage2D(gl->lookup_, 1, GL_R32F, kLookupEntries, 2);
-    glTextureSubImage2D(gl->lookup_, 0, 0, 0, kLookupEntries, 2, GL_RED, GL_FLOAT, table.data());
-    gl->gpuBytes_ += table.size() * sizeof(float);
   } else {
     const auto [lonMinIt, lonMaxIt] = std::minmax_element(g.lonDeg.begin(), g.lonDeg.end());
     const auto [latMinIt, latMaxIt] = std::minmax_element(g.latDeg.begin(), g.latDeg.end());
-    gl->lonRange_ = glm::vec2(static_cast<float>(*lonMinIt), static_cast<float>(*lonMaxIt - *lonMinIt));
-    gl->latRange_ = glm::vec2(static_cast<float>(*latMinIt), static_cast<float>(*latMaxIt - *latMinIt));
+    pr->lonRange = glm::vec2(static_cast<float>(*lonMinIt), static_cast<float>(*lonMaxIt - *lonMinIt));
+    pr->latRange = glm::vec2(static_cast<float>(*latMinIt), static_cast<float>(*latMaxIt - *latMinIt));
     const int w = std::clamp(4 * nx, 2, 2048), h = std::clamp(4 * ny, 2, 2048);
-    gl->lookupSize_ = glm::ivec2(w, h);
-    std::vector<glm::vec2> table(static_cast<std::size_t>(w) * h);
+    pr->lookupSize = glm::ivec2(w, h);
+    pr->lookup.assign(2 * static_cast<std::size_t>(w) * h, 0.0f);
+    auto* table = reinterpret_cast<glm::vec2*>(pr->lookup.data());  // RG pairs
     for (int b = 0; b < h; ++b)
       for (int a = 0; a < w; ++a) {
         const double lat = *latMinIt + (*latMaxIt - *latMinIt) * b / (h - 1);
@@ -120,10 +145,6 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
         const auto ij = s.horizontalIndex(lat, lon);
         table[static_cast<std::size_t>(b) * w + a] = ij ? glm::vec2(*ij) : glm::vec2(-1.0e6f);
       }
-    gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
-    glTextureStorage2D(gl->lookup_, 1, GL_RG32F, w, h);
-    glTextureSubImage2D(gl->lookup_, 0, 0, 0, w, h, GL_RG, GL_FLOAT, table.data());
-    gl->gpuBytes_ += table.size() * sizeof(glm::vec2);
   }
 
   // Empty-space grid: a box per block of 8 x 8 columns x 4 levels around every texel of the
@@ -157,7 +178,7 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
             const glm::dvec2 ll = latLonOf(c, r);
             for (int k : {k0, k1}) {
               const double hgt = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].y;
-              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({ll.x, ll.y, hgt}) - gl->origin_);
+              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({ll.x, ll.y, hgt}) - pr->origin);
               lo = glm::min(lo, p);
               hi = glm::max(hi, p);
             }
@@ -166,7 +187,54 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(const volume::GridVol
         const double margin = width * width / (8.0 * 6.35e6) + 0.05 * width + 10.0;
         boxes.push_back({lo - margin, hi + margin, maxValue});
       }
-  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(gl->origin_, frame, boxes, glm::ivec3(128, 128, 32)));
+  pr->occupancy = volume::buildOccupancyGrid(pr->origin, frame, boxes, glm::ivec3(128, 128, 32));
+  return pr;
+}
+
+Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::upload(const std::shared_ptr<const Prepared>& pr,
+                                                           const std::string& name, std::string* tooLarge) {
+  const volume::GridVolume& g = *pr->grid;
+  std::unique_ptr<GridVolumeGL> gl(new GridVolumeGL());
+  gl->grid_ = pr->grid;
+  gl->sampler_ = pr->sampler;
+  gl->origin_ = pr->origin;
+  gl->textureSize_ = pr->textureSize;
+  gl->rowOffset_ = pr->rowOffset;
+  gl->lonRange_ = pr->lonRange;
+  gl->latRange_ = pr->latRange;
+  gl->lookupSize_ = pr->lookupSize;
+  GLint max3d = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  const glm::ivec3 ts = pr->textureSize;
+  const std::size_t textureBytes = pr->texels.size() * sizeof(glm::vec2);
+  const std::string shape = std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " + std::to_string(g.nz);
+  if (ts.x > max3d || ts.y > max3d || ts.z > max3d) {
+    *tooLarge = shape + " exceeds the GPU's 3-D texture size " + std::to_string(max3d);
+    return makeError(name + ": " + *tooLarge);
+  }
+  if (const std::size_t limit = textureByteLimit(); limit > 0 && textureBytes > limit) {
+    *tooLarge = shape + " needs a " + megabytes(textureBytes) + " texture, over the GPU memory limit " +
+                megabytes(limit) + " ($ATMOGLOBE_MAX_TEXTURE_BYTES)";
+    return makeError(name + ": " + *tooLarge);
+  }
+  // Values and heights: RG32F (value or kMissing, height above the ellipsoid).
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
+  clearErrorsGL();
+  glTextureStorage3D(gl->values_, 1, GL_RG32F, ts.x, ts.y, ts.z);
+  if (outOfMemoryGL()) {
+    *tooLarge = shape + ": the GPU is out of memory (GL_OUT_OF_MEMORY) for its " + megabytes(textureBytes) + " texture";
+    return makeError(name + ": " + *tooLarge);  // ~GridVolumeGL deletes the texture
+  }
+  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, ts.x, ts.y, ts.z, GL_RG, GL_FLOAT, pr->texels.data());
+  gl->gpuBytes_ = textureBytes;
+  // Lookup tables: R32F rows (rectilinear: longitude, latitude) or an RG32F raster (curvilinear).
+  gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
+  const glm::ivec2 ls = pr->lookupSize;
+  glTextureStorage2D(gl->lookup_, 1, g.curvilinear ? GL_RG32F : GL_R32F, ls.x, ls.y);
+  glTextureSubImage2D(gl->lookup_, 0, 0, 0, ls.x, ls.y, g.curvilinear ? GL_RG : GL_RED, GL_FLOAT, pr->lookup.data());
+  gl->gpuBytes_ += pr->lookup.size() * sizeof(float);
+  gl->occupancy_ = OccupancyGridGL(pr->occupancy);
   return gl;
 }
 

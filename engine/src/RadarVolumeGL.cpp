@@ -2,36 +2,90 @@
 
 #include <atmoglobe/globe/Angles.h>
 
+#include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/StepCache.h>
+
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 
 namespace atmoglobe::engine {
 
-Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::PolarVolume& v, double exaggeration) {
-  using C = MarchConstants;
+Status RadarVolumeGL::checkDrawable(const volume::PolarVolume& v) {
   const int n = static_cast<int>(v.sweeps.size());
-  if (n < 1 || n > C::kMaxSweeps) {
+  if (n < 1 || n > MarchConstants::kMaxSweeps)
     return makeError(v.sourcePath + ": " + std::to_string(n) + " sweeps; the renderer takes 1.." +
-                     std::to_string(C::kMaxSweeps));
-  }
+                     std::to_string(MarchConstants::kMaxSweeps));
+  return Ok{};
+}
+
+Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::PolarVolume& v, double exaggeration) {
+  if (auto st = checkDrawable(v); !st) return st.forwardError();
+  return create(prepare(v, exaggeration));
+}
+
+Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(std::shared_ptr<const Prepared> pr) {
+  using C = MarchConstants;
+  const volume::PolarVolume& v = *pr->polar;
+  const int n = static_cast<int>(v.sweeps.size());
   GLint maxSize = 0, maxLayers = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-  if (v.maxGates + 1 > maxSize || v.maxRays + 1 > maxSize || C::kRayTableBins + 1 > maxSize || n + 1 > maxLayers) {
-    return makeError(v.sourcePath + ": " + std::to_string(v.maxGates) + " gates x " + std::to_string(v.maxRays) +
-                     " rays exceed the GPU's texture size " + std::to_string(maxSize));
+  if (C::kRayTableBins + 1 > maxSize || n + 1 > maxLayers)
+    return makeError(v.sourcePath + ": " + std::to_string(n) + " sweeps: the GPU's texture limits (size " +
+                     std::to_string(maxSize) + ", layers " + std::to_string(maxLayers) + ") are too small");
+  // A volume the GPU cannot hold (texture size, GL_OUT_OF_MEMORY, or the artificial limit
+  // $ATMOGLOBE_MAX_TEXTURE_BYTES) is drawn with every 2nd gate (and ray, where rays exceed the
+  // texture size), and so on, with a warning.
+  for (int halvings = 0;; ++halvings) {
+    const volume::PolarVolume& p = *pr->polar;
+    std::string tooLarge;
+    const std::string shape = std::to_string(p.maxGates) + " gates x " + std::to_string(p.maxRays) + " rays x " +
+                              std::to_string(n) + " sweeps";
+    const std::size_t bytes = static_cast<std::size_t>(p.maxGates + 1) * (p.maxRays + 1) * n * 4;
+    if (p.maxGates + 1 > maxSize || p.maxRays + 1 > maxSize) {
+      tooLarge = shape + " exceed the GPU's texture size " + std::to_string(maxSize);
+    } else if (const std::size_t limit = textureByteLimit(); limit > 0 && bytes > limit) {
+      tooLarge = shape + " need a " + megabytes(bytes) + " texture, over the GPU memory limit " + megabytes(limit) +
+                 " ($ATMOGLOBE_MAX_TEXTURE_BYTES)";
+    } else {
+      auto gl = upload(pr);
+      if (gl) return gl;
+      tooLarge = shape + ": the GPU is out of memory (GL_OUT_OF_MEMORY) for its " + megabytes(bytes) + " texture";
+    }
+    if (halvings == kMaxHalvings || p.maxGates < 8)
+      return makeError(v.sourcePath + ": " + tooLarge + ", even at 1/" + std::to_string(1 << halvings) +
+                       " of the resolution");
+    volume::PolarVolume reduced = volume::decimatePolar(p, 2, p.maxRays + 1 > maxSize);
+    std::cerr << "atmoglobe: warning: " << v.sourcePath << ": " << tooLarge << "; drawn at lower resolution, "
+              << reduced.maxGates << " gates x " << reduced.maxRays << " rays (every 2nd gate"
+              << (reduced.maxRays < p.maxRays ? " and ray" : "") << ")\n";
+    pr = prepare(reduced, pr->exaggeration);
   }
-  std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
-  gl->polar_ = std::make_shared<volume::PolarVolume>(v);
-  gl->sampler_ = std::make_unique<volume::PolarSampler>(*gl->polar_);
-  gl->exaggeration_ = exaggeration;
-  if (exaggeration != 1.0) gl->exaggerated_ = std::make_unique<volume::ExaggeratedSampler>(*gl->sampler_, exaggeration);
-  gl->beamModel_ = volume::localSphereBeam(v.site, v.beam);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+}
+
+std::uint64_t RadarVolumeGL::Prepared::bytes() const {
+  return volume::polarVolumeBytes(*polar) + layers.capacity() * sizeof(std::uint32_t) +
+         table.capacity() * sizeof(float) +
+         (occupancy.maxValues.capacity() + occupancy.blockMaxValues.capacity()) * sizeof(float);
+}
+
+std::shared_ptr<const RadarVolumeGL::Prepared> RadarVolumeGL::prepare(const volume::PolarVolume& volume,
+                                                                      double exaggeration) {
+  using C = MarchConstants;
+  auto pr = std::make_shared<Prepared>();
+  pr->polar = std::make_shared<const volume::PolarVolume>(volume);
+  const volume::PolarVolume& v = *pr->polar;
+  const int n = static_cast<int>(v.sweeps.size());
+  pr->sampler = std::make_shared<const volume::PolarSampler>(v);
+  pr->exaggeration = exaggeration;
+  if (exaggeration != 1.0)
+    pr->exaggerated = std::make_shared<const volume::ExaggeratedSampler>(*pr->sampler, exaggeration);
+  pr->beamModel = volume::localSphereBeam(v.site, v.beam);
 
   // Values: one layer per sweep, native (ray, gate) layout, RG16F = (value if echo else 0,
   // 1 if echo else 0). Bilinear filtering of these two channels gives exactly the rule's
@@ -40,28 +94,22 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   // gateCount repeats the last gate and row rayCount repeats ray 0. No data and no echo are
   // both (0, 0): they contribute nothing in every mode, so the image does not depend on the
   // distinction (the CPU volume keeps it: `gates`, `info`, the reference renderer).
-  {
-    const int w = v.maxGates + 1, h = v.maxRays + 1;
-    gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
-    glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
-    // Converted to half floats here and uploaded a layer at a time: the staging buffer is one
-    // layer (KLBB: 5.3 MB), not the whole volume as float pairs.
-    std::vector<std::uint32_t> layer(static_cast<std::size_t>(w) * h);
-    for (int k = 0; k < n; ++k) {
-      const auto& s = v.sweeps[k];
-      std::fill(layer.begin(), layer.end(), 0u);  // (0, 0): no echo / no data / padding
-      for (int row = 0; row <= s.rayCount; ++row) {
-        const int ray = row % s.rayCount;
-        for (int col = 0; col <= s.gateCount; ++col) {
-          const float value = v.value(k, ray, std::min(col, s.gateCount - 1));
-          if (volume::isMeasuredValue(value))
-            layer[static_cast<std::size_t>(row) * w + col] = glm::packHalf2x16(glm::vec2(value, 1.0f));
-        }
+  // Converted to half floats here (the whole volume at 4 bytes a texel, what the GPU holds), so
+  // a worker thread can do it and the GL thread only uploads.
+  const int w = v.maxGates + 1, h = v.maxRays + 1;
+  pr->valuesSize = glm::ivec2(w, h);
+  pr->layers.assign(static_cast<std::size_t>(w) * h * static_cast<std::size_t>(n), 0u);  // (0, 0): no echo / no data
+  for (int k = 0; k < n; ++k) {
+    const auto& s = v.sweeps[k];
+    std::uint32_t* layer = pr->layers.data() + static_cast<std::size_t>(k) * w * h;
+    for (int row = 0; row <= s.rayCount; ++row) {
+      const int ray = row % s.rayCount;
+      for (int col = 0; col <= s.gateCount; ++col) {
+        const float value = v.value(k, ray, std::min(col, s.gateCount - 1));
+        if (volume::isMeasuredValue(value))
+          layer[static_cast<std::size_t>(row) * w + col] = glm::packHalf2x16(glm::vec2(value, 1.0f));
       }
-      glTextureSubImage3D(gl->values_, 0, 0, 0, k, w, h, 1, GL_RG, GL_HALF_FLOAT, layer.data());
     }
-    gl->valuesSize_ = glm::vec2(static_cast<float>(w), static_cast<float>(h));
-    gl->gpuBytes_ += layer.size() * 4 * static_cast<std::size_t>(n);  // two half floats per texel
   }
 
   // Azimuth -> ray coordinate per sweep (volume::rayCoordinateTable), linearly filtered; then one
@@ -69,31 +117,55 @@ Result<std::unique_ptr<RadarVolumeGL>> RadarVolumeGL::create(const volume::Polar
   // texel, so the filter does not apply; sweep indices are exact in float).
   {
     const int bins = C::kRayTableBins + 1;
-    std::vector<float> table;
+    std::vector<float>& table = pr->table;
     table.reserve(static_cast<std::size_t>(bins) * (n + 1));
     for (int k = 0; k < n; ++k) {
       const std::vector<float> row = volume::rayCoordinateTable(v.sweeps[k], C::kRayTableBins);
       table.insert(table.end(), row.begin(), row.end());
     }
     const double hb = 0.5 * v.beamWidthDeg;
-    gl->elLookupRange_ = glm::vec2(static_cast<float>(v.sweeps.front().elevationDeg - hb),
-                                   static_cast<float>(v.sweeps.back().elevationDeg + hb));
+    pr->elLookupRange = glm::vec2(static_cast<float>(v.sweeps.front().elevationDeg - hb),
+                                  static_cast<float>(v.sweeps.back().elevationDeg + hb));
     std::vector<float> el(static_cast<std::size_t>(bins), -1.0f);
     int last = -1;
     for (int b = 0; b < C::kElevationBins; ++b) {
       // The bin start as the shader computes it (float), so the table never points above.
-      const float start = gl->elLookupRange_.x + (gl->elLookupRange_.y - gl->elLookupRange_.x) * static_cast<float>(b) /
-                                                     static_cast<float>(C::kElevationBins);
+      const float start = pr->elLookupRange.x + (pr->elLookupRange.y - pr->elLookupRange.x) * static_cast<float>(b) /
+                                                    static_cast<float>(C::kElevationBins);
       while (last + 1 < n && static_cast<float>(v.sweeps[last + 1].elevationDeg) <= start) ++last;
       el[static_cast<std::size_t>(b)] = static_cast<float>(last);
     }
     table.insert(table.end(), el.begin(), el.end());
-    gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_1D_ARRAY, GL_LINEAR);
-    glTextureStorage2D(gl->rayTable_, 1, GL_R32F, bins, n + 1);
-    glTextureSubImage2D(gl->rayTable_, 0, 0, 0, bins, n + 1, GL_RED, GL_FLOAT, table.data());
-    gl->gpuBytes_ += table.size() * 4;
   }
-  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(v, exaggeration));
+  pr->occupancy = volume::buildOccupancyGrid(v, exaggeration);
+  return pr;
+}
+
+std::unique_ptr<RadarVolumeGL> RadarVolumeGL::upload(const std::shared_ptr<const Prepared>& pr) {
+  using C = MarchConstants;
+  const int n = static_cast<int>(pr->polar->sweeps.size());
+  std::unique_ptr<RadarVolumeGL> gl(new RadarVolumeGL());
+  gl->polar_ = pr->polar;
+  gl->sampler_ = pr->sampler;
+  gl->exaggeration_ = pr->exaggeration;
+  gl->exaggerated_ = pr->exaggerated;
+  gl->beamModel_ = pr->beamModel;
+  gl->elLookupRange_ = pr->elLookupRange;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const int w = pr->valuesSize.x, h = pr->valuesSize.y;
+  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+  clearErrorsGL();
+  glTextureStorage3D(gl->values_, 1, GL_RG16F, w, h, n);
+  if (outOfMemoryGL()) return nullptr;  // ~RadarVolumeGL deletes the texture
+  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, w, h, n, GL_RG, GL_HALF_FLOAT, pr->layers.data());
+  gl->valuesSize_ = glm::vec2(static_cast<float>(w), static_cast<float>(h));
+  gl->gpuBytes_ += pr->layers.size() * 4;  // two half floats per texel
+  const int bins = C::kRayTableBins + 1;
+  gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_1D_ARRAY, GL_LINEAR);
+  glTextureStorage2D(gl->rayTable_, 1, GL_R32F, bins, n + 1);
+  glTextureSubImage2D(gl->rayTable_, 0, 0, 0, bins, n + 1, GL_RED, GL_FLOAT, pr->table.data());
+  gl->gpuBytes_ += pr->table.size() * 4;
+  gl->occupancy_ = OccupancyGridGL(pr->occupancy);
   return gl;
 }
 

@@ -202,8 +202,9 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
   const Object top(root, sourceName, "");
-  if (auto s = top.checkObject({"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations",
-                                "slices", "vertical_exaggeration", "map_context", "overlays", "range_rings"});
+  if (auto s =
+          top.checkObject({"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
+                           "vertical_exaggeration", "map_context", "overlays", "range_rings", "memory_budget_mb"});
       !s) {
     return s.forwardError();
   }
@@ -233,6 +234,8 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
   if (auto st = top.number("fov_deg", scene.fovYDeg, 0.0, 180.0, "deg"); !st) return st.forwardError();
   if (!(scene.fovYDeg > 0.0 && scene.fovYDeg < 180.0))
     return top.error("fov_deg", "must be above 0 and below 180 deg").forwardError();
+  // MiB; 0: volume::defaultMemoryBudgetBytes() (docs/memory.md)
+  if (auto st = top.number("memory_budget_mb", scene.memoryBudgetMb, 0.0, 1e9, "MiB"); !st) return st.forwardError();
   if (top.has("size")) {
     std::vector<double> v;
     if (auto st = top.numbers("size", v, 2, 2, "[width, height] (px)", 1.0, 16384.0); !st) return st.forwardError();

@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
 
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SlicePlot.h>
@@ -20,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace atmoglobe::engine {
 
@@ -163,6 +165,33 @@ Result<std::pair<std::vector<std::string>, std::vector<std::string>>> radarLoopS
 }
 }  // namespace
 
+namespace {
+// What a GPU volume costs the budget: its CPU twin, its empty-space grid on the CPU, its textures.
+std::uint64_t occupancyHostBytes(const VolumeGL& v) {
+  const volume::OccupancyGrid& o = v.occupancy().grid();
+  return (o.maxValues.capacity() + o.blockMaxValues.capacity()) * sizeof(float);
+}
+std::uint64_t budgetBytes(const GridVolumeGL& v) {
+  return volume::gridVolumeBytes(v.grid()) + occupancyHostBytes(v) + v.gpuBytes();
+}
+std::uint64_t budgetBytes(const RadarVolumeGL& v) {
+  return volume::polarVolumeBytes(v.polar()) + occupancyHostBytes(v) + v.gpuBytes();
+}
+
+// A radar step in the cache: its GPU volume with the time and datum note the layer shows.
+// The layer holds the volume through an alias of this entry, so the cache sees it in use.
+struct RadarStepGL {
+  std::shared_ptr<RadarVolumeGL> volume;
+  std::string timeIso8601, datumNote;
+};
+void cacheRadarStep(volume::StepCache& cache, RadarLayerGL& layer, const std::string& key) {
+  auto entry = std::make_shared<RadarStepGL>(RadarStepGL{std::move(layer.volume), layer.timeIso8601, layer.datumNote});
+  layer.volume = std::shared_ptr<RadarVolumeGL>(entry, entry->volume.get());
+  const std::uint64_t bytes = budgetBytes(*entry->volume);
+  cache.put(key, std::move(entry), bytes);
+}
+}  // namespace
+
 Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
   auto loop = radarLoopSteps(d.path, d.field);
   if (!loop) return loop.forwardError();
@@ -177,6 +206,9 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
     added.loopFiles = std::move(loop->first);
     added.loopTimes = std::move(loop->second);
     added.step = added.loopFiles.size() - 1;
+    // The shown volume counts against the memory budget under its step's key.
+    cache_->erase(stepKey(true, radars_.size() - 1, 0, true));
+    cacheRadarStep(*cache_, added, stepKey(true, radars_.size() - 1, added.step, true));
     return &added;
   }
   volume::RadarLoadOptions load;
@@ -217,6 +249,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   layer.loadedField = radar->volume.loadedField;
   layer.nyquistMps = radar->volume.nyquistVelocityMps;
   radars_.push_back(std::move(layer));
+  cacheRadarStep(*cache_, radars_.back(), stepKey(true, radars_.size() - 1, 0, true));
   return &radars_.back();
 }
 
@@ -292,7 +325,44 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   layer.synthetic = volume::fileSaysSynthetic(d.path);
   layer.firstRange = range;
   grids_.push_back(std::move(layer));
+  const GridVolumeGL& shown = *grids_.back().volume;
+  cache_->put(stepKey(false, grids_.size() - 1, grid->timeIndex, true), grids_.back().volume, budgetBytes(shown));
   return &grids_.back();
+}
+
+namespace {
+// netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
+std::mutex& stepReadMutex() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
+
+Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
+  const std::lock_guard lock(stepReadMutex());
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(files, load);
+  if (!radar) return radar.forwardError();
+  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  }
+  return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
+}
+
+Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
+  const std::lock_guard lock(stepReadMutex());
+  volume::GridReadOptions read = gridReadOptions(d);
+  read.timeIndex = step;
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
+  volume::exaggerateGrid(*grid, exaggeration);
+  return grid;
 }
 
 Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
@@ -301,26 +371,56 @@ Status SceneRendererGL::setRadarStep(std::size_t index, std::size_t step) {
   if (step >= layer.loopFiles.size())
     return makeError(layer.description.path + ": no loop step " + std::to_string(step));
   if (step == layer.step) return Ok{};
-  const RadarLayerDescription& d = layer.description;
-  volume::RadarLoadOptions load;
-  load.fieldName = d.field;
-  load.useGeoid = d.useGeoid;
-  load.buildRenderLayout = true;
-  auto radar = volume::loadRadar(layer.loopFiles[step], load);
-  if (!radar) return radar.forwardError();
-  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
-    auto geoid = cropGeoid(d.settings, d.useGeoid);
-    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
-    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  cache_->releaseDropped();  // GPU volumes dropped by a worker's put die here, on the GL thread
+  const std::string key = stepKey(true, index, step, true);
+  if (auto cached = cache_->get<RadarStepGL>(key)) {
+    layer.volume = std::shared_ptr<RadarVolumeGL>(cached, cached->volume.get());
+    layer.timeIso8601 = cached->timeIso8601;
+    layer.datumNote = cached->datumNote;
+  } else {
+    // Prepared ahead by a ScenePrefetcher, else read now.
+    const std::string cpuKey = stepKey(true, index, step, false);
+    cache_->waitWhileLoading(cpuKey);  // a background loader's read in flight: wait, do not read twice
+    std::shared_ptr<const RadarStepData> data = cache_->get<RadarStepData>(cpuKey);
+    if (!data) {
+      auto read = prepareRadarStep(layer.description, layer.loopFiles[step]);
+      if (!read) return read.forwardError();
+      data = std::make_shared<const RadarStepData>(std::move(*read));
+    }
+    auto gl = data->prepared ? RadarVolumeGL::create(data->prepared)
+                             : RadarVolumeGL::create(data->layout, exaggeration_);
+    if (!gl) return gl.forwardError();
+    (*gl)->setBeamApproximation(layer.volume->beamApproximation());
+    layer.volume = std::move(*gl);
+    layer.timeIso8601 = data->timeIso8601;
+    layer.datumNote = data->datumNote;
+    cache_->erase(cpuKey);  // the GPU volume holds its own copy
+    cacheRadarStep(*cache_, layer, key);
   }
-  auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
-  if (!gl) return gl.forwardError();
-  (*gl)->setBeamApproximation(layer.volume->beamApproximation());
-  layer.volume = std::move(*gl);
-  layer.timeIso8601 = radar->volume.timeIso8601;
-  layer.datumNote = radar->site.datumNote;
   layer.step = step;
+  cache_->releaseDropped();
   return Ok{};
+}
+
+Result<std::shared_ptr<const GridVolumeGL::Prepared>> SceneRendererGL::gridStepPrepared(std::size_t index,
+                                                                                        std::size_t step) {
+  const std::string cpuKey = stepKey(false, index, step, false);
+  cache_->waitWhileLoading(cpuKey);  // a background loader's read in flight: wait, do not read twice
+  if (auto cpu = cache_->get<GridVolumeGL::Prepared>(cpuKey)) return cpu;
+  auto grid = prepareGridStep(grids_[index].description, step, exaggeration_);
+  if (!grid) return grid.forwardError();
+  if (auto st = GridVolumeGL::checkDrawable(*grid); !st) return st.forwardError();
+  auto prepared = GridVolumeGL::prepare(*grid);
+  cache_->put(cpuKey, prepared, prepared->bytes());
+  return prepared;
+}
+
+Result<std::shared_ptr<const volume::GridVolume>> SceneRendererGL::gridStepData(std::size_t index, std::size_t step) {
+  if (auto gl = cache_->get<GridVolumeGL>(stepKey(false, index, step, true)))
+    return std::shared_ptr<const volume::GridVolume>(gl, &gl->grid());
+  auto prepared = gridStepPrepared(index, step);
+  if (!prepared) return prepared.forwardError();
+  return std::shared_ptr<const volume::GridVolume>(*prepared, (*prepared)->grid.get());
 }
 
 Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double fraction) {
@@ -328,9 +428,40 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
   GridLayerGL& layer = grids_[index];
   if (!(fraction >= 0.0 && fraction < 1.0)) return makeError(layer.description.path + ": time fraction outside [0, 1)");
   if (layer.step == step && layer.stepFraction == fraction) return Ok{};
-  return reloadGrid(index, layer.description, step, fraction);
+  cache_->releaseDropped();  // GPU volumes dropped by a worker's put die here, on the GL thread
+  const std::string key = stepKey(false, index, step, true, fraction);
+  if (auto cached = cache_->get<GridVolumeGL>(key)) {
+    layer.volume = std::const_pointer_cast<GridVolumeGL>(cached);
+  } else {
+    Result<std::unique_ptr<GridVolumeGL>> gl = makeError("");
+    if (fraction == 0.0) {
+      // Prepared ahead by a ScenePrefetcher (only the upload is left), else read and prepared now.
+      auto prepared = gridStepPrepared(index, step);
+      if (!prepared) return prepared.forwardError();
+      gl = GridVolumeGL::create(std::move(*prepared));
+    } else {
+      auto grid = gridStepData(index, step);
+      if (!grid) return grid.forwardError();
+      auto next = gridStepData(index, step + 1);
+      if (!next) return next.forwardError();
+      auto blended = volume::interpolateGridSteps(**grid, **next, fraction);
+      if (!blended) return blended.forwardError();
+      gl = GridVolumeGL::create(*blended);
+    }
+    if (!gl) return gl.forwardError();
+    layer.volume = std::move(*gl);
+    // A whole step's CPU data now live in its GPU volume's twin (interpolation keeps both ends).
+    if (fraction == 0.0) cache_->erase(stepKey(false, index, step, false));
+    cache_->put(key, layer.volume, budgetBytes(*layer.volume));
+  }
+  layer.step = step;
+  layer.stepFraction = fraction;
+  cache_->releaseDropped();
+  return Ok{};
 }
 
+/// A grid read afresh with description `d` (the panel changed its variable, crop or the scene's
+/// exaggeration): every cached step of this layer is stale and dropped; the new one is cached.
 Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription& d, std::size_t step,
                                    double fraction) {
   GridLayerGL& layer = grids_[index];
@@ -351,9 +482,12 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription
   volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
+  cache_->erasePrefix(stepKeyPrefix(false, index));
   layer.volume = std::move(*gl);
   layer.step = step;
   layer.stepFraction = fraction;
+  cache_->put(stepKey(false, index, step, true, fraction), layer.volume, budgetBytes(*layer.volume));
+  cache_->releaseDropped();
   return Ok{};
 }
 
@@ -532,6 +666,10 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
   layer.step = step;
   if (!d.label.empty()) layer.siteMarker.label = d.label;
   layer.description = d;
+  // Every cached step of this layer holds the old field or crop: dropped; the new one cached.
+  cache_->erasePrefix(stepKeyPrefix(true, index));
+  cacheRadarStep(*cache_, layer, stepKey(true, index, step, true));
+  cache_->releaseDropped();
   return Ok{};
 }
 
@@ -572,6 +710,7 @@ Status SceneRendererGL::changeVerticalExaggeration(double factor) {
     return makeError("the scene has slices: its vertical exaggeration is fixed when they are sampled");
   const double previous = exaggeration_;
   exaggeration_ = factor;
+  cache_->erasePrefix("radar:");  // radar steps cached at the old exaggeration (reloadGrid drops grids')
   for (RadarLayerGL& layer : radars_) {
     auto gl = RadarVolumeGL::create(layer.volume->polar(), factor);  // from the CPU copy: no read
     if (!gl) {
@@ -580,7 +719,10 @@ Status SceneRendererGL::changeVerticalExaggeration(double factor) {
     }
     (*gl)->setBeamApproximation(layer.volume->beamApproximation());
     layer.volume = std::move(*gl);
+    const auto index = static_cast<std::size_t>(&layer - radars_.data());
+    cacheRadarStep(*cache_, layer, stepKey(true, index, layer.step, true));
   }
+  cache_->releaseDropped();
   for (std::size_t i = 0; i < grids_.size(); ++i) {
     if (auto st = reloadGrid(i, grids_[i].description, grids_[i].step, grids_[i].stepFraction); !st) return st;
   }

@@ -3,6 +3,7 @@
 #include <atmoglobe/volume/GridVolume.h>
 
 #include <algorithm>
+#include <cstdio>
 
 namespace atmoglobe::engine {
 
@@ -89,6 +90,141 @@ Result<std::string> showSceneTime(SceneRendererGL& renderer, const SceneTimeAxis
   }
   if (fraction > 0.0) return volume::interpolateIsoTime(axis.times[step], axis.times[step + 1], fraction);
   return axis.times[step];
+}
+
+std::string stallSummary(std::vector<double> stallMs, bool prefetch) {
+  if (stallMs.empty()) return "time steps: none shown";
+  std::sort(stallMs.begin(), stallMs.end());
+  const double median = stallMs.size() % 2 == 1 ? stallMs[stallMs.size() / 2]
+                                                : 0.5 * (stallMs[stallMs.size() / 2 - 1] + stallMs[stallMs.size() / 2]);
+  char line[160];
+  std::snprintf(line, sizeof line, "time steps: %zu changes, stall median %.1f ms, max %.1f ms (prefetch %s)",
+                stallMs.size(), median, stallMs.back(), prefetch ? "on" : "off");
+  return line;
+}
+
+std::string stepKeyPrefix(bool radar, std::size_t layer) {
+  std::string key = radar ? "radar:" : "grid:";
+  key += std::to_string(layer);
+  key += ':';
+  return key;
+}
+
+std::string stepKey(bool radar, std::size_t layer, std::size_t step, bool gpu, double fraction) {
+  std::string key = radar ? "radar:" : "grid:";
+  key += std::to_string(layer);
+  key += ':';
+  key += std::to_string(step);
+  if (fraction > 0.0) {
+    char f[32];
+    std::snprintf(f, sizeof f, "+%.6f", fraction);
+    key += f;
+  }
+  key += gpu ? ":gpu" : ":cpu";
+  return key;
+}
+
+ScenePrefetcher::ScenePrefetcher(const SceneRendererGL& renderer, const SceneTimeAxis& axis, std::size_t stepsAhead)
+    : exaggeration_(renderer.verticalExaggeration()), axis_(axis), ahead_(stepsAhead),
+      cache_(renderer.sharedStepCache()) {
+  for (const GridLayerGL& g : renderer.grids()) grids_.push_back({g.description});
+  for (const RadarLayerGL& r : renderer.radars()) radars_.push_back({r.description, r.loopFiles});
+  worker_ = std::thread([this] { run(); });
+}
+
+ScenePrefetcher::~ScenePrefetcher() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void ScenePrefetcher::request(std::size_t step) {
+  {
+    std::lock_guard lock(mutex_);
+    wanted_ = static_cast<long>(step);
+    ++generation_;
+  }
+  wake_.notify_all();
+}
+
+void ScenePrefetcher::waitIdle() {
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [this] { return done_ == generation_ || stop_; });
+}
+
+std::size_t ScenePrefetcher::stepsPrepared() const {
+  std::lock_guard lock(mutex_);
+  return prepared_;
+}
+
+void ScenePrefetcher::run() {
+  const std::size_t n = axis_.times.size();
+  std::uint64_t lastStepBytes = 0;  // bytes of the last step loaded: the estimate of the next
+  for (;;) {
+    long from = 0;
+    std::uint64_t generation = 0;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return stop_ || done_ != generation_; });
+      if (stop_) return;
+      from = wanted_;
+      generation = generation_;
+    }
+    auto superseded = [&] {
+      std::lock_guard lock(mutex_);
+      return stop_ || generation_ != generation;
+    };
+    bool full = false;
+    for (std::size_t d = 1; d <= ahead_ && d < n && !full && !superseded(); ++d) {
+      const std::size_t s = (static_cast<std::size_t>(from) + d) % n;
+      for (std::size_t g = 0; g < grids_.size() && g < axis_.gridSteps.size() && !full; ++g) {
+        const long own = axis_.gridSteps[g][s];
+        if (own < 0) continue;
+        const auto step = static_cast<std::size_t>(own);
+        if (cache_->contains(stepKey(false, g, step, true)) || cache_->contains(stepKey(false, g, step, false)))
+          continue;
+        // Twice the estimate: the GPU volume and its twin come on top when the step is shown.
+        if (!cache_->fitsBesidesInUse(2 * lastStepBytes)) {
+          full = true;
+          break;
+        }
+        auto grid = prepareGridStep(grids_[g].description, step, exaggeration_);
+        if (!grid || !GridVolumeGL::checkDrawable(*grid)) continue;  // the GL thread reads it again, says why
+        auto prepared = GridVolumeGL::prepare(*grid);                // texels, lookup tables, empty-space grid
+        lastStepBytes = prepared->bytes();
+        cache_->put(stepKey(false, g, step, false), std::move(prepared), lastStepBytes);
+        std::lock_guard lock(mutex_);
+        ++prepared_;
+      }
+      for (std::size_t r = 0; r < radars_.size() && r < axis_.radarSteps.size() && !full; ++r) {
+        const long own = axis_.radarSteps[r][s];
+        if (own < 0 || static_cast<std::size_t>(own) >= radars_[r].loopFiles.size()) continue;
+        const auto step = static_cast<std::size_t>(own);
+        if (cache_->contains(stepKey(true, r, step, true)) || cache_->contains(stepKey(true, r, step, false))) continue;
+        if (!cache_->fitsBesidesInUse(2 * lastStepBytes)) {
+          full = true;
+          break;
+        }
+        auto data = prepareRadarStep(radars_[r].description, radars_[r].loopFiles[step]);
+        if (!data || !RadarVolumeGL::checkDrawable(data->layout)) continue;    // the GL thread says why
+        data->prepared = RadarVolumeGL::prepare(data->layout, exaggeration_);  // layers, tables, empty-space grid
+        data->layout = volume::PolarVolume{};
+        auto shared = std::make_shared<const RadarStepData>(std::move(*data));
+        lastStepBytes = shared->prepared->bytes();
+        cache_->put(stepKey(true, r, step, false), std::move(shared), lastStepBytes);
+        std::lock_guard lock(mutex_);
+        ++prepared_;
+      }
+    }
+    {
+      std::lock_guard lock(mutex_);
+      if (generation_ == generation) done_ = generation;
+    }
+    idle_.notify_all();
+  }
 }
 
 }  // namespace atmoglobe::engine

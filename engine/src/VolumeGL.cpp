@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <utility>
 
 namespace atmoglobe::engine {
@@ -95,6 +98,35 @@ OccupancyGridGL& OccupancyGridGL::operator=(OccupancyGridGL&& other) noexcept {
     gpuBytes_ = other.gpuBytes_;
   }
   return *this;
+}
+
+std::size_t textureByteLimit() {
+  const char* text = std::getenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
+  if (!text || !*text) return 0;
+  char* end = nullptr;
+  const unsigned long long bytes = std::strtoull(text, &end, 10);
+  return end && *end == '\0' ? static_cast<std::size_t>(bytes) : 0;
+}
+
+void clearErrorsGL() {
+  for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i) {
+  }
+}
+
+bool outOfMemoryGL() {
+  bool oom = false;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    oom = oom || e == GL_OUT_OF_MEMORY;
+  }
+  return oom;
+}
+
+std::string megabytes(std::size_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1.0e6);
+  return text;
 }
 
 }  // namespace atmoglobe::engine

@@ -17,15 +17,44 @@
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace atmoglobe::engine {
 
 class GridVolumeGL final : public VolumeGL {
  public:
-  /// Uploads `grid` (copied: the volume keeps its CPU twin for the reference). Errors: an empty
-  /// grid, a texture larger than the GPU allows.
+  /// Uploads `grid` (copied: the volume keeps its CPU twin for the reference). A grid whose
+  /// texture the GPU cannot hold (GL_MAX_3D_TEXTURE_SIZE, GL_OUT_OF_MEMORY, or the limit
+  /// textureByteLimit() sets) is uploaded at half the resolution (volume::decimateGrid; up to
+  /// kMaxHalvings times) with a warning line on stderr. Errors: an empty grid, a grid too large
+  /// even then.
   static Result<std::unique_ptr<GridVolumeGL>> create(const volume::GridVolume& grid);
+  static constexpr int kMaxHalvings = 4;
+
+  /// What an upload needs, computed on the CPU (no GL call: a worker thread may make it,
+  /// engine::ScenePrefetcher): the grid's copy and sampler, the texels, lookup tables and
+  /// empty-space grid.
+  struct Prepared {
+    std::shared_ptr<const volume::GridVolume> grid;
+    std::shared_ptr<const volume::GridSampler> sampler;  ///< over *grid
+    glm::dvec3 origin{0.0};
+    glm::ivec3 textureSize{1};
+    int rowOffset = 0;
+    glm::vec2 lonRange{0.0f}, latRange{0.0f};
+    glm::ivec2 lookupSize{1};
+    std::vector<glm::vec2> texels;  ///< RG32F: value (or the missing mark), height
+    std::vector<float> lookup;      ///< R32F rows (rectilinear) or RG32F pairs (curvilinear)
+    volume::OccupancyGrid occupancy;
+    std::uint64_t bytes() const;  ///< what it holds (the memory budget)
+  };
+  /// A drawable grid (at least 2 x 2 x 2), else the error create() gives.
+  static Status checkDrawable(const volume::GridVolume& grid);
+  /// The CPU part of create (call checkDrawable first). Any thread.
+  static std::shared_ptr<const Prepared> prepare(const volume::GridVolume& grid);
+  /// The GL part (GL thread), with create's lower-resolution fallback.
+  static Result<std::unique_ptr<GridVolumeGL>> create(std::shared_ptr<const Prepared> prepared);
   ~GridVolumeGL() override;
 
   const volume::GridVolume& grid() const { return *grid_; }
@@ -41,8 +70,11 @@ class GridVolumeGL final : public VolumeGL {
 
  private:
   GridVolumeGL() = default;
+  /// One try at the prepared resolution; `tooLarge` says why when the GPU cannot hold it.
+  static Result<std::unique_ptr<GridVolumeGL>> upload(const std::shared_ptr<const Prepared>& prepared,
+                                                      const std::string& name, std::string* tooLarge);
   std::shared_ptr<const volume::GridVolume> grid_;
-  std::unique_ptr<volume::GridSampler> sampler_;
+  std::shared_ptr<const volume::GridSampler> sampler_;
   glm::dvec3 origin_{0.0};
   GLuint values_ = 0, heights_ = 0, lookup_ = 0;  ///< lookup_: 2-D; rectilinear: row 0 longitude, row 1 latitude
   glm::ivec3 textureSize_{1};                     ///< columns, rows, levels of values_/heights_

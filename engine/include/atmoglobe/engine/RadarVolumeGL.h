@@ -8,7 +8,9 @@
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace atmoglobe::engine {
 
@@ -27,7 +29,34 @@ enum class BeamApproximation {
 class RadarVolumeGL final : public VolumeGL {
  public:
   /// `exaggeration`: the scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none).
+  /// A volume whose values texture the GPU cannot hold (GL_MAX_TEXTURE_SIZE, GL_OUT_OF_MEMORY, or
+  /// the limit textureByteLimit() sets) is uploaded with every 2nd gate (volume::decimatePolar;
+  /// up to kMaxHalvings times) and a warning line on stderr.
   static Result<std::unique_ptr<RadarVolumeGL>> create(const volume::PolarVolume& volume, double exaggeration = 1.0);
+  static constexpr int kMaxHalvings = 4;
+
+  /// What an upload needs, computed on the CPU (no GL call: a worker thread may make it,
+  /// engine::ScenePrefetcher): the volume's copy, its samplers, the half-float layers, the
+  /// azimuth and elevation tables, the empty-space grid.
+  struct Prepared {
+    std::shared_ptr<const volume::PolarVolume> polar;
+    std::shared_ptr<const volume::PolarSampler> sampler;            ///< over *polar
+    std::shared_ptr<const volume::ExaggeratedSampler> exaggerated;  ///< over *sampler, when exaggeration != 1
+    double exaggeration = 1.0;
+    volume::LocalSphereBeam beamModel;
+    glm::ivec2 valuesSize{1};           ///< gates + 1, rays + 1
+    std::vector<std::uint32_t> layers;  ///< RG16F texels, sweep after sweep
+    std::vector<float> table;           ///< azimuth tables, then the elevation lookup
+    glm::vec2 elLookupRange{0.0f, 1.0f};
+    volume::OccupancyGrid occupancy;
+    std::uint64_t bytes() const;  ///< what it holds (the memory budget)
+  };
+  /// 1..kMaxSweeps sweeps, else the error create() gives.
+  static Status checkDrawable(const volume::PolarVolume& volume);
+  /// The CPU part of create (call checkDrawable first). Any thread.
+  static std::shared_ptr<const Prepared> prepare(const volume::PolarVolume& volume, double exaggeration = 1.0);
+  /// The GL part (GL thread), with create's lower-resolution fallback.
+  static Result<std::unique_ptr<RadarVolumeGL>> create(std::shared_ptr<const Prepared> prepared);
   ~RadarVolumeGL() override;
   RadarVolumeGL(const RadarVolumeGL&) = delete;
   RadarVolumeGL& operator=(const RadarVolumeGL&) = delete;
@@ -54,10 +83,12 @@ class RadarVolumeGL final : public VolumeGL {
 
  private:
   RadarVolumeGL() = default;
+  /// One try at the prepared resolution; null on GL_OUT_OF_MEMORY.
+  static std::unique_ptr<RadarVolumeGL> upload(const std::shared_ptr<const Prepared>& prepared);
   std::shared_ptr<const volume::PolarVolume> polar_;
-  std::unique_ptr<volume::PolarSampler> sampler_;  ///< over *polar_
+  std::shared_ptr<const volume::PolarSampler> sampler_;  ///< over *polar_
   double exaggeration_ = 1.0;
-  std::unique_ptr<volume::ExaggeratedSampler> exaggerated_;  ///< over *sampler_ when exaggeration_ != 1
+  std::shared_ptr<const volume::ExaggeratedSampler> exaggerated_;  ///< over *sampler_ when exaggeration_ != 1
   volume::LocalSphereBeam beamModel_;
   BeamApproximation beam_ = BeamApproximation::EffectiveEarthLocalSphere;
   GLuint values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer

@@ -140,6 +140,9 @@ struct SceneDescription {
   /// Input problems found before loading (a missing imagery directory): the layer is left out
   /// and the message kept here, "ORIGIN/KEY: file not found: PATH".
   std::vector<std::string> inputErrors;
+  /// Memory budget of time steps and loop volumes, MiB (JSON "memory_budget_mb", CLI
+  /// --memory-budget; 0: volume::defaultMemoryBudgetBytes(), a quarter of RAM). docs/memory.md.
+  double memoryBudgetMb = 0.0;
 };
 
 /// origins[index], or `fallback` when there is none.

@@ -16,6 +16,7 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/TileImageLoader.h>
+#include <atmoglobe/volume/StepCache.h>
 
 #include <cstdint>
 #include <memory>
@@ -47,7 +48,7 @@ struct SceneFrameStats {
 
 /// A radar loaded for rendering: its GPU volume, its options and its site marker.
 struct RadarLayerGL {
-  std::unique_ptr<RadarVolumeGL> volume;
+  std::shared_ptr<RadarVolumeGL> volume;  ///< shared with the step cache (memory budget)
   VolumeRenderOptions options;
   Marker siteMarker;
   std::string datumNote;              ///< which vertical datum / geoid undulation was used
@@ -70,7 +71,7 @@ struct RadarLayerGL {
 
 /// A forecast grid loaded for rendering: its GPU volume (with its CPU twin) and its options.
 struct GridLayerGL {
-  std::unique_ptr<GridVolumeGL> volume;
+  std::shared_ptr<GridVolumeGL> volume;  ///< shared with the step cache (memory budget)
   VolumeRenderOptions options;
   GridLayerDescription description;  ///< as added (its `time` is the step first loaded)
   std::size_t step = 0;              ///< time step shown (index on the file's axis)
@@ -109,6 +110,12 @@ class SceneRendererGL {
   /// Shows radar `index` (a loop) at its volume `step` (RadarLayerGL::loopFiles; only that
   /// volume is read), keeping its render options so frames compare.
   Status setRadarStep(std::size_t index, std::size_t step);
+  /// The memory budget of the layers' time steps and loop volumes (CPU data and GPU textures;
+  /// volume::StepCache, docs/memory.md): steps not shown are dropped least recently used beyond
+  /// it and read again when shown. Default: volume::defaultMemoryBudgetBytes().
+  void setMemoryBudget(std::uint64_t bytes) { cache_->setBudget(bytes); }
+  volume::StepCache& stepCache() { return *cache_; }
+  const std::shared_ptr<volume::StepCache>& sharedStepCache() const { return cache_; }
   /// Samples a slice (CAPPI or cross-section) of the volume it names and draws it on the globe
   /// (SliceRendererGL.h); returns a line for the user.
   Result<std::string> addSlice(const SliceLayerDescription& description);
@@ -186,6 +193,11 @@ class SceneRendererGL {
   std::vector<std::size_t> volumeOrder_;  ///< empty: radars then grids
   Status reloadRadar(std::size_t index, const RadarLayerDescription& description);
   Status reloadGrid(std::size_t index, const GridLayerDescription& description, std::size_t step, double fraction);
+  std::shared_ptr<volume::StepCache> cache_ = std::make_shared<volume::StepCache>();
+  /// Grid `index`'s step, CPU side: from its GPU volume's twin, the cache, or read (and cached).
+  Result<std::shared_ptr<const volume::GridVolume>> gridStepData(std::size_t index, std::size_t step);
+  /// Grid `index`'s step ready for upload: from the cache (a ScenePrefetcher's), or read and prepared now (and cached).
+  Result<std::shared_ptr<const GridVolumeGL::Prepared>> gridStepPrepared(std::size_t index, std::size_t step);
 };
 
 }  // namespace atmoglobe::engine

@@ -137,6 +137,16 @@ class VolumeGL {
   std::uint64_t uniformVersion_ = 0;
 };
 
+/// An artificial GPU memory limit for one volume texture (bytes), from the environment variable
+/// ATMOGLOBE_MAX_TEXTURE_BYTES (0: none): a texture larger than it is treated as
+/// GL_OUT_OF_MEMORY (tests of the lower-resolution fallback; llvmpipe does not run out).
+std::size_t textureByteLimit();
+/// Clears pending GL errors; then outOfMemoryGL() says whether GL_OUT_OF_MEMORY came since.
+void clearErrorsGL();
+bool outOfMemoryGL();
+/// "12.3 MB" (10^6 bytes), for messages.
+std::string megabytes(std::size_t bytes);
+
 /// GL texture with the given filter and clamp-to-edge wrapping (a helper for VolumeGL kinds).
 GLuint makeVolumeTextureGL(GLenum target, GLint filter = GL_NEAREST);
 

@@ -1,0 +1,120 @@
+// The memory budget's cache (volume/StepCache.h) and the lower-resolution copies of the GPU
+// fallback (volume/Decimate.h).
+#include "SyntheticGridVolume.h"
+
+#include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/StepCache.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+namespace {
+using namespace atmoglobe;
+
+std::shared_ptr<const int> value(int v) { return std::make_shared<const int>(v); }
+
+TEST(StepCache, DropsLeastRecentlyUsedToHoldTheBudget) {
+  volume::StepCache cache(100);
+  cache.put("a", value(1), 40);
+  cache.put("b", value(2), 40);
+  ASSERT_TRUE(cache.get<int>("a"));  // a is now more recent than b
+  cache.put("c", value(3), 40);      // 120 > 100: b, the least recently used, goes
+  EXPECT_TRUE(cache.contains("a"));
+  EXPECT_FALSE(cache.contains("b"));
+  EXPECT_TRUE(cache.contains("c"));
+  const auto s = cache.stats();
+  EXPECT_EQ(s.heldBytes, 80u);
+  EXPECT_LE(s.peakHeldBytes, 100u);
+  EXPECT_EQ(s.drops, 1u);
+  EXPECT_EQ(s.pendingBytes, 40u);  // dropped, not yet released
+  cache.releaseDropped();
+  EXPECT_EQ(cache.stats().pendingBytes, 0u);
+  EXPECT_EQ(*cache.get<int>("c"), 3);
+  EXPECT_FALSE(cache.get<int>("b"));
+}
+
+TEST(StepCache, ErasePrefixDropsOneLayersEntriesOnly) {
+  volume::StepCache cache(1000);
+  cache.put("grid:1:0:gpu", value(1), 10);
+  cache.put("grid:1:2:cpu", value(2), 20);
+  cache.put("grid:10:0:gpu", value(3), 40);  // another layer whose number starts with 1
+  cache.put("radar:1:0:gpu", value(4), 80);
+  cache.erasePrefix("grid:1:");
+  EXPECT_FALSE(cache.contains("grid:1:0:gpu"));
+  EXPECT_FALSE(cache.contains("grid:1:2:cpu"));
+  EXPECT_TRUE(cache.contains("grid:10:0:gpu"));
+  EXPECT_TRUE(cache.contains("radar:1:0:gpu"));
+  EXPECT_EQ(cache.stats().heldBytes, 120u);
+  EXPECT_EQ(cache.stats().pendingBytes, 30u);
+  cache.releaseDropped();
+  EXPECT_EQ(cache.stats().pendingBytes, 0u);
+}
+
+TEST(StepCache, EntriesInUseStayAndCount) {
+  volume::StepCache cache(100);
+  auto shown = value(7);
+  cache.put("shown", shown, 90);  // held outside too: in use
+  cache.put("next", value(8), 30);
+  // 120 > 100 and "shown" cannot go: "next" does, though it is the more recent.
+  EXPECT_TRUE(cache.contains("shown"));
+  EXPECT_FALSE(cache.contains("next"));
+  EXPECT_EQ(cache.stats().inUseBytes, 90u);
+  EXPECT_FALSE(cache.fitsBesidesInUse(20));
+  EXPECT_TRUE(cache.fitsBesidesInUse(10));
+  shown.reset();  // no longer shown: the next put may drop it
+  cache.put("other", value(9), 30);
+  EXPECT_FALSE(cache.contains("shown"));
+  EXPECT_LE(cache.stats().heldBytes, 100u);
+}
+
+TEST(StepCache, BudgetChangeAndReplacement) {
+  volume::StepCache cache(1000);
+  for (int k = 0; k < 10; ++k) cache.put(std::string("k").append(std::to_string(k)), value(k), 100);
+  EXPECT_EQ(cache.stats().heldBytes, 1000u);
+  cache.setBudget(250);  // the two most recent stay
+  EXPECT_EQ(cache.stats().entries, 2u);
+  EXPECT_TRUE(cache.contains("k9"));
+  EXPECT_TRUE(cache.contains("k8"));
+  cache.put("k9", value(99), 50);  // replaced, not added
+  EXPECT_EQ(cache.stats().heldBytes, 150u);
+  EXPECT_EQ(*cache.get<int>("k9"), 99);
+  cache.erase("k8");
+  EXPECT_EQ(cache.stats().heldBytes, 50u);
+}
+
+TEST(StepCache, DefaultBudgetIsAQuarterOfMemory) {
+  const std::uint64_t ram = volume::physicalMemoryBytes();
+  ASSERT_GT(ram, 0u);
+  EXPECT_EQ(volume::defaultMemoryBudgetBytes(), ram / 4);
+  EXPECT_GT(volume::peakResidentBytes(), 0u);
+  EXPECT_GT(volume::currentResidentBytes(), 0u);
+}
+
+TEST(Decimate, GridKeepsEveryOtherColumnAndRowAndTheEdges) {
+  auto g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(-100.0, 0.5, 11), testutil::evenlySpaced(30.0, 0.5, 8), {0.0, 1000.0, 2000.0},
+      [](double, double) { return 100.0; }, [](double lat, double lon, double h) { return lat * 1000 + lon + h; });
+  const volume::GridVolume d = volume::decimateGrid(g, 2);
+  EXPECT_EQ(d.nx, 6u);  // 0, 2, 4, 6, 8, 10
+  EXPECT_EQ(d.ny, 5u);  // 0, 2, 4, 6 and the last row, 7
+  EXPECT_EQ(d.nz, 3u);
+  EXPECT_EQ(d.lonDeg.back(), g.lonDeg.back());
+  EXPECT_EQ(d.latDeg.back(), g.latDeg.back());
+  EXPECT_EQ(d.value(1, 1, 1), g.value(1, 2, 2));
+  EXPECT_EQ(d.value(2, 4, 5), g.value(2, 7, 10));
+  EXPECT_EQ(d.heightMeters(2, 4, 5), g.heightMeters(2, 7, 10));
+  EXPECT_EQ(d.valueMax, g.valueMax);  // the largest value sits at a kept corner
+  // A global grid whose column count halves evenly keeps wrapping.
+  auto global = testutil::rectilinearGrid(
+      testutil::evenlySpaced(0.0, 30.0, 12), testutil::evenlySpaced(-60.0, 30.0, 5), {0.0, 1000.0},
+      [](double, double) { return 0.0; }, [](double, double lon, double) { return lon; });
+  global.wrapsLongitude = true;
+  const volume::GridVolume gd = volume::decimateGrid(global, 2);
+  EXPECT_EQ(gd.nx, 6u);
+  EXPECT_TRUE(gd.wrapsLongitude);
+  EXPECT_EQ(gd.lonDeg[1], 60.0);
+}
+
+}  // namespace

@@ -1,0 +1,22 @@
+#pragma once
+// Lower-resolution copies of volumes, for drawing when the full one does not fit the GPU
+// (engine: GridVolumeGL / RadarVolumeGL fall back to them with a warning). Every `factor`-th
+// sample is kept (no averaging: values stay values the file holds), so the copy samples like the
+// original at its kept points. GL-free.
+#include <atmoglobe/volume/GridVolume.h>
+#include <atmoglobe/volume/PolarVolume.h>
+
+#include <cstddef>
+
+namespace atmoglobe::volume {
+
+/// Every `factor`-th column and row (the last ones kept, so the grid covers the same region) and,
+/// when `levels` is true, every `factor`-th level (the top kept). A wrapping global grid stays
+/// wrapping only when its kept columns stay evenly spaced across the seam. factor >= 2.
+GridVolume decimateGrid(const GridVolume& grid, std::size_t factor, bool levels = false);
+
+/// Every `factor`-th gate of every sweep (gate spacing times factor, the first gate kept), and,
+/// when `rays` is true, every `factor`-th ray. Value range recomputed. factor >= 2.
+PolarVolume decimatePolar(const PolarVolume& volume, int factor, bool rays = false);
+
+}  // namespace atmoglobe::volume

@@ -1,0 +1,114 @@
+// Lower-resolution copies of volumes (Decimate.h).
+#include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/RadarVolume.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace atmoglobe::volume {
+namespace {
+
+// Indices 0, f, 2f, ... of n, with n - 1 added unless `periodic` (then n % f == 0 is required by
+// the caller, so the kept samples stay evenly spaced across the seam).
+std::vector<std::size_t> keptIndices(std::size_t n, std::size_t f, bool periodic) {
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < n; i += f) kept.push_back(i);
+  if (!periodic && kept.back() != n - 1) kept.push_back(n - 1);
+  return kept;
+}
+
+}  // namespace
+
+GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
+  factor = std::max<std::size_t>(factor, 2);
+  const bool periodic = g.wrapsLongitude && !g.curvilinear && g.nx % factor == 0;
+  const std::vector<std::size_t> cols = keptIndices(g.nx, factor, periodic);
+  const std::vector<std::size_t> rows = keptIndices(g.ny, factor, false);
+  std::vector<std::size_t> lev;
+  if (levels) {
+    lev = keptIndices(g.nz, factor, false);
+  } else {
+    for (std::size_t k = 0; k < g.nz; ++k) lev.push_back(k);
+  }
+  GridVolume out = g;
+  out.nx = cols.size();
+  out.ny = rows.size();
+  out.nz = lev.size();
+  out.wrapsLongitude = periodic;
+  out.fileColumnStep = g.fileColumnStep * static_cast<int>(factor);
+  out.fileRowStep = g.fileRowStep * static_cast<int>(factor);
+  if (levels) out.fileLevelStep = g.fileLevelStep * static_cast<int>(factor);
+  if (g.curvilinear) {
+    out.lonDeg.clear();
+    out.latDeg.clear();
+    for (std::size_t j : rows)
+      for (std::size_t i : cols) {
+        out.lonDeg.push_back(g.lonDeg[j * g.nx + i]);
+        out.latDeg.push_back(g.latDeg[j * g.nx + i]);
+      }
+  } else {
+    out.lonDeg.clear();
+    out.latDeg.clear();
+    for (std::size_t i : cols) out.lonDeg.push_back(g.lonDeg[i]);
+    for (std::size_t j : rows) out.latDeg.push_back(g.latDeg[j]);
+  }
+  if (!g.levelValues.empty() && levels) {
+    out.levelValues.clear();
+    for (std::size_t k : lev) out.levelValues.push_back(g.levelValues[k]);
+  }
+  out.values.assign(out.nx * out.ny * out.nz, 0.0f);
+  out.heightAboveEllipsoidMeters.assign(out.values.size(), 0.0f);
+  out.valueMin = out.valueMax = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < lev.size(); ++k)
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      for (std::size_t i = 0; i < cols.size(); ++i) {
+        const float v = g.value(lev[k], rows[j], cols[i]);
+        out.values[out.index(k, j, i)] = v;
+        out.heightAboveEllipsoidMeters[out.index(k, j, i)] = g.heightMeters(lev[k], rows[j], cols[i]);
+        if (std::isfinite(v)) {
+          if (!(out.valueMin <= v)) out.valueMin = v;
+          if (!(out.valueMax >= v)) out.valueMax = v;
+        }
+      }
+  return out;
+}
+
+PolarVolume decimatePolar(const PolarVolume& v, int factor, bool rays) {
+  factor = std::max(factor, 2);
+  PolarVolume out = v;
+  const int rayStep = rays ? factor : 1;
+  out.maxGates = (v.maxGates + factor - 1) / factor;
+  out.maxRays = (v.maxRays + rayStep - 1) / rayStep;
+  out.values.assign(v.sweeps.size() * static_cast<std::size_t>(out.maxRays) * static_cast<std::size_t>(out.maxGates),
+                    std::numeric_limits<float>::quiet_NaN());
+  out.minValue = std::numeric_limits<float>::max();
+  out.maxValue = std::numeric_limits<float>::lowest();
+  double maxRange = 0.0;
+  for (std::size_t k = 0; k < v.sweeps.size(); ++k) {
+    const PolarSweepLayout& s = v.sweeps[k];
+    PolarSweepLayout& o = out.sweeps[k];
+    o.gateCount = (s.gateCount + factor - 1) / factor;
+    o.gateSpacingMeters = s.gateSpacingMeters * factor;
+    o.rayCount = (s.rayCount + rayStep - 1) / rayStep;
+    o.azimuthDeg.clear();
+    for (int r = 0; r < s.rayCount; r += rayStep) o.azimuthDeg.push_back(s.azimuthDeg[static_cast<std::size_t>(r)]);
+    maxRange = std::max(maxRange, o.firstGateRangeMeters + (o.gateCount - 0.5) * o.gateSpacingMeters);
+    for (int r = 0; r < o.rayCount; ++r)
+      for (int gate = 0; gate < o.gateCount; ++gate) {
+        const float value = v.value(static_cast<int>(k), r * rayStep, gate * factor);
+        out.values[(k * static_cast<std::size_t>(out.maxRays) + static_cast<std::size_t>(r)) * out.maxGates +
+                   static_cast<std::size_t>(gate)] = value;
+        if (isMeasuredValue(value)) {
+          out.minValue = std::min(out.minValue, value);
+          out.maxValue = std::max(out.maxValue, value);
+        }
+      }
+  }
+  // The clipping sphere grows with the range where the kept gates' half-widths reach further.
+  if (maxRange > v.maxRangeMeters && v.maxRangeMeters > 0.0) out.clipRadiusMeters *= maxRange / v.maxRangeMeters;
+  out.maxRangeMeters = std::max(maxRange, v.maxRangeMeters);
+  if (out.minValue > out.maxValue) out.minValue = out.maxValue = 0.0f;
+  return out;
+}
+
+}  // namespace atmoglobe::volume
