@@ -340,6 +340,16 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));
+  } else if (options.loadValues) {
+    // Values asked for and nothing to decode: say so, naming any (time, range) variable of a
+    // non-numeric type (a wrong type, e.g. char), rather than return a volume without values.
+    std::string wrongType;
+    for (const NcVar& v : f.variables(root))
+      if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim)
+        wrongType += (wrongType.empty() ? "" : ", ") + v.name.substr(v.name.rfind('/') + 1);
+    return makeError(
+        f.message("no numeric (time, range) field to read" +
+                  (wrongType.empty() ? std::string() : std::string(" (not numeric: ").append(wrongType).append(")"))));
   }
 
   // Rays outside every sweep's index range (antenna transitions between sweeps) are not read.
