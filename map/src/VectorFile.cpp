@@ -1,5 +1,6 @@
 #include <atmoglobe/map/VectorFile.h>
 
+#include <cpl_error.h>
 #include <gdal.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
@@ -22,6 +23,22 @@ struct SrsDeleter {
 };
 struct TransformDeleter {
   void operator()(void* t) const { OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(t)); }
+};
+
+// GDAL's errors while the layers are read: kept (the first failure), not printed to stderr.
+struct GdalErrors {
+  std::string firstFailure;
+  static void CPL_STDCALL handler(CPLErr type, CPLErrorNum, const char* message) {
+    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
+    if (self && type >= CE_Failure && self->firstFailure.empty())
+      self->firstFailure = message ? message : "(no message)";
+  }
+};
+struct ErrorHandlerScope {
+  explicit ErrorHandlerScope(GdalErrors* e) { CPLPushErrorHandlerEx(GdalErrors::handler, e); }
+  ~ErrorHandlerScope() { CPLPopErrorHandler(); }
+  ErrorHandlerScope(const ErrorHandlerScope&) = delete;
+  ErrorHandlerScope& operator=(const ErrorHandlerScope&) = delete;
 };
 
 // Appends the lines of `g` (line strings, polygon rings; recursing into collections).
@@ -113,6 +130,10 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   std::unique_ptr<void, SrsDeleter> wgs84(OSRNewSpatialReference(nullptr));
   OSRImportFromEPSG(static_cast<OGRSpatialReferenceH>(wgs84.get()), 4326);
   OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(wgs84.get()), OAMS_TRADITIONAL_GIS_ORDER);
+  // A feature GDAL cannot read (a truncated or corrupt file) ends or skips the layer with an error
+  // that GDAL would print: it is kept and the file refused instead of read in part.
+  GdalErrors gdalErrors;
+  ErrorHandlerScope quiet(&gdalErrors);
   for (int l = 0; l < layers; ++l) {
     OGRLayerH layer = GDALDatasetGetLayer(ds.get(), l);
     OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
@@ -139,7 +160,12 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
           collect(OGR_F_GetGeometryRef(f), static_cast<OGRCoordinateTransformationH>(transform.get()), path, out);
       OGR_F_Destroy(f);
       if (!st) return st.forwardError();
+      if (!gdalErrors.firstFailure.empty()) break;
     }
+    if (!gdalErrors.firstFailure.empty())
+      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": GDAL could not read feature " +
+                       std::to_string(out.features + 1) +
+                       " (the file is corrupt or truncated): " + gdalErrors.firstFailure);
   }
   if (out.lines.empty())
     return makeError(path + ": no line or polygon in " + std::to_string(out.features) + " features (" +
