@@ -97,6 +97,7 @@ void expectRefused(Tally& t, const std::string& what, const std::string& path, c
   const BoundedOutcome o = runCase(t, what, path, bytes.size());
   ASSERT_EQ(o.kind, BoundedOutcome::Kind::Error)
       << t.format << " " << what << " was " << atmoglobe_test::toString(o.kind) << ": " << o.message;
+  std::printf("[ refused  ] %s, %s: %s\n", t.format.c_str(), what.c_str(), o.message.c_str());
   for (const char* f : fragments)
     EXPECT_NE(o.message.find(f), std::string::npos)
         << t.format << " " << what << ": no '" << f << "' in: " << o.message;
@@ -272,7 +273,9 @@ TEST(CorruptInput, OverlayShapefileEveryCase) {
     put32be(x, 24, 0x7fffffffu);
     put32le(d, 4, 0x7fffffffu);
     const std::string path = variant("huge", s, x, d);
-    runCase(t, "headers claiming 2^31 records and 4 GB", path, s.size() + x.size() + d.size());
+    const auto o = runCase(t, "headers claiming 2^31 records and 4 GB", path, s.size() + x.size() + d.size());
+    std::printf("[ outcome  ] %s, huge headers: %s %s\n", t.format.c_str(), atmoglobe_test::toString(o.kind),
+                o.message.c_str());
   }
   {  // NaN and beyond-90 coordinates (the first point of the first record: after the file header
      // (100), the record header (8), type, bounding box, part and point counts (44) and the one
@@ -284,6 +287,7 @@ TEST(CorruptInput, OverlayShapefileEveryCase) {
       const std::string path = variant(stem, s, shx, dbf);
       const auto o = runCase(t, stem, path, s.size());
       EXPECT_EQ(o.kind, BoundedOutcome::Kind::Error) << stem << ": " << o.message;
+      std::printf("[ refused  ] %s, %s: %s\n", t.format.c_str(), stem.c_str(), o.message.c_str());
     }
   }
   {  // A .shp without its .shx and .dbf.

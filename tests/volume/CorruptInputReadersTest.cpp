@@ -153,6 +153,7 @@ void expectRefused(Tally& t, const std::string& what, const std::string& label, 
   const BoundedOutcome o = runCase(t, what, label, bytes.size(), [&] { return read(bytes, label); });
   ASSERT_EQ(o.kind, BoundedOutcome::Kind::Error)
       << t.format << " " << what << " was " << toString(o.kind) << ": " << o.message;
+  std::printf("[ refused  ] %s, %s: %s\n", t.format.c_str(), what.c_str(), o.message.c_str());
   for (const char* f : fragments)
     EXPECT_NE(o.message.find(f), std::string::npos)
         << t.format << " " << what << ": no '" << f << "' in: " << o.message;
