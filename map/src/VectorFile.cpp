@@ -34,6 +34,11 @@ struct GdalErrors {
       self->firstFailure = message ? message : "(no message)";
   }
 };
+bool mentionsCrs(const std::string& message) {
+  for (const char* key : {"proj_create", "CRS", "crs", "SRS", "coordinate system"})
+    if (message.find(key) != std::string::npos) return true;
+  return false;
+}
 struct ErrorHandlerScope {
   explicit ErrorHandlerScope(GdalErrors* e) { CPLPushErrorHandlerEx(GdalErrors::handler, e); }
   ~ErrorHandlerScope() { CPLPopErrorHandler(); }
@@ -116,14 +121,21 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });
   if (!std::filesystem::exists(path)) return makeError(path + ": no such file");
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  std::unique_ptr<void, DatasetCloser> ds(
-      GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
-  std::string gdalMessage = CPLGetLastErrorMsg();
-  CPLPopErrorHandler();
+  GdalErrors openErrors;
+  std::unique_ptr<void, DatasetCloser> ds;
+  {
+    ErrorHandlerScope quietOpen(&openErrors);
+    ds.reset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+  }
+  const std::string& gdalMessage = openErrors.firstFailure;
   if (!ds)
     return makeError(path + ": not a vector file GDAL/OGR can read (GeoJSON, shapefile, KML/KMZ, GeoPackage, ...)" +
                      (gdalMessage.empty() ? std::string() : ": " + gdalMessage));
+  // A CRS that PROJ cannot resolve (an unknown EPSG code): GeoJSON's driver then falls back to
+  // WGS 84 and the coordinates would be taken as longitude/latitude whatever they are.
+  if (mentionsCrs(gdalMessage))
+    return makeError(path + ": its CRS cannot be read (GDAL: " + gdalMessage +
+                     "); the coordinates would be taken as WGS 84 longitude/latitude");
   const int layers = GDALDatasetGetLayerCount(ds.get());
   if (layers <= 0) return makeError(path + ": no vector layer in the file");
   VectorFileContents out;
@@ -137,6 +149,9 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   for (int l = 0; l < layers; ++l) {
     OGRLayerH layer = GDALDatasetGetLayer(ds.get(), l);
     OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+    if (mentionsCrs(gdalErrors.firstFailure))
+      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": its CRS cannot be read (GDAL: " +
+                       gdalErrors.firstFailure + "); the coordinates would be taken as WGS 84 longitude/latitude");
     std::unique_ptr<void, TransformDeleter> transform;
     if (srs) {
       out.layerCrs.push_back(OSRGetName(srs) ? OSRGetName(srs) : "(unnamed)");
