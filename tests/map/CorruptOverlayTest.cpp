@@ -147,10 +147,10 @@ std::string kmlLine(const std::string& coordinates) {
          coordinates + "</coordinates></LineString></Placemark></Document></kml>\n";
 }
 
-/// A shapefile (3 files) of two line strings, written through OGR.
-void writeShapefile(const std::string& shp) {
+/// Two line strings written through OGR's `driver` (a shapefile: 3 files).
+void writeOgr(const std::string& shp, const char* driver = "ESRI Shapefile") {
   GDALAllRegister();
-  GDALDriverH drv = GDALGetDriverByName("ESRI Shapefile");
+  GDALDriverH drv = GDALGetDriverByName(driver);
   ASSERT_NE(drv, nullptr);
   GDALDatasetH ds = GDALCreate(drv, shp.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
   ASSERT_NE(ds, nullptr);
@@ -241,7 +241,7 @@ TEST(CorruptInput, OverlayShapefileEveryCase) {
   Tally t{"overlay shapefile"};
   const std::string dir = atmoglobe_test::freshTestDir("corrupt_overlay_shp");
   const std::string good = dir + "/good.shp";
-  writeShapefile(good);
+  writeOgr(good);
   ASSERT_FALSE(readOverlay(good)) << *readOverlay(good);
   const Bytes shp = readAll(good), shx = readAll(dir + "/good.shx"), dbf = readAll(dir + "/good.dbf");
   ASSERT_GT(shp.size(), 100u);
@@ -299,5 +299,25 @@ TEST(CorruptInput, OverlayShapefileEveryCase) {
     const auto o = runCase(t, ".shp without .shx and .dbf", path, shp.size());
     std::printf("[ outcome  ] %s, %s: %s %s\n", t.format.c_str(), ".shp without .shx and .dbf",
                 atmoglobe_test::toString(o.kind), o.message.c_str());
+  }
+}
+
+TEST(CorruptInput, OverlayGeoPackageEveryCase) {
+  Tally t{"overlay GeoPackage"};
+  const std::string dir = atmoglobe_test::freshTestDir("corrupt_overlay_gpkg");
+  const std::string good = dir + "/good.gpkg";
+  writeOgr(good, "GPKG");
+  ASSERT_FALSE(readOverlay(good)) << *readOverlay(good);
+  const Bytes whole = readAll(good);
+  ASSERT_GT(whole.size(), 1000u);
+  mutations(t, dir, "gpkg", ".gpkg", whole, 24u);
+  {  // The SQLite header's page count (big-endian, byte 28) claiming 2^31 - 1 pages (8 TB at 4 kB).
+    Bytes b = whole;
+    put32be(b, 28, 0x7fffffffu);
+    const std::string path = dir + "/huge.gpkg";
+    writeAll(path, b);
+    const auto o = runCase(t, "page count claiming 8 TB", path, b.size());
+    std::printf("[ outcome  ] %s, huge page count: %s %s\n", t.format.c_str(), atmoglobe_test::toString(o.kind),
+                o.message.c_str());
   }
 }
