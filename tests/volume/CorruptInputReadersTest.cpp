@@ -23,6 +23,7 @@
 #include <atmoglobe/volume/SigmetReader.h>
 #include <atmoglobe/volume/StationList.h>
 
+#include <bzlib.h>
 #include <gtest/gtest.h>
 #include <netcdf.h>
 #include <zlib.h>
@@ -116,9 +117,11 @@ struct Tally {
 };
 
 /// Runs one case bounded; checks no crash, hang or over-cap memory, and that an error names `label`.
+/// `extraCapBytes`: a reader's own stated working limit beyond what the input holds (NEXRAD's
+/// per-record bzip2 limit), added to the cap where a case reaches it.
 BoundedOutcome runCase(Tally& t, const std::string& what, const std::string& label, std::size_t inputBytes,
-                       const std::function<std::optional<std::string>()>& body) {
-  const std::size_t cap = memoryCapBytes(inputBytes);
+                       const std::function<std::optional<std::string>()>& body, std::size_t extraCapBytes = 0) {
+  const std::size_t cap = memoryCapBytes(inputBytes) + extraCapBytes;
   BoundedOutcome o = atmoglobe_test::runBounded(body, kCaseSeconds, cap);
   ++t.cases;
   t.maxGrowthKb = std::max(t.maxGrowthKb, o.rssGrowthKb);
@@ -442,6 +445,24 @@ Bytes nexrad(const NexradSpec& spec) {
   put32(size, 0, static_cast<std::uint32_t>(-static_cast<std::int32_t>(messages.size())));
   file.insert(file.end(), size.begin(), size.end());
   file.insert(file.end(), messages.begin(), messages.end());
+  return file;
+}
+
+/// The archive with its one record bzip2-compressed (the form of real archives: LDM records).
+Bytes nexradBzip2(const Bytes& plain) {
+  const Bytes record(plain.begin() + 28, plain.end());
+  unsigned n = static_cast<unsigned>(record.size() + record.size() / 100 + 600);
+  Bytes packed(n);
+  EXPECT_EQ(BZ2_bzBuffToBuffCompress(reinterpret_cast<char*>(packed.data()), &n,
+                                     const_cast<char*>(reinterpret_cast<const char*>(record.data())),
+                                     static_cast<unsigned>(record.size()), 9, 0, 0),
+            BZ_OK);
+  packed.resize(n);
+  Bytes file(plain.begin(), plain.begin() + 24);
+  Bytes size(4);
+  put32(size, 0, static_cast<std::uint32_t>(-static_cast<std::int32_t>(packed.size())));
+  file.insert(file.end(), size.begin(), size.end());
+  file.insert(file.end(), packed.begin(), packed.end());
   return file;
 }
 
@@ -784,6 +805,39 @@ TEST(CorruptInput, NexradEveryCase) {
     EXPECT_FALSE(layOut(v)) << *layOut(v);
   }
   mutations(t, "nexrad", whole, read, 31u);
+  {  // The same archive with a bzip2 record: reads the same; mutated, the stream must fail cleanly.
+    const Bytes packed = nexradBzip2(whole);
+    auto v = readNexradLevel2("good-bz2", packed, {});
+    ASSERT_TRUE(v) << v.error();
+    EXPECT_EQ(v->sweeps[1].values, readNexradLevel2("good", whole, {})->sweeps[1].values);
+    // A record inflates into a buffer of 1 MiB doubled up to the reader's 64 MiB limit per record
+    // (kNexradMaxRecordBytes): the cap adds that limit and the copy made while doubling.
+    const std::size_t recordLimit = 2 * kNexradMaxRecordBytes;
+    mutations(t, "nexrad-bz2", packed, read, 32u);
+    // A bzip2 bomb: a record of 100 MiB of zeros (a few hundred bytes compressed).
+    Bytes zeros(std::size_t{100} << 20, 0);
+    Bytes bomb(whole.begin(), whole.begin() + 28);
+    bomb.resize(24);
+    unsigned n = 1 << 20;
+    Bytes packedZeros(n);
+    ASSERT_EQ(
+        BZ2_bzBuffToBuffCompress(reinterpret_cast<char*>(packedZeros.data()), &n, reinterpret_cast<char*>(zeros.data()),
+                                 static_cast<unsigned>(zeros.size()), 9, 0, 0),
+        BZ_OK);
+    zeros = Bytes();
+    packedZeros.resize(n);
+    Bytes size(4);
+    put32(size, 0, static_cast<std::uint32_t>(-static_cast<std::int32_t>(packedZeros.size())));
+    bomb.insert(bomb.end(), size.begin(), size.end());
+    bomb.insert(bomb.end(), packedZeros.begin(), packedZeros.end());
+    const auto o = runCase(
+        t, "bzip2 record of 100 MiB of zeros", "nexrad-bomb", bomb.size(), [&] { return read(bomb, "nexrad-bomb"); },
+        recordLimit);
+    EXPECT_EQ(o.kind, BoundedOutcome::Kind::Error) << o.message;
+    EXPECT_NE(o.message.find("decompresses to more than 64 MiB"), std::string::npos) << o.message;
+    std::printf("[ refused  ] %s, bzip2 bomb (%zu bytes, 100 MiB inflated; RSS growth %ld kB): %s\n", t.format.c_str(),
+                bomb.size(), o.rssGrowthKb, o.message.c_str());
+  }
   auto variant = [&](const std::function<void(NexradSpec&)>& change) {
     NexradSpec s = good;
     change(s);
