@@ -466,6 +466,46 @@ Bytes nexradBzip2(const Bytes& plain) {
   return file;
 }
 
+/// A legacy archive (message 1 in 2432-byte frames after an ARCHIVE2 header; the site only as an
+/// ICAO id, positioned from a site list): two cuts of four radials, REF raw 2, 66, 130 (-32, 0,
+/// 32 dBZ) at 1 km gates from 500 m. The layout of tests/volume/NexradFormsTest.cpp.
+Bytes nexradLegacy(const std::string& icao, double secondCutDeg = 1.45) {
+  auto binaryAngle = [](double deg) { return static_cast<unsigned>(std::lround(deg * 65536.0 / 360.0)) & 0xFFFFu; };
+  Bytes file(24, 0);
+  std::memcpy(file.data(), "ARCHIVE2.001", 12);
+  put32(file, 12, 13390);
+  put32(file, 16, 36000000);
+  std::memcpy(&file[20], icao.data(), 4);
+  for (unsigned cut = 1; cut <= 2; ++cut)
+    for (unsigned i = 0; i < 4; ++i) {
+      Bytes f(2432, 0);
+      const std::size_t h = 12, b = 28;
+      const std::uint32_t ms = 36000000 + (cut * 4 + i) * 1000;
+      put16(f, h, (2432 - 12) / 2);
+      f[h + 3] = 1;
+      put16(f, b + 0, ms >> 16);
+      put16(f, b + 2, ms & 0xFFFF);
+      put16(f, b + 4, 13390);
+      put16(f, b + 8, binaryAngle(90.0 * i + 0.5));
+      put16(f, b + 10, i + 1);
+      put16(f, b + 12, i == 0 ? (cut == 1 ? 3u : 0u) : i == 3 ? (cut == 2 ? 4u : 2u) : 1u);
+      put16(f, b + 14, binaryAngle(cut == 1 ? 0.5 : secondCutDeg));
+      put16(f, b + 16, cut);
+      put16(f, b + 18, 500);
+      put16(f, b + 20, 250);
+      put16(f, b + 22, 1000);
+      put16(f, b + 24, 250);
+      put16(f, b + 26, 3);
+      put16(f, b + 36, 100);
+      f[b + 100] = 2, f[b + 101] = 66, f[b + 102] = 130;
+      put16(f, b + 42, 2);
+      put16(f, b + 44, 21);
+      put16(f, b + 60, 2650);
+      file.insert(file.end(), f.begin(), f.end());
+    }
+  return file;
+}
+
 // ============================================================================ Rainbow 5
 struct RainbowSlice {
   std::string posangle = "0.5";
@@ -1092,4 +1132,52 @@ TEST(CorruptInput, ImageTileEveryCase) {
   Bytes wide = png;
   put32(wide, 16, 1u << 20);  // 2^20 x 8: 32 MB of RGBA claimed, 300 bytes of data
   expectRefused(t, "2^20 x 8 pixels claimed", "tile-wide.png", wide, read, {});
+}
+
+TEST(CorruptInput, NexradLegacyEveryCase) {
+  Tally t{"NEXRAD Level II legacy (message 1)"};
+  const std::string dir = dirFor("nexrad_legacy");
+  const std::string sites = dir + "/sites.csv", badSites = dir + "/bad-sites.csv";
+  std::ofstream(sites) << "icao,lat,lon,elevation,tower\nKTLX,35.25,-97.5,370,20\n";
+  std::ofstream(badSites) << "icao,lat,lon,elevation,tower\nKTLX,95,-97.5,370,20\n";
+  ReadOptions withSites;
+  withSites.nexradSiteList = sites;
+  const Bytes whole = nexradLegacy("KTLX");
+  {
+    auto v = readNexradLevel2("good", whole, withSites);
+    ASSERT_TRUE(v) << v.error();
+    ASSERT_EQ(v->sweeps.size(), 2u);
+    EXPECT_FALSE(layOut(v)) << *layOut(v);
+  }
+  // A cut legacy file reads as an incomplete volume (its own tests: NexradLegacy.Incomplete*): it
+  // must then say so in a warning, unless the cut took only the zero padding of the last frame
+  // (all 8 radials read); otherwise the case fails (the message does not name the input).
+  const ReadFn read = [sites, size = whole.size()](const Bytes& b, const std::string& label) {
+    ReadOptions o, meta;
+    o.nexradSiteList = meta.nexradSiteList = sites;
+    meta.loadValues = false;
+    auto m = readNexradLevel2(label, b, meta);
+    auto v = readNexradLevel2(label, b, o);
+    std::size_t rays = 0;
+    if (v)
+      for (const Sweep& sw : v->sweeps) rays += sw.rayCount();
+    if (v && b.size() < size && v->warnings.empty() && rays < 8)
+      return std::optional<std::string>("cut file read without a warning");
+    return pick({layOut(v), m ? std::nullopt : std::optional(m.error())}, label);
+  };
+  mutations(t, "legacy", whole, read, 33u);
+  expectRefused(t, "site not in the site list", "legacy-kxyz", nexradLegacy("KXYZ"), read, {"KXYZ"});
+  expectRefused(t, "elevation 95", "legacy-el-95", nexradLegacy("KTLX", 95.0), read, {"elevation"});
+  {  // The site list giving latitude 95: the list is refused, naming it.
+    const Bytes b = whole;
+    const auto o = runCase(t, "site list with latitude 95", "legacy-badlist", b.size(), [&] {
+      ReadOptions o2;
+      o2.nexradSiteList = badSites;
+      auto v = readNexradLevel2("legacy-badlist", b, o2);
+      return v ? std::optional<std::string>() : std::optional(v.error());
+    });
+    EXPECT_EQ(o.kind, BoundedOutcome::Kind::Error) << o.message;
+    EXPECT_NE(o.message.find("bad-sites.csv"), std::string::npos) << o.message;
+    std::printf("[ refused  ] %s, site list with latitude 95: %s\n", t.format.c_str(), o.message.c_str());
+  }
 }
