@@ -42,7 +42,7 @@ struct BoundedOutcome {
   enum class Kind { Read, Error, Crashed, TimedOut, OverMemory };
   Kind kind = Kind::Crashed;
   std::string message;    ///< the reader's error (Error), else what happened
-  std::string backtrace;  ///< TimedOut: where the child was when the time ran out (backtrace_symbols)
+  std::string backtrace;  ///< TimedOut, Crashed: where the child was (backtrace_symbols)
   long rssGrowthKb = 0;   ///< peak resident set growth of the child during the case
   double seconds = 0.0;   ///< wall-clock time of the case
 };
@@ -68,8 +68,9 @@ inline std::size_t virtualBytes() {
 
 namespace detail {
 inline int backtraceFd = -1;
-/// SIGALRM in the child: writes where it was to the backtrace pipe, then dies of the signal.
-inline void onAlarm(int sig) {
+/// A fatal signal in the child (the alarm, or a crash): writes where it was to the backtrace
+/// pipe, then dies of the signal.
+inline void onFatalSignal(int sig) {
   void* frames[64];
   const int n = ::backtrace(frames, 64);
   ::backtrace_symbols_fd(frames, n, backtraceFd);
@@ -78,17 +79,22 @@ inline void onAlarm(int sig) {
 }
 }  // namespace detail
 
-/// Whether the innermost frames of a TimedOut backtrace (below the signal handler) are inside
-/// `library` (e.g. "libhdf5"): a hang in third-party code.
-inline bool hungInside(const BoundedOutcome& o, const std::string& library) {
-  // backtrace_symbols lines: onAlarm, the signal trampoline (libc), then the interrupted frame.
+/// Whether a TimedOut or Crashed case stopped inside `library` (e.g. "libhdf5"): the innermost
+/// frame of its backtrace that is not the signal handler (frame 0, in the test program), the C
+/// library (the signal trampoline, raise, abort) or a sanitizer runtime (which reports and aborts
+/// from its own handler) is in that library. Third-party hangs and crashes are told apart from
+/// ours this way.
+inline bool stoppedInside(const BoundedOutcome& o, const std::string& library) {
   std::size_t line = 0, pos = 0;
   while (pos < o.backtrace.size()) {
     const std::size_t end = std::min(o.backtrace.find('\n', pos), o.backtrace.size());
     const std::string frame = o.backtrace.substr(pos, end - pos);
-    if (line == 2) return frame.find(library) != std::string::npos;
-    ++line;
     pos = end + 1;
+    if (line++ == 0) continue;
+    if (frame.find("libc.so") != std::string::npos || frame.find("libasan") != std::string::npos ||
+        frame.find("libubsan") != std::string::npos || frame.find("linux-vdso") != std::string::npos)
+      continue;
+    return frame.find(library) != std::string::npos;
   }
   return false;
 }
@@ -112,7 +118,12 @@ inline BoundedOutcome runBounded(const std::function<std::optional<std::string>(
     detail::backtraceFd = bt[1];
     void* warm[1];
     ::backtrace(warm, 1);  // loads libgcc's unwinder now, not inside the signal handler
-    ::signal(SIGALRM, detail::onAlarm);
+    // Under AddressSanitizer its own SIGSEGV/SIGBUS handler reports and then aborts (SIGABRT);
+    // without it, the crash signals themselves are caught.
+    ::signal(SIGALRM, detail::onFatalSignal);
+    ::signal(SIGABRT, detail::onFatalSignal);
+    if (!kUnderAddressSanitizer)
+      for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) ::signal(sig, detail::onFatalSignal);
     if (!kUnderAddressSanitizer) {
       const rlim_t limit = static_cast<rlim_t>(virtualBytes() + capBytes);
       const rlimit rl{limit, limit};
