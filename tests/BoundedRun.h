@@ -79,21 +79,27 @@ inline void onFatalSignal(int sig) {
 }
 }  // namespace detail
 
-/// Whether a TimedOut or Crashed case stopped inside `library` (e.g. "libhdf5"): the innermost
-/// frame of its backtrace that is not the signal handler (frame 0, in the test program), the C
-/// library (the signal trampoline, raise, abort) or a sanitizer runtime (which reports and aborts
-/// from its own handler) is in that library. Third-party hangs and crashes are told apart from
-/// ours this way.
+/// Whether a TimedOut or Crashed case stopped inside `library` (e.g. "libhdf5"): in its backtrace,
+/// past the signal handler (the frames before the first C-library frame, the signal trampoline),
+/// the first frame that is not the C library (raise, abort, another trampoline) or a sanitizer
+/// runtime (which reports and aborts from its own handler, and wraps free) is in that library.
+/// Third-party hangs and crashes are told apart from ours this way.
 inline bool stoppedInside(const BoundedOutcome& o, const std::string& library) {
-  std::size_t line = 0, pos = 0;
+  auto runtime = [](const std::string& f) {
+    return f.find("libc.so") != std::string::npos || f.find("libasan") != std::string::npos ||
+           f.find("libubsan") != std::string::npos || f.find("linux-vdso") != std::string::npos;
+  };
+  bool pastHandler = false;
+  std::size_t pos = 0;
   while (pos < o.backtrace.size()) {
     const std::size_t end = std::min(o.backtrace.find('\n', pos), o.backtrace.size());
     const std::string frame = o.backtrace.substr(pos, end - pos);
     pos = end + 1;
-    if (line++ == 0) continue;
-    if (frame.find("libc.so") != std::string::npos || frame.find("libasan") != std::string::npos ||
-        frame.find("libubsan") != std::string::npos || frame.find("linux-vdso") != std::string::npos)
+    if (!pastHandler) {
+      pastHandler = frame.find("libc.so") != std::string::npos;
       continue;
+    }
+    if (runtime(frame)) continue;
     return frame.find(library) != std::string::npos;
   }
   return false;

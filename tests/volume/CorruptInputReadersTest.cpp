@@ -29,7 +29,9 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -1182,5 +1184,40 @@ TEST(CorruptInput, NexradLegacyEveryCase) {
     EXPECT_EQ(o.kind, BoundedOutcome::Kind::Error) << o.message;
     EXPECT_NE(o.message.find("bad-sites.csv"), std::string::npos) << o.message;
     std::printf("[ refused  ] %s, site list with latitude 95: %s\n", t.format.c_str(), o.message.c_str());
+  }
+}
+
+TEST(CorruptInput, BoundedRunReportsCrashesAndHangsOfOurOwnCode) {
+  // The harness itself: a crash and a hang in the test program are reported as such, with a
+  // backtrace, and are not mistaken for third-party ones (only libhdf5's are tolerated above).
+  const auto crash = atmoglobe_test::runBounded(
+      []() -> std::optional<std::string> {
+        std::raise(SIGSEGV);
+        return std::nullopt;
+      },
+      10, std::size_t{64} << 20);
+  EXPECT_EQ(crash.kind, BoundedOutcome::Kind::Crashed) << crash.message;
+  EXPECT_FALSE(crash.backtrace.empty());
+  EXPECT_FALSE(atmoglobe_test::stoppedInside(crash, "libhdf5")) << crash.backtrace;
+  const auto hang = atmoglobe_test::runBounded(
+      []() -> std::optional<std::string> {
+        static std::atomic<unsigned long> spins{0};
+        for (;;) spins.fetch_add(1, std::memory_order_relaxed);
+      },
+      1, std::size_t{64} << 20);
+  EXPECT_EQ(hang.kind, BoundedOutcome::Kind::TimedOut) << hang.message;
+  EXPECT_FALSE(atmoglobe_test::stoppedInside(hang, "libhdf5")) << hang.backtrace;
+  EXPECT_TRUE(atmoglobe_test::stoppedInside(hang, "atmoglobe_volume_tests")) << hang.backtrace;
+  // An allocation beyond the cap (outside ASan: RLIMIT_AS) or a peak RSS beyond it (under ASan).
+  const auto big = atmoglobe_test::runBounded(
+      []() -> std::optional<std::string> {
+        std::vector<char> v(std::size_t{256} << 20, 1);
+        return v[12345] == 1 ? std::nullopt : std::optional<std::string>("?");
+      },
+      10, std::size_t{64} << 20);
+  if (atmoglobe_test::kUnderAddressSanitizer) {
+    EXPECT_GT(big.rssGrowthKb, 64 * 1024) << "the peak RSS check would catch it";
+  } else {
+    EXPECT_EQ(big.kind, BoundedOutcome::Kind::OverMemory) << big.message;
   }
 }
