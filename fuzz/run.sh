@@ -13,7 +13,7 @@ build="$(cd "$1" && pwd)"; seconds="$2"; shift 2
 data="${ATMOGLOBE_TEST_DATA:-$(cd "$here/../.." && pwd)/shared/data}"
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(cfradial odim nexrad sigmet rainbow compression grid scene pal stations image pyramid)
+  targets=(cfradial odim nexrad sigmet rainbow compression grid scene pal stations image pyramid overlay)
 fi
 work="$build/fuzz-work"
 export LSAN_OPTIONS="suppressions=$here/../scripts/lsan-suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
@@ -41,6 +41,7 @@ for t in "${targets[@]}"; do
       sigmet) for f in "$data"/radar_sigmet/*; do seed sigmet "$f" 200000; done ;;
       rainbow) for f in "$data"/radar_rainbow/*.vol; do seed rainbow "$f"; done ;;
       stations) for f in "$data"/stations/*.json; do seed stations "$f"; done ;;
+      overlay) for f in "$data"/overlays/*.geojson "$data"/overlays/*.kml; do [ -f "$f" ] && [ "$(stat -c %s "$f")" -le 200000 ] && seed overlay "$f"; done ;;
     esac
   fi
   # Inputs up to the largest seed (libFuzzer's default truncates at 1 MiB, which breaks netCDF seeds).

@@ -1,5 +1,6 @@
 #include <atmoglobe/map/VectorFile.h>
 
+#include <cpl_error.h>
 #include <gdal.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
@@ -22,6 +23,27 @@ struct SrsDeleter {
 };
 struct TransformDeleter {
   void operator()(void* t) const { OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(t)); }
+};
+
+// GDAL's errors while the layers are read: kept (the first failure), not printed to stderr.
+struct GdalErrors {
+  std::string firstFailure;
+  static void CPL_STDCALL handler(CPLErr type, CPLErrorNum, const char* message) {
+    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
+    if (self && type >= CE_Failure && self->firstFailure.empty())
+      self->firstFailure = message ? message : "(no message)";
+  }
+};
+bool mentionsCrs(const std::string& message) {
+  for (const char* key : {"proj_create", "CRS", "crs", "SRS", "coordinate system"})
+    if (message.find(key) != std::string::npos) return true;
+  return false;
+}
+struct ErrorHandlerScope {
+  explicit ErrorHandlerScope(GdalErrors* e) { CPLPushErrorHandlerEx(GdalErrors::handler, e); }
+  ~ErrorHandlerScope() { CPLPopErrorHandler(); }
+  ErrorHandlerScope(const ErrorHandlerScope&) = delete;
+  ErrorHandlerScope& operator=(const ErrorHandlerScope&) = delete;
 };
 
 // Appends the lines of `g` (line strings, polygon rings; recursing into collections).
@@ -99,23 +121,37 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });
   if (!std::filesystem::exists(path)) return makeError(path + ": no such file");
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  std::unique_ptr<void, DatasetCloser> ds(
-      GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
-  std::string gdalMessage = CPLGetLastErrorMsg();
-  CPLPopErrorHandler();
+  GdalErrors openErrors;
+  std::unique_ptr<void, DatasetCloser> ds;
+  {
+    ErrorHandlerScope quietOpen(&openErrors);
+    ds.reset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+  }
+  const std::string& gdalMessage = openErrors.firstFailure;
   if (!ds)
     return makeError(path + ": not a vector file GDAL/OGR can read (GeoJSON, shapefile, KML/KMZ, GeoPackage, ...)" +
                      (gdalMessage.empty() ? std::string() : ": " + gdalMessage));
+  // A CRS that PROJ cannot resolve (an unknown EPSG code): GeoJSON's driver then falls back to
+  // WGS 84 and the coordinates would be taken as longitude/latitude whatever they are.
+  if (mentionsCrs(gdalMessage))
+    return makeError(path + ": its CRS cannot be read (GDAL: " + gdalMessage +
+                     "); the coordinates would be taken as WGS 84 longitude/latitude");
   const int layers = GDALDatasetGetLayerCount(ds.get());
   if (layers <= 0) return makeError(path + ": no vector layer in the file");
   VectorFileContents out;
   std::unique_ptr<void, SrsDeleter> wgs84(OSRNewSpatialReference(nullptr));
   OSRImportFromEPSG(static_cast<OGRSpatialReferenceH>(wgs84.get()), 4326);
   OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(wgs84.get()), OAMS_TRADITIONAL_GIS_ORDER);
+  // A feature GDAL cannot read (a truncated or corrupt file) ends or skips the layer with an error
+  // that GDAL would print: it is kept and the file refused instead of read in part.
+  GdalErrors gdalErrors;
+  ErrorHandlerScope quiet(&gdalErrors);
   for (int l = 0; l < layers; ++l) {
     OGRLayerH layer = GDALDatasetGetLayer(ds.get(), l);
     OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+    if (mentionsCrs(gdalErrors.firstFailure))
+      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": its CRS cannot be read (GDAL: " +
+                       gdalErrors.firstFailure + "); the coordinates would be taken as WGS 84 longitude/latitude");
     std::unique_ptr<void, TransformDeleter> transform;
     if (srs) {
       out.layerCrs.push_back(OSRGetName(srs) ? OSRGetName(srs) : "(unnamed)");
@@ -139,7 +175,12 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
           collect(OGR_F_GetGeometryRef(f), static_cast<OGRCoordinateTransformationH>(transform.get()), path, out);
       OGR_F_Destroy(f);
       if (!st) return st.forwardError();
+      if (!gdalErrors.firstFailure.empty()) break;
     }
+    if (!gdalErrors.firstFailure.empty())
+      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": GDAL could not read feature " +
+                       std::to_string(out.features + 1) +
+                       " (the file is corrupt or truncated): " + gdalErrors.firstFailure);
   }
   if (out.lines.empty())
     return makeError(path + ": no line or polygon in " + std::to_string(out.features) + " features (" +

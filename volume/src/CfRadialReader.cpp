@@ -49,7 +49,7 @@ Result<double> readSiteValue(const NetcdfFile& f, const std::string& name, int t
     return makeError(f.message("variable '" + name + "' must be a scalar or have the dimension 'time'"));
   }
   if (isFillOrNaN(x, fillValue(f, *v)))
-    return makeError(f.message("variable '" + name + "' holds no value (NaN or _FillValue)"));
+    return makeError(f.message("variable '" + name + "' holds no value (NaN, infinite or _FillValue)"));
   return x;
 }
 
@@ -156,7 +156,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
       return makeError(f.message("sweep " + std::to_string(s) + ": ray index range [" + std::to_string(a) + ", " +
                                  std::to_string(b) + "] is outside the " + std::to_string(*nTime) + " rays"));
     if (isFillOrNaN((*fixed)[s], fixedFill))
-      return makeError(f.message("sweep " + std::to_string(s) + ": fixed_angle is NaN or _FillValue"));
+      return makeError(f.message("sweep " + std::to_string(s) + ": fixed_angle is NaN, infinite or _FillValue"));
   }
 
   // --- per-ray angles ---
@@ -185,7 +185,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
   const auto rangeFill = fillValue(f, *rangeVar);
   for (std::size_t g = 0; g < range->size(); ++g) {
     if (isFillOrNaN((*range)[g], rangeFill))
-      return makeError(f.message("range of gate " + std::to_string(g) + " is NaN or _FillValue"));
+      return makeError(f.message("range of gate " + std::to_string(g) + " is NaN, infinite or _FillValue"));
   }
   double spacing = 0.0;
   if (range->size() > 1) {
@@ -276,7 +276,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     for (std::size_t r = a; r <= b; ++r) {
       if (isFillOrNaN((*az)[r], azFill) || isFillOrNaN((*el)[r], elFill))
         return makeError(f.message("ray " + std::to_string(r) + " (sweep " + std::to_string(s) +
-                                   ") has no azimuth/elevation (NaN or _FillValue)"));
+                                   ") has no azimuth/elevation (NaN, infinite or _FillValue)"));
       sw.azimuthDeg.push_back(static_cast<float>(normalizeAzimuthDeg((*az)[r])));
       sw.elevationDeg.push_back(static_cast<float>((*el)[r]));
       azMin = std::min(azMin, (*az)[r]);
@@ -340,6 +340,16 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     }
   } else if (!options.fieldName.empty()) {
     return makeError(f.message("no field '" + options.fieldName + "': the file holds no (time, range) fields"));
+  } else if (options.loadValues) {
+    // Values asked for and nothing to decode: say so, naming any (time, range) variable of a
+    // non-numeric type (a wrong type, e.g. char), rather than return a volume without values.
+    std::string wrongType;
+    for (const NcVar& v : f.variables(root))
+      if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim)
+        wrongType += (wrongType.empty() ? "" : ", ") + v.name.substr(v.name.rfind('/') + 1);
+    return makeError(
+        f.message("no numeric (time, range) field to read" +
+                  (wrongType.empty() ? std::string() : std::string(" (not numeric: ").append(wrongType).append(")"))));
   }
 
   // Rays outside every sweep's index range (antenna transitions between sweeps) are not read.

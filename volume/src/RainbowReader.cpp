@@ -307,6 +307,10 @@ Result<RadarVolume> Reader::read() {
     const bool ccw = toDouble(setting(s, "antdirection")).value_or(0.0) != 0.0;
     if (!posangle || !rangestep || *rangestep <= 0)
       return fail(where + ": no posangle or rangestep (nor in slice 0 or the pargroup)");
+    // posangle: the elevation of a PPI (azi, vol), the azimuth of an RHI (ele).
+    if (mode == SweepMode::Ppi ? std::abs(*posangle) > 90.0 : std::abs(*posangle) > 360.0)
+      return fail(where + ": posangle " + std::to_string(*posangle) + " is outside " +
+                  (mode == SweepMode::Ppi ? "[-90, 90] (a PPI elevation)" : "[-360, 360] (an RHI azimuth)"));
     const Node* startInfo = nullptr;
     const Node* stopInfo = nullptr;
     for (const Node* ri : sd->all("rayinfo")) {
@@ -375,6 +379,13 @@ Result<RadarVolume> Reader::read() {
     }
     sw.gateCount = bins;
     if (options_.loadValues) {
+      // Every gate takes at least one byte once inflated, and zlib inflates at most 1032:1: a slice
+      // claiming more gates than that from the whole file is refused before allocating for them.
+      const std::size_t gates = rays * std::size_t{bins}, canHold = b_.size() * 1032;
+      if (gates > canHold)
+        return fail(where + " claims " + std::to_string(gates) + " gates (" + std::to_string(rays) + " rays x " +
+                    std::to_string(bins) + " bins), more than a file of " + std::to_string(b_.size()) +
+                    " bytes can hold");
       sw.values.assign(rays * bins, kNoData);
       if (chosen) {
         const auto id = toDouble(chosen->attr("blobid")), depth = toDouble(chosen->attr("depth"));

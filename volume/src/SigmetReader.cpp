@@ -210,7 +210,9 @@ Result<RadarVolume> Reader::read() {
   const std::int32_t altitudeCm = s32(ih + 200);
   vol.site.antennaHeightMeters = altitudeCm != 0 ? altitudeCm / 100.0 : double(s16(ih + 188)) + double(s16(ih + 190));
   vol.site.heightDatum = HeightDatum::MeanSeaLevel;
-  if (std::abs(vol.site.latDeg) > 90.0) return fail("site latitude out of range");
+  if (std::abs(vol.site.latDeg) > 90.0)
+    return fail(
+        std::string("site latitude ").append(std::to_string(vol.site.latDeg)).append(" deg is outside [-90, 90]"));
   westMinutes_ = s16(ih + 178);
   vol.timeIso8601 = ymdsIso(ih + 100, westMinutes_);
 
