@@ -14,6 +14,7 @@ PKGS=(
   netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps
   fonts-dejavu-core libimgui-dev
   gmt-gshhg libgdal-dev
+  ccache   # the sanitized and fuzz builds of scripts/test-sanitized.sh (CI)
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
 )
 
