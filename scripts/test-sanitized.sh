@@ -3,6 +3,9 @@
 # then a short fuzz run of every fuzz target over its kept corpus (when clang is installed).
 # Called by test.sh when CI=true (or ATMOGLOBE_SANITIZED_TESTS=1); builds in build-sanitize/ and
 # build-fuzz/, beside the Release build/.
+# Build time: both builds go through ccache when it is installed (scripts/install-deps.sh installs
+# it), with CCACHE_BASEDIR at the checkout and the build directory left out of the hash, so a fresh
+# clone (CI) reuses the objects an earlier clone compiled; -j is the machine's core count (2 on CI).
 #
 # Sanitized build: GCC (the project's compiler, so the same warnings are errors), -O1 -g1 without
 # -DNDEBUG (asserts on), -fno-sanitize-recover=all (every ASan/UBSan report ends the test with a
@@ -20,10 +23,15 @@ seconds="${ATMOGLOBE_FUZZ_SECONDS:-10}"
 start=$SECONDS
 
 flags="-O1 -g1"
+launcher=()
+if command -v ccache >/dev/null 2>&1; then
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
+fi
 if [ ! -f build-sanitize/CMakeCache.txt ]; then
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags" \
-    -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON >/dev/null
+    -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON "${launcher[@]}" >/dev/null
 fi
 cmake --build build-sanitize -j "$(nproc)"
 echo "test-sanitized.sh: sanitized build done after $((SECONDS - start)) s"
@@ -38,9 +46,11 @@ if command -v clang++ >/dev/null 2>&1; then
   if [ ! -f build-fuzz/CMakeCache.txt ]; then
     cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
       "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags" \
-      -DATMOGLOBE_FUZZ=ON -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON -DATMOGLOBE_BUILD_TESTS=OFF >/dev/null
+      -DATMOGLOBE_FUZZ=ON -DATMOGLOBE_SANITIZE=ON -DATMOGLOBE_WERROR=ON -DATMOGLOBE_BUILD_TESTS=OFF \
+      "${launcher[@]}" >/dev/null
   fi
   cmake --build build-fuzz -j "$(nproc)" --target fuzz
+  echo "test-sanitized.sh: fuzz build done after $((SECONDS - start)) s"
   ASAN_OPTIONS=detect_leaks=1 fuzz/run.sh build-fuzz "$seconds"  # leaks checked here (see above)
   echo "test-sanitized.sh: fuzz run (${seconds} s per target) passed after $((SECONDS - start)) s"
 else

@@ -2,6 +2,7 @@
 //  [-o FILE.csv]`: one CSV row per gate with its WGS84 position, for users' own accuracy checks.
 #include "Commands.h"
 
+#include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/GateCsv.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -58,20 +59,18 @@ int runGates(const GatesOptions& o) {
             << "; field " << vol.loadedField.name
             << (vol.loadedField.units.empty() ? "" : " [" + vol.loadedField.units + "]") << "\n";
 
-  // Output: stdout, or a temporary file renamed into place once complete.
-  std::FILE* out = stdout;
-  std::string tmp;
+  // Output: stdout, or a file published whole once complete (globe/AtomicFile.h).
+  std::optional<globe::AtomicFileWriter> file;
   if (!o.output.empty() && o.output != "-") {
-    tmp = o.output + ".tmp" + std::to_string(::getpid());
-    out = std::fopen(tmp.c_str(), "wb");
-    if (!out) return fail(cmd, o.output + ": cannot create output file");
+    auto created = globe::AtomicFileWriter::create(o.output);
+    if (!created) return fail(cmd, created.error());
+    file.emplace(std::move(created.value()));
   }
-  auto abandon = [&](const std::string& message) {
-    if (out != stdout) {
-      std::fclose(out);
-      std::remove(tmp.c_str());
-    }
-    return fail(cmd, message);
+  // Writes a block to the file or stdout; the file's errors name it.
+  auto emit = [&](const std::string& block) -> Status {
+    if (file) return file->write(block);
+    if (std::fwrite(block.data(), 1, block.size(), stdout) != block.size()) return makeError("stdout: write error");
+    return Ok{};
   };
 
   std::string line;
@@ -97,27 +96,18 @@ int runGates(const GatesOptions& o) {
         const float* value = sw.values.empty() ? nullptr : &sw.values[i * sw.gateCount + g];
         volume::appendGateCsvRow(line, k, i, g, sw.azimuthDeg[i], sw.elevationDeg[i], range, p, value);
         if (line.size() > (1 << 16) - 512) {
-          if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) return abandon(o.output + ": write error");
+          if (Status s = emit(line); !s) return fail(cmd, s.error());
           line.clear();
         }
       }
     }
   }
-  if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) return abandon(o.output + ": write error");
-  if (out == stdout) {
-    std::fflush(out);
+  if (Status s = emit(line); !s) return fail(cmd, s.error());
+  if (!file) {
+    std::fflush(stdout);
     return 0;
   }
-  if (std::fclose(out) != 0) {
-    std::remove(tmp.c_str());
-    return fail(cmd, o.output + ": write error");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, o.output, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return fail(cmd, o.output + ": cannot rename the finished file into place: " + ec.message());
-  }
+  if (Status s = file->commit(); !s) return fail(cmd, s.error());
   return 0;
 }
 

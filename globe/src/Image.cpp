@@ -1,5 +1,7 @@
 #include "atmoglobe/globe/Image.h"
 
+#include "atmoglobe/globe/AtomicFile.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -104,31 +106,21 @@ void appendToVector(void* context, void* data, int size) {
 }
 }  // namespace
 
-Status writePng(const std::string& path, const ImageRGBA8& image) {
+Result<std::vector<std::uint8_t>> encodePng(const ImageRGBA8& image, const std::string& nameForErrors) {
   assert(image.width > 0 && image.height > 0 &&
          image.pixels.size() == static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4);
   std::vector<std::uint8_t> encoded;
   if (!stbi_write_png_to_func(appendToVector, &encoded, image.width, image.height, 4, image.pixels.data(),
                               image.width * 4)) {
-    return makeError(path + ": PNG encoding failed");
+    return makeError(nameForErrors + ": PNG encoding failed");
   }
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return makeError(tmp + ": cannot create (" + std::strerror(errno) + ")");
-  const bool written = std::fwrite(encoded.data(), 1, encoded.size(), f) == encoded.size();
-  int savedErrno = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!closed && written) savedErrno = errno;
-  if (!written || !closed) {
-    std::remove(tmp.c_str());
-    return makeError(tmp + ": write failed (" + std::strerror(savedErrno) + ")");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    savedErrno = errno;
-    std::remove(tmp.c_str());
-    return makeError(path + ": cannot rename " + tmp + " into place (" + std::strerror(savedErrno) + ")");
-  }
-  return Ok{};
+  return encoded;
+}
+
+Status writePng(const std::string& path, const ImageRGBA8& image) {
+  Result<std::vector<std::uint8_t>> encoded = encodePng(image, path);
+  if (!encoded) return encoded.forwardError();
+  return writeFileAtomic(path, std::string_view(reinterpret_cast<const char*>(encoded->data()), encoded->size()));
 }
 
 glm::u8vec4 sampleBilinear(const ImageRGBA8& image, double u, double v) {

@@ -1,5 +1,7 @@
 #include "atmoglobe/globe/ImageryPyramid.h"
 
+#include "atmoglobe/globe/AtomicFile.h"
+
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -29,14 +31,6 @@ std::string tileRelativePath(const TileId& t, const std::string& extension) {
   return std::to_string(t.level) + "/" + std::to_string(t.x) + "/" + std::to_string(t.y) + "." + extension;
 }
 
-/// mkdtemp on `prefix` + "XXXXXX"; returns the created directory or an error.
-Result<fs::path> makeTempDir(const std::string& prefix) {
-  std::string pattern = prefix + "XXXXXX";
-  if (!mkdtemp(pattern.data()))
-    return makeError(prefix + "XXXXXX: cannot create directory (" + std::strerror(errno) + ")");
-  return fs::path(pattern);
-}
-
 class PyramidWriter {
  public:
   PyramidWriter(const ImageRGBA8& source, fs::path root, int maxLevel, const PyramidBuildOptions& options)
@@ -60,7 +54,11 @@ class PyramidWriter {
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return makeError(dir.string() + ": cannot create directory (" + ec.message() + ")");
-    Status written = writePng((dir / (std::to_string(t.y) + ".png")).string(), out);
+    const fs::path file = dir / (std::to_string(t.y) + ".png");
+    Result<std::vector<std::uint8_t>> png = encodePng(out, file.string());
+    if (!png) return png.forwardError();
+    Status written = writeFileInStagedDirectory(
+        file.string(), std::string_view(reinterpret_cast<const char*>(png->data()), png->size()));
     if (!written) return written;
     ++written_;
     if (options_.progress && !options_.progress(written_, total_)) {
@@ -120,39 +118,7 @@ Status writeInfo(const fs::path& dir, const PyramidInfo& info, int sourceWidth, 
   j["source"] = info.source;
   j["sourceWidthPx"] = sourceWidth;
   j["sourceHeightPx"] = sourceHeight;
-  const fs::path path = dir / "pyramid.json";
-  std::ofstream out(path);
-  out << j.dump(2) << "\n";
-  out.close();
-  if (!out) return makeError(path.string() + ": write failed");
-  return Ok{};
-}
-
-/// Installs the finished `tmp` as `out`, replacing an old pyramid there only now.
-Status install(const fs::path& tmp, const fs::path& out) {
-  std::error_code ec;
-  if (!fs::exists(out, ec)) {
-    fs::rename(tmp, out, ec);
-    if (ec) return makeError(out.string() + ": cannot rename " + tmp.string() + " into place (" + ec.message() + ")");
-    return Ok{};
-  }
-  // Move the old pyramid aside (renaming a directory over an empty one is allowed), put the
-  // new one in place, then delete the old one.
-  Result<fs::path> old = makeTempDir(out.string() + ".old-");
-  if (!old) return old.forwardError();
-  fs::rename(out, *old, ec);
-  if (ec) {
-    fs::remove(*old);
-    return makeError(out.string() + ": cannot move the old pyramid aside (" + ec.message() + ")");
-  }
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::rename(*old, out, ignored);  // put the old one back
-    return makeError(out.string() + ": cannot rename " + tmp.string() + " into place (" + ec.message() + ")");
-  }
-  fs::remove_all(*old, ec);  // leftovers here are harmless; nothing to report
-  return Ok{};
+  return writeFileInStagedDirectory((dir / "pyramid.json").string(), j.dump(2) + "\n");
 }
 
 }  // namespace
@@ -199,21 +165,20 @@ Status buildPyramid(const std::string& imagePath, const std::string& outDir, con
   info.maxLevel = options.maxLevel >= 0 ? options.maxLevel : naturalPyramidLevel(w);
   info.source = fs::path(imagePath).filename().string();
 
-  Result<fs::path> tmp = makeTempDir(out.string() + ".tmp-");
-  if (!tmp) return tmp.forwardError();
-  auto fail = [&](Status s) {
-    std::error_code ignored;
-    fs::remove_all(*tmp, ignored);
-    return s;
-  };
-  PyramidWriter writer(*source, *tmp, info.maxLevel, options);
+  // Built whole under a hidden name beside `out`, then swapped in (globe/AtomicFile.h): a build
+  // that fails, is cancelled or is killed leaves the previous pyramid as it was.
+  Result<AtomicDirectory> staged = AtomicDirectory::create(out.string());
+  if (!staged) return staged.forwardError();
+  const fs::path tmp = staged->dir();
+  PyramidWriter writer(*source, tmp, info.maxLevel, options);
   ImageRGBA8 root;
   for (std::uint32_t x = 0; x < tileColumns(0); ++x) {
     Status s = writer.build(TileId{0, x, 0}, root);
-    if (!s) return fail(s);
+    if (!s) return s;  // the AtomicDirectory destructor removes the staged tree
   }
-  if (Status s = writeInfo(*tmp, info, w, h); !s) return fail(s);
-  if (Status s = install(*tmp, out); !s) return fail(s);
+  // pyramid.json last: a tree without it is never a pyramid (readPyramidInfo refuses it).
+  if (Status s = writeInfo(tmp, info, w, h); !s) return s;
+  if (Status s = staged->publish(); !s) return s;
   if (infoOut) *infoOut = info;
   return Ok{};
 }

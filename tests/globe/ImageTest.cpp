@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "atmoglobe/globe/Image.h"
 
@@ -29,7 +30,7 @@ TEST(ImageTest, PngRoundTripIsLosslessAndLeavesNoTmpFile) {
   EXPECT_EQ(image.byteSize(), 7u * 5u * 4u);
   const std::string path = (dir / "a.png").string();
   ASSERT_TRUE(writePng(path, image).ok());
-  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);  // a.png alone
   Result<ImageRGBA8> back = decodeImageFile(path);
   ASSERT_TRUE(back.ok()) << back.error();
   EXPECT_EQ(back->width, 7);

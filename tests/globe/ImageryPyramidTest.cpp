@@ -43,7 +43,7 @@ std::string tileFile(const fs::path& dir, int z, int x, int y) {
   return (dir / std::to_string(z) / std::to_string(x) / (std::to_string(y) + ".png")).string();
 }
 
-/// True if `parent` holds an entry whose name starts with `prefix` (e.g. a leftover "out.tmp-").
+/// True if `parent` holds an entry whose name starts with `prefix` (e.g. a leftover staged ".out.tmp<pid>-<n>").
 bool hasEntryStartingWith(const fs::path& parent, const std::string& prefix) {
   for (const auto& e : fs::directory_iterator(parent))
     if (e.path().filename().string().rfind(prefix, 0) == 0) return true;
@@ -79,7 +79,7 @@ TEST(ImageryPyramidTest, RegionColoursLandInTheRightTiles) {
   EXPECT_EQ(read->tileSizePx, 256);
   EXPECT_EQ(read->format, "png");
   EXPECT_FALSE(fs::exists(tileFile(out, 2, 0, 0)));
-  EXPECT_FALSE(hasEntryStartingWith(dir, "pyramid.tmp-"));
+  EXPECT_FALSE(hasEntryStartingWith(dir, ".pyramid.tmp"));
 
   Result<std::shared_ptr<GeographicPyramidLayer>> layer = GeographicPyramidLayer::open(out.string());
   ASSERT_TRUE(layer.ok()) << layer.error();
@@ -273,7 +273,7 @@ TEST(ImageryPyramidTest, InterruptedBuildLeavesNoDirectoryAndKeepsTheOldPyramid)
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(calls, 4u);
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_FALSE(hasEntryStartingWith(dir, "out."));
+  EXPECT_FALSE(hasEntryStartingWith(dir, ".out."));
 
   // A finished build, then a cancelled rebuild with other colours: the old pyramid is untouched.
   ASSERT_TRUE(buildPyramid(source, out.string(), {}).ok());
@@ -283,13 +283,13 @@ TEST(ImageryPyramidTest, InterruptedBuildLeavesNoDirectoryAndKeepsTheOldPyramid)
   Result<ImageRGBA8> kept = decodeImageFile(tileFile(out, 1, 2, 0));
   ASSERT_TRUE(kept.ok());
   EXPECT_EQ(kept->at(64, 64).b, 10);
-  EXPECT_FALSE(hasEntryStartingWith(dir, "out."));
+  EXPECT_FALSE(hasEntryStartingWith(dir, ".out."));
   // A finished rebuild replaces it.
   ASSERT_TRUE(buildPyramid(other, (dir / "out/").string(), {}).ok());
   Result<ImageRGBA8> replaced = decodeImageFile(tileFile(out, 1, 2, 0));
   ASSERT_TRUE(replaced.ok());
   EXPECT_EQ(replaced->at(64, 64).b, 90);
-  EXPECT_FALSE(hasEntryStartingWith(dir, "out."));
+  EXPECT_FALSE(hasEntryStartingWith(dir, ".out."));
 }
 
 TEST(ImageryPyramidTest, RefusesToReplaceADirectoryThatIsNotAPyramid) {

@@ -168,6 +168,22 @@ TEST(CorruptInput, FuzzFoundOverlongClassicNamesAreRefused) {
   }
 }
 
+TEST(CorruptInput, FuzzFoundHeaderPastTheEndIsRefused) {
+  // fuzz_grid finding (fuzz/corpus/grid/crash-header-past-end-*): a 424-byte classic file whose
+  // header needs more bytes than the file has; netCDF-C 4.9.0 crashed (SEGV in NC_hashmapfree)
+  // freeing what it had read. Now refused from the header walk, naming the file.
+  const std::string path = std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/grid/crash-header-past-end-d651a9.nc";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  auto r = readGridVolume(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().rfind(path, 0), 0u) << r.error();
+  EXPECT_NE(r.error().find("runs past the end of the file"), std::string::npos) << r.error();
+  auto m = NetcdfFile::openMemory("in-memory.nc", std::make_shared<std::vector<unsigned char>>(readAll(path)));
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().find("in-memory.nc: not a valid netCDF file: the header runs past"), std::string::npos)
+      << m.error();
+}
+
 TEST(CorruptInput, FuzzFoundHeaderCountsBeyondTheFileAreRefused) {
   // fuzz_grid findings (fuzz/corpus/grid/oom-header-counts-*): classic headers claiming more
   // attribute values or variable dimensions than the file holds, for which netCDF-C allocated

@@ -1,6 +1,8 @@
 // COLLADA 1.4.1 encoder for the radar cones (Z_UP, metres, ENU at the antenna).
 #include <atmoglobe/volume/ConeExport.h>
 
+#include <atmoglobe/globe/AtomicFile.h>
+
 #include <cctype>
 #include <charconv>
 #include <cstdio>
@@ -44,7 +46,7 @@ std::string ncName(std::string_view in) {
 }
 
 std::string nowIso8601() {
-  const std::time_t t = std::time(nullptr);
+  const std::time_t t = globe::outputTime();  // now, or $SOURCE_DATE_EPOCH (reproducible exports)
   std::tm tm{};
   gmtime_r(&t, &tm);
   char buf[32];

@@ -198,6 +198,11 @@ Result<std::vector<unsigned char>> Reader::blob(long id, std::size_t expected, c
     if (usize != expected)
       return fail(what + ": BLOB " + std::to_string(id) + " inflates to " + std::to_string(usize) +
                   " bytes, the description needs " + std::to_string(expected));
+    // zlib's deflate compresses at most 1032:1 (zlib FAQ), so a header claiming more than that
+    // from this BLOB's bytes is corrupt: refused before allocating what it claims.
+    if (usize / 1032 > bl.size - 4)
+      return fail(what + ": BLOB " + std::to_string(id) + " claims " + std::to_string(usize) + " bytes from " +
+                  std::to_string(bl.size - 4) + " compressed bytes (more than zlib's 1032:1)");
     out.resize(usize);
     uLongf produced = static_cast<uLongf>(usize);
     const int rc = uncompress(out.data(), &produced, p + 4, static_cast<uLong>(bl.size - 4));

@@ -48,6 +48,9 @@ Status writeZipArchiveAtomic(const std::string& path, const std::vector<ZipEntry
     if (zip_file_set_external_attributes(archive, i, 0, ZIP_OPSYS_UNIX, 0100644u << 16) != 0) {
       return fail("cannot set the attributes of " + e.name);  // regular file rw-r--r--
     }
+    // Entry times: now, or $SOURCE_DATE_EPOCH when set (reproducible archives: the same scene gives
+    // the same bytes; tests/tools/KillRandomly.cpp compares re-exports byte for byte).
+    if (zip_file_set_mtime(archive, i, globe::outputTime(), 0) != 0) return fail("cannot set the time of " + e.name);
   }
   if (zip_close(archive) != 0) return fail("cannot write zip archive");
   return commitTemporary(*temp, path);

@@ -3,6 +3,7 @@
 #include <atmoglobe/bench/Cells.h>
 #include <atmoglobe/bench/Format.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
 #include <atmoglobe/volume/TransferFunction.h>
 
@@ -68,26 +69,15 @@ std::optional<volume::VolumeImage> readCachedReference(const fs::path& file, con
 }
 
 bool writeCachedReference(const fs::path& file, const std::string& key, const volume::VolumeImage& img) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    const auto keyLen = static_cast<std::uint32_t>(key.size());
-    out.write(reinterpret_cast<const char*>(&keyLen), sizeof keyLen);
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    const std::int32_t wh[2] = {img.widthPx, img.heightPx};
-    out.write(reinterpret_cast<const char*>(wh), sizeof wh);
-    out.write(reinterpret_cast<const char*>(img.rgbaPremultiplied.data()),
-              static_cast<std::streamsize>(img.rgbaPremultiplied.size() * sizeof(glm::dvec4)));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  return !ec;
+  std::string bytes;
+  auto append = [&](const void* data, std::size_t n) { bytes.append(static_cast<const char*>(data), n); };
+  const auto keyLen = static_cast<std::uint32_t>(key.size());
+  append(&keyLen, sizeof keyLen);
+  append(key.data(), key.size());
+  const std::int32_t wh[2] = {img.widthPx, img.heightPx};
+  append(wh, sizeof wh);
+  append(img.rgbaPremultiplied.data(), img.rgbaPremultiplied.size() * sizeof(glm::dvec4));
+  return bool(globe::writeFileAtomic(file.string(), bytes));
 }
 
 volume::VolumeRenderSettings referenceSettings(volume::VolumeRenderMode mode, double stepMeters) {

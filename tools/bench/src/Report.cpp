@@ -1,6 +1,7 @@
 #include <atmoglobe/bench/Report.h>
 
 #include <atmoglobe/bench/Format.h>
+#include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Image.h>
 
 #include <algorithm>
@@ -344,11 +345,11 @@ Status writeReport(const std::string& outDir, const BenchReport& report, std::ve
   const std::string stem = report.kind == "grid" ? "grid_bench" : "volume_bench";
   const std::string csvPath = (dir / (stem + ".csv")).string();
   {
-    std::ofstream csv(csvPath);
+    std::ostringstream csv;
     std::vector<Row> rows = report.rows;
     rows.insert(rows.end(), report.bigRows.begin(), report.bigRows.end());
     writeCsv(csv, rows);
-    if (!csv) return makeError(csvPath + ": cannot write");
+    if (auto s = globe::writeFileAtomic(csvPath, csv.str()); !s) return s.forwardError();
   }
   const std::string pngPath = (dir / (stem + ".png")).string();
   if (auto s = globe::writePng(pngPath, engine::drawScatterPlot(errorTimePlot(report), 960, 600)); !s) {
@@ -356,10 +357,10 @@ Status writeReport(const std::string& outDir, const BenchReport& report, std::ve
   }
   const std::string mdPath = (dir / (stem + ".md")).string();
   {
-    std::ofstream md(mdPath);
+    std::ostringstream md;
     if (report.kind == "grid") writeGridMarkdown(md, report);
     else writeMarkdown(md, report);
-    if (!md) return makeError(mdPath + ": cannot write");
+    if (auto s = globe::writeFileAtomic(mdPath, md.str()); !s) return s.forwardError();
   }
   if (written) *written = {mdPath, csvPath, pngPath};
   return Ok{};

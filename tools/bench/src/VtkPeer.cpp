@@ -5,6 +5,7 @@
 #include <atmoglobe/bench/Process.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/TransferFunction.h>
@@ -127,15 +128,21 @@ Status runPeerJob(const std::string& key, const PeerGrid& g, std::vector<float>&
   const fs::path dir = settings.outDir / "peer";
   fs::create_directories(dir, ec);
   const fs::path raw = dir / (key + "-grid.f32");
-  {
-    std::ofstream file(raw, std::ios::binary);
-    file.write(reinterpret_cast<const char*>(grid.data()), static_cast<std::streamsize>(grid.size() * sizeof(float)));
-    if (!file) return makeError(raw.string() + ": cannot write the peer grid");
+  // Through the atomic helper like every output: a killed bench never leaves a short grid for
+  // the next peer run to read.
+  if (Status s = globe::writeFileAtomic(
+          raw.string(), std::string_view(reinterpret_cast<const char*>(grid.data()), grid.size() * sizeof(float)));
+      !s) {
+    return makeError(raw.string() + ": cannot write the peer grid: " + s.error());
   }
   grid.clear();
   grid.shrink_to_fit();
   const fs::path jobFile = dir / (key + "-job.json");
-  std::ofstream(jobFile) << peerJob(views, frame, g, raw, dir, transfer, settings, occludeByEllipsoid).dump(2);
+  if (Status s = globe::writeFileAtomic(
+          jobFile.string(), peerJob(views, frame, g, raw, dir, transfer, settings, occludeByEllipsoid).dump(2));
+      !s) {
+    return s;
+  }
   const fs::path resultFile = dir / (key + "-result.json");
   fs::remove(resultFile, ec);
   // No shell: the paths go to the programs as they are, whatever characters they hold.

@@ -39,8 +39,11 @@ Result<ImageRGBA8> decodeImageFile(const std::string& path);
 /// Same as decodeImageFile for bytes already in memory; `nameForErrors` names them in messages.
 Result<ImageRGBA8> decodeImageMemory(const std::uint8_t* data, std::size_t size, const std::string& nameForErrors);
 
-/// Writes `image` as a PNG at `path`: written to path + ".tmp", then renamed over `path`, so a
-/// reader never sees a half-written file.
+/// `image` encoded as PNG (stb); errors name `nameForErrors`.
+Result<std::vector<std::uint8_t>> encodePng(const ImageRGBA8& image, const std::string& nameForErrors);
+
+/// Writes `image` as a PNG at `path` atomically (globe/AtomicFile.h: hidden temporary beside it,
+/// fsync, rename), so a reader never sees a half-written file, even if the process is killed.
 Status writePng(const std::string& path, const ImageRGBA8& image);
 
 /// Bilinear sample at texture coordinates (u, v) in [0, 1] (u to the right, v DOWN, row 0 at
