@@ -213,10 +213,14 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::
     const std::uint64_t n = count("attributes");
     for (std::uint64_t a = 0; a < n && !ran && problem.empty(); ++a) {
       name("attribute");
-      const std::uint64_t bytes = typeBytes(get(4));
+      const std::uint64_t type = get(4);
+      const std::uint64_t bytes = typeBytes(type);
       const std::uint64_t values = get(countBytes);
-      if (bytes == 0) {
-        ran = true;  // an unknown type: left to netCDF-C
+      // Classic files know NC_BYTE..NC_DOUBLE (1-6), CDF-5 also 7-11. netCDF-C 4.9.0 crashed
+      // (SEGV in NC_hashmapfree) freeing a header whose attribute had type 12 (fuzz_grid).
+      if (!ran && (bytes == 0 || (version != 5 && type > NC_DOUBLE))) {
+        if (problem.empty()) problem = "an attribute of unknown type " + std::to_string(type);
+        ran = true;
         return;
       }
       if (!ran && values > (totalBytes - std::min(at, totalBytes)) / bytes) {
@@ -230,9 +234,10 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::
   };
   get(4);  // NC_DIMENSION or ZERO
   const std::uint64_t ndims = count("dimensions");
+  std::vector<std::uint64_t> dimLengths;  // 0: the record dimension
   for (std::uint64_t d = 0; d < ndims && !ran && problem.empty(); ++d) {
     name("dimension");
-    get(countBytes);
+    dimLengths.push_back(get(countBytes));
   }
   attributes();
   get(4);  // NC_VARIABLE or ZERO
@@ -245,14 +250,28 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::
                 std::to_string(totalBytes) + " bytes";
       break;
     }
-    skip(rank * countBytes);
+    // Dimension ids must name dimensions, and the record dimension (length 0) may only come
+    // first: netCDF-C 4.9.0 divided by the product of the lengths checking a variable's size
+    // (SIGFPE in NC_check_vlen, fuzz_grid).
+    for (std::uint64_t k = 0; k < rank && !ran && problem.empty(); ++k) {
+      const std::uint64_t id = get(countBytes);
+      if (ran) break;
+      if (id >= dimLengths.size())
+        problem = "a variable uses dimension id " + std::to_string(id) + " of " + std::to_string(dimLengths.size());
+      else if (k > 0 && dimLengths[static_cast<std::size_t>(id)] == 0)
+        problem = "a variable has the record dimension other than first";
+    }
+    if (!problem.empty()) break;
     attributes();
-    get(4);                     // nc_type
+    const std::uint64_t type = get(4);  // nc_type
+    if (!ran && problem.empty() && (typeBytes(type) == 0 || (version != 5 && type > NC_DOUBLE))) {
+      problem = "a variable of unknown type " + std::to_string(type);
+      break;
+    }
     get(countBytes);            // vsize
     get(version == 1 ? 4 : 8);  // begin
   }
-  // A header that needs more bytes than the whole file holds: netCDF-C 4.9.0 crashed freeing its
-  // half-read variables on such a file (fuzz_grid: a 424-byte file, SEGV in NC_hashmapfree).
+  // A header that needs more bytes than the whole file holds (netCDF-C would find it truncated).
   if (problem.empty() && pastEnd && size == totalBytes)
     problem = "the header runs past the end of the file (" + std::to_string(totalBytes) + " bytes; truncated?)";
   return problem;
