@@ -463,6 +463,7 @@ int runView(const ViewOptions& o) {
   }
   engine::FlyToWindowState flyState;
   engine::ViewerPanelState panelState;
+  double playSeconds = o.playSeconds;  ///< the loop speed; the panel may change it
   panelState.extraWindows = [&flyState, scripted = state.scripted] {
     engine::drawFlyToWindow(flyState);
     if (scripted) engine::drawPointerMark();  // no system cursor in a scripted screenshot
@@ -639,12 +640,14 @@ int runView(const ViewOptions& o) {
     panelState.timePosition = static_cast<int>(time.position);
     panelState.timeLabel = time.label;
     panelState.playing = state.playing;
+    panelState.playSeconds = static_cast<float>(playSeconds);
     panelState.frameMilliseconds = frameMs;
     if (camera) panelState.legend = (*renderer)->legendFor(*camera);
     const int before = panelState.timePosition;
     if (panel->draw(panelState)) {
       state.timeMove += panelState.timePosition - before;
       state.playing = panelState.playing;
+      playSeconds = panelState.playSeconds;
       state.dirty = true;
     }
     if (panelState.screenshotRequested) {
@@ -703,7 +706,7 @@ int runView(const ViewOptions& o) {
       long wanted = time.position + state.timeMove;
       if (state.timeHome) wanted = 0;
       const double now = glfwGetTime();
-      if (state.playing && (batch || now - time.lastAdvanceSeconds >= o.playSeconds)) {
+      if (state.playing && (batch || now - time.lastAdvanceSeconds >= playSeconds)) {
         wanted += 1;
         time.lastAdvanceSeconds = now;
       }

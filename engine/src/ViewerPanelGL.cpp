@@ -114,6 +114,10 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
       s.timePosition = (s.timePosition + 1) % s.timePositions;
       changed = true;
     }
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120.0f);  // the loop's speed: seconds per time position
+    if (ImGui::SliderFloat("##speed", &s.playSeconds, 0.05f, 5.0f, "%.2f s/step", ImGuiSliderFlags_Logarithmic))
+      changed = true;
     ImGui::Separator();
   }
   for (const std::string& line : s.layers) ImGui::TextUnformatted(line.c_str());

@@ -34,6 +34,7 @@ struct ViewerPanelState {
   int timePosition = 0;             ///< in/out: the slider
   std::string timeLabel;            ///< valid time shown (UTC)
   bool playing = false;             ///< in/out
+  float playSeconds = 0.5f;         ///< in/out: seconds per time position while playing (loop speed)
   std::vector<std::string> layers;  ///< one line per layer (what is loaded)
   double frameMilliseconds = 0.0;
   std::vector<std::string> readout;    ///< the value under the cursor (Readout.h), one line each
