@@ -40,6 +40,12 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
   return buf;
 }
 
+/// Height above mean sea level (EGM96) of a geodetic point; the ellipsoidal height without the grid.
+double seaLevelHeight(const globe::Geodetic& g) {
+  const auto& geoid = volume::defaultEgm96Grid();
+  return geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
+}
+
 }  // namespace
 
 CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, double xPx, double yPx, double stepMeters) {
@@ -51,8 +57,7 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     tGround = glm::length(*hit - eye);
     const globe::Geodetic g = globe::ecefToGeodetic(*hit);
     out.groundLatLonHeight = glm::dvec3(g.latDeg, g.lonDeg, g.heightMeters);
-    const auto& geoid = volume::defaultEgm96Grid();
-    out.seaLevelHeightMeters = geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
+    out.seaLevelHeightMeters = seaLevelHeight(g);
   }
   for (const RadarLayerGL& r : scene.radars()) {
     if (!r.visible) continue;  // switched off in the panel
@@ -75,8 +80,9 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     const globe::Geodetic g = globe::ecefToGeodetic(trueEcef);
     out.lines.push_back((r.siteName.empty() ? std::string("radar") : r.siteName) + " " + p.fieldName + ": " +
                         format("%.1f ", static_cast<double>(gate->value)) + p.fieldUnits +
-                        format("  (sweep %.2f deg, azimuth %.1f deg, range %.3f km, height %.0f m)", gate->elevationDeg,
-                               gate->azimuthDeg, gate->rangeMeters / 1000.0, g.heightMeters));
+                        format("  (sweep %.2f deg, azimuth %.1f deg, range %.3f km, height %.0f m", gate->elevationDeg,
+                               gate->azimuthDeg, gate->rangeMeters / 1000.0, g.heightMeters) +
+                        format(" above the ellipsoid, %.0f m above sea level)", seaLevelHeight(g)));
   }
   for (const GridLayerGL& gl : scene.grids()) {
     if (!gl.visible) continue;
@@ -87,8 +93,10 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
     std::string variable = v.variable;
     if (!variable.empty() && variable.front() == '/') variable.erase(0, 1);
-    out.lines.push_back(variable + ": " + format("%.4g ", hit->value) + v.units +
-                        format("  (at %.3f, %.3f, drawn height %.0f m)", g.latDeg, g.lonDeg, g.heightMeters));
+    out.lines.push_back(
+        variable + ": " + format("%.4g ", hit->value) + v.units +
+        format("  (at %.3f, %.3f, drawn height %.0f m above the ellipsoid, ", g.latDeg, g.lonDeg, g.heightMeters) +
+        format("%.0f m above sea level)", seaLevelHeight(g)));
   }
   if (out.groundLatLonHeight) {
     out.lines.push_back(format("ground %.4f, %.4f", out.groundLatLonHeight->x, out.groundLatLonHeight->y) +
