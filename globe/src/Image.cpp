@@ -61,6 +61,17 @@ Result<ImageRGBA8> decodeImageMemory(const std::uint8_t* data, std::size_t size,
     return makeError(nameForErrors + ": image of " + std::to_string(w) + " x " + std::to_string(h) +
                      " px is larger than the " + std::to_string(kMaxImagePixels) + " px this decoder accepts");
   }
+  // No format stb_image reads packs more than kMaxPixelsPerByte pixels into a byte (PNG: deflate's
+  // 1032:1 on 1-bit pixels, ~8256; GIF's 12-bit LZW codes, ~2730; TGA/PSD run lengths, 64; JPEG,
+  // a bit per 8x8 block at best, 512), so a header claiming more than that from a small file is
+  // corrupt: refused before decoding (fuzz_image: a 21-byte TGA claiming 65535 x 1279 px made
+  // stb_image allocate 335 MB and decode for seconds). Small images are always allowed.
+  constexpr std::uint64_t kMaxPixelsPerByte = 16384, kAlwaysAllowedPixels = std::uint64_t{1} << 24;
+  if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) >
+      std::max<std::uint64_t>(kAlwaysAllowedPixels, size * kMaxPixelsPerByte)) {
+    return makeError(nameForErrors + ": image header claims " + std::to_string(w) + " x " + std::to_string(h) +
+                     " px, more than a file of " + std::to_string(size) + " bytes can hold (corrupt)");
+  }
   stbi_uc* decoded = stbi_load_from_memory(data, length, &w, &h, &channels, 4);
   if (!decoded) {
     const char* reason = stbi_failure_reason();

@@ -84,6 +84,27 @@ TEST(ImageTest, TextFileAndTruncatedPngAreErrorsNamingTheFile) {
   EXPECT_NE(directory.error().find(dir.string()), std::string::npos);
 }
 
+TEST(ImageTest, AHeaderClaimingMorePixelsThanTheFileCanHoldIsRefused) {
+  // fuzz_image finding (fuzz/corpus/image/timeout-*): a 21-byte RLE TGA claiming 65535 x 1279 px
+  // (335 MB decoded) is refused from its header; a highly compressible real PNG still decodes.
+  const std::string path = std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/image/timeout-tga-claims-65535x1279.tga";
+  Result<ImageRGBA8> r = decodeImageFile(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find(path), std::string::npos) << r.error();
+  EXPECT_NE(r.error().find("65535 x 1279 px, more than a file of 21 bytes can hold"), std::string::npos) << r.error();
+  // 4096 x 4096 of one colour (16.8 M px): PNG packs it into a few kB, over 16384 px per byte
+  // only beyond the always-allowed 2^24 px, so it must decode.
+  ImageRGBA8 flat;
+  flat.width = flat.height = 4096;
+  flat.pixels.assign(std::size_t{4096} * 4096 * 4, 200);
+  const fs::path dir = freshDir();
+  const std::string file = (dir / "flat.png").string();
+  ASSERT_TRUE(writePng(file, flat).ok());
+  Result<ImageRGBA8> decoded = decodeImageFile(file);
+  ASSERT_TRUE(decoded.ok()) << decoded.error();
+  EXPECT_EQ(decoded->width, 4096);
+}
+
 TEST(ImageTest, WritePngIntoMissingDirectoryIsAnError) {
   const std::string path = (freshDir() / "no" / "such" / "dir" / "a.png").string();
   Status s = writePng(path, distinctPixels(2, 2));
