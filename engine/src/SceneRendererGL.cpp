@@ -62,6 +62,27 @@ Result<const volume::GeoidGrid*> cropGeoid(const VolumeLayerSettings& settings, 
   if (!g) return makeError(g.error());
   return &*g;
 }
+
+bool isCropped(const VolumeLayerSettings& settings) {
+  return !settings.crop.coversEveryLonLat() || !settings.crop.coversEveryHeight();
+}
+
+/// One radar volume (a file, or a set's files) read with its render layout and cut to the
+/// layer's crop box: what addRadar, reloadRadar and a loop step load.
+Result<volume::LoadedRadar> readCroppedRadar(const RadarLayerDescription& d, const std::string& files) {
+  volume::RadarLoadOptions load;
+  load.fieldName = d.field;
+  load.useGeoid = d.useGeoid;
+  load.buildRenderLayout = true;
+  auto radar = volume::loadRadar(files, load);
+  if (!radar) return radar.forwardError();
+  if (isCropped(d.settings)) {
+    auto geoid = cropGeoid(d.settings, d.useGeoid);
+    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
+  }
+  return radar;
+}
 }  // namespace
 
 Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, const volume::FieldInfo& field,
@@ -211,19 +232,10 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
     cacheRadarStep(*cache_, added, stepKey(true, radars_.size() - 1, added.step, true));
     return &added;
   }
-  volume::RadarLoadOptions load;
-  load.fieldName = d.field;
-  load.useGeoid = d.useGeoid;
-  load.buildRenderLayout = true;
-  auto radar = volume::loadRadar(d.path, load);
+  auto radar = readCroppedRadar(d, d.path);
   if (!radar) return radar.forwardError();
-  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
-    auto geoid = cropGeoid(d.settings, d.useGeoid);
-    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
-    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
-    if (!(radar->layout->minValue <= radar->layout->maxValue))
-      return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
-  }
+  if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
+    return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
   auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
@@ -340,17 +352,8 @@ std::mutex& stepReadMutex() {
 
 Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
   const std::lock_guard lock(stepReadMutex());
-  volume::RadarLoadOptions load;
-  load.fieldName = d.field;
-  load.useGeoid = d.useGeoid;
-  load.buildRenderLayout = true;
-  auto radar = volume::loadRadar(files, load);
+  auto radar = readCroppedRadar(d, files);
   if (!radar) return radar.forwardError();
-  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
-    auto geoid = cropGeoid(d.settings, d.useGeoid);
-    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
-    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
-  }
   return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
 }
 
@@ -633,19 +636,10 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
     files = std::move(loop->first);
     times = std::move(loop->second);
   }
-  volume::RadarLoadOptions load;
-  load.fieldName = d.field;
-  load.useGeoid = d.useGeoid;
-  load.buildRenderLayout = true;
-  auto radar = volume::loadRadar(files.empty() ? d.path : files[step], load);
+  auto radar = readCroppedRadar(d, files.empty() ? d.path : files[step]);
   if (!radar) return radar.forwardError();
-  if (!d.settings.crop.coversEveryLonLat() || !d.settings.crop.coversEveryHeight()) {
-    auto geoid = cropGeoid(d.settings, d.useGeoid);
-    if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
-    volume::cropPolar(*radar->layout, d.settings.crop, *geoid);
-    if (!(radar->layout->minValue <= radar->layout->maxValue))
-      return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
-  }
+  if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
+    return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
   auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
