@@ -1,6 +1,7 @@
 #include <atmoglobe/volume/NetcdfFile.h>
 
 #include <atmoglobe/volume/Compression.h>
+#include <atmoglobe/volume/Hdf5Guard.h>
 
 #include <netcdf_filter.h>
 #include <netcdf_mem.h>
@@ -277,6 +278,19 @@ std::string classicHeaderProblem(const unsigned char* p, std::size_t size, std::
   return problem;
 }
 
+/// The HDF5 guard (Hdf5Guard.h) for an HDF5 file: "" when it may be opened in this process,
+/// else the error.
+std::string hdf5GuardProblem(const std::string& label, const unsigned char* head, std::size_t headBytes,
+                             const unsigned char* memory, std::size_t memoryBytes) {
+  if (!looksLikeHdf5(head, headBytes)) return {};
+  auto settings = hdf5GuardSettingsFromEnvironment();
+  if (!settings) return label + ": " + settings.error();
+  const Hdf5GuardOutcome o = checkHdf5InChild(label, memory, memoryBytes, *settings);
+  if (o.kind == Hdf5GuardOutcome::Kind::Crashed || o.kind == Hdf5GuardOutcome::Kind::TimedOut)
+    return label + ": cannot open as netCDF/HDF5: " + o.message;
+  return {};  // passed, refused cleanly (the open below says why), or not run (fork failed)
+}
+
 std::string openFailure(const std::string& label, int st) {
   const bool corrupt = st == NC_EHDFERR || st == NC_ENOTNC || st == NC_EINVAL || st == NC_ETRUNC;
   return label + ": cannot open as netCDF/HDF5: " + ncError(st) +
@@ -301,6 +315,7 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
     std::vector<unsigned char> head = peekFileContent(path, std::min<std::size_t>(size, std::size_t{16} << 20));
     if (auto bad = classicHeaderProblem(head.data(), head.size(), size); !bad.empty())
       return makeError(path + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
+    if (auto bad = hdf5GuardProblem(path, head.data(), head.size(), nullptr, 0); !bad.empty()) return makeError(bad);
   }
   const Opened o = openTracked([&](int* ncid) { return nc_open(path.c_str(), NC_NOWRITE, ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(path, o.status));
@@ -313,6 +328,8 @@ Result<NetcdfFile> NetcdfFile::openMemory(const std::string& label, std::shared_
   if (!bytes || bytes->empty()) return makeError(label + ": cannot open as netCDF/HDF5: the content is empty");
   if (auto bad = classicHeaderProblem(bytes->data(), bytes->size(), bytes->size()); !bad.empty())
     return makeError(label + ": not a valid netCDF file: " + bad + " (the header is corrupt)");
+  if (auto bad = hdf5GuardProblem(label, bytes->data(), bytes->size(), bytes->data(), bytes->size()); !bad.empty())
+    return makeError(bad);
   const Opened o = openTracked(
       [&](int* ncid) { return nc_open_mem(label.c_str(), NC_NOWRITE, bytes->size(), bytes->data(), ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(label, o.status));
