@@ -8,6 +8,7 @@
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -166,20 +167,29 @@ void walkGroup(int group, bool readValues, int depth) {
   ::_exit(kChildPassed);
 }
 
-/// Files on disk already checked (the outcome: passed, crashed or timed out), by identity and version (device, inode,
-/// size, modification time): a reader opens a file twice (format detection, then the read), and a loop re-reads its
-/// steps; neither needs a second child. A file rewritten since has another modification time or
-/// size and is checked again. The mode is part of the key (a metadata pass says nothing of the
-/// values). Bounded: at most 4096 entries (then forgotten and refilled).
-using FileIdentity = std::tuple<dev_t, ino_t, off_t, long long, long long, int>;
+/// Files on disk already checked (the outcome: passed, crashed or timed out), by identity and
+/// version (device, inode, size, modification and status-change times, and the mode: a metadata
+/// pass says nothing of the values): a reader opens a file twice (format detection, then the
+/// read), and a loop re-reads its steps; neither needs a second child. A file rewritten since
+/// has other times and is checked again. File times come from the kernel's coarse clock (a few
+/// ms): a file rewritten twice within one tick could keep its times, so only a file whose times
+/// are over one second old when the check starts is remembered (any later write gets a later
+/// time). Bounded: at most 4096 entries (then forgotten and refilled).
+using FileIdentity = std::tuple<dev_t, ino_t, off_t, long long, long long, long long, long long, int>;
 std::optional<FileIdentity> identityOf(const std::string& path, Hdf5GuardMode mode) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  const long long newest = std::max(st.st_mtim.tv_sec, st.st_ctim.tv_sec);
+  if (now.tv_sec - newest < 2) return std::nullopt;  // whole seconds: 2 means over one second
   return FileIdentity{st.st_dev,
                       st.st_ino,
                       st.st_size,
                       static_cast<long long>(st.st_mtim.tv_sec),
                       static_cast<long long>(st.st_mtim.tv_nsec),
+                      static_cast<long long>(st.st_ctim.tv_sec),
+                      static_cast<long long>(st.st_ctim.tv_nsec),
                       static_cast<int>(mode)};
 }
 std::mutex& checkedMutex() {
