@@ -1,8 +1,8 @@
 // bench_radar_read_geolocate: radar read time against the I/O floor, and gate geolocation speed.
 //
-//   bench_radar_read_geolocate [--runs N] [--read-only] [DATA_DIR]
+//   bench_radar_read_geolocate [--runs N] [--read-only] [--guard-only] [DATA_DIR]
 //
-// --read-only: part 1 only (no geolocation).
+// --read-only: parts 1 and 3 only (no geolocation). --guard-only: part 3 only.
 //
 // 1. For every radar file under DATA_DIR/radar_{nexrad,odim,cfradial}: median wall time of
 //    readRadarVolume (default field, values decoded) over N runs, next to the "floor": the same
@@ -13,8 +13,13 @@
 // 2. Gate geolocation over every gate of the NEXRAD REF volume: gates per second for the exact
 //    path (geolocateGateExact) and the fast path (geolocateSweepFast), and the fast path's maximum
 //    ECEF distance from the exact result.
-// Prints a Markdown table (docs/bench-radar.md holds a copy and the command).
+// 3. The HDF5 guard's cost (volume/Hdf5Guard.h): for every netCDF-4/HDF5 radar file, the median
+//    wall time of a first readRadarVolume with the guard off, walking metadata (the default) and
+//    reading every value in the child; the three runs alternate and the guard's remembered
+//    verdicts are forgotten before each, so every run pays what a first open pays.
+// Prints Markdown tables (docs/bench-radar.md holds a copy and the command).
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/Hdf5Guard.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarReader.h>
 
@@ -258,22 +263,76 @@ void readTable(const std::string& dataDir, int runs) {
   std::printf("\n");
 }
 
+// Part 3: the HDF5 guard's cost per first open, three modes alternating.
+void guardTable(const std::string& dataDir, int runs) {
+  std::printf("## HDF5 guard cost (median of %d first reads per mode, modes alternating)\n\n", runs);
+  std::printf(
+      "| file | size (MB) | guard off (ms) | metadata, the default (ms) | ratio | data (ms) | ratio |\n"
+      "|---|---|---|---|---|---|---|\n");
+  const char* modes[3] = {"off", "metadata", "data"};
+  for (const char* sub : {"radar_odim", "radar_cfradial"}) {
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(std::filesystem::path(dataDir) / sub, ec))
+      if (e.is_regular_file()) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      const std::string path = f.string();
+      unsigned char head[8] = {};
+      std::ifstream in(path, std::ios::binary);
+      in.read(reinterpret_cast<char*>(head), sizeof head);
+      if (!volume::looksLikeHdf5(head, static_cast<std::size_t>(in.gcount()))) continue;
+      std::vector<double> t[3];
+      bool ok = true;
+      for (int i = 0; i < runs && ok; ++i)
+        for (int m = 0; m < 3 && ok; ++m) {
+          ::setenv("ATMOGLOBE_HDF5_GUARD", modes[m], 1);
+          volume::forgetHdf5GuardVerdicts();
+          const auto t0 = Clock::now();
+          ok = volume::readRadarVolume(path, {}).ok();
+          t[m].push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+          closeLeakedHdf5Attributes();
+        }
+      ::unsetenv("ATMOGLOBE_HDF5_GUARD");
+      if (!ok) {
+        std::printf("| %s | read failed | | | | | |\n", f.filename().c_str());
+        continue;
+      }
+      double med[3];
+      for (int m = 0; m < 3; ++m) {
+        std::sort(t[m].begin(), t[m].end());
+        med[m] = t[m][t[m].size() / 2];
+      }
+      std::printf("| %s | %.2f | %.1f | %.1f | %.2f | %.1f | %.2f |\n", f.filename().c_str(),
+                  static_cast<double>(std::filesystem::file_size(f)) / 1e6, med[0] * 1e3, med[1] * 1e3, med[1] / med[0],
+                  med[2] * 1e3, med[2] / med[0]);
+      std::fflush(stdout);
+    }
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int runs = 7;
   bool readOnly = false;
+  bool guardOnly = false;
   std::string dataDir = ATMOGLOBE_SHARED_DATA_DIR;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
       runs = std::max(5, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--read-only") == 0) {
       readOnly = true;
+    } else if (std::strcmp(argv[i], "--guard-only") == 0) {
+      guardOnly = true;
     } else {
       dataDir = argv[i];
     }
   }
-  readTable(dataDir, runs);
+  if (!guardOnly) readTable(dataDir, runs);
+  guardTable(dataDir, runs);
+  if (guardOnly) return 0;
 
   if (readOnly) return 0;
 

@@ -61,6 +61,10 @@ bool looksLikeHdf5(const unsigned char* head, std::size_t size);
 struct Hdf5GuardOutcome {
   enum class Kind { Passed, OpenFailed, Crashed, TimedOut, NotRun };
   Kind kind = Kind::NotRun;
+  /// Passed, but some library calls of the walk failed (the file is damaged): the caller then
+  /// leaves libhdf5's identifiers alone (NetcdfFile's leaked-attribute clean-up, which crashed
+  /// libhdf5 later in a fuzzing process after such files).
+  bool damaged = false;
   std::string message;   ///< for Crashed / TimedOut / NotRun
   double seconds = 0.0;  ///< wall-clock time of the check
 };
@@ -70,5 +74,8 @@ struct Hdf5GuardOutcome {
 /// message says why; the caller then opens in process).
 Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* memory, std::size_t size,
                                   const Hdf5GuardSettings& settings);
+
+/// Forgets the remembered verdicts (benches measuring the first open of a file; tests).
+void forgetHdf5GuardVerdicts();
 
 }  // namespace atmoglobe::volume
