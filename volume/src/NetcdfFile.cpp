@@ -302,6 +302,11 @@ std::string openFailure(const std::string& label, int st) {
 }
 }  // namespace
 
+std::recursive_mutex& netcdfLibraryMutex() {
+  static std::recursive_mutex m;
+  return m;
+}
+
 Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);

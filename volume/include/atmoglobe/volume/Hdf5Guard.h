@@ -20,8 +20,9 @@
 // code first (NetcdfFile.cpp, classicHeaderProblem).
 //
 // Threads: fork() copies only the calling thread. The child uses netCDF-C/HDF5 only, and those
-// libraries are not thread-safe anyway, so every caller already serialises them (the engine's
-// step-read mutex); the child therefore never sees another thread half-way through them. The
+// libraries are not thread-safe anyway, so a program reading on several threads serialises them
+// (netcdfLibraryMutex() in NetcdfFile.h, held by the viewer's reads on every thread); the child
+// therefore never sees another thread half-way through them. The
 // child's stdout/stderr go to /dev/null and it leaves by _exit (no atexit handlers, no flushing
 // of the parent's buffers).
 //

@@ -21,12 +21,20 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 namespace atmoglobe::volume {
+
+/// netCDF-C and HDF5 are not thread-safe: a program that reads netCDF/HDF5 files on several
+/// threads (the viewer's background loading) holds this around every read, on every thread. The
+/// HDF5 guard (Hdf5Guard.h) forks on the reading thread and relies on it: with every reader
+/// holding it, no other thread is half-way through the libraries at the fork. Recursive, so a
+/// read that calls another read under it does not deadlock.
+std::recursive_mutex& netcdfLibraryMutex();
 
 /// A variable found in a group: ids, type and shape (dimension lengths as the file gives them).
 struct NcVar {
