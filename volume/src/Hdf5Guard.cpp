@@ -1,4 +1,5 @@
 #include <atmoglobe/volume/Hdf5Guard.h>
+#include <atmoglobe/volume/NetcdfFile.h>
 
 #include <netcdf.h>
 #include <netcdf_mem.h>
@@ -44,23 +45,6 @@ constexpr std::size_t kMaxAttributeBytes = std::size_t{1} << 20;
 constexpr std::size_t kMaxVariableBytes = std::size_t{1} << 30;
 constexpr int kMaxGroupDepth = 64;
 
-std::size_t typeBytes(nc_type t) {
-  switch (t) {
-    case NC_BYTE:
-    case NC_UBYTE:
-    case NC_CHAR: return 1;
-    case NC_SHORT:
-    case NC_USHORT: return 2;
-    case NC_INT:
-    case NC_UINT:
-    case NC_FLOAT: return 4;
-    case NC_INT64:
-    case NC_UINT64:
-    case NC_DOUBLE: return 8;
-    default: return 0;  // strings and user-defined types: their values are not read
-  }
-}
-
 /// Library calls of the child's walk that failed: it only asks for what the file lists, so any
 /// failure means the file is damaged (reported to the parent, see Hdf5GuardOutcome::damaged).
 int gFailedCalls = 0;
@@ -83,7 +67,7 @@ void walkAttributes(int group, int varId, int count) {
       if (ok(nc_get_att_string(group, varId, name, strings.data()))) nc_free_string(length, strings.data());
       continue;
     }
-    const std::size_t bytes = typeBytes(type);
+    const std::size_t bytes = ncTypeSize(type);
     if (bytes == 0 || length == 0 || length > kMaxAttributeBytes / bytes) continue;
     buffer.resize(length * bytes);
     ok(nc_get_att(group, varId, name, buffer.data()));
@@ -105,7 +89,7 @@ void walkVariableValues(int group, int varId, nc_type type, int rank, const int*
     if (ok(nc_get_var_string(group, varId, strings.data()))) nc_free_string(count, strings.data());
     return;
   }
-  const std::size_t bytes = typeBytes(type);
+  const std::size_t bytes = ncTypeSize(type);
   if (bytes == 0 || count > kMaxVariableBytes / bytes) return;
   std::vector<unsigned char> values(count * bytes);
   ok(nc_get_var(group, varId, values.data()));
