@@ -1,4 +1,4 @@
-// Scene JSON in the bad-input suite (issue 14 point 3; docs/robustness.md "Bad-input suite"): a
+// Scene JSON in the bad-input suite (docs/robustness.md "Bad-input suite"): a
 // scene truncated at 32 offsets and bit-flipped, and out-of-range values (latitudes beyond 90,
 // numbers beyond double, wrong types, a frame size claiming terabytes). Each case runs in a child
 // with a time limit and a memory cap (tests/BoundedRun.h) and must parse, or fail with an error

@@ -1,4 +1,4 @@
-// Load only what the scene shows (issue 12 point 8): a scene naming one field of a many-field
+// Load only what the scene shows: a scene naming one field of a many-field
 // radar file reads that field's data and no other field's; view culling of radars at load.
 #include "GLTestUtil.h"
 

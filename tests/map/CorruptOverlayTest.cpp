@@ -1,5 +1,5 @@
-// The bad-input suite of vector overlays (map/VectorFile.h readVectorFile through GDAL/OGR; issue
-// 14 point 3, docs/robustness.md "Bad-input suite"): GeoJSON, KML and a shapefile written here,
+// The bad-input suite of vector overlays (map/VectorFile.h readVectorFile through GDAL/OGR;
+// docs/robustness.md "Bad-input suite"): GeoJSON, KML and a shapefile written here,
 // truncated at 32 offsets and bit-flipped, plus NaN, infinite and beyond-90 coordinates, wrong
 // types, deep nesting, empty layers and a shapefile whose headers claim 2^31 records. Each case
 // runs in a child with a time limit and a memory cap (tests/BoundedRun.h): it reads, or fails with

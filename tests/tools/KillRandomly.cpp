@@ -1,6 +1,6 @@
 // atmoglobe_kill_test ATMOGLOBE WORKDIR EARTH_IMAGE [SEED [KILLS_PER_COMMAND]]
 //
-// "Nothing lost" (issue 14, point 4): runs `atmoglobe export-cones` (.glb and .kmz), `tiles` (a
+// "Nothing lost" (docs/robustness.md): runs `atmoglobe export-cones` (.glb and .kmz), `tiles` (a
 // pyramid directory), `convert` (NRRD) and `render` (PNG) over an existing output and kills each
 // with SIGKILL at random moments (seeded std::mt19937; delays uniform over 0..1.2 x the time a
 // complete run of that command took here). After every kill the output must be byte for byte the

@@ -1,4 +1,4 @@
-# The memory budget over a long time series (issue 14 point 5; docs/memory.md).
+# The memory budget over a long time series (docs/memory.md).
 # A SYNTHETIC grid of 100 hourly steps is rendered step by step twice: with --memory-budget
 # BUDGET_MIB, and with a budget above the series' size (what no budget does on a machine with the
 # RAM). `render --time-series` prints one line of what it held:

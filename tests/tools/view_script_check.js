@@ -1,4 +1,4 @@
-// The issue-12 done-when check (run by ctest as cli.view_script_readout): replays a viewer script
+// The scripted viewer check (run by ctest as cli.view_script_readout): replays a viewer script
 // under Xvfb that flies to the radar by name, grab-drags, zooms, tilts, steps time, flies to the
 // storm and moves the pointer over it, then
 //  1. the `readout:` line (site, field, value, sweep, azimuth, range) must agree with

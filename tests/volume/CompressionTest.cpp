@@ -1,4 +1,4 @@
-// gzip/bzip2-wrapped radar files and grids (issue 13 point 1): each file is compressed here, in
+// gzip/bzip2-wrapped radar files and grids: each file is compressed here, in
 // memory, with zlib and libbz2 directly (not through the library), written beside the test output,
 // read through readRadarVolume / the grid reader, and compared field by field with the plain read
 // (site, time, sweeps, every ray angle and every gate value, NaN and -inf included). Then bad

@@ -1,5 +1,5 @@
-// The bad-input suite of every volume reader (issue 14 point 3; docs/robustness.md, "Bad-input
-// suite"): CfRadial, ODIM_H5, NEXRAD Level II, Rainbow 5, Sigmet/IRIS, grid NetCDF, .pal colour
+// The bad-input suite of every volume reader (docs/robustness.md, "Bad-input suite"):
+// CfRadial, ODIM_H5, NEXRAD Level II, Rainbow 5, Sigmet/IRIS, grid NetCDF, .pal colour
 // tables, station lists and imagery tiles. Each reader gets a small valid input written here (no
 // ../shared; the Sigmet cases use the real file and skip without it), checked to read, then
 //  - the input truncated at 32 offsets spread over it (0 bytes included) and 24 variants with 1 to 4

@@ -1,4 +1,4 @@
-// Corrupted files (issue 14, point 3): bit flips and headers claiming terabytes. Every read either
+// Corrupted files: bit flips and headers claiming terabytes. Every read either
 // succeeds or fails with a message naming the file; none may crash, hang or allocate what the file
 // cannot back (the sanitized CI build runs these under AddressSanitizer, which also fails an
 // allocation of terabytes). Inputs: the small synthetic grid seed of the fuzz corpus

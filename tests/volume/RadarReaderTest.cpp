@@ -86,7 +86,7 @@ TEST(RadarReaderDefaultField, PrefersReflectivityByMeaning) {
   EXPECT_EQ(chooseDefaultField({f("VEL"), f("DBZHC")}), "DBZHC");
   EXPECT_EQ(chooseDefaultField({f("VEL"), f("WIDTH")}), "VEL");
   EXPECT_EQ(chooseDefaultField({}), "");
-  // The case: reflectivity spelled "dBZ" after a velocity field.
+  // Reflectivity spelled "dBZ" after a velocity field: still chosen.
   EXPECT_EQ(chooseDefaultField({f("VRAD", "m/s"), f("dBZ", "dBZ")}), "dBZ");
   EXPECT_EQ(chooseDefaultField({f("VRAD"), f("dBZ")}), "dBZ") << "by name, in any case";
   // standard_name wins over names and units; among several, the uncorrected DBZH before TH.

@@ -1,4 +1,4 @@
-// Rainbow 5 reader (issue 13 point 4) on ../shared/data/radar_rainbow: facts from the file's XML
+// Rainbow 5 reader on ../shared/data/radar_rainbow: facts from the file's XML
 // (checked by reading the text here, not through the reader: slice count, posangles, rangestep,
 // bins, sensorinfo) and decoded values against an independent decoding: the BLOBs are found by
 // their text header here, inflated with zlib's uncompress after the 4-byte big-endian qCompress

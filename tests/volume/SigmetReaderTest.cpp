@@ -1,4 +1,4 @@
-// Sigmet/IRIS RAW reader (issue 13 point 4) on the two Sürgavere files of ../shared/data: facts
+// Sigmet/IRIS RAW reader on the two Sürgavere files of ../shared/data: facts
 // (site, time, task, sweeps, angles, gates, fields) and decoded values checked against an
 // independent decoding written here from the IRIS Programmer's Manual: the records are walked
 // word by word by this file's own code (raw_prod_bhdr skipped, ingest_data_headers counted, the

@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's "Fly to" box (issue 12 point 3): a small Dear ImGui window with a text field and
+// The viewer's "Fly to" box: a small Dear ImGui window with a text field and
 // a button, drawn inside the control panel's ImGui frame (ViewerPanelState::extraWindows). Enter
 // or the button asks for a flight; the viewer looks the text up (Gazetteer.h) and reports back.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Names to fly to (issue 12 point 3), GL-free: the scene's radars and markers, the NEXRAD sites
+// Names to fly to, GL-free: the scene's radars and markers, the NEXRAD sites
 // of a station list ($ATMOGLOBE_NEXRAD_SITES, the list the NEXRAD reader uses), places from the
 // tz database's zone1970.tab (Debian tzdata: the principal city of each time zone, with its
 // coordinates), and "LAT,LON" typed in.

@@ -1,5 +1,5 @@
 #pragma once
-// What every rendered picture carries (issue 12): a colour key per volume with the field's
+// What every rendered picture carries: a colour key per volume with the field's
 // units, a title (site or grid, field, elevation or height, valid time in UTC), a scale bar,
 // and the SYNTHETIC mark where the data are synthetic. GL-free: drawn into an RGBA8 image
 // with TextRaster (DejaVu Sans, with a halo so it reads over imagery and data). The colour key

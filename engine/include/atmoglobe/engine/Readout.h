@@ -1,5 +1,5 @@
 #pragma once
-// The value under the cursor (issue 12): where the pixel's ray meets the ground (latitude,
+// The value under the cursor: where the pixel's ray meets the ground (latitude,
 // longitude, height above sea level and above the ellipsoid) and, for each volume the ray
 // crosses before the ground, the first echo along it: the value with its units and, for radars,
 // the site, the gate read (sweep elevation, ray azimuth, gate range) and its stored value: radars

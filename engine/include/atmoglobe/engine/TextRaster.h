@@ -1,7 +1,7 @@
 #pragma once
 // Text drawn into images with a real TrueType font: GL-free, for every picture that carries
-// words (slice plots now; labels, colour keys and titles of rendered PNGs and the viewer next,
-// issue 12: a GL label layer uploads the same coverage masks as textures).
+// words: slice plots, the colour keys and titles of rendered pictures (Legend.h), and marker
+// labels, which MarkerRendererGL.h uploads as GL textures from the same coverage masks.
 //
 // The font: DejaVu Sans from Debian `fonts-dejavu-core` (kDejaVuSansPath), rasterised by
 // stb_truetype (Debian libstb, the implementation compiled into libstb). Text is UTF-8 (the

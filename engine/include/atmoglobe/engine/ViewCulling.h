@@ -1,5 +1,5 @@
 #pragma once
-// Load only what the view shows (issue 12 point 8), GL-free.
+// Load only what the view shows, GL-free.
 //
 // A radar volume lies inside a sphere about its antenna: every gate is on a beam whose path
 // length is the gate's slant range, so no gate is farther from the antenna (in a straight line)

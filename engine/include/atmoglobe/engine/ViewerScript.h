@@ -1,5 +1,5 @@
 #pragma once
-// `atmoglobe view --script FILE` (issue 12 point 10): a text file of viewer actions the viewer
+// `atmoglobe view --script FILE`: a text file of viewer actions the viewer
 // replays through the same GLFW callbacks as real input (tools/ViewCommand.cpp). GL-free parsing,
 // so tests check it without a window. One action per line; blank lines and lines starting with
 // '#' are skipped; words are separated by blanks. Pixels are window pixels from the top left.
