@@ -182,12 +182,14 @@ void main() {
     vec4 single = vec4(0.0);
     float transmitted = 1.0, extinction = 0.0;
     vec3 weightedRgb = vec3(0.0);
+    // No `continue` in this loop: Mesa does not unroll a loop that holds one, and on llvmpipe the
+    // loop left in place (lane masks around the whole sampler) made the default one-radar DVR
+    // frame 1.6x slower (docs/bench-volume.md, "The march loop and llvmpipe").
     for (int k = 0; k < VOLUME_COUNT; ++k) {
       bool inRange = i >= range[k].x && i <= range[k].y;
       float v = 0.0;
       int state = inRange ? volSample(k, volEyeRel(k) + t * dir, v) : STATE_NOT_ECHO;
-      if (kMode == 0 && kPreintegrated == 1) {
-        if (!inRange) continue;
+      if (kMode == 0 && kPreintegrated == 1 && inRange) {
         // A run is made of echo samples above the zero-opacity value: the samples the empty-space
         // grid may skip are all at or below it, so the runs, and the picture, do not depend on
         // whether skipping is on.
@@ -206,18 +208,18 @@ void main() {
         prevV[k] = v;
         prevIntegral[k] = integral;
         prevC[k] = c;
-      } else if (kMode == 0) {
-        if (state != STATE_ECHO) continue;
+      } else if (kMode == 0 && kPreintegrated == 0 && state == STATE_ECHO) {
         vec4 c = volClassify(k, v);  // alpha corrected for the step length on the CPU
-        if (c.a <= 0.0) continue;
-        ++contributing;
-        single = c;
-        if (VOLUME_COUNT > 1) {
-          transmitted *= 1.0 - c.a;
-          // Extinction x step of this volume: -ln(1 - alpha_step); the common factor cancels in the weights.
-          float x = -log(max(1.0 - c.a, 1e-7));
-          extinction += x;
-          weightedRgb += x * c.rgb;
+        if (c.a > 0.0) {
+          ++contributing;
+          single = c;
+          if (VOLUME_COUNT > 1) {
+            transmitted *= 1.0 - c.a;
+            // Extinction x step of this volume: -ln(1 - alpha_step); the common factor cancels in the weights.
+            float x = -log(max(1.0 - c.a, 1e-7));
+            extinction += x;
+            weightedRgb += x * c.rgb;
+          }
         }
       } else if (kMode == 1) {
         if (state == STATE_ECHO && v > maxValue[k]) {
