@@ -102,7 +102,7 @@ int runRender(const RenderOptions& o) {
   if (o.timeSeries) {
     // One PNG per time step (and substep): NAME_000.png, NAME_001.png, ...
     if (o.timeSubsteps < 1 || o.timeSubsteps > 100) return fail("render", "--time-substeps must be 1..100");
-    auto axis = engine::sceneTimeAxis(*scene, **renderer);
+    auto axis = engine::sceneTimeAxis(**renderer);
     if (!axis) return fail("render", axis.error());
     for (const std::string& note : axis->notes) std::cerr << "atmoglobe render: " << note << "\n";
     std::cerr << "atmoglobe render: " << axis->times.size() << " time steps from " << axis->leadName

@@ -9,6 +9,7 @@
 
 #include <atmoglobe/globe/Progress.h>
 
+#include <algorithm>
 #include <iostream>
 #include <optional>
 
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <type_traits>
 
 namespace atmoglobe::tools {
 
@@ -213,7 +215,7 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
   for (const std::string& e : scene.inputErrors)
     if (auto st = problem(e); !st) return st;
   const auto& origins = scene.origins;
-  const std::size_t inputs = scene.radars.size() + scene.grids.size() + scene.slices.size() + scene.overlays.size();
+  const std::size_t inputs = scene.volumes.size() + scene.slices.size() + scene.overlays.size();
   // Several inputs: progress (a bar on a terminal, lines in logs); one is quick enough alone.
   std::optional<globe::Progress> progress;
   if (inputs > 1) progress.emplace("loading", inputs);
@@ -226,40 +228,20 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
   };
   engine::SceneDescription::Origins kept;
   {
-    std::vector<engine::RadarLayerDescription> loaded;
-    for (std::size_t i = 0; i < scene.radars.size(); ++i) {
-      const engine::RadarLayerDescription& d = scene.radars[i];
-      const std::string origin = engine::layerOrigin(origins.radars, i, "--radar");
+    std::vector<engine::VolumeLayerDescription> loaded;
+    for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+      const engine::VolumeLayerDescription& d = scene.volumes[i];
+      const bool radar = d.kind == engine::VolumeKind::Radar;
+      const std::string origin = engine::layerOrigin(origins.volumes, i, radar ? "--radar" : "--grid");
       Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
       if (st && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
-        st = engine::checkInputFile(d.colors, keyAt(origin, "colors", "--colors"));
-      std::string note;
-      if (st) {
-        auto layer = renderer.addRadar(d);
-        if (layer) note = (*layer)->datumNote;
-        else st = makeError(origin + ": " + layer.error());
-      }
-      step(d.path);
-      if (!st) {
-        if (auto f = problem(st.error()); !f) return f;
-        continue;
-      }
-      say(d.path + ": " + note);
-      loaded.push_back(d);
-      kept.radars.push_back(origin);
-    }
-    scene.radars = std::move(loaded);
-  }
-  {
-    std::vector<engine::GridLayerDescription> loaded;
-    for (std::size_t i = 0; i < scene.grids.size(); ++i) {
-      const engine::GridLayerDescription& d = scene.grids[i];
-      const std::string origin = engine::layerOrigin(origins.grids, i, "--grid");
-      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
-      if (st && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
-        st = engine::checkInputFile(d.colors, keyAt(origin, "colors", "--grid-colors"));
+        st = engine::checkInputFile(d.colors, keyAt(origin, "colors", radar ? "--colors" : "--grid-colors"));
       std::string line;
-      if (st) {
+      if (st && radar) {
+        auto layer = renderer.addRadar(d);
+        if (layer) line = d.path + ": " + (*layer)->datumNote;
+        else st = makeError(origin + ": " + layer.error());
+      } else if (st) {
         auto layer = renderer.addGrid(d);
         if (layer) {
           const volume::GridVolume& g = (*layer)->volume->grid();
@@ -280,9 +262,9 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
       }
       say(line);
       loaded.push_back(d);
-      kept.grids.push_back(origin);
+      kept.volumes.push_back(origin);
     }
-    scene.grids = std::move(loaded);
+    scene.volumes = std::move(loaded);
   }
   {
     std::vector<engine::SliceLayerDescription> loaded;
@@ -482,6 +464,35 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     origins.overlays.push_back("--overlay");
   }
   for (const std::string& m : o.models) scene->models.push_back(m);
+  // --radar and --grid each replace the scene's layers of their kind (like --imagery); the radars
+  // stay first, as the scene file lists them.
+  auto replaceKind = [&](engine::VolumeKind kind, std::vector<engine::VolumeLayerDescription> layers,
+                         const char* option) {
+    std::vector<engine::VolumeLayerDescription> volumes;
+    std::vector<std::string> volumeOrigins;
+    origins.volumes.resize(scene->volumes.size());
+    for (std::size_t i = 0; i < scene->volumes.size(); ++i) {
+      if (scene->volumes[i].kind == kind) continue;
+      volumes.push_back(scene->volumes[i]);
+      volumeOrigins.push_back(origins.volumes[i]);
+    }
+    const auto at = kind == engine::VolumeKind::Radar ? 0 : static_cast<std::ptrdiff_t>(volumes.size());
+    volumes.insert(volumes.begin() + at, layers.begin(), layers.end());
+    volumeOrigins.insert(volumeOrigins.begin() + at, layers.size(), option);
+    scene->volumes = std::move(volumes);
+    origins.volumes = std::move(volumeOrigins);
+  };
+  // An enumerated setting given as text (VolumeLayer.h's spellings).
+  auto pickEnum = [](const std::vector<std::string>& values, const char* name, const char* layerOption,
+                     std::size_t layers, std::size_t i, auto& out) -> Status {
+    using E = std::decay_t<decltype(out)>;
+    std::string text = engine::nameOf(out);
+    if (auto st = pickPerLayer(values, name, layerOption, layers, i, text); !st) return st;
+    const auto value = engine::parseName<E>(text);
+    if (!value) return makeError(std::string(name) + ": \"" + text + "\" is not one of " + engine::quotedNames<E>());
+    out = *value;
+    return Ok{};
+  };
   const std::size_t nr = o.radars.size();
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--radar", nr, i, out);
@@ -493,26 +504,29 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
         "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
-  if (nr > 0) {  // like --imagery, --radar replaces the scene's radars
-    scene->radars.clear();
-    origins.radars.clear();
-  }
+  std::vector<engine::VolumeLayerDescription> radars;
   for (std::size_t i = 0; i < nr; ++i) {
-    engine::RadarLayerDescription d;
+    engine::VolumeLayerDescription d;
+    d.kind = engine::VolumeKind::Radar;
     d.path = o.radars[i];
     d.useGeoid = !o.noGeoid;
+    double iso = 0.0;
     for (const Status& st :
          {pick(o.fields, "--field", i, d.field), pick(o.colors, "--colors", i, d.colors),
-          pick(o.modes, "--mode", i, d.mode), pick(o.interpolations, "--interpolation", i, d.interpolation),
-          pick(o.beams, "--beam", i, d.beam), pick(o.classifications, "--classification", i, d.classification),
+          pickEnum(o.modes, "--mode", "--radar", nr, i, d.mode),
+          pickEnum(o.interpolations, "--interpolation", "--radar", nr, i, d.interpolation),
+          pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
+          pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
           pick(o.steps, "--step", i, d.stepMeters), pick(o.imageScales, "--image-scale", i, d.imageScale),
-          pick(o.isoValues, "--iso", i, d.isoValue)}) {
+          pick(o.isoValues, "--iso", i, iso)}) {
       if (!st) return st.forwardError();
     }
+    if (!o.isoValues.empty()) d.isoValue = iso;
     if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();
-    if (auto st = engine::validateRadarLayer(d, "--radar"); !st) return st.forwardError();
-    scene->radars.push_back(d);
+    if (auto st = engine::validateVolumeLayer(d, "--radar"); !st) return st.forwardError();
+    radars.push_back(d);
   }
+  if (nr > 0) replaceKind(engine::VolumeKind::Radar, std::move(radars), "--radar");
   const std::size_t ng = o.grids.size();
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
@@ -523,32 +537,33 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
         "--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
-  if (ng > 0) {  // --grid replaces the scene's grids
-    scene->grids.clear();
-    origins.grids.clear();
-  }
+  std::vector<engine::VolumeLayerDescription> grids;
   for (std::size_t i = 0; i < ng; ++i) {
-    engine::GridLayerDescription d;
+    engine::VolumeLayerDescription d;
+    d.kind = engine::VolumeKind::Grid;
     d.path = o.grids[i];
     d.useGeoid = !o.noGeoid;
-    for (const Status& st :
-         {pickGrid(o.variables, "--var", i, d.variable), pickGrid(o.times, "--time", i, d.time),
-          pickGrid(o.gridColors, "--grid-colors", i, d.colors), pickGrid(o.gridModes, "--grid-mode", i, d.mode),
-          pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
+    for (const Status& st : {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
+                             pickGrid(o.gridColors, "--grid-colors", i, d.colors),
+                             pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
+                             pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
       if (!st) return st.forwardError();
     }
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
-    if (auto st = engine::validateGridLayer(d, "--grid"); !st) return st.forwardError();
-    scene->grids.push_back(d);
+    if (auto st = engine::validateVolumeLayer(d, "--grid"); !st) return st.forwardError();
+    grids.push_back(d);
   }
+  if (ng > 0) replaceKind(engine::VolumeKind::Grid, std::move(grids), "--grid");
   if (!o.sliceHeights.empty() || !o.slicePaths.empty()) {
     engine::SliceLayerDescription base;
-    if (!scene->radars.empty()) {
-      base.source = {volume::SliceSourceOptions::Kind::Radar, scene->radars[0].path, scene->radars[0].field, "",
-                     scene->radars[0].useGeoid};
-    } else if (!scene->grids.empty()) {
-      base.source = {volume::SliceSourceOptions::Kind::Grid, scene->grids[0].path, scene->grids[0].variable,
-                     scene->grids[0].time, scene->grids[0].useGeoid};
+    // The first radar, else the first grid.
+    auto first = std::find_if(scene->volumes.begin(), scene->volumes.end(),
+                              [](const auto& v) { return v.kind == engine::VolumeKind::Radar; });
+    if (first == scene->volumes.end()) first = scene->volumes.begin();
+    if (first != scene->volumes.end()) {
+      const bool radar = first->kind == engine::VolumeKind::Radar;
+      base.source = {radar ? volume::SliceSourceOptions::Kind::Radar : volume::SliceSourceOptions::Kind::Grid,
+                     first->path, first->field, first->time, first->useGeoid};
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

@@ -417,8 +417,8 @@ int runView(const ViewOptions& o) {
   // The scene's time axis, when a grid has several steps or a radar is a loop (time keys and playing).
   TimeCursor time;
   time.substeps = std::clamp(o.timeSubsteps, 1, 100);
-  if (!scene->grids.empty() || !scene->radars.empty()) {
-    auto axis = engine::sceneTimeAxis(*scene, **renderer);
+  if (!scene->volumes.empty()) {
+    auto axis = engine::sceneTimeAxis(**renderer);
     if (axis) {
       for (const std::string& note : axis->notes) std::cerr << "atmoglobe view: " << note << "\n";
       const std::size_t first = axis->leadIsRadar ? (*renderer)->radars()[axis->leadGrid].step

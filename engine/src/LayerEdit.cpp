@@ -3,43 +3,8 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <tuple>
 
 namespace atmoglobe::engine {
-
-namespace {
-bool sameCrop(const volume::CropBox& a, const volume::CropBox& b) {
-  return std::tie(a.southDeg, a.northDeg, a.westDeg, a.eastDeg, a.bottomMeters, a.topMeters) ==
-         std::tie(b.southDeg, b.northDeg, b.westDeg, b.eastDeg, b.bottomMeters, b.topMeters);
-}
-bool sameLook(const VolumeLayerSettings& a, const VolumeLayerSettings& b) {
-  return a.valueRange == b.valueRange && a.opacity == b.opacity && a.opacityPoints == b.opacityPoints;
-}
-// Doubles compared so that NaN equals NaN (a grid's "middle of the range" iso value).
-bool same(double a, double b) { return a == b || (a != a && b != b); }
-}  // namespace
-
-LayerChange radarLayerChange(const RadarLayerDescription& a, const RadarLayerDescription& b) {
-  if (a.path != b.path || a.field != b.field || a.useGeoid != b.useGeoid || !sameCrop(a.settings.crop, b.settings.crop))
-    return LayerChange::Reload;
-  if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation ||
-      !same(a.stepMeters, b.stepMeters) || !same(a.imageScale, b.imageScale) || !same(a.isoValue, b.isoValue) ||
-      a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
-      !sameLook(a.settings, b.settings))
-    return LayerChange::Options;
-  return LayerChange::None;
-}
-
-LayerChange gridLayerChange(const GridLayerDescription& a, const GridLayerDescription& b) {
-  if (a.path != b.path || a.variable != b.variable || a.time != b.time || a.useGeoid != b.useGeoid ||
-      !sameCrop(a.settings.crop, b.settings.crop))
-    return LayerChange::Reload;
-  if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation ||
-      !same(a.stepMeters, b.stepMeters) || !same(a.imageScale, b.imageScale) || !same(a.isoValue, b.isoValue) ||
-      a.classification != b.classification || !sameLook(a.settings, b.settings))
-    return LayerChange::Options;
-  return LayerChange::None;
-}
 
 const std::vector<std::string>& colorTableChoices() {
   static const std::vector<std::string> choices{"auto",    "NWS",   "velocity",  "cividis",

@@ -91,67 +91,59 @@ Status all(Checks&&... checks) {
   return result;
 }
 
-Status parseRadar(const Object& r, const std::string& baseDir, const std::string& dataDir, RadarLayerDescription& d) {
-  if (auto st =
-          r.checkObject({"path", "field", "colors", "mode", "interpolation", "step_m", "image_scale", "iso_dbz", "beam",
-                         "classification", "label", "geoid", "range", "opacity", "crop", "crop_heights_m"});
-      !st)
-    return st;
-  Status st =
-      all([&] { return parsePath(r, "path", d.path, "a radar file, directory, glob or comma list", baseDir, dataDir); },
-          [&] { return r.string("field", d.field); },
-          [&] {
-            return parseColors(r, d.colors,
-                               {"auto", "nws", "cividis", "velocity", "viridis", "turbo", "grayscale", "greens"},
-                               baseDir, dataDir);
-          },
-          [&] {
-            return r.choice("mode", d.mode, {"dvr", "mip", "iso"});
-          },
-          [&] {
-            return r.choice("interpolation", d.interpolation, {"nearest", "linear"});
-          },
-          [&] {
-            return r.choice("beam", d.beam, {"4/3", "straight"});
-          },
-          [&] {
-            return r.choice("classification", d.classification, {"point", "preintegrated"});
-          },
-          [&] { return r.string("label", d.label); }, [&] { return r.number("step_m", d.stepMeters, 1.0, 1e5, "m"); },
-          [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
-          [&] { return r.number("iso_dbz", d.isoValue, -1e30, 1e30, "(field units)"); },
-          [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
-  if (!st) return st;
-  return validateRadarLayer(d, r.where());
+// A scene key naming one value of an enumerated setting (VolumeLayer.h's spellings).
+template <class E>
+Status parseEnum(const Object& o, const char* key, E& out) {
+  if (!o.has(key)) return Ok{};
+  std::string name = nameOf(out);
+  std::vector<const char*> names;
+  for (E value : allValues<E>()) names.push_back(nameOf(value));
+  if (auto st = o.choice(key, name, names); !st) return st;
+  out = *parseName<E>(name);
+  return Ok{};
 }
 
-Status parseGrid(const Object& r, const std::string& baseDir, const std::string& dataDir, GridLayerDescription& d) {
-  if (auto st = r.checkObject({"path", "variable", "time", "colors", "mode", "interpolation", "step_m", "image_scale",
-                               "iso_value", "classification", "geoid", "range", "opacity", "crop", "crop_heights_m"});
-      !st)
-    return st;
-  Status st = all([&] { return parsePath(r, "path", d.path, "a CF or WRF netCDF file", baseDir, dataDir); },
-                  [&] { return r.string("variable", d.variable); }, [&] { return r.string("time", d.time); },
-                  [&] {
-                    return parseColors(
-                        r, d.colors, {"auto", "nws", "cividis", "viridis", "turbo", "grayscale", "greens", "velocity"},
-                        baseDir, dataDir);
-                  },
-                  [&] {
-                    return r.choice("mode", d.mode, {"dvr", "mip", "iso"});
-                  },
-                  [&] {
-                    return r.choice("interpolation", d.interpolation, {"nearest", "linear"});
-                  },
-                  [&] {
-                    return r.choice("classification", d.classification, {"point", "preintegrated"});
-                  },
-                  [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
-                  [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
-                  [&] { return r.number("iso_value", d.isoValue, -1e30, 1e30, "(variable units)"); },
-                  [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
+// One element of "radars" or "grids": the keys both kinds share, then each kind's own ("field",
+// "iso_dbz", "beam", "label" for radars; "variable", "iso_value", "time" for grids).
+Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& baseDir, const std::string& dataDir,
+                        VolumeLayerDescription& d) {
+  d.kind = kind;
+  const bool radar = kind == VolumeKind::Radar;
+  std::vector<std::string> keys{"path",           "colors", "mode",  "interpolation", "step_m",         "image_scale",
+                                "classification", "geoid",  "range", "opacity",       "crop_heights_m", "crop"};
+  const char* fieldKey = radar ? "field" : "variable";
+  const char* isoKey = radar ? "iso_dbz" : "iso_value";
+  keys.insert(keys.end(), {fieldKey, isoKey});
+  if (radar) {
+    keys.insert(keys.end(), {"beam", "label"});
+  } else {
+    keys.push_back("time");
+  }
+  if (auto st = r.checkObject(keys); !st) return st;
+  double iso = 0.0;
+  Status st = all(
+      [&] {
+        return parsePath(r, "path", d.path,
+                         radar ? "a radar file, directory, glob or comma list" : "a CF or WRF netCDF file", baseDir,
+                         dataDir);
+      },
+      [&] { return r.string(fieldKey, d.field); },
+      [&] {
+        return parseColors(r, d.colors,
+                           {"auto", "nws", "cividis", "velocity", "viridis", "turbo", "grayscale", "greens"}, baseDir,
+                           dataDir);
+      },
+      [&] { return parseEnum(r, "mode", d.mode); }, [&] { return parseEnum(r, "interpolation", d.interpolation); },
+      [&] { return parseEnum(r, "classification", d.classification); },
+      [&] { return radar ? parseEnum(r, "beam", d.beam) : Status(Ok{}); },
+      [&] { return radar ? r.string("label", d.label) : r.string("time", d.time); },
+      [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
+      [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
+      [&] { return r.number(isoKey, iso, -1e30, 1e30, radar ? "(field units)" : "(variable units)"); },
+      [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
   if (!st) return st;
-  return validateGridLayer(d, r.where());
+  if (r.has(isoKey)) d.isoValue = iso;
+  return validateVolumeLayer(d, r.where());
 }
 
 Status parseMarker(const Object& m, Marker& marker) {
@@ -167,6 +159,13 @@ Status parseMarker(const Object& m, Marker& marker) {
 
 }  // namespace
 
+std::vector<VolumeLayerDescription> volumesOfKind(const SceneDescription& scene, VolumeKind kind) {
+  std::vector<VolumeLayerDescription> out;
+  for (const VolumeLayerDescription& d : scene.volumes)
+    if (d.kind == kind) out.push_back(d);
+  return out;
+}
+
 std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback) {
   return index < origins.size() && !origins[index].empty() ? origins[index] : fallback;
 }
@@ -176,21 +175,6 @@ Status checkInputFile(const std::string& path, const std::string& where) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return makeError(where + ": file not found: " + path);
   return Ok{};
-}
-
-Status validateVolumeLayerSettings(const VolumeLayerSettings& s, const std::string& where) {
-  if (s.valueRange &&
-      !(std::isfinite(s.valueRange->x) && std::isfinite(s.valueRange->y) && s.valueRange->x < s.valueRange->y))
-    return makeError(where + ": range must be finite with min < max");
-  if (!s.opacity.empty()) {
-    const auto& o = s.opacity;
-    if (o.size() < 2 || o.size() > 4 || !std::all_of(o.begin(), o.end(), [](double x) { return std::isfinite(x); }))
-      return makeError(where + ": opacity must be 2 to 4 finite numbers: zero, full[, max[, per_m]]");
-    if (!(o[0] < o[1])) return makeError(where + ": opacity zero value must be below the full value");
-    if (o.size() > 2 && !(o[2] >= 0.0 && o[2] <= 1.0)) return makeError(where + ": opacity max must be in 0..1");
-    if (o.size() > 3 && !(o[3] > 0.0)) return makeError(where + ": opacity per_m must be > 0");
-  }
-  return volume::validateCropBox(s.crop, where);
 }
 
 Result<SceneDescription> parseSceneJson(std::string_view text, const std::string& sourceName,
@@ -281,22 +265,14 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     scene.stationsPath = resolvePath(scene.stationsPath, baseDir, dataDir);
     scene.origins.stations = top.where("stations");
   }
-  if (top.has("radars")) {
-    for (std::size_t i = 0; i < root["radars"].size(); ++i) {
-      const Object r = top.element("radars", i);
-      RadarLayerDescription d;
-      if (auto st = parseRadar(r, baseDir, dataDir, d); !st) return st.forwardError();
-      scene.radars.push_back(d);
-      scene.origins.radars.push_back(r.where());
-    }
-  }
-  if (top.has("grids")) {
-    for (std::size_t i = 0; i < root["grids"].size(); ++i) {
-      const Object r = top.element("grids", i);
-      GridLayerDescription d;
-      if (auto st = parseGrid(r, baseDir, dataDir, d); !st) return st.forwardError();
-      scene.grids.push_back(d);
-      scene.origins.grids.push_back(r.where());
+  for (const auto& [key, kind] : {std::pair{"radars", VolumeKind::Radar}, std::pair{"grids", VolumeKind::Grid}}) {
+    if (!top.has(key)) continue;
+    for (std::size_t i = 0; i < root[key].size(); ++i) {
+      const Object r = top.element(key, i);
+      VolumeLayerDescription d;
+      if (auto st = parseVolumeLayer(r, kind, baseDir, dataDir, d); !st) return st.forwardError();
+      scene.volumes.push_back(d);
+      scene.origins.volumes.push_back(r.where());
     }
   }
   if (auto st = all([&] { return top.boolean("map_context", scene.mapContext); },
@@ -337,41 +313,6 @@ Status validateMapOverlay(const MapOverlayDescription& d, const std::string& whe
     if (!(d.color[k] >= 0.0f && d.color[k] <= 1.0f)) return makeError(where + ": color components must be in 0..1");
   if (!(d.widthPx >= 0.5f && d.widthPx <= 16.0f)) return makeError(where + ": width_px must be in 0.5..16");
   return Ok{};
-}
-
-Status validateGridLayer(const GridLayerDescription& d, const std::string& where) {
-  if (d.mode != "dvr" && d.mode != "mip" && d.mode != "iso") {
-    return makeError(where + ": mode must be dvr, mip or iso, not \"" + d.mode + "\"");
-  }
-  if (d.interpolation != "nearest" && d.interpolation != "linear") {
-    return makeError(where + ": interpolation must be nearest or linear, not \"" + d.interpolation + "\"");
-  }
-  if (d.classification != "point" && d.classification != "preintegrated") {
-    return makeError(where + ": classification must be point or preintegrated, not \"" + d.classification + "\"");
-  }
-  if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
-  if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
-  if (std::isinf(d.isoValue)) return makeError(where + ": iso value must be finite");
-  return validateVolumeLayerSettings(d.settings, where);
-}
-
-Status validateRadarLayer(const RadarLayerDescription& d, const std::string& where) {
-  if (d.mode != "dvr" && d.mode != "mip" && d.mode != "iso") {
-    return makeError(where + ": mode must be dvr, mip or iso, not \"" + d.mode + "\"");
-  }
-  if (d.interpolation != "nearest" && d.interpolation != "linear") {
-    return makeError(where + ": interpolation must be nearest or linear, not \"" + d.interpolation + "\"");
-  }
-  if (d.beam != "4/3" && d.beam != "straight") {
-    return makeError(where + ": beam must be \"4/3\" or \"straight\", not \"" + d.beam + "\"");
-  }
-  if (d.classification != "point" && d.classification != "preintegrated") {
-    return makeError(where + ": classification must be point or preintegrated, not \"" + d.classification + "\"");
-  }
-  if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e5)) return makeError(where + ": step must be in 1..100000 m");
-  if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
-  if (!std::isfinite(d.isoValue)) return makeError(where + ": iso value must be finite");
-  return validateVolumeLayerSettings(d.settings, where);
 }
 
 Result<SceneDescription> loadSceneFile(const std::string& path, const std::string& dataDir) {

@@ -153,6 +153,10 @@ Status Object::string(const char* key, std::string& out) const {
 }
 
 Status Object::choice(const char* key, std::string& out, std::initializer_list<const char*> choices) const {
+  return choice(key, out, std::vector<const char*>(choices));
+}
+
+Status Object::choice(const char* key, std::string& out, const std::vector<const char*>& choices) const {
   std::string s = out;
   if (auto st = string(key, s); !st) return st;
   if (!value_.contains(key)) return Ok{};

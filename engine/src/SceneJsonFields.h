@@ -58,6 +58,7 @@ class Object {
   Status string(const char* key, std::string& out) const;
   /// A string from `choices` (the message lists them).
   Status choice(const char* key, std::string& out, std::initializer_list<const char*> choices) const;
+  Status choice(const char* key, std::string& out, const std::vector<const char*>& choices) const;
   Status boolean(const char* key, bool& out) const;
   /// An array of minCount..maxCount numbers, each in lo..hi; `form` says it ("[min, max]").
   Status numbers(const char* key, std::vector<double>& out, std::size_t minCount, std::size_t maxCount,

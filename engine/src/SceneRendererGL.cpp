@@ -70,7 +70,7 @@ bool isCropped(const VolumeLayerSettings& settings) {
 
 /// One radar volume (a file, or a set's files) read with its render layout and cut to the
 /// layer's crop box: what addRadar, reloadRadar and a loop step load.
-Result<volume::LoadedRadar> readCroppedRadar(const RadarLayerDescription& d, const std::string& files) {
+Result<volume::LoadedRadar> readCroppedRadar(const VolumeLayerDescription& d, const std::string& files) {
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
   load.useGeoid = d.useGeoid;
@@ -86,21 +86,18 @@ Result<volume::LoadedRadar> readCroppedRadar(const RadarLayerDescription& d, con
 }
 }  // namespace
 
-Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& d, const volume::FieldInfo& field,
+Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& d, const volume::FieldInfo& field,
                                                double nyquistMps, const volume::ValueRange& range) {
   VolumeRenderOptions o;
-  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
-                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
-                                    : volume::VolumeRenderMode::Dvr;
-  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
-                                                        : volume::Interpolation::Linear;
+  o.render.mode = d.mode;
+  o.render.interpolation = d.interpolation;
   o.render.stepMeters = d.stepMeters;
-  o.render.isoValue = d.isoValue;
+  o.render.isoValue = d.isoValue.value_or(defaultIsoValue(d.kind, range.minValue, range.maxValue));
   auto transfer = transferForLayer(d.colors, d.settings, field, nyquistMps, range);
   if (!transfer) return transfer.forwardError();
   o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
-  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
+  o.classification = d.classification;
   return o;
 }
 
@@ -137,7 +134,7 @@ Status SceneRendererGL::addModel(const std::string& glbPath) {
 
 Status SceneRendererGL::setVerticalExaggeration(double factor) {
   if (auto st = volume::validateVerticalExaggeration(factor, "scene"); !st) return st;
-  if (!radars_.empty() || !grids_.empty() || (slices_ && slices_->size() > 0))
+  if (volumeLayerCount() > 0 || (slices_ && slices_->size() > 0))
     return makeError("the vertical exaggeration must be set before volumes and slices are added");
   exaggeration_ = factor;
   return Ok{};
@@ -214,12 +211,22 @@ void cacheRadarStep(volume::StepCache& cache, RadarLayerGL& layer, const std::st
 }
 }  // namespace
 
-Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescription& d) {
+Status SceneRendererGL::addVolume(const VolumeLayerDescription& d) {
+  if (d.kind == VolumeKind::Radar) {
+    auto layer = addRadar(d);
+    return layer ? Status(Ok{}) : layer.forwardError();
+  }
+  auto layer = addGrid(d);
+  return layer ? Status(Ok{}) : layer.forwardError();
+}
+
+Result<const RadarLayerGL*> SceneRendererGL::addRadar(const VolumeLayerDescription& d) {
+  if (d.kind != VolumeKind::Radar) return makeError(d.path + ": addRadar of a " + nameOf(d.kind) + " layer");
   auto loop = radarLoopSteps(d.path, d.field);
   if (!loop) return loop.forwardError();
   if (!loop->first.empty()) {
     // A loop: show the latest volume; the others are steps of the scene's time axis.
-    RadarLayerDescription latest = d;
+    VolumeLayerDescription latest = d;
     latest.path = loop->first.back();
     auto layer = addRadar(latest);
     if (!layer) return layer;
@@ -237,13 +244,12 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
   if (!radar) return radar.forwardError();
   if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
     return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
-  auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
+  auto options = layerRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
   auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
   if (!gl) return gl.forwardError();
-  (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
-                                                   : BeamApproximation::EffectiveEarthLocalSphere);
+  (*gl)->setBeamApproximation(d.beam);
   RadarLayerGL layer;
   layer.volume = std::move(*gl);
   layer.options = *options;
@@ -269,7 +275,7 @@ Result<const RadarLayerGL*> SceneRendererGL::addRadar(const RadarLayerDescriptio
 namespace {
 // The crop box's cut of a grid as read (the reader already kept only the box's columns and one
 // more on each side; heights and the exact box are cut here).
-Status cropGridLayer(const GridLayerDescription& d, volume::GridVolume& grid) {
+Status cropGridLayer(const VolumeLayerDescription& d, volume::GridVolume& grid) {
   if (d.settings.crop.coversEveryLonLat() && d.settings.crop.coversEveryHeight()) return Ok{};
   auto geoid = cropGeoid(d.settings, d.useGeoid);
   if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
@@ -280,9 +286,9 @@ Status cropGridLayer(const GridLayerDescription& d, volume::GridVolume& grid) {
 }
 
 // What a grid layer reads: its variable, crop and datum (the time step is set by the caller).
-volume::GridReadOptions gridReadOptions(const GridLayerDescription& d) {
+volume::GridReadOptions gridReadOptions(const VolumeLayerDescription& d) {
   volume::GridReadOptions read;
-  read.variable = d.variable;
+  read.variable = d.field;
   read.useGeoid = d.useGeoid;
   read.crop.southDeg = d.settings.crop.southDeg;
   read.crop.northDeg = d.settings.crop.northDeg;
@@ -294,28 +300,15 @@ volume::GridReadOptions gridReadOptions(const GridLayerDescription& d) {
 
 namespace {
 // A grid layer's render options; colours over `range` (the values of the step first loaded).
-Result<VolumeRenderOptions> gridRenderOptions(const GridLayerDescription& d, const volume::GridVolume& grid,
+Result<VolumeRenderOptions> gridRenderOptions(const VolumeLayerDescription& d, const volume::GridVolume& grid,
                                               const volume::ValueRange& range) {
-  VolumeRenderOptions o;
-  o.render.mode = d.mode == "mip"   ? volume::VolumeRenderMode::Mip
-                  : d.mode == "iso" ? volume::VolumeRenderMode::Iso
-                                    : volume::VolumeRenderMode::Dvr;
-  o.render.interpolation = d.interpolation == "nearest" ? volume::Interpolation::Nearest
-                                                        : volume::Interpolation::Linear;
-  o.render.stepMeters = d.stepMeters;
-  o.render.isoValue = std::isnan(d.isoValue) ? 0.5 * (range.minValue + range.maxValue) : d.isoValue;
-  auto transfer = transferForLayer(d.colors, d.settings,
-                                   volume::FieldInfo{grid.variable, grid.units, grid.standardName},
-                                   std::numeric_limits<double>::quiet_NaN(), range);
-  if (!transfer) return transfer.forwardError();
-  o.render.transfer = std::move(*transfer);
-  o.imageScale = d.imageScale;
-  o.classification = d.classification == "preintegrated" ? Classification::Preintegrated : Classification::Point;
-  return o;
+  return layerRenderOptions(d, volume::FieldInfo{grid.variable, grid.units, grid.standardName},
+                            std::numeric_limits<double>::quiet_NaN(), range);
 }
 }  // namespace
 
-Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& d) {
+Result<const GridLayerGL*> SceneRendererGL::addGrid(const VolumeLayerDescription& d) {
+  if (d.kind != VolumeKind::Grid) return makeError(d.path + ": addGrid of a " + nameOf(d.kind) + " layer");
   volume::GridReadOptions read = gridReadOptions(d);
   if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
   auto grid = volume::readGridVolume(d.path, read);
@@ -343,7 +336,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
   return &grids_.back();
 }
 
-Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
+Result<RadarStepData> prepareRadarStep(const VolumeLayerDescription& d, const std::string& files) {
   // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
   const std::lock_guard lock(volume::netcdfLibraryMutex());
   auto radar = readCroppedRadar(d, files);
@@ -351,7 +344,7 @@ Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std
   return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
 }
 
-Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
+Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& d, std::size_t step, double exaggeration) {
   // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
   const std::lock_guard lock(volume::netcdfLibraryMutex());
   volume::GridReadOptions read = gridReadOptions(d);
@@ -460,7 +453,7 @@ Status SceneRendererGL::setGridStep(std::size_t index, std::size_t step, double 
 
 /// A grid read afresh with description `d` (the panel changed its variable, crop or the scene's
 /// exaggeration): every cached step of this layer is stale and dropped; the new one is cached.
-Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription& d, std::size_t step,
+Status SceneRendererGL::reloadGrid(std::size_t index, const VolumeLayerDescription& d, std::size_t step,
                                    double fraction) {
   GridLayerGL& layer = grids_[index];
   volume::GridReadOptions read = gridReadOptions(d);
@@ -601,28 +594,37 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
 
 // --- Live edits (the control panel) ---
 
-Status SceneRendererGL::setRadarDescription(std::size_t index, const RadarLayerDescription& d) {
-  if (index >= radars_.size()) return makeError("no radar layer " + std::to_string(index));
+const VolumeLayerDescription& SceneRendererGL::volumeDescription(std::size_t index) const {
+  return index < radars_.size() ? radars_[index].description : grids_[index - radars_.size()].description;
+}
+
+Status SceneRendererGL::setVolumeDescription(std::size_t index, const VolumeLayerDescription& d) {
+  if (index >= volumeLayerCount()) return makeError("no volume layer " + std::to_string(index));
+  if (d.kind != volumeDescription(index).kind)
+    return makeError(d.path + ": a " + nameOf(volumeDescription(index).kind) + " layer cannot become a " +
+                     nameOf(d.kind));
+  if (auto st = validateVolumeLayer(d, d.path); !st) return st;
+  return d.kind == VolumeKind::Radar ? setRadarDescription(index, d) : setGridDescription(index - radars_.size(), d);
+}
+
+Status SceneRendererGL::setRadarDescription(std::size_t index, const VolumeLayerDescription& d) {
   RadarLayerGL& layer = radars_[index];
-  if (auto st = validateRadarLayer(d, d.path); !st) return st;
-  if (auto st = validateVolumeLayerSettings(d.settings, d.path); !st) return st;
-  switch (radarLayerChange(layer.description, d)) {
+  switch (layerChange(layer.description, d)) {
     case LayerChange::None: return Ok{};
     case LayerChange::Reload: return reloadRadar(index, d);
     case LayerChange::Options: break;
   }
   const volume::PolarVolume& p = layer.volume->polar();
-  auto options = radarRenderOptions(d, layer.loadedField, layer.nyquistMps, {p.minValue, p.maxValue});
+  auto options = layerRenderOptions(d, layer.loadedField, layer.nyquistMps, {p.minValue, p.maxValue});
   if (!options) return options.forwardError();
   layer.options = std::move(*options);
-  layer.volume->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
-                                                          : BeamApproximation::EffectiveEarthLocalSphere);
+  layer.volume->setBeamApproximation(d.beam);
   if (!d.label.empty()) layer.siteMarker.label = d.label;
   layer.description = d;
   return Ok{};
 }
 
-Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescription& d) {
+Status SceneRendererGL::reloadRadar(std::size_t index, const VolumeLayerDescription& d) {
   RadarLayerGL& layer = radars_[index];
   std::vector<std::string> files = layer.loopFiles, times = layer.loopTimes;
   std::size_t step = layer.step;
@@ -639,13 +641,12 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
   if (!radar) return radar.forwardError();
   if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
     return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);
-  auto options = radarRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
+  auto options = layerRenderOptions(d, radar->volume.loadedField, radar->volume.nyquistVelocityMps,
                                     {radar->layout->minValue, radar->layout->maxValue});
   if (!options) return options.forwardError();
   auto gl = RadarVolumeGL::create(*radar->layout, exaggeration_);
   if (!gl) return gl.forwardError();
-  (*gl)->setBeamApproximation(d.beam == "straight" ? BeamApproximation::StraightLine
-                                                   : BeamApproximation::EffectiveEarthLocalSphere);
+  (*gl)->setBeamApproximation(d.beam);
   layer.volume = std::move(*gl);
   layer.options = std::move(*options);
   layer.datumNote = radar->site.datumNote;
@@ -666,17 +667,14 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
   return Ok{};
 }
 
-Status SceneRendererGL::setGridDescription(std::size_t index, const GridLayerDescription& d) {
-  if (index >= grids_.size()) return makeError("no grid layer " + std::to_string(index));
+Status SceneRendererGL::setGridDescription(std::size_t index, const VolumeLayerDescription& d) {
   GridLayerGL& layer = grids_[index];
-  if (auto st = validateGridLayer(d, d.path); !st) return st;
-  if (auto st = validateVolumeLayerSettings(d.settings, d.path); !st) return st;
-  switch (gridLayerChange(layer.description, d)) {
+  switch (layerChange(layer.description, d)) {
     case LayerChange::None: return Ok{};
     case LayerChange::Reload: {
-      GridLayerDescription previous = layer.description;
+      VolumeLayerDescription previous = layer.description;
       volume::ValueRange previousRange = layer.firstRange;
-      if (d.variable != previous.variable || d.path != previous.path) layer.firstRange = {};  // new colours' range
+      if (d.field != previous.field || d.path != previous.path) layer.firstRange = {};  // new colours' range
       if (auto st = reloadGrid(index, d, layer.step, layer.stepFraction); !st) {
         layer.firstRange = previousRange;
         return st;

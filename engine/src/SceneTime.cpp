@@ -7,11 +7,12 @@
 
 namespace atmoglobe::engine {
 
-Result<SceneTimeAxis> sceneTimeAxis(const SceneDescription& scene, const SceneRendererGL& renderer) {
+Result<SceneTimeAxis> sceneTimeAxis(const SceneRendererGL& renderer) {
   SceneTimeAxis axis;
   std::vector<std::vector<std::string>> times;
-  for (const GridLayerDescription& g : scene.grids) {
-    auto info = volume::describeGridFile(g.path, g.variable);
+  for (const GridLayerGL& layer : renderer.grids()) {
+    const VolumeLayerDescription& g = layer.description;
+    auto info = volume::describeGridFile(g.path, g.field);
     if (!info) return info.forwardError();
     times.push_back(info->times);
   }
@@ -20,7 +21,7 @@ Result<SceneTimeAxis> sceneTimeAxis(const SceneDescription& scene, const SceneRe
   if (lead != times.end()) {
     axis.leadGrid = static_cast<std::size_t>(lead - times.begin());
     axis.times = *lead;
-    axis.leadName = scene.grids[axis.leadGrid].path;
+    axis.leadName = renderer.grids()[axis.leadGrid].description.path;
   } else {
     const auto loop =
         std::find_if(radars.begin(), radars.end(), [](const RadarLayerGL& r) { return r.loopTimes.size() > 1; });
@@ -44,8 +45,8 @@ Result<SceneTimeAxis> sceneTimeAxis(const SceneDescription& scene, const SceneRe
     if (!axis.leadIsRadar && g == axis.leadGrid) {
       for (std::size_t s = 0; s < steps.size(); ++s) steps[s] = static_cast<long>(s);
     } else if (missing > 0) {
-      axis.notes.push_back(scene.grids[g].path + ": no step at " + std::to_string(missing) + " of the " +
-                           std::to_string(axis.times.size()) + " times of " + axis.leadName +
+      axis.notes.push_back(renderer.grids()[g].description.path + ": no step at " + std::to_string(missing) +
+                           " of the " + std::to_string(axis.times.size()) + " times of " + axis.leadName +
                            "; it stays at its last step shown there");
     }
     axis.gridSteps.push_back(std::move(steps));

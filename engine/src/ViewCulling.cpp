@@ -58,17 +58,23 @@ Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verti
 
 CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera) {
   CullOutcome out;
-  std::vector<RadarLayerDescription> kept;
-  for (const RadarLayerDescription& d : scene.radars) {
-    auto sphere = radarBoundingSphere(d.path, scene.verticalExaggeration);
-    if (sphere && !sphereMayBeVisible(camera, *sphere)) {
-      out.culled.push_back(d.path);
-      continue;
+  std::vector<VolumeLayerDescription> kept;
+  std::vector<std::string> keptOrigins;
+  for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+    const VolumeLayerDescription& d = scene.volumes[i];
+    if (d.kind == VolumeKind::Radar) {
+      auto sphere = radarBoundingSphere(d.path, scene.verticalExaggeration);
+      if (sphere && !sphereMayBeVisible(camera, *sphere)) {
+        out.culled.push_back(d.path);
+        continue;
+      }
+      ++out.kept;
     }
     kept.push_back(d);
+    if (i < scene.origins.volumes.size()) keptOrigins.push_back(scene.origins.volumes[i]);
   }
-  out.kept = kept.size();
-  scene.radars = std::move(kept);
+  scene.volumes = std::move(kept);
+  scene.origins.volumes = std::move(keptOrigins);
   return out;
 }
 

@@ -201,11 +201,7 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
 }
 
 namespace {
-const char* const kModes[] = {"dvr", "mip", "iso"};
-const char* const kModeLabels[] = {"DVR", "MIP", "iso"};
-const char* const kInterpolations[] = {"linear", "nearest"};
-const char* const kBeams[] = {"4/3", "straight"};
-const char* const kClassifications[] = {"point", "preintegrated"};
+const char* const kModeLabels[] = {"DVR", "MIP", "iso"};  // allValues<VolumeRenderMode>'s order
 
 template <std::size_t N>
 bool comboOf(const char* label, std::string& value, const char* const (&choices)[N]) {
@@ -236,17 +232,21 @@ bool comboOf(const char* label, std::string& value, const std::vector<std::strin
   return changed;
 }
 
-// The settings a radar and a grid description share, edited in one place.
-struct LayerKnobs {
-  std::string* colors;
-  std::string* mode;
-  std::string* interpolation;
-  double* stepMeters;
-  double* imageScale;
-  double* isoValue;
-  std::string* classification;
-  VolumeLayerSettings* settings;
-};
+// A combo box over an enumerated setting, spelled as in scenes (VolumeLayer.h).
+template <class E>
+bool enumCombo(const char* label, E& value) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, nameOf(value))) {
+    for (E c : allValues<E>()) {
+      if (ImGui::Selectable(nameOf(c), value == c)) {
+        changed = value != c;
+        value = c;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
 }  // namespace
 
 bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
@@ -290,21 +290,16 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       ImGui::PopID();
       continue;
     }
-    RadarLayerDescription rd = isRadar ? radar->description : RadarLayerDescription{};
-    GridLayerDescription gd = isRadar ? GridLayerDescription{} : grid->description;
-    LayerKnobs k = isRadar ? LayerKnobs{&rd.colors,     &rd.mode,     &rd.interpolation,  &rd.stepMeters,
-                                        &rd.imageScale, &rd.isoValue, &rd.classification, &rd.settings}
-                           : LayerKnobs{&gd.colors,     &gd.mode,     &gd.interpolation,  &gd.stepMeters,
-                                        &gd.imageScale, &gd.isoValue, &gd.classification, &gd.settings};
+    VolumeLayerDescription d = scene.volumeDescription(i);
     bool edited = false;
     // Field (radars with several): another field is read from the file again.
     if (isRadar && radar->fields.size() > 1) {
       std::string field = radar->volume->polar().fieldName;
       if (comboOf("field", field, radar->fields)) {
-        rd.field = field;
-        rd.settings.opacityPoints.clear();  // in the old field's units
-        rd.settings.valueRange.reset();
-        rd.settings.opacity.clear();
+        d.field = field;
+        d.settings.opacityPoints.clear();  // in the old field's units
+        d.settings.valueRange.reset();
+        d.settings.opacity.clear();
         edited = true;
       }
     }
@@ -313,28 +308,29 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       if (!e.gridVariables.count(i)) {
         std::vector<std::string>& names = e.gridVariables[i];
         const std::lock_guard readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
-        if (auto info = volume::describeGridFile(gd.path, grid->volume->grid().variable))
+        if (auto info = volume::describeGridFile(d.path, grid->volume->grid().variable))
           for (const volume::GridVariableInfo& v : info->variables)
             if (v.onGrid) names.push_back(v.name);
       }
       if (e.gridVariables[i].size() > 1) {
         std::string variable = grid->volume->grid().variable;
         if (comboOf("variable", variable, e.gridVariables[i])) {
-          gd.variable = variable;
-          gd.settings.opacityPoints.clear();  // in the old variable's units
-          gd.settings.valueRange.reset();
-          gd.settings.opacity.clear();
-          gd.isoValue = std::numeric_limits<double>::quiet_NaN();  // the middle of its range
+          d.field = variable;
+          d.settings.opacityPoints.clear();  // in the old variable's units
+          d.settings.valueRange.reset();
+          d.settings.opacity.clear();
+          d.isoValue.reset();  // the middle of its range
           edited = true;
         }
       }
     }
-    edited = comboOf("colours", *k.colors, colorTableChoices()) || edited;
+    edited = comboOf("colours", d.colors, colorTableChoices()) || edited;
     // Mode and iso value.
-    for (int m = 0; m < 3; ++m) {
+    const auto& modes = allValues<volume::VolumeRenderMode>();
+    for (std::size_t m = 0; m < modes.size(); ++m) {
       if (m > 0) ImGui::SameLine();
-      if (ImGui::RadioButton(kModeLabels[m], *k.mode == kModes[m]) && *k.mode != kModes[m]) {
-        *k.mode = kModes[m];
+      if (ImGui::RadioButton(kModeLabels[m], d.mode == modes[m]) && d.mode != modes[m]) {
+        d.mode = modes[m];
         edited = true;
       }
     }
@@ -342,13 +338,13 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     const volume::ValueRange range =
         isRadar ? volume::ValueRange{radar->volume->polar().minValue, radar->volume->polar().maxValue}
                 : grid->firstRange;
-    if (*k.mode == "iso") {
+    if (d.mode == volume::VolumeRenderMode::Iso) {
       float iso = static_cast<float>(options.render.isoValue);
       // Applied while dragging (options only, cheap): a value kept only until release would be
       // lost, since the slider's variable is refilled from the layer every frame.
       if (ImGui::SliderFloat("iso value", &iso, static_cast<float>(range.minValue), static_cast<float>(range.maxValue),
                              "%.1f")) {
-        *k.isoValue = iso;
+        d.isoValue = iso;
         edited = true;
       }
     }
@@ -377,8 +373,8 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       ImGui::InvisibleButton("##tf", ImVec2(editorWidth, kEditorHeight),
                              ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
       const bool hovered = ImGui::IsItemHovered();
-      ImDrawList* d = ImGui::GetWindowDrawList();
-      d->AddRectFilled(o, ImVec2(o.x + editorWidth, o.y + kEditorHeight), IM_COL32(20, 20, 24, 255));
+      ImDrawList* draw = ImGui::GetWindowDrawList();
+      draw->AddRectFilled(o, ImVec2(o.x + editorWidth, o.y + kEditorHeight), IM_COL32(20, 20, 24, 255));
       auto xOf = [&](double v) { return o.x + static_cast<float>((v - lo) / (hi - lo)) * editorWidth; };
       auto yOf = [&](double a) { return o.y + static_cast<float>(1.0 - a) * kEditorHeight; };
       // Histogram (counts on a log scale, so rare strong echoes still show), coloured by the table.
@@ -388,7 +384,7 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         const double v0 = h.lo + static_cast<double>(b) * binWidth;
         const double frac = std::log1p(static_cast<double>(h.counts[b])) / logMax;
         const volume::Rgba8 c = tf.colors.map(static_cast<float>(v0 + 0.5 * binWidth));
-        d->AddRectFilled(ImVec2(xOf(v0), yOf(frac)), ImVec2(std::max(xOf(v0 + binWidth), xOf(v0) + 1.0f), yOf(0.0)),
+        draw->AddRectFilled(ImVec2(xOf(v0), yOf(frac)), ImVec2(std::max(xOf(v0 + binWidth), xOf(v0) + 1.0f), yOf(0.0)),
                          IM_COL32(c.r / 2 + 40, c.g / 2 + 40, c.b / 2 + 40, 255));
       }
       // The opacity curve and its points.
@@ -396,9 +392,9 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       line.emplace_back(o.x, yOf(points.front().y));  // the end points' opacity beyond them (the ramp: 0 below)
       for (const glm::dvec2& p : points) line.emplace_back(xOf(p.x), yOf(p.y));
       line.emplace_back(o.x + editorWidth, yOf(points.back().y));
-      d->AddPolyline(line.data(), static_cast<int>(line.size()), IM_COL32(255, 255, 255, 255), 0, 2.0f);
+      draw->AddPolyline(line.data(), static_cast<int>(line.size()), IM_COL32(255, 255, 255, 255), 0, 2.0f);
       for (const glm::dvec2& p : points)
-        d->AddCircleFilled(ImVec2(xOf(p.x), yOf(p.y)), 4.0f, IM_COL32(255, 200, 40, 255));
+        draw->AddCircleFilled(ImVec2(xOf(p.x), yOf(p.y)), 4.0f, IM_COL32(255, 200, 40, 255));
       // Editing: left click adds a point (or takes the one under the pointer to drag), right click
       // deletes the point under the pointer.
       const ImVec2 mouse = ImGui::GetIO().MousePos;
@@ -423,39 +419,39 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
           pointsEdited = volume::deleteOpacityPoint(points, *picked) || pointsEdited;
       }
       if (pointsEdited) {
-        k.settings->opacityPoints = points;
+        d.settings.opacityPoints = points;
         edited = true;
       }
       ImGui::Text("%.1f .. %.1f   %zu points%s", lo, hi, points.size(),
                   tf.opacityPoints.empty() ? " (default ramp)" : "");
       ImGui::TextDisabled("click: add/drag  right click: delete");
       if (ImGui::Button("Reset opacity")) {
-        k.settings->opacityPoints.clear();
-        k.settings->opacity.clear();
+        d.settings.opacityPoints.clear();
+        d.settings.opacity.clear();
         edited = true;
       }
       ImGui::TreePop();
     }
     if (ImGui::TreeNode("quality")) {
-      float step = static_cast<float>(*k.stepMeters);
+      float step = static_cast<float>(d.stepMeters);
       if (ImGui::SliderFloat("step (m)", &step, 25.0f, 2000.0f, "%.0f", ImGuiSliderFlags_Logarithmic)) {
-        *k.stepMeters = step;
+        d.stepMeters = step;
         edited = true;
       }
-      float scale = static_cast<float>(*k.imageScale);
+      float scale = static_cast<float>(d.imageScale);
       if (ImGui::SliderFloat("image scale", &scale, 0.1f, 1.0f, "%.2f")) {
-        *k.imageScale = scale;
+        d.imageScale = scale;
         edited = true;
       }
-      edited = comboOf("interpolation", *k.interpolation, kInterpolations) || edited;
-      if (isRadar) edited = comboOf("beam", rd.beam, kBeams) || edited;
-      edited = comboOf("classification", *k.classification, kClassifications) || edited;
+      edited = enumCombo("interpolation", d.interpolation) || edited;
+      if (isRadar) edited = enumCombo("beam", d.beam) || edited;
+      edited = enumCombo("classification", d.classification) || edited;
       ImGui::TreePop();
     }
     if (ImGui::TreeNode("crop box")) {
       if (!e.crops.count(i)) {
-        e.crops[i] = k.settings->crop;
-        e.cropHeights[i] = !k.settings->crop.coversEveryHeight();
+        e.crops[i] = d.settings.crop;
+        e.cropHeights[i] = !d.settings.crop.coversEveryHeight();
       }
       volume::CropBox& c = e.crops[i];
       ImGui::InputDouble("south (deg)", &c.southDeg, 0.1, 1.0, "%.3f");
@@ -473,20 +469,20 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       if (ImGui::Button("Apply crop")) {
         volume::CropBox box = c;
         if (!heights) box.bottomMeters = -INFINITY, box.topMeters = INFINITY;
-        k.settings->crop = box;
+        d.settings.crop = box;
         edited = true;
       }
       ImGui::SameLine();
       if (ImGui::Button("No crop")) {
         c = volume::CropBox{};
         heights = false;
-        k.settings->crop = c;
+        d.settings.crop = c;
         edited = true;
       }
       ImGui::TreePop();
     }
     if (edited) {
-      report(isRadar ? scene.setRadarDescription(i, rd) : scene.setGridDescription(i, gd));
+      report(scene.setVolumeDescription(i, d));
     }
     ImGui::TreePop();
     ImGui::PopID();

@@ -79,9 +79,9 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
     SKIP_WITHOUT_TEST_DATA(data + c.file);
     auto renderer = engine::SceneRendererGL::create(*loader);
     ASSERT_TRUE(renderer) << renderer.error();
-    engine::RadarLayerDescription d;
+    engine::VolumeLayerDescription d;
     d.path = data + c.file;
-    d.mode = c.mode;
+    d.mode = *engine::parseName<volume::VolumeRenderMode>(c.mode);
     auto layer = (*renderer)->addRadar(d);
     ASSERT_TRUE(layer) << layer.error();
     const engine::Camera camera(c.pose, 50.0, w, h);

@@ -222,13 +222,13 @@ TEST(GridMarch, RadarAndGridInOneScene) {
       "grids": [{"path": "@data/scene_grid.nc", "variable": "dbz", "time": "2020-05-01T21:00:00Z", "step_m": 500}]})",
                                       "s.json", dir, dir);
   ASSERT_TRUE(scene) << scene.error();
-  ASSERT_EQ(scene->grids.size(), 1u);
+  ASSERT_EQ(engine::volumesOfKind(*scene, engine::VolumeKind::Grid).size(), 1u);
   auto loader = engine::openImagery({}, {});
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
-  ASSERT_TRUE((*renderer)->addRadar(scene->radars[0]));
-  auto grid = (*renderer)->addGrid(scene->grids[0]);
+  ASSERT_TRUE((*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
+  auto grid = (*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(grid) << grid.error();
   EXPECT_EQ((*grid)->volume->grid().validTime, "2020-05-01T21:00:00Z");
   const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
@@ -270,7 +270,7 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   // The full grid's figures before another layer is added (addGrid may move the layers).
   const std::size_t fullColumns = (*grid)->volume->grid().nx * (*grid)->volume->grid().ny;
   const std::uint64_t fullBytes = (*grid)->volume->grid().bytesRead;
-  auto small = (*renderer)->addGrid(cropped->grids[0]);
+  auto small = (*renderer)->addGrid(engine::volumesOfKind(*cropped, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(small) << small.error();
   const volume::GridVolume& sg = (*small)->volume->grid();
   std::cout << "crop: " << sg.nx << " x " << sg.ny << " of " << fullColumns << " columns, " << sg.bytesRead << " of "
@@ -305,8 +305,8 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   ASSERT_TRUE(loader);
   auto series = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(series);
-  ASSERT_TRUE((*series)->addGrid(scene->grids[0]));
-  auto axis = engine::sceneTimeAxis(*scene, **series);
+  ASSERT_TRUE((*series)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
+  auto axis = engine::sceneTimeAxis(**series);
   ASSERT_TRUE(axis) << axis.error();
   ASSERT_EQ(axis->times.size(), 3u);
   EXPECT_EQ(axis->times[2], "2020-05-01T22:00:00Z");
@@ -324,7 +324,7 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   // The same step loaded afresh, with the colours of step 0 (a series keeps the first step's).
   auto fresh = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(fresh);
-  engine::GridLayerDescription d = scene->grids[0];
+  engine::VolumeLayerDescription d = engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0];
   d.time.assign(1, '2');  // not = "2": GCC 12 gives a false -Wrestrict there
   auto layer = (*fresh)->addGrid(d);
   ASSERT_TRUE(layer);
@@ -359,7 +359,7 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
                   "crop": [34.5, 36, -98.5, -97], "range": [0, 80], "opacity": [20, 50, 0.6]}]})";
   auto scene = engine::parseSceneJson(json, "s.json", dir, dir);
   ASSERT_TRUE(scene) << scene.error();
-  const auto& settings = scene->radars[0].settings;
+  const auto& settings = engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0].settings;
   EXPECT_EQ(settings.crop.topMeters, 5000.0);
   EXPECT_EQ(settings.crop.westDeg, -98.5);
   ASSERT_TRUE(settings.valueRange);
@@ -369,7 +369,7 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(scene->radars[0]);
+  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
   EXPECT_EQ((*radar)->options.render.transfer.opacityZeroValue, 20.0);
   EXPECT_EQ((*radar)->options.render.transfer.maxOpacity, 0.6);
@@ -405,7 +405,7 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   auto allCut = engine::parseSceneJson(
       R"({"radars": [{"path": "@data/crop_radar.nc", "crop_heights_m": [30000, 40000]}]})", "s.json", dir, dir);
   ASSERT_TRUE(allCut);
-  auto none = (*renderer)->addRadar(allCut->radars[0]);
+  auto none = (*renderer)->addRadar(engine::volumesOfKind(*allCut, engine::VolumeKind::Radar)[0]);
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().find("the crop box leaves no measured value"), std::string::npos) << none.error();
 }
@@ -438,8 +438,8 @@ TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
   ASSERT_TRUE((*renderer)->setVerticalExaggeration(scene->verticalExaggeration));
-  ASSERT_TRUE((*renderer)->addRadar(scene->radars[0]));
-  auto grid = (*renderer)->addGrid(scene->grids[0]);
+  ASSERT_TRUE((*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
+  auto grid = (*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(grid);
   EXPECT_FALSE((*renderer)->setVerticalExaggeration(2.0)) << "only before layers are added";
   const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
@@ -487,7 +487,7 @@ TEST(GridMarch, ReadoutUnderTheCursor) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(scene->radars[0]);
+  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
   // Straight down over the synthetic storm's core (50 km west, 36 km south of the site).
   const volume::PolarVolume& p = (*radar)->volume->polar();
@@ -561,12 +561,12 @@ TEST(GridMarch, RadarLoopFromADirectory) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(scene->radars[0]);
+  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
   ASSERT_EQ((*radar)->loopTimes.size(), 3u);
   EXPECT_EQ((*radar)->step, 2u);
   EXPECT_EQ((*radar)->timeIso8601, times[2]) << "a loop starts at its latest volume";
-  auto axis = engine::sceneTimeAxis(*scene, **renderer);
+  auto axis = engine::sceneTimeAxis(**renderer);
   ASSERT_TRUE(axis) << axis.error();
   EXPECT_TRUE(axis->leadIsRadar);
   ASSERT_EQ(axis->times.size(), 3u);

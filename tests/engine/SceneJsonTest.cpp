@@ -49,7 +49,7 @@ TEST(SceneJson, WrongTypesSayWhatWasExpectedAndWhatCame) {
 
 TEST(SceneJson, OutOfRangeValuesNameTheRange) {
   EXPECT_EQ(errorOf(R"({"radars": [{"path": "a.nc"}, {"path": "b.nc"}, {"path": "c.nc", "step_m": 0}]})"),
-            "scene.json: /radars/2/step_m: 0 is out of range 1..100000 m");
+            "scene.json: /radars/2/step_m: 0 is out of range 1..1e+06 m");
   EXPECT_EQ(errorOf(R"({"camera": {"lat_deg": 95}})"), "scene.json: /camera/lat_deg: 95 is out of range -90..90 deg");
   EXPECT_EQ(errorOf(R"({"size": [0, 480]})"), "scene.json: /size/0: 0 is out of range 1..16384");
   EXPECT_EQ(errorOf(R"({"markers": [{"lat_deg": 1, "lon_deg": 2, "color": [1, 2, 0]}]})"),
@@ -87,15 +87,17 @@ TEST(SceneJson, LayersRememberTheirPointerForLoadErrors) {
           "slices": [{"grid": "g.nc", "height_m": 3000}]})",
       "scene.json", "/base", "/data");
   ASSERT_TRUE(scene) << scene.error();
-  ASSERT_EQ(scene->origins.radars.size(), 3u);
-  EXPECT_EQ(scene->origins.radars[2], "scene.json: /radars/2");
-  EXPECT_EQ(scene->radars[2].path, "/base/c.nc");
-  EXPECT_EQ(scene->origins.grids.at(0), "scene.json: /grids/0");
-  EXPECT_EQ(scene->grids[0].path, "/data/g.nc");
+  ASSERT_EQ(scene->origins.volumes.size(), 4u);
+  EXPECT_EQ(scene->origins.volumes[2], "scene.json: /radars/2");
+  EXPECT_EQ(scene->volumes[2].path, "/base/c.nc");
+  EXPECT_EQ(scene->volumes[2].kind, engine::VolumeKind::Radar);
+  EXPECT_EQ(scene->origins.volumes.at(3), "scene.json: /grids/0");
+  EXPECT_EQ(scene->volumes[3].path, "/data/g.nc");
+  EXPECT_EQ(scene->volumes[3].kind, engine::VolumeKind::Grid);
   EXPECT_EQ(scene->origins.overlays.at(0), "scene.json: /overlays/0");
   EXPECT_EQ(scene->origins.slices.at(0), "scene.json: /slices/0");
   EXPECT_EQ(scene->origins.stations, "scene.json: /stations");
-  EXPECT_EQ(engine::layerOrigin(scene->origins.radars, 7, "--radar x"), "--radar x");
+  EXPECT_EQ(engine::layerOrigin(scene->origins.volumes, 7, "--radar x"), "--radar x");
 }
 
 TEST(SceneJson, MissingInputFilesAreNamedWithTheirPointer) {

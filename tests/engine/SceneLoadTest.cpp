@@ -70,7 +70,7 @@ TEST(SceneLoad, OneFieldOfAManyFieldFileReadsOnlyThatField) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
   volume::resetNetcdfReadTally();
-  auto layer = (*renderer)->addRadar(scene->radars.at(0));
+  auto layer = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar).at(0));
   ASSERT_TRUE(layer) << layer.error();
   EXPECT_EQ((*layer)->volume->polar().fieldName, "ZDR");
   // Variable names as NetcdfFile gives them: full paths ("/ZDR"); compared without the root.
@@ -104,10 +104,10 @@ TEST(SceneLoad, RadarsOutsideTheViewAreNotLoaded) {
   o.siteId = "KLIX", o.siteLatDeg = 30.3367, o.siteLonDeg = -89.8256, o.antennaAltitudeMslMeters = 38.0;
   ASSERT_TRUE(volume::writeSyntheticCfRadial(far, o));
   engine::SceneDescription scene;
-  scene.radars.push_back({});
-  scene.radars.back().path = near;
-  scene.radars.push_back({});
-  scene.radars.back().path = far;
+  scene.volumes.push_back({});
+  scene.volumes.back().path = near;
+  scene.volumes.push_back({});
+  scene.volumes.back().path = far;
   // Regional: 400 km above KTLX looking down, 45 deg field of view (~330 km across): KLIX's
   // 230 km volume ends ~670 km from the view's edge.
   {
@@ -117,8 +117,8 @@ TEST(SceneLoad, RadarsOutsideTheViewAreNotLoaded) {
     EXPECT_EQ(out.kept, 1u);
     ASSERT_EQ(out.culled.size(), 1u);
     EXPECT_EQ(out.culled[0], far);
-    ASSERT_EQ(s.radars.size(), 1u);
-    EXPECT_EQ(s.radars[0].path, near);
+    ASSERT_EQ(s.volumes.size(), 1u);
+    EXPECT_EQ(s.volumes[0].path, near);
   }
   // The whole globe over North America: both stay.
   {
@@ -136,7 +136,7 @@ TEST(SceneLoad, RadarsOutsideTheViewAreNotLoaded) {
   // once the view is wide enough to reach it (the sphere test is not a fixed distance rule).
   {
     engine::SceneDescription s = scene;
-    s.radars.erase(s.radars.begin());
+    s.volumes.erase(s.volumes.begin());
     const engine::Camera narrow({30.34, -96.0, 4e5, 0, -90, 0}, 30.0, 640, 640);
     const engine::Camera wide({30.34, -96.0, 4e5, 0, -90, 0}, 120.0, 640, 640);
     engine::SceneDescription s2 = s;

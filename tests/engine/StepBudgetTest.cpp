@@ -45,8 +45,8 @@ Series loadSeries(const std::string& name, int steps) {
   auto loader = engine::openImagery({}, {});
   auto renderer = engine::SceneRendererGL::create(*loader);
   EXPECT_TRUE(renderer);
-  EXPECT_TRUE((*renderer)->addGrid(scene->grids[0]));
-  auto axis = engine::sceneTimeAxis(*scene, **renderer);
+  EXPECT_TRUE((*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
+  auto axis = engine::sceneTimeAxis(**renderer);
   EXPECT_TRUE(axis);
   return {*scene, std::move(*renderer), std::move(*axis)};
 }

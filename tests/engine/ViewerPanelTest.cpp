@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace {
 
@@ -30,33 +31,66 @@ using engine::CameraPose;
 using engine::LayerChange;
 
 TEST(LayerEdit, OptionsOrReload) {
-  engine::RadarLayerDescription a;
+  engine::VolumeLayerDescription a;
   a.path = "x.nc";
-  engine::RadarLayerDescription b = a;
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::None);
-  b.mode = "mip";
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::Options);
+  engine::VolumeLayerDescription b = a;
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::None);
+  b.mode = volume::VolumeRenderMode::Mip;
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::Options);
   b = a;
   b.settings.opacityPoints = {{0.0, 0.0}, {40.0, 0.5}};
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::Options);
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::Options);
   b = a;
-  b.beam = "straight";
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::Options);
+  b.beam = engine::BeamApproximation::StraightLine;
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::Options);
   b = a;
   b.field = "VEL";
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::Reload);
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::Reload);
   b = a;
   b.settings.crop.topMeters = 8000.0;
-  EXPECT_EQ(engine::radarLayerChange(a, b), LayerChange::Reload);
+  EXPECT_EQ(engine::layerChange(a, b), LayerChange::Reload);
 
-  engine::GridLayerDescription g;  // isoValue NaN ("the middle of the range") equals itself
-  EXPECT_EQ(engine::gridLayerChange(g, g), LayerChange::None);
-  engine::GridLayerDescription h = g;
+  engine::VolumeLayerDescription g;  // no iso value ("the kind's default") equals itself
+  g.kind = engine::VolumeKind::Grid;
+  EXPECT_EQ(engine::layerChange(g, g), LayerChange::None);
+  engine::VolumeLayerDescription h = g;
   h.isoValue = 30.0;
-  EXPECT_EQ(engine::gridLayerChange(g, h), LayerChange::Options);
+  EXPECT_EQ(engine::layerChange(g, h), LayerChange::Options);
   h = g;
-  h.variable = "qr";
-  EXPECT_EQ(engine::gridLayerChange(g, h), LayerChange::Reload);
+  h.field = "qr";
+  EXPECT_EQ(engine::layerChange(g, h), LayerChange::Reload);
+  h = g;
+  h.time = "3";
+  EXPECT_EQ(engine::layerChange(g, h), LayerChange::Reload);
+}
+
+// The one validation: the same limits for both kinds, each kind's own keys refused on the other.
+TEST(LayerEdit, OneValidationForBothKinds) {
+  for (engine::VolumeKind kind : {engine::VolumeKind::Radar, engine::VolumeKind::Grid}) {
+    engine::VolumeLayerDescription d;
+    d.kind = kind;
+    d.path = "x.nc";
+    EXPECT_TRUE(engine::validateVolumeLayer(d, "here"));
+    d.stepMeters = 5e5;  // a grid seen from space: allowed for both
+    EXPECT_TRUE(engine::validateVolumeLayer(d, "here"));
+    d.stepMeters = 2e6;
+    EXPECT_EQ(engine::validateVolumeLayer(d, "here").error(), "here: step must be in 1..1000000 m");
+    d.stepMeters = 250.0;
+    d.isoValue = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(engine::validateVolumeLayer(d, "here"));
+  }
+  engine::VolumeLayerDescription radar;
+  radar.path = "x.nc";
+  radar.time = "3";
+  EXPECT_FALSE(engine::validateVolumeLayer(radar, "here"));
+  engine::VolumeLayerDescription grid;
+  grid.kind = engine::VolumeKind::Grid;
+  grid.path = "g.nc";
+  grid.label = "KTLX";
+  EXPECT_FALSE(engine::validateVolumeLayer(grid, "here"));
+  EXPECT_EQ(engine::parseName<engine::BeamApproximation>("4/3"), engine::BeamApproximation::EffectiveEarthLocalSphere);
+  EXPECT_FALSE(engine::parseName<volume::VolumeRenderMode>("volume"));
+  EXPECT_EQ(engine::quotedNames<volume::VolumeRenderMode>(), "\"dvr\", \"mip\", \"iso\"");
 }
 
 TEST(LayerEdit, OrderBytesAndTables) {
@@ -160,7 +194,7 @@ class SceneEdits : public ::testing::Test {
     auto r = engine::SceneRendererGL::create(*loader);
     ASSERT_TRUE(r) << r.error();
     renderer_ = std::move(*r);
-    engine::RadarLayerDescription d;
+    engine::VolumeLayerDescription d;
     d.path = path_;
     d.stepMeters = 500.0;
     ASSERT_TRUE(renderer_->addRadar(d));
@@ -172,27 +206,27 @@ class SceneEdits : public ::testing::Test {
 TEST_F(SceneEdits, OptionsApplyWithoutReadingAgainAndCropReads) {
   engine::RadarLayerGL& layer = renderer_->radars()[0];
   const engine::VolumeGL* before = layer.volume.get();
-  engine::RadarLayerDescription d = layer.description;
-  d.mode = "mip";
+  engine::VolumeLayerDescription d = layer.description;
+  d.mode = volume::VolumeRenderMode::Mip;
   d.colors = "cividis";
-  d.beam = "straight";
+  d.beam = engine::BeamApproximation::StraightLine;
   d.settings.opacityPoints = {{10.0, 0.0}, {50.0, 0.7}};
-  ASSERT_TRUE(renderer_->setRadarDescription(0, d));
+  ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
   EXPECT_EQ(layer.volume.get(), before) << "render options must not re-upload the volume";
   EXPECT_EQ(layer.options.render.mode, volume::VolumeRenderMode::Mip);
   EXPECT_EQ(layer.options.render.transfer.opacityPoints.size(), 2u);
   EXPECT_EQ(layer.volume->beamApproximation(), engine::BeamApproximation::StraightLine);
   EXPECT_EQ(layer.description.colors, "cividis");
   // A bad edit is refused and changes nothing.
-  engine::RadarLayerDescription bad = d;
+  engine::VolumeLayerDescription bad = d;
   bad.stepMeters = -1.0;
-  EXPECT_FALSE(renderer_->setRadarDescription(0, bad));
+  EXPECT_FALSE(renderer_->setVolumeDescription(0, bad));
   EXPECT_DOUBLE_EQ(layer.options.render.stepMeters, 500.0);
   // A crop box: the volume is read again, cut to the box (fewer measured values).
   const std::uint64_t fullCpu = renderer_->layerMemory()[0].cpuBytes;
   const float fullMax = layer.volume->polar().maxValue;
   d.settings.crop.southDeg = 35.2;  // the storm's core is ~40 km south of the site (35.33 N)
-  ASSERT_TRUE(renderer_->setRadarDescription(0, d));
+  ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
   EXPECT_NE(layer.volume.get(), before);
   EXPECT_LT(layer.volume->polar().maxValue, fullMax) << "the crop must cut the storm's core away";
   EXPECT_EQ(layer.options.render.mode, volume::VolumeRenderMode::Mip) << "the options survive a reload";
@@ -233,7 +267,7 @@ TEST_F(SceneEdits, ExaggerationOrderVisibilityAndMemory) {
   EXPECT_TRUE(renderer_->legendFor(camera).keys.empty()) << "no colour key for a layer switched off";
 }
 
-// The edit as the panel makes it (setRadarDescription with control points) in a whole frame:
+// The edit as the panel makes it (setVolumeDescription with control points) in a whole frame:
 // GPU frame against the reference frame (drawReference), as GridMarchTest's scene comparison.
 TEST_F(SceneEdits, EditedCurveFrameMatchesTheReferenceFrame) {
   const Camera camera(CameraPose{34.3, -97.8, 9e4, 0.0, -35.0, 0.0}, 50.0, 160, 100);
@@ -241,9 +275,9 @@ TEST_F(SceneEdits, EditedCurveFrameMatchesTheReferenceFrame) {
   ASSERT_TRUE(fb);
   auto before = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(before) << before.error();
-  engine::RadarLayerDescription d = renderer_->radars()[0].description;
+  engine::VolumeLayerDescription d = renderer_->radars()[0].description;
   d.settings.opacityPoints = {{5.0, 0.02}, {25.0, 0.02}, {35.0, 0.8}, {45.0, 0.1}, {65.0, 1.0}};
-  ASSERT_TRUE(renderer_->setRadarDescription(0, d));
+  ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
   auto gpu = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(gpu) << gpu.error();
   renderer_->setReferenceVolumes(2);
@@ -277,7 +311,7 @@ TEST(SceneFieldSwitch, RealNexradFieldSwitchReadsThatField) {
   ASSERT_TRUE(loader);
   auto r = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(r) << r.error();
-  engine::RadarLayerDescription d;
+  engine::VolumeLayerDescription d;
   d.path = klbb;
   ASSERT_TRUE((*r)->addRadar(d));
   engine::RadarLayerGL& layer = (*r)->radars()[0];
@@ -286,13 +320,13 @@ TEST(SceneFieldSwitch, RealNexradFieldSwitchReadsThatField) {
   ASSERT_NE(std::find(layer.fields.begin(), layer.fields.end(), "VEL"), layer.fields.end());
   const volume::ColorTable refColors = layer.options.render.transfer.colors;
   d.field = "VEL";
-  ASSERT_TRUE((*r)->setRadarDescription(0, d));
+  ASSERT_TRUE((*r)->setVolumeDescription(0, d));
   EXPECT_EQ(layer.volume->polar().fieldName, "VEL");
   EXPECT_EQ(layer.loadedField.name, "VEL");
   EXPECT_LT(layer.volume->polar().minValue, 0.0f) << "velocities towards the radar are negative";
   EXPECT_NE(layer.options.render.transfer.colors.stops(), refColors.stops()) << "velocity colours, not NWS";
   d.field = "NOPE";
-  EXPECT_FALSE((*r)->setRadarDescription(0, d));
+  EXPECT_FALSE((*r)->setVolumeDescription(0, d));
   EXPECT_EQ(layer.volume->polar().fieldName, "VEL") << "a failed switch leaves the layer as it was";
 }
 

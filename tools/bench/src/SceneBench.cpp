@@ -127,10 +127,11 @@ int runSceneProbe(const std::string& jobFile, const std::string& resultFile) {
   scene.widthPx = job.value("width", 480);
   scene.heightPx = job.value("height", 270);
   for (const auto& path : job["radars"]) {
-    engine::RadarLayerDescription d;
+    engine::VolumeLayerDescription d;
+    d.kind = engine::VolumeKind::Radar;
     d.path = path.get<std::string>();
     d.stepMeters = 1000.0;
-    scene.radars.push_back(d);
+    scene.volumes.push_back(d);
   }
   const engine::Camera camera(scene.camera, scene.fovYDeg, scene.widthPx, scene.heightPx);
   volume::resetNetcdfReadTally();
@@ -138,11 +139,11 @@ int runSceneProbe(const std::string& jobFile, const std::string& resultFile) {
   // uploaded).
   const auto t0 = Clock::now();
   if (job.value("cull", true)) engine::cullRadarsOutsideView(scene, camera);
-  for (const engine::RadarLayerDescription& d : scene.radars)
-    if (auto layer = (*renderer)->addRadar(d); !layer) return finish(layer.error());
+  for (const engine::VolumeLayerDescription& d : scene.volumes)
+    if (auto st = (*renderer)->addVolume(d); !st) return finish(st.error());
   glFinish();
   result["load_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  result["loaded"] = scene.radars.size();
+  result["loaded"] = scene.volumes.size();
   result["read_bytes"] = tallyBytes();
   auto target = engine::FramebufferGL::create(scene.widthPx, scene.heightPx);
   if (!target) return finish(target.error());
@@ -155,8 +156,8 @@ int runSceneProbe(const std::string& jobFile, const std::string& resultFile) {
   }
   result["frame_ms"] = median(frames);
   // A time series: each change of step (the loops' next volumes read and uploaded) and a frame.
-  if (job.value("steps", 1) > 1 && !scene.radars.empty()) {
-    auto axis = engine::sceneTimeAxis(scene, **renderer);
+  if (job.value("steps", 1) > 1 && !scene.volumes.empty()) {
+    auto axis = engine::sceneTimeAxis(**renderer);
     if (!axis) return finish(axis.error());
     std::vector<double> steps;
     // The first kStepsTimed steps (each reads every loop's volume of that time: the cost of a

@@ -1,9 +1,8 @@
 #pragma once
-// What an edit of a volume layer in the viewer's control panel needs, GL-free: whether the
-// layer's data must be read again (a different field, variable, time, datum or crop box) or
-// only its render options change (colours, opacity, mode, quality knobs), the colour tables
-// the panel offers, the draw order edits, and how memory is written. SceneRendererGL applies
-// the edits (setRadarDescription, setGridDescription, setVolumeOrder).
+// What an edit of a volume layer in the viewer's control panel needs, GL-free: the colour tables
+// the panel offers, the draw order edits, and how memory is written (whether an edit needs the
+// data read again: layerChange in VolumeLayer.h). SceneRendererGL applies the edits
+// (setVolumeDescription, setVolumeOrder).
 #include <atmoglobe/engine/Scene.h>
 
 #include <cstddef>
@@ -12,15 +11,6 @@
 #include <vector>
 
 namespace atmoglobe::engine {
-
-enum class LayerChange {
-  None,     ///< nothing that shows changed
-  Options,  ///< render options only (transfer function, mode, iso value, step, scale, beam...)
-  Reload,   ///< the data: the file is read again (field / variable, time, datum, crop box)
-};
-
-LayerChange radarLayerChange(const RadarLayerDescription& before, const RadarLayerDescription& after);
-LayerChange gridLayerChange(const GridLayerDescription& before, const GridLayerDescription& after);
 
 /// The colour tables a layer can take by name (volume::transferForField): "auto" first.
 const std::vector<std::string>& colorTableChoices();

@@ -14,18 +14,6 @@
 
 namespace atmoglobe::engine {
 
-/// How the GPU maps a point to antenna coordinates.
-enum class BeamApproximation {
-  /// The effective-Earth model (ke, R from the volume's BeamModel) on a local sphere whose
-  /// radius is the ellipsoid's normal-section radius in the sample's azimuth, in float32:
-  /// volume::LocalSphereBeam, whose double twin's error against the exact inverse is stated in
-  /// volume/Geolocation.h; the float error is measured by RadarMarchTest.
-  EffectiveEarthLocalSphere,
-  /// Straight lines from the antenna, no Earth curvature, no refraction (what several open
-  /// 3-D radar viewers do); for comparison only.
-  StraightLine,
-};
-
 class RadarVolumeGL final : public VolumeGL {
  public:
   /// `exaggeration`: the scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none).

@@ -12,8 +12,8 @@
 // does not stop the others.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/SliceLayer.h>
+#include <atmoglobe/engine/VolumeLayer.h>
 #include <atmoglobe/globe/Result.h>
-#include <atmoglobe/volume/Crop.h>
 
 #include <glm/glm.hpp>
 
@@ -40,64 +40,6 @@ struct ImageryLayerDescription {
   std::string path;  ///< resolved (absolute or relative to the working directory)
 };
 
-/// What users set on any volume layer, radar or grid (JSON keys "range", "opacity", "crop",
-/// "crop_heights_m"; CLI --range/--opacity/--crop/--crop-heights and their --grid- twins).
-struct VolumeLayerSettings {
-  /// The colour table's span (min, max; field units). Empty: the kind's default (reflectivity
-  /// -10..70 dBZ, velocity +-Nyquist, model variables their values' range).
-  std::optional<glm::dvec2> valueRange;
-  /// Opacity ramp: [zero, full] values (field units): opacity 0 at and below zero, the maximum
-  /// at and above full; optionally [.., max] (0..1, per reference length) and [.., .., .., per_m]
-  /// (the reference length, m). Empty: the kind's default ramp.
-  std::vector<double> opacity;
-  /// Opacity control points (value, opacity per reference length) from the viewer's
-  /// transfer-function editor (volume::withOpacityPoints; applied after range and ramp). Empty:
-  /// none. Not a scene key (yet).
-  std::vector<glm::dvec2> opacityPoints;
-  /// Crop box: latitude/longitude and heights above sea level; outside it nothing is drawn
-  /// (grids read only its columns). Default: everything.
-  volume::CropBox crop;
-};
-
-/// Checks the settings (range min < max, opacity 2..4 finite numbers with zero != full, max in
-/// [0, 1], per_m > 0, the crop box). `where` starts the message.
-Status validateVolumeLayerSettings(const VolumeLayerSettings& settings, const std::string& where);
-
-/// A radar volume to ray-march (see VolumeRendererGL.h and RadarVolumeGL.h for the knobs).
-struct RadarLayerDescription {
-  std::string path;                      ///< radar file (CfRadial, ODIM_H5, NEXRAD Level II)
-  std::string field;                     ///< empty: the reflectivity field
-  std::string colors = "auto";           ///< "auto" (by the field's kind), "NWS", "cividis", "velocity" or a .pal file
-  std::string mode = "dvr";              ///< dvr | mip | iso
-  std::string interpolation = "linear";  ///< nearest | linear
-  double stepMeters = 250.0;
-  double imageScale = 1.0;
-  double isoValue = 40.0;
-  std::string beam = "4/3";              ///< "4/3" (effective Earth) or "straight"
-  std::string classification = "point";  ///< DVR: "point" or "preintegrated" (VolumeRenderOptions::classification)
-  std::string label;                     ///< site marker label; empty: the site name from the file
-  bool useGeoid = true;
-  VolumeLayerSettings settings;
-};
-
-/// A forecast grid to ray-march (GridVolumeGL.h; the reader: volume/GridReader.h).
-struct GridLayerDescription {
-  std::string path;             ///< NetCDF file (CF or WRF)
-  std::string variable;         ///< empty: the file's default variable
-  std::string time;             ///< empty: the first step; an index ("3") or an ISO 8601 UTC time
-  std::string colors = "auto";  ///< "auto" (cividis over the variable's range), "cividis", "NWS" or a .pal file
-  std::string mode = "dvr";     ///< dvr | mip | iso
-  std::string interpolation = "linear";  ///< nearest | linear
-  double stepMeters = 250.0;             ///< as radars: volumes of one step are integrated together where they overlap
-  double imageScale = 1.0;
-  double isoValue = std::numeric_limits<double>::quiet_NaN();  ///< NaN: the middle of the value range
-  std::string classification = "point";
-  bool useGeoid = true;
-  /// Range, opacity ramp and crop box. The crop's latitude/longitude box is also what is read
-  /// (the reader keeps one more column on each side so the cells cover the box).
-  VolumeLayerSettings settings;
-};
-
 /// A user vector file drawn as map lines (JSON "overlays", CLI --overlay; MapRendererGL.h).
 struct MapOverlayDescription {
   std::string path;                    ///< GeoJSON, shapefile, KML/KMZ, GeoPackage, ... (GDAL/OGR)
@@ -108,9 +50,6 @@ struct MapOverlayDescription {
 /// Checks an overlay's colour (0..1) and width (0.5..16 px).
 Status validateMapOverlay(const MapOverlayDescription& overlay, const std::string& where);
 
-/// Checks a grid layer's enumerated fields and numbers (as validateRadarLayer).
-Status validateGridLayer(const GridLayerDescription& grid, const std::string& where);
-
 struct SceneDescription {
   CameraPose camera;
   double fovYDeg = 60.0;
@@ -118,8 +57,9 @@ struct SceneDescription {
   int heightPx = 720;
   std::vector<ImageryLayerDescription> imagery;  ///< bottom layer first
   std::vector<Marker> markers;
-  std::vector<RadarLayerDescription> radars;
-  std::vector<GridLayerDescription> grids;
+  /// Radars and grids, in one list (JSON "radars" then "grids"; CLI --radar then --grid): the
+  /// order volume layers are added and, by default, handed to the marcher.
+  std::vector<VolumeLayerDescription> volumes;
   std::vector<SliceLayerDescription> slices;  ///< CAPPIs and cross-sections on the globe (SliceLayer.h)
   std::string stationsPath;                   ///< station list drawn as markers (empty: none)
   std::vector<std::string> models;            ///< georeferenced .glb files (cone exports) to draw
@@ -134,7 +74,7 @@ struct SceneDescription {
   /// Where each layer was given, for messages: "scene.json: /radars/2" (a JSON pointer) or a CLI
   /// option ("--radar"); parallel to the vectors above (layerOrigin() tolerates missing entries).
   struct Origins {
-    std::vector<std::string> imagery, radars, grids, slices, overlays;
+    std::vector<std::string> imagery, volumes, slices, overlays;
     std::string stations;
   } origins;
   /// Input problems found before loading (a missing imagery directory): the layer is left out
@@ -145,15 +85,15 @@ struct SceneDescription {
   double memoryBudgetMb = 0.0;
 };
 
+/// The scene's volume layers of one kind, in order.
+std::vector<VolumeLayerDescription> volumesOfKind(const SceneDescription& scene, VolumeKind kind);
+
 /// origins[index], or `fallback` when there is none.
 std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback);
 
 /// Checks that an input file or directory exists: else "WHERE: file not found: PATH". Radar paths
 /// holding a glob ("*?[") or a comma list are left to the reader.
 Status checkInputFile(const std::string& path, const std::string& where);
-
-/// Checks the enumerated fields of a radar layer (mode, interpolation, beam, classification, step, scale).
-Status validateRadarLayer(const RadarLayerDescription& radar, const std::string& where);
 
 /// Parses and validates a JSON scene. `sourceName` names it in messages; `baseDir`
 /// resolves relative paths; `dataDir` replaces a leading "@data".

@@ -34,10 +34,13 @@ Result<volume::TransferFunction> transferForLayer(const std::string& colors, con
                                                   const volume::FieldInfo& field, double nyquistMps,
                                                   const volume::ValueRange& range);
 
-/// Render options of a radar layer description for the field it loaded (colours by the field's
-/// kind unless the description names a table: volume::transferForField; .pal errors).
-Result<VolumeRenderOptions> radarRenderOptions(const RadarLayerDescription& description, const volume::FieldInfo& field,
-                                               double nyquistMps, const volume::ValueRange& range);
+/// Render options of a volume layer description, either kind, for the field it loaded (colours by
+/// the field's kind unless the description names a table: volume::transferForField; .pal errors;
+/// `nyquistMps` NaN where the field has none); colours span `range` unless the description
+/// sets one; no iso value: defaultIsoValue over `range`.
+Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& description,
+                                               const volume::FieldInfo& field, double nyquistMps,
+                                               const volume::ValueRange& range);
 
 struct SceneFrameStats {
   GlobeFrameStats globe;
@@ -51,17 +54,17 @@ struct RadarLayerGL {
   std::shared_ptr<RadarVolumeGL> volume;  ///< shared with the step cache (memory budget)
   VolumeRenderOptions options;
   Marker siteMarker;
-  std::string datumNote;              ///< which vertical datum / geoid undulation was used
-  std::string siteName;               ///< as the file names it
-  std::string timeIso8601;            ///< volume start
-  bool synthetic = false;             ///< the file says SYNTHETIC
-  RadarLayerDescription description;  ///< as added
+  std::string datumNote;               ///< which vertical datum / geoid undulation was used
+  std::string siteName;                ///< as the file names it
+  std::string timeIso8601;             ///< volume start
+  bool synthetic = false;              ///< the file says SYNTHETIC
+  VolumeLayerDescription description;  ///< as added
   /// A radar loop (a directory, glob or list holding several times of one site): each time's
   /// files (a comma list loadRadar reads as one volume) and volume time, oldest first; empty for
   /// one volume. `step` is the one shown (the latest when added).
   std::vector<std::string> loopFiles, loopTimes;
   std::size_t step = 0;
-  // For the control panel (setRadarDescription): the fields the file holds, the field loaded
+  // For the control panel (setVolumeDescription): the fields the file holds, the field loaded
   // and the velocity scale its colours were made with, whether it is drawn.
   std::vector<std::string> fields;
   volume::FieldInfo loadedField;
@@ -73,12 +76,12 @@ struct RadarLayerGL {
 struct GridLayerGL {
   std::shared_ptr<GridVolumeGL> volume;  ///< shared with the step cache (memory budget)
   VolumeRenderOptions options;
-  GridLayerDescription description;  ///< as added (its `time` is the step first loaded)
-  std::size_t step = 0;              ///< time step shown (index on the file's axis)
-  bool synthetic = false;            ///< the file says SYNTHETIC
-  double stepFraction = 0.0;         ///< > 0: that far (0..1) towards step + 1, interpolated
-  volume::ValueRange firstRange{};   ///< the values of the step first loaded (its colours' range)
-  bool visible = true;               ///< drawn (the control panel switches layers off)
+  VolumeLayerDescription description;  ///< as added (its `time` is the step first loaded)
+  std::size_t step = 0;                ///< time step shown (index on the file's axis)
+  bool synthetic = false;              ///< the file says SYNTHETIC
+  double stepFraction = 0.0;           ///< > 0: that far (0..1) towards step + 1, interpolated
+  volume::ValueRange firstRange{};     ///< the values of the step first loaded (its colours' range)
+  bool visible = true;                 ///< drawn (the control panel switches layers off)
 };
 
 /// What one volume layer holds in memory (the control panel's "loaded" table).
@@ -92,14 +95,16 @@ class SceneRendererGL {
  public:
   static Result<std::unique_ptr<SceneRendererGL>> create(std::shared_ptr<globe::TileImageLoader> loader,
                                                          const GlobeRenderOptions& globeOptions = {});
+  /// Reads, places and uploads a volume layer of either kind (addRadar or addGrid by its kind).
+  Status addVolume(const VolumeLayerDescription& description);
   /// Reads, places and uploads a radar volume (the only field asked for is decoded).
-  Result<const RadarLayerGL*> addRadar(const RadarLayerDescription& description);
+  Result<const RadarLayerGL*> addRadar(const VolumeLayerDescription& description);
   std::vector<RadarLayerGL>& radars() { return radars_; }
   const std::vector<RadarLayerGL>& radars() const { return radars_; }
   /// Reads the variable and time step a grid layer names (only that hyperslab: GridReader.h),
   /// places and uploads it. Drawn with the radars in one march where they overlap. The pointer
   /// returned (as addRadar's) is valid until the next layer is added.
-  Result<const GridLayerGL*> addGrid(const GridLayerDescription& description);
+  Result<const GridLayerGL*> addGrid(const VolumeLayerDescription& description);
   std::vector<GridLayerGL>& grids() { return grids_; }
   const std::vector<GridLayerGL>& grids() const { return grids_; }
   /// Shows grid `index` at time step `step` of its file (only that step is read), or, with
@@ -126,13 +131,14 @@ class SceneRendererGL {
   Status setVerticalExaggeration(double factor);
   double verticalExaggeration() const { return exaggeration_; }
   // --- Live edits (the viewer's control panel; LayerEdit.h says what each change needs) ---
-  /// Applies an edited description to radar `index`: render options only (colours, opacity
-  /// range / ramp / control points, mode, iso value, step, image scale, interpolation, beam,
-  /// classification) or, for another field, datum or crop box, the volume read again (a loop:
-  /// its steps found again for that field, the step shown kept). On error the layer is unchanged.
-  Status setRadarDescription(std::size_t index, const RadarLayerDescription& description);
-  /// The same for grid `index` (another variable, time, datum or crop: the step shown read again).
-  Status setGridDescription(std::size_t index, const GridLayerDescription& description);
+  /// Applies an edited description to volume layer `index` (the single index below): render
+  /// options only (colours, opacity range / ramp / control points, mode, iso value, step, image
+  /// scale, interpolation, beam, classification) or, for another field / variable, time, datum
+  /// or crop box, the data read again (a radar loop: its steps found again for that field; the
+  /// step shown kept). The kind cannot change. On error the layer is unchanged.
+  Status setVolumeDescription(std::size_t index, const VolumeLayerDescription& description);
+  /// The description of volume layer `index` (the single index below).
+  const VolumeLayerDescription& volumeDescription(std::size_t index) const;
   /// Changes the vertical exaggeration of a loaded scene: radars re-uploaded from their CPU
   /// copy, grids read again (their heights are exaggerated in place). An error (nothing changed)
   /// when the scene has slices (they keep the factor they were sampled with).
@@ -191,8 +197,10 @@ class SceneRendererGL {
   int referenceThreads_ = 0;
   double exaggeration_ = 1.0;
   std::vector<std::size_t> volumeOrder_;  ///< empty: radars then grids
-  Status reloadRadar(std::size_t index, const RadarLayerDescription& description);
-  Status reloadGrid(std::size_t index, const GridLayerDescription& description, std::size_t step, double fraction);
+  Status setRadarDescription(std::size_t radarIndex, const VolumeLayerDescription& description);
+  Status setGridDescription(std::size_t gridIndex, const VolumeLayerDescription& description);
+  Status reloadRadar(std::size_t index, const VolumeLayerDescription& description);
+  Status reloadGrid(std::size_t index, const VolumeLayerDescription& description, std::size_t step, double fraction);
   std::shared_ptr<volume::StepCache> cache_ = std::make_shared<volume::StepCache>();
   /// Grid `index`'s step, CPU side: from its GPU volume's twin, the cache, or read (and cached).
   Result<std::shared_ptr<const volume::GridVolume>> gridStepData(std::size_t index, std::size_t step);

@@ -38,10 +38,10 @@ struct SceneTimeAxis {
   std::vector<std::string> notes;
 };
 
-/// The scene's time axis (metadata only: no field values read), for the layers `renderer` holds
-/// (populated from `scene`). Errors: no grid with more than one time step and no radar loop (a
+/// The scene's time axis (metadata only: no field values read), for the layers `renderer` holds.
+/// Errors: no grid with more than one time step and no radar loop (a
 /// time series needs one), unreadable files.
-Result<SceneTimeAxis> sceneTimeAxis(const SceneDescription& scene, const SceneRendererGL& renderer);
+Result<SceneTimeAxis> sceneTimeAxis(const SceneRendererGL& renderer);
 
 /// Shows step `step` (plus `fraction` of the way to step + 1) on every grid and radar loop of `renderer`
 /// (in scene order, as populated from the same scene). The valid time shown is returned.
@@ -63,7 +63,7 @@ std::string stepKeyPrefix(bool radar, std::size_t layer);
 
 /// A grid's step as the renderer draws it, CPU side only (no GL: safe on a worker thread): read
 /// (variable, crop box columns), cropped, vertically exaggerated by `exaggeration`.
-Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& description, std::size_t step,
+Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& description, std::size_t step,
                                            double exaggeration);
 
 /// A radar loop's volume as the renderer draws it, CPU side only: read (`files`: one loop step),
@@ -75,7 +75,7 @@ struct RadarStepData {
   /// background loader; null: upload from `layout`.
   std::shared_ptr<const RadarVolumeGL::Prepared> prepared;
 };
-Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& description, const std::string& files);
+Result<RadarStepData> prepareRadarStep(const VolumeLayerDescription& description, const std::string& files);
 
 /// Loads the steps after the one shown on a worker thread (CPU side: file reading, cropping,
 /// exaggeration) into the renderer's step cache, so stepping and playing find them ready and
@@ -97,10 +97,10 @@ class ScenePrefetcher {
  private:
   void run();
   struct GridJob {
-    GridLayerDescription description;
+    VolumeLayerDescription description;
   };
   struct RadarJob {
-    RadarLayerDescription description;
+    VolumeLayerDescription description;
     std::vector<std::string> loopFiles;
   };
   std::vector<GridJob> grids_;

@@ -40,11 +40,11 @@ bool sphereMayBeVisible(const Camera& camera, const BoundingSphere& sphere);
 Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration);
 
 struct CullOutcome {
-  std::size_t kept = 0;
+  std::size_t kept = 0;             ///< radars kept
   std::vector<std::string> culled;  ///< paths of the radars left out
 };
 
-/// Removes from `scene.radars` the radars not visible from `camera` (their sphere as above).
+/// Removes from `scene.volumes` (and its origins) the radars not visible from `camera` (their sphere as above).
 /// A radar whose metadata cannot be read is kept (loading it reports the error).
 CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera);
 

@@ -8,7 +8,7 @@
 // vertical exaggeration; what is loaded (CPU and GPU bytes per layer); colour keys, the readout,
 // the frame time, the screenshot button; and a scale bar over the picture (Legend.h's
 // scaleBarFor, the bar rendered PNGs carry). Edits go to the SceneRendererGL at once
-// (setRadarDescription, setGridDescription, setVolumeOrder, changeVerticalExaggeration) and
+// (setVolumeDescription, setVolumeOrder, changeVerticalExaggeration) and
 // draw() returns true so the viewer redraws. docs/viewer-panel.md describes it.
 //
 // Input: the backends chain to the window's own GLFW callbacks; while the pointer is over the

@@ -12,6 +12,7 @@
 //     where positions are float32 relative to originEcef() (subtracted in double).
 // The marcher includes the file once per volume with VOL_ replaced by that volume's prefix.
 #include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/engine/VolumeLayer.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 #include <atmoglobe/volume/VolumeSampler.h>
@@ -39,13 +40,6 @@ struct MarchConstants {
   static constexpr int kElevationBins = 2048;  ///< ELEVATION_BINS: elevation -> sweep lookup
 };
 std::vector<std::string> marchShaderDefines();
-
-/// How DVR classifies the field between samples.
-enum class Classification {
-  Point,          ///< each sample alone, over one step (post-classification; what the reference does at 100 m)
-  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity
-                  ///< (volume::transferIntegralTable)
-};
 
 /// The generic knobs of one volume layer (a kind's own knobs live on its VolumeGL).
 struct VolumeRenderOptions {

@@ -1,0 +1,152 @@
+#pragma once
+// One description of a volume layer, whatever its kind (a radar volume or a forecast grid):
+// source, field, colours, range, opacity, crop, mode, quality knobs, label and time. The
+// scene JSON ("radars"/"grids"), the CLI (--radar/--grid), the viewer's panel and the scene
+// renderer all hold this one type; the parts only one kind reads are marked so. GL-free.
+//
+// Enumerated settings are enums; `nameOf` / `parseName` give the spellings the scene JSON, the
+// CLI and the panel use ("dvr", "4/3", ...), from one table per enum.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/VolumeRenderSettings.h>
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+/// What a volume layer reads and how its samples are placed.
+enum class VolumeKind {
+  Radar,  ///< sweeps of gates (volume/RadarReader.h), sampled in antenna coordinates
+  Grid,   ///< a forecast grid (volume/GridReader.h), sampled in its own columns and levels
+};
+
+/// How DVR classifies the field between samples.
+enum class Classification {
+  Point,          ///< each sample alone, over one step (post-classification; what the reference does at 100 m)
+  Preintegrated,  ///< neighbouring samples as a linear segment, integrated exactly in opacity
+                  ///< (volume::transferIntegralTable)
+};
+
+/// How the GPU maps a point to a radar's antenna coordinates (radars only).
+enum class BeamApproximation {
+  /// The effective-Earth model (ke, R from the volume's BeamModel) on a local sphere whose
+  /// radius is the ellipsoid's normal-section radius in the sample's azimuth, in float32:
+  /// volume::LocalSphereBeam, whose double twin's error against the exact inverse is stated in
+  /// volume/Geolocation.h; the float error is measured by RadarMarchTest.
+  EffectiveEarthLocalSphere,
+  /// Straight lines from the antenna, no Earth curvature, no refraction (what several open
+  /// 3-D radar viewers do); for comparison only.
+  StraightLine,
+};
+
+/// The spelling of each value in the scene JSON, the CLI and the panel: "radar"/"grid";
+/// "dvr"/"mip"/"iso"; "nearest"/"linear"; "point"/"preintegrated"; "4/3"/"straight".
+const char* nameOf(VolumeKind kind);
+const char* nameOf(volume::VolumeRenderMode mode);
+const char* nameOf(volume::Interpolation interpolation);
+const char* nameOf(Classification classification);
+const char* nameOf(BeamApproximation beam);
+
+/// Every value of an enum, in its table's order (the choices offered and listed in messages).
+template <class E>
+const std::vector<E>& allValues();
+
+template <>
+const std::vector<VolumeKind>& allValues<VolumeKind>();
+template <>
+const std::vector<volume::VolumeRenderMode>& allValues<volume::VolumeRenderMode>();
+template <>
+const std::vector<volume::Interpolation>& allValues<volume::Interpolation>();
+template <>
+const std::vector<Classification>& allValues<Classification>();
+template <>
+const std::vector<BeamApproximation>& allValues<BeamApproximation>();
+
+/// The value spelled `name` (exactly, as nameOf writes it), or nullopt.
+template <class E>
+std::optional<E> parseName(std::string_view name) {
+  for (E value : allValues<E>())
+    if (name == nameOf(value)) return value;
+  return std::nullopt;
+}
+
+/// `"a", "b", "c"`: the choices of an enum for messages.
+template <class E>
+std::string quotedNames() {
+  std::string out;
+  for (E value : allValues<E>()) out += (out.empty() ? "\"" : ", \"") + std::string(nameOf(value)) + "\"";
+  return out;
+}
+
+/// What users set on the look and extent of any volume layer (JSON keys "range", "opacity",
+/// "crop", "crop_heights_m"; CLI --range/--opacity/--crop/--crop-heights and their --grid- twins).
+struct VolumeLayerSettings {
+  /// The colour table's span (min, max; field units). Empty: the kind's default (reflectivity
+  /// -10..70 dBZ, velocity +-Nyquist, model variables their values' range).
+  std::optional<glm::dvec2> valueRange;
+  /// Opacity ramp: [zero, full] values (field units): opacity 0 at and below zero, the maximum
+  /// at and above full; optionally [.., max] (0..1, per reference length) and [.., .., .., per_m]
+  /// (the reference length, m). Empty: the kind's default ramp.
+  std::vector<double> opacity;
+  /// Opacity control points (value, opacity per reference length) from the viewer's
+  /// transfer-function editor (volume::withOpacityPoints; applied after range and ramp). Empty:
+  /// none. Not a scene key.
+  std::vector<glm::dvec2> opacityPoints;
+  /// Crop box: latitude/longitude and heights above sea level; outside it nothing is drawn
+  /// (grids read only its columns). Default: everything.
+  volume::CropBox crop;
+};
+
+/// A volume to ray-march (VolumeRendererGL.h; readers: volume/RadarLoad.h, volume/GridReader.h).
+struct VolumeLayerDescription {
+  VolumeKind kind = VolumeKind::Radar;
+  /// Radar: a file, or one volume split over files or a loop (a directory, glob or comma list).
+  /// Grid: a CF or WRF netCDF file.
+  std::string path;
+  /// The radar field or grid variable; empty: the file's default (reflectivity for radars).
+  std::string field;
+  /// Grids: the step first shown: empty (the first), an index ("3") or an ISO 8601 UTC time.
+  /// Radars: unused (a loop's steps are its files).
+  std::string time;
+  /// "auto" (by the field's kind), a colour table by name (case ignored) or a .pal file.
+  std::string colors = "auto";
+  volume::VolumeRenderMode mode = volume::VolumeRenderMode::Dvr;
+  volume::Interpolation interpolation = volume::Interpolation::Linear;
+  /// Ray-march step (m). Layers of one step are integrated together where they overlap.
+  double stepMeters = 250.0;
+  double imageScale = 1.0;  ///< volume image resolution relative to the frame (0.05..1)
+  /// The isosurface value (field units). Empty: the kind's default (defaultIsoValue).
+  std::optional<double> isoValue;
+  Classification classification = Classification::Point;                  ///< DVR only
+  BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;  ///< radars only
+  std::string label;     ///< radars: the site marker's label; empty: the site name from the file
+  bool useGeoid = true;  ///< heights above sea level to the ellipsoid through EGM96
+  VolumeLayerSettings settings;
+};
+
+/// The isosurface value a layer without one gets: radars 40 (dBZ), grids the middle of the
+/// values' range.
+double defaultIsoValue(VolumeKind kind, double minValue, double maxValue);
+
+/// Checks the settings (range min < max, opacity 2..4 finite numbers with zero != full, max in
+/// [0, 1], per_m > 0, the crop box). `where` starts the message.
+Status validateVolumeLayerSettings(const VolumeLayerSettings& settings, const std::string& where);
+
+/// The one check of a volume layer, both kinds: step 1..1e6 m, image scale 0.05..1, a finite iso
+/// value, kind-only keys left empty on the other kind, then the settings.
+Status validateVolumeLayer(const VolumeLayerDescription& layer, const std::string& where);
+
+/// What changed between two descriptions of one layer, and so what applying it needs.
+enum class LayerChange {
+  None,     ///< nothing that shows changed
+  Options,  ///< render options only (transfer function, mode, iso value, step, scale, beam...)
+  Reload,   ///< the data: the file is read again (field / variable, time, datum, crop box)
+};
+LayerChange layerChange(const VolumeLayerDescription& before, const VolumeLayerDescription& after);
+
+}  // namespace atmoglobe::engine
