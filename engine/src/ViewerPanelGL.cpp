@@ -385,7 +385,7 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         const double frac = std::log1p(static_cast<double>(h.counts[b])) / logMax;
         const volume::Rgba8 c = tf.colors.map(static_cast<float>(v0 + 0.5 * binWidth));
         draw->AddRectFilled(ImVec2(xOf(v0), yOf(frac)), ImVec2(std::max(xOf(v0 + binWidth), xOf(v0) + 1.0f), yOf(0.0)),
-                         IM_COL32(c.r / 2 + 40, c.g / 2 + 40, c.b / 2 + 40, 255));
+                            IM_COL32(c.r / 2 + 40, c.g / 2 + 40, c.b / 2 + 40, 255));
       }
       // The opacity curve and its points.
       std::vector<ImVec2> line;
