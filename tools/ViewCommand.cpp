@@ -41,6 +41,7 @@
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>

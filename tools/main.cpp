@@ -1,6 +1,8 @@
 // atmoglobe: command-line front end. Each subcommand lives in its own file.
 #include "Commands.h"
 
+#include <atmoglobe/Version.h>
+
 #include <iostream>
 #include <vector>
 
@@ -14,7 +16,7 @@ int fail(std::string_view command, std::string_view message) {
 int main(int argc, char** argv) {
   using namespace atmoglobe::tools;
   CLI::App app{"atmoglobe: a WGS84 virtual globe for weather radar and forecast volumes", "atmoglobe"};
-  app.set_version_flag("--version", ATMOGLOBE_VERSION);
+  app.set_version_flag("--version", "atmoglobe " ATMOGLOBE_VERSION_STRING);
   app.require_subcommand(1);
   std::vector<Command> commands;
   commands.push_back(addTilesCommand(app));

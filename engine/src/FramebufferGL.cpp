@@ -1,9 +1,15 @@
 #include <atmoglobe/engine/FramebufferGL.h>
 
+#include "LoaderGL.h"
+
 #include <cstring>
 #include <string>
 
 namespace atmoglobe::engine {
+
+Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int heightPx) {
+  return create(widthPx, heightPx, GL_RGBA8);
+}
 
 Result<std::unique_ptr<FramebufferGL>> FramebufferGL::create(int widthPx, int heightPx, GLenum colorFormat) {
   GLint maxSize = 0;

@@ -4,6 +4,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "LoaderGL.h"
 #include "VertexLayoutGL.h"
 
 #include <algorithm>

@@ -1,6 +1,8 @@
 // A forecast grid on the GPU (GridVolumeGL.h).
 #include <atmoglobe/engine/GridVolumeGL.h>
 
+#include "LoaderGL.h"
+
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/MapRendererGL.h>
 
+#include "LoaderGL.h"
+
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Horizon.h>
 #include <atmoglobe/map/MapLod.h>

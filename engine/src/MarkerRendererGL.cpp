@@ -2,6 +2,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "LoaderGL.h"
 #include "VertexLayoutGL.h"
 
 #include <atmoglobe/engine/LabelPlacement.h>

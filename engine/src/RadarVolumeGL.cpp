@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/RadarVolumeGL.h>
 
+#include "LoaderGL.h"
+
 #include <atmoglobe/globe/Angles.h>
 
 #include <atmoglobe/volume/Decimate.h>

@@ -1,6 +1,8 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
 
+#include "LoaderGL.h"
+
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SlicePlot.h>
 #include <atmoglobe/globe/Ellipsoid.h>

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/ShaderProgramGL.h>
 
+#include "LoaderGL.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -100,5 +102,8 @@ ShaderProgramGL& ShaderProgramGL::operator=(ShaderProgramGL&& other) noexcept {
 ShaderProgramGL::~ShaderProgramGL() {
   if (id_) glDeleteProgram(id_);
 }
+
+void ShaderProgramGL::use() const { glUseProgram(id_); }
+GLint ShaderProgramGL::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
 
 }  // namespace atmoglobe::engine

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/ShellVolumeGL.h>
 
+#include "LoaderGL.h"
+
 #include <sstream>
 
 namespace atmoglobe::engine {

@@ -1,7 +1,7 @@
 #pragma once
 // Private to the engine: one float vertex attribute of an interleaved buffer bound at
 // binding 0 of a vertex array (DSA).
-#include <epoxy/gl.h>
+#include "LoaderGL.h"
 
 #include <cstddef>
 

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
+#include "LoaderGL.h"
+
 #include <atomic>
 
 #include <glm/gtc/packing.hpp>
@@ -35,6 +37,8 @@ GLint UniformCacheGL::operator()(const std::string& name) {
   if (it == locations_.end()) it = locations_.emplace(name, glGetUniformLocation(program_, name.c_str())).first;
   return it->second;
 }
+
+GLuint makeVolumeTextureGL(GLenum target) { return makeVolumeTextureGL(target, GL_NEAREST); }
 
 GLuint makeVolumeTextureGL(GLenum target, GLint filter) {
   GLuint t = 0;

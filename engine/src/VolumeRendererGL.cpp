@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 
+#include "LoaderGL.h"
+
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
 

@@ -8,6 +8,7 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/volume/VolumeImage.h>
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <iostream>

@@ -17,6 +17,8 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/TileImageLoader.h>
 
+#include <epoxy/gl.h>
+
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>

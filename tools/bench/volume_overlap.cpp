@@ -26,6 +26,8 @@
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
+#include <epoxy/gl.h>
+
 #include <unistd.h>
 
 #include <algorithm>

@@ -1,5 +1,7 @@
 #include <atmoglobe/bench/Measure.h>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -11,8 +11,6 @@
 #include <atmoglobe/globe/TileImageLoader.h>
 #include <atmoglobe/globe/TileSelection.h>
 
-#include <epoxy/gl.h>
-
 #include <memory>
 
 namespace atmoglobe::engine {
@@ -56,7 +54,7 @@ class GlobeRendererGL {
   std::shared_ptr<globe::TileImageLoader> loader_;
   GlobeRenderOptions options_;
   ShaderProgramGL program_;
-  GLint uMvp_ = -1, uUvTransform_ = -1, uHasImagery_ = -1, uBaseColor_ = -1, uImagery_ = -1;
+  int uMvp_ = -1, uUvTransform_ = -1, uHasImagery_ = -1, uBaseColor_ = -1, uImagery_ = -1;
   std::unique_ptr<globe::LruCache<globe::TileId, std::shared_ptr<MeshGL>, globe::TileIdHash>> meshes_;
   std::unique_ptr<globe::LruCache<globe::TileId, std::shared_ptr<TextureGL>, globe::TileIdHash>> textures_;
   bool lastFrameComplete_ = false;

@@ -9,8 +9,6 @@
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/globe/Result.h>
 
-#include <epoxy/gl.h>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,8 +26,8 @@ class GltfModelRendererGL {
 
  private:
   struct PrimitiveGL {
-    GLuint vao = 0, vbo = 0, ibo = 0, texture = 0;
-    GLsizei indexCount = 0;
+    unsigned int vao = 0, vbo = 0, ibo = 0, texture = 0;
+    int indexCount = 0;
     glm::dmat4 modelToEcef{1.0};
     glm::vec4 baseColor{1.0f};
   };

@@ -76,10 +76,10 @@ class GridVolumeGL final : public VolumeGL {
   std::shared_ptr<const volume::GridVolume> grid_;
   std::shared_ptr<const volume::GridSampler> sampler_;
   glm::dvec3 origin_{0.0};
-  GLuint values_ = 0, heights_ = 0, lookup_ = 0;  ///< lookup_: 2-D; rectilinear: row 0 longitude, row 1 latitude
-  glm::ivec3 textureSize_{1};                     ///< columns, rows, levels of values_/heights_
-  int rowOffset_ = 0;                             ///< 1 when the grid has pole rows
-  glm::vec2 lonRange_{0.0f}, latRange_{0.0f};     ///< the lookup tables' domains (deg)
+  unsigned int values_ = 0, heights_ = 0, lookup_ = 0;  ///< lookup_: 2-D; rectilinear: row 0 longitude, row 1 latitude
+  glm::ivec3 textureSize_{1};                           ///< columns, rows, levels of values_/heights_
+  int rowOffset_ = 0;                                   ///< 1 when the grid has pole rows
+  glm::vec2 lonRange_{0.0f}, latRange_{0.0f};           ///< the lookup tables' domains (deg)
   glm::ivec2 lookupSize_{1};
   std::size_t gpuBytes_ = 0;
 };

@@ -23,8 +23,6 @@
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/map/Gshhg.h>
 
-#include <epoxy/gl.h>
-
 #include <map>
 #include <memory>
 #include <string>
@@ -93,7 +91,7 @@ class MapRendererGL {
   bool builtin_ = false;
   MapLineStyle builtinStyle_[3];
   ShaderProgramGL program_;
-  GLuint vao_ = 0;
+  unsigned int vao_ = 0;
   std::map<std::pair<int, int>, std::unique_ptr<map::GshhgFile>> files_;  ///< (kind, resolution)
   std::map<std::pair<int, int>, bool> fileFailed_;
   /// Cached chunks: key (layer, resolution, bin or group).

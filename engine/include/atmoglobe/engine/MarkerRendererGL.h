@@ -6,8 +6,6 @@
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/ShaderProgramGL.h>
 
-#include <epoxy/gl.h>
-
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -37,7 +35,7 @@ class MarkerRendererGL {
  private:
   MarkerRendererGL() = default;
   struct LabelTexture {
-    GLuint texture = 0;  ///< RG8: text coverage, halo coverage
+    unsigned int texture = 0;  ///< RG8: text coverage, halo coverage
     int widthPx = 0, heightPx = 0;
   };
   static constexpr double kLabelPixelHeight = 15.0;  ///< ascent - descent (px)
@@ -49,8 +47,8 @@ class MarkerRendererGL {
   MarkerStyle style_ = MarkerStyle::Disc;
   ShaderProgramGL program_;
   ShaderProgramGL labelProgram_;
-  GLuint vao_ = 0, vbo_ = 0;
-  GLuint labelVao_ = 0, labelVbo_ = 0;
+  unsigned int vao_ = 0, vbo_ = 0;
+  unsigned int labelVao_ = 0, labelVbo_ = 0;
 };
 
 }  // namespace atmoglobe::engine

@@ -79,8 +79,8 @@ class RadarVolumeGL final : public VolumeGL {
   std::shared_ptr<const volume::ExaggeratedSampler> exaggerated_;  ///< over *sampler_ when exaggeration_ != 1
   volume::LocalSphereBeam beamModel_;
   BeamApproximation beam_ = BeamApproximation::EffectiveEarthLocalSphere;
-  GLuint values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer
-  glm::vec2 valuesSize_{1.0f};        ///< texels per layer (gates + 1, rays + 1)
+  unsigned int values_ = 0, rayTable_ = 0;  ///< rayTable_: azimuth tables, then the elevation lookup as one more layer
+  glm::vec2 valuesSize_{1.0f};              ///< texels per layer (gates + 1, rays + 1)
   glm::vec2 elLookupRange_{0.0f, 1.0f};
   std::size_t gpuBytes_ = 0;
 };

@@ -2,10 +2,10 @@
 // GL shader programs built from the shader files in shaders/, which are embedded into
 // the binary at build time (cmake/EmbedFiles.cmake). Setting ATMOGLOBE_SHADER_DIR makes
 // them load from that directory instead (a developer override for editing shaders
-// without rebuilding).
+// without rebuilding). GL names are plain `unsigned int` (GLuint) and uniform locations `int`
+// (GLint), so that including this header needs no GL loader.
 #include <atmoglobe/globe/Result.h>
 
-#include <epoxy/gl.h>
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -37,12 +37,12 @@ class ShaderProgramGL {
   ShaderProgramGL& operator=(ShaderProgramGL&& other) noexcept;
   ~ShaderProgramGL();
 
-  void use() const { glUseProgram(id_); }
-  GLuint id() const { return id_; }
-  GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+  void use() const;
+  unsigned int id() const { return id_; }
+  int uniform(const char* name) const;
 
  private:
-  GLuint id_ = 0;
+  unsigned int id_ = 0;
 };
 
 }  // namespace atmoglobe::engine

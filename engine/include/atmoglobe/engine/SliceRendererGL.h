@@ -18,8 +18,6 @@
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Slice.h>
 
-#include <epoxy/gl.h>
-
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -68,8 +66,8 @@ class SliceRendererGL {
 
  private:
   struct SliceGL {
-    GLuint vao = 0, vbo = 0, ibo = 0, outlineVao = 0, outlineVbo = 0, texture = 0;
-    GLsizei indexCount = 0, outlineCount = 0;
+    unsigned int vao = 0, vbo = 0, ibo = 0, outlineVao = 0, outlineVbo = 0, texture = 0;
+    int indexCount = 0, outlineCount = 0;
     glm::dvec3 originEcef{0.0};
   };
   SliceRendererGL() = default;

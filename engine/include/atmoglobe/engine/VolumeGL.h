@@ -17,7 +17,6 @@
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
-#include <epoxy/gl.h>
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -52,12 +51,12 @@ struct VolumeRenderOptions {
 /// Uniform locations of one program, looked up once per name and kept.
 class UniformCacheGL {
  public:
-  explicit UniformCacheGL(GLuint program = 0) : program_(program) {}
-  GLint operator()(const std::string& name);
+  explicit UniformCacheGL(unsigned int program = 0) : program_(program) {}
+  int operator()(const std::string& name);
 
  private:
-  GLuint program_ = 0;
-  std::unordered_map<std::string, GLint> locations_;
+  unsigned int program_ = 0;
+  std::unordered_map<std::string, int> locations_;
 };
 
 /// Where a volume's sampler binds: its uniforms' prefix, its first texture unit.
@@ -65,7 +64,7 @@ struct SamplerBindingGL {
   UniformCacheGL* uniforms = nullptr;
   std::string prefix;  ///< "v0_", "v1_", ...
   int firstUnit = 0;
-  GLuint nearestSampler = 0;  ///< a sampler object with nearest filtering, clamp to edge
+  unsigned int nearestSampler = 0;  ///< a sampler object with nearest filtering, clamp to edge
 };
 
 /// An empty-space grid on the GPU: one R16F 3-D texture, the cells (z < cells.z) and above them
@@ -78,13 +77,13 @@ class OccupancyGridGL {
   ~OccupancyGridGL();
   OccupancyGridGL(OccupancyGridGL&& other) noexcept;
   OccupancyGridGL& operator=(OccupancyGridGL&& other) noexcept;
-  GLuint texture() const { return texture_; }
+  unsigned int texture() const { return texture_; }
   const volume::OccupancyGrid& grid() const { return grid_; }
   std::size_t gpuBytes() const { return gpuBytes_; }
 
  private:
   volume::OccupancyGrid grid_;
-  GLuint texture_ = 0;
+  unsigned int texture_ = 0;
   std::size_t gpuBytes_ = 0;
 };
 
@@ -141,7 +140,9 @@ bool outOfMemoryGL();
 /// "12.3 MB" (10^6 bytes), for messages.
 std::string megabytes(std::size_t bytes);
 
-/// GL texture with the given filter and clamp-to-edge wrapping (a helper for VolumeGL kinds).
-GLuint makeVolumeTextureGL(GLenum target, GLint filter = GL_NEAREST);
+/// GL texture of `target` (GL_TEXTURE_2D, GL_TEXTURE_3D, ...) with nearest filtering, or the given
+/// `filter` (GL_LINEAR), and clamp-to-edge wrapping (a helper for VolumeGL kinds).
+unsigned int makeVolumeTextureGL(unsigned int target);
+unsigned int makeVolumeTextureGL(unsigned int target, int filter);
 
 }  // namespace atmoglobe::engine

@@ -12,8 +12,6 @@
 #include <atmoglobe/volume/RenderCamera.h>
 #include <atmoglobe/volume/VolumeImage.h>
 
-#include <epoxy/gl.h>
-
 #include <map>
 #include <memory>
 
@@ -89,10 +87,10 @@ class VolumeRendererGL {
   VolumeRendererGL() = default;
   /// Uniform locations of the march program's own uniforms, resolved once when it is built.
   struct MarchLocationsGL {
-    GLint cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
+    int cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
     struct Volume {
-      GLint eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
-            opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1;
+      int eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
+          opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1;
     };
     std::vector<Volume> volumes;
   };
@@ -109,9 +107,9 @@ class VolumeRendererGL {
     std::vector<Slot> slots;
   };
   /// Marches one group into the volume target (cleared first); false if its program failed.
-  bool march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture, int debugMode,
+  bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
              double debugT);
-  void ensureTarget(int widthPx, int heightPx, GLenum format);
+  void ensureTarget(int widthPx, int heightPx, unsigned int format);
   /// One past the last layer of the group starting at `begin` (layers one program marches together).
   static std::size_t groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin);
   /// One march and composite: layers marched together, inside a rectangle of the target.
@@ -125,18 +123,18 @@ class VolumeRendererGL {
   static std::vector<PassGL> planPasses(const Camera& camera, const std::vector<VolumeLayerGL>& layers);
   /// Lays a premultiplied volume image (any size: bilinear) over `target` inside `rectPx`;
   /// leaves it bound.
-  void compositeOver(GLuint volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
+  void compositeOver(unsigned int volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
 
   std::map<MarchVariant, ProgramEntry> programs_;
   std::map<MarchVariant, std::string> programErrors_;
   ShaderProgramGL composite_;
-  GLuint vao_ = 0;
-  GLuint transfer_ = 0;          ///< TRANSFER_ENTRIES x MAX_VOLUMES: each volume's classify() row
-  GLuint transferIntegral_ = 0;  ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
-  GLuint nearestSampler_ = 0;
+  unsigned int vao_ = 0;
+  unsigned int transfer_ = 0;          ///< TRANSFER_ENTRIES x MAX_VOLUMES: each volume's classify() row
+  unsigned int transferIntegral_ = 0;  ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
+  unsigned int nearestSampler_ = 0;
   std::unique_ptr<FramebufferGL> volumeTarget_;
-  GLenum volumeFormat_ = 0;
-  GLuint emptyDepth_ = 0;
+  unsigned int volumeFormat_ = 0;
+  unsigned int emptyDepth_ = 0;
   /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
   struct TransferKey {
     const volume::TransferFunction* transfer = nullptr;
