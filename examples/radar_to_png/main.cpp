@@ -67,9 +67,10 @@ int main(int argc, char** argv) {
   auto renderer = engine::SceneRendererGL::create(*imagery);
   if (!renderer) return fail(renderer.error());
   if (auto map = (*renderer)->setMapContext(true); !map) std::fprintf(stderr, "no map: %s\n", map.error().c_str());
-  engine::RadarLayerDescription layer;
+  engine::VolumeLayerDescription layer;
+  layer.kind = engine::VolumeKind::Radar;
   layer.path = radarPath;  // defaults: reflectivity, colours by the field's kind, DVR, 250 m steps
-  if (auto added = (*renderer)->addRadar(layer); !added) return fail(added.error());
+  if (auto added = (*renderer)->addVolume(layer); !added) return fail(added.error());
 
   // The camera 1.6 deg south of the site, 150 km up, looking north 35 deg below the horizon.
   engine::CameraPose pose;
