@@ -2,30 +2,23 @@
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Text.h>
 
 #include <array>
-#include <cctype>
 #include <cmath>
 
 namespace atmoglobe::volume {
 
 namespace {
 
+// Lower case, blanks trimmed, each run of blanks inside one space ("Geopotential  Metres" ->
+// "geopotential metres").
 std::string lowerTrim(const std::string& s) {
   std::string out;
-  for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)) || (!out.empty() && out.back() != ' '))
-      out.push_back(c == '\t' ? ' ' : c);
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-std::string compact(const std::string& s) {  // no blanks, lower case
-  std::string out;
-  for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)))
-      out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  for (char c : trimAscii(s)) {
+    if (!isSpaceAscii(c)) out.push_back(toLowerAscii(c));
+    else if (out.back() != ' ') out.push_back(' ');  // not empty: the text starts with a non-blank
+  }
   return out;
 }
 
@@ -87,7 +80,7 @@ std::optional<double> geopotentialHeightUnitToMeters(const std::string& units) {
 }
 
 bool isGeopotentialUnit(const std::string& units) {
-  const std::string u = compact(units);
+  const std::string u = toLowerAsciiWithoutBlanks(units);
   return u == "m2s-2" || u == "m**2s**-2" || u == "m^2/s^2" || u == "m2/s2" || u == "m^2s^-2" || u == "m2.s-2" ||
          u == "m**2/s**2" || u == "jkg-1" || u == "j/kg" || u == "jkg**-1";
 }
