@@ -105,10 +105,10 @@ double standardAtmospherePressurePa(double h) {
 }
 
 double normalGravity(double latDeg) {
-  // WGS84: equatorial normal gravity, Somigliana's constant k, first eccentricity squared.
-  constexpr double kGammaE = 9.7803253359, kK = 0.00193185265241, kE2 = 0.00669437999013;
+  // WGS84 (TR8350.2 table 3.4): equatorial normal gravity, Somigliana's constant k; e^2 of the ellipsoid.
+  constexpr double kGammaE = 9.7803253359, kK = 0.00193185265241;
   const double s = std::sin(degreesToRadians(latDeg));
-  return kGammaE * (1.0 + kK * s * s) / std::sqrt(1.0 - kE2 * s * s);
+  return kGammaE * (1.0 + kK * s * s) / std::sqrt(1.0 - globe::kWgs84E2 * s * s);
 }
 
 GeopotentialToGeometric::GeopotentialToGeometric(double latDeg) {
