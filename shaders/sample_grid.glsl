@@ -9,7 +9,7 @@
 //
 // Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_CURVILINEAR (lookup by
 // (latitude, longitude) instead of per axis), VOL_WRAPS (longitudes taken modulo 360 over the
-// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO.
+// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO, WGS84_A, WGS84_F, WGS84_E2.
 
 uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or -1e38 missing, height above the ellipsoid m)
 uniform sampler2D VOL_lookup;   // rectilinear R32F: row 0 longitude -> column, row 1 latitude -> row;
@@ -30,9 +30,9 @@ uniform vec4 VOL_referenceTrig; // cos lat0, sin lat0, cos lon0, sin lon0
 // a reference latitude/longitude (the grid's centre), then added to it: float atan is accurate
 // relative to its result, so small angles keep metres where whole ones lose tens of metres.
 vec3 VOL_geodetic(vec3 p) {
-  const float a = 6378137.0;
-  const float e2 = 6.69437999014e-3;
-  const float b = a * 0.99664718933525;  // a sqrt(1 - e2)
+  const float a = WGS84_A;
+  const float e2 = WGS84_E2;
+  const float b = a * (1.0 - WGS84_F);  // a sqrt(1 - e2)
   const float ep2 = e2 / (1.0 - e2);
   vec3 e = VOL_origin + p;
   float rho = length(e.xy);

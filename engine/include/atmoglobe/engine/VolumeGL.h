@@ -38,6 +38,7 @@ struct MarchConstants {
   static constexpr int kRayTableBins = 8192;   ///< RAY_TABLE_BINS: azimuth table resolution (360 / 8192 deg)
   static constexpr int kElevationBins = 2048;  ///< ELEVATION_BINS: elevation -> sweep lookup
 };
+/// The define entries of MarchConstants, and of the ellipsoid (ShaderConstants.h), for the march.
 std::vector<std::string> marchShaderDefines();
 
 /// How DVR classifies the field between samples.

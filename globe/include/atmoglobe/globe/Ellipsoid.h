@@ -15,7 +15,8 @@
 
 namespace atmoglobe::globe {
 
-/// WGS84 defining constants (NIMA TR8350.2, 3rd ed., table 3.1), the only spelling of them.
+/// WGS84 defining constants (NIMA TR8350.2, 3rd ed., table 3.1), the only spelling of them: C++
+/// uses these and GLSL gets them as defines (engine/ShaderConstants.h).
 inline constexpr double kWgs84A = 6378137.0;            ///< semi-major axis (m)
 inline constexpr double kWgs84F = 1.0 / 298.257223563;  ///< flattening
 /// Derived (table 3.3).
