@@ -24,7 +24,9 @@ std::vector<std::string> marchShaderDefines() {
                                       "GRID_BLOCK " + std::to_string(C::kGridBlock),
                                       "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
                                       "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),
-                                      "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
+                                      "ELEVATION_BINS " + std::to_string(C::kElevationBins),
+                                      "GPU_NO_DATA " + glslFloatLiteral(C::kNoData),
+                                      "GPU_NO_DATA_BELOW " + glslFloatLiteral(C::kNoDataBelow)};
   for (std::string& d : ellipsoidShaderDefines()) defines.push_back(std::move(d));
   return defines;
 }

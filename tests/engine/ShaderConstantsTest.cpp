@@ -73,9 +73,12 @@ TEST(ShaderConstants, EllipsoidDefinesAreTheGlobeConstants) {
   EXPECT_NEAR(globe::kWgs84B, 6356752.3142, 1e-4);        // table 3.3
 }
 
-TEST(ShaderConstants, MarchDefinesHoldTheEllipsoid) {
+TEST(ShaderConstants, MarchDefinesHoldNoDataAndTheEllipsoid) {
   using C = engine::MarchConstants;
   auto d = byName(engine::marchShaderDefines());
+  EXPECT_EQ(readBack(d["GPU_NO_DATA"]), C::kNoData);
+  EXPECT_EQ(readBack(d["GPU_NO_DATA_BELOW"]), C::kNoDataBelow);
+  EXPECT_LT(C::kNoData, C::kNoDataBelow);
   EXPECT_EQ(d["WGS84_A"], engine::glslFloatLiteral(globe::kWgs84A));
   EXPECT_EQ(d.count("WGS84_E2"), 1u);
   EXPECT_EQ(d["MAX_VOLUMES"], std::to_string(C::kMaxVolumes));
