@@ -3,6 +3,7 @@
 // float triples (hi, lo) whose sum is its offset (m) from the chunk's double origin; the eye's
 // offset is split the same way, so (hi - eyeHi) + (lo - eyeLo) is the point relative to the eye
 // to sub-millimetre precision at any distance. u_viewProjection is projection * view rotation.
+// Injected: WGS84_A.
 layout(location = 0) in vec3 a_hi0;
 layout(location = 1) in vec3 a_lo0;
 layout(location = 2) in vec3 a_hi1;
@@ -25,7 +26,7 @@ void endPoint(vec3 hi, vec3 lo, out vec4 clip, out float horizon) {
   clip = u_viewProjection * vec4(rel, 1.0);
   // Scaled space: the point P on the unit sphere faces the eye V iff (V - P) . P > 0.
   vec3 p = u_originScaled + (hi + lo) * u_invRadii;
-  horizon = dot(-rel * u_invRadii, p) * 6378137.0;  // in metres-ish, away from float underflow
+  horizon = dot(-rel * u_invRadii, p) * WGS84_A;  // in metres-ish, away from float underflow
 }
 
 void main() {

@@ -9,9 +9,10 @@
 //
 // Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_CURVILINEAR (lookup by
 // (latitude, longitude) instead of per axis), VOL_WRAPS (longitudes taken modulo 360 over the
-// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO.
+// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO, GPU_NO_DATA, GPU_NO_DATA_BELOW, WGS84_A,
+// WGS84_F, WGS84_E2.
 
-uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or -1e38 missing, height above the ellipsoid m)
+uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or GPU_NO_DATA, height above the ellipsoid m)
 uniform sampler2D VOL_lookup;   // rectilinear R32F: row 0 longitude -> column, row 1 latitude -> row;
                                 // curvilinear RG32F: (latitude, longitude) -> (column, row), -1e6 outside
 uniform vec3 VOL_origin;        // the volume's origin (ECEF m, narrowed)
@@ -30,9 +31,9 @@ uniform vec4 VOL_referenceTrig; // cos lat0, sin lat0, cos lon0, sin lon0
 // a reference latitude/longitude (the grid's centre), then added to it: float atan is accurate
 // relative to its result, so small angles keep metres where whole ones lose tens of metres.
 vec3 VOL_geodetic(vec3 p) {
-  const float a = 6378137.0;
-  const float e2 = 6.69437999014e-3;
-  const float b = a * 0.99664718933525;  // a sqrt(1 - e2)
+  const float a = WGS84_A;
+  const float e2 = WGS84_E2;
+  const float b = a * (1.0 - WGS84_F);  // a sqrt(1 - e2)
   const float ep2 = e2 / (1.0 - e2);
   vec3 e = VOL_origin + p;
   float rho = length(e.xy);
@@ -75,16 +76,16 @@ bool VOL_columnRow(vec2 latLon, out vec2 ij) {
   return true;
 }
 
-// Level k at the four columns, blended: (value or < -1e37 when any is missing, height).
+// Level k at the four columns, blended: (value or GPU_NO_DATA when any is missing, height).
 vec2 VOL_level(ivec2 c, vec2 f, int k) {
   vec2 d00 = texelFetch(VOL_data, ivec3(c, k), 0).rg, d10 = texelFetch(VOL_data, ivec3(c + ivec2(1, 0), k), 0).rg;
   vec2 d01 = texelFetch(VOL_data, ivec3(c + ivec2(0, 1), k), 0).rg, d11 = texelFetch(VOL_data, ivec3(c + ivec2(1, 1), k), 0).rg;
   // A corner of zero weight does not count, missing or not (as in the CPU rule).
   float w00 = (1.0 - f.x) * (1.0 - f.y), w10 = f.x * (1.0 - f.y), w01 = (1.0 - f.x) * f.y, w11 = f.x * f.y;
-  bool missing = (w00 > 0.0 && d00.x < -1e37) || (w10 > 0.0 && d10.x < -1e37) || (w01 > 0.0 && d01.x < -1e37) ||
-                 (w11 > 0.0 && d11.x < -1e37);
+  bool missing = (w00 > 0.0 && d00.x < GPU_NO_DATA_BELOW) || (w10 > 0.0 && d10.x < GPU_NO_DATA_BELOW) ||
+                 (w01 > 0.0 && d01.x < GPU_NO_DATA_BELOW) || (w11 > 0.0 && d11.x < GPU_NO_DATA_BELOW);
   vec2 blended = w00 * d00 + w10 * d10 + w01 * d01 + w11 * d11;
-  return vec2(missing ? -3e38 : blended.x, blended.y);
+  return vec2(missing ? GPU_NO_DATA : blended.x, blended.y);
 }
 
 // Fractional (column, row, level) of p, the columns' corner and weights; false where there is no
@@ -139,9 +140,9 @@ int VOL_sample(vec3 p, out float value) {
   float v = VOL_level(c, f, fk < 0.5 ? lo : lo + 1).x;
 #else
   float a = VOL_level(c, f, lo).x, b = VOL_level(c, f, lo + 1).x;
-  float v = (a < -1e37 || b < -1e37) ? -3e38 : mix(a, b, fk);
+  float v = (a < GPU_NO_DATA_BELOW || b < GPU_NO_DATA_BELOW) ? GPU_NO_DATA : mix(a, b, fk);
 #endif
-  if (v < -1e37) return STATE_NOT_ECHO;
+  if (v < GPU_NO_DATA_BELOW) return STATE_NOT_ECHO;
   value = v;
   return STATE_ECHO;
 }

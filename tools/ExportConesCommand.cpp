@@ -6,6 +6,7 @@
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/ConeExport.h>
 #include <atmoglobe/volume/FieldKind.h>
+#include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <algorithm>
@@ -29,7 +30,7 @@ struct ExportConesOptions {
   std::string sweeps;
   std::optional<double> maxRangeKm;
   bool straight = false;
-  double ke = 4.0 / 3.0;
+  double ke = volume::kEffectiveEarthFactor;
   bool noGeoid = false;
   std::string output;
   std::string tileset;

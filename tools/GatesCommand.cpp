@@ -26,7 +26,7 @@ struct GatesOptions {
   std::string field;
   std::optional<int> sweep;
   std::string model = "exact";
-  double ke = 4.0 / 3.0;
+  double ke = volume::kEffectiveEarthFactor;
   std::optional<double> earthRadiusMeters;
   bool noGeoid = false;
   std::string output;

@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/Gazetteer.h>
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/StationList.h>
 
 #include <algorithm>
@@ -12,10 +13,9 @@ namespace atmoglobe::engine {
 namespace {
 
 std::string normalised(const std::string& s) {
-  std::string out;
-  for (char c : s) out += c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const auto first = out.find_first_not_of(' '), last = out.find_last_not_of(' ');
-  return first == std::string::npos ? std::string() : out.substr(first, last - first + 1);
+  std::string out = toLowerAscii(s);
+  std::replace(out.begin(), out.end(), '_', ' ');
+  return std::string(trimAscii(out));
 }
 
 /// "+DDMM" / "+DDDMMSS" style: `degreeDigits` digits of degrees, then minutes, then optional seconds.
@@ -38,9 +38,8 @@ bool parseLatLon(const std::string& text, Place* place, std::string* error) {
   std::stringstream ss(text);
   std::string part;
   while (std::getline(ss, part, ',')) {
-    const auto first = part.find_first_not_of(" \t"), last = part.find_last_not_of(" \t");
-    if (first == std::string::npos) return false;
-    const std::string t = part.substr(first, last - first + 1);
+    const std::string t(trimAscii(part));
+    if (t.empty()) return false;
     std::size_t used = 0;
     double x = 0.0;
     try {

@@ -19,8 +19,6 @@
 namespace atmoglobe::engine {
 namespace {
 
-// Missing values in the texture (NaN tests can be optimised away by GLSL compilers).
-constexpr float kMissing = -1.0e38f;
 constexpr int kLookupEntries = 4096;  // per axis of a rectilinear grid's tables
 
 }  // namespace
@@ -96,7 +94,8 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
     return glm::dvec2(g.latDegAt(static_cast<std::size_t>(r), static_cast<std::size_t>(c)), lon);
   };
 
-  // Values and heights: RG32F (value or kMissing, height above the ellipsoid).
+  // Values and heights: RG32F (value or GPU_NO_DATA, height above the ellipsoid). Not NaN: GLSL
+  // compilers may optimise NaN tests away.
   const glm::ivec3 ts = pr->textureSize;
   std::vector<glm::vec2>& texels = pr->texels;
   texels.resize(static_cast<std::size_t>(ts.x) * ts.y * ts.z);
@@ -105,8 +104,9 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
       for (int tc = 0; tc < ts.x; ++tc) {
         const int column = columnOf(tc, tr);
         const float v = s.columnValue(column, static_cast<std::size_t>(k));
-        texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] = glm::vec2(
-            std::isfinite(v) ? v : kMissing, static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
+        texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
+            glm::vec2(std::isfinite(v) ? v : MarchConstants::kNoData,
+                      static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
       }
   // Lookup tables, computed by the CPU sampler's own horizontalIndex (exact at the entries).
   if (!g.curvilinear) {
@@ -171,7 +171,7 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
           for (int r = r0; r <= r1; ++r)
             for (int c = c0; c <= c1; ++c) {
               const float v = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].x;
-              if (v != kMissing) maxValue = std::max(maxValue, v);
+              if (v != MarchConstants::kNoData) maxValue = std::max(maxValue, v);
             }
         if (maxValue == volume::kOccupancyEmptyValue) continue;
         glm::dvec3 lo(1e300), hi(-1e300);
@@ -219,7 +219,7 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::upload(const std::shared_ptr
                 megabytes(limit) + " ($ATMOGLOBE_MAX_TEXTURE_BYTES)";
     return makeError(name + ": " + *tooLarge);
   }
-  // Values and heights: RG32F (value or kMissing, height above the ellipsoid).
+  // Values and heights: RG32F (value or GPU_NO_DATA, height above the ellipsoid).
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   gl->values_ = makeVolumeTextureGL(GL_TEXTURE_3D);
   clearErrorsGL();

@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/MapRendererGL.h>
+#include <atmoglobe/engine/ShaderConstants.h>
 
 #include "LoaderGL.h"
 
@@ -51,7 +52,7 @@ glm::dvec3 surface(double lonDeg, double latDeg, double heightMeters = 0.0) {
 }  // namespace
 
 Result<std::unique_ptr<MapRendererGL>> MapRendererGL::create(const std::string& gshhgDir) {
-  auto program = ShaderProgramGL::create("map_line.vert", "map_line.frag");
+  auto program = ShaderProgramGL::create("map_line.vert", "map_line.frag", ellipsoidShaderDefines());
   if (!program) return program.forwardError();
   std::unique_ptr<MapRendererGL> r(new MapRendererGL());
   r->program_ = std::move(*program);

@@ -1,4 +1,5 @@
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include "SceneJsonFields.h"
@@ -54,8 +55,7 @@ Status parseColors(const Object& o, std::string& out, std::initializer_list<cons
                    const std::string& baseDir, const std::string& dataDir) {
   if (auto st = o.string("colors", out); !st) return st;
   if (!o.has("colors")) return Ok{};
-  std::string lower = out;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string lower = toLowerAscii(out);
   std::vector<std::string> known;
   for (const char* n : names) {
     if (lower == n) return Ok{};

@@ -11,15 +11,15 @@
 
 namespace atmoglobe::engine {
 
-bool sphereMayBeVisible(const Camera& camera, const BoundingSphere& s) {
+bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& s) {
   const globe::ViewState view = camera.viewState();
   for (const glm::dvec4& p : view.frustumPlanesEcef)
-    if (glm::dot(glm::dvec3(p), s.centerEcef) + p.w < -s.radiusMeters) return false;
+    if (glm::dot(glm::dvec3(p), s.centreEcef) + p.w < -s.radiusMeters) return false;
   // Horizon: in scaled space (ECEF / (a, a, b)) the sphere lies within a ball of radius r / b
   // about c. For a point P of that ball outside the unit sphere, angle(P, c) <= asin(r'/|c|) and
   // acos(1/|P|) <= acos(1/(|c| + r')), so Q = m c/|c| with m = 1/cos(sum) hides all of them
   // when it is hidden (Horizon.h's rule); points inside the unit sphere are inside the Earth.
-  const glm::dvec3 c = globe::ecefToScaledSpace(s.centerEcef);
+  const glm::dvec3 c = globe::ecefToScaledSpace(s.centreEcef);
   const double len = glm::length(c), r = s.radiusMeters / globe::kWgs84B;
   if (len <= r || len + r <= 1.0) return true;
   const double angle = std::asin(r / len) + std::acos(1.0 / (len + r));
@@ -28,7 +28,7 @@ bool sphereMayBeVisible(const Camera& camera, const BoundingSphere& s) {
   return !globe::isScaledSpacePointOccluded(globe::ecefToScaledSpace(camera.eyeEcef()), q);
 }
 
-Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration) {
+Result<volume::BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration) {
   std::string file = path;
   if (volume::isRadarFileSet(path)) {
     auto files = volume::expandRadarPaths(path);
@@ -48,8 +48,8 @@ Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verti
     rangeMeters = std::max(rangeMeters, last + last * std::sin(halfBeamRad));
   }
   if (!(rangeMeters > 0.0)) rangeMeters = 500e3;
-  BoundingSphere b;
-  b.centerEcef = globe::geodeticToEcef({v->site.latDeg, v->site.lonDeg, v->site.antennaHeightMeters});
+  volume::BoundingSphere b;
+  b.centreEcef = globe::geodeticToEcef({v->site.latDeg, v->site.lonDeg, v->site.antennaHeightMeters});
   // The geoid (|N| < 110 m) and the antenna's own height under exaggeration: a margin of 1 km.
   b.radiusMeters = rangeMeters * std::max(1.0, verticalExaggeration) + 1000.0 +
                    std::abs(v->site.antennaHeightMeters) * std::max(0.0, verticalExaggeration - 1.0);

@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/ViewerScript.h>
 
+#include <atmoglobe/globe/Text.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -29,13 +31,10 @@ bool number(const std::string& w, double* x) {
 
 /// The text after the first word, blanks trimmed.
 std::string rest(const std::string& line) {
-  const auto start = line.find_first_not_of(" \t");
-  const auto gap = line.find_first_of(" \t", start);
-  if (gap == std::string::npos) return "";
-  const auto first = line.find_first_not_of(" \t", gap);
-  if (first == std::string::npos) return "";
-  const auto last = line.find_last_not_of(" \t");
-  return line.substr(first, last - first + 1);
+  const std::string_view text = trimAscii(line);
+  const auto gap = text.find_first_of(" \t");
+  if (gap == std::string_view::npos) return "";
+  return std::string(trimAscii(text.substr(gap)));
 }
 
 }  // namespace
@@ -107,13 +106,8 @@ Result<std::vector<ScriptAction>> parseViewerScript(const std::string& text, con
     if (a.kind == Kind::Key) {
       if (w.size() < 2) return makeError(usage);
       const auto& names = scriptKeyNames();
-      const auto k = std::find_if(names.begin(), names.end(), [&](const std::string& n) {
-        if (n.size() != w[1].size()) return false;
-        for (std::size_t j = 0; j < n.size(); ++j)
-          if (std::tolower(static_cast<unsigned char>(n[j])) != std::tolower(static_cast<unsigned char>(w[1][j])))
-            return false;
-        return true;
-      });
+      const auto k = std::find_if(names.begin(), names.end(),
+                                  [&](const std::string& n) { return equalsIgnoringCaseAscii(n, w[1]); });
       if (k == names.end()) return makeError(where + "key: unknown key '" + w[1] + "'");
       a.text = *k;
       i = 2;

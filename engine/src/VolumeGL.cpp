@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
+#include <atmoglobe/engine/ShaderConstants.h>
+
 #include "LoaderGL.h"
 
 #include <atomic>
@@ -17,14 +19,18 @@ namespace atmoglobe::engine {
 
 std::vector<std::string> marchShaderDefines() {
   using C = MarchConstants;
-  return {"TRANSFER_ENTRIES " + std::to_string(C::kTransferEntries),
-          "MAX_VOLUMES " + std::to_string(C::kMaxVolumes),
-          "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),
-          "STATE_ECHO " + std::to_string(C::kStateEcho),
-          "GRID_BLOCK " + std::to_string(C::kGridBlock),
-          "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
-          "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),
-          "ELEVATION_BINS " + std::to_string(C::kElevationBins)};
+  std::vector<std::string> defines = {"TRANSFER_ENTRIES " + std::to_string(C::kTransferEntries),
+                                      "MAX_VOLUMES " + std::to_string(C::kMaxVolumes),
+                                      "STATE_NOT_ECHO " + std::to_string(C::kStateNotEcho),
+                                      "STATE_ECHO " + std::to_string(C::kStateEcho),
+                                      "GRID_BLOCK " + std::to_string(C::kGridBlock),
+                                      "MAX_SWEEPS " + std::to_string(C::kMaxSweeps),
+                                      "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),
+                                      "ELEVATION_BINS " + std::to_string(C::kElevationBins),
+                                      "GPU_NO_DATA " + glslFloatLiteral(C::kNoData),
+                                      "GPU_NO_DATA_BELOW " + glslFloatLiteral(C::kNoDataBelow)};
+  for (std::string& d : ellipsoidShaderDefines()) defines.push_back(std::move(d));
+  return defines;
 }
 
 VolumeGL::VolumeGL() {

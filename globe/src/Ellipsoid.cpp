@@ -86,18 +86,16 @@ double geocentricRadiusMeters(double latDeg) {
 }
 
 namespace {
-// 1 - e^2 sin^2(lat), e^2 = f (2 - f).
+// 1 - e^2 sin^2(lat).
 double curvatureDenominator(double latDeg) {
-  const double e2 = kWgs84F * (2.0 - kWgs84F);
   const double s = std::sin(degreesToRadians(latDeg));
-  return 1.0 - e2 * s * s;
+  return 1.0 - kWgs84E2 * s * s;
 }
 }  // namespace
 
 double meridionalRadiusMeters(double latDeg) {
-  const double e2 = kWgs84F * (2.0 - kWgs84F);
   const double w2 = curvatureDenominator(latDeg);
-  return kWgs84A * (1.0 - e2) / (w2 * std::sqrt(w2));
+  return kWgs84A * (1.0 - kWgs84E2) / (w2 * std::sqrt(w2));
 }
 
 double primeVerticalRadiusMeters(double latDeg) { return kWgs84A / std::sqrt(curvatureDenominator(latDeg)); }

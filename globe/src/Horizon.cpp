@@ -23,10 +23,9 @@ double angleFromChordSq(double c2) { return 2.0 * std::asin(std::min(1.0, 0.5 * 
 }  // namespace
 
 glm::dvec3 ecefFromSinCos(double sinLat, double cosLat, double sinLon, double cosLon, double heightMeters) {
-  constexpr double e2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
-  const double n = kWgs84A / std::sqrt(1.0 - e2 * sinLat * sinLat);
+  const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * sinLat * sinLat);
   const double r = (n + heightMeters) * cosLat;
-  return {r * cosLon, r * sinLon, (n * (1.0 - e2) + heightMeters) * sinLat};
+  return {r * cosLon, r * sinLon, (n * (1.0 - kWgs84E2) + heightMeters) * sinLat};
 }
 
 glm::dvec3 ecefToScaledSpace(const glm::dvec3& ecef) { return ecef / kRadii; }

@@ -13,7 +13,6 @@ namespace atmoglobe::globe {
 
 namespace {
 
-constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  ///< first eccentricity squared
 constexpr double kMinDistanceMeters = 1e-3;
 
 /// Squared chord between two unit vectors: increases with the angle between them, which is

@@ -1,5 +1,6 @@
 #include <atmoglobe/volume/CfRadialReader.h>
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/PageAllocator.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -53,13 +54,8 @@ Result<double> readSiteValue(const NetcdfFile& f, const std::string& name, int t
   return x;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 SweepMode modeFromText(const std::string& text) {
-  const std::string t = lower(text);
+  const std::string t = toLowerAscii(text);
   if (t == "rhi" || t == "manual_rhi" || t == "elevation_surveillance") return SweepMode::Rhi;
   if (t == "azimuth_surveillance" || t == "sector" || t == "manual_ppi" || t == "ppi") return SweepMode::Ppi;
   return SweepMode::Other;

@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/CfTime.h>
 
+#include <atmoglobe/globe/Text.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -8,18 +10,6 @@
 namespace atmoglobe::volume {
 
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
-}
 
 bool gregorianLeap(std::int64_t y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; }
 bool julianLeap(std::int64_t y) { return y % 4 == 0; }
@@ -103,7 +93,7 @@ struct ParsedDateTime {
 };
 
 Result<ParsedDateTime> parseReference(const std::string& text) {
-  const std::string s = trim(text);
+  const std::string s(trimAscii(text));
   auto bad = [&](const std::string& why) { return makeError("reference date '" + s + "': " + why); };
   ParsedDateTime p;
   std::size_t i = 0;
@@ -144,7 +134,7 @@ Result<ParsedDateTime> parseReference(const std::string& text) {
   }
   p.secondsOfDay = h * 3600 + mi * 60 + sec;
   while (i < s.size() && s[i] == ' ') ++i;
-  const std::string zone = lower(s.substr(i));
+  const std::string zone = toLowerAscii(std::string_view(s).substr(i));
   if (zone.empty() || zone == "z" || zone == "utc" || zone == "gmt") return p;
   // An offset: +hh, +hh:mm, +hhmm, -... (local time = UTC + offset).
   std::size_t k = 0;
@@ -182,7 +172,7 @@ const char* toString(CfCalendar c) {
 }
 
 Result<CfCalendar> parseCfCalendar(const std::string& name) {
-  const std::string n = lower(trim(name));
+  const std::string n = toLowerAscii(trimAscii(name));
   if (n.empty() || n == "standard" || n == "gregorian") return CfCalendar::Standard;
   if (n == "proleptic_gregorian") return CfCalendar::ProlepticGregorian;
   if (n == "julian") return CfCalendar::Julian;
@@ -223,12 +213,12 @@ void cfCalendarDate(CfCalendar c, std::int64_t n, int* year, int* month, int* da
 Result<CfTimeUnits> parseCfTimeUnits(const std::string& units, const std::string& calendar) {
   auto cal = parseCfCalendar(calendar);
   if (!cal) return cal.forwardError();
-  const std::string u = trim(units);
-  const std::string lu = lower(u);
+  const std::string u(trimAscii(units));
+  const std::string lu = toLowerAscii(u);
   const auto since = lu.find(" since ");
   if (since == std::string::npos)
     return makeError("time units '" + u + "' are not of the form 'UNIT since YYYY-MM-DD hh:mm:ss'");
-  const std::string unit = trim(lu.substr(0, since));
+  const std::string unit(trimAscii(std::string_view(lu).substr(0, since)));
   CfTimeUnits t;
   t.calendar = *cal;
   if (unit == "seconds" || unit == "second" || unit == "secs" || unit == "sec" || unit == "s") {

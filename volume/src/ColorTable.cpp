@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/ColorTable.h>
 
+#include <atmoglobe/globe/Text.h>
+
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -176,18 +178,6 @@ ColorTable greensTable(double minValue, double maxValue) {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 // Whitespace- (or comma-) separated numbers; false on anything that is not a finite number.
 bool parseNumbers(std::string_view s, std::vector<double>* out, std::string* bad) {
   out->clear();
@@ -237,12 +227,12 @@ Result<ColorTable> parsePalText(std::string_view text, const std::string& nameFo
       return makeError(nameForErrors + ":" + std::to_string(lineNo) + ": " + why);
     };
     if (const std::size_t c = line.find(';'); c != std::string_view::npos) line = line.substr(0, c);
-    line = trim(line);
+    line = trimAscii(line);
     if (line.empty()) continue;
     const std::size_t colon = line.find(':');
     if (colon == std::string_view::npos) return where("expected 'Key: value', got '" + std::string(line) + "'");
-    const std::string key = lower(trim(line.substr(0, colon)));
-    const std::string_view rest = trim(line.substr(colon + 1));
+    const std::string key = toLowerAscii(trimAscii(line.substr(0, colon)));
+    const std::string_view rest = trimAscii(line.substr(colon + 1));
 
     if (key == "product") {
       product = std::string(rest);
@@ -272,14 +262,14 @@ Result<ColorTable> parsePalText(std::string_view text, const std::string& nameFo
     const bool hasAlpha = key == "color4" || key == "solidcolor4";
     const bool solid = key == "solidcolor" || key == "solidcolor4";
     if (key != "color" && key != "color4" && key != "solidcolor" && key != "solidcolor4") {
-      return where("unknown key '" + std::string(trim(line.substr(0, colon))) + "'");
+      return where("unknown key '" + std::string(trimAscii(line.substr(0, colon))) + "'");
     }
     const std::size_t n = hasAlpha ? 4 : 3;
     const std::size_t allowedA = 1 + n, allowedB = solid ? 1 + n : 1 + 2 * n;
     if (nums.size() != allowedA && nums.size() != allowedB) {
       const std::string counts = allowedA == allowedB ? std::to_string(allowedA)
                                                       : std::to_string(allowedA) + " or " + std::to_string(allowedB);
-      return where(std::string(trim(line.substr(0, colon))) + " needs " + counts + " numbers, got " +
+      return where(std::string(trimAscii(line.substr(0, colon))) + " needs " + counts + " numbers, got " +
                    std::to_string(nums.size()));
     }
     auto channel = [&](std::size_t i, std::uint8_t* outC) -> bool {

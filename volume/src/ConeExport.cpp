@@ -2,6 +2,7 @@
 #include <atmoglobe/volume/ConeExport.h>
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/ZipArchive.h>
@@ -40,11 +41,7 @@ Status checkSweep(const RadarVolume& v, std::size_t k) {
   return Ok{};
 }
 
-std::string lowerExt(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
+std::string lowerExt(const std::string& path) { return toLowerAscii(std::filesystem::path(path).extension().string()); }
 
 /// The options checked and the sweeps chosen (indices into volume.sweeps), each checked.
 Result<std::vector<std::size_t>> chooseSweeps(const RadarVolume& volume, const ColorTable& colors,

@@ -1,6 +1,7 @@
 // Field kinds, the default field and default colours (FieldKind.h).
 #include <atmoglobe/volume/FieldKind.h>
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/ColorTable.h>
 
 #include <algorithm>
@@ -9,11 +10,6 @@
 
 namespace atmoglobe::volume {
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // Known names per kind, lower case; for reflectivity in order of preference.
 const std::vector<std::string> kReflectivityNames = {"dbzh",
@@ -43,10 +39,10 @@ bool contains(const std::vector<std::string>& list, const std::string& s) {
   return std::find(list.begin(), list.end(), s) != list.end();
 }
 
-bool isDbz(const std::string& units) { return lower(units) == "dbz"; }
+bool isDbz(const std::string& units) { return toLowerAscii(units) == "dbz"; }
 
 bool isMetresPerSecond(const std::string& units) {
-  const std::string u = lower(units);
+  const std::string u = toLowerAscii(units);
   return u == "m/s" || u == "m s-1" || u == "m.s-1" || u == "meters per second" || u == "metres per second" ||
          u == "meters_per_second" || u == "meter/second" || u == "meters/second";
 }
@@ -144,7 +140,7 @@ const char* toString(FieldKind kind) {
 }
 
 FieldKindEvidence classifyField(const FieldInfo& f) {
-  const std::string sn = lower(f.standardName);
+  const std::string sn = toLowerAscii(f.standardName);
   struct ByStandardName {
     const char* name;
     FieldKind kind;
@@ -158,7 +154,7 @@ FieldKindEvidence classifyField(const FieldInfo& f) {
                                   {"specific_differential_phase_hv", FieldKind::SpecificDifferentialPhase}}) {
     if (sn == s.name) return {s.kind, std::string("CF standard_name ").append(s.name)};
   }
-  const std::string n = lower(f.name);
+  const std::string n = toLowerAscii(f.name);
   struct ByName {
     const std::vector<std::string>* names;
     FieldKind kind;
@@ -192,7 +188,7 @@ FieldKindEvidence classifyField(const FieldInfo& f) {
       return {FieldKind::SpectrumWidth, std::string("units ").append(f.units).append(" and a name that says width")};
     return {FieldKind::Velocity, std::string("units ").append(f.units)};
   }
-  if (lower(f.units) == "deg/km" || lower(f.units) == "degrees/km")
+  if (toLowerAscii(f.units) == "deg/km" || toLowerAscii(f.units) == "degrees/km")
     return {FieldKind::SpecificDifferentialPhase, std::string("units ").append(f.units)};
   if (n.rfind("reflectivity", 0) == 0 || n.rfind("dbz", 0) == 0)
     return {FieldKind::Reflectivity, std::string("name ").append(f.name).append(" (starts like a reflectivity name)")};
@@ -203,7 +199,7 @@ DefaultField chooseDefaultFieldWithReason(const std::vector<FieldInfo>& fields) 
   if (fields.empty()) return {};
   // Rank of a name in the reflectivity preference list (unknown names after all known ones).
   auto rank = [](const FieldInfo& f) {
-    const auto it = std::find(kReflectivityNames.begin(), kReflectivityNames.end(), lower(f.name));
+    const auto it = std::find(kReflectivityNames.begin(), kReflectivityNames.end(), toLowerAscii(f.name));
     return static_cast<std::size_t>(it - kReflectivityNames.begin());
   };
   auto best = [&](auto&& accept, const char* why) -> DefaultField {
@@ -214,20 +210,20 @@ DefaultField chooseDefaultFieldWithReason(const std::vector<FieldInfo>& fields) 
     return {pick->name, std::string(why)};
   };
   if (DefaultField d =
-          best([](const FieldInfo& f) { return lower(f.standardName) == "equivalent_reflectivity_factor"; },
+          best([](const FieldInfo& f) { return toLowerAscii(f.standardName) == "equivalent_reflectivity_factor"; },
                "reflectivity by its CF standard_name equivalent_reflectivity_factor");
       !d.name.empty())
     return d;
   if (DefaultField d = best([](const FieldInfo& f) { return isDbz(f.units); }, "reflectivity by its units dBZ");
       !d.name.empty())
     return d;
-  if (DefaultField d = best([](const FieldInfo& f) { return contains(kReflectivityNames, lower(f.name)); },
+  if (DefaultField d = best([](const FieldInfo& f) { return contains(kReflectivityNames, toLowerAscii(f.name)); },
                             "reflectivity by its name");
       !d.name.empty())
     return d;
   if (DefaultField d = best(
           [](const FieldInfo& f) {
-            const std::string n = lower(f.name);
+            const std::string n = toLowerAscii(f.name);
             return n.rfind("reflectivity", 0) == 0 || n.rfind("dbz", 0) == 0;
           },
           "reflectivity by the start of its name");
@@ -271,7 +267,7 @@ std::string defaultColorsFor(const FieldInfo& field) {
   const FieldKind kind = colourKind(field);
   if (kind == FieldKind::Reflectivity) return "NWS";
   if (kind != FieldKind::Other) return "auto";
-  const std::string sn = lower(field.standardName), n = lower(field.name), u = lower(field.units);
+  const std::string sn = toLowerAscii(field.standardName), n = toLowerAscii(field.name), u = toLowerAscii(field.units);
   auto has = [](const std::string& s, const char* part) { return s.find(part) != std::string::npos; };
   if (has(sn, "temperature") || n == "t" || n == "t2" || n == "tk" || u == "k" || u == "degc" || u == "celsius")
     return "turbo";
@@ -283,8 +279,8 @@ std::string defaultColorsFor(const FieldInfo& field) {
 Result<TransferFunction> transferForField(const std::string& colors, const FieldInfo& field, double nyquistMps,
                                           const ValueRange& range) {
   const FieldKind kind = colourKind(field);
-  std::string c = lower(colors);
-  if ((c.empty() || c == "auto") && kind == FieldKind::Other) c = lower(defaultColorsFor(field));
+  std::string c = toLowerAscii(colors);
+  if ((c.empty() || c == "auto") && kind == FieldKind::Other) c = toLowerAscii(defaultColorsFor(field));
   if (c.empty() || c == "auto") return defaultTransferFor(kind, nyquistMps, range);
   if (c == "nws") return defaultReflectivityTransfer();
   if (c == "velocity") return defaultTransferFor(FieldKind::Velocity, nyquistMps, range);

@@ -2,29 +2,16 @@
 // axis, found from CF attributes or WRF's names. Metadata only: no values are read here.
 #include "GridInternal.h"
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <algorithm>
-#include <cctype>
 #include <sstream>
 
 namespace atmoglobe::volume::grid {
 
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string compactLower(const std::string& s) {
-  std::string out;
-  for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)))
-      out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
-  return out;
-}
 
 bool contains(const std::string& s, const char* what) { return s.find(what) != std::string::npos; }
 
@@ -36,13 +23,13 @@ std::vector<std::string> tokens(const std::string& s) {
 }
 
 bool isLatUnits(const std::string& units) {
-  const std::string u = compactLower(units);
+  const std::string u = toLowerAsciiWithoutBlanks(units);
   return u == "degrees_north" || u == "degree_north" || u == "degree_n" || u == "degrees_n" || u == "degreen" ||
          u == "degreesn";
 }
 
 bool isLonUnits(const std::string& units) {
-  const std::string u = compactLower(units);
+  const std::string u = toLowerAsciiWithoutBlanks(units);
   return u == "degrees_east" || u == "degree_east" || u == "degree_e" || u == "degrees_e" || u == "degreee" ||
          u == "degreese";
 }
@@ -72,10 +59,10 @@ const std::vector<std::string>& verticalStandardNames() {
 Role roleOf(const NetcdfFile& f, const NcVar& c) {
   const std::string sn = attrText(f, c, "standard_name");
   const std::string units = attrText(f, c, "units");
-  const std::string axis = lower(attrText(f, c, "axis"));
+  const std::string axis = toLowerAscii(attrText(f, c, "axis"));
   if (sn == "latitude" || isLatUnits(units)) return Role::Lat;
   if (sn == "longitude" || isLonUnits(units)) return Role::Lon;
-  if (sn == "time" || axis == "t" || contains(lower(units), " since ")) return Role::Time;
+  if (sn == "time" || axis == "t" || contains(toLowerAscii(units), " since ")) return Role::Time;
   if (axis == "z" || f.hasAttribute(c.groupId, c.varId, "positive") ||
       f.hasAttribute(c.groupId, c.varId, "formula_terms") || pressureUnitToPascal(units) ||
       geopotentialHeightUnitToMeters(units) ||
@@ -83,7 +70,7 @@ Role roleOf(const NetcdfFile& f, const NcVar& c) {
     return Role::Vertical;
   // A length-valued coordinate with a vertical-sounding name (lev, level, height, z, alt...).
   if (lengthUnitToMeters(units)) {
-    const std::string n = lower(c.name.substr(c.name.rfind('/') + 1));
+    const std::string n = toLowerAscii(c.name.substr(c.name.rfind('/') + 1));
     for (const char* w : {"lev", "height", "alt", "z", "hgt", "depth", "elev"})
       if (n.rfind(w, 0) == 0) return Role::Vertical;
   }
@@ -292,8 +279,8 @@ Status cfVertical(const NetcdfFile& f, GridLayout& l, const NcVar& coord) {
   vs.fileLevels = coord.shape[0];
   const std::string sn = attrText(f, coord, "standard_name");
   const std::string units = attrText(f, coord, "units");
-  const std::string positive = lower(attrText(f, coord, "positive"));
-  const std::string longName = lower(attrText(f, coord, "long_name"));
+  const std::string positive = toLowerAscii(attrText(f, coord, "positive"));
+  const std::string longName = toLowerAscii(attrText(f, coord, "long_name"));
   vs.coordinateUnits = units;
   vs.positiveDown = positive == "down";
   const bool parametric = f.hasAttribute(coord.groupId, coord.varId, "formula_terms") ||

@@ -2,6 +2,8 @@
 // through as few hyperslabs as the picks allow.
 #include "GridInternal.h"
 
+#include <atmoglobe/globe/Text.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -117,8 +119,7 @@ Result<Packing> packingOf(const NetcdfFile& f, const NcVar& v) {
   if (f.hasAttribute(g, id, "valid_max"))
     if (auto st = one("valid_max", &p.validMax); !st) return st.forwardError();
   if (isSignedInteger(v.type) && f.hasAttribute(g, id, "_Unsigned")) {
-    std::string u = attrText(f, v, "_Unsigned");
-    for (char& c : u) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string u = toLowerAscii(attrText(f, v, "_Unsigned"));
     if (u == "true") {
       p.isUnsigned = true;
       p.unsignedWrap = std::ldexp(1.0, static_cast<int>(8 * ncTypeSize(v.type)));

@@ -166,10 +166,9 @@ RegularGridSpec defaultRegularGrid(const PolarVolume& radar, HeightDatum datum, 
   const double lat = radar.site.latDeg;
   const double range = radar.maxRangeMeters;
   // Degrees per metre along the meridian and the parallel at the site (WGS84 radii of curvature).
-  const double e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
   const double s = std::sin(degreesToRadians(lat));
-  const double w = std::sqrt(1.0 - e2 * s * s);
-  const double meridianRadius = globe::kWgs84A * (1.0 - e2) / (w * w * w);
+  const double w = std::sqrt(1.0 - globe::kWgs84E2 * s * s);
+  const double meridianRadius = globe::kWgs84A * (1.0 - globe::kWgs84E2) / (w * w * w);
   const double primeRadius = globe::kWgs84A / w;
   const double dLat = radiansToDegrees(range / meridianRadius);
   const double cosLat = std::max(std::cos(degreesToRadians(lat)), 1e-6);

@@ -1,5 +1,6 @@
 #include <atmoglobe/volume/RadarReader.h>
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/CfRadialReader.h>
 #include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/FieldKind.h>
@@ -248,8 +249,7 @@ std::string chooseDefaultField(const std::vector<FieldInfo>& fields) {
 
 std::string normalizeIso8601(const std::string& text) {
   // YYYY-MM-DD[T ]HH:MM:SS, anything after the seconds (fraction, zone "Z") ignored.
-  std::string t = text;
-  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.erase(t.begin());
+  const std::string t(trimAscii(text));
   if (t.size() < 19) return {};
   auto digits = [&](std::size_t pos, std::size_t len) {
     for (std::size_t i = pos; i < pos + len; ++i)

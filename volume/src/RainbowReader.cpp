@@ -1,6 +1,7 @@
 #include <atmoglobe/volume/RainbowReader.h>
 #include "ReadUnwrapped.h"
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/RadarReader.h>
 
@@ -78,16 +79,9 @@ void XMLCALL onText(void* user, const XML_Char* s, int len) {
   if (st->current && st->current->text.size() < 4096) st->current->text.append(s, static_cast<std::size_t>(len));
 }
 
-std::string trim(std::string s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  std::size_t i = 0;
-  while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-  return s.substr(i);
-}
-
 std::optional<double> toDouble(const std::optional<std::string>& s) {
   if (!s) return std::nullopt;
-  const std::string t = trim(*s);
+  const std::string t(trimAscii(*s));
   if (t.empty()) return std::nullopt;
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
@@ -137,7 +131,7 @@ class Reader {
   std::optional<std::string> setting(const Node* slice, const std::string& name) const {
     for (const Node* n : {slice, slice0_, pargroup_}) {
       if (!n) continue;
-      if (const Node* c = n->child(name)) return trim(c->text);
+      if (const Node* c = n->child(name)) return std::string(trimAscii(c->text));
     }
     return std::nullopt;
   }

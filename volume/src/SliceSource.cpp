@@ -2,6 +2,7 @@
 #include <atmoglobe/volume/SliceSource.h>
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/NetcdfFile.h>
@@ -108,11 +109,7 @@ Result<TransferFunction> SliceSource::transfer(const std::string& colors,
                                                const std::optional<ValueRange>& range) const {
   const bool ranged = range && range->minValue < range->maxValue;
   const ValueRange r = ranged ? *range : valueRange();
-  const std::string c = [&] {
-    std::string l = colors;
-    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-    return l;
-  }();
+  const std::string c = toLowerAscii(colors);
   // A range given for velocity colours is their scale (+- the larger bound).
   const double nyquist = ranged && c == "velocity" ? std::max(std::abs(r.minValue), std::abs(r.maxValue)) : nyquist_;
   auto t = transferForField(colors, field_, nyquist, r);
@@ -142,9 +139,8 @@ Result<std::vector<double>> parseList(const std::string& text, char separator, c
   std::size_t start = 0;
   while (true) {
     const std::size_t end = text.find(separator, start);
-    std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
+    const std::string item(
+        trimAscii(std::string_view(text).substr(start, end == std::string::npos ? std::string::npos : end - start)));
     char* stop = nullptr;
     errno = 0;
     const double v = std::strtod(item.c_str(), &stop);

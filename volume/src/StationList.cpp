@@ -1,5 +1,7 @@
 #include <atmoglobe/volume/StationList.h>
 
+#include <atmoglobe/globe/Text.h>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -19,21 +21,9 @@ constexpr std::uintmax_t kMaxFileBytes = 64ull << 20;
 
 enum class Column { Id, Lat, Lon, Elevation, Height, Tower, Name, Other };
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
-}
-
 // `height` is kept apart: it is the elevation unless an elevation-like column/key also exists.
 Column columnFor(const std::string& rawName) {
-  const std::string n = lower(trim(rawName));
+  const std::string n = toLowerAscii(trimAscii(rawName));
   if (n == "id" || n == "icao" || n == "station" || n == "station_id" || n == "site" || n == "site_id")
     return Column::Id;
   if (n == "lat" || n == "latitude" || n == "lat_deg") return Column::Lat;
@@ -58,7 +48,7 @@ const char* columnLabel(Column c) {
 
 // Parses a whole field as a finite double ("35.5", " -97 ", "1e3"); nullopt otherwise.
 std::optional<double> parseNumber(const std::string& field) {
-  const std::string t = trim(field);
+  const std::string t(trimAscii(field));
   if (t.empty()) return std::nullopt;
   const char* b = t.data();
   const char* e = b + t.size();
@@ -153,7 +143,7 @@ Result<std::vector<Station>> parseCsv(const std::string& text, const std::string
     pos = end + 1;
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string t = trim(line);
+    const std::string_view t = trimAscii(line);
     if (t.empty() || t[0] == '#') continue;
     const std::string where = src + ": line " + std::to_string(lineNo) + ": ";
     if (auto err = splitCsv(line, &fields)) return makeError(where + *err);
@@ -193,7 +183,7 @@ Result<std::vector<Station>> parseCsv(const std::string& text, const std::string
       return makeError(where + "has " + std::to_string(fields.size()) + " fields, the header needs at least " +
                        std::to_string(needed + 1));
     Station s;
-    s.id = trim(fields[static_cast<std::size_t>(colId)]);
+    s.id = trimAscii(fields[static_cast<std::size_t>(colId)]);
     auto number = [&](int col, Column what, double* dst) -> std::optional<std::string> {
       const auto v = parseNumber(fields[static_cast<std::size_t>(col)]);
       if (!v)
@@ -204,16 +194,16 @@ Result<std::vector<Station>> parseCsv(const std::string& text, const std::string
     };
     if (auto e = number(colLat, Column::Lat, &s.latDeg)) return makeError(where + *e);
     if (auto e = number(colLon, Column::Lon, &s.lonDeg)) return makeError(where + *e);
-    if (colElev >= 0 && !trim(fields[static_cast<std::size_t>(colElev)]).empty()) {  // empty cell: unknown
+    if (colElev >= 0 && !trimAscii(fields[static_cast<std::size_t>(colElev)]).empty()) {  // empty cell: unknown
       if (auto e = number(colElev, Column::Elevation, &s.elevationMeters)) return makeError(where + *e);
       s.hasElevation = true;
     }
-    if (colTower >= 0 && !trim(fields[static_cast<std::size_t>(colTower)]).empty()) {
+    if (colTower >= 0 && !trimAscii(fields[static_cast<std::size_t>(colTower)]).empty()) {
       double h = 0;
       if (auto e = number(colTower, Column::Tower, &h)) return makeError(where + *e);
       s.towerHeightMeters = h;
     }
-    if (colName >= 0) s.name = trim(fields[static_cast<std::size_t>(colName)]);
+    if (colName >= 0) s.name = trimAscii(fields[static_cast<std::size_t>(colName)]);
     if (auto e = checkStation(s)) return makeError(where + "station " + shortText(s.id) + ": " + *e);
     stations.push_back(std::move(s));
   }
@@ -284,7 +274,7 @@ std::optional<std::string> stationFromJson(const Json& obj, std::string id, Stat
     else return "id " + jsonText(*idValue) + " is not text";
   }
   Station s;
-  s.id = trim(id);
+  s.id = trimAscii(id);
   if (s.id.empty()) return std::string("has no id (id/icao/station)");
   if (!lat) return std::string("has no latitude (lat/latitude)");
   if (!lon) return std::string("has no longitude (lon/long/longitude)");
@@ -353,12 +343,10 @@ Result<std::vector<Station>> parseJson(const std::string& text, const std::strin
 Result<std::vector<Station>> parseStationList(const std::string& text, const std::string& sourceName) {
   std::size_t start = 0;
   if (text.size() >= 3 && std::memcmp(text.data(), "\xEF\xBB\xBF", 3) == 0) start = 3;  // UTF-8 BOM
-  std::size_t first = start;
-  while (first < text.size() && std::isspace(static_cast<unsigned char>(text[first]))) ++first;
-  if (first == text.size())
-    return makeError(sourceName + ": the file is empty (expected CSV with a header row, or JSON)");
+  const std::string_view content = trimAscii(std::string_view(text).substr(start));
+  if (content.empty()) return makeError(sourceName + ": the file is empty (expected CSV with a header row, or JSON)");
   const std::string body = text.substr(start);
-  if (text[first] == '[' || text[first] == '{') return parseJson(body, sourceName);
+  if (content.front() == '[' || content.front() == '{') return parseJson(body, sourceName);
   return parseCsv(body, sourceName);
 }
 

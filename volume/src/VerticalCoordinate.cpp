@@ -2,30 +2,23 @@
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Text.h>
 
 #include <array>
-#include <cctype>
 #include <cmath>
 
 namespace atmoglobe::volume {
 
 namespace {
 
+// Lower case, blanks trimmed, each run of blanks inside one space ("Geopotential  Metres" ->
+// "geopotential metres").
 std::string lowerTrim(const std::string& s) {
   std::string out;
-  for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)) || (!out.empty() && out.back() != ' '))
-      out.push_back(c == '\t' ? ' ' : c);
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-std::string compact(const std::string& s) {  // no blanks, lower case
-  std::string out;
-  for (char c : s)
-    if (!std::isspace(static_cast<unsigned char>(c)))
-      out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  for (char c : trimAscii(s)) {
+    if (!isSpaceAscii(c)) out.push_back(toLowerAscii(c));
+    else if (out.back() != ' ') out.push_back(' ');  // not empty: the text starts with a non-blank
+  }
   return out;
 }
 
@@ -87,7 +80,7 @@ std::optional<double> geopotentialHeightUnitToMeters(const std::string& units) {
 }
 
 bool isGeopotentialUnit(const std::string& units) {
-  const std::string u = compact(units);
+  const std::string u = toLowerAsciiWithoutBlanks(units);
   return u == "m2s-2" || u == "m**2s**-2" || u == "m^2/s^2" || u == "m2/s2" || u == "m^2s^-2" || u == "m2.s-2" ||
          u == "m**2/s**2" || u == "jkg-1" || u == "j/kg" || u == "jkg**-1";
 }
@@ -112,10 +105,10 @@ double standardAtmospherePressurePa(double h) {
 }
 
 double normalGravity(double latDeg) {
-  // WGS84: equatorial normal gravity, Somigliana's constant k, first eccentricity squared.
-  constexpr double kGammaE = 9.7803253359, kK = 0.00193185265241, kE2 = 0.00669437999013;
+  // WGS84 (TR8350.2 table 3.4): equatorial normal gravity, Somigliana's constant k; e^2 of the ellipsoid.
+  constexpr double kGammaE = 9.7803253359, kK = 0.00193185265241;
   const double s = std::sin(degreesToRadians(latDeg));
-  return kGammaE * (1.0 + kK * s * s) / std::sqrt(1.0 - kE2 * s * s);
+  return kGammaE * (1.0 + kK * s * s) / std::sqrt(1.0 - globe::kWgs84E2 * s * s);
 }
 
 GeopotentialToGeometric::GeopotentialToGeometric(double latDeg) {

@@ -41,7 +41,7 @@ glm::dvec3 FastInverse::forward(double rangeMeters, double azDeg, double elDeg) 
 
 FastInverse fastInverseFor(const volume::PolarVolume& v) {
   const double lat = degreesToRadians(v.site.latDeg);
-  const double a = globe::kWgs84A, e2 = globe::kWgs84F * (2.0 - globe::kWgs84F);
+  const double a = globe::kWgs84A, e2 = globe::kWgs84E2;
   const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
   const double m = a * (1.0 - e2) / std::pow(w, 1.5), n = a / std::sqrt(w);
   FastInverse f;

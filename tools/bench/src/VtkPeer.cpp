@@ -61,7 +61,7 @@ nlohmann::json peerJob(const std::vector<const BenchView*>& views, const PeerFra
     const glm::dmat3 rt = glm::transpose(enu);
     const glm::dvec3 c = -(rt * site);
     nlohmann::json m = nlohmann::json::array();
-    const double radii[3] = {globe::kWgs84A, globe::kWgs84A, globe::kWgs84A * (1.0 - globe::kWgs84F)};
+    const double radii[3] = {globe::kWgs84A, globe::kWgs84A, globe::kWgs84B};
     for (int r = 0; r < 3; ++r) {
       for (int col = 0; col < 3; ++col) m.push_back(rt[col][r] * radii[col]);  // glm: [column][row]
       m.push_back(c[r]);

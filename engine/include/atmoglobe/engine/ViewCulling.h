@@ -14,6 +14,7 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 
 #include <glm/glm.hpp>
 
@@ -22,22 +23,17 @@
 
 namespace atmoglobe::engine {
 
-struct BoundingSphere {
-  glm::dvec3 centerEcef{0.0};
-  double radiusMeters = 0.0;
-};
-
 /// false only if no point of the sphere can be seen from the camera (outside the frustum or
 /// hidden behind the ellipsoid). Conservative: true when unsure (an eye inside the ellipsoid, a
 /// sphere too large for a horizon point).
-bool sphereMayBeVisible(const Camera& camera, const BoundingSphere& sphere);
+bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& sphere);
 
 /// The bounding sphere of the radar volume at `path` (one file, or the first file of a set or a
 /// loop: one site) from a metadata-only read: antenna on the ellipsoid (MSL heights taken as
 /// ellipsoidal: the geoid's +-110 m is far inside the margin), radius as the file comment says.
 /// A file that gives no gate geometry without its field gets a radius of 500 km (more than any
 /// weather radar's range). Errors name the file.
-Result<BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration);
+Result<volume::BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration);
 
 struct CullOutcome {
   std::size_t kept = 0;             ///< radars kept

@@ -37,7 +37,14 @@ struct MarchConstants {
   static constexpr int kMaxSweeps = 32;                             ///< MAX_SWEEPS: radar sweeps per volume
   static constexpr int kRayTableBins = 8192;   ///< RAY_TABLE_BINS: azimuth table resolution (360 / 8192 deg)
   static constexpr int kElevationBins = 2048;  ///< ELEVATION_BINS: elevation -> sweep lookup
+  /// GPU_NO_DATA: the value of a data texel without an echo value (no data or no echo; what the
+  /// reader's NaN and -inf become on the GPU: shaders/README.md, "No data and no echo").
+  static constexpr float kNoData = -1.0e38f;
+  /// GPU_NO_DATA_BELOW: a value below it is GPU_NO_DATA (far below every measured value and far
+  /// above GPU_NO_DATA, so the test needs no float equality).
+  static constexpr float kNoDataBelow = -1.0e37f;
 };
+/// The define entries of MarchConstants, and of the ellipsoid (ShaderConstants.h), for the march.
 std::vector<std::string> marchShaderDefines();
 
 /// The generic knobs of one volume layer (a kind's own knobs live on its VolumeGL).

@@ -15,10 +15,13 @@
 
 namespace atmoglobe::globe {
 
-/// WGS84 defining constants.
-inline constexpr double kWgs84A = 6378137.0;                  ///< semi-major axis (m)
-inline constexpr double kWgs84F = 1.0 / 298.257223563;        ///< flattening
-inline constexpr double kWgs84B = kWgs84A * (1.0 - kWgs84F);  ///< semi-minor axis (m)
+/// WGS84 defining constants (NIMA TR8350.2, 3rd ed., table 3.1), the only spelling of them: C++
+/// uses these and GLSL gets them as defines (engine/ShaderConstants.h).
+inline constexpr double kWgs84A = 6378137.0;            ///< semi-major axis (m)
+inline constexpr double kWgs84F = 1.0 / 298.257223563;  ///< flattening
+/// Derived (table 3.3).
+inline constexpr double kWgs84B = kWgs84A * (1.0 - kWgs84F);   ///< semi-minor axis (m)
+inline constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  ///< first eccentricity squared, 1 - b^2 / a^2
 
 /// A point given by WGS84 geodetic coordinates.
 struct Geodetic {

@@ -23,9 +23,14 @@
 
 namespace atmoglobe::volume {
 
+/// The standard refraction factor ke of the effective-Earth model: 4/3 for the standard
+/// atmosphere's refractivity gradient (Doviak & Zrnic 1993, section 2.2). The default of every
+/// beam model (BeamModel, `--ke`).
+inline constexpr double kEffectiveEarthFactor = 4.0 / 3.0;
+
 /// Effective-Earth-radius beam propagation model.
 struct BeamModel {
-  double ke = 4.0 / 3.0;                    ///< refraction factor (1: straight beam over a sphere of radius R)
+  double ke = kEffectiveEarthFactor;        ///< refraction factor (1: straight beam over a sphere of radius R)
   std::optional<double> earthRadiusMeters;  ///< R (m); nullopt: WGS84 geocentric radius at the site latitude
 };
 
