@@ -359,7 +359,7 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
                   "crop": [34.5, 36, -98.5, -97], "range": [0, 80], "opacity": [20, 50, 0.6]}]})";
   auto scene = engine::parseSceneJson(json, "s.json", dir, dir);
   ASSERT_TRUE(scene) << scene.error();
-  const auto& settings = engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0].settings;
+  const engine::VolumeLayerSettings settings = engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0].settings;
   EXPECT_EQ(settings.crop.topMeters, 5000.0);
   EXPECT_EQ(settings.crop.westDeg, -98.5);
   ASSERT_TRUE(settings.valueRange);
