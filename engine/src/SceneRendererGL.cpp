@@ -6,13 +6,13 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarVolumeSet.h>
 #include <atmoglobe/volume/SliceSource.h>
@@ -345,7 +345,7 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
 
 Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
   // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(volume::netcdfLibraryMutex());
+  const std::lock_guard lock(io::netcdfLibraryMutex());
   auto radar = readCroppedRadar(d, files);
   if (!radar) return radar.forwardError();
   return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
@@ -353,7 +353,7 @@ Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std
 
 Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
   // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(volume::netcdfLibraryMutex());
+  const std::lock_guard lock(io::netcdfLibraryMutex());
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
   auto grid = volume::readGridVolume(d.path, read);
@@ -465,7 +465,7 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription
   GridLayerGL& layer = grids_[index];
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
-  std::unique_lock readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
+  std::unique_lock readLock(io::netcdfLibraryMutex());  // a prefetch worker may be reading
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
   if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
@@ -626,7 +626,7 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
   RadarLayerGL& layer = radars_[index];
   std::vector<std::string> files = layer.loopFiles, times = layer.loopTimes;
   std::size_t step = layer.step;
-  std::unique_lock readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
+  std::unique_lock readLock(io::netcdfLibraryMutex());  // a prefetch worker may be reading
   if (d.path != layer.description.path || d.field != layer.description.field) {
     auto loop = radarLoopSteps(d.path, d.field);  // another field may sit in other files of the set
     if (!loop) return loop.forwardError();

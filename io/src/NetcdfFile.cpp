@@ -1,7 +1,7 @@
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/NetcdfFile.h>
 
-#include <atmoglobe/volume/Compression.h>
-#include <atmoglobe/volume/Hdf5Guard.h>
+#include <atmoglobe/io/Compression.h>
+#include <atmoglobe/io/Hdf5Guard.h>
 
 #include <netcdf_filter.h>
 #include <netcdf_mem.h>
@@ -18,7 +18,7 @@
 #include <mutex>
 #include <system_error>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 namespace {
 constexpr std::size_t kMaxAttributeChars = std::size_t{1} << 20;
@@ -794,4 +794,4 @@ ATMOGLOBE_NC_INSTANTIATE(float)
 ATMOGLOBE_NC_INSTANTIATE(double)
 #undef ATMOGLOBE_NC_INSTANTIATE
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -1,6 +1,6 @@
 #pragma once
 // A small RAII wrapper over netCDF-C for the radar readers (CfRadial, ODIM_H5 through
-// netCDF-C's HDF5 layer) and the forecast-grid reader (GridReader.h).
+// netCDF-C's HDF5 layer) and the forecast-grid reader (volume/GridReader.h).
 //
 // Every failure comes back as a Result whose message names the file and, where there is
 // one, the group/variable/attribute ("FILE: variable '/dataset1/data1/data': ...").
@@ -27,7 +27,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 /// netCDF-C and HDF5 are not thread-safe: a program that reads netCDF/HDF5 files on several
 /// threads (the viewer's background loading) holds this around every read, on every thread. The
@@ -268,4 +268,4 @@ std::size_t ncTypeSize(nc_type type);
 /// True for the integer and floating-point netCDF types.
 bool ncTypeIsNumeric(nc_type type);
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

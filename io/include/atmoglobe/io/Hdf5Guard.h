@@ -35,7 +35,7 @@
 #include <cstddef>
 #include <string>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 enum class Hdf5GuardMode {
   Off,       ///< open HDF5 files in this process directly
@@ -79,4 +79,4 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
 /// Forgets the remembered verdicts (benches measuring the first open of a file; tests).
 void forgetHdf5GuardVerdicts();
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -1,5 +1,5 @@
-#include <atmoglobe/volume/Hdf5Guard.h>
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/Hdf5Guard.h>
+#include <atmoglobe/io/NetcdfFile.h>
 
 #include <netcdf.h>
 #include <netcdf_mem.h>
@@ -29,7 +29,7 @@
 // child clears it. Weak: absent in normal builds.
 extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 namespace {
 constexpr unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
@@ -313,4 +313,4 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
   return out;
 }
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io
