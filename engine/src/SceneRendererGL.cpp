@@ -6,7 +6,6 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/XyzLayer.h>
-#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Crop.h>
@@ -344,16 +343,12 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const GridLayerDescription& 
 }
 
 Result<RadarStepData> prepareRadarStep(const RadarLayerDescription& d, const std::string& files) {
-  // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(io::netcdfLibraryMutex());
   auto radar = readCroppedRadar(d, files);
   if (!radar) return radar.forwardError();
   return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
 }
 
 Result<volume::GridVolume> prepareGridStep(const GridLayerDescription& d, std::size_t step, double exaggeration) {
-  // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(io::netcdfLibraryMutex());
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
   auto grid = volume::readGridVolume(d.path, read);
@@ -465,7 +460,6 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription
   GridLayerGL& layer = grids_[index];
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
-  std::unique_lock readLock(io::netcdfLibraryMutex());  // a prefetch worker may be reading
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
   if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
@@ -478,7 +472,6 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const GridLayerDescription
     if (!blended) return blended.forwardError();
     grid = std::move(blended);
   }
-  readLock.unlock();
   volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
@@ -626,7 +619,6 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
   RadarLayerGL& layer = radars_[index];
   std::vector<std::string> files = layer.loopFiles, times = layer.loopTimes;
   std::size_t step = layer.step;
-  std::unique_lock readLock(io::netcdfLibraryMutex());  // a prefetch worker may be reading
   if (d.path != layer.description.path || d.field != layer.description.field) {
     auto loop = radarLoopSteps(d.path, d.field);  // another field may sit in other files of the set
     if (!loop) return loop.forwardError();
@@ -635,7 +627,6 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const RadarLayerDescripti
     times = std::move(loop->second);
   }
   auto radar = readCroppedRadar(d, files.empty() ? d.path : files[step]);
-  readLock.unlock();
   if (!radar) return radar.forwardError();
   if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
     return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);

@@ -19,6 +19,7 @@
 //    verdicts are forgotten before each, so every run pays what a first open pays.
 // Prints Markdown tables (docs/bench-radar.md holds a copy and the command).
 #include <atmoglobe/io/Hdf5Guard.h>
+#include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -158,6 +159,7 @@ std::string textAttribute(int ncid, int varid, const char* name) {
 // netCDF-C calls left, so that neither side's runs inherit the other's leak. Safe here: nothing
 // else in this process holds an HDF5 attribute open between runs.
 void closeLeakedHdf5Attributes() {
+  const io::NetcdfLock lock;   // direct HDF5 calls (io/NetcdfLock.h)
   using hid_t = std::int64_t;  // HDF5 >= 1.10
   static auto count = reinterpret_cast<long (*)(hid_t, unsigned)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_count"));
   static auto ids =
@@ -175,6 +177,7 @@ void closeLeakedHdf5Attributes() {
 
 // Floor for netCDF/HDF5: open, read the loaded field's arrays raw, close.
 bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
+  const io::NetcdfLock lock;  // direct netCDF-C calls (io/NetcdfLock.h)
   int ncid = 0;
   if (nc_open(path.c_str(), NC_NOWRITE, &ncid) != NC_NOERR) return false;
   // Every array read is kept until the end, as the reader keeps every sweep.

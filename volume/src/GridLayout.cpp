@@ -659,7 +659,10 @@ FileKind fileKind(const io::NetcdfFile& f) {
   k.conventions = k.wrf ? (title.empty() ? std::string("WRF") : title) : globalText(f, "Conventions");
   while (!k.conventions.empty() && k.conventions.front() == ' ') k.conventions.erase(k.conventions.begin());
   int fmt = 0;
-  nc_inq_format(root, &fmt);
+  {
+    const io::NetcdfLock lock;
+    nc_inq_format(root, &fmt);
+  }
   const char* container = fmt == NC_FORMAT_NETCDF4           ? "netCDF-4"
                           : fmt == NC_FORMAT_NETCDF4_CLASSIC ? "netCDF-4 classic model"
                           : fmt == NC_FORMAT_64BIT_OFFSET    ? "netCDF 64-bit offset"

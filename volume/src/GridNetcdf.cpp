@@ -26,12 +26,14 @@ std::vector<int> allGroups(const io::NetcdfFile& f) {
 }
 
 std::optional<int> parentGroup(int group) {
+  const io::NetcdfLock lock;
   int parent = -1;
   if (nc_inq_grp_parent(group, &parent) != NC_NOERR) return std::nullopt;
   return parent;
 }
 
 std::string dimensionName(int group, int dimId) {
+  const io::NetcdfLock lock;
   char buf[NC_MAX_NAME + 1] = {};
   if (nc_inq_dimname(group, dimId, buf) != NC_NOERR) return "?";
   return buf;

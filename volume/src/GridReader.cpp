@@ -960,6 +960,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
   info.format = kind.format;
   info.conventions = kind.conventions;
   for (int g : grid::allGroups(f)) {
+    const io::NetcdfLock lock;
     int n = 0;
     if (nc_inq_dimids(g, &n, nullptr, 0) != NC_NOERR || n <= 0) continue;
     std::vector<int> ids(static_cast<std::size_t>(n));
