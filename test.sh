@@ -5,9 +5,10 @@
 # reason. With CI=true they must all run: a missing data directory, or any realdata test that
 # does not run, is a failure (ATMOGLOBE_REQUIRE_TEST_DATA=1 turns each skip into a failure).
 # With CI=true (or ATMOGLOBE_SANITIZED_TESTS=1) the whole suite then runs again under
-# AddressSanitizer + UndefinedBehaviorSanitizer, followed by a short fuzz run of every fuzz target
-# (scripts/test-sanitized.sh, in build-sanitize/ and build-fuzz/); ATMOGLOBE_SANITIZED_TESTS=0
-# leaves it out. Its time on CI's 2-core machine: docs/robustness.md, "Sanitizers in CI".
+# AddressSanitizer + UndefinedBehaviorSanitizer, the threads tests (ctest label) under
+# ThreadSanitizer, followed by a short fuzz run of every fuzz target (scripts/test-sanitized.sh, in
+# build-sanitize/, build-tsan/ and build-fuzz/); ATMOGLOBE_SANITIZED_TESTS=0 leaves it out. Its time
+# on CI's 2-core machine: docs/robustness.md, "Sanitizers in CI".
 set -euo pipefail
 cd "$(dirname "$0")"
 start=$SECONDS

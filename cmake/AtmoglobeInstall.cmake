@@ -1,5 +1,5 @@
 # Installing atmoglobe as a library: `cmake --install build --prefix P` gives
-#   P/lib/libatmoglobe_{globe,volume,map,engine}.a   (the shaders are compiled into the engine's)
+#   P/lib/libatmoglobe_{globe,io,volume,map,engine}.a   (the shaders are compiled into the engine's; io's headers are not installed)
 #   P/include/atmoglobe/{globe,volume,map,engine}/*.h, P/include/atmoglobe/Version.h
 #   P/lib/cmake/atmoglobe/atmoglobe{Config,ConfigVersion,Targets}.cmake
 #   P/bin/atmoglobe

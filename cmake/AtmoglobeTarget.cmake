@@ -6,6 +6,15 @@
 # runs the test suite under them (scripts/test-sanitized.sh) also keeps asserts on.
 # ATMOGLOBE_FUZZ (clang only): libFuzzer coverage instrumentation of every target, and the fuzz
 # targets of fuzz/ (fuzz/README.md).
+# ATMOGLOBE_TSAN: ThreadSanitizer (-fsanitize=thread, -O1 -g1, frame pointers) for the tests that
+# start threads (ctest label `threads`; scripts/test-sanitized.sh builds only those). It cannot be
+# combined with AddressSanitizer, hence its own option and its own build directory.
+option(ATMOGLOBE_TSAN "Build with ThreadSanitizer (the threads tests: scripts/test-sanitized.sh)" OFF)
+if(ATMOGLOBE_TSAN AND ATMOGLOBE_SANITIZE)
+  message(FATAL_ERROR "ATMOGLOBE_TSAN and ATMOGLOBE_SANITIZE exclude each other (ThreadSanitizer cannot run with "
+                      "AddressSanitizer): configure a separate build directory for each")
+endif()
+
 function(atmoglobe_configure_target target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)
@@ -24,6 +33,11 @@ function(atmoglobe_configure_target target)
     if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
       target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
     endif()
+  endif()
+  if(ATMOGLOBE_TSAN)
+    # -O1 -g1 after the build type's flags: the optimisation TSan's reports stay readable at.
+    target_compile_options(${target} PRIVATE -fsanitize=thread -O1 -g1 -fno-omit-frame-pointer)
+    target_link_options(${target} PRIVATE -fsanitize=thread)
   endif()
   if(ATMOGLOBE_FUZZ)
     target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)

@@ -15,7 +15,7 @@
 
 namespace atmoglobe::fuzz {
 
-/// The HDF5 guard's deadline (volume/Hdf5Guard.h) under the fuzzer: 5 s, well under fuzz/run.sh's
+/// The HDF5 guard's deadline (io/Hdf5Guard.h) under the fuzzer: 5 s, well under fuzz/run.sh's
 /// -timeout=20, so that a libhdf5 hang is met by the guard (an error) and not reported by
 /// libFuzzer as a timeout. A value set by the caller is kept.
 [[maybe_unused]] inline const bool kHdf5GuardDeadlineSet = ::setenv("ATMOGLOBE_HDF5_GUARD_SECONDS", "5", 0) == 0;

@@ -1,7 +1,7 @@
 // ODIM_H5 (HDF5) through netCDF-C's in-memory open.
 #include "FuzzCommon.h"
 
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/OdimReader.h>
 
 #include <memory>
@@ -10,7 +10,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace atmoglobe;
   const std::string label = "fuzz.h5";
   auto bytes = std::make_shared<std::vector<unsigned char>>(data, data + size);
-  auto file = volume::NetcdfFile::openMemory(label, bytes);
+  auto file = io::NetcdfFile::openMemory(label, bytes);
   fuzz::checkError(file, label);
   if (!file) return 0;
   volume::ReadOptions options;

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # scripts/test-sanitized.sh   the whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer,
-# then a short fuzz run of every fuzz target over its kept corpus (when clang is installed).
-# Called by test.sh when CI=true (or ATMOGLOBE_SANITIZED_TESTS=1); builds in build-sanitize/ and
-# build-fuzz/, beside the Release build/.
+# the tests whose code runs on several threads under ThreadSanitizer, then a short fuzz run of every
+# fuzz target over its kept corpus (when clang is installed).
+# Called by test.sh when CI=true (or ATMOGLOBE_SANITIZED_TESTS=1); builds in build-sanitize/,
+# build-tsan/ and build-fuzz/, beside the Release build/.
 # Build time: both builds go through ccache when it is installed (scripts/install-deps.sh installs
 # it), with CCACHE_BASEDIR at the checkout and the build directory left out of the hash, so a fresh
 # clone (CI) reuses the objects an earlier clone compiled; -j is the machine's core count (2 on CI).
@@ -16,6 +17,13 @@
 # code ("<unknown module>"), which no suppression by library name can match; ASan found no memory
 # error and UBSan nothing in that run. Leaks in the readers are still checked: the fuzz run below
 # keeps LeakSanitizer on, with scripts/lsan-suppressions.txt (third-party libraries only).
+#
+# ThreadSanitizer build (build-tsan/): GCC, -DATMOGLOBE_TSAN=ON (-fsanitize=thread -O1 -g1), warnings
+# as errors, no GL tests (Mesa llvmpipe is not instrumented: its own threads synchronise through
+# code TSan cannot see). Only the test executables of the `threads` label are built (globe, volume,
+# map), each from the source files of its threads tests (tests/CMakeLists.txt lists both), and
+# `ctest -L threads` runs them with halt_on_error=1: any data race, lock-order inversion or misuse
+# of a mutex fails the test. Times: docs/robustness.md, "ThreadSanitizer: the threads tests".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$(pwd)"
@@ -41,6 +49,18 @@ export LSAN_OPTIONS="suppressions=$root/scripts/lsan-suppressions.txt:print_supp
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 (cd build-sanitize && ctest --output-on-failure --timeout 1800 -j "$(nproc)")
 echo "test-sanitized.sh: sanitized tests passed after $((SECONDS - start)) s"
+
+if [ ! -f build-tsan/CMakeCache.txt ]; then
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$flags" \
+    -DATMOGLOBE_TSAN=ON -DATMOGLOBE_WERROR=ON -DATMOGLOBE_GL_TESTS=OFF "${launcher[@]}" >/dev/null
+fi
+cmake --build build-tsan -j "$(nproc)" --target atmoglobe_globe_tests atmoglobe_volume_tests atmoglobe_map_tests
+echo "test-sanitized.sh: ThreadSanitizer build done after $((SECONDS - start)) s"
+(cd build-tsan &&
+  TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}" \
+    ctest -L threads --output-on-failure --timeout 1800 -j "$(nproc)")
+echo "test-sanitized.sh: threads tests passed under ThreadSanitizer after $((SECONDS - start)) s"
 
 if command -v clang++ >/dev/null 2>&1; then
   if [ ! -f build-fuzz/CMakeCache.txt ]; then

@@ -5,8 +5,8 @@
 // is decided from the content (volume::isGridFile), never from the file name.
 #include "Commands.h"
 
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/RadarVolumeSet.h>
 
@@ -85,7 +85,7 @@ Command addInfoCommand(CLI::App& root) {
     if (!vol) {
       // Library messages start with the file name: "atmoglobe info: FILE: reason". A netCDF file
       // that is neither may be a broken grid: say what the grid reader found wrong too.
-      if (volume::hasNetcdfSignature(opts->file)) {
+      if (io::hasNetcdfSignature(opts->file)) {
         auto grid = volume::describeGridFile(opts->file);
         if (!grid)
           return fail("info", vol.error() + " (read as a radar file); " + grid.error() + " (read as a forecast grid)");

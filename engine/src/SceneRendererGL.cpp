@@ -14,7 +14,6 @@
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarVolumeSet.h>
 #include <atmoglobe/volume/SliceSource.h>
@@ -339,16 +338,12 @@ Result<const GridLayerGL*> SceneRendererGL::addGrid(const VolumeLayerDescription
 }
 
 Result<RadarStepData> prepareRadarStep(const VolumeLayerDescription& d, const std::string& files) {
-  // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(volume::netcdfLibraryMutex());
   auto radar = readCroppedRadar(d, files);
   if (!radar) return radar.forwardError();
   return RadarStepData{std::move(*radar->layout), radar->volume.timeIso8601, radar->site.datumNote, nullptr};
 }
 
 Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& d, std::size_t step, double exaggeration) {
-  // netCDF-C and HDF5 are not thread-safe: a worker's read and the GL thread's never overlap.
-  const std::lock_guard lock(volume::netcdfLibraryMutex());
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
   auto grid = volume::readGridVolume(d.path, read);
@@ -460,7 +455,6 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const VolumeLayerDescripti
   GridLayerGL& layer = grids_[index];
   volume::GridReadOptions read = gridReadOptions(d);
   read.timeIndex = step;
-  std::unique_lock readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
   auto grid = volume::readGridVolume(d.path, read);
   if (!grid) return grid.forwardError();
   if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
@@ -473,7 +467,6 @@ Status SceneRendererGL::reloadGrid(std::size_t index, const VolumeLayerDescripti
     if (!blended) return blended.forwardError();
     grid = std::move(blended);
   }
-  readLock.unlock();
   volume::exaggerateGrid(*grid, exaggeration_);
   auto gl = GridVolumeGL::create(*grid);
   if (!gl) return gl.forwardError();
@@ -630,7 +623,6 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const VolumeLayerDescript
   RadarLayerGL& layer = radars_[index];
   std::vector<std::string> files = layer.loopFiles, times = layer.loopTimes;
   std::size_t step = layer.step;
-  std::unique_lock readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
   if (d.path != layer.description.path || d.field != layer.description.field) {
     auto loop = radarLoopSteps(d.path, d.field);  // another field may sit in other files of the set
     if (!loop) return loop.forwardError();
@@ -639,7 +631,6 @@ Status SceneRendererGL::reloadRadar(std::size_t index, const VolumeLayerDescript
     times = std::move(loop->second);
   }
   auto radar = readCroppedRadar(d, files.empty() ? d.path : files[step]);
-  readLock.unlock();
   if (!radar) return radar.forwardError();
   if (isCropped(d.settings) && !(radar->layout->minValue <= radar->layout->maxValue))
     return makeError(d.path + ": the crop box leaves no measured value of " + radar->layout->fieldName);

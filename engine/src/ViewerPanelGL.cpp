@@ -3,7 +3,6 @@
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/OpacityEditor.h>
 #include <atmoglobe/volume/ValueHistogram.h>
 
@@ -307,7 +306,6 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     if (!isRadar) {
       if (!e.gridVariables.count(i)) {
         std::vector<std::string>& names = e.gridVariables[i];
-        const std::lock_guard readLock(volume::netcdfLibraryMutex());  // a prefetch worker may be reading
         if (auto info = volume::describeGridFile(d.path, grid->volume->grid().variable))
           for (const volume::GridVariableInfo& v : info->variables)
             if (v.onGrid) names.push_back(v.name);

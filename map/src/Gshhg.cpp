@@ -1,5 +1,7 @@
 #include <atmoglobe/map/Gshhg.h>
 
+#include <atmoglobe/io/NetcdfLock.h>
+
 #include <netcdf.h>
 
 #include <algorithm>
@@ -31,6 +33,9 @@ std::string ncMessage(const std::string& path, const std::string& what, int stat
 }  // namespace
 
 Result<std::unique_ptr<GshhgFile>> GshhgFile::open(const std::string& path, GshhgKind kind) {
+  // netCDF-C is not thread-safe and the viewer's background loader reads grids meanwhile: every
+  // call here holds the one library lock (io/NetcdfLock.h).
+  const io::NetcdfLock lock;
   std::unique_ptr<GshhgFile> f(new GshhgFile());
   f->path_ = path;
   f->kind_ = kind;
@@ -96,7 +101,9 @@ Result<std::unique_ptr<GshhgFile>> GshhgFile::open(const std::string& path, Gshh
 }
 
 GshhgFile::~GshhgFile() {
-  if (ncid_ >= 0) nc_close(ncid_);
+  if (ncid_ < 0) return;
+  const io::NetcdfLock lock;
+  nc_close(ncid_);
 }
 
 GshhgBinBox GshhgFile::binBox(int bin) const {
@@ -127,6 +134,7 @@ Result<std::vector<GeoPolyline>> GshhgFile::readBin(int bin, unsigned levelMask)
   if (nSeg == 0) return lines;
   const std::size_t start[1] = {static_cast<std::size_t>(firstSegment_[b])}, count[1] = {nSeg};
   std::vector<int> firstPoint(nSeg), npts(nSeg), level(nSeg);
+  std::unique_lock lock(io::netcdfLibraryMutex());  // the reads only (io/NetcdfLock.h)
   if (int st = nc_get_vara_int(ncid_, varSegFirstPoint_, start, count, firstPoint.data()); st != NC_NOERR)
     return makeError(ncMessage(path_, "Id_of_first_point_in_a_segment", st));
   if (kind_ == GshhgKind::Shoreline) {
@@ -159,6 +167,7 @@ Result<std::vector<GeoPolyline>> GshhgFile::readBin(int bin, unsigned levelMask)
     if (int st = nc_get_vara_short(ncid_, varLat_, pStart, pCount, dy.data()); st != NC_NOERR)
       return makeError(ncMessage(path_, "Relative_latitude_from_SW_corner_of_bin", st));
   }
+  lock.unlock();
   const GshhgBinBox box = binBox(bin);
   const double scale = binSizeDeg_ / 65535.0;
   for (std::size_t s = 0; s < nSeg; ++s) {

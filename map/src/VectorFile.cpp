@@ -1,5 +1,7 @@
 #include <atmoglobe/map/VectorFile.h>
 
+#include <atmoglobe/io/NetcdfLock.h>
+
 #include <cpl_error.h>
 #include <gdal.h>
 #include <ogr_api.h>
@@ -121,6 +123,9 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });
   if (!std::filesystem::exists(path)) return makeError(path + ": no such file");
+  // GDAL's netCDF and HDF5 drivers (an overlay in a .nc or .h5 file) call netCDF-C and HDF5: the
+  // whole read, the dataset's close included, holds the one library lock (io/NetcdfLock.h).
+  const io::NetcdfLock lock;
   GdalErrors openErrors;
   std::unique_ptr<void, DatasetCloser> ds;
   {

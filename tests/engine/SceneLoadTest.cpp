@@ -8,7 +8,7 @@
 #include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Horizon.h>
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <gtest/gtest.h>
@@ -69,13 +69,13 @@ TEST(SceneLoad, OneFieldOfAManyFieldFileReadsOnlyThatField) {
   ASSERT_TRUE(loader) << loader.error();
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
-  volume::resetNetcdfReadTally();
+  io::resetNetcdfReadTally();
   auto layer = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar).at(0));
   ASSERT_TRUE(layer) << layer.error();
   EXPECT_EQ((*layer)->volume->polar().fieldName, "ZDR");
   // Variable names as NetcdfFile gives them: full paths ("/ZDR"); compared without the root.
   std::map<std::string, std::uint64_t> tally;
-  for (const auto& [name, bytes] : volume::netcdfReadTally())
+  for (const auto& [name, bytes] : io::netcdfReadTally())
     tally[name.rfind('/', 0) == 0 ? name.substr(1) : name] += bytes;
   // The field named: every gate once, 2 bytes each (short), no more (no second pass, no other
   // sweep's rays twice).

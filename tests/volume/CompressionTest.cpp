@@ -4,7 +4,7 @@
 // (site, time, sweeps, every ray angle and every gate value, NaN and -inf included). Then bad
 // compressed input: a truncated stream, corrupt data, a wrapper around something that is no radar
 // format, trailing garbage, and a "zip bomb" that would decompress past the limit.
-#include <atmoglobe/volume/Compression.h>
+#include <atmoglobe/io/Compression.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarReader.h>
 #include <atmoglobe/volume/SyntheticGrid.h>
@@ -25,6 +25,8 @@
 
 namespace atmoglobe::volume {
 namespace {
+
+using namespace io;  // Compression.h
 
 using Bytes = std::vector<unsigned char>;
 

@@ -13,11 +13,11 @@
 // Radar volumes that read are also laid out for rendering (buildPolarVolume), the step that uses
 // the coordinates, which must then succeed or fail naming the file too.
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/io/Hdf5Guard.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/Hdf5Guard.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/RadarReader.h>
@@ -51,6 +51,7 @@
 
 using namespace atmoglobe;
 using namespace atmoglobe::volume;
+using namespace atmoglobe::io;  // NetcdfFile, the HDF5 guard
 using atmoglobe_test::BoundedOutcome;
 
 namespace {

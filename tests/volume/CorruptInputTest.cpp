@@ -3,8 +3,8 @@
 // cannot back (the sanitized CI build runs these under AddressSanitizer, which also fails an
 // allocation of terabytes). Inputs: the small synthetic grid seed of the fuzz corpus
 // (fuzz/corpus/grid, made with ncgen) and, for the radar readers, the real sample files.
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/RainbowReader.h>
 #include <atmoglobe/volume/SigmetReader.h>
@@ -20,6 +20,7 @@
 #include <vector>
 
 using namespace atmoglobe::volume;
+using namespace atmoglobe::io;  // NetcdfFile
 
 namespace {
 

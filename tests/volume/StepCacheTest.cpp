@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
+#include <string>
+#include <thread>
 
 namespace {
 using namespace atmoglobe;
@@ -90,6 +93,50 @@ TEST(StepCache, DefaultBudgetIsAQuarterOfMemory) {
   EXPECT_EQ(volume::defaultMemoryBudgetBytes(), ram / 4);
   EXPECT_GT(volume::peakResidentBytes(), 0u);
   EXPECT_GT(volume::currentResidentBytes(), 0u);
+}
+
+// The background loader's use of the cache (engine::ScenePrefetcher): a worker marks steps as
+// loading and puts them while the thread that shows them waits for, gets, holds and releases
+// them. The budget holds whenever the showing thread looks, and the step it holds stays. Run
+// under ThreadSanitizer too (ctest label threads).
+TEST(StepCache, WorkerPutsWhileTheShowingThreadGetsAndReleases) {
+  constexpr int kSteps = 300;
+  constexpr std::uint64_t kBytes = 100, kBudget = 8 * kBytes;
+  volume::StepCache cache(kBudget);
+  auto key = [](int s) { return "grid:0:" + std::to_string(s) + ":cpu"; };
+  std::thread worker([&] {
+    for (int s = 0; s < kSteps; ++s) {
+      cache.markLoading(key(s));
+      cache.put(key(s), value(s), kBytes);
+    }
+  });
+  std::shared_ptr<const int> shown;  // the step on screen: in use, never dropped
+  int shownStep = -1, found = 0;
+  for (int s = 0; s < kSteps; ++s) {
+    cache.waitWhileLoading(key(s));
+    if (auto v = cache.get<int>(key(s))) {  // null: not put yet, or already dropped (read again)
+      EXPECT_EQ(*v, s);
+      shown = v;
+      shownStep = s;
+      ++found;
+    }
+    if (shownStep >= 0) {
+      EXPECT_TRUE(cache.contains(key(shownStep)));
+    }
+    EXPECT_LE(cache.stats().heldBytes, kBudget);
+    cache.releaseDropped();  // on this thread, as the GL thread does
+  }
+  worker.join();
+  cache.releaseDropped();
+  const auto st = cache.stats();
+  EXPECT_LE(st.heldBytes, kBudget);
+  EXPECT_EQ(st.pendingBytes, 0u);
+  EXPECT_EQ(st.heldBytes + st.drops * kBytes, kSteps * kBytes);  // every step put was kept or dropped
+  EXPECT_TRUE(cache.get<int>(key(kSteps - 1)));                  // the newest stays
+  if (shownStep >= 0) {
+    EXPECT_TRUE(cache.contains(key(shownStep)));
+  }
+  std::printf("steps found by the showing thread while the worker put them: %d of %d\n", found, kSteps);
 }
 
 TEST(Decimate, GridKeepsEveryOtherColumnAndRowAndTheEdges) {

@@ -13,13 +13,14 @@
 // 2. Gate geolocation over every gate of the NEXRAD REF volume: gates per second for the exact
 //    path (geolocateGateExact) and the fast path (geolocateSweepFast), and the fast path's maximum
 //    ECEF distance from the exact result.
-// 3. The HDF5 guard's cost (volume/Hdf5Guard.h): for every netCDF-4/HDF5 radar file, the median
+// 3. The HDF5 guard's cost (io/Hdf5Guard.h): for every netCDF-4/HDF5 radar file, the median
 //    wall time of a first readRadarVolume with the guard off, walking metadata (the default) and
 //    reading every value in the child; the three runs alternate and the guard's remembered
 //    verdicts are forgotten before each, so every run pays what a first open pays.
 // Prints Markdown tables (docs/bench-radar.md holds a copy and the command).
+#include <atmoglobe/io/Hdf5Guard.h>
+#include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/Geolocation.h>
-#include <atmoglobe/volume/Hdf5Guard.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarReader.h>
 
@@ -158,6 +159,7 @@ std::string textAttribute(int ncid, int varid, const char* name) {
 // netCDF-C calls left, so that neither side's runs inherit the other's leak. Safe here: nothing
 // else in this process holds an HDF5 attribute open between runs.
 void closeLeakedHdf5Attributes() {
+  const io::NetcdfLock lock;   // direct HDF5 calls (io/NetcdfLock.h)
   using hid_t = std::int64_t;  // HDF5 >= 1.10
   static auto count = reinterpret_cast<long (*)(hid_t, unsigned)>(dlsym(RTLD_DEFAULT, "H5Fget_obj_count"));
   static auto ids =
@@ -175,6 +177,7 @@ void closeLeakedHdf5Attributes() {
 
 // Floor for netCDF/HDF5: open, read the loaded field's arrays raw, close.
 bool netcdfFloor(const std::string& path, const std::string& field, bool odim) {
+  const io::NetcdfLock lock;  // direct netCDF-C calls (io/NetcdfLock.h)
   int ncid = 0;
   if (nc_open(path.c_str(), NC_NOWRITE, &ncid) != NC_NOERR) return false;
   // Every array read is kept until the end, as the reader keeps every sweep.
@@ -281,13 +284,13 @@ void guardTable(const std::string& dataDir, int runs) {
       unsigned char head[8] = {};
       std::ifstream in(path, std::ios::binary);
       in.read(reinterpret_cast<char*>(head), sizeof head);
-      if (!volume::looksLikeHdf5(head, static_cast<std::size_t>(in.gcount()))) continue;
+      if (!io::looksLikeHdf5(head, static_cast<std::size_t>(in.gcount()))) continue;
       std::vector<double> t[3];
       bool ok = true;
       for (int i = 0; i < runs && ok; ++i)
         for (int m = 0; m < 3 && ok; ++m) {
           ::setenv("ATMOGLOBE_HDF5_GUARD", modes[m], 1);
-          volume::forgetHdf5GuardVerdicts();
+          io::forgetHdf5GuardVerdicts();
           const auto t0 = Clock::now();
           ok = volume::readRadarVolume(path, {}).ok();
           t[m].push_back(std::chrono::duration<double>(Clock::now() - t0).count());

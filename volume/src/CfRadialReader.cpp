@@ -1,8 +1,8 @@
 #include <atmoglobe/volume/CfRadialReader.h>
 
 #include <atmoglobe/globe/Text.h>
-#include <atmoglobe/volume/NetcdfFile.h>
-#include <atmoglobe/volume/PageAllocator.h>
+#include <atmoglobe/io/NetcdfFile.h>
+#include <atmoglobe/io/PageAllocator.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <algorithm>
@@ -16,7 +16,7 @@ namespace atmoglobe::volume {
 namespace {
 
 /// The variable's _FillValue (or nullopt), read as double.
-std::optional<double> fillValue(const NetcdfFile& f, const NcVar& v, const char* name = "_FillValue") {
+std::optional<double> fillValue(const io::NetcdfFile& f, const io::NcVar& v, const char* name = "_FillValue") {
   if (!f.hasAttribute(v.groupId, v.varId, name)) return std::nullopt;
   auto r = f.attributeDouble(v.groupId, v.varId, name);
   if (!r) return std::nullopt;
@@ -27,7 +27,8 @@ bool isFillOrNaN(double x, const std::optional<double>& fill) { return !std::isf
 
 /// A per-sweep integer/float variable of length nSweep.
 template <class T>
-Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name, std::size_t nSweep, int sweepDim) {
+Result<std::vector<T>> readPerSweep(const io::NetcdfFile& f, const std::string& name, std::size_t nSweep,
+                                    int sweepDim) {
   auto v = f.variable(f.root(), name);
   if (!v) return v.forwardError();
   if (v->shape.size() != 1 || v->dimIds[0] != sweepDim)
@@ -38,7 +39,7 @@ Result<std::vector<T>> readPerSweep(const NetcdfFile& f, const std::string& name
 
 /// latitude/longitude/altitude: scalar or per ray (moving platforms); returns the value
 /// for ray `ray`.
-Result<double> readSiteValue(const NetcdfFile& f, const std::string& name, int timeDim, std::size_t ray) {
+Result<double> readSiteValue(const io::NetcdfFile& f, const std::string& name, int timeDim, std::size_t ray) {
   auto v = f.variable(f.root(), name);
   if (!v) return v.forwardError();
   double x = 0.0;
@@ -80,7 +81,7 @@ struct CfDecoder {
   }
 };
 
-std::string readTimeText(const NetcdfFile& f) {
+std::string readTimeText(const io::NetcdfFile& f) {
   if (auto v = f.findVariable(f.root(), "time_coverage_start")) {
     if (auto t = f.readText(*v, 0)) {
       const std::string iso = normalizeIso8601(*t);
@@ -107,12 +108,12 @@ std::string readTimeText(const NetcdfFile& f) {
 }  // namespace
 
 Result<RadarVolume> readCfRadial(const std::string& path, const ReadOptions& options) {
-  auto opened = NetcdfFile::open(path);
+  auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   return readCfRadial(*opened, options);
 }
 
-Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options) {
+Result<RadarVolume> readCfRadial(const io::NetcdfFile& f, const ReadOptions& options) {
   const std::string& path = f.path();
   const int root = f.root();
 
@@ -160,7 +161,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
   if (!azVar) return azVar.forwardError();
   auto elVar = f.variable(root, "elevation");
   if (!elVar) return elVar.forwardError();
-  for (const NcVar* v : {&*azVar, &*elVar}) {
+  for (const io::NcVar* v : {&*azVar, &*elVar}) {
     if (v->shape.size() != 1 || v->dimIds[0] != timeDim)
       return makeError(f.message("variable '" + v->name + "' must have the single dimension 'time'"));
   }
@@ -240,9 +241,9 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
   }
 
   // --- fields: numeric (time, range) variables ---
-  std::vector<NcVar> fieldVars;
-  for (NcVar& v : f.variables(root)) {
-    if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim && ncTypeIsNumeric(v.type)) {
+  std::vector<io::NcVar> fieldVars;
+  for (io::NcVar& v : f.variables(root)) {
+    if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim && io::ncTypeIsNumeric(v.type)) {
       FieldInfo fi;
       fi.name = v.name.substr(v.name.rfind('/') + 1);
       if (f.hasAttribute(v.groupId, v.varId, "units")) {
@@ -299,7 +300,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     const auto it = vol.fields.begin() + static_cast<std::ptrdiff_t>(*selected);
     vol.loadedField = *it;
     if (options.loadValues) {
-      const NcVar& var = fieldVars[static_cast<std::size_t>(it - vol.fields.begin())];
+      const io::NcVar& var = fieldVars[static_cast<std::size_t>(it - vol.fields.begin())];
       double scale = 1.0, offset = 0.0;
       for (auto [attr, dst] : {std::pair<const char*, double*>{"scale_factor", &scale}, {"add_offset", &offset}}) {
         if (!f.hasAttribute(var.groupId, var.varId, attr)) continue;
@@ -316,17 +317,18 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
       // Everything the sweeps read, checked against what the file can hold before allocating.
       std::size_t total = 0;
       for (const Sweep& sw : vol.sweeps) total += sw.rayCount() * sw.gateCount;
-      if (auto ok = f.checkReadable(var, total, ncTypeSize(var.type)); !ok) return ok.forwardError();
+      if (auto ok = f.checkReadable(var, total, io::ncTypeSize(var.type)); !ok) return ok.forwardError();
       // One read per sweep, decoded in place in the sweep's values (no raw buffer); chunks
       // that straddle two sweeps come from netCDF-C's chunk cache the second time.
-      Status st = visitNumericType(var.type, [&](auto tag) -> Status {
+      Status st = io::visitNumericType(var.type, [&](auto tag) -> Status {
         using T = decltype(tag);
-        const RawDecoder<T, CfDecoder> rawDecoder(decoder, total);
+        const io::RawDecoder<T, CfDecoder> rawDecoder(decoder, total);
         for (Sweep& sw : vol.sweeps) {
           const std::size_t n = sw.rayCount() * sw.gateCount;
-          assignPopulated(sw.values, n, 0.0f);
+          io::assignPopulated(sw.values, n, 0.0f);
           const auto a = static_cast<std::size_t>((*starts)[static_cast<std::size_t>(sw.indexInFile)]);
-          if (auto r = readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
+          if (auto r =
+                  io::readSlabDecoded(f, var, {a, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
               !r)
             return r;
         }
@@ -340,7 +342,7 @@ Result<RadarVolume> readCfRadial(const NetcdfFile& f, const ReadOptions& options
     // Values asked for and nothing to decode: say so, naming any (time, range) variable of a
     // non-numeric type (a wrong type, e.g. char), rather than return a volume without values.
     std::string wrongType;
-    for (const NcVar& v : f.variables(root))
+    for (const io::NcVar& v : f.variables(root))
       if (v.shape.size() == 2 && v.dimIds[0] == timeDim && v.dimIds[1] == rangeDim)
         wrongType += (wrongType.empty() ? "" : ", ") + v.name.substr(v.name.rfind('/') + 1);
     return makeError(

@@ -1,8 +1,8 @@
 #pragma once
 // Internals of the forecast-grid reader shared by its source files (not a public header).
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/CfTime.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 
 #include <limits>
 #include <map>
@@ -15,18 +15,18 @@ namespace atmoglobe::volume::grid {
 // ---------------------------------------------------------------- netCDF helpers (GridNetcdf.cpp)
 
 /// Every group of the file, depth-first from the root.
-std::vector<int> allGroups(const NetcdfFile& f);
+std::vector<int> allGroups(const io::NetcdfFile& f);
 /// The parent of a group, or nullopt for the root.
 std::optional<int> parentGroup(int group);
 /// Name of a dimension (by id; visible from `group`).
 std::string dimensionName(int group, int dimId);
 /// A text attribute of a variable ("" when absent or not text).
-std::string attrText(const NetcdfFile& f, const NcVar& v, const char* name);
+std::string attrText(const io::NetcdfFile& f, const io::NcVar& v, const char* name);
 /// A global text attribute of the root group ("" when absent or not text).
-std::string globalText(const NetcdfFile& f, const char* name);
+std::string globalText(const io::NetcdfFile& f, const char* name);
 /// A variable called `name` in `group` or, failing that, its ancestors (CF: coordinate and
 /// formula-term variables may sit in an enclosing group).
-std::optional<NcVar> findInScope(const NetcdfFile& f, int group, const std::string& name);
+std::optional<io::NcVar> findInScope(const io::NetcdfFile& f, int group, const std::string& name);
 /// "float", "short" ...
 const char* typeName(nc_type t);
 
@@ -44,7 +44,7 @@ struct Packing {
   double defaultFill = 0;
   bool packed() const { return scale != 1.0 || offset != 0.0; }
 };
-Result<Packing> packingOf(const NetcdfFile& f, const NcVar& v);
+Result<Packing> packingOf(const io::NetcdfFile& f, const io::NcVar& v);
 
 /// For each dimension of a variable, the file indices to read, in output order. The result of
 /// readPicked is dense, in the variable's dimension order, each dimension as long as its picks.
@@ -53,9 +53,9 @@ using Picks = std::vector<std::vector<std::size_t>>;
 /// Reads the picked elements, decoded (Packing) to Out; missing -> NaN. Reads each maximal
 /// arithmetic run of indices as one hyperslab (nc_get_vars), so a contiguous crop is one read,
 /// a crop across the seam of a global grid two. Checks the element count against the file
-/// (NetcdfFile::checkReadable) before allocating.
+/// (io::NetcdfFile::checkReadable) before allocating.
 template <class Out>
-Result<std::vector<Out>> readPicked(const NetcdfFile& f, const NcVar& v, const Picks& picks);
+Result<std::vector<Out>> readPicked(const io::NetcdfFile& f, const io::NcVar& v, const Picks& picks);
 
 /// The numbers 0..n-1 / first..first+n-1.
 std::vector<std::size_t> iota(std::size_t first, std::size_t n);
@@ -71,20 +71,20 @@ enum class LengthDatum { Ellipsoid, SeaLevel, Ground, Unknown };
 
 struct VerticalSpec {
   VerticalKind kind = VerticalKind::HeightAboveSeaLevel;
-  std::optional<NcVar> coordinate;  ///< the 1-D coordinate variable (CF)
+  std::optional<io::NcVar> coordinate;  ///< the 1-D coordinate variable (CF)
   std::string coordinateUnits;
   double toSi = 1.0;          ///< coordinate units -> Pa (pressure) or m (lengths, gpm)
   bool positiveDown = false;  ///< lengths counted downwards (depth)
   LengthDatum datum = LengthDatum::SeaLevel;
-  std::string datumReason;                 ///< why that datum ("standard_name altitude" ...)
-  std::map<std::string, NcVar> terms;      ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
-  std::map<std::string, double> termToSi;  ///< unit factor of each term
-  std::optional<NcVar> geopotential;       ///< level geopotential (or geopotential height) field
-  double geopotentialToGpm = 1.0;          ///< factor to geopotential metres (1/g0 for m2 s-2)
-  std::optional<NcVar> surfaceAltitude;    ///< for heights above ground
+  std::string datumReason;                   ///< why that datum ("standard_name altitude" ...)
+  std::map<std::string, io::NcVar> terms;    ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
+  std::map<std::string, double> termToSi;    ///< unit factor of each term
+  std::optional<io::NcVar> geopotential;     ///< level geopotential (or geopotential height) field
+  double geopotentialToGpm = 1.0;            ///< factor to geopotential metres (1/g0 for m2 s-2)
+  std::optional<io::NcVar> surfaceAltitude;  ///< for heights above ground
   double surfaceToMeters = 1.0;
   // WRF
-  std::optional<NcVar> ph, phb, p, pb, znu;
+  std::optional<io::NcVar> ph, phb, p, pb, znu;
   /// File level index increases upwards.
   bool upward = true;
   std::size_t fileLevels = 0;  ///< levels in the file (mass levels for WRF)
@@ -93,15 +93,15 @@ struct VerticalSpec {
 struct TimeSpec {
   int dimId = -1;  ///< -1: the variable has no time dimension
   std::size_t count = 1;
-  std::optional<NcVar> coordinate;  ///< CF time coordinate
-  std::optional<NcVar> wrfTimes;    ///< WRF Times (char)
+  std::optional<io::NcVar> coordinate;  ///< CF time coordinate
+  std::optional<io::NcVar> wrfTimes;    ///< WRF Times (char)
   std::string units, calendar;
   std::optional<CfTimeUnits> parsed;
   std::string unitsError;  ///< why the units could not be parsed ("" if they could)
 };
 
 struct GridLayout {
-  NcVar var;
+  io::NcVar var;
   bool wrf = false;
   // dimension ids of the roles (-1: none). For WRF the mass dimensions; the variable may use
   // the staggered ones instead (stagX/Y/Z).
@@ -110,7 +110,7 @@ struct GridLayout {
   bool stagX = false, stagY = false, stagZ = false;
   std::size_t nx = 0, ny = 0;  ///< mass columns / rows in the file
   bool curvilinear = false;
-  NcVar lat, lon;  ///< 1-D (rectilinear) or 2-D/3-D (curvilinear)
+  io::NcVar lat, lon;  ///< 1-D (rectilinear) or 2-D/3-D (curvilinear)
   VerticalSpec vertical;
   TimeSpec time;
   std::string units, standardName, longName;
@@ -121,19 +121,19 @@ struct FileKind {
   bool wrf = false;
   std::string format, conventions;
 };
-FileKind fileKind(const NetcdfFile& f);
+FileKind fileKind(const io::NetcdfFile& f);
 
 /// The layout of variable `v`, or an error saying why it is not a grid variable this reader
 /// can read (naming the file and the variable).
-Result<GridLayout> analyse(const NetcdfFile& f, const FileKind& kind, const NcVar& v);
+Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v);
 
 /// The variable named `name` (name or full path), or an error listing what there is.
-Result<NcVar> findGridVariable(const NetcdfFile& f, const std::string& name);
+Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& name);
 
 /// Every variable of the file with its metadata and whether analyse() accepts it.
-std::vector<GridVariableInfo> listVariables(const NetcdfFile& f, const FileKind& kind);
+std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileKind& kind);
 
 /// The time axis as ISO strings ("" for a step whose time is unknown).
-Result<std::vector<std::string>> readTimes(const NetcdfFile& f, const TimeSpec& t);
+Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
 
 }  // namespace atmoglobe::volume::grid

@@ -56,7 +56,7 @@ const std::vector<std::string>& verticalStandardNames() {
   return k;
 }
 
-Role roleOf(const NetcdfFile& f, const NcVar& c) {
+Role roleOf(const io::NetcdfFile& f, const io::NcVar& c) {
   const std::string sn = attrText(f, c, "standard_name");
   const std::string units = attrText(f, c, "units");
   const std::string axis = toLowerAscii(attrText(f, c, "axis"));
@@ -78,13 +78,13 @@ Role roleOf(const NetcdfFile& f, const NcVar& c) {
 }
 
 /// The 1-D coordinate variable of dimension `dimId` of `v` (same name, one dimension, that one).
-std::optional<NcVar> coordinateVariable(const NetcdfFile& f, const NcVar& v, int dimId) {
+std::optional<io::NcVar> coordinateVariable(const io::NetcdfFile& f, const io::NcVar& v, int dimId) {
   auto c = findInScope(f, v.groupId, dimensionName(v.groupId, dimId));
   if (!c || c->dimIds.size() != 1 || c->dimIds[0] != dimId) return std::nullopt;
   return c;
 }
 
-std::string dimList(const NetcdfFile&, const NcVar& v) {
+std::string dimList(const io::NetcdfFile&, const io::NcVar& v) {
   std::string s;
   for (std::size_t d = 0; d < v.dimIds.size(); ++d) {
     if (d) s.append(", ");
@@ -93,33 +93,33 @@ std::string dimList(const NetcdfFile&, const NcVar& v) {
   return s;
 }
 
-int positionOf(const NcVar& v, int dimId) {
+int positionOf(const io::NcVar& v, int dimId) {
   for (std::size_t d = 0; d < v.dimIds.size(); ++d)
     if (v.dimIds[d] == dimId) return static_cast<int>(d);
   return -1;
 }
 
-Error varError(const NetcdfFile& f, const NcVar& v, const std::string& what) {
+Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what) {
   return makeError(f.message("variable '" + v.name + "': " + what));
 }
 
 /// The whole of `v` could be read: its element count is within kMaxElementsPerRead and the file
-/// can hold it (NetcdfFile::checkReadable). Run on every coordinate before its length sizes
+/// can hold it (io::NetcdfFile::checkReadable). Run on every coordinate before its length sizes
 /// anything, so a header claiming 2^28 levels is refused before an index list is built.
-Status checkWhole(const NetcdfFile& f, const NcVar& v) {
+Status checkWhole(const io::NetcdfFile& f, const io::NcVar& v) {
   std::size_t n = 1;
   for (std::size_t d : v.shape) {
-    if (d != 0 && n > kMaxElementsPerRead / d)
-      return makeError(
-          f.message("variable '" + v.name + "' claims more than " + std::to_string(kMaxElementsPerRead) + " values"));
+    if (d != 0 && n > io::kMaxElementsPerRead / d)
+      return makeError(f.message("variable '" + v.name + "' claims more than " +
+                                 std::to_string(io::kMaxElementsPerRead) + " values"));
     n *= d;
   }
-  return f.checkReadable(v, n, std::max<std::size_t>(ncTypeSize(v.type), 1));
+  return f.checkReadable(v, n, std::max<std::size_t>(io::ncTypeSize(v.type), 1));
 }
 
 /// Checks that every dimension of `support` is one of `allowed` (dimension ids of the grid
 /// variable) or has length 1, and that the allowed ones come in the grid variable's order.
-Status checkSupportDims(const NetcdfFile& f, const NcVar& support, const NcVar& gridVar,
+Status checkSupportDims(const io::NetcdfFile& f, const io::NcVar& support, const io::NcVar& gridVar,
                         const std::vector<int>& allowed, const std::string& role) {
   int last = -1;
   for (std::size_t d = 0; d < support.dimIds.size(); ++d) {
@@ -142,7 +142,7 @@ Status checkSupportDims(const NetcdfFile& f, const NcVar& support, const NcVar& 
   return Ok{};
 }
 
-bool hasDims(const NcVar& v, std::initializer_list<int> ids) {
+bool hasDims(const io::NcVar& v, std::initializer_list<int> ids) {
   for (int id : ids)
     if (id >= 0 && positionOf(v, id) < 0) return false;
   return true;
@@ -150,11 +150,11 @@ bool hasDims(const NcVar& v, std::initializer_list<int> ids) {
 
 /// A field on the grid variable's levels holding geopotential (m2 s-2) or geopotential height
 /// (gpm / m): by standard_name, else by a usual name with fitting units.
-void findGeopotential(const NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
+void findGeopotential(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
   std::vector<int> allowed = {l.time.dimId, l.zDim, l.yDim, l.xDim};
   std::optional<int> g = l.var.groupId;
   while (g) {
-    for (const NcVar& c : f.variables(*g)) {
+    for (const io::NcVar& c : f.variables(*g)) {
       if (c.varId == l.var.varId && c.groupId == l.var.groupId) continue;
       if (!hasDims(c, {l.zDim, l.yDim, l.xDim})) continue;
       if (!checkSupportDims(f, c, l.var, allowed, "geopotential")) continue;
@@ -184,11 +184,11 @@ void findGeopotential(const NetcdfFile& f, const GridLayout& l, VerticalSpec& vs
 }
 
 /// The surface altitude (m above sea level) for heights above ground.
-void findSurfaceAltitude(const NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
+void findSurfaceAltitude(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
   std::vector<int> allowed = {l.time.dimId, l.yDim, l.xDim};
   std::optional<int> g = l.var.groupId;
   while (g) {
-    for (const NcVar& c : f.variables(*g)) {
+    for (const io::NcVar& c : f.variables(*g)) {
       if (!hasDims(c, {l.yDim, l.xDim})) continue;
       if (!checkSupportDims(f, c, l.var, allowed, "surface altitude")) continue;
       const std::string sn = attrText(f, c, "standard_name");
@@ -206,7 +206,7 @@ void findSurfaceAltitude(const NetcdfFile& f, const GridLayout& l, VerticalSpec&
   }
 }
 
-Status parseFormulaTerms(const NetcdfFile& f, const GridLayout& l, const NcVar& coord, VerticalSpec& vs,
+Status parseFormulaTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs,
                          const std::vector<std::string>& required, const std::vector<std::string>& optional) {
   const std::string ft = attrText(f, coord, "formula_terms");
   const std::vector<std::string> t = tokens(ft);
@@ -273,7 +273,7 @@ Status parseFormulaTerms(const NetcdfFile& f, const GridLayout& l, const NcVar& 
 }
 
 /// The vertical coordinate of a CF variable from its coordinate variable's attributes.
-Status cfVertical(const NetcdfFile& f, GridLayout& l, const NcVar& coord) {
+Status cfVertical(const io::NetcdfFile& f, GridLayout& l, const io::NcVar& coord) {
   VerticalSpec& vs = l.vertical;
   vs.coordinate = coord;
   vs.fileLevels = coord.shape[0];
@@ -370,7 +370,7 @@ Status cfVertical(const NetcdfFile& f, GridLayout& l, const NcVar& coord) {
                       " give neither a pressure, a length nor a parametric formula (formula_terms)");
 }
 
-Status timeSpecFromCoordinate(const NetcdfFile& f, TimeSpec& t, const NcVar& c) {
+Status timeSpecFromCoordinate(const io::NetcdfFile& f, TimeSpec& t, const io::NcVar& c) {
   t.coordinate = c;
   t.units = attrText(f, c, "units");
   t.calendar = attrText(f, c, "calendar");
@@ -380,7 +380,7 @@ Status timeSpecFromCoordinate(const NetcdfFile& f, TimeSpec& t, const NcVar& c) 
   return Ok{};
 }
 
-Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
+Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   GridLayout l;
   l.var = v;
   l.wrf = true;
@@ -441,7 +441,7 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   auto lon = f.findVariable(root, "XLONG");
   if (!lat) return makeError(f.message("WRF file without the variable 'XLAT' (latitude of the mass points)"));
   if (!lon) return makeError(f.message("WRF file without the variable 'XLONG' (longitude of the mass points)"));
-  for (const NcVar* c : {&*lat, &*lon}) {
+  for (const io::NcVar* c : {&*lat, &*lon}) {
     const std::size_t r = c->dimIds.size();
     if (r < 2 || c->dimIds[r - 2] != l.yDim || c->dimIds[r - 1] != l.xDim || (r == 3 && c->dimIds[0] != tDim) || r > 3)
       return makeError(f.message("variable '" + c->name + "' is not on (Time,) south_north, west_east (" +
@@ -450,23 +450,23 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   l.curvilinear = true;
   l.lat = *lat;
   l.lon = *lon;
-  for (const NcVar* c : {&l.lat, &l.lon})
+  for (const io::NcVar* c : {&l.lat, &l.lon})
     if (auto st = checkWhole(f, *c); !st) return st.forwardError();
   // Vertical: geopotential on the W levels, else pressure.
   VerticalSpec& vs = l.vertical;
   vs.kind = VerticalKind::WrfEta;
   vs.fileLevels = *nz;
   vs.upward = true;  // WRF counts levels from the surface up
-  auto onGrid = [&](const char* name, int zId) -> Result<std::optional<NcVar>> {
+  auto onGrid = [&](const char* name, int zId) -> Result<std::optional<io::NcVar>> {
     auto c = f.findVariable(root, name);
-    if (!c) return std::optional<NcVar>();
+    if (!c) return std::optional<io::NcVar>();
     const std::vector<int> want = {tDim, zId, l.yDim, l.xDim};
     std::vector<int> have;
     for (int id : c->dimIds) have.push_back(id);
     if (have != want && !(have.size() == 3 && std::vector<int>(want.begin() + 1, want.end()) == have))
       return makeError(f.message("variable '" + c->name + "' is not on (Time, " + dimensionName(root, zId) +
                                  ", south_north, west_east) (" + dimList(f, *c) + "): inconsistent sizes"));
-    return std::optional<NcVar>(*c);
+    return std::optional<io::NcVar>(*c);
   };
   if (l.zStagDim >= 0) {
     auto ph = onGrid("PH", l.zStagDim);
@@ -516,7 +516,7 @@ Result<GridLayout> analyseWrf(const NetcdfFile& f, const NcVar& v) {
   return l;
 }
 
-Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
+Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
   GridLayout l;
   l.var = v;
   if (v.type == NC_CHAR || v.type == NC_STRING) return varError(f, v, "holds text, not numbers");
@@ -525,7 +525,7 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
                     "has " + std::to_string(v.dimIds.size()) +
                         " dimensions; a grid volume needs a vertical and two horizontal ones");
   // 1. Curvilinear: 2-D latitude/longitude named in `coordinates`.
-  std::optional<NcVar> lat2, lon2;
+  std::optional<io::NcVar> lat2, lon2;
   for (const std::string& name : tokens(attrText(f, v, "coordinates"))) {
     auto c = findInScope(f, v.groupId, name);
     if (!c || c->dimIds.size() < 2) continue;
@@ -556,7 +556,7 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
     l.nx = lat2->shape[r - 1];
   }
   // 2. The role of every dimension from its coordinate variable.
-  std::optional<NcVar> zCoord;
+  std::optional<io::NcVar> zCoord;
   int tPos = -1, zPos = -1;
   std::vector<std::string> unknown;
   for (std::size_t d = 0; d < v.dimIds.size(); ++d) {
@@ -613,7 +613,7 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
         "dimension order (" + dimList(f, v) + ") is not supported: expected (time,) level, latitude/y, longitude/x");
   if (l.nx == 0 || l.ny == 0 || v.shape[static_cast<std::size_t>(zPos)] == 0)
     return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
-  for (const NcVar* c : {&l.lat, &l.lon, &*zCoord})
+  for (const io::NcVar* c : {&l.lat, &l.lon, &*zCoord})
     if (auto st = checkWhole(f, *c); !st) return st.forwardError();
   if (l.time.coordinate) {
     if (auto st = checkWhole(f, *l.time.coordinate); !st) return st.forwardError();
@@ -637,7 +637,7 @@ Result<GridLayout> analyseCf(const NetcdfFile& f, const NcVar& v) {
 
 }  // namespace
 
-FileKind fileKind(const NetcdfFile& f) {
+FileKind fileKind(const io::NetcdfFile& f) {
   FileKind k;
   const std::string title = globalText(f, "TITLE");
   const int root = f.root();
@@ -646,7 +646,10 @@ FileKind fileKind(const NetcdfFile& f) {
   k.conventions = k.wrf ? (title.empty() ? std::string("WRF") : title) : globalText(f, "Conventions");
   while (!k.conventions.empty() && k.conventions.front() == ' ') k.conventions.erase(k.conventions.begin());
   int fmt = 0;
-  nc_inq_format(root, &fmt);
+  {
+    const io::NetcdfLock lock;
+    nc_inq_format(root, &fmt);
+  }
   const char* container = fmt == NC_FORMAT_NETCDF4           ? "netCDF-4"
                           : fmt == NC_FORMAT_NETCDF4_CLASSIC ? "netCDF-4 classic model"
                           : fmt == NC_FORMAT_64BIT_OFFSET    ? "netCDF 64-bit offset"
@@ -657,11 +660,11 @@ FileKind fileKind(const NetcdfFile& f) {
   return k;
 }
 
-Result<GridLayout> analyse(const NetcdfFile& f, const FileKind& kind, const NcVar& v) {
+Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v) {
   return kind.wrf ? analyseWrf(f, v) : analyseCf(f, v);
 }
 
-Result<NcVar> findGridVariable(const NetcdfFile& f, const std::string& name) {
+Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& name) {
   if (name.find('/') != std::string::npos) {
     std::vector<std::string> parts;
     std::string cur;
@@ -683,7 +686,7 @@ Result<NcVar> findGridVariable(const NetcdfFile& f, const std::string& name) {
     if (parts.empty()) return makeError(f.message("empty variable name"));
     return f.variable(g, parts.back());
   }
-  std::vector<NcVar> found;
+  std::vector<io::NcVar> found;
   for (int g : allGroups(f))
     if (auto v = f.findVariable(g, name)) found.push_back(*v);
   if (found.size() == 1) return found.front();
@@ -698,10 +701,10 @@ Result<NcVar> findGridVariable(const NetcdfFile& f, const std::string& name) {
   return makeError(f.message("no variable '" + name + "' (grid variables: " + (s.empty() ? "none" : s) + ")"));
 }
 
-std::vector<GridVariableInfo> listVariables(const NetcdfFile& f, const FileKind& kind) {
+std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileKind& kind) {
   std::vector<GridVariableInfo> out;
   for (int g : allGroups(f)) {
-    for (const NcVar& v : f.variables(g)) {
+    for (const io::NcVar& v : f.variables(g)) {
       GridVariableInfo info;
       info.name = v.name;
       for (int id : v.dimIds) info.dimensions.push_back(dimensionName(g, id));
@@ -719,7 +722,7 @@ std::vector<GridVariableInfo> listVariables(const NetcdfFile& f, const FileKind&
   return out;
 }
 
-Result<std::vector<std::string>> readTimes(const NetcdfFile& f, const TimeSpec& t) {
+Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t) {
   std::vector<std::string> out(t.dimId < 0 ? 0 : t.count);
   if (t.dimId < 0) return out;
   if (t.wrfTimes) {

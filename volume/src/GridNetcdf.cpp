@@ -13,7 +13,7 @@
 
 namespace atmoglobe::volume::grid {
 
-std::vector<int> allGroups(const NetcdfFile& f) {
+std::vector<int> allGroups(const io::NetcdfFile& f) {
   std::vector<int> out;
   std::vector<int> stack{f.root()};
   while (!stack.empty()) {
@@ -28,30 +28,32 @@ std::vector<int> allGroups(const NetcdfFile& f) {
 }
 
 std::optional<int> parentGroup(int group) {
+  const io::NetcdfLock lock;
   int parent = -1;
   if (nc_inq_grp_parent(group, &parent) != NC_NOERR) return std::nullopt;
   return parent;
 }
 
 std::string dimensionName(int group, int dimId) {
+  const io::NetcdfLock lock;
   char buf[NC_MAX_NAME + 1] = {};
   if (nc_inq_dimname(group, dimId, buf) != NC_NOERR) return "?";
   return buf;
 }
 
-std::string attrText(const NetcdfFile& f, const NcVar& v, const char* name) {
+std::string attrText(const io::NetcdfFile& f, const io::NcVar& v, const char* name) {
   if (!f.hasAttribute(v.groupId, v.varId, name)) return {};
   auto s = f.attributeString(v.groupId, v.varId, name);
   return s ? *s : std::string();
 }
 
-std::string globalText(const NetcdfFile& f, const char* name) {
+std::string globalText(const io::NetcdfFile& f, const char* name) {
   if (!f.hasAttribute(f.root(), NC_GLOBAL, name)) return {};
   auto s = f.attributeString(f.root(), NC_GLOBAL, name);
   return s ? *s : std::string();
 }
 
-std::optional<NcVar> findInScope(const NetcdfFile& f, int group, const std::string& name) {
+std::optional<io::NcVar> findInScope(const io::NetcdfFile& f, int group, const std::string& name) {
   std::optional<int> g = group;
   while (g) {
     if (auto v = f.findVariable(*g, name)) return v;
@@ -82,7 +84,7 @@ namespace {
 bool isSignedInteger(nc_type t) { return t == NC_BYTE || t == NC_SHORT || t == NC_INT || t == NC_INT64; }
 }  // namespace
 
-Result<Packing> packingOf(const NetcdfFile& f, const NcVar& v) {
+Result<Packing> packingOf(const io::NetcdfFile& f, const io::NcVar& v) {
   Packing p;
   const int g = v.groupId, id = v.varId;
   auto one = [&](const char* name, double* out) -> Status {
@@ -122,7 +124,7 @@ Result<Packing> packingOf(const NetcdfFile& f, const NcVar& v) {
     const std::string u = toLowerAscii(attrText(f, v, "_Unsigned"));
     if (u == "true") {
       p.isUnsigned = true;
-      p.unsignedWrap = std::ldexp(1.0, static_cast<int>(8 * ncTypeSize(v.type)));
+      p.unsignedWrap = std::ldexp(1.0, static_cast<int>(8 * io::ncTypeSize(v.type)));
       auto wrap = [&](double& x) {
         if (x < 0) x += p.unsignedWrap;
       };
@@ -184,7 +186,7 @@ bool inOrder(const Run& r) {
 }
 
 template <class Out, class T>
-Status readRuns(const NetcdfFile& f, const NcVar& v, const std::vector<std::vector<Run>>& runs,
+Status readRuns(const io::NetcdfFile& f, const io::NcVar& v, const std::vector<std::vector<Run>>& runs,
                 const std::vector<std::size_t>& outShape, const Packing& p, std::vector<Out>& out) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   auto decode = [&p, nan](double raw) -> Out {
@@ -258,11 +260,11 @@ Status readRuns(const NetcdfFile& f, const NcVar& v, const std::vector<std::vect
 }  // namespace
 
 template <class Out>
-Result<std::vector<Out>> readPicked(const NetcdfFile& f, const NcVar& v, const Picks& picks) {
+Result<std::vector<Out>> readPicked(const io::NetcdfFile& f, const io::NcVar& v, const Picks& picks) {
   if (picks.size() != v.shape.size())
     return makeError(f.message("variable '" + v.name + "': internal error, " + std::to_string(picks.size()) +
                                " index lists for " + std::to_string(v.shape.size()) + " dimensions"));
-  if (!ncTypeIsNumeric(v.type)) return makeError(f.message("variable '" + v.name + "' is not numeric"));
+  if (!io::ncTypeIsNumeric(v.type)) return makeError(f.message("variable '" + v.name + "' is not numeric"));
   std::size_t n = 1;
   std::vector<std::size_t> shape(picks.size());
   for (std::size_t d = 0; d < picks.size(); ++d) {
@@ -271,19 +273,19 @@ Result<std::vector<Out>> readPicked(const NetcdfFile& f, const NcVar& v, const P
       if (i >= v.shape[d])
         return makeError(f.message("variable '" + v.name + "': index " + std::to_string(i) + " outside dimension " +
                                    std::to_string(d) + " of length " + std::to_string(v.shape[d])));
-    if (shape[d] != 0 && n > kMaxElementsPerRead / shape[d])
+    if (shape[d] != 0 && n > io::kMaxElementsPerRead / shape[d])
       return makeError(f.message("variable '" + v.name + "': the region asked for holds more than " +
-                                 std::to_string(kMaxElementsPerRead) + " values; read a smaller crop"));
+                                 std::to_string(io::kMaxElementsPerRead) + " values; read a smaller crop"));
     n *= shape[d];
   }
-  if (auto st = f.checkReadable(v, n, ncTypeSize(v.type)); !st) return st.forwardError();
+  if (auto st = f.checkReadable(v, n, io::ncTypeSize(v.type)); !st) return st.forwardError();
   auto packing = packingOf(f, v);
   if (!packing) return packing.forwardError();
   std::vector<Out> out(n);
   if (n == 0) return out;
   std::vector<std::vector<Run>> runs(picks.size());
   for (std::size_t d = 0; d < picks.size(); ++d) runs[d] = runsOf(picks[d]);
-  Status st = visitNumericType(v.type, [&](auto tag) -> Status {
+  Status st = io::visitNumericType(v.type, [&](auto tag) -> Status {
     using T = decltype(tag);
     return readRuns<Out, T>(f, v, runs, shape, *packing, out);
   });
@@ -291,8 +293,8 @@ Result<std::vector<Out>> readPicked(const NetcdfFile& f, const NcVar& v, const P
   return out;
 }
 
-template Result<std::vector<float>> readPicked<float>(const NetcdfFile&, const NcVar&, const Picks&);
-template Result<std::vector<double>> readPicked<double>(const NetcdfFile&, const NcVar&, const Picks&);
+template Result<std::vector<float>> readPicked<float>(const io::NetcdfFile&, const io::NcVar&, const Picks&);
+template Result<std::vector<double>> readPicked<double>(const io::NetcdfFile&, const io::NcVar&, const Picks&);
 
 template <class T>
 void averageAdjacent(std::vector<T>& a, std::vector<std::size_t>& shape, std::size_t axis) {

@@ -61,7 +61,7 @@ double wrap180(double x) {  // [-180, 180)
   return mod360(x + 180.0) - 180.0;
 }
 
-Error varError(const NetcdfFile& f, const NcVar& v, const std::string& what) {
+Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what) {
   return makeError(f.message("variable '" + v.name + "': " + what));
 }
 
@@ -82,7 +82,7 @@ struct Horizontal {
   }
 };
 
-Status checkCrop(const NetcdfFile& f, const GridCrop& c) {
+Status checkCrop(const io::NetcdfFile& f, const GridCrop& c) {
   for (double v : {c.southDeg, c.northDeg, c.westDeg, c.eastDeg})
     if (!std::isfinite(v)) return makeError(f.message("crop: bounds must be finite numbers"));
   if (c.southDeg < -90 || c.northDeg > 90 || c.southDeg > c.northDeg)
@@ -107,7 +107,7 @@ std::vector<std::size_t> strided(std::size_t a, std::size_t b, std::size_t strid
   return v;
 }
 
-Status checkCoordinates(const NetcdfFile& f, const NcVar& v, const std::vector<double>& values, bool latitude) {
+Status checkCoordinates(const io::NetcdfFile& f, const io::NcVar& v, const std::vector<double>& values, bool latitude) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i]))
       return varError(f, v,
@@ -120,7 +120,7 @@ Status checkCoordinates(const NetcdfFile& f, const NcVar& v, const std::vector<d
   return Ok{};
 }
 
-Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, const GridCrop& crop,
+Result<Horizontal> rectilinear(const io::NetcdfFile& f, const grid::GridLayout& l, const GridCrop& crop,
                                std::size_t sample) {
   auto latR = readPicked<double>(f, l.lat, {iota(0, l.ny)});
   if (!latR) return latR.forwardError();
@@ -243,10 +243,10 @@ Result<Horizontal> rectilinear(const NetcdfFile& f, const grid::GridLayout& l, c
   return h;
 }
 
-Result<Horizontal> curvilinear(const NetcdfFile& f, const grid::GridLayout& l, std::size_t timeIndex,
+Result<Horizontal> curvilinear(const io::NetcdfFile& f, const grid::GridLayout& l, std::size_t timeIndex,
                                const GridCrop& crop, std::size_t sample) {
   // 2-D (or time, y, x) latitude and longitude: the whole plane at the time step read.
-  auto picks = [&](const NcVar& c) {
+  auto picks = [&](const io::NcVar& c) {
     Picks p;
     for (std::size_t d = 0; d < c.dimIds.size(); ++d) {
       if (c.dimIds[d] == l.yDim) p.push_back(iota(0, l.ny));
@@ -326,8 +326,8 @@ struct Levels {
   bool upward = true;
 };
 
-Result<std::vector<double>> readTerm(const NetcdfFile& f, const grid::VerticalSpec& vs, const std::string& term) {
-  const NcVar& v = vs.terms.at(term);
+Result<std::vector<double>> readTerm(const io::NetcdfFile& f, const grid::VerticalSpec& vs, const std::string& term) {
+  const io::NcVar& v = vs.terms.at(term);
   Picks p;
   for (std::size_t d = 0; d < v.shape.size(); ++d) p.push_back(iota(0, v.shape[d]));
   auto r = readPicked<double>(f, v, p);
@@ -341,7 +341,7 @@ Result<std::vector<double>> readTerm(const NetcdfFile& f, const grid::VerticalSp
   return r;
 }
 
-Result<Levels> levelsOf(const NetcdfFile& f, const grid::GridLayout& l) {
+Result<Levels> levelsOf(const io::NetcdfFile& f, const grid::GridLayout& l) {
   const grid::VerticalSpec& vs = l.vertical;
   Levels lv;
   const std::size_t n = vs.fileLevels;
@@ -430,7 +430,7 @@ Result<Levels> levelsOf(const NetcdfFile& f, const grid::GridLayout& l) {
 }
 
 /// File level indices, bottom first, for the crop.
-Result<std::vector<std::size_t>> levelPicks(const NetcdfFile& f, const grid::GridLayout& l, const Levels& lv,
+Result<std::vector<std::size_t>> levelPicks(const io::NetcdfFile& f, const grid::GridLayout& l, const Levels& lv,
                                             const GridCrop& crop) {
   const std::size_t n = l.vertical.fileLevels;
   if (crop.firstLevel >= n)
@@ -455,7 +455,7 @@ struct Selection {
 
 /// Picks for a variable on (some of) the grid variable's dimensions. `zStagger`: the variable
 /// is on WRF's W levels (levels k and k+1 of each mass level k are read).
-Result<Picks> supportPicks(const NetcdfFile& f, const grid::GridLayout& l, const Selection& s, const NcVar& v) {
+Result<Picks> supportPicks(const io::NetcdfFile& f, const grid::GridLayout& l, const Selection& s, const io::NcVar& v) {
   Picks p;
   for (std::size_t d = 0; d < v.dimIds.size(); ++d) {
     const int id = v.dimIds[d];
@@ -490,7 +490,7 @@ constexpr const char* kStandardAtmosphereNote =
     "standard-atmosphere height of each pressure (APPROXIMATE: a real pressure level lies up to a few hundred "
     "metres away)";
 
-Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, const Levels& lv, const Selection& s,
+Result<Heights> computeHeights(const io::NetcdfFile& f, const grid::GridLayout& l, const Levels& lv, const Selection& s,
                                bool useGeoid) {
   const grid::VerticalSpec& vs = l.vertical;
   const Horizontal& hz = *s.hz;
@@ -518,7 +518,7 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
       for (std::size_t c = 0; c < nc; ++c) h[c] = conv[c](h[c]);
     }
   };
-  auto readField = [&](const NcVar& v, std::vector<double>* values) -> Status {
+  auto readField = [&](const io::NcVar& v, std::vector<double>* values) -> Status {
     auto p = supportPicks(f, l, s, v);
     if (!p) return p.forwardError();
     auto r = readPicked<double>(f, v, *p);
@@ -741,7 +741,7 @@ Result<Heights> computeHeights(const NetcdfFile& f, const grid::GridLayout& l, c
 }
 
 /// Heights must be finite and increase strictly upwards in every column (after float rounding).
-Status checkHeights(const NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc) {
+Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc) {
   const std::size_t nz = s.levels.size();
   const std::size_t nx = s.hz->cols.size();
   auto where = [&](std::size_t k, std::size_t c) {
@@ -762,7 +762,7 @@ Status checkHeights(const NetcdfFile& f, const Heights& h, const Selection& s, s
   return Ok{};
 }
 
-Result<std::size_t> resolveTime(const NetcdfFile& f, const grid::GridLayout& l, const GridReadOptions& o,
+Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout& l, const GridReadOptions& o,
                                 const std::vector<std::string>& times) {
   if (!o.timeIso8601.empty()) {
     if (l.time.dimId < 0) return varError(f, l.var, "has no time dimension; cannot select time " + o.timeIso8601);
@@ -790,7 +790,7 @@ Result<std::size_t> resolveTime(const NetcdfFile& f, const grid::GridLayout& l, 
 }
 
 // The variable's layout; for an empty name, the default variable (or why there is none).
-Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const std::string& variable,
+Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, const std::string& variable,
                              std::string* chosen) {
   if (!variable.empty()) {
     auto v = findGridVariable(f, variable);
@@ -803,8 +803,8 @@ Result<GridLayout> layoutFor(const NetcdfFile& f, const FileKind& kind, const st
   if (name.empty()) {
     // Say why the first variable with three or more dimensions is not a grid variable.
     for (int g : allGroups(f))
-      for (const NcVar& v : f.variables(g))
-        if (v.dimIds.size() >= 3 && ncTypeIsNumeric(v.type)) {
+      for (const io::NcVar& v : f.variables(g))
+        if (v.dimIds.size() >= 3 && io::ncTypeIsNumeric(v.type)) {
           auto why = analyse(f, kind, v);
           if (!why) return makeError(why.error() + " (no variable of the file is a 3-D grid this reader can read)");
         }
@@ -837,8 +837,8 @@ std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& varia
 }
 
 bool isGridFile(const std::string& path) {
-  if (!hasNetcdfSignature(path)) return false;
-  auto f = NetcdfFile::open(path);
+  if (!io::hasNetcdfSignature(path)) return false;
+  auto f = io::NetcdfFile::open(path);
   if (!f) return false;
   const int root = f->root();
   // Radar marks first: a CfRadial or ODIM file is not a grid even if it has 3-D variables.
@@ -853,9 +853,9 @@ bool isGridFile(const std::string& path) {
 }
 
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options) {
-  auto opened = NetcdfFile::open(path);
+  auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
-  const NetcdfFile& f = *opened;
+  const io::NetcdfFile& f = *opened;
   if (auto st = grid::checkCrop(f, options.crop); !st) return st.forwardError();
   const grid::FileKind kind = grid::fileKind(f);
   std::string name;
@@ -951,15 +951,16 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
 // ------------------------------------------------------------------------------- describe
 
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable) {
-  auto opened = NetcdfFile::open(path);
+  auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
-  const NetcdfFile& f = *opened;
+  const io::NetcdfFile& f = *opened;
   const grid::FileKind kind = grid::fileKind(f);
   GridFileInfo info;
   info.path = path;
   info.format = kind.format;
   info.conventions = kind.conventions;
   for (int g : grid::allGroups(f)) {
+    const io::NetcdfLock lock;
     int n = 0;
     if (nc_inq_dimids(g, &n, nullptr, 0) != NC_NOERR || n <= 0) continue;
     std::vector<int> ids(static_cast<std::size_t>(n));

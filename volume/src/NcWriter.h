@@ -1,7 +1,7 @@
 #pragma once
 // Private to the volume library: a netCDF-C call wrapper for the synthetic-file writers
 // (SyntheticRadar.cpp, SyntheticGrid.cpp). The first failure is kept, naming the file and what was
-// being written.
+// being written. Its users hold io::NetcdfLock from nc_create to nc_close (io/NetcdfLock.h).
 #include <netcdf.h>
 
 #include <string>

@@ -1,7 +1,7 @@
 #include <atmoglobe/volume/OdimReader.h>
 
-#include <atmoglobe/volume/NetcdfFile.h>
-#include <atmoglobe/volume/PageAllocator.h>
+#include <atmoglobe/io/NetcdfFile.h>
+#include <atmoglobe/io/PageAllocator.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <algorithm>
@@ -24,14 +24,14 @@ constexpr double kMaxBins = 1.0e6;
 /// Groups searched in order for an attribute (ODIM inheritance: most specific first).
 using GroupChain = std::vector<int>;
 
-std::optional<int> findAttrGroup(const NetcdfFile& f, const GroupChain& chain, const std::string& name) {
+std::optional<int> findAttrGroup(const io::NetcdfFile& f, const GroupChain& chain, const std::string& name) {
   for (int g : chain) {
     if (g >= 0 && f.hasAttribute(g, NC_GLOBAL, name)) return g;
   }
   return std::nullopt;
 }
 
-Result<double> requiredDouble(const NetcdfFile& f, const GroupChain& chain, const std::string& name,
+Result<double> requiredDouble(const io::NetcdfFile& f, const GroupChain& chain, const std::string& name,
                               const std::string& where) {
   const auto g = findAttrGroup(f, chain, name);
   if (!g) return makeError(f.message(where + ": required ODIM attribute '" + name + "' not found"));
@@ -41,7 +41,7 @@ Result<double> requiredDouble(const NetcdfFile& f, const GroupChain& chain, cons
   return *v;
 }
 
-std::optional<double> optionalDouble(const NetcdfFile& f, const GroupChain& chain, const std::string& name) {
+std::optional<double> optionalDouble(const io::NetcdfFile& f, const GroupChain& chain, const std::string& name) {
   const auto g = findAttrGroup(f, chain, name);
   if (!g) return std::nullopt;
   auto v = f.attributeDouble(*g, NC_GLOBAL, name);
@@ -56,7 +56,7 @@ std::string formatNumber(double v) {
 }
 
 /// A count attribute (nbins, nrays): an integer in [1, maxValue].
-Result<std::size_t> requiredCount(const NetcdfFile& f, const GroupChain& chain, const std::string& name,
+Result<std::size_t> requiredCount(const io::NetcdfFile& f, const GroupChain& chain, const std::string& name,
                                   const std::string& where, double maxValue) {
   auto v = requiredDouble(f, chain, name, where);
   if (!v) return v.forwardError();
@@ -67,7 +67,8 @@ Result<std::size_t> requiredCount(const NetcdfFile& f, const GroupChain& chain, 
 }
 
 /// Numbered child groups "<prefix>N" of `parent`, sorted by N.
-std::vector<std::pair<int, std::string>> numberedGroups(const NetcdfFile& f, int parent, const std::string& prefix) {
+std::vector<std::pair<int, std::string>> numberedGroups(const io::NetcdfFile& f, int parent,
+                                                        const std::string& prefix) {
   std::vector<std::pair<int, std::string>> out;
   for (const std::string& name : f.childGroupNames(parent)) {
     if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
@@ -80,7 +81,7 @@ std::vector<std::pair<int, std::string>> numberedGroups(const NetcdfFile& f, int
   return out;
 }
 
-int childOr(const NetcdfFile& f, int parent, const char* name) {
+int childOr(const io::NetcdfFile& f, int parent, const char* name) {
   if (parent < 0) return -1;
   return f.findGroup(parent, name).value_or(-1);
 }
@@ -118,7 +119,7 @@ struct OdimDecoder {
 
 /// "YYYY-MM-DDTHH:MM:SSZ" from an ODIM date (YYYYMMDD) and time (HHMMSS) attribute pair found
 /// in `chain`; empty when either is absent or malformed.
-std::string odimDateTime(const NetcdfFile& f, const GroupChain& chain, const std::string& dateName,
+std::string odimDateTime(const io::NetcdfFile& f, const GroupChain& chain, const std::string& dateName,
                          const std::string& timeName) {
   const auto dg = findAttrGroup(f, chain, dateName);
   const auto tg = findAttrGroup(f, chain, timeName);
@@ -145,7 +146,8 @@ struct DataGroup {
 };
 
 /// dataM/data, checked to be a numeric array shaped (nrays, nbins) as /datasetN/where says.
-Result<NcVar> dataArray(const NetcdfFile& f, const DataGroup& dg, const Sweep& sw, const std::string& datasetPath) {
+Result<io::NcVar> dataArray(const io::NetcdfFile& f, const DataGroup& dg, const Sweep& sw,
+                            const std::string& datasetPath) {
   auto var = f.variable(dg.groupId, "data");
   if (!var) return var.forwardError();
   if (var->shape.size() != 2 || var->shape[0] != sw.rayCount() || var->shape[1] != sw.gateCount) {
@@ -154,7 +156,7 @@ Result<NcVar> dataArray(const NetcdfFile& f, const DataGroup& dg, const Sweep& s
     return makeError(f.message("'" + var->name + "' is " + shape + " but " + datasetPath + "/where says nrays = " +
                                std::to_string(sw.rayCount()) + ", nbins = " + std::to_string(sw.gateCount)));
   }
-  if (!ncTypeIsNumeric(var->type)) return makeError(f.message("'" + var->name + "' is not numeric"));
+  if (!io::ncTypeIsNumeric(var->type)) return makeError(f.message("'" + var->name + "' is not numeric"));
   return var;
 }
 
@@ -174,12 +176,12 @@ std::string odimQuantityUnits(const std::string& q) {
 }
 
 Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& options) {
-  auto opened = NetcdfFile::open(path);
+  auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   return readOdimH5(*opened, options);
 }
 
-Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) {
+Result<RadarVolume> readOdimH5(const io::NetcdfFile& f, const ReadOptions& options) {
   const std::string& path = f.path();
   const int root = f.root();
 
@@ -346,7 +348,7 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       auto var = dataArray(f, *dg, sw, "/" + datasets[s].second);
       if (!var) return var.forwardError();
       if (!options.loadValues) continue;
-      if (auto ok = f.checkReadable(*var, n, ncTypeSize(var->type)); !ok) return ok.forwardError();
+      if (auto ok = f.checkReadable(*var, n, io::ncTypeSize(var->type)); !ok) return ok.forwardError();
       const int dsId = *f.findGroup(root, datasets[s].second);
       const GroupChain chain{dg->whatId, childOr(f, dsId, "what"), rootWhat};
       OdimDecoder decoder;
@@ -357,11 +359,11 @@ Result<RadarVolume> readOdimH5(const NetcdfFile& f, const ReadOptions& options) 
       if (decoder.nodata == decoder.undetect && sameCodes.empty()) {
         sameCodes = dg->path + " (nodata = undetect = " + formatNumber(decoder.nodata) + ")";
       }
-      assignPopulated(sw.values, n, 0.0f);
-      Status st = visitNumericType(var->type, [&](auto tag) -> Status {
+      io::assignPopulated(sw.values, n, 0.0f);
+      Status st = io::visitNumericType(var->type, [&](auto tag) -> Status {
         using T = decltype(tag);
-        const RawDecoder<T, OdimDecoder> rawDecoder(decoder, n);
-        return readSlabDecoded(f, *var, {0, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
+        const io::RawDecoder<T, OdimDecoder> rawDecoder(decoder, n);
+        return io::readSlabDecoded(f, *var, {0, 0}, {sw.rayCount(), sw.gateCount}, rawDecoder, sw.values.data(), n);
       });
       if (!st) return st.forwardError();
     }

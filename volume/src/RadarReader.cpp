@@ -1,10 +1,10 @@
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <atmoglobe/globe/Text.h>
+#include <atmoglobe/io/Compression.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/CfRadialReader.h>
-#include <atmoglobe/volume/Compression.h>
 #include <atmoglobe/volume/FieldKind.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/NexradReader.h>
 #include <atmoglobe/volume/OdimReader.h>
 #include <atmoglobe/volume/RainbowReader.h>
@@ -57,7 +57,7 @@ bool hasHdf5Signature(std::ifstream& in, std::uintmax_t size) {
 bool contains(const std::string& s, const char* what) { return s.find(what) != std::string::npos; }
 
 /// An open HDF5/netCDF-4 file: ODIM or CfRadial from its attributes and variables.
-RadarFormat classifyHdf5(const NetcdfFile& f) {
+RadarFormat classifyHdf5(const io::NetcdfFile& f) {
   std::string conventions, version;
   if (f.hasAttribute(f.root(), NC_GLOBAL, "Conventions")) {
     if (auto c = f.attributeString(f.root(), NC_GLOBAL, "Conventions")) conventions = *c;
@@ -131,7 +131,7 @@ RadarFormat detectInMemory(const std::vector<unsigned char>& b, bool* hdf5) {
   if (looksLikeNexradLevel2(b.data(), n)) return RadarFormat::NexradLevel2;
   if (looksLikeSigmetRaw(b.data(), n)) return RadarFormat::SigmetIris;
   if (looksLikeRainbow5(b.data(), n)) return RadarFormat::Rainbow5;
-  *hdf5 = hasNetcdfSignature(b.data(), n);
+  *hdf5 = io::hasNetcdfSignature(b.data(), n);
   return RadarFormat::Unknown;
 }
 
@@ -139,7 +139,7 @@ const char* kFormatList = "a CfRadial, ODIM_H5 or NEXRAD Level II file, nor Sigm
 
 /// A gzip/bzip2-wrapped file: decompressed into memory, detected and read from there.
 Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& options, RadarFormat* detectedOnly) {
-  auto content = readFileBytes(path);
+  auto content = io::readFileBytes(path);
   if (!content) return content.forwardError();
   const std::string& label = content->label;
   bool hdf5 = false;
@@ -149,7 +149,7 @@ Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& opti
                 " wrapper (" + firstBytesText(content->bytes) + ")");
   if (hdf5) {
     auto opened =
-        NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
+        io::NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
     if (!opened) return opened.forwardError();
     format = classifyHdf5(*opened);
     if (detectedOnly) {
@@ -167,7 +167,7 @@ Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& opti
     switch (format) {
       case RadarFormat::CfRadial: {
         auto opened =
-            NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
+            io::NetcdfFile::openMemory(label, std::make_shared<std::vector<unsigned char>>(std::move(content->bytes)));
         if (!opened) return opened.forwardError();
         vol = readCfRadial(*opened, options);
         break;
@@ -187,8 +187,8 @@ Result<RadarVolume> readWrapped(const std::string& path, const ReadOptions& opti
 }  // namespace
 
 Result<RadarFormat> detectRadarFormat(const std::string& path) {
-  auto wrapper = fileCompression(path);
-  if (wrapper && *wrapper != Compression::None) {
+  auto wrapper = io::fileCompression(path);
+  if (wrapper && *wrapper != io::Compression::None) {
     RadarFormat format = RadarFormat::Unknown;
     auto st = readWrapped(path, {}, &format);
     if (!st) return st.forwardError();
@@ -197,20 +197,20 @@ Result<RadarFormat> detectRadarFormat(const std::string& path) {
   bool hdf5 = false;
   auto magic = detectByMagic(path, &hdf5);
   if (!magic || !hdf5) return magic;
-  auto opened = NetcdfFile::open(path);
+  auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   return classifyHdf5(*opened);
 }
 
 Result<RadarVolume> readRadarVolume(const std::string& path, const ReadOptions& options) {
-  if (auto wrapper = fileCompression(path); wrapper && *wrapper != Compression::None)
+  if (auto wrapper = io::fileCompression(path); wrapper && *wrapper != io::Compression::None)
     return readWrapped(path, options, nullptr);
   bool hdf5 = false;
   auto format = detectByMagic(path, &hdf5);
   if (!format) return format.forwardError();
   if (hdf5) {
     // Opened once: classified and read through the same handle.
-    auto opened = NetcdfFile::open(path);
+    auto opened = io::NetcdfFile::open(path);
     if (!opened) return opened.forwardError();
     switch (classifyHdf5(*opened)) {
       case RadarFormat::CfRadial: return readCfRadial(*opened, options);

@@ -2,7 +2,7 @@
 #include "ReadUnwrapped.h"
 
 #include <atmoglobe/globe/Text.h>
-#include <atmoglobe/volume/Compression.h>
+#include <atmoglobe/io/Compression.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <expat.h>

@@ -1,7 +1,7 @@
 #include <atmoglobe/volume/SigmetReader.h>
 #include "ReadUnwrapped.h"
 
-#include <atmoglobe/volume/Compression.h>
+#include <atmoglobe/io/Compression.h>
 #include <atmoglobe/volume/RadarReader.h>
 
 #include <algorithm>

@@ -3,9 +3,9 @@
 
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Text.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/GridReader.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <netcdf.h>
@@ -27,7 +27,7 @@ namespace atmoglobe::volume {
 bool fileSaysSynthetic(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
-  auto file = NetcdfFile::open(path);
+  auto file = io::NetcdfFile::open(path);
   if (!file) return false;
   for (const char* name : {"title", "source", "comment"}) {
     if (!file->hasAttribute(file->root(), NC_GLOBAL, name)) continue;

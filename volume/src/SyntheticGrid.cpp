@@ -4,6 +4,7 @@
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/CfTime.h>
 #include <atmoglobe/volume/VerticalCoordinate.h>
@@ -235,6 +236,7 @@ Status writeSyntheticGrid(const std::string& path, const SyntheticGridOptions& o
   };
 
   // --- the file, written atomically ---
+  const io::NetcdfLock lock;  // from nc_create to nc_close (io/NetcdfLock.h)
   std::string temp;
   int ncid = -1;
   if (Status st = createTemporaryNetcdf(path, &temp, &ncid); !st) return st;
@@ -487,6 +489,9 @@ Status writeSyntheticGlobalGrid(const std::string& path, const SyntheticGlobalGr
     lat[r] = 90.0 - 180.0 * static_cast<double>(r) / static_cast<double>(ny - 1);  // north to south, as ERA5
   for (std::size_t i = 0; i < nx; ++i) lon[i] = 360.0 * static_cast<double>(i) / static_cast<double>(nx);
 
+  // From nc_create to nc_close (io/NetcdfLock.h); the values are computed band by band between the
+  // writes, under it too: a bench's writer, with no other thread reading beside it.
+  const io::NetcdfLock lock;
   std::string temp;
   int ncid = -1;
   if (Status st = createTemporaryNetcdf(path, &temp, &ncid); !st) return st;

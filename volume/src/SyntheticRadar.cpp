@@ -3,6 +3,7 @@
 #include "NcWriter.h"
 
 #include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geolocation.h>
 
@@ -510,6 +511,7 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) return makeError(osError(path, "cannot create file in its directory", errno));
   ::close(fd);
+  const io::NetcdfLock lock;  // from nc_create to nc_close (io/NetcdfLock.h)
   int ncid = -1;
   if (const int st = nc_create(temp.c_str(), NC_NETCDF4 | NC_CLOBBER, &ncid); st != NC_NOERR) {
     ::unlink(temp.c_str());

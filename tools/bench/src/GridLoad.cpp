@@ -3,6 +3,7 @@
 #include <atmoglobe/bench/Format.h>
 #include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/bench/Process.h>
+#include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/GridReader.h>
 
 #include <netcdf.h>
@@ -39,6 +40,7 @@ std::string ncName(const std::string& variable) {
 
 /// Reads the slabs with plain nc_get_vara (one open per run, as the reader opens the file once).
 Result<std::uint64_t> readSlabs(const std::string& path, const std::vector<Hyperslab>& slabs) {
+  const io::NetcdfLock lock;  // direct netCDF-C calls (io/NetcdfLock.h)
   int nc = -1;
   if (const int st = nc_open(path.c_str(), NC_NOWRITE, &nc); st != NC_NOERR)
     return makeError(path + ": " + nc_strerror(st));
@@ -104,6 +106,7 @@ LoadProbe spawnProbe(const std::string& selfExe, const fs::path& dir, const std:
 
 Result<std::vector<Hyperslab>> cropHyperslabs(const std::string& path, const volume::GridVolume& g,
                                               const std::vector<std::string>& heightVariables) {
+  const io::NetcdfLock lock;  // direct netCDF-C calls (io/NetcdfLock.h)
   int nc = -1;
   if (const int st = nc_open(path.c_str(), NC_NOWRITE, &nc); st != NC_NOERR)
     return makeError(path + ": " + nc_strerror(st));
@@ -248,6 +251,7 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
     c.grid = v.key;
     c.name = "whole variable (all steps)";
     c.hasReader = false;
+    const io::NetcdfLock lock;  // direct netCDF-C calls (io/NetcdfLock.h)
     int nc = -1, var = -1, ndims = 0, dims[NC_MAX_VAR_DIMS];
     if (nc_open(v.path.c_str(), NC_NOWRITE, &nc) == NC_NOERR) {
       if (nc_inq_varid(nc, ncName(v.grid->variable).c_str(), &var) == NC_NOERR &&

@@ -9,8 +9,8 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/engine/ViewCulling.h>
+#include <atmoglobe/io/NetcdfFile.h>
 #include <atmoglobe/volume/AtomicFile.h>
-#include <atmoglobe/volume/NetcdfFile.h>
 #include <atmoglobe/volume/StationList.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
@@ -95,7 +95,7 @@ std::string num(double v) {
 
 std::uint64_t tallyBytes() {
   std::uint64_t sum = 0;
-  for (const auto& [name, bytes] : volume::netcdfReadTally()) sum += bytes;
+  for (const auto& [name, bytes] : io::netcdfReadTally()) sum += bytes;
   return sum;
 }
 
@@ -134,7 +134,7 @@ int runSceneProbe(const std::string& jobFile, const std::string& resultFile) {
     scene.volumes.push_back(d);
   }
   const engine::Camera camera(scene.camera, scene.fovYDeg, scene.widthPx, scene.heightPx);
-  volume::resetNetcdfReadTally();
+  io::resetNetcdfReadTally();
   // Load: what `render` does before its first frame (culling, then each radar read, laid out and
   // uploaded).
   const auto t0 = Clock::now();

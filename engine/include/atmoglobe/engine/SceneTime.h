@@ -61,8 +61,10 @@ std::string stepKey(bool radar, std::size_t layer, std::size_t step, bool gpu, d
 /// The start every key of one layer shares (StepCache::erasePrefix drops them all).
 std::string stepKeyPrefix(bool radar, std::size_t layer);
 
-/// A grid's step as the renderer draws it, CPU side only (no GL: safe on a worker thread): read
-/// (variable, crop box columns), cropped, vertically exaggerated by `exaggeration`.
+/// A grid's step as the renderer draws it, CPU side only (no GL: safe on a worker thread; the
+/// readers hold the netCDF library lock while they call netCDF-C, io/NetcdfLock.h, so the GL
+/// thread's coastline reads and reloads never overlap them): read (variable, crop box columns),
+/// cropped, vertically exaggerated by `exaggeration`.
 Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& description, std::size_t step,
                                            double exaggeration);
 

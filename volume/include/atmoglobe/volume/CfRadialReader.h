@@ -29,14 +29,16 @@
 
 #include <string>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
+class NetcdfFile;  // io/NetcdfFile.h
+}
 
-class NetcdfFile;
+namespace atmoglobe::volume {
 
 /// Reads a CfRadial 1.x file. Only options.fieldName (or the default reflectivity field)
 /// is decoded, and nothing when options.loadValues is false.
 Result<RadarVolume> readCfRadial(const std::string& path, const ReadOptions& options);
 /// The same on a file already open (readRadarVolume opens HDF5 files once to detect and read).
-Result<RadarVolume> readCfRadial(const NetcdfFile& file, const ReadOptions& options);
+Result<RadarVolume> readCfRadial(const io::NetcdfFile& file, const ReadOptions& options);
 
 }  // namespace atmoglobe::volume

@@ -20,7 +20,7 @@
 // columns for the height range.
 //
 // Errors: Result errors that start with the file name and name the variable and what is wrong;
-// sizes are checked against the file before anything is allocated (NetcdfFile::checkReadable).
+// sizes are checked against the file before anything is allocated (io::NetcdfFile::checkReadable).
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/GridVolume.h>
 

@@ -94,7 +94,7 @@ struct GridVolume {
 
   // --- cost ---
   /// Bytes of variable data read from the file for this volume (values, coordinates, heights;
-  /// elements x stored size, before decompression). See NetcdfFile::dataBytesRead.
+  /// elements x stored size, before decompression). See io::NetcdfFile::dataBytesRead.
   std::uint64_t bytesRead = 0;
 
   std::size_t index(std::size_t k, std::size_t j, std::size_t i) const { return (k * ny + j) * nx + i; }

@@ -29,15 +29,17 @@
 
 #include <string>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
+class NetcdfFile;  // io/NetcdfFile.h
+}
 
-class NetcdfFile;
+namespace atmoglobe::volume {
 
 /// Reads an ODIM_H5 PVOL or SCAN file. Only options.fieldName (an ODIM quantity such as
 /// DBZH; default: see chooseDefaultField) is decoded, nothing when options.loadValues is false.
 Result<RadarVolume> readOdimH5(const std::string& path, const ReadOptions& options);
 /// The same on a file already open (readRadarVolume opens HDF5 files once to detect and read).
-Result<RadarVolume> readOdimH5(const NetcdfFile& file, const ReadOptions& options);
+Result<RadarVolume> readOdimH5(const io::NetcdfFile& file, const ReadOptions& options);
 
 /// Units of an ODIM quantity (ODIM_H5 2.x table of quantities), empty if not known.
 std::string odimQuantityUnits(const std::string& quantity);

@@ -3,7 +3,7 @@
 //
 // Formats: CfRadial 1.x (netCDF classic or netCDF-4), ODIM_H5 PVOL/SCAN (HDF5, read through
 // netCDF-C), NEXRAD Level II Archive II, Sigmet/IRIS RAW, Rainbow 5 volumes; each of them also
-// gzip- or bzip2-wrapped (Compression.h: unwrapped in memory, the format detected from the
+// gzip- or bzip2-wrapped (io/Compression.h: unwrapped in memory, the format detected from the
 // content, messages "FILE (gzip): ..."). The file name is never used to decide.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/RadarVolume.h>

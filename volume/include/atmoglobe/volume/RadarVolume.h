@@ -74,7 +74,7 @@ struct FieldInfo {
 struct RadarVolume {
   std::string format;      ///< "CfRadial", "ODIM_H5", "NEXRAD Level II"
   std::string sourcePath;  ///< file it was read from
-  /// "gzip" or "bzip2" when the file was a compressed wrapper around the format (Compression.h),
+  /// "gzip" or "bzip2" when the file was a compressed wrapper around the format (io/Compression.h),
   /// empty for a plain file.
   std::string compression;
   RadarSite site;

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 enum class Compression { None, Gzip, Bzip2 };
 /// "none", "gzip", "bzip2".
@@ -58,4 +58,4 @@ Result<FileBytes> readFileBytes(const std::string& path, std::size_t maxBytes = 
 /// shorter, empty if the file cannot be read or its wrapper is corrupt from the start.
 std::vector<unsigned char> peekFileContent(const std::string& path, std::size_t count);
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

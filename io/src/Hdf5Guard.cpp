@@ -1,5 +1,6 @@
-#include <atmoglobe/volume/Hdf5Guard.h>
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/Hdf5Guard.h>
+#include <atmoglobe/io/NetcdfFile.h>
+#include <atmoglobe/io/NetcdfLock.h>
 
 #include <netcdf.h>
 #include <netcdf_mem.h>
@@ -29,7 +30,7 @@
 // child clears it. Weak: absent in normal builds.
 extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 namespace {
 constexpr unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
@@ -258,16 +259,25 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
   }
   std::fflush(nullptr);  // the child leaves by _exit, but a buffer copied into it must not be written twice
   const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
+  pid_t pid = -1;
+  {
+    // Forked under the library lock (NetcdfLock.h): no other thread is inside netCDF-C or HDF5, so
+    // the child starts from the libraries' state between two calls. The child inherits the lock as
+    // held by a thread that does not exist there: it never takes it (runChild calls netCDF-C
+    // directly) and never releases it (runChild leaves by _exit, before this scope ends). The
+    // parent lets go right after the fork: other threads read on while the child walks the file.
+    const NetcdfLock lock;
+    pid = ::fork();
+    if (pid == 0) {
+      ::close(pipeFds[0]);
+      runChild(path, memory, size, settings.mode == Hdf5GuardMode::Data, settings.deadlineSeconds, parent);
+    }
+  }
   if (pid < 0) {
     out.message = std::string("fork failed: ") + std::strerror(errno);
     ::close(pipeFds[0]);
     ::close(pipeFds[1]);
     return out;
-  }
-  if (pid == 0) {
-    ::close(pipeFds[0]);
-    runChild(path, memory, size, settings.mode == Hdf5GuardMode::Data, settings.deadlineSeconds, parent);
   }
   ::close(pipeFds[1]);
   bool timedOut = false;
@@ -313,4 +323,4 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
   return out;
 }
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -1,4 +1,4 @@
-#include <atmoglobe/volume/PageAllocator.h>
+#include <atmoglobe/io/PageAllocator.h>
 
 #include <cstdint>
 
@@ -7,7 +7,7 @@
 #include <unistd.h>
 #endif
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 namespace {
 #if defined(__linux__)
@@ -50,4 +50,4 @@ void assignPopulated(std::vector<float>& values, std::size_t n, float fill) {
   values.assign(n, fill);
 }
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

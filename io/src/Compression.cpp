@@ -1,4 +1,4 @@
-#include <atmoglobe/volume/Compression.h>
+#include <atmoglobe/io/Compression.h>
 
 #include <bzlib.h>
 #include <zlib.h>
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <system_error>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 const char* toString(Compression c) {
   switch (c) {
@@ -237,4 +237,4 @@ std::vector<unsigned char> peekFileContent(const std::string& path, std::size_t 
   return out ? std::move(*out) : std::vector<unsigned char>();
 }
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -19,12 +19,13 @@
 // "The HDF5 guard"). Classic netCDF files do not go through it: their header is walked by our own
 // code first (NetcdfFile.cpp, classicHeaderProblem).
 //
-// Threads: fork() copies only the calling thread. The child uses netCDF-C/HDF5 only, and those
-// libraries are not thread-safe anyway, so a program reading on several threads serialises them
-// (netcdfLibraryMutex() in NetcdfFile.h, held by the viewer's reads on every thread); the child
-// therefore never sees another thread half-way through them. The
-// child's stdout/stderr go to /dev/null and it leaves by _exit (no atexit handlers, no flushing
-// of the parent's buffers).
+// Threads: fork() copies only the calling thread. The child uses netCDF-C/HDF5 only, and every
+// call into them in the process holds netcdfLibraryMutex() (NetcdfLock.h); the fork holds it too,
+// so the child never sees another thread half-way through them. The child never takes that lock
+// (its copy is held by a thread that does not exist in the child); the parent releases it right
+// after the fork, so other threads read on while the child walks the file. The child's
+// stdout/stderr go to /dev/null and it leaves by _exit (no atexit handlers, no flushing of the
+// parent's buffers).
 //
 // Settings (environment, read once per call):
 //   ATMOGLOBE_HDF5_GUARD=metadata (default) | data | off
@@ -35,7 +36,7 @@
 #include <cstddef>
 #include <string>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 enum class Hdf5GuardMode {
   Off,       ///< open HDF5 files in this process directly
@@ -79,4 +80,4 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
 /// Forgets the remembered verdicts (benches measuring the first open of a file; tests).
 void forgetHdf5GuardVerdicts();
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 /// Asks the kernel to back the whole pages inside [data, data + bytes) with writable memory
 /// now, in one call, instead of one page fault per page on first write. Only ranges of at
@@ -22,4 +22,4 @@ void populatePages(void* data, std::size_t bytes, std::size_t minBytes = std::si
 /// the vector has to allocate. Same result as assign().
 void assignPopulated(std::vector<float>& values, std::size_t n, float fill);
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -1,6 +1,10 @@
 #pragma once
 // A small RAII wrapper over netCDF-C for the radar readers (CfRadial, ODIM_H5 through
-// netCDF-C's HDF5 layer) and the forecast-grid reader (GridReader.h).
+// netCDF-C's HDF5 layer) and the forecast-grid reader (volume/GridReader.h).
+//
+// Threads: every member that calls netCDF-C (open, openMemory, the queries, the reads, the
+// destructor) holds netcdfLibraryMutex() (NetcdfLock.h) while it does, so handles may be used on
+// any thread. Code that calls netCDF-C itself on root() or an NcVar's ids holds it too.
 //
 // Every failure comes back as a Result whose message names the file and, where there is
 // one, the group/variable/attribute ("FILE: variable '/dataset1/data1/data': ...").
@@ -12,6 +16,7 @@
 // stored type (elements x element size, before any decompression), to dataBytesRead(): the
 // grid reader reports it so that a test can show a crop costs what the crop holds.
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/io/NetcdfLock.h>
 
 #include <netcdf.h>
 
@@ -27,14 +32,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace atmoglobe::volume {
-
-/// netCDF-C and HDF5 are not thread-safe: a program that reads netCDF/HDF5 files on several
-/// threads (the viewer's background loading) holds this around every read, on every thread. The
-/// HDF5 guard (Hdf5Guard.h) forks on the reading thread and relies on it: with every reader
-/// holding it, no other thread is half-way through the libraries at the fork. Recursive, so a
-/// read that calls another read under it does not deadlock.
-std::recursive_mutex& netcdfLibraryMutex();
+namespace atmoglobe::io {
 
 /// A variable found in a group: ids, type and shape (dimension lengths as the file gives them).
 struct NcVar {
@@ -268,4 +266,4 @@ std::size_t ncTypeSize(nc_type type);
 /// True for the integer and floating-point netCDF types.
 bool ncTypeIsNumeric(nc_type type);
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io

@@ -1,7 +1,7 @@
-#include <atmoglobe/volume/NetcdfFile.h>
+#include <atmoglobe/io/NetcdfFile.h>
 
-#include <atmoglobe/volume/Compression.h>
-#include <atmoglobe/volume/Hdf5Guard.h>
+#include <atmoglobe/io/Compression.h>
+#include <atmoglobe/io/Hdf5Guard.h>
 
 #include <netcdf_filter.h>
 #include <netcdf_mem.h>
@@ -18,7 +18,7 @@
 #include <mutex>
 #include <system_error>
 
-namespace atmoglobe::volume {
+namespace atmoglobe::io {
 
 namespace {
 constexpr std::size_t kMaxAttributeChars = std::size_t{1} << 20;
@@ -302,11 +302,6 @@ std::string openFailure(const std::string& label, int st) {
 }
 }  // namespace
 
-std::recursive_mutex& netcdfLibraryMutex() {
-  static std::recursive_mutex m;
-  return m;
-}
-
 Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
@@ -328,6 +323,9 @@ Result<NetcdfFile> NetcdfFile::open(const std::string& path) {
     if (auto bad = hdf5GuardProblem(path, head.data(), head.size(), nullptr, 0, &damaged); !bad.empty())
       return makeError(bad);
   }
+  // The checks above read bytes only; the guard holds the lock around its fork (Hdf5Guard.cpp), so
+  // other threads read on while its child walks the file.
+  const NetcdfLock lock;
   const Opened o = openTracked([&](int* ncid) { return nc_open(path.c_str(), NC_NOWRITE, ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(path, o.status));
   NetcdfFile file(path, o.ncid, size, o.hdf5);
@@ -343,6 +341,7 @@ Result<NetcdfFile> NetcdfFile::openMemory(const std::string& label, std::shared_
   if (auto bad = hdf5GuardProblem(label, bytes->data(), bytes->size(), bytes->data(), bytes->size(), &damaged);
       !bad.empty())
     return makeError(bad);
+  const NetcdfLock lock;
   const Opened o = openTracked(
       [&](int* ncid) { return nc_open_mem(label.c_str(), NC_NOWRITE, bytes->size(), bytes->data(), ncid); });
   if (o.status != NC_NOERR) return makeError(openFailure(label, o.status));
@@ -361,6 +360,7 @@ void NetcdfFile::closeLeakedAttributes() {
 
 void NetcdfFile::close() {
   if (ncid_ < 0) return;
+  const NetcdfLock lock;
   closeLeakedAttributes();
   nc_close(ncid_);
   ncid_ = -1;
@@ -392,12 +392,14 @@ NetcdfFile& NetcdfFile::operator=(NetcdfFile&& other) noexcept {
 NetcdfFile::~NetcdfFile() { close(); }
 
 std::optional<int> NetcdfFile::findGroup(int parent, const std::string& name) const {
+  const NetcdfLock lock;
   int id = -1;
   if (nc_inq_grp_ncid(parent, name.c_str(), &id) != NC_NOERR) return std::nullopt;
   return id;
 }
 
 std::vector<std::string> NetcdfFile::childGroupNames(int parent) const {
+  const NetcdfLock lock;
   int n = 0;
   if (nc_inq_grps(parent, &n, nullptr) != NC_NOERR || n <= 0) return {};
   std::vector<int> ids(static_cast<std::size_t>(n));
@@ -412,6 +414,7 @@ std::vector<std::string> NetcdfFile::childGroupNames(int parent) const {
 }
 
 std::string NetcdfFile::groupPath(int groupId) const {
+  const NetcdfLock lock;
   std::size_t len = 0;
   if (nc_inq_grpname_full(groupId, &len, nullptr) != NC_NOERR) return "?";
   std::string s(len, '\0');
@@ -421,6 +424,7 @@ std::string NetcdfFile::groupPath(int groupId) const {
 }
 
 std::optional<std::size_t> NetcdfFile::dimensionLength(int group, const std::string& name, int* dimId) const {
+  const NetcdfLock lock;
   int id = -1;
   if (nc_inq_dimid(group, name.c_str(), &id) != NC_NOERR) return std::nullopt;
   std::size_t len = 0;
@@ -454,6 +458,7 @@ std::optional<NcVar> describeVariable(int group, int varId, const char* name, co
 }  // namespace
 
 std::optional<NcVar> NetcdfFile::findVariable(int group, const std::string& name) const {
+  const NetcdfLock lock;
   int varId = -1;
   if (nc_inq_varid(group, name.c_str(), &varId) != NC_NOERR) return std::nullopt;
   return describeVariable(group, varId, name.c_str(), groupPath(group));
@@ -469,6 +474,7 @@ Result<NcVar> NetcdfFile::variable(int group, const std::string& name) const {
 }
 
 std::vector<NcVar> NetcdfFile::variables(int group) const {
+  const NetcdfLock lock;
   int n = 0;
   if (nc_inq_varids(group, &n, nullptr) != NC_NOERR || n <= 0) return {};
   std::vector<int> ids(static_cast<std::size_t>(n));
@@ -485,6 +491,7 @@ std::vector<NcVar> NetcdfFile::variables(int group) const {
 }
 
 std::string NetcdfFile::attrLabel(int group, int varId, const std::string& name) const {
+  const NetcdfLock lock;
   const std::string gp = groupPath(group);
   std::string owner = gp;
   if (varId != NC_GLOBAL) {
@@ -496,12 +503,14 @@ std::string NetcdfFile::attrLabel(int group, int varId, const std::string& name)
 }
 
 bool NetcdfFile::hasAttribute(int group, int varId, const std::string& name) const {
+  const NetcdfLock lock;
   int id = -1;
   return nc_inq_attid(group, varId, name.c_str(), &id) == NC_NOERR;
 }
 
 Result<std::vector<double>> NetcdfFile::attributeDoubles(int group, int varId, const std::string& name,
                                                          std::size_t maxCount) const {
+  const NetcdfLock lock;
   nc_type type = NC_NAT;
   std::size_t len = 0;
   int st = nc_inq_att(group, varId, name.c_str(), &type, &len);
@@ -523,6 +532,7 @@ Result<double> NetcdfFile::attributeDouble(int group, int varId, const std::stri
 }
 
 Result<std::string> NetcdfFile::attributeString(int group, int varId, const std::string& name) const {
+  const NetcdfLock lock;
   nc_type type = NC_NAT;
   std::size_t len = 0;
   int st = nc_inq_att(group, varId, name.c_str(), &type, &len);
@@ -551,6 +561,7 @@ Result<std::string> NetcdfFile::attributeString(int group, int varId, const std:
 }
 
 Status NetcdfFile::checkReadable(const NcVar& var, std::size_t elementCount, std::size_t elementBytes) const {
+  const NetcdfLock lock;
   // Overflow-safe product of the requested element count with the element size.
   if (elementCount > kMaxElementsPerRead)
     return makeError(message("variable '" + var.name + "' claims " + std::to_string(elementCount) +
@@ -646,7 +657,10 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
       return makeError(
           message("variable '" + var.name + "': read outside its shape (dimension " + std::to_string(d) + ")"));
   }
-  const int st = getVara(var.groupId, var.varId, start.data(), count.data(), out);
+  const int st = [&] {
+    const NetcdfLock lock;
+    return getVara(var.groupId, var.varId, start.data(), count.data(), out);
+  }();
   dataBytesRead_ += slabBytes(var, count);
   tallyRead(var.name, slabBytes(var, count));
   if (st != NC_NOERR && st != NC_ERANGE)
@@ -670,7 +684,10 @@ Status NetcdfFile::readSlab(const NcVar& var, const std::vector<std::size_t>& st
       return makeError(
           message("variable '" + var.name + "': read outside its shape (dimension " + std::to_string(d) + ")"));
   }
-  const int st = getVars(var.groupId, var.varId, start.data(), count.data(), stride.data(), out);
+  const int st = [&] {
+    const NetcdfLock lock;
+    return getVars(var.groupId, var.varId, start.data(), count.data(), stride.data(), out);
+  }();
   dataBytesRead_ += slabBytes(var, count);
   tallyRead(var.name, slabBytes(var, count));
   if (st != NC_NOERR && st != NC_ERANGE)
@@ -699,6 +716,7 @@ Result<std::vector<T>> NetcdfFile::readAll(const NcVar& var) const {
 }
 
 Result<std::string> NetcdfFile::readText(const NcVar& var, std::size_t row) const {
+  const NetcdfLock lock;
   if (var.type == NC_CHAR) {
     if (var.shape.empty() || var.shape.size() > 2)
       return makeError(message("variable '" + var.name + "' is not a text array"));
@@ -794,4 +812,4 @@ ATMOGLOBE_NC_INSTANTIATE(float)
 ATMOGLOBE_NC_INSTANTIATE(double)
 #undef ATMOGLOBE_NC_INSTANTIATE
 
-}  // namespace atmoglobe::volume
+}  // namespace atmoglobe::io
