@@ -181,10 +181,12 @@ int runRender(const RenderOptions& o) {
               << ", visited " << stats.globe.selection.visited << ", culled frustum "
               << stats.globe.selection.culledFrustum << ", horizon " << stats.globe.selection.culledHorizon << ")\n"
               << "tiles decoded: " << (*loader)->stats().tilesDecoded << "\n";
-    for (const engine::RadarLayerGL& radar : (*renderer)->radars()) {
-      const auto& polar = radar.volume->polar();
+    for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
+      const auto* radar = (*renderer)->layerAs<engine::RadarSourceGL>(i);
+      if (!radar) continue;  // the Cartesian comparison is a radar's
+      const auto& polar = radar->radarVolume().polar();
       std::cerr << "radar " << polar.sourcePath << " (" << polar.fieldName << "): " << polar.sweeps.size()
-                << " sweeps, GPU " << static_cast<double>(radar.volume->gpuBytes()) / 1048576.0
+                << " sweeps, GPU " << static_cast<double>(radar->volume().gpuBytes()) / 1048576.0
                 << " MiB; a Cartesian grid at its near-range resolution would need "
                 << volume::cartesianEquivalentBytes(polar, 1.0) / 1048576.0 << " MiB at 1 byte/voxel\n";
     }

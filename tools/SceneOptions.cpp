@@ -237,23 +237,10 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
       if (st && d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
         st = engine::checkInputFile(d.colors, keyAt(origin, "colors", radar ? "--colors" : "--grid-colors"));
       std::string line;
-      if (st && radar) {
-        auto layer = renderer.addRadar(d);
-        if (layer) line = d.path + ": " + (*layer)->datumNote;
+      if (st) {
+        auto layer = renderer.addVolume(d);
+        if (layer) line = (*layer)->loadNote();
         else st = makeError(origin + ": " + layer.error());
-      } else if (st) {
-        auto layer = renderer.addGrid(d);
-        if (layer) {
-          const volume::GridVolume& g = (*layer)->volume->grid();
-          std::ostringstream text;
-          text << d.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
-               << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny
-               << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
-               << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "");
-          line = text.str();
-        } else {
-          st = makeError(origin + ": " + layer.error());
-        }
       }
       step(d.path);
       if (!st) {

@@ -116,14 +116,53 @@ constexpr double kKeyTiltDeg = 5.0;       ///< PageUp / PageDown
 constexpr double kKeyTurnDeg = 10.0;      ///< shift + Left / Right
 constexpr double kDegreesPerPixel = 0.2;  ///< tilt/turn drags
 
-/// Where the viewer is on the scene's time axis: position = step * substeps + substep.
+/// Where the viewer is on the scene's time axis (position = step * substeps + substep), the
+/// background loader of the steps ahead (docs/memory.md), and what stepping cost the frame loop.
 struct TimeCursor {
   std::optional<engine::SceneTimeAxis> axis;
   int substeps = 1;
   long position = 0;
   std::string label;  ///< valid time shown
   double lastAdvanceSeconds = 0.0;
+  std::unique_ptr<engine::ScenePrefetcher> prefetch;
+  std::vector<double> stallMs;  ///< time each step change held the frame loop
   long count() const { return axis ? static_cast<long>(axis->times.size() - 1) * substeps + 1 : 1; }
+
+  /// The scene's axis at the step its lead layer shows (none: no layer has several times; said
+  /// on stdout), and the prefetcher when `prefetchAhead`.
+  void start(engine::SceneRendererGL& renderer, int substepsPerStep, bool prefetchAhead) {
+    substeps = std::clamp(substepsPerStep, 1, 100);
+    auto found = engine::sceneTimeAxis(renderer);
+    if (!found) return;
+    for (const std::string& note : found->notes) std::cerr << "atmoglobe view: " << note << "\n";
+    const std::size_t first = renderer.layer(found->leadLayer).step();
+    position = static_cast<long>(first) * substeps;
+    label = found->times[first];
+    axis = std::move(*found);
+    std::cout << "time: " << axis->times[first] << " (step " << first + 1 << " of " << axis->times.size()
+              << "; . and , step, Space plays)" << std::endl;
+    if (prefetchAhead) {
+      prefetch = std::make_unique<engine::ScenePrefetcher>(renderer, *axis);
+      prefetch->request(first);
+    }
+  }
+
+  /// Moves to `to` (looping at both ends): the valid time shown when it changed, else nullopt.
+  Result<std::optional<std::string>> moveTo(engine::SceneRendererGL& renderer, long to) {
+    const long n = count();
+    to = ((to % n) + n) % n;
+    if (to == position) return std::optional<std::string>();
+    position = to;
+    const auto step = static_cast<std::size_t>(to / substeps);
+    const double fraction = static_cast<double>(to % substeps) / substeps;
+    const double stallStart = glfwGetTime();
+    auto when = engine::showSceneTime(renderer, *axis, step, fraction);
+    if (!when) return when.forwardError();
+    stallMs.push_back(1000.0 * (glfwGetTime() - stallStart));
+    if (prefetch) prefetch->request(step);
+    label = *when;
+    return std::optional<std::string>(*when);
+  }
 };
 
 Interaction& stateOf(GLFWwindow* win) { return *static_cast<Interaction*>(glfwGetWindowUserPointer(win)); }
@@ -335,16 +374,133 @@ std::vector<unsigned int> codePoints(const std::string& text) {
   return out;
 }
 
+/// The script's actions as steps through the window's installed callbacks (so the panel and the
+/// viewer see them as they see a user's input), appended to `script`.
+void addScriptSteps(ScriptRunner& script, const std::vector<engine::ScriptAction>& actions, GLFWwindow* w,
+                    Interaction& state, engine::FlyToWindowState& flyState) {
+  const InstalledCallbacks cb = InstalledCallbacks::of(w);
+  auto add = [&](int line, std::function<bool()> step) { script.steps.emplace_back(line, std::move(step)); };
+  auto move = [w, cb](double x, double y) {
+    return [w, cb, x, y] {
+      glfwSetCursorPos(w, x, y);  // the real pointer too: ImGui 1.86 polls it
+      if (cb.cursorPos) cb.cursorPos(w, x, y);
+      return true;
+    };
+  };
+  auto button = [w, cb](int b, int action, int mods) {
+    return [w, cb, b, action, mods] {
+      if (cb.mouseButton) cb.mouseButton(w, b, action, mods);
+      return true;
+    };
+  };
+  add(0, [w, cb] {
+    if (cb.cursorEnter) cb.cursorEnter(w, GLFW_TRUE);  // the pointer is in the window
+    return true;
+  });
+  for (const engine::ScriptAction& a : actions) {
+    using Kind = engine::ScriptAction::Kind;
+    const int mods = (a.shift ? GLFW_MOD_SHIFT : 0) | (a.ctrl ? GLFW_MOD_CONTROL : 0);
+    const int b = a.button == 0   ? GLFW_MOUSE_BUTTON_LEFT
+                  : a.button == 1 ? GLFW_MOUSE_BUTTON_RIGHT
+                                  : GLFW_MOUSE_BUTTON_MIDDLE;
+    const auto& n = a.numbers;
+    switch (a.kind) {
+      case Kind::Camera:
+        add(a.line, [&state, n] {
+          engine::CameraPose p{n[0],
+                               globe::wrapLongitudeDeg(n[1]),
+                               n[2],
+                               n.size() > 3 ? n[3] : 0.0,
+                               n.size() > 4 ? n[4] : -90.0,
+                               n.size() > 5 ? n[5] : 0.0};
+          state.pose = p;
+          userMoved(state);
+          return true;
+        });
+        break;
+      case Kind::Move: add(a.line, move(n[0], n[1])); break;
+      case Kind::Down: add(a.line, button(b, GLFW_PRESS, mods)); break;
+      case Kind::Up: add(a.line, button(b, GLFW_RELEASE, mods)); break;
+      case Kind::Click:
+        add(a.line, move(n[0], n[1]));
+        add(a.line, button(b, GLFW_PRESS, mods));
+        add(a.line, button(b, GLFW_RELEASE, mods));
+        break;
+      case Kind::Drag: {
+        const int steps = n.size() > 4 ? static_cast<int>(n[4]) : 8;
+        add(a.line, move(n[0], n[1]));
+        add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods));
+        for (int k = 1; k <= steps; ++k)
+          add(a.line, move(n[0] + (n[2] - n[0]) * k / steps, n[1] + (n[3] - n[1]) * k / steps));
+        add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods));
+        break;
+      }
+      case Kind::Wheel:
+        add(a.line, move(n[0], n[1]));
+        add(a.line, [w, cb, clicks = n[2]] {
+          if (cb.scroll) cb.scroll(w, 0.0, clicks);
+          return true;
+        });
+        break;
+      case Kind::Key: {
+        const int key = glfwKeyOf(a.text);
+        add(a.line, [w, cb, key, mods] {
+          if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_PRESS, mods);
+          return true;
+        });
+        add(a.line, [w, cb, key, mods] {
+          if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_RELEASE, mods);
+          return true;
+        });
+        break;
+      }
+      case Kind::Type:
+        add(a.line, [w, cb, chars = codePoints(a.text)] {
+          if (cb.character)
+            for (unsigned int c : chars) cb.character(w, c);
+          return true;
+        });
+        break;
+      case Kind::Wait:
+        for (int k = 0; k < static_cast<int>(n[0]); ++k) add(a.line, [] { return true; });
+        break;
+      case Kind::FlyTo:
+        add(a.line, [&flyState, name = a.text] {
+          std::snprintf(flyState.query, sizeof flyState.query, "%s", name.c_str());
+          flyState.requested = true;
+          return true;
+        });
+        add(a.line, [&state, &flyState] { return !flyState.requested && !state.flight; });
+        break;
+      case Kind::Readout:
+        add(a.line, [&state] {
+          state.readoutWanted = true;
+          return true;
+        });
+        break;
+      case Kind::Screenshot:
+        add(a.line, [&state, file = a.text] {
+          state.screenshotPath = file;
+          state.screenshotRequested = true;
+          return true;
+        });
+        break;
+    }
+  }
+}
+
 /// Names to fly to: the scene's radars and markers, $ATMOGLOBE_NEXRAD_SITES, tzdata's cities.
 engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const std::vector<engine::Marker>& markers) {
   constexpr double kRadarViewMeters = 4e5;  // the 230 km of a radar's range in a 60 deg view
   constexpr double kMarkerViewMeters = 2e5;
   constexpr double kPlaceViewMeters = 1e5;
   engine::Gazetteer g;
-  for (const auto& r : renderer.radars()) {
-    const volume::GeolocationSite& site = r.volume->polar().site;
+  for (std::size_t i = 0; i < renderer.volumeLayerCount(); ++i) {
+    const auto* r = renderer.layerAs<engine::RadarSourceGL>(i);
+    if (!r) continue;  // a place to fly to is a radar's site
+    const volume::GeolocationSite& site = r->radarVolume().polar().site;
     engine::Place p;
-    for (const std::string& n : {r.siteName, r.siteMarker.label})
+    for (const std::string& n : {r->siteName(), r->siteMarker()->label})
       if (!n.empty()) p.names.push_back(n);
     if (p.names.empty()) p.names.push_back("radar");
     p.kind = "radar";
@@ -417,41 +573,14 @@ int runView(const ViewOptions& o) {
 
   // The scene's time axis, when a grid has several steps or a radar is a loop (time keys and playing).
   TimeCursor time;
-  time.substeps = std::clamp(o.timeSubsteps, 1, 100);
-  if (!scene->volumes.empty()) {
-    auto axis = engine::sceneTimeAxis(**renderer);
-    if (axis) {
-      for (const std::string& note : axis->notes) std::cerr << "atmoglobe view: " << note << "\n";
-      const std::size_t first = axis->leadIsRadar ? (*renderer)->radars()[axis->leadGrid].step
-                                                  : (*renderer)->grids()[axis->leadGrid].step;
-      time.position = static_cast<long>(first) * time.substeps;
-      time.label = axis->times[first];
-      time.axis = std::move(*axis);
-      std::cout << "time: " << time.axis->times[first] << " (step " << first + 1 << " of " << time.axis->times.size()
-                << "; . and , step, Space plays)" << std::endl;
-    }
-  }
+  if (!scene->volumes.empty()) time.start(**renderer, o.timeSubsteps, !o.noPrefetch);
   state.playing = o.play && time.axis;
-  // Background loading (docs/memory.md): the steps after the one shown are read on a worker.
-  std::unique_ptr<engine::ScenePrefetcher> prefetch;
-  if (time.axis && !o.noPrefetch) prefetch = std::make_unique<engine::ScenePrefetcher>(**renderer, *time.axis);
-  if (prefetch) prefetch->request(static_cast<std::size_t>(time.position / time.substeps));
-  std::vector<double> stallMs;  // time each step change held the frame loop
   auto showTime = [&](long position) -> Status {
-    const long n = time.count();
-    position = ((position % n) + n) % n;  // loops at both ends
-    if (position == time.position) return Ok{};
-    time.position = position;
-    const auto step = static_cast<std::size_t>(position / time.substeps);
-    const double fraction = static_cast<double>(position % time.substeps) / time.substeps;
-    const double stallStart = glfwGetTime();
-    auto when = engine::showSceneTime(**renderer, *time.axis, step, fraction);
+    auto when = time.moveTo(**renderer, position);
     if (!when) return when.forwardError();
-    stallMs.push_back(1000.0 * (glfwGetTime() - stallStart));
-    if (prefetch) prefetch->request(step);
-    glfwSetWindowTitle(w, ("atmoglobe  " + *when).c_str());
-    time.label = *when;
-    std::cout << "time: " << *when << std::endl;
+    if (!*when) return Ok{};
+    glfwSetWindowTitle(w, ("atmoglobe  " + **when).c_str());
+    std::cout << "time: " << **when << std::endl;
     return Ok{};
   };
 
@@ -470,10 +599,10 @@ int runView(const ViewOptions& o) {
     if (scripted) engine::drawPointerMark();  // no system cursor in a scripted screenshot
   };
   panelState.scene = renderer->get();  // the panel edits the layers live
-  for (const auto& r : (*renderer)->radars())
-    panelState.layers.push_back("radar " + r.siteMarker.label + ": " + r.volume->polar().fieldName);
-  for (const auto& g : (*renderer)->grids())
-    panelState.layers.push_back("grid " + g.volume->grid().variable + " (" + g.description.path + ")");
+  for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
+    const engine::VolumeSourceGL& layer = (*renderer)->layer(i);
+    panelState.layers.push_back(layer.title() + " (" + layer.description().path + ")");
+  }
   double frameMs = 0.0;
 
   // A fly-to asked for by the box (Enter or Fly), or by a script's flyto through the same state.
@@ -495,117 +624,7 @@ int runView(const ViewOptions& o) {
   // The script as steps through the installed callbacks.
   ScriptRunner script;
   script.path = o.script;
-  if (state.scripted) {
-    const InstalledCallbacks cb = InstalledCallbacks::of(w);
-    auto add = [&](int line, std::function<bool()> step) { script.steps.emplace_back(line, std::move(step)); };
-    auto move = [w, cb](double x, double y) {
-      return [w, cb, x, y] {
-        glfwSetCursorPos(w, x, y);  // the real pointer too: ImGui 1.86 polls it
-        if (cb.cursorPos) cb.cursorPos(w, x, y);
-        return true;
-      };
-    };
-    auto button = [w, cb](int b, int action, int mods) {
-      return [w, cb, b, action, mods] {
-        if (cb.mouseButton) cb.mouseButton(w, b, action, mods);
-        return true;
-      };
-    };
-    add(0, [w, cb] {
-      if (cb.cursorEnter) cb.cursorEnter(w, GLFW_TRUE);  // the pointer is in the window
-      return true;
-    });
-    for (const engine::ScriptAction& a : actions) {
-      using Kind = engine::ScriptAction::Kind;
-      const int mods = (a.shift ? GLFW_MOD_SHIFT : 0) | (a.ctrl ? GLFW_MOD_CONTROL : 0);
-      const int b = a.button == 0   ? GLFW_MOUSE_BUTTON_LEFT
-                    : a.button == 1 ? GLFW_MOUSE_BUTTON_RIGHT
-                                    : GLFW_MOUSE_BUTTON_MIDDLE;
-      const auto& n = a.numbers;
-      switch (a.kind) {
-        case Kind::Camera:
-          add(a.line, [&state, n] {
-            engine::CameraPose p{n[0],
-                                 globe::wrapLongitudeDeg(n[1]),
-                                 n[2],
-                                 n.size() > 3 ? n[3] : 0.0,
-                                 n.size() > 4 ? n[4] : -90.0,
-                                 n.size() > 5 ? n[5] : 0.0};
-            state.pose = p;
-            userMoved(state);
-            return true;
-          });
-          break;
-        case Kind::Move: add(a.line, move(n[0], n[1])); break;
-        case Kind::Down: add(a.line, button(b, GLFW_PRESS, mods)); break;
-        case Kind::Up: add(a.line, button(b, GLFW_RELEASE, mods)); break;
-        case Kind::Click:
-          add(a.line, move(n[0], n[1]));
-          add(a.line, button(b, GLFW_PRESS, mods));
-          add(a.line, button(b, GLFW_RELEASE, mods));
-          break;
-        case Kind::Drag: {
-          const int steps = n.size() > 4 ? static_cast<int>(n[4]) : 8;
-          add(a.line, move(n[0], n[1]));
-          add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods));
-          for (int k = 1; k <= steps; ++k)
-            add(a.line, move(n[0] + (n[2] - n[0]) * k / steps, n[1] + (n[3] - n[1]) * k / steps));
-          add(a.line, button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods));
-          break;
-        }
-        case Kind::Wheel:
-          add(a.line, move(n[0], n[1]));
-          add(a.line, [w, cb, clicks = n[2]] {
-            if (cb.scroll) cb.scroll(w, 0.0, clicks);
-            return true;
-          });
-          break;
-        case Kind::Key: {
-          const int key = glfwKeyOf(a.text);
-          add(a.line, [w, cb, key, mods] {
-            if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_PRESS, mods);
-            return true;
-          });
-          add(a.line, [w, cb, key, mods] {
-            if (cb.key) cb.key(w, key, glfwGetKeyScancode(key), GLFW_RELEASE, mods);
-            return true;
-          });
-          break;
-        }
-        case Kind::Type:
-          add(a.line, [w, cb, chars = codePoints(a.text)] {
-            if (cb.character)
-              for (unsigned int c : chars) cb.character(w, c);
-            return true;
-          });
-          break;
-        case Kind::Wait:
-          for (int k = 0; k < static_cast<int>(n[0]); ++k) add(a.line, [] { return true; });
-          break;
-        case Kind::FlyTo:
-          add(a.line, [&flyState, name = a.text] {
-            std::snprintf(flyState.query, sizeof flyState.query, "%s", name.c_str());
-            flyState.requested = true;
-            return true;
-          });
-          add(a.line, [&state, &flyState] { return !flyState.requested && !state.flight; });
-          break;
-        case Kind::Readout:
-          add(a.line, [&state] {
-            state.readoutWanted = true;
-            return true;
-          });
-          break;
-        case Kind::Screenshot:
-          add(a.line, [&state, file = a.text] {
-            state.screenshotPath = file;
-            state.screenshotRequested = true;
-            return true;
-          });
-          break;
-      }
-    }
-  }
+  if (state.scripted) addScriptSteps(script, actions, w, state, flyState);
   std::vector<std::string> lastPrintedReadout;
   std::optional<engine::CameraPose> readoutPose;  ///< the camera of the last readout
   auto updateReadout = [&](const engine::FramebufferGL& target) {
@@ -730,10 +749,10 @@ int runView(const ViewOptions& o) {
     const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
                              !(*renderer)->globe().lastFrameComplete();
     if (sceneNeeded) {
-      auto& radars = (*renderer)->radars();
-      for (std::size_t i = 0; i < radars.size(); ++i) {
-        const double full = radars[i].description.imageScale;  // the panel may change it
-        radars[i].options.imageScale = moving ? std::min(full, kMovingImageScale) : full;
+      for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
+        engine::VolumeSourceGL& layer = (*renderer)->layer(i);
+        const double full = layer.description().imageScale;  // the panel may change it
+        layer.options().imageScale = moving ? std::min(full, kMovingImageScale) : full;
       }
       wasMoving = moving;
       state.dirty = false;
@@ -777,7 +796,7 @@ int runView(const ViewOptions& o) {
     if (last) break;
     if (batch) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
   }
-  if (!stallMs.empty()) std::cerr << engine::stallSummary(stallMs, prefetch != nullptr) << "\n";
+  if (!time.stallMs.empty()) std::cerr << engine::stallSummary(time.stallMs, time.prefetch != nullptr) << "\n";
   return 0;
 }
 }  // namespace

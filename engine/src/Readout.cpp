@@ -1,26 +1,17 @@
 #include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
-#include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geoid.h>
-#include <atmoglobe/volume/Geolocation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 namespace atmoglobe::engine {
 
-namespace {
-
-struct Hit {
-  double t = 0.0;
-  double value = 0.0;
-  glm::dvec3 ecef{0.0};
-};
-
-// The first echo of `sampler` along eye + t dir, t in its ray interval up to tMax.
-std::optional<Hit> firstEcho(const volume::VolumeSampler& sampler, const glm::dvec3& eye, const glm::dvec3& dir,
-                             double tMax, double step, volume::Interpolation interpolation) {
+std::optional<RayValue> firstValueAlong(const volume::VolumeSampler& sampler, const glm::dvec3& eye,
+                                        const glm::dvec3& dir, double tMax, double step,
+                                        volume::Interpolation interpolation) {
   const volume::RayInterval span = sampler.rayInterval(eye, dir);
   const double t0 = std::max(span.tEnterMeters, 0.0), t1 = std::min(span.tExitMeters, tMax);
   if (!(t1 > t0)) return std::nullopt;
@@ -29,24 +20,15 @@ std::optional<Hit> firstEcho(const volume::VolumeSampler& sampler, const glm::dv
     const double t = std::min(t1, t0 + static_cast<double>(k) * step);
     const glm::dvec3 p = eye + t * dir;
     const volume::VolumeSample s = sampler.sample(p, interpolation);
-    if (s.state == volume::VolumeSample::State::Echo) return Hit{t, s.value, p};
+    if (s.state == volume::VolumeSample::State::Echo) return RayValue{t, s.value, p};
   }
   return std::nullopt;
 }
 
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
-  return buf;
-}
-
-/// Height above mean sea level (EGM96) of a geodetic point; the ellipsoidal height without the grid.
-double seaLevelHeight(const globe::Geodetic& g) {
+double seaLevelHeightMeters(const globe::Geodetic& g) {
   const auto& geoid = volume::defaultEgm96Grid();
   return geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
 }
-
-}  // namespace
 
 CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, double xPx, double yPx, double stepMeters) {
   CursorReadout out;
@@ -57,50 +39,18 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     tGround = glm::length(*hit - eye);
     const globe::Geodetic g = globe::ecefToGeodetic(*hit);
     out.groundLatLonHeight = glm::dvec3(g.latDeg, g.lonDeg, g.heightMeters);
-    out.seaLevelHeightMeters = seaLevelHeight(g);
+    out.seaLevelHeightMeters = seaLevelHeightMeters(g);
   }
-  for (const RadarLayerGL& r : scene.radars()) {
-    if (!r.visible) continue;  // switched off in the panel
-    // Radars: the first gate with an echo along the ray, read as stored (nearest-neighbour
-    // sampling), so the value and the gate are those `atmoglobe gates` lists.
-    const auto hit =
-        firstEcho(r.volume->referenceSampler(), eye, dir, tGround, stepMeters, volume::Interpolation::Nearest);
-    if (!hit) continue;
-    const volume::PolarVolume& p = r.volume->polar();
-    // Antenna coordinates of the true point (the drawn one mapped back under an exaggeration).
-    glm::dvec3 trueEcef = hit->ecef;
-    if (r.volume->exaggeration() != 1.0) {
-      globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
-      g.heightMeters /= r.volume->exaggeration();
-      trueEcef = globe::geodeticToEcef(g);
-    }
-    const volume::AntennaCoordinates a = volume::antennaCoordinatesExact(p.site, p.beam, trueEcef);
-    const auto gate = volume::nearestGate(p, a.rangeMeters, a.azimuthDeg, a.elevationDeg);
-    if (!gate) continue;  // cannot happen for an echo sample; kept for safety
-    const globe::Geodetic g = globe::ecefToGeodetic(trueEcef);
-    out.lines.push_back((r.siteName.empty() ? std::string("radar") : r.siteName) + " " + p.fieldName + ": " +
-                        format("%.1f ", static_cast<double>(gate->value)) + p.fieldUnits +
-                        format("  (sweep %.2f deg, azimuth %.1f deg, range %.3f km, height %.0f m", gate->elevationDeg,
-                               gate->azimuthDeg, gate->rangeMeters / 1000.0, g.heightMeters) +
-                        format(" above the ellipsoid, %.0f m above sea level)", seaLevelHeight(g)));
-  }
-  for (const GridLayerGL& gl : scene.grids()) {
-    if (!gl.visible) continue;
-    const auto hit =
-        firstEcho(gl.volume->referenceSampler(), eye, dir, tGround, stepMeters, volume::Interpolation::Linear);
-    if (!hit) continue;
-    const volume::GridVolume& v = gl.volume->grid();
-    const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
-    std::string variable = v.variable;
-    if (!variable.empty() && variable.front() == '/') variable.erase(0, 1);
-    out.lines.push_back(
-        variable + ": " + format("%.4g ", hit->value) + v.units +
-        format("  (at %.3f, %.3f, drawn height %.0f m above the ellipsoid, ", g.latDeg, g.lonDeg, g.heightMeters) +
-        format("%.0f m above sea level)", seaLevelHeight(g)));
+  for (std::size_t i = 0; i < scene.volumeLayerCount(); ++i) {
+    const VolumeSourceGL& layer = scene.layer(i);
+    if (!layer.visible) continue;  // switched off in the panel
+    if (auto line = layer.readoutAt(eye, dir, tGround, stepMeters)) out.lines.push_back(std::move(*line));
   }
   if (out.groundLatLonHeight) {
-    out.lines.push_back(format("ground %.4f, %.4f", out.groundLatLonHeight->x, out.groundLatLonHeight->y) +
-                        format("  (ellipsoid 0 m = %.1f m above sea level)", out.seaLevelHeightMeters));
+    char line[160];
+    std::snprintf(line, sizeof line, "ground %.4f, %.4f  (ellipsoid 0 m = %.1f m above sea level)",
+                  out.groundLatLonHeight->x, out.groundLatLonHeight->y, out.seaLevelHeightMeters);
+    out.lines.push_back(line);
   } else {
     out.lines.push_back("sky");
   }

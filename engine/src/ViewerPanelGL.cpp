@@ -2,7 +2,6 @@
 
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
-#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/OpacityEditor.h>
 #include <atmoglobe/volume/ValueHistogram.h>
 
@@ -41,8 +40,6 @@ struct ViewerPanelGL::Editing {
   std::map<std::size_t, Histogram> histograms;
   /// The control point being dragged: layer and index.
   std::optional<std::pair<std::size_t, std::size_t>> dragging;
-  /// The variables each grid layer's file holds that readGridVolume can read (read once).
-  std::map<std::size_t, std::vector<std::string>> gridVariables;
   float exaggeration = 1.0f;
   std::string error;  ///< the last edit's error, shown until the next edit succeeds
 };
@@ -259,16 +256,12 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     }
     changed = true;
   };
-  const std::size_t radarCount = scene.radars().size();
   std::vector<std::size_t> order = scene.volumeOrder();
   for (std::size_t position = 0; position < order.size(); ++position) {
     const std::size_t i = order[position];
-    const bool isRadar = i < radarCount;
-    RadarLayerGL* radar = isRadar ? &scene.radars()[i] : nullptr;
-    GridLayerGL* grid = isRadar ? nullptr : &scene.grids()[i - radarCount];
+    VolumeSourceGL& layer = scene.layer(i);
     ImGui::PushID(static_cast<int>(i));
-    bool& visible = isRadar ? radar->visible : grid->visible;
-    if (ImGui::Checkbox("##on", &visible)) changed = true;
+    if (ImGui::Checkbox("##on", &layer.visible)) changed = true;
     ImGui::SameLine();
     if (ImGui::ArrowButton("##up", ImGuiDir_Up) && position > 0) {
       report(scene.setVolumeOrder(moveInOrder(order, position, -1)));
@@ -278,8 +271,7 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       report(scene.setVolumeOrder(moveInOrder(order, position, +1)));
     }
     ImGui::SameLine();
-    const std::string title = isRadar ? "radar " + radar->siteMarker.label + "  " + radar->volume->polar().fieldName
-                                      : "grid " + grid->volume->grid().variable;
+    const std::string title = layer.title();
     // Closed until opened (ATMOGLOBE_PANEL_OPEN=1 opens the first, for screenshots of the
     // controls): the window stays small and leaves the picture free.
     static const bool openFirst = std::getenv("ATMOGLOBE_PANEL_OPEN") != nullptr;
@@ -291,35 +283,16 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     }
     VolumeLayerDescription d = scene.volumeDescription(i);
     bool edited = false;
-    // Field (radars with several): another field is read from the file again.
-    if (isRadar && radar->fields.size() > 1) {
-      std::string field = radar->volume->polar().fieldName;
-      if (comboOf("field", field, radar->fields)) {
+    // Field or variable (files holding several): read again from the file, at the step shown.
+    if (const std::vector<std::string> fields = layer.fieldChoices(); fields.size() > 1) {
+      std::string field = layer.fieldShown();
+      if (comboOf(d.kind == VolumeKind::Radar ? "field" : "variable", field, fields)) {
         d.field = field;
         d.settings.opacityPoints.clear();  // in the old field's units
         d.settings.valueRange.reset();
         d.settings.opacity.clear();
+        d.isoValue.reset();  // the middle of its range
         edited = true;
-      }
-    }
-    // Variable (grids whose file holds several): read again from the file, at the step shown.
-    if (!isRadar) {
-      if (!e.gridVariables.count(i)) {
-        std::vector<std::string>& names = e.gridVariables[i];
-        if (auto info = volume::describeGridFile(d.path, grid->volume->grid().variable))
-          for (const volume::GridVariableInfo& v : info->variables)
-            if (v.onGrid) names.push_back(v.name);
-      }
-      if (e.gridVariables[i].size() > 1) {
-        std::string variable = grid->volume->grid().variable;
-        if (comboOf("variable", variable, e.gridVariables[i])) {
-          d.field = variable;
-          d.settings.opacityPoints.clear();  // in the old variable's units
-          d.settings.valueRange.reset();
-          d.settings.opacity.clear();
-          d.isoValue.reset();  // the middle of its range
-          edited = true;
-        }
       }
     }
     edited = comboOf("colours", d.colors, colorTableChoices()) || edited;
@@ -332,10 +305,8 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         edited = true;
       }
     }
-    const VolumeRenderOptions& options = isRadar ? radar->options : grid->options;
-    const volume::ValueRange range =
-        isRadar ? volume::ValueRange{radar->volume->polar().minValue, radar->volume->polar().maxValue}
-                : grid->firstRange;
+    const VolumeRenderOptions& options = layer.options();
+    const volume::ValueRange range = layer.colourRange();
     if (d.mode == volume::VolumeRenderMode::Iso) {
       float iso = static_cast<float>(options.render.isoValue);
       // Applied while dragging (options only, cheap): a value kept only until release would be
@@ -348,13 +319,11 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     }
     // Transfer-function editor: opacity control points over the histogram of the field's values.
     if (ImGui::TreeNodeEx("transfer function", ImGuiTreeNodeFlags_DefaultOpen)) {
-      const void* volumeId = isRadar ? static_cast<const void*>(radar->volume.get())
-                                     : static_cast<const void*>(grid->volume.get());
+      const void* volumeId = &layer.volume();
       Editing::Histogram& cached = e.histograms[i];
       if (cached.volume != volumeId) {
         cached.volume = volumeId;
-        cached.h = isRadar ? volume::valueHistogram(radar->volume->polar(), kHistogramBins)
-                           : volume::valueHistogram(grid->volume->grid(), kHistogramBins);
+        cached.h = layer.histogram(kHistogramBins);
       }
       const volume::ValueHistogram& h = cached.h;
       const volume::TransferFunction& tf = options.render.transfer;
@@ -442,7 +411,7 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         edited = true;
       }
       edited = enumCombo("interpolation", d.interpolation) || edited;
-      if (isRadar) edited = enumCombo("beam", d.beam) || edited;
+      if (d.kind == VolumeKind::Radar) edited = enumCombo("beam", d.beam) || edited;  // the beam model is a radar's
       edited = enumCombo("classification", d.classification) || edited;
       ImGui::TreePop();
     }

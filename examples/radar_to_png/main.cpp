@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
   engine::VolumeLayerDescription layer;
   layer.kind = engine::VolumeKind::Radar;
   layer.path = radarPath;  // defaults: reflectivity, colours by the field's kind, DVR, 250 m steps
-  if (auto added = (*renderer)->addVolume(layer); !added) return fail(added.error());
+  auto added = (*renderer)->addVolume(layer);
+  if (!added) return fail(added.error());
 
   // The camera 1.6 deg south of the site, 150 km up, looking north 35 deg below the horizon.
   engine::CameraPose pose;
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
   const engine::FrameLegend legend = (*renderer)->legendFor(camera);
 
   // A check that the radar drew something: the pixels that change when it is hidden.
-  (*renderer)->radars()[0].visible = false;
+  (*added)->visible = false;
   auto without = (*renderer)->renderToImage(camera, {}, **target);
   if (!without) return fail(without.error());
   std::size_t radarPixels = 0;

@@ -3,6 +3,8 @@
 // and the default imagery pyramid built once from the Debian world image.
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/GridSourceGL.h>
+#include <atmoglobe/engine/RadarSourceGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/globe/ImageryPyramid.h>
@@ -20,6 +22,30 @@
 #include <vector>
 
 namespace atmoglobe::testutil {
+
+/// A renderer's volume layer as its kind (a failed test, not a crash, when it is another kind).
+inline const engine::RadarSourceGL& radarOf(const engine::VolumeSourceGL* layer) {
+  const auto* radar = dynamic_cast<const engine::RadarSourceGL*>(layer);
+  if (!radar) {
+    ADD_FAILURE() << "the layer is not a radar";
+    std::abort();
+  }
+  return *radar;
+}
+inline const engine::GridSourceGL& gridOf(const engine::VolumeSourceGL* layer) {
+  const auto* grid = dynamic_cast<const engine::GridSourceGL*>(layer);
+  if (!grid) {
+    ADD_FAILURE() << "the layer is not a grid";
+    std::abort();
+  }
+  return *grid;
+}
+inline const volume::PolarVolume& polarOf(const engine::VolumeSourceGL* layer) {
+  return radarOf(layer).radarVolume().polar();
+}
+inline const volume::GridVolume& gridVolumeOf(const engine::VolumeSourceGL* layer) {
+  return gridOf(layer).gridVolume().grid();
+}
 
 /// The headless context, created on first use and kept for the whole run (GL tests in
 /// one executable run sequentially on the main thread).

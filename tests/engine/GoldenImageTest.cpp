@@ -82,7 +82,7 @@ TEST(GoldenImage, RealRadarVolumesMatchReviewedImages) {
     engine::VolumeLayerDescription d;
     d.path = data + c.file;
     d.mode = *engine::parseName<volume::VolumeRenderMode>(c.mode);
-    auto layer = (*renderer)->addRadar(d);
+    auto layer = (*renderer)->addVolume(d);
     ASSERT_TRUE(layer) << layer.error();
     const engine::Camera camera(c.pose, 50.0, w, h);
     auto actual = (*renderer)->renderToImage(camera, {}, **fb);

@@ -227,10 +227,10 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
-  ASSERT_TRUE((*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
-  auto grid = (*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
+  ASSERT_TRUE((*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
+  auto grid = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(grid) << grid.error();
-  EXPECT_EQ((*grid)->volume->grid().validTime, "2020-05-01T21:00:00Z");
+  EXPECT_EQ(testutil::gridVolumeOf(*grid).validTime, "2020-05-01T21:00:00Z");
   const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
   ASSERT_TRUE(fb);
@@ -241,8 +241,8 @@ TEST(GridMarch, RadarAndGridInOneScene) {
   ASSERT_TRUE(ref) << ref.error();
   // Pixels where both volumes have data along the ray: the reference samplers' intervals.
   const volume::RenderCamera rc = engine::referenceCameraFor(camera);
-  const auto& radarSampler = (*renderer)->radars()[0].volume->referenceSampler();
-  const auto& gridSampler = (*grid)->volume->referenceSampler();
+  const auto& radarSampler = (*renderer)->layer(0).volume().referenceSampler();
+  const auto& gridSampler = (*grid)->volume().referenceSampler();
   const volume::VolumeImage& refVolume = (*renderer)->volumeRenderer().lastReferenceImage();
   int overlapDrawn = 0;
   double sum = 0.0;
@@ -267,12 +267,12 @@ TEST(GridMarch, RadarAndGridInOneScene) {
       R"({"grids": [{"path": "@data/scene_grid.nc", "time": "1", "crop": [34.8, 35.2, -97.6, -97.0]}]})", "s.json", dir,
       dir);
   ASSERT_TRUE(cropped) << cropped.error();
-  // The full grid's figures before another layer is added (addGrid may move the layers).
-  const std::size_t fullColumns = (*grid)->volume->grid().nx * (*grid)->volume->grid().ny;
-  const std::uint64_t fullBytes = (*grid)->volume->grid().bytesRead;
-  auto small = (*renderer)->addGrid(engine::volumesOfKind(*cropped, engine::VolumeKind::Grid)[0]);
+  // The full grid's figures before another layer is added (before another layer is added).
+  const std::size_t fullColumns = testutil::gridVolumeOf(*grid).nx * testutil::gridVolumeOf(*grid).ny;
+  const std::uint64_t fullBytes = testutil::gridVolumeOf(*grid).bytesRead;
+  auto small = (*renderer)->addVolume(engine::volumesOfKind(*cropped, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(small) << small.error();
-  const volume::GridVolume& sg = (*small)->volume->grid();
+  const volume::GridVolume& sg = testutil::gridVolumeOf(*small);
   std::cout << "crop: " << sg.nx << " x " << sg.ny << " of " << fullColumns << " columns, " << sg.bytesRead << " of "
             << fullBytes << " bytes read\n";
   EXPECT_LT(sg.nx * sg.ny * 10, fullColumns);
@@ -305,7 +305,7 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   ASSERT_TRUE(loader);
   auto series = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(series);
-  ASSERT_TRUE((*series)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
+  ASSERT_TRUE((*series)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
   auto axis = engine::sceneTimeAxis(**series);
   ASSERT_TRUE(axis) << axis.error();
   ASSERT_EQ(axis->times.size(), 3u);
@@ -326,9 +326,9 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   ASSERT_TRUE(fresh);
   engine::VolumeLayerDescription d = engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0];
   d.time.assign(1, '2');  // not = "2": GCC 12 gives a false -Wrestrict there
-  auto layer = (*fresh)->addGrid(d);
+  auto layer = (*fresh)->addVolume(d);
   ASSERT_TRUE(layer);
-  (*fresh)->grids()[0].options = (*series)->grids()[0].options;
+  (*fresh)->layer(0).options() = (*series)->layer(0).options();
   auto direct = (*fresh)->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(direct);
   EXPECT_EQ(stepped->pixels, direct->pixels) << "a stepped layer must draw as the step loaded directly";
@@ -337,7 +337,7 @@ TEST(GridMarch, TimeStepsMatchAFreshLoad) {
   auto half = engine::showSceneTime(**series, *axis, 1, 0.5);
   ASSERT_TRUE(half) << half.error();
   EXPECT_EQ(*half, "2020-05-01T21:30:00Z");
-  EXPECT_EQ((*series)->grids()[0].volume->grid().validTime, "2020-05-01T21:30:00Z");
+  EXPECT_EQ(testutil::gridVolumeOf(&(*series)->layer(0)).validTime, "2020-05-01T21:30:00Z");
   auto between = (*series)->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(between);
   EXPECT_NE(between->pixels, stepped->pixels);
@@ -369,13 +369,13 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
+  auto radar = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
-  EXPECT_EQ((*radar)->options.render.transfer.opacityZeroValue, 20.0);
-  EXPECT_EQ((*radar)->options.render.transfer.maxOpacity, 0.6);
+  EXPECT_EQ((*radar)->options().render.transfer.opacityZeroValue, 20.0);
+  EXPECT_EQ((*radar)->options().render.transfer.maxOpacity, 0.6);
   // Which gates are cut is checked gate by gate in Crop.RadarGatesOutsideBecomeNoDataByTheExactGeolocation;
   // here: some are left, and the GPU and the reference draw the same cut data.
-  const volume::PolarVolume& polar = (*radar)->volume->polar();
+  const volume::PolarVolume& polar = testutil::polarOf(*radar);
   std::size_t kept = 0;
   for (float v : polar.values) kept += std::isnan(v) ? 0u : 1u;
   EXPECT_GT(kept, 1000u);
@@ -405,7 +405,7 @@ TEST(GridMarch, CropRangeAndOpacityApplyToRadarsAndGrids) {
   auto allCut = engine::parseSceneJson(
       R"({"radars": [{"path": "@data/crop_radar.nc", "crop_heights_m": [30000, 40000]}]})", "s.json", dir, dir);
   ASSERT_TRUE(allCut);
-  auto none = (*renderer)->addRadar(engine::volumesOfKind(*allCut, engine::VolumeKind::Radar)[0]);
+  auto none = (*renderer)->addVolume(engine::volumesOfKind(*allCut, engine::VolumeKind::Radar)[0]);
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().find("the crop box leaves no measured value"), std::string::npos) << none.error();
 }
@@ -438,8 +438,8 @@ TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
   ASSERT_TRUE((*renderer)->setVerticalExaggeration(scene->verticalExaggeration));
-  ASSERT_TRUE((*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
-  auto grid = (*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
+  ASSERT_TRUE((*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]));
+  auto grid = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
   ASSERT_TRUE(grid);
   EXPECT_FALSE((*renderer)->setVerticalExaggeration(2.0)) << "only before layers are added";
   const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
@@ -464,7 +464,7 @@ TEST(GridMarch, VerticalExaggerationKeepsRadarAndGridAligned) {
   volume::GridReadOptions read;
   auto plain = volume::readGridVolume(dir + "/ex_grid.nc", read);
   ASSERT_TRUE(plain);
-  EXPECT_FLOAT_EQ((*grid)->volume->grid().heightAboveEllipsoidMeters[123],
+  EXPECT_FLOAT_EQ(testutil::gridVolumeOf(*grid).heightAboveEllipsoidMeters[123],
                   3.0f * plain->heightAboveEllipsoidMeters[123]);
   auto bad = engine::parseSceneJson(R"({"vertical_exaggeration": 0})", "s.json", dir, dir);
   ASSERT_FALSE(bad);
@@ -487,10 +487,10 @@ TEST(GridMarch, ReadoutUnderTheCursor) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
+  auto radar = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
   // Straight down over the synthetic storm's core (50 km west, 36 km south of the site).
-  const volume::PolarVolume& p = (*radar)->volume->polar();
+  const volume::PolarVolume& p = testutil::polarOf(*radar);
   const globe::GeodesicPoint above = globe::geodesicDirect(p.site.latDeg, p.site.lonDeg, 234.25, 61.6e3);
   const engine::CameraPose pose{above.latDeg, above.lonDeg, 200e3, 0.0, -90.0, 0.0};
   const Camera camera(pose, 30.0, 64, 48);
@@ -503,7 +503,7 @@ TEST(GridMarch, ReadoutUnderTheCursor) {
   std::cout << r.lines[0] << "\n" << r.lines.back() << "\n";
   // The radar line: its value is the reference sampler's at the first echo (searched at 50 m).
   const std::string& line = r.lines[0];
-  EXPECT_EQ(line.rfind((*radar)->siteName + " " + p.fieldName + ": ", 0), 0u) << line;
+  EXPECT_EQ(line.rfind(testutil::radarOf(*radar).siteName() + " " + p.fieldName + ": ", 0), 0u) << line;
   EXPECT_NE(line.find("azimuth 234."), std::string::npos) << "the gate read lies south-west, below the eye: " << line;
   // The gate read is stored in the volume: its value is one of that sweep's stored values at the
   // printed azimuth (a ray centre) and range (a gate centre), to the print rounding.
@@ -561,26 +561,26 @@ TEST(GridMarch, RadarLoopFromADirectory) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer);
-  auto radar = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
+  auto radar = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0]);
   ASSERT_TRUE(radar) << radar.error();
-  ASSERT_EQ((*radar)->loopTimes.size(), 3u);
-  EXPECT_EQ((*radar)->step, 2u);
-  EXPECT_EQ((*radar)->timeIso8601, times[2]) << "a loop starts at its latest volume";
+  ASSERT_EQ((*radar)->times()->size(), 3u);
+  EXPECT_EQ((*radar)->step(), 2u);
+  EXPECT_EQ(testutil::radarOf(*radar).timeIso8601(), times[2]) << "a loop starts at its latest volume";
   auto axis = engine::sceneTimeAxis(**renderer);
   ASSERT_TRUE(axis) << axis.error();
-  EXPECT_TRUE(axis->leadIsRadar);
+  EXPECT_EQ((*renderer)->layer(axis->leadLayer).kind(), engine::VolumeKind::Radar);
   ASSERT_EQ(axis->times.size(), 3u);
   const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
   ASSERT_TRUE(fb);
   auto last = (*renderer)->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(last);
-  const auto colors = (*renderer)->radars()[0].options.render.transfer.colors.stops();
+  const auto colors = (*renderer)->layer(0).options().render.transfer.colors.stops();
   auto when = engine::showSceneTime(**renderer, *axis, 0);
   ASSERT_TRUE(when) << when.error();
   EXPECT_EQ(*when, times[0]);
-  EXPECT_EQ((*renderer)->radars()[0].timeIso8601, times[0]);
-  EXPECT_EQ((*renderer)->radars()[0].options.render.transfer.colors.stops(), colors);
+  EXPECT_EQ(testutil::radarOf(&(*renderer)->layer(0)).timeIso8601(), times[0]);
+  EXPECT_EQ((*renderer)->layer(0).options().render.transfer.colors.stops(), colors);
   auto first = (*renderer)->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(first);
   EXPECT_NE(first->pixels, last->pixels) << "the storm moved 10 km between the first and the last volume";

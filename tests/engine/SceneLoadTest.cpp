@@ -70,9 +70,9 @@ TEST(SceneLoad, OneFieldOfAManyFieldFileReadsOnlyThatField) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
   io::resetNetcdfReadTally();
-  auto layer = (*renderer)->addRadar(engine::volumesOfKind(*scene, engine::VolumeKind::Radar).at(0));
+  auto layer = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Radar).at(0));
   ASSERT_TRUE(layer) << layer.error();
-  EXPECT_EQ((*layer)->volume->polar().fieldName, "ZDR");
+  EXPECT_EQ(testutil::polarOf(*layer).fieldName, "ZDR");
   // Variable names as NetcdfFile gives them: full paths ("/ZDR"); compared without the root.
   std::map<std::string, std::uint64_t> tally;
   for (const auto& [name, bytes] : io::netcdfReadTally())

@@ -45,7 +45,7 @@ Series loadSeries(const std::string& name, int steps) {
   auto loader = engine::openImagery({}, {});
   auto renderer = engine::SceneRendererGL::create(*loader);
   EXPECT_TRUE(renderer);
-  EXPECT_TRUE((*renderer)->addGrid(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
+  EXPECT_TRUE((*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]));
   auto axis = engine::sceneTimeAxis(**renderer);
   EXPECT_TRUE(axis);
   return {*scene, std::move(*renderer), std::move(*axis)};
@@ -91,12 +91,12 @@ TEST(StepBudget, PrefetchedStepsAreUsedAndDrawTheSame) {
   prefetch.request(0);
   prefetch.waitIdle();
   EXPECT_EQ(prefetch.stepsPrepared(), 2u);  // steps 1 and 2
-  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(false, 0, 1, false)));
-  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(false, 0, 2, false)));
+  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(0, 1, false)));
+  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(0, 2, false)));
   ASSERT_TRUE(engine::showSceneTime(*s.renderer, s.axis, 1));
   // The prepared step became the GPU volume (its CPU entry gone: the volume holds the twin).
-  EXPECT_FALSE(s.renderer->stepCache().contains(engine::stepKey(false, 0, 1, false)));
-  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(false, 0, 1, true)));
+  EXPECT_FALSE(s.renderer->stepCache().contains(engine::stepKey(0, 1, false)));
+  EXPECT_TRUE(s.renderer->stepCache().contains(engine::stepKey(0, 1, true)));
   const globe::ImageRGBA8 prefetched = draw(s);
   // The same step with nothing prepared ahead.
   Series fresh = loadSeries("prefetch_series_2.nc", 5);
@@ -114,7 +114,7 @@ TEST(GpuMemory, GridOverTheLimitIsDrawnAtLowerResolutionWithAWarning) {
   Series s = loadSeries("gpu_limit_series.nc", 2);
   ASSERT_TRUE(engine::showSceneTime(*s.renderer, s.axis, 1));
   const globe::ImageRGBA8 full = draw(s);
-  const volume::GridVolume grid = s.renderer->grids()[0].volume->grid();
+  const volume::GridVolume grid = testutil::gridVolumeOf(&s.renderer->layer(0));
   ASSERT_EQ(grid.nx, 40u);
   const std::size_t fullBytes = (grid.nx * grid.ny * grid.nz) * 8;  // RG32F
   s.renderer->setMemoryBudget(1);  // step 1 is dropped once step 0 shows: uploaded again below
@@ -130,7 +130,7 @@ TEST(GpuMemory, GridOverTheLimitIsDrawnAtLowerResolutionWithAWarning) {
     // Columns 0, 2, ..., 38 and the last, 39, so the region stays the same.
     EXPECT_NE(warnings.find("drawn at lower resolution, 21 x 21 x 12"), std::string::npos) << warnings;
   }
-  const volume::GridVolume& reduced = s.renderer->grids()[0].volume->grid();
+  const volume::GridVolume& reduced = testutil::gridVolumeOf(&s.renderer->layer(0));
   EXPECT_EQ(reduced.nx, 21u);
   EXPECT_EQ(reduced.ny, 21u);
   const globe::ImageRGBA8 low = draw(s);

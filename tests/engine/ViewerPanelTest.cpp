@@ -197,52 +197,52 @@ class SceneEdits : public ::testing::Test {
     engine::VolumeLayerDescription d;
     d.path = path_;
     d.stepMeters = 500.0;
-    ASSERT_TRUE(renderer_->addRadar(d));
+    ASSERT_TRUE(renderer_->addVolume(d));
   }
   std::string path_;
   std::unique_ptr<engine::SceneRendererGL> renderer_;
 };
 
 TEST_F(SceneEdits, OptionsApplyWithoutReadingAgainAndCropReads) {
-  engine::RadarLayerGL& layer = renderer_->radars()[0];
-  const engine::VolumeGL* before = layer.volume.get();
-  engine::VolumeLayerDescription d = layer.description;
+  const engine::RadarSourceGL& layer = testutil::radarOf(&renderer_->layer(0));
+  const engine::VolumeGL* before = &layer.volume();
+  engine::VolumeLayerDescription d = layer.description();
   d.mode = volume::VolumeRenderMode::Mip;
   d.colors = "cividis";
   d.beam = engine::BeamApproximation::StraightLine;
   d.settings.opacityPoints = {{10.0, 0.0}, {50.0, 0.7}};
   ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
-  EXPECT_EQ(layer.volume.get(), before) << "render options must not re-upload the volume";
-  EXPECT_EQ(layer.options.render.mode, volume::VolumeRenderMode::Mip);
-  EXPECT_EQ(layer.options.render.transfer.opacityPoints.size(), 2u);
-  EXPECT_EQ(layer.volume->beamApproximation(), engine::BeamApproximation::StraightLine);
-  EXPECT_EQ(layer.description.colors, "cividis");
+  EXPECT_EQ(&layer.volume(), before) << "render options must not re-upload the volume";
+  EXPECT_EQ(layer.options().render.mode, volume::VolumeRenderMode::Mip);
+  EXPECT_EQ(layer.options().render.transfer.opacityPoints.size(), 2u);
+  EXPECT_EQ(layer.radarVolume().beamApproximation(), engine::BeamApproximation::StraightLine);
+  EXPECT_EQ(layer.description().colors, "cividis");
   // A bad edit is refused and changes nothing.
   engine::VolumeLayerDescription bad = d;
   bad.stepMeters = -1.0;
   EXPECT_FALSE(renderer_->setVolumeDescription(0, bad));
-  EXPECT_DOUBLE_EQ(layer.options.render.stepMeters, 500.0);
+  EXPECT_DOUBLE_EQ(layer.options().render.stepMeters, 500.0);
   // A crop box: the volume is read again, cut to the box (fewer measured values).
   const std::uint64_t fullCpu = renderer_->layerMemory()[0].cpuBytes;
-  const float fullMax = layer.volume->polar().maxValue;
+  const float fullMax = layer.radarVolume().polar().maxValue;
   d.settings.crop.southDeg = 35.2;  // the storm's core is ~40 km south of the site (35.33 N)
   ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
-  EXPECT_NE(layer.volume.get(), before);
-  EXPECT_LT(layer.volume->polar().maxValue, fullMax) << "the crop must cut the storm's core away";
-  EXPECT_EQ(layer.options.render.mode, volume::VolumeRenderMode::Mip) << "the options survive a reload";
+  EXPECT_NE(&layer.volume(), before);
+  EXPECT_LT(layer.radarVolume().polar().maxValue, fullMax) << "the crop must cut the storm's core away";
+  EXPECT_EQ(layer.options().render.mode, volume::VolumeRenderMode::Mip) << "the options survive a reload";
   EXPECT_EQ(renderer_->layerMemory()[0].cpuBytes, fullCpu) << "a crop marks gates, it keeps the layout";
 }
 
 TEST_F(SceneEdits, ExaggerationOrderVisibilityAndMemory) {
   const std::vector<engine::LayerMemory> memory = renderer_->layerMemory();
   ASSERT_EQ(memory.size(), 1u);
-  const engine::RadarLayerGL& layer = renderer_->radars()[0];
-  EXPECT_EQ(memory[0].cpuBytes, layer.volume->polar().byteSize());
-  EXPECT_EQ(memory[0].gpuBytes, layer.volume->gpuBytes());
+  const engine::RadarSourceGL& layer = testutil::radarOf(&renderer_->layer(0));
+  EXPECT_EQ(memory[0].cpuBytes, layer.radarVolume().polar().byteSize());
+  EXPECT_EQ(memory[0].gpuBytes, layer.volume().gpuBytes());
   EXPECT_GT(memory[0].gpuBytes, 0u);
   ASSERT_TRUE(renderer_->changeVerticalExaggeration(3.0));
   EXPECT_DOUBLE_EQ(renderer_->verticalExaggeration(), 3.0);
-  EXPECT_DOUBLE_EQ(renderer_->radars()[0].volume->exaggeration(), 3.0);
+  EXPECT_DOUBLE_EQ(testutil::radarOf(&renderer_->layer(0)).radarVolume().exaggeration(), 3.0);
   EXPECT_FALSE(renderer_->changeVerticalExaggeration(1000.0));
   EXPECT_DOUBLE_EQ(renderer_->verticalExaggeration(), 3.0);
   EXPECT_FALSE(renderer_->setVolumeOrder({0, 0}));
@@ -254,7 +254,7 @@ TEST_F(SceneEdits, ExaggerationOrderVisibilityAndMemory) {
   ASSERT_TRUE(fb);
   auto shown = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(shown);
-  renderer_->radars()[0].visible = false;
+  renderer_->layer(0).visible = false;
   auto hidden = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(hidden);
   auto loader = engine::openImagery({}, {});
@@ -275,7 +275,7 @@ TEST_F(SceneEdits, EditedCurveFrameMatchesTheReferenceFrame) {
   ASSERT_TRUE(fb);
   auto before = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(before) << before.error();
-  engine::VolumeLayerDescription d = renderer_->radars()[0].description;
+  engine::VolumeLayerDescription d = renderer_->layer(0).description();
   d.settings.opacityPoints = {{5.0, 0.02}, {25.0, 0.02}, {35.0, 0.8}, {45.0, 0.1}, {65.0, 1.0}};
   ASSERT_TRUE(renderer_->setVolumeDescription(0, d));
   auto gpu = renderer_->renderToImage(camera, {}, **fb);
@@ -313,21 +313,22 @@ TEST(SceneFieldSwitch, RealNexradFieldSwitchReadsThatField) {
   ASSERT_TRUE(r) << r.error();
   engine::VolumeLayerDescription d;
   d.path = klbb;
-  ASSERT_TRUE((*r)->addRadar(d));
-  engine::RadarLayerGL& layer = (*r)->radars()[0];
-  EXPECT_EQ(layer.volume->polar().fieldName, "REF");
-  ASSERT_GT(layer.fields.size(), 1u);
-  ASSERT_NE(std::find(layer.fields.begin(), layer.fields.end(), "VEL"), layer.fields.end());
-  const volume::ColorTable refColors = layer.options.render.transfer.colors;
+  ASSERT_TRUE((*r)->addVolume(d));
+  const engine::RadarSourceGL& layer = testutil::radarOf(&(*r)->layer(0));
+  EXPECT_EQ(layer.radarVolume().polar().fieldName, "REF");
+  const std::vector<std::string> fields = layer.fieldChoices();
+  ASSERT_GT(fields.size(), 1u);
+  ASSERT_NE(std::find(fields.begin(), fields.end(), "VEL"), fields.end());
+  const volume::ColorTable refColors = layer.options().render.transfer.colors;
   d.field = "VEL";
   ASSERT_TRUE((*r)->setVolumeDescription(0, d));
-  EXPECT_EQ(layer.volume->polar().fieldName, "VEL");
-  EXPECT_EQ(layer.loadedField.name, "VEL");
-  EXPECT_LT(layer.volume->polar().minValue, 0.0f) << "velocities towards the radar are negative";
-  EXPECT_NE(layer.options.render.transfer.colors.stops(), refColors.stops()) << "velocity colours, not NWS";
+  EXPECT_EQ(layer.radarVolume().polar().fieldName, "VEL");
+  EXPECT_EQ(layer.loadedField().name, "VEL");
+  EXPECT_LT(layer.radarVolume().polar().minValue, 0.0f) << "velocities towards the radar are negative";
+  EXPECT_NE(layer.options().render.transfer.colors.stops(), refColors.stops()) << "velocity colours, not NWS";
   d.field = "NOPE";
   EXPECT_FALSE((*r)->setVolumeDescription(0, d));
-  EXPECT_EQ(layer.volume->polar().fieldName, "VEL") << "a failed switch leaves the layer as it was";
+  EXPECT_EQ(layer.radarVolume().polar().fieldName, "VEL") << "a failed switch leaves the layer as it was";
 }
 
 }  // namespace

@@ -193,11 +193,8 @@ TEST(VolumeKinds, ReferenceFrameDiffersFromTheGpuFrameOnlyInTheVolumes) {
   for (const auto& [lat, lon, az] : {std::tuple{latDeg, lonA, 90.0}, std::tuple{b.latDeg, b.lonDeg, 270.0}}) {
     auto gl = engine::RadarVolumeGL::create(syntheticRadarAt(lat, lon, 75e3, az));
     ASSERT_TRUE(gl) << gl.error();
-    engine::RadarLayerGL layer;
-    layer.volume = std::move(*gl);
-    layer.options = options;
-    layer.siteMarker = engine::Marker{lat, lon, 1000.0, glm::vec3(1.0f), 12.0f, "SITE"};
-    (*scene)->radars().push_back(std::move(layer));
+    (*scene)->addSource(engine::RadarSourceGL::fromVolume(
+        std::move(*gl), options, engine::Marker{lat, lon, 1000.0, glm::vec3(1.0f), 12.0f, "SITE"}));
   }
   // A station between the radars, inside the storm's column: drawn over the volumes in both.
   const std::vector<engine::Marker> markers = {

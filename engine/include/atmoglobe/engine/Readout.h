@@ -7,6 +7,8 @@
 // the volumes' CPU twins (VolumeGL::referenceSampler, the exact sampling rule in double) are
 // sampled along the ray, so the readout is the reference's value, not a guess from the picture.
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/VolumeSampler.h>
 
 #include <optional>
 #include <string>
@@ -26,5 +28,20 @@ struct CursorReadout {
 /// Volumes are searched with `stepMeters` (the first echo is found to within that step along the ray).
 CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, double xPx, double yPx,
                         double stepMeters = 100.0);
+
+/// The first sample with a value (VolumeSample::State::Echo) of `sampler` along eye + t dir, t in
+/// the sampler's ray interval up to tMaxMeters, searched every `stepMeters` (each volume layer's
+/// readout line: VolumeSourceGL::readoutAt).
+struct RayValue {
+  double tMeters = 0.0;
+  double value = 0.0;
+  glm::dvec3 ecef{0.0};
+};
+std::optional<RayValue> firstValueAlong(const volume::VolumeSampler& sampler, const glm::dvec3& eyeEcef,
+                                        const glm::dvec3& dir, double tMaxMeters, double stepMeters,
+                                        volume::Interpolation interpolation);
+
+/// Height above mean sea level (EGM96) of a geodetic point; the ellipsoidal height without the grid.
+double seaLevelHeightMeters(const globe::Geodetic& point);
 
 }  // namespace atmoglobe::engine

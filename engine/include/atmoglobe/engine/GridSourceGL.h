@@ -1,0 +1,71 @@
+#pragma once
+// A forecast grid layer (VolumeSourceGL.h): one variable of a model file, its time steps the
+// layer's steps (only the step shown is read: GridReader.h), interpolated linearly between two
+// steps when asked. Colours and opacity stay those of the step first loaded (or of the
+// description's range), so the frames of a series compare.
+#include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/VolumeSourceGL.h>
+#include <atmoglobe/volume/GridVolume.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+/// A grid's step as the renderer draws it, CPU side only (no GL: safe on a worker thread; the
+/// readers hold the netCDF library lock while they call netCDF-C, io/NetcdfLock.h, so the GL
+/// thread's coastline reads and reloads never overlap them): read (variable, crop box columns),
+/// cropped, vertically exaggerated by `exaggeration`.
+Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& description, std::size_t step,
+                                           double exaggeration);
+
+class GridSourceGL final : public VolumeSourceGL {
+ public:
+  /// Reads the variable and time step `description` names, places and uploads it.
+  static Result<std::unique_ptr<GridSourceGL>> open(const VolumeLayerDescription& description, SourceContext context);
+
+  const VolumeGL& volume() const override { return *volume_; }
+  const GridVolumeGL& gridVolume() const { return *volume_; }
+  std::string title() const override { return "grid " + volume_->grid().variable; }
+  std::vector<std::string> fieldChoices() const override;
+  std::string fieldShown() const override { return volume_->grid().variable; }
+  volume::ValueRange colourRange() const override { return firstRange_; }
+  volume::ValueHistogram histogram(int bins) const override;
+
+  Result<std::vector<std::string>> times() const override;
+  TimeMatching timeMatching() const override { return TimeMatching::SameValidTime; }
+  bool interpolatesInTime() const override { return true; }
+  std::size_t step() const override { return step_; }
+  /// The fraction (0..1) of the way to step() + 1 shown (0: the step itself).
+  double stepFraction() const { return stepFraction_; }
+  Status showStep(std::size_t step, double fraction, SourceContext context) override;
+  std::unique_ptr<StepPreparer> preparer(double exaggeration) const override;
+
+  Status setDescription(const VolumeLayerDescription& description, SourceContext context) override;
+  Status applyExaggeration(SourceContext context) override;
+
+  LegendPart legendPart() const override;
+  LayerMemory memory() const override;
+  std::optional<std::string> readoutAt(const glm::dvec3& eyeEcef, const glm::dvec3& dir, double tMaxMeters,
+                                       double stepMeters) const override;
+  std::string loadNote() const override;
+
+ private:
+  GridSourceGL() = default;
+  /// Read afresh with `d` (another variable, crop or exaggeration): every cached step is stale.
+  Status reload(const VolumeLayerDescription& d, std::size_t step, double fraction, SourceContext context);
+  /// The step's CPU data: from its GPU volume's twin in the cache, the cache, or read (and cached).
+  Result<std::shared_ptr<const volume::GridVolume>> stepData(std::size_t step, SourceContext context);
+  /// The step ready for upload: from the cache (a ScenePrefetcher's), or read and prepared now (and cached).
+  Result<std::shared_ptr<const GridVolumeGL::Prepared>> stepPrepared(std::size_t step, SourceContext context);
+  std::shared_ptr<GridVolumeGL> volume_;  ///< shared with the step cache (memory budget)
+  std::size_t step_ = 0;                  ///< time step shown (index on the file's axis)
+  double stepFraction_ = 0.0;             ///< > 0: that far (0..1) towards step_ + 1, interpolated
+  bool synthetic_ = false;                ///< the file says SYNTHETIC
+  volume::ValueRange firstRange_{};       ///< the values of the step first loaded (its colours' range)
+  mutable std::optional<std::vector<std::string>> variables_;  ///< the file's variables on a grid, once asked
+};
+
+}  // namespace atmoglobe::engine

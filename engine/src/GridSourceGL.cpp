@@ -1,0 +1,289 @@
+#include <atmoglobe/engine/GridSourceGL.h>
+
+#include <atmoglobe/engine/Readout.h>
+#include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/SliceSource.h>
+#include <atmoglobe/volume/VerticalExaggeration.h>
+
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+namespace atmoglobe::engine {
+
+namespace {
+
+// The crop box's cut of a grid as read (the reader already kept only the box's columns and one
+// more on each side; heights and the exact box are cut here).
+Status cropGridLayer(const VolumeLayerDescription& d, volume::GridVolume& grid) {
+  if (d.settings.crop.coversEveryLonLat() && d.settings.crop.coversEveryHeight()) return Ok{};
+  auto geoid = cropGeoid(d.settings, d.useGeoid);
+  if (!geoid) return makeError(d.path + ": crop heights: " + geoid.error());
+  volume::cropGrid(grid, d.settings.crop, *geoid);
+  if (!(grid.valueMin <= grid.valueMax))
+    return makeError(d.path + ": the crop box leaves no value of " + grid.variable);
+  return Ok{};
+}
+
+// What a grid layer reads: its variable, crop and datum (the time step is set by the caller).
+volume::GridReadOptions gridReadOptions(const VolumeLayerDescription& d) {
+  volume::GridReadOptions read;
+  read.variable = d.field;
+  read.useGeoid = d.useGeoid;
+  read.crop.southDeg = d.settings.crop.southDeg;
+  read.crop.northDeg = d.settings.crop.northDeg;
+  read.crop.westDeg = d.settings.crop.westDeg;
+  read.crop.eastDeg = d.settings.crop.eastDeg;
+  return read;
+}
+
+// A grid layer's render options; colours over `range` (the values of the step first loaded).
+Result<VolumeRenderOptions> gridRenderOptions(const VolumeLayerDescription& d, const volume::GridVolume& grid,
+                                              const volume::ValueRange& range) {
+  return layerRenderOptions(d, volume::FieldInfo{grid.variable, grid.units, grid.standardName},
+                            std::numeric_limits<double>::quiet_NaN(), range);
+}
+
+// What a GPU volume costs the budget: its CPU twin, its empty-space grid on the CPU, its textures.
+std::uint64_t budgetBytes(const GridVolumeGL& v) {
+  const volume::OccupancyGrid& o = v.occupancy().grid();
+  return volume::gridVolumeBytes(v.grid()) + (o.maxValues.capacity() + o.blockMaxValues.capacity()) * sizeof(float) +
+         v.gpuBytes();
+}
+
+class GridStepPreparer final : public StepPreparer {
+ public:
+  GridStepPreparer(VolumeLayerDescription d, double exaggeration)
+      : description_(std::move(d)), exaggeration_(exaggeration) {}
+  std::optional<Prepared> prepare(std::size_t step) const override {
+    auto grid = prepareGridStep(description_, step, exaggeration_);
+    if (!grid || !GridVolumeGL::checkDrawable(*grid)) return std::nullopt;
+    auto prepared = GridVolumeGL::prepare(*grid);  // texels, lookup tables, empty-space grid
+    const std::uint64_t bytes = prepared->bytes();
+    return Prepared{std::move(prepared), bytes};
+  }
+
+ private:
+  VolumeLayerDescription description_;
+  double exaggeration_;
+};
+
+}  // namespace
+
+Result<volume::GridVolume> prepareGridStep(const VolumeLayerDescription& d, std::size_t step, double exaggeration) {
+  volume::GridReadOptions read = gridReadOptions(d);
+  read.timeIndex = step;
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
+  volume::exaggerateGrid(*grid, exaggeration);
+  return grid;
+}
+
+Result<std::unique_ptr<GridSourceGL>> GridSourceGL::open(const VolumeLayerDescription& d, SourceContext context) {
+  if (d.kind != VolumeKind::Grid) return makeError(d.path + ": a " + nameOf(d.kind) + " layer is not a grid");
+  volume::GridReadOptions read = gridReadOptions(d);
+  if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
+  const volume::ValueRange range{grid->valueMin, grid->valueMax};
+  if (!(range.minValue <= range.maxValue))
+    return makeError(d.path + ": " + grid->variable + " has no valid value at " +
+                     (grid->validTime.empty() ? std::string("the step read") : grid->validTime));
+  auto o = gridRenderOptions(d, *grid, range);
+  if (!o) return o.forwardError();
+  volume::exaggerateGrid(*grid, context.exaggeration);
+  auto gl = GridVolumeGL::create(*grid);
+  if (!gl) return gl.forwardError();
+  std::unique_ptr<GridSourceGL> source(new GridSourceGL());
+  source->volume_ = std::move(*gl);
+  source->options_ = std::move(*o);
+  source->description_ = d;
+  source->step_ = grid->timeIndex;
+  source->synthetic_ = volume::fileSaysSynthetic(d.path);
+  source->firstRange_ = range;
+  context.cache.put(stepKey(context.layer, source->step_, true), source->volume_, budgetBytes(*source->volume_));
+  return source;
+}
+
+std::vector<std::string> GridSourceGL::fieldChoices() const {
+  if (!variables_) {
+    variables_.emplace();
+    if (auto info = volume::describeGridFile(description_.path, volume_->grid().variable))
+      for (const volume::GridVariableInfo& v : info->variables)
+        if (v.onGrid) variables_->push_back(v.name);
+  }
+  return *variables_;
+}
+
+volume::ValueHistogram GridSourceGL::histogram(int bins) const { return volume::valueHistogram(volume_->grid(), bins); }
+
+Result<std::vector<std::string>> GridSourceGL::times() const {
+  auto info = volume::describeGridFile(description_.path, description_.field);
+  if (!info) return info.forwardError();
+  return info->times;
+}
+
+Result<std::shared_ptr<const GridVolumeGL::Prepared>> GridSourceGL::stepPrepared(std::size_t step,
+                                                                                 SourceContext context) {
+  const std::string cpuKey = stepKey(context.layer, step, false);
+  context.cache.waitWhileLoading(cpuKey);  // a background loader's read in flight: wait, do not read twice
+  if (auto cpu = context.cache.get<GridVolumeGL::Prepared>(cpuKey)) return cpu;
+  auto grid = prepareGridStep(description_, step, context.exaggeration);
+  if (!grid) return grid.forwardError();
+  if (auto st = GridVolumeGL::checkDrawable(*grid); !st) return st.forwardError();
+  auto prepared = GridVolumeGL::prepare(*grid);
+  context.cache.put(cpuKey, prepared, prepared->bytes());
+  return prepared;
+}
+
+Result<std::shared_ptr<const volume::GridVolume>> GridSourceGL::stepData(std::size_t step, SourceContext context) {
+  if (auto gl = context.cache.get<GridVolumeGL>(stepKey(context.layer, step, true)))
+    return std::shared_ptr<const volume::GridVolume>(gl, &gl->grid());
+  auto prepared = stepPrepared(step, context);
+  if (!prepared) return prepared.forwardError();
+  return std::shared_ptr<const volume::GridVolume>(*prepared, (*prepared)->grid.get());
+}
+
+Status GridSourceGL::showStep(std::size_t step, double fraction, SourceContext context) {
+  if (!(fraction >= 0.0 && fraction < 1.0)) return makeError(description_.path + ": time fraction outside [0, 1)");
+  if (step_ == step && stepFraction_ == fraction) return Ok{};
+  volume::StepCache& cache = context.cache;
+  cache.releaseDropped();  // GPU volumes dropped by a worker's put die here, on the GL thread
+  const std::string key = stepKey(context.layer, step, true, fraction);
+  if (auto cached = cache.get<GridVolumeGL>(key)) {
+    volume_ = std::const_pointer_cast<GridVolumeGL>(cached);
+  } else {
+    Result<std::unique_ptr<GridVolumeGL>> gl = makeError("");
+    if (fraction == 0.0) {
+      // Prepared ahead by a ScenePrefetcher (only the upload is left), else read and prepared now.
+      auto prepared = stepPrepared(step, context);
+      if (!prepared) return prepared.forwardError();
+      gl = GridVolumeGL::create(std::move(*prepared));
+    } else {
+      auto grid = stepData(step, context);
+      if (!grid) return grid.forwardError();
+      auto next = stepData(step + 1, context);
+      if (!next) return next.forwardError();
+      auto blended = volume::interpolateGridSteps(**grid, **next, fraction);
+      if (!blended) return blended.forwardError();
+      gl = GridVolumeGL::create(*blended);
+    }
+    if (!gl) return gl.forwardError();
+    volume_ = std::move(*gl);
+    // A whole step's CPU data now live in its GPU volume's twin (interpolation keeps both ends).
+    if (fraction == 0.0) cache.erase(stepKey(context.layer, step, false));
+    cache.put(key, volume_, budgetBytes(*volume_));
+  }
+  step_ = step;
+  stepFraction_ = fraction;
+  cache.releaseDropped();
+  return Ok{};
+}
+
+std::unique_ptr<StepPreparer> GridSourceGL::preparer(double exaggeration) const {
+  return std::make_unique<GridStepPreparer>(description_, exaggeration);
+}
+
+Status GridSourceGL::reload(const VolumeLayerDescription& d, std::size_t step, double fraction, SourceContext context) {
+  volume::GridReadOptions read = gridReadOptions(d);
+  read.timeIndex = step;
+  auto grid = volume::readGridVolume(d.path, read);
+  if (!grid) return grid.forwardError();
+  if (auto st = cropGridLayer(d, *grid); !st) return st.forwardError();
+  if (fraction > 0.0) {
+    read.timeIndex = step + 1;
+    auto next = volume::readGridVolume(d.path, read);
+    if (!next) return next.forwardError();
+    if (auto st = cropGridLayer(d, *next); !st) return st.forwardError();
+    auto blended = volume::interpolateGridSteps(*grid, *next, fraction);
+    if (!blended) return blended.forwardError();
+    grid = std::move(blended);
+  }
+  volume::exaggerateGrid(*grid, context.exaggeration);
+  auto gl = GridVolumeGL::create(*grid);
+  if (!gl) return gl.forwardError();
+  context.cache.erasePrefix(stepKeyPrefix(context.layer));
+  volume_ = std::move(*gl);
+  step_ = step;
+  stepFraction_ = fraction;
+  context.cache.put(stepKey(context.layer, step, true, fraction), volume_, budgetBytes(*volume_));
+  context.cache.releaseDropped();
+  return Ok{};
+}
+
+Status GridSourceGL::setDescription(const VolumeLayerDescription& d, SourceContext context) {
+  switch (layerChange(description_, d)) {
+    case LayerChange::None: return Ok{};
+    case LayerChange::Reload: {
+      const volume::ValueRange previousRange = firstRange_;
+      if (d.field != description_.field || d.path != description_.path) firstRange_ = {};  // new colours' range
+      if (auto st = reload(d, step_, stepFraction_, context); !st) {
+        firstRange_ = previousRange;
+        return st;
+      }
+      if (d.path != description_.path) variables_.reset();
+      if (!(firstRange_.minValue < firstRange_.maxValue)) {
+        const volume::GridVolume& g = volume_->grid();
+        firstRange_ = {g.valueMin, g.valueMax};
+      }
+      break;
+    }
+    case LayerChange::Options: break;
+  }
+  auto o = gridRenderOptions(d, volume_->grid(), firstRange_);
+  if (!o) return o.forwardError();
+  options_ = std::move(*o);
+  description_ = d;
+  return Ok{};
+}
+
+Status GridSourceGL::applyExaggeration(SourceContext context) {
+  return reload(description_, step_, stepFraction_, context);
+}
+
+LegendPart GridSourceGL::legendPart() const {
+  const volume::GridVolume& v = volume_->grid();
+  const std::string variable = displayName(v.variable);
+  return LegendPart{
+      variable + " (forecast grid)",
+      variable + " valid " + utcLabel(v.validTime) + (v.approximateHeights ? "  (heights approximate)" : ""),
+      LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
+}
+
+LayerMemory GridSourceGL::memory() const {
+  const volume::GridVolume& v = volume_->grid();
+  const std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
+                            (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
+  return LayerMemory{"grid " + v.variable, cpu, volume_->gpuBytes()};
+}
+
+std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const glm::dvec3& dir, double tMaxMeters,
+                                                   double stepMeters) const {
+  const auto hit =
+      firstValueAlong(volume_->referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+  if (!hit) return std::nullopt;
+  const volume::GridVolume& v = volume_->grid();
+  const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%.4g %s  (at %.3f, %.3f, drawn height %.0f m above the ellipsoid, %.0f m above sea level)", hit->value,
+                v.units.c_str(), g.latDeg, g.lonDeg, g.heightMeters, seaLevelHeightMeters(g));
+  return displayName(v.variable) + ": " + text;
+}
+
+std::string GridSourceGL::loadNote() const {
+  const volume::GridVolume& g = volume_->grid();
+  std::ostringstream text;
+  text << description_.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
+       << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny << " x "
+       << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0 << " MiB read; heights: " << g.heightNote
+       << (g.approximateHeights ? " (APPROXIMATE)" : "");
+  return text.str();
+}
+
+}  // namespace atmoglobe::engine
