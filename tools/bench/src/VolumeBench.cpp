@@ -36,6 +36,40 @@ using Clock = std::chrono::steady_clock;
 constexpr volume::VolumeRenderMode kModes[] = {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip,
                                                volume::VolumeRenderMode::Iso};
 
+/// Every --view name must be one of `known` (checked before anything is loaded); `what` names
+/// the views in the message ("views", "grid views").
+Status checkViewNames(const VolumeBenchOptions& o, const std::vector<std::string>& known, const std::string& what) {
+  for (const std::string& name : o.viewNames) {
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list.append(list.empty() ? "" : ", ").append(k);
+      return makeError("--view " + name + ": no such view (" + what + (o.quick ? " with --quick" : "") + ": " + list +
+                       ")");
+    }
+  }
+  return Ok{};
+}
+
+/// The GL side of a bench run: a headless context and the marcher (none with --reference-only:
+/// no GL at all, e.g. filling the reference cache on a many-core machine).
+struct BenchGL {
+  std::unique_ptr<engine::HeadlessContextGL> context;
+  std::unique_ptr<engine::VolumeRendererGL> renderer;
+  std::string name = "none";
+};
+Result<BenchGL> openBenchGL(const VolumeBenchOptions& o) {
+  BenchGL gl;
+  if (o.referenceOnly) return gl;
+  auto c = engine::HeadlessContextGL::create();
+  if (!c) return c.forwardError();
+  gl.context = std::move(*c);
+  gl.name = gl.context->describe();
+  auto r = engine::VolumeRendererGL::create();
+  if (!r) return r.forwardError();
+  gl.renderer = std::move(*r);
+  return gl;
+}
+
 }  // namespace
 
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostream& log) {
@@ -49,31 +83,15 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
   // The volumes and their views; --view names are checked before anything is loaded.
   const std::vector<BenchFile> files = benchFiles(o.quick);
   const std::vector<std::string> knownViews = benchViewNames(files, o.quick);
-  for (const std::string& name : o.viewNames) {
-    if (std::find(knownViews.begin(), knownViews.end(), name) == knownViews.end()) {
-      std::string known;
-      for (const std::string& k : knownViews) known.append(known.empty() ? "" : ", ").append(k);
-      return makeError("--view " + name + ": no such view (views" + (o.quick ? " with --quick" : "") + ": " + known +
-                       ")");
-    }
-  }
+  if (Status st = checkViewNames(o, knownViews, "views"); !st) return st.forwardError();
   auto wanted = [&](const std::string& view) {
     return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
   };
 
-  // --reference-only: no GL at all (fills the reference cache, e.g. on a many-core machine).
-  std::unique_ptr<engine::HeadlessContextGL> context;
-  std::unique_ptr<engine::VolumeRendererGL> renderer;
-  std::string glName = "none";
-  if (!o.referenceOnly) {
-    auto c = engine::HeadlessContextGL::create();
-    if (!c) return c.forwardError();
-    context = std::move(*c);
-    glName = context->describe();
-    auto r = engine::VolumeRendererGL::create();
-    if (!r) return r.forwardError();
-    renderer = std::move(*r);
-  }
+  auto benchGL = openBenchGL(o);
+  if (!benchGL) return benchGL.forwardError();
+  engine::VolumeRendererGL* renderer = benchGL->renderer.get();
+  const std::string& glName = benchGL->name;
 
   // Volumes (only those a chosen view shows).
   std::vector<std::unique_ptr<BenchVolume>> volumes;
@@ -234,30 +252,15 @@ Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& o, std::ostrea
   std::vector<std::string> knownViews;
   for (const GridBenchFile& f : files)
     for (const std::string& n : gridViewNames(f, o.quick)) knownViews.push_back(n);
-  for (const std::string& name : o.viewNames) {
-    if (std::find(knownViews.begin(), knownViews.end(), name) == knownViews.end()) {
-      std::string known;
-      for (const std::string& k : knownViews) known.append(known.empty() ? "" : ", ").append(k);
-      return makeError("--view " + name + ": no such view (grid views" + (o.quick ? " with --quick" : "") + ": " +
-                       known + ")");
-    }
-  }
+  if (Status st = checkViewNames(o, knownViews, "grid views"); !st) return st.forwardError();
   auto wanted = [&](const std::string& view) {
     return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
   };
 
-  std::unique_ptr<engine::HeadlessContextGL> context;
-  std::unique_ptr<engine::VolumeRendererGL> renderer;
-  std::string glName = "none";
-  if (!o.referenceOnly) {
-    auto c = engine::HeadlessContextGL::create();
-    if (!c) return c.forwardError();
-    context = std::move(*c);
-    glName = context->describe();
-    auto r = engine::VolumeRendererGL::create();
-    if (!r) return r.forwardError();
-    renderer = std::move(*r);
-  }
+  auto benchGL = openBenchGL(o);
+  if (!benchGL) return benchGL.forwardError();
+  engine::VolumeRendererGL* renderer = benchGL->renderer.get();
+  const std::string& glName = benchGL->name;
 
   std::vector<std::unique_ptr<BenchVolume>> volumes;
   std::vector<BenchView> views;
