@@ -601,7 +601,8 @@ int runView(const ViewOptions& o) {
   panelState.scene = renderer->get();  // the panel edits the layers live
   for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
     const engine::VolumeSourceGL& layer = (*renderer)->layer(i);
-    panelState.layers.push_back(layer.title() + " (" + layer.description().path + ")");
+    panelState.layers.push_back(layer.title() + " (" +
+                                std::filesystem::path(layer.description().path).filename().string() + ")");
   }
   double frameMs = 0.0;
 
