@@ -29,6 +29,10 @@ std::string globalText(const io::NetcdfFile& f, const char* name);
 std::optional<io::NcVar> findInScope(const io::NetcdfFile& f, int group, const std::string& name);
 /// "float", "short" ...
 const char* typeName(nc_type t);
+/// An error naming the file and the variable: "FILE: variable 'NAME': WHAT".
+Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what);
+/// `v` with `decimals` decimals, for messages.
+std::string num(double v, int decimals = 3);
 
 /// How stored values become physical ones (CF section 2.5 and 8.1).
 struct Packing {
@@ -135,5 +139,64 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
 
 /// The time axis as ISO strings ("" for a step whose time is unknown).
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
+
+// ---------------------------------------------------------------- what is read (GridReader.cpp)
+
+/// The columns to read and their coordinates, in output order.
+struct Horizontal {
+  std::vector<std::size_t> rows, cols;  ///< file indices (mass points for WRF)
+  std::vector<double> latDeg, lonDeg;   ///< 1-D (rectilinear) or rows x cols (curvilinear)
+  bool wrapsLongitude = false;
+  int rowStep = 1, colStep = 1;
+  double southDeg = 90, northDeg = -90, westDeg = 0, eastDeg = 0;  ///< extent of what is kept
+  double latAt(std::size_t j, std::size_t i, bool curvilinear) const {
+    return curvilinear ? latDeg[j * cols.size() + i] : latDeg[j];
+  }
+  double lonAt(std::size_t j, std::size_t i, bool curvilinear) const {
+    return curvilinear ? lonDeg[j * cols.size() + i] : lonDeg[i];
+  }
+};
+
+/// What to read: the time step, levels (file indices, bottom first) and columns.
+struct Selection {
+  std::size_t time = 0;
+  std::vector<std::size_t> levels;
+  const Horizontal* hz = nullptr;
+};
+
+// ---------------------------------------------------------------- vertical coordinates (GridHeights.cpp)
+
+/// Level direction and the coordinate's own values (SI units), file order.
+struct Levels {
+  std::vector<double> valuesSi;  ///< per file level (empty when the file gives none)
+  std::string units;             ///< of valuesSi
+  bool upward = true;
+};
+
+/// The coordinate's levels: values (SI) and direction, checked finite and strictly monotonic.
+Result<Levels> levelsOf(const io::NetcdfFile& f, const GridLayout& l);
+
+/// File level indices, bottom first, for the crop.
+Result<std::vector<std::size_t>> levelPicks(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv,
+                                            const GridCrop& crop);
+
+/// Heights above the WGS84 ellipsoid of every selected column and level, and how they were made.
+struct Heights {
+  std::vector<double> h;  ///< nz x ny x nx, above the ellipsoid
+  HeightSource source = HeightSource::Coordinate;
+  std::string note;
+  bool approximate = false;
+  std::string fromVariable;  ///< named in errors about the heights
+  std::vector<double> levelValues;
+  std::string levelUnits;
+};
+
+/// The heights of the selection from the variable's vertical coordinate, one function per kind
+/// (`useGeoid` false: heights above sea level taken as above the ellipsoid).
+Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s,
+                               bool useGeoid);
+
+/// Heights must be finite and increase strictly upwards in every column (after float rounding).
+Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc);
 
 }  // namespace atmoglobe::volume::grid

@@ -99,10 +99,6 @@ int positionOf(const io::NcVar& v, int dimId) {
   return -1;
 }
 
-Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what) {
-  return makeError(f.message("variable '" + v.name + "': " + what));
-}
-
 /// The whole of `v` could be read: its element count is within kMaxElementsPerRead and the file
 /// can hold it (io::NetcdfFile::checkReadable). Run on every coordinate before its length sizes
 /// anything, so a header claiming 2^28 levels is refused before an index list is built.
