@@ -120,12 +120,17 @@ struct GridLayout {
   std::string units, standardName, longName;
 };
 
-/// What the file is, shared by every variable's analysis.
+/// What the file is, shared by every variable's analysis (GridFormat.cpp).
 struct FileKind {
   bool wrf = false;
   std::string format, conventions;
 };
 FileKind fileKind(const io::NetcdfFile& f);
+
+/// The variable's layout; for an empty name, the default variable (chooseDefaultGridVariable), or
+/// why there is none. `chosen`: the variable's name (GridFormat.cpp).
+Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, const std::string& variable,
+                             std::string* chosen);
 
 /// The layout of variable `v`, or an error saying why it is not a grid variable this reader
 /// can read (naming the file and the variable).
@@ -140,7 +145,7 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
 /// The time axis as ISO strings ("" for a step whose time is unknown).
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
 
-// ---------------------------------------------------------------- what is read (GridReader.cpp)
+// ---------------------------------------------------------------- the columns of a crop (GridHorizontal.cpp)
 
 /// The columns to read and their coordinates, in output order.
 struct Horizontal {
@@ -156,6 +161,14 @@ struct Horizontal {
     return curvilinear ? lonDeg[j * cols.size() + i] : lonDeg[i];
   }
 };
+
+/// The crop's bounds are finite, ordered latitudes and it keeps at least one level.
+Status checkCrop(const io::NetcdfFile& f, const GridCrop& c);
+/// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
+Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
+/// The same for a curvilinear grid, its coordinates read at time step `timeIndex`.
+Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std::size_t timeIndex,
+                               const GridCrop& crop, std::size_t sample);
 
 /// What to read: the time step, levels (file indices, bottom first) and columns.
 struct Selection {
