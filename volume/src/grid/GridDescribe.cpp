@@ -122,13 +122,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
   if (!heights) return heights.forwardError();
   if (auto st = grid::checkHeights(f, *heights, sel, sample->rows.size() * sample->cols.size()); !st)
     return st.forwardError();
-  info.verticalKind = l.vertical.kind;
-  info.heightSource = heights->source;
-  info.verticalVariable = l.wrf ? heights->fromVariable : (l.vertical.coordinate ? l.vertical.coordinate->name : "");
-  info.heightNote = heights->note;
-  info.approximateHeights = heights->approximate;
-  info.levelValues = heights->levelValues;
-  info.levelUnits = heights->levelUnits;
+  grid::setHeightFields(l, *heights, info);
   const auto [mn, mx] = std::minmax_element(heights->h.begin(), heights->h.end());
   info.heightMinMeters = *mn;
   info.heightMaxMeters = *mx;

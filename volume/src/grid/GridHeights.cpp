@@ -237,13 +237,32 @@ Status pressureHeights(const HeightInput& in, Heights& out) {
   return pressureToHeights(in, p, false, "pressure levels " + in.coordName, out);
 }
 
-/// The pressure of each level and column of a terrain-following pressure coordinate (nz x nc, Pa)
-/// -> heights, once the surface pressure `ps` (the term 'ps', file units) is checked.
-Status columnPressureToHeights(const HeightInput& in, const std::vector<double>& ps, const std::vector<double>& p,
+/// The surface pressure of a terrain-following pressure coordinate (the term 'ps') over the
+/// selection, in the file's units (checked once the pressures are made), and its factor to Pa.
+struct SurfacePressure {
+  std::vector<double> values;
+  double toPa = 1.0;
+};
+
+Result<SurfacePressure> readSurfacePressure(const HeightInput& in) {
+  SurfacePressure ps;
+  if (auto st = in.readField(in.l.vertical.terms.at("ps"), &ps.values); !st) return st.forwardError();
+  ps.toPa = in.l.vertical.termToSi.at("ps");
+  return ps;
+}
+
+/// Terrain-following pressure levels -> heights: the pressure (Pa) of each selected level and
+/// column is `pressurePa(file level, the column's surface pressure in file units)`; the surface
+/// pressure must be finite and positive everywhere.
+template <class PressureOf>
+Status columnPressureToHeights(const HeightInput& in, const SurfacePressure& ps, const PressureOf& pressurePa,
                                const std::string& what, Heights& out) {
+  std::vector<double> p(in.nz * in.nc);
+  for (std::size_t k = 0; k < in.nz; ++k)
+    for (std::size_t c = 0; c < in.nc; ++c) p[k * in.nc + c] = pressurePa(in.s.levels[k], ps.values[c]);
   const io::NcVar& psVar = in.l.vertical.terms.at("ps");
   for (std::size_t c = 0; c < in.nc; ++c)
-    if (!std::isfinite(ps[c]) || !(ps[c] > 0))
+    if (!std::isfinite(ps.values[c]) || !(ps.values[c] > 0))
       return varError(in.f, psVar, "surface pressure missing or not positive at " + in.rowColumn(c));
   out.fromVariable = psVar.name;
   return pressureToHeights(in, p, true, what, out);
@@ -253,10 +272,8 @@ Status columnPressureToHeights(const HeightInput& in, const std::vector<double>&
 /// p = a p0 + b ps, or ap + b ps.
 Status hybridSigmaPressureHeights(const HeightInput& in, Heights& out) {
   const VerticalSpec& vs = in.l.vertical;
-  std::vector<double> ps;
-  if (auto st = in.readField(vs.terms.at("ps"), &ps); !st) return st.forwardError();
-  const double psToPa = vs.termToSi.at("ps");
-  std::vector<double> p(in.nz * in.nc, kNaN);
+  auto ps = readSurfacePressure(in);
+  if (!ps) return ps.forwardError();
   std::string terms;
   auto b = readTerm(in.f, vs, "b");
   if (!b) return b.forwardError();
@@ -278,19 +295,17 @@ Status hybridSigmaPressureHeights(const HeightInput& in, Heights& out) {
     terms = "p = a p0 + b ps with '" + vs.terms.at("a").name + "', '" + vs.terms.at("p0").name + "', '" +
             vs.terms.at("b").name + "', '" + vs.terms.at("ps").name + "'";
   }
-  const std::vector<std::size_t>& levels = in.s.levels;
-  for (std::size_t k = 0; k < in.nz; ++k)
-    for (std::size_t c = 0; c < in.nc; ++c) p[k * in.nc + c] = a[levels[k]] * p0 + (*b)[levels[k]] * ps[c] * psToPa;
-  return columnPressureToHeights(in, ps, p, "hybrid sigma-pressure levels " + in.coordName + " (" + terms + ")", out);
+  const double psToPa = ps->toPa;
+  return columnPressureToHeights(
+      in, *ps, [&](std::size_t level, double surface) { return a[level] * p0 + (*b)[level] * surface * psToPa; },
+      "hybrid sigma-pressure levels " + in.coordName + " (" + terms + ")", out);
 }
 
 /// Sigma levels (CF atmosphere_sigma_coordinate): p = ptop + sigma (ps - ptop).
 Status sigmaHeights(const HeightInput& in, Heights& out) {
   const VerticalSpec& vs = in.l.vertical;
-  std::vector<double> ps;
-  if (auto st = in.readField(vs.terms.at("ps"), &ps); !st) return st.forwardError();
-  const double psToPa = vs.termToSi.at("ps");
-  std::vector<double> p(in.nz * in.nc, kNaN);
+  auto ps = readSurfacePressure(in);
+  if (!ps) return ps.forwardError();
   auto sg = readTerm(in.f, vs, "sigma");
   if (!sg) return sg.forwardError();
   auto pt = readTerm(in.f, vs, "ptop");
@@ -298,9 +313,10 @@ Status sigmaHeights(const HeightInput& in, Heights& out) {
   const double ptop = pt->front();
   const std::string terms = "p = ptop + sigma (ps - ptop) with '" + vs.terms.at("ptop").name + "', '" +
                             vs.terms.at("sigma").name + "', '" + vs.terms.at("ps").name + "'";
-  for (std::size_t k = 0; k < in.nz; ++k)
-    for (std::size_t c = 0; c < in.nc; ++c) p[k * in.nc + c] = ptop + (*sg)[in.s.levels[k]] * (ps[c] * psToPa - ptop);
-  return columnPressureToHeights(in, ps, p, "sigma levels " + in.coordName + " (" + terms + ")", out);
+  const double psToPa = ps->toPa;
+  return columnPressureToHeights(
+      in, *ps, [&](std::size_t level, double surface) { return ptop + (*sg)[level] * (surface * psToPa - ptop); },
+      "sigma levels " + in.coordName + " (" + terms + ")", out);
 }
 
 /// Hybrid height levels (CF atmosphere_hybrid_height_coordinate): z = a + b orog, above the geoid.

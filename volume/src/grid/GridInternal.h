@@ -212,4 +212,16 @@ Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, con
 /// Heights must be finite and increase strictly upwards in every column (after float rounding).
 Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc);
 
+/// How the heights were made, into a GridVolume or a GridFileInfo (fields of the same names).
+template <class Out>
+void setHeightFields(const GridLayout& l, const Heights& h, Out& out) {
+  out.verticalKind = l.vertical.kind;
+  out.heightSource = h.source;
+  out.verticalVariable = l.wrf ? h.fromVariable : (l.vertical.coordinate ? l.vertical.coordinate->name : "");
+  out.heightNote = h.note;
+  out.approximateHeights = h.approximate;
+  out.levelValues = h.levelValues;
+  out.levelUnits = h.levelUnits;
+}
+
 }  // namespace atmoglobe::volume::grid

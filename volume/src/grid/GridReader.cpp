@@ -127,13 +127,7 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   g.heightAboveEllipsoidMeters.resize(heights->h.size());
   for (std::size_t i = 0; i < heights->h.size(); ++i)
     g.heightAboveEllipsoidMeters[i] = static_cast<float>(heights->h[i]);  // float: see GridVolume.h
-  g.verticalKind = l.vertical.kind;
-  g.heightSource = heights->source;
-  g.verticalVariable = l.wrf ? heights->fromVariable : (l.vertical.coordinate ? l.vertical.coordinate->name : "");
-  g.heightNote = heights->note;
-  g.approximateHeights = heights->approximate;
-  g.levelValues = heights->levelValues;
-  g.levelUnits = heights->levelUnits;
+  grid::setHeightFields(l, *heights, g);
   g.times = std::move(*times);
   g.timeIndex = *t;
   g.validTime = l.time.dimId >= 0 && *t < g.times.size() ? g.times[*t] : std::string();
