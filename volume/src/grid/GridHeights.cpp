@@ -1,7 +1,7 @@
 // The vertical coordinates of forecast grids: each kind's levels in the file (values, direction,
 // the crop's picks) and, one function per kind, the heights above the WGS84 ellipsoid of every
-// column and level of a selection (rules and sources: docs/grids.md, "Vertical coordinates"). The kinds are
-// found from the file's metadata in GridLayout.cpp.
+// column and level of a selection (rules and sources: docs/grids.md, "Vertical coordinates").
+// The kinds are found from the file's metadata in GridLayout.cpp.
 #include "GridInternal.h"
 
 #include <atmoglobe/volume/Geoid.h>
@@ -43,6 +43,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// A formula term (formula_terms) read whole, in SI units (termToSi); every value must be finite.
 Result<std::vector<double>> readTerm(const io::NetcdfFile& f, const VerticalSpec& vs, const std::string& term) {
   const io::NcVar& v = vs.terms.at(term);
   Picks p;
