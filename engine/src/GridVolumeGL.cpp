@@ -71,28 +71,11 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
   const volume::GridSampler& s = *pr->sampler;
   const bool wraps = g.wrapsLongitude && !g.curvilinear;
   const bool caps = s.hasPoleCaps();
-  pr->rowOffset = caps ? 1 : 0;
-  pr->textureSize = glm::ivec3(static_cast<int>(g.nx) + (wraps ? 1 : 0), static_cast<int>(g.ny) + (caps ? 2 : 0),
-                               static_cast<int>(g.nz));
-  const volume::BoundingSphere sphere = s.boundingSphere();
-  pr->origin = sphere.centreEcef;
-  // The column of texture column tc, row tr: a grid column, a copy of column 0, or a pole.
+  // The textures hold the grid closed as the sampler samples it (the copy of column 0, the poles).
+  pr->rowOffset = s.closedRowOffset();
+  pr->textureSize = s.closedSize();
+  pr->origin = s.boundingSphere().centreEcef;
   const int nx = static_cast<int>(g.nx), ny = static_cast<int>(g.ny);
-  auto columnOf = [&](int tc, int tr) {
-    const int r = tr - pr->rowOffset;
-    if (r < 0) return int{volume::GridColumns::kSouthPole};
-    if (r >= ny) return int{volume::GridColumns::kNorthPole};
-    return r * nx + (tc % nx);
-  };
-  // Position of a texture column/row (for the empty-space boxes).
-  auto latLonOf = [&](int tc, int tr) {
-    const int r = tr - pr->rowOffset;
-    if (r < 0) return glm::dvec2(-90.0, g.lonDeg[0]);
-    if (r >= ny) return glm::dvec2(90.0, g.lonDeg[0]);
-    const int c = tc % nx;
-    const double lon = g.lonDegAt(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) + (tc >= nx ? 360.0 : 0.0);
-    return glm::dvec2(g.latDegAt(static_cast<std::size_t>(r), static_cast<std::size_t>(c)), lon);
-  };
 
   // Values and heights: RG32F (value or GPU_NO_DATA, height above the ellipsoid). Not NaN: GLSL
   // compilers may optimise NaN tests away.
@@ -102,7 +85,7 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
   for (int k = 0; k < ts.z; ++k)
     for (int tr = 0; tr < ts.y; ++tr)
       for (int tc = 0; tc < ts.x; ++tc) {
-        const int column = columnOf(tc, tr);
+        const int column = s.closedColumn(tc, tr);
         const float v = s.columnValue(column, static_cast<std::size_t>(k));
         texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
             glm::vec2(std::isfinite(v) ? v : MarchConstants::kNoData,
@@ -149,47 +132,8 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
       }
   }
 
-  // Empty-space grid: a box per block of 8 x 8 columns x 4 levels around every texel of the
-  // block and its far neighbours (samples interpolate up to the next texel), in the local frame,
-  // widened by the sagitta of the block's width (the levels curve with the Earth between the
-  // texels) and 5 % of it; the block's largest value.
-  const bool global = sphere.centreEcef == glm::dvec3(0.0);
-  const glm::dmat3 frame = global ? glm::dmat3(1.0) : [&] {
-    const globe::Geodetic c = globe::ecefToGeodetic(sphere.centreEcef);
-    return globe::enuAxes(c.latDeg, c.lonDeg);
-  }();
-  const glm::dmat3 toLocal = glm::transpose(frame);
-  std::vector<volume::OccupancyBox> boxes;
-  constexpr int kBx = 8, kBz = 4;
-  for (int k0 = 0; k0 < ts.z - 1; k0 += kBz)
-    for (int r0 = 0; r0 < ts.y - 1; r0 += kBx)
-      for (int c0 = 0; c0 < ts.x - 1; c0 += kBx) {
-        const int k1 = std::min(k0 + kBz, ts.z - 1), r1 = std::min(r0 + kBx, ts.y - 1),
-                  c1 = std::min(c0 + kBx, ts.x - 1);
-        float maxValue = volume::kOccupancyEmptyValue;
-        for (int k = k0; k <= k1; ++k)
-          for (int r = r0; r <= r1; ++r)
-            for (int c = c0; c <= c1; ++c) {
-              const float v = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].x;
-              if (v != MarchConstants::kNoData) maxValue = std::max(maxValue, v);
-            }
-        if (maxValue == volume::kOccupancyEmptyValue) continue;
-        glm::dvec3 lo(1e300), hi(-1e300);
-        for (int r = r0; r <= r1; ++r)
-          for (int c = c0; c <= c1; ++c) {
-            const glm::dvec2 ll = latLonOf(c, r);
-            for (int k : {k0, k1}) {
-              const double hgt = texels[(static_cast<std::size_t>(k) * ts.y + r) * ts.x + c].y;
-              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({ll.x, ll.y, hgt}) - pr->origin);
-              lo = glm::min(lo, p);
-              hi = glm::max(hi, p);
-            }
-          }
-        const double width = glm::length(glm::dvec2(hi - lo));
-        const double margin = width * width / (8.0 * 6.35e6) + 0.05 * width + 10.0;
-        boxes.push_back({lo - margin, hi + margin, maxValue});
-      }
-  pr->occupancy = volume::buildOccupancyGrid(pr->origin, frame, boxes, glm::ivec3(128, 128, 32));
+  // Empty-space grid: built in volume from the same closed columns (its origin is pr->origin).
+  pr->occupancy = volume::buildOccupancyGrid(s);
   return pr;
 }
 

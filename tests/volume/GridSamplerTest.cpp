@@ -1,7 +1,7 @@
 // The forecast grid's CPU sampler (GridSampler.h): linear fields reproduced exactly in the grid's
 // own geometry (terrain-following levels, rectilinear and curvilinear), no data outside, a global
-// grid closed across the antimeridian and over the poles, and the reference renderer's DVR of a
-// uniform slab against its closed form.
+// grid closed across the antimeridian and over the poles, its empty-space grid conservative, and
+// the reference renderer's DVR of a uniform slab against its closed form.
 #include "SyntheticGridVolume.h"
 
 #include <atmoglobe/globe/Angles.h>
@@ -139,6 +139,45 @@ TEST(GridSampler, GlobalGridHasNoSeamAtTheAntimeridianAndNoHoleAtThePoles) {
   EXPECT_NEAR(atRow, justAbove, 1e-4);
   // The sphere of a global grid is the whole atmosphere.
   EXPECT_EQ(s.boundingSphere().centreEcef, glm::dvec3(0.0));
+}
+
+// The grid's empty-space grid (built in volume, uploaded by GridVolumeGL) is conservative: a
+// point whose sample is Echo with value v lies in a cell whose value is >= v. A regional grid on
+// terrain (ENU frame) and a global one (ECEF axes; the seam and the pole caps closed).
+TEST(GridOccupancy, IsConservativeForRandomPointsInsideTheGrid) {
+  auto field = [](double lat, double lon, double h) {
+    return 40.0 * std::sin(lat * 0.3) * std::cos(lon * 0.2) - h / 1000.0;
+  };
+  for (const bool global : {false, true}) {
+    GridVolume g = global ? testutil::rectilinearGrid(
+                                testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72),
+                                {0.0, 3000.0, 6000.0, 9000.0, 12000.0}, [](double, double) { return 0.0; }, field)
+                          : testutil::rectilinearGrid(
+                                testutil::evenlySpaced(-100.0, 0.05, 60), testutil::evenlySpaced(30.0, 0.05, 50),
+                                {0.0, 500.0, 1500.0, 3000.0, 6000.0, 9000.0, 12000.0},
+                                [](double lat, double lon) { return 300.0 + 200.0 * std::sin(lat * 7.0 + lon * 5.0); },
+                                field);
+    g.wrapsLongitude = global;
+    const volume::GridSampler s(g);
+    const volume::OccupancyGrid occ = volume::buildOccupancyGrid(s);
+    ASSERT_EQ(occ.cells, glm::ivec3(128, 128, 32));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> lat(global ? -90.0 : 29.9, global ? 90.0 : 32.55),
+        lon(global ? -180.0 : -100.1, global ? 180.0 : -96.95), h(-100.0, 12600.0);
+    int echoes = 0, violations = 0;
+    for (int n = 0; n < 100000; ++n) {
+      const double la = lat(rng), lo = lon(rng), hm = h(rng);
+      const VolumeSample v = s.sampleGeodetic(la, lo, hm, Interpolation::Linear);
+      if (v.state != VolumeSample::State::Echo) continue;
+      ++echoes;
+      const glm::dvec3 local = occ.localOfEcef(globe::geodeticToEcef({la, lo, hm}));
+      if (occ.maxAtLocal(local) < static_cast<float>(v.value)) ++violations;
+    }
+    std::cout << (global ? "global" : "regional") << ": " << echoes << " echo points, " << violations
+              << " in a cell below their value\n";
+    EXPECT_GT(echoes, 20000);
+    EXPECT_EQ(violations, 0);
+  }
 }
 
 // A curvilinear grid (rotated and sheared latitude/longitude, as a Lambert or Mercator model

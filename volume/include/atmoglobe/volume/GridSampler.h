@@ -26,6 +26,7 @@
 // A grid has no "no echo": every finite value is a sample; the transfer function decides what
 // shows.
 #include <atmoglobe/volume/GridVolume.h>
+#include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
 #include <glm/glm.hpp>
@@ -81,6 +82,18 @@ class GridSampler final : public VolumeSampler {
   /// Whether a global grid's polar caps are closed by pole columns.
   bool hasPoleCaps() const { return poleCaps_; }
 
+  /// The grid closed as the marcher samples it (and the GPU's textures hold it): x columns = nx,
+  /// + 1 (a copy of column 0) when a rectilinear grid wraps in longitude; y rows = ny, + 2 (a pole
+  /// row below the first and above the last) with pole caps; z levels = nz.
+  glm::ivec3 closedSize() const;
+  /// The closed row holding grid row 0: 1 with pole caps, else 0.
+  int closedRowOffset() const { return poleCaps_ ? 1 : 0; }
+  /// The GridColumns column of closed column tc, row tr: a grid column, column 0 again or a pole.
+  int closedColumn(int tc, int tr) const;
+  /// Latitude, longitude (degrees) of closed column tc, row tr: the copy of column 0 at its
+  /// longitude + 360, a pole at the longitude of grid column 0.
+  glm::dvec2 closedLatLonDeg(int tc, int tr) const;
+
  private:
   /// Step 3's level: lo + f by bisection in the columns' blended heights; nullopt below the
   /// lowest or above the highest level there.
@@ -101,5 +114,14 @@ class GridSampler final : public VolumeSampler {
   int binsLat_ = 0, binsLon_ = 0;
   std::vector<std::vector<std::uint32_t>> bins_;
 };
+
+/// The grid's empty-space grid (OccupancyGrid.h), 128 x 128 x 32 cells in the local frame of its
+/// bounding sphere's centre (ENU there; ECEF axes for a global grid, whose sphere is centred on
+/// the Earth's): a box per block of 8 x 8 closed columns x 4 levels holding every point of the
+/// block and of its far neighbours (samples interpolate up to the next column and level), with
+/// the block's largest value. The box is widened by the sagitta of its width over a 6350 km
+/// Earth (the levels curve between the columns), 5 % of the width and 10 m. Heights are taken
+/// as the GPU holds them (float).
+OccupancyGrid buildOccupancyGrid(const GridSampler& s);
 
 }  // namespace atmoglobe::volume

@@ -318,6 +318,30 @@ float GridSampler::columnValue(int column, std::size_t k) const {
   return grid_.values[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
 }
 
+glm::ivec3 GridSampler::closedSize() const {
+  const bool wraps = grid_.wrapsLongitude && !grid_.curvilinear;
+  return glm::ivec3(static_cast<int>(grid_.nx) + (wraps ? 1 : 0), static_cast<int>(grid_.ny) + (poleCaps_ ? 2 : 0),
+                    static_cast<int>(grid_.nz));
+}
+
+int GridSampler::closedColumn(int tc, int tr) const {
+  const int nx = static_cast<int>(grid_.nx), ny = static_cast<int>(grid_.ny);
+  const int r = tr - closedRowOffset();
+  if (r < 0) return int{GridColumns::kSouthPole};
+  if (r >= ny) return int{GridColumns::kNorthPole};
+  return r * nx + (tc % nx);
+}
+
+glm::dvec2 GridSampler::closedLatLonDeg(int tc, int tr) const {
+  const int nx = static_cast<int>(grid_.nx), ny = static_cast<int>(grid_.ny);
+  const int r = tr - closedRowOffset();
+  if (r < 0) return glm::dvec2(-90.0, grid_.lonDeg[0]);
+  if (r >= ny) return glm::dvec2(90.0, grid_.lonDeg[0]);
+  const auto row = static_cast<std::size_t>(r), column = static_cast<std::size_t>(tc % nx);
+  const double lon = grid_.lonDegAt(row, column) + (tc >= nx ? 360.0 : 0.0);
+  return glm::dvec2(grid_.latDegAt(row, column), lon);
+}
+
 std::optional<double> GridSampler::fractionalLevel(const GridColumns& cols, double heightMeters) const {
   const std::size_t nz = grid_.nz;
   if (nz == 0) return std::nullopt;
@@ -387,6 +411,48 @@ std::optional<glm::dvec3> GridSampler::gridIndex(double latDeg, double lonDeg, d
 VolumeSample GridSampler::sample(const glm::dvec3& ecef, Interpolation interpolation) const {
   const globe::Geodetic p = globe::ecefToGeodetic(ecef);
   return sampleGeodetic(p.latDeg, p.lonDeg, p.heightMeters, interpolation);
+}
+
+OccupancyGrid buildOccupancyGrid(const GridSampler& s) {
+  const BoundingSphere sphere = s.boundingSphere();
+  const bool global = sphere.centreEcef == glm::dvec3(0.0);
+  const glm::dmat3 frame = global ? glm::dmat3(1.0) : [&] {
+    const globe::Geodetic c = globe::ecefToGeodetic(sphere.centreEcef);
+    return globe::enuAxes(c.latDeg, c.lonDeg);
+  }();
+  const glm::dmat3 toLocal = glm::transpose(frame);
+  const glm::ivec3 size = s.closedSize();
+  std::vector<OccupancyBox> boxes;
+  constexpr int kBx = 8, kBz = 4;
+  for (int k0 = 0; k0 < size.z - 1; k0 += kBz)
+    for (int r0 = 0; r0 < size.y - 1; r0 += kBx)
+      for (int c0 = 0; c0 < size.x - 1; c0 += kBx) {
+        const int k1 = std::min(k0 + kBz, size.z - 1), r1 = std::min(r0 + kBx, size.y - 1),
+                  c1 = std::min(c0 + kBx, size.x - 1);
+        float maxValue = kOccupancyEmptyValue;
+        for (int k = k0; k <= k1; ++k)
+          for (int r = r0; r <= r1; ++r)
+            for (int c = c0; c <= c1; ++c) {
+              const float v = s.columnValue(s.closedColumn(c, r), static_cast<std::size_t>(k));
+              if (std::isfinite(v)) maxValue = std::max(maxValue, v);
+            }
+        if (maxValue == kOccupancyEmptyValue) continue;
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int r = r0; r <= r1; ++r)
+          for (int c = c0; c <= c1; ++c) {
+            const glm::dvec2 ll = s.closedLatLonDeg(c, r);
+            for (int k : {k0, k1}) {
+              const double hgt = static_cast<float>(s.columnHeight(s.closedColumn(c, r), static_cast<std::size_t>(k)));
+              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({ll.x, ll.y, hgt}) - sphere.centreEcef);
+              lo = glm::min(lo, p);
+              hi = glm::max(hi, p);
+            }
+          }
+        const double width = glm::length(glm::dvec2(hi - lo));
+        const double margin = width * width / (8.0 * 6.35e6) + 0.05 * width + 10.0;
+        boxes.push_back({lo - margin, hi + margin, maxValue});
+      }
+  return buildOccupancyGrid(sphere.centreEcef, frame, boxes, glm::ivec3(128, 128, 32));
 }
 
 }  // namespace atmoglobe::volume

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -51,6 +52,16 @@ std::string globalText(const io::NetcdfFile& f, const char* name) {
   if (!f.hasAttribute(f.root(), NC_GLOBAL, name)) return {};
   auto s = f.attributeString(f.root(), NC_GLOBAL, name);
   return s ? *s : std::string();
+}
+
+Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what) {
+  return makeError(f.message("variable '" + v.name + "': " + what));
+}
+
+std::string num(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
 }
 
 std::optional<io::NcVar> findInScope(const io::NetcdfFile& f, int group, const std::string& name) {

@@ -99,10 +99,6 @@ int positionOf(const io::NcVar& v, int dimId) {
   return -1;
 }
 
-Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what) {
-  return makeError(f.message("variable '" + v.name + "': " + what));
-}
-
 /// The whole of `v` could be read: its element count is within kMaxElementsPerRead and the file
 /// can hold it (io::NetcdfFile::checkReadable). Run on every coordinate before its length sizes
 /// anything, so a header claiming 2^28 levels is refused before an index list is built.
@@ -636,29 +632,6 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
 }
 
 }  // namespace
-
-FileKind fileKind(const io::NetcdfFile& f) {
-  FileKind k;
-  const std::string title = globalText(f, "TITLE");
-  const int root = f.root();
-  k.wrf = contains(title, "WRF") || (f.findVariable(root, "XLAT") && f.findVariable(root, "XLONG") &&
-                                     f.dimensionLength(root, "bottom_top") && f.dimensionLength(root, "west_east"));
-  k.conventions = k.wrf ? (title.empty() ? std::string("WRF") : title) : globalText(f, "Conventions");
-  while (!k.conventions.empty() && k.conventions.front() == ' ') k.conventions.erase(k.conventions.begin());
-  int fmt = 0;
-  {
-    const io::NetcdfLock lock;
-    nc_inq_format(root, &fmt);
-  }
-  const char* container = fmt == NC_FORMAT_NETCDF4           ? "netCDF-4"
-                          : fmt == NC_FORMAT_NETCDF4_CLASSIC ? "netCDF-4 classic model"
-                          : fmt == NC_FORMAT_64BIT_OFFSET    ? "netCDF 64-bit offset"
-                          : fmt == NC_FORMAT_CDF5            ? "netCDF CDF5"
-                                                             : "netCDF classic";
-  const bool cf = contains(k.conventions, "CF") || contains(k.conventions, "COARDS");
-  k.format = std::string(k.wrf ? "WRF" : cf ? "CF" : "netCDF grid").append(" (").append(container).append(")");
-  return k;
-}
 
 Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v) {
   return kind.wrf ? analyseWrf(f, v) : analyseCf(f, v);

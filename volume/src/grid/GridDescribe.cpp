@@ -1,21 +1,19 @@
-// `atmoglobe info` for forecast grids: GridFileInfo as JSON and as text.
+// `atmoglobe info` for forecast grids: GridFileInfo gathered from the file (dimensions, variables,
+// the variable's axes, extent, spacing and a sample of its heights), as JSON and as text.
+#include "GridInternal.h"
+
+#include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/GridReader.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 namespace atmoglobe::volume {
 
 namespace {
-
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
 
 std::string joinDims(const GridVariableInfo& v) {
   std::string s;
@@ -29,6 +27,108 @@ std::string joinDims(const GridVariableInfo& v) {
 nlohmann::ordered_json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
 
 }  // namespace
+
+Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable) {
+  auto opened = io::NetcdfFile::open(path);
+  if (!opened) return opened.forwardError();
+  const io::NetcdfFile& f = *opened;
+  const grid::FileKind kind = grid::fileKind(f);
+  GridFileInfo info;
+  info.path = path;
+  info.format = kind.format;
+  info.conventions = kind.conventions;
+  for (int g : grid::allGroups(f)) {
+    const io::NetcdfLock lock;
+    int n = 0;
+    if (nc_inq_dimids(g, &n, nullptr, 0) != NC_NOERR || n <= 0) continue;
+    std::vector<int> ids(static_cast<std::size_t>(n));
+    nc_inq_dimids(g, &n, ids.data(), 0);
+    int nu = 0;
+    std::vector<int> unlimited(NC_MAX_DIMS);
+    nc_inq_unlimdims(g, &nu, unlimited.data());
+    const std::string gp = f.groupPath(g);
+    for (int id : ids) {
+      GridDimensionInfo d;
+      d.name = (gp == "/" ? "/" : gp + "/") + grid::dimensionName(g, id);
+      nc_inq_dimlen(g, id, &d.length);
+      d.unlimited = std::find(unlimited.begin(), unlimited.begin() + std::max(nu, 0), id) !=
+                    unlimited.begin() + std::max(nu, 0);
+      info.dimensions.push_back(std::move(d));
+    }
+  }
+  info.variables = grid::listVariables(f, kind);
+  std::string name;
+  auto layout = grid::layoutFor(f, kind, variable, &name);
+  if (!layout) return layout.forwardError();
+  const grid::GridLayout& l = *layout;
+  info.variable = name;
+  info.curvilinear = l.curvilinear;
+  info.nx = l.nx;
+  info.ny = l.ny;
+  info.nz = l.vertical.fileLevels;
+  info.xDimension = grid::dimensionName(l.var.groupId, l.xDim);
+  info.yDimension = grid::dimensionName(l.var.groupId, l.yDim);
+  info.zDimension = grid::dimensionName(l.var.groupId, l.zDim);
+  info.timeDimension = l.time.dimId >= 0 ? grid::dimensionName(l.var.groupId, l.time.dimId) : "";
+
+  auto times = grid::readTimes(f, l.time);
+  if (!times) return times.forwardError();
+  info.times = *times;
+  if (l.time.wrfTimes) {
+    info.timeVariable = l.time.wrfTimes->name;
+    info.timeUnits = "WRF Times strings (YYYY-MM-DD_hh:mm:ss)";
+  } else if (l.time.coordinate) {
+    info.timeVariable = l.time.coordinate->name;
+    info.timeUnits = l.time.units;
+    info.calendar = l.time.parsed ? toString(l.time.parsed->calendar) : l.time.calendar;
+  }
+
+  // Extent from the full coordinates; heights from a sample of at most ~64 x 64 columns.
+  GridCrop all;
+  auto full = l.curvilinear ? grid::curvilinear(f, l, 0, all, 1) : grid::rectilinear(f, l, all, 1);
+  if (!full) return full.forwardError();
+  info.southDeg = full->southDeg;
+  info.northDeg = full->northDeg;
+  info.westDeg = full->westDeg;
+  info.eastDeg = full->eastDeg;
+  info.wrapsLongitude = full->wrapsLongitude;
+  {
+    const std::size_t j = full->rows.size() / 2, i = full->cols.size() / 2;
+    double sum = 0;
+    int n = 0;
+    const double la = full->latAt(j, i, l.curvilinear), lo = full->lonAt(j, i, l.curvilinear);
+    if (i + 1 < full->cols.size()) {
+      sum += globe::geodesicInverse(la, lo, full->latAt(j, i + 1, l.curvilinear), full->lonAt(j, i + 1, l.curvilinear))
+                 .distanceMeters;
+      ++n;
+    }
+    if (j + 1 < full->rows.size()) {
+      sum += globe::geodesicInverse(la, lo, full->latAt(j + 1, i, l.curvilinear), full->lonAt(j + 1, i, l.curvilinear))
+                 .distanceMeters;
+      ++n;
+    }
+    info.meanSpacingKm = n ? sum / n / 1000.0 : 0.0;
+  }
+  const std::size_t stride = std::max<std::size_t>(1, (std::max(l.nx, l.ny) + 63) / 64);
+  info.heightColumnStride = stride;
+  auto sample = l.curvilinear ? grid::curvilinear(f, l, 0, all, stride) : grid::rectilinear(f, l, all, stride);
+  if (!sample) return sample.forwardError();
+  auto lv = grid::levelsOf(f, l);
+  if (!lv) return lv.forwardError();
+  auto levels = grid::levelPicks(f, l, *lv, all);
+  if (!levels) return levels.forwardError();
+  grid::Selection sel{0, *levels, &*sample};
+  auto heights = grid::computeHeights(f, l, *lv, sel, true);
+  if (!heights) return heights.forwardError();
+  if (auto st = grid::checkHeights(f, *heights, sel, sample->rows.size() * sample->cols.size()); !st)
+    return st.forwardError();
+  grid::setHeightFields(l, *heights, info);
+  const auto [mn, mx] = std::minmax_element(heights->h.begin(), heights->h.end());
+  info.heightMinMeters = *mn;
+  info.heightMaxMeters = *mx;
+  info.bytesRead = f.dataBytesRead();
+  return info;
+}
 
 std::string describeGridJson(const GridFileInfo& g) {
   nlohmann::ordered_json j;
@@ -96,19 +196,19 @@ std::string describeGridText(const GridFileInfo& g) {
   os << "grid:       "
      << (g.curvilinear ? "curvilinear (2-D latitude/longitude)" : "rectilinear (1-D latitude/longitude)") << ", "
      << g.nx << " x " << g.ny << " columns (" << g.xDimension << " x " << g.yDimension << "), " << g.nz << " levels ("
-     << g.zDimension << "), ~" << fixed(g.meanSpacingKm, 1) << " km apart\n";
-  os << "extent:     latitude " << fixed(g.southDeg, 3) << " .. " << fixed(g.northDeg, 3) << " deg, longitude "
-     << fixed(g.westDeg, 3) << " .. " << fixed(g.eastDeg, 3) << " deg" << (g.wrapsLongitude ? " (global: wraps)" : "")
-     << "\n";
+     << g.zDimension << "), ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+  os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3) << " deg, longitude "
+     << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
+     << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
   os << "vertical:   " << toString(g.verticalKind) << " (" << g.verticalVariable << "), heights from "
      << toString(g.heightSource) << (g.approximateHeights ? ", APPROXIMATE" : "") << "\n";
   os << "            " << g.heightNote << "\n";
   if (!g.levelValues.empty()) {
     os << "levels:     bottom first:";
-    for (double v : g.levelValues) os << " " << fixed(v, std::fabs(v) < 10 ? 4 : 1);
+    for (double v : g.levelValues) os << " " << grid::num(v, std::fabs(v) < 10 ? 4 : 1);
     os << " " << g.levelUnits << "\n";
   }
-  os << "heights:    " << fixed(g.heightMinMeters, 1) << " .. " << fixed(g.heightMaxMeters, 1)
+  os << "heights:    " << grid::num(g.heightMinMeters, 1) << " .. " << grid::num(g.heightMaxMeters, 1)
      << " m above the WGS84 ellipsoid (first time step"
      << (g.heightColumnStride > 1 ? ", sampled every " + std::to_string(g.heightColumnStride) + " rows and columns"
                                   : "")

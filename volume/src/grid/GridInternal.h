@@ -29,6 +29,10 @@ std::string globalText(const io::NetcdfFile& f, const char* name);
 std::optional<io::NcVar> findInScope(const io::NetcdfFile& f, int group, const std::string& name);
 /// "float", "short" ...
 const char* typeName(nc_type t);
+/// An error naming the file and the variable: "FILE: variable 'NAME': WHAT".
+Error varError(const io::NetcdfFile& f, const io::NcVar& v, const std::string& what);
+/// `v` with `decimals` decimals, for messages.
+std::string num(double v, int decimals = 3);
 
 /// How stored values become physical ones (CF section 2.5 and 8.1).
 struct Packing {
@@ -116,12 +120,17 @@ struct GridLayout {
   std::string units, standardName, longName;
 };
 
-/// What the file is, shared by every variable's analysis.
+/// What the file is, shared by every variable's analysis (GridFormat.cpp).
 struct FileKind {
   bool wrf = false;
   std::string format, conventions;
 };
 FileKind fileKind(const io::NetcdfFile& f);
+
+/// The variable's layout; for an empty name, the default variable (chooseDefaultGridVariable), or
+/// why there is none. `chosen`: the variable's name (GridFormat.cpp).
+Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, const std::string& variable,
+                             std::string* chosen);
 
 /// The layout of variable `v`, or an error saying why it is not a grid variable this reader
 /// can read (naming the file and the variable).
@@ -135,5 +144,84 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
 
 /// The time axis as ISO strings ("" for a step whose time is unknown).
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
+
+// ---------------------------------------------------------------- the columns of a crop (GridHorizontal.cpp)
+
+/// The columns to read and their coordinates, in output order.
+struct Horizontal {
+  std::vector<std::size_t> rows, cols;  ///< file indices (mass points for WRF)
+  std::vector<double> latDeg, lonDeg;   ///< 1-D (rectilinear) or rows x cols (curvilinear)
+  bool wrapsLongitude = false;
+  int rowStep = 1, colStep = 1;
+  double southDeg = 90, northDeg = -90, westDeg = 0, eastDeg = 0;  ///< extent of what is kept
+  double latAt(std::size_t j, std::size_t i, bool curvilinear) const {
+    return curvilinear ? latDeg[j * cols.size() + i] : latDeg[j];
+  }
+  double lonAt(std::size_t j, std::size_t i, bool curvilinear) const {
+    return curvilinear ? lonDeg[j * cols.size() + i] : lonDeg[i];
+  }
+};
+
+/// The crop's bounds are finite, ordered latitudes and it keeps at least one level.
+Status checkCrop(const io::NetcdfFile& f, const GridCrop& c);
+/// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
+Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
+/// The same for a curvilinear grid, its coordinates read at time step `timeIndex`.
+Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std::size_t timeIndex,
+                               const GridCrop& crop, std::size_t sample);
+
+/// What to read: the time step, levels (file indices, bottom first) and columns.
+struct Selection {
+  std::size_t time = 0;
+  std::vector<std::size_t> levels;
+  const Horizontal* hz = nullptr;
+};
+
+// ---------------------------------------------------------------- vertical coordinates (GridHeights.cpp)
+
+/// Level direction and the coordinate's own values (SI units), file order.
+struct Levels {
+  std::vector<double> valuesSi;  ///< per file level (empty when the file gives none)
+  std::string units;             ///< of valuesSi
+  bool upward = true;
+};
+
+/// The coordinate's levels: values (SI) and direction, checked finite and strictly monotonic.
+Result<Levels> levelsOf(const io::NetcdfFile& f, const GridLayout& l);
+
+/// File level indices, bottom first, for the crop.
+Result<std::vector<std::size_t>> levelPicks(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv,
+                                            const GridCrop& crop);
+
+/// Heights above the WGS84 ellipsoid of every selected column and level, and how they were made.
+struct Heights {
+  std::vector<double> h;  ///< nz x ny x nx, above the ellipsoid
+  HeightSource source = HeightSource::Coordinate;
+  std::string note;
+  bool approximate = false;
+  std::string fromVariable;  ///< named in errors about the heights
+  std::vector<double> levelValues;
+  std::string levelUnits;
+};
+
+/// The heights of the selection from the variable's vertical coordinate, one function per kind
+/// (`useGeoid` false: heights above sea level taken as above the ellipsoid).
+Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s,
+                               bool useGeoid);
+
+/// Heights must be finite and increase strictly upwards in every column (after float rounding).
+Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc);
+
+/// How the heights were made, into a GridVolume or a GridFileInfo (fields of the same names).
+template <class Out>
+void setHeightFields(const GridLayout& l, const Heights& h, Out& out) {
+  out.verticalKind = l.vertical.kind;
+  out.heightSource = h.source;
+  out.verticalVariable = l.wrf ? h.fromVariable : (l.vertical.coordinate ? l.vertical.coordinate->name : "");
+  out.heightNote = h.note;
+  out.approximateHeights = h.approximate;
+  out.levelValues = h.levelValues;
+  out.levelUnits = h.levelUnits;
+}
 
 }  // namespace atmoglobe::volume::grid
