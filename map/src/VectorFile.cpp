@@ -119,6 +119,17 @@ Status collect(OGRGeometryH g, OGRCoordinateTransformationH transform, const std
 
 }  // namespace
 
+const std::vector<std::string>& overlayDriverNames() {
+  // The vector formats map overlays come in. Not GDAL's ~80 other vector drivers: their parsers
+  // (DXF, AVC E00, OSM, GML with schema and xlink resolution, VRT naming other files or URLs,
+  // network services) are not what an overlay needs, and each one is more surface for a damaged
+  // or hostile file to hang or crash the process.
+  static const std::vector<std::string> names = {
+      "GeoJSON", "GeoJSONSeq",    "ESRIJSON", "TopoJSON",   "ESRI Shapefile", "KML",
+      "LIBKML",  "GPKG",          "FlatGeobuf", "GPX",      "OpenFileGDB",    "MapInfo File"};
+  return names;
+}
+
 Result<VectorFileContents> readVectorFile(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });
@@ -128,14 +139,31 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   const io::NetcdfLock lock;
   GdalErrors openErrors;
   std::unique_ptr<void, DatasetCloser> ds;
+  std::vector<const char*> allowed;
+  for (const std::string& name : overlayDriverNames()) allowed.push_back(name.c_str());
+  allowed.push_back(nullptr);
   {
     ErrorHandlerScope quietOpen(&openErrors);
-    ds.reset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+    ds.reset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, allowed.data(), nullptr, nullptr));
   }
   const std::string& gdalMessage = openErrors.firstFailure;
-  if (!ds)
-    return makeError(path + ": not a vector file GDAL/OGR can read (GeoJSON, shapefile, KML/KMZ, GeoPackage, ...)" +
+  if (!ds) {
+    // Another format GDAL knows (identified only, never opened): named, so the user can convert it.
+    std::string other;
+    {
+      GdalErrors identifyErrors;
+      ErrorHandlerScope quietIdentify(&identifyErrors);
+      if (GDALDriverH d = GDALIdentifyDriverEx(path.c_str(), GDAL_OF_VECTOR, nullptr, nullptr))
+        other = std::string(GDALGetDriverLongName(d)) + " (GDAL driver " + GDALGetDriverShortName(d) + ")";
+    }
+    std::string formats;
+    for (const std::string& name : overlayDriverNames()) formats.append(formats.empty() ? "" : ", ").append(name);
+    if (!other.empty())
+      return makeError(path + ": format " + other + ", which overlays do not read; they read " + formats +
+                       " (convert it: ogr2ogr -f GeoJSON out.geojson " + path + ")");
+    return makeError(path + ": not a vector file of a format overlays read (" + formats + ")" +
                      (gdalMessage.empty() ? std::string() : ": " + gdalMessage));
+  }
   // A CRS that PROJ cannot resolve (an unknown EPSG code): GeoJSON's driver then falls back to
   // WGS 84 and the coordinates would be taken as longitude/latitude whatever they are.
   if (mentionsCrs(gdalMessage))

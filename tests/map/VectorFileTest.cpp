@@ -115,3 +115,32 @@ TEST(VectorFile, BadInputNamesTheFileAndTheProblem) {
   ASSERT_FALSE(off);
   EXPECT_NE(off.error().find("not a longitude/latitude"), std::string::npos) << off.error();
 }
+
+// Overlays are read with a fixed list of GDAL drivers: a file another driver would open (here a
+// minimal DXF drawing and an OpenStreetMap XML file, both holding a line) is refused with its
+// format named, never parsed.
+TEST(VectorFile, OtherGdalFormatsAreRefusedWithTheirFormatNamed) {
+  const std::string dxf = writeFile("drawing.dxf",
+                                    "0\nSECTION\n2\nENTITIES\n0\nLINE\n8\n0\n10\n1.0\n20\n1.0\n11\n2.0\n21\n2.0\n0\n"
+                                    "ENDSEC\n0\nEOF\n");
+  auto d = map::readVectorFile(dxf);
+  ASSERT_FALSE(d);
+  EXPECT_NE(d.error().find(dxf + ": format AutoCAD DXF (GDAL driver DXF), which overlays do not read"),
+            std::string::npos)
+      << d.error();
+  EXPECT_NE(d.error().find("GeoJSON"), std::string::npos) << d.error();
+  const std::string osm = writeFile("streets.osm", R"(<?xml version="1.0"?>
+<osm version="0.6"><node id="1" lat="1" lon="1"/><node id="2" lat="2" lon="2"/>
+<way id="3"><nd ref="1"/><nd ref="2"/><tag k="highway" v="primary"/></way></osm>)");
+  auto o = map::readVectorFile(osm);
+  ASSERT_FALSE(o);
+  EXPECT_NE(o.error().find(osm + ": format OpenStreetMap XML and PBF (GDAL driver OSM)"), std::string::npos)
+      << o.error();
+  // Not a format GDAL knows at all: the list of what is read.
+  const std::string text = writeFile("notes.geojson", "rain at noon\n");
+  auto t = map::readVectorFile(text);
+  ASSERT_FALSE(t);
+  EXPECT_NE(t.error().find(text + ": not a vector file of a format overlays read (GeoJSON, GeoJSONSeq"),
+            std::string::npos)
+      << t.error();
+}
