@@ -357,6 +357,47 @@ TEST(GribReader, HeightsFromGeopotentialAsTheNetcdfPathConvertsThem) {
   EXPECT_NEAR(g->heightMeters(1, j, i), 5600.0, 600.0);
 }
 
+TEST(GribReader, HeightAboveGroundAddsTheSurfaceGeopotential) {
+  SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"));
+  SKIP_WITHOUT_ECCODES_TOOLS();
+  const std::string dir = useTestCache();
+  // The samples hold no regular grid above ground: one made with ecCodes' tools from the ERA5
+  // file, t at 850 hPa relabelled 2 m above ground, and z at 850 hPa relabelled as the surface
+  // geopotential (the ground then lies at the 850 hPa height: 1-1.6 km, well away from 0).
+  const std::string era5 = gribPath("era5-levels-members.grib");
+  const std::string sel = "-w shortName=SN,level=850,number=0,dataDate=20170101,dataTime=0";
+  auto run = [](const std::string& cmd) { return std::system(cmd.c_str()); };
+  std::string selT = sel, selZ = sel;
+  selT.replace(selT.find("SN"), 2, "t");
+  selZ.replace(selZ.find("SN"), 2, "z");
+  ASSERT_EQ(run("grib_copy " + selT + " '" + era5 + "' '" + dir + "/t.grib'"), 0);
+  ASSERT_EQ(run("grib_copy " + selZ + " '" + era5 + "' '" + dir + "/z.grib'"), 0);
+  ASSERT_EQ(run("grib_set -s typeOfLevel=heightAboveGround,level=2 '" + dir + "/t.grib' '" + dir + "/t2.grib'"), 0);
+  ASSERT_EQ(run("grib_set -s typeOfLevel=surface '" + dir + "/z.grib' '" + dir + "/zs.grib'"), 0);
+  const std::string file = dir + "/hag.grib";
+  ASSERT_EQ(run("cat '" + dir + "/t2.grib' '" + dir + "/zs.grib' > '" + file + "'"), 0);
+
+  GridReadOptions o;
+  o.variable = "t";
+  auto g = readGridVolume(file, o);
+  ASSERT_TRUE(g.ok()) << g.error();
+  EXPECT_EQ(g->variable, "t:heightAboveGround");
+  EXPECT_EQ(g->verticalKind, VerticalKind::HeightAboveGround);
+  EXPECT_FALSE(g->approximateHeights);
+  EXPECT_NE(g->heightNote.find("surface altitude 'z:surface'"), std::string::npos) << g->heightNote;
+  ASSERT_EQ(g->nz, 1u);
+  // By hand at 45 N 9 E: 2 m + geometric height of z / g0 (WGS84 normal gravity) + EGM96 N.
+  const auto z = gribGetData(dir + "/zs.grib", "");
+  ASSERT_EQ(z.size(), 120u * 61u);
+  const auto [j, i] = outputIndex(*g, 15, 3, 120);
+  ASSERT_NEAR(g->latDeg[j], 45.0, 1e-9);
+  const auto& geoid = defaultEgm96Grid();
+  ASSERT_TRUE(geoid.ok());
+  const double expected = 2.0 + geometricFromGeopotentialHeightMeters(z[15 * 120 + 3].value / 9.80665, 45.0) +
+                          geoid->undulationMeters(45.0, 9.0);
+  EXPECT_NEAR(g->heightMeters(0, j, i), expected, 0.01);  // float storage at ~1.5 km: 0.1 mm
+}
+
 TEST(GribReader, IndexIsKeptInTheCacheAndReusedUntilTheFileChanges) {
   SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"));
   const std::string cache = useTestCache();

@@ -11,7 +11,6 @@
 #include <eccodes.h>
 #include <nlohmann/json.hpp>
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -29,8 +28,6 @@ namespace {
 
 /// Bumped when the index's content changes meaning: an index of another version is rebuilt.
 constexpr int kIndexVersion = 1;
-
-std::atomic<std::uint64_t> scans{0};
 
 /// ecCodes' default context is shared: one caller at a time (reads may run on loader threads).
 std::mutex& ecCodesMutex() {
@@ -155,7 +152,6 @@ std::optional<GribIndex> loadCached(const std::string& cacheFile, const FileStam
 /// with a warning naming the byte offset (ecCodes resynchronises on the next "GRIB").
 Status scan(FILE* f, const std::string& label, GribIndex& idx) {
   const std::lock_guard<std::mutex> lock(ecCodesMutex());
-  scans.fetch_add(1);
   for (std::size_t count = 0;; ++count) {
     const long before = std::ftell(f);
     int err = 0;
@@ -209,8 +205,6 @@ std::string cacheDirectory() {
   if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/atmoglobe";
   return {};
 }
-
-std::uint64_t gribIndexScans() { return scans.load(); }
 
 Result<GribIndex> gribIndex(const std::string& path) {
   auto stamp = stampOf(path);

@@ -56,10 +56,6 @@ Result<GribIndex> gribIndex(const std::string& path);
 /// the loaders' threads).
 std::mutex& ecCodesLock();
 
-/// How many passes over GRIB files this process has made (for tests: a second open of an
-/// unchanged file makes none).
-std::uint64_t gribIndexScans();
-
 /// The bytes of messages of one file: read at their offsets (plain files) or from the
 /// unwrapped content in memory (gzip/bzip2). Each message is read once per GribContent (a read
 /// decodes a message for its grid and its values, a geopotential for values and heights) and
