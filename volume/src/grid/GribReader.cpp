@@ -640,6 +640,12 @@ std::string levelsText(const std::vector<double>& levels) {
   return s;
 }
 
+/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths".
+std::string gridSize(const GridVariableInfo& v) {
+  if (v.gridNi == 0) return std::to_string(v.gridNj) + " rows of different lengths";
+  return std::to_string(v.gridNi) + " x " + std::to_string(v.gridNj) + " points";
+}
+
 std::string membersText(const std::vector<long>& members) {
   if (members.empty()) return "none";
   bool run = true;
@@ -657,7 +663,8 @@ std::string membersText(const std::vector<long>& members) {
 std::string describeGribText(const GridFileInfo& g) {
   std::ostringstream os;
   os << "file:       " << g.path << "\n";
-  os << "format:     forecast grid, " << g.format << ", " << g.messageCount << " messages\n";
+  os << "format:     forecast grid, " << g.format << ", " << g.messageCount << " message"
+     << (g.messageCount == 1 ? "" : "s") << "\n";
   os << "index:      "
      << (g.indexFile.empty() ? std::string("not kept (the cache directory cannot be written)") : g.indexFile)
      << (g.indexReused ? " (reused)" : " (made now)") << "\n";
@@ -669,7 +676,7 @@ std::string describeGribText(const GridFileInfo& g) {
   os << "\n";
   if (!g.notReadable.empty()) {
     os << "            NOT READ YET: " << g.notReadable << "\n";
-    if (v) os << "grid:       " << v->gridType << ", " << v->gridNi << " x " << v->gridNj << " points\n";
+    if (v) os << "grid:       " << v->gridType << ", " << gridSize(*v) << "\n";
     os << "levels:     " << g.nz << " (" << g.zDimension << ")" << (v ? ": " + levelsText(v->levels) : "") << "\n";
   } else {
     os << "grid:       " << (v ? v->gridType : std::string()) << " (rectilinear), " << g.nx << " x " << g.ny
@@ -698,7 +705,7 @@ std::string describeGribText(const GridFileInfo& g) {
   os << "variables (shortName:typeOfLevel; * = read):\n";
   for (const auto& x : g.variables) {
     os << (x.onGrid ? "  * " : "    ") << x.name << "  " << x.longName << (x.units.empty() ? "" : " [" + x.units + "]")
-       << ", " << x.gridType << " " << x.gridNi << " x " << x.gridNj << ", " << x.levels.size() << " level"
+       << ", " << x.gridType << " " << gridSize(x) << ", " << x.levels.size() << " level"
        << (x.levels.size() == 1 ? "" : "s") << " (" << levelsText(x.levels) << "), " << x.timeCount << " time"
        << (x.timeCount == 1 ? "" : "s") << ", " << x.memberCount << " member" << (x.memberCount == 1 ? "" : "s") << ", "
        << x.messageCount << " message" << (x.messageCount == 1 ? "" : "s") << "\n";
