@@ -223,6 +223,44 @@ TEST(GribReader, PressureLevelValuesAndPositionsMatchGribGetData) {
   EXPECT_NE(g4->values, g->values);
 }
 
+TEST(GribReader, CropAcrossTheAntimeridianKeepsTheWholeGridsValues) {
+  SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"));
+  useTestCache();
+  const std::string file = gribPath("era5-levels-members.grib");
+  GridReadOptions o;
+  o.variable = "t";
+  auto whole = readGridVolume(file, o);
+  ASSERT_TRUE(whole.ok()) << whole.error();
+  o.crop.southDeg = 30;
+  o.crop.northDeg = 60;
+  o.crop.westDeg = 170;
+  o.crop.eastDeg = -170;
+  o.crop.firstLevel = 1;  // 500 hPa only
+  auto crop = readGridVolume(file, o);
+  ASSERT_TRUE(crop.ok()) << crop.error();
+  EXPECT_FALSE(crop->wrapsLongitude);
+  ASSERT_EQ(crop->nz, 1u);
+  EXPECT_EQ(crop->levelValues, (std::vector<double>{50000}));
+  // A GRIB field is decoded whole: the crop reads the 500 hPa messages of t and z, no other.
+  EXPECT_EQ(crop->bytesRead, 2u * 14752u);
+  // 3-degree grid: 168 .. 192 (the columns around 170 and 190 = -170, so the cells cover the
+  // box), 30 .. 60 in latitude (both on grid rows: nothing more needed).
+  EXPECT_EQ(crop->nx, 9u);
+  EXPECT_EQ(crop->ny, 11u);
+  EXPECT_DOUBLE_EQ(crop->lonDeg.front(), 168.0);
+  EXPECT_DOUBLE_EQ(crop->lonDeg.back(), 192.0);
+  EXPECT_DOUBLE_EQ(crop->latDeg.front(), 30.0);
+  for (std::size_t i = 1; i < crop->nx; ++i) EXPECT_NEAR(crop->lonDeg[i] - crop->lonDeg[i - 1], 3.0, 1e-9);
+  for (std::size_t j = 0; j < crop->ny; ++j)
+    for (std::size_t i = 0; i < crop->nx; ++i) {
+      const auto wj = static_cast<std::size_t>(std::lround((crop->latDeg[j] - whole->latDeg[0]) / 3.0));
+      const double lon = std::fmod(crop->lonDeg[i] - whole->lonDeg[0] + 720.0, 360.0);
+      const auto wi = static_cast<std::size_t>(std::lround(lon / 3.0)) % whole->nx;
+      ASSERT_EQ(crop->value(0, j, i), whole->value(1, wj, wi)) << j << " " << i;
+      ASSERT_EQ(crop->heightMeters(0, j, i), whole->heightMeters(1, wj, wi)) << j << " " << i;
+    }
+}
+
 TEST(GribReader, RegularGaussianPositionsMatchGribGetData) {
   SKIP_WITHOUT_TEST_DATA(gribPath("regular_gg_ml_g2.grib"));
   SKIP_WITHOUT_ECCODES_TOOLS();
