@@ -40,7 +40,7 @@ Command addBenchCommand(CLI::App& root) {
   c->add_option("--time", o->gridTimeIndex, "With --grid: the time step index (default 0)");
   c->add_option("--load-runs", o->loadRuns, "Grids: timed runs per load case (median)")->check(CLI::Range(1, 100));
   c->add_flag("!--no-load", o->load, "Grids: skip the load cases");
-  c->add_flag("!--no-big", o->big, "Grids: skip the 1280x720 frames");
+  c->add_flag("!--no-big", o->big, "Skip the 1280x720 frames");
   c->add_option("--peer-voxels", o->gridPeerMaxVoxels, "Grids: the peer's Cartesian grid cap (voxels)")
       ->check(CLI::Range(1e5, 1e9));
   addQuietOption(*c);

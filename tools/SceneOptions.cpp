@@ -451,6 +451,13 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     origins.overlays.push_back("--overlay");
   }
   for (const std::string& m : o.models) scene->models.push_back(m);
+  // Data named on the command line is what the user wants to see: over the embedded default scene
+  // (no scene file) it replaces the default's SYNTHETIC radar whatever its kind, so a grid named
+  // alone is drawn alone.
+  if (o.sceneFile.empty() && (!o.radars.empty() || !o.grids.empty())) {
+    scene->volumes.clear();
+    origins.volumes.clear();
+  }
   // --radar and --grid each replace the scene's layers of their kind (like --imagery); the radars
   // stay first, as the scene file lists them.
   auto replaceKind = [&](engine::VolumeKind kind, std::vector<engine::VolumeLayerDescription> layers,

@@ -115,6 +115,7 @@ struct OdimSpec {
   double nraysAttr = 4;
   std::size_t rays = 4, bins = 3;  ///< the data array's real shape
   bool nbinsAsText = false;
+  std::string source = "NOD:xxtst";  ///< /what/source
 };
 
 void putDouble(int g, const char* name, double v) { check(nc_put_att_double(g, NC_GLOBAL, name, NC_DOUBLE, 1, &v)); }
@@ -131,7 +132,7 @@ void writeOdim(const std::string& path, const OdimSpec& spec) {
   putText(what, "object", "PVOL");
   putText(what, "date", "20200102");
   putText(what, "time", "030405");
-  putText(what, "source", "NOD:xxtst");
+  putText(what, "source", spec.source.c_str());
   check(nc_def_grp(nc, "where", &where));
   putDouble(where, "lat", -45.5);
   putDouble(where, "lon", 170.25);
@@ -337,6 +338,27 @@ TEST(BadInput, CfRadialRecordCountClaimingBillions) {
     f.write(reinterpret_cast<const char*>(numrecs), 4);
   }
   expectError(p);
+}
+
+// The site's name from /what/source (ODIM_H5 2.2, Table 3: comma-separated KEY:value pairs): the
+// node (NOD) first, then the radar (RAD), the place (PLC), the WMO number. Some writers separate the
+// pairs with ';': the name is still one value, never the whole string.
+TEST(BadInput, OdimSiteNameIsOneValueOfTheSource) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"WMO:06234,RAD:NL51,PLC:Den Helder,NOD:nldhl", "nldhl"},
+      {"RAD:NL51;PLC:nldhl", "NL51"},
+      {"WMO:06475", "06475"},
+      {"PLC:Den Helder,WMO:06234", "Den Helder"},
+  };
+  for (const auto& [source, name] : cases) {
+    const std::string p = outDir() + "/odim_source.h5";
+    OdimSpec spec;
+    spec.source = source;
+    writeOdim(p, spec);
+    auto r = readRadarVolume(p, {});
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->site.name, name) << source;
+  }
 }
 
 TEST(BadInput, OdimNbinsClaimingTwoBillion) {

@@ -87,11 +87,12 @@ int childOr(const io::NetcdfFile& f, int parent, const char* name) {
 }
 
 std::string siteName(const std::string& source) {
-  // ODIM /what/source: comma-separated "KEY:value" pairs. Prefer NOD, then RAD, PLC, WMO.
+  // ODIM /what/source: "KEY:value" pairs separated by ',' (ODIM_H5 2.2, Table 3; some writers use
+  // ';'). The node (NOD) names the radar best, then the radar (RAD), the place (PLC), WMO.
   std::map<std::string, std::string> kv;
   std::size_t pos = 0;
   while (pos <= source.size()) {
-    const std::size_t comma = std::min(source.find(',', pos), source.size());
+    const std::size_t comma = std::min(source.find_first_of(",;", pos), source.size());
     const std::string item = source.substr(pos, comma - pos);
     const std::size_t colon = item.find(':');
     if (colon != std::string::npos) kv[item.substr(0, colon)] = item.substr(colon + 1);

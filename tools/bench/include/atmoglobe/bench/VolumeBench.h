@@ -1,6 +1,7 @@
 #pragma once
-// `atmoglobe bench`: the speed/accuracy trade of the GPU radar-volume marcher, measured
-// (docs/bench-volume.md). Fixed views of real volumes (Views.h); a grid of step x image scale x
+// `atmoglobe bench`: the speed/accuracy trade of the GPU volume marcher, measured for radar
+// volumes (docs/bench-volume.md) and forecast grids (docs/grids.md "Benchmark"). Fixed views of
+// real volumes (Views.h, GridViews.h); a grid of step x image scale x
 // interpolation x beam model (DVR; MIP and ISO at the default; Cells.h); per cell the median GPU
 // frame time and the error against the CPU reference renderer (Measure.h, ReferenceCache.h).
 // Then the side-by-side peer (VtkPeer.h), and the report (Report.h) under the output directory.
@@ -25,7 +26,7 @@ struct VolumeBenchOptions {
   std::vector<std::string> viewNames;  ///< empty: every view
   std::vector<double> stepsMeters;     ///< empty: the standard grid
 
-  // --- forecast grids (runGridBench; docs/grids.md "Benchmark") ---
+  // --- forecast grids ( docs/grids.md "Benchmark") ---
   bool grids = false;        ///< the grid bench: the built-in synthetic grids, or gridFile
   std::string gridFile;      ///< a grid file instead of the built-in ones
   std::string gridVariable;  ///< with gridFile; empty: the reader's default
@@ -42,15 +43,14 @@ struct VolumeBenchOutcome {
   std::string peerNote;            ///< why the peer was skipped or what failed; empty: nothing to say
 };
 
-/// Runs the bench, progress on `log`. Errors: an unknown view name (checked before anything is
+/// Runs the bench, progress on `log`: radar volumes, or forecast grids (options.grids or
+/// options.gridFile; per grid the load cases, GridLoad.h, and views that each draw their crop,
+/// occluded by the ellipsoid, GridViews.h). One loop for every kind: per view the settings grid
+/// at the bench size against the reference, then 1280x720 (grids: a DVR subset against the
+/// reference at that size; radars: the default timed), the convergence of the reference, the VTK
+/// peer, and the report (volume_bench.* or grid_bench.*). Errors: an unknown view name (checked before anything is
 /// loaded), a volume that cannot be loaded, no GL context, a file that cannot be written.
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& options, std::ostream& log);
 
-/// The same bench for forecast grids (options.grids or options.gridFile set; runVolumeBench
-/// sends them here): per grid the load cases (GridLoad.h), then per view (GridViews.h, each
-/// drawing its crop, occluded by the ellipsoid) the settings grid at the bench size and a DVR
-/// subset at 1280x720, each against the reference of the whole grid, and the VTK peer per view.
-/// Writes grid_bench.md / .csv / .png.
-Result<VolumeBenchOutcome> runGridBench(const VolumeBenchOptions& options, std::ostream& log);
 
 }  // namespace atmoglobe::bench
