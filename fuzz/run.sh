@@ -13,7 +13,7 @@ build="$(cd "$1" && pwd)"; seconds="$2"; shift 2
 data="${ATMOGLOBE_TEST_DATA:-$(cd "$here/../.." && pwd)/shared/data}"
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(cfradial odim nexrad sigmet rainbow compression grid scene pal stations image pyramid overlay)
+  targets=(cfradial odim nexrad sigmet rainbow compression grid grib scene pal stations image pyramid overlay)
 fi
 work="$build/fuzz-work"
 export LSAN_OPTIONS="suppressions=$here/../scripts/lsan-suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
@@ -33,6 +33,12 @@ for t in "${targets[@]}"; do
   [ -x "$exe" ] || { echo "fuzz/run.sh: $exe not built (cmake -DATMOGLOBE_FUZZ=ON)" >&2; exit 2; }
   mkdir -p "$work/corpus/$t" "$work/findings/$t"
   cp -f "$here/corpus/$t"/* "$work/corpus/$t/" 2>/dev/null || true
+  # GRIB: ecCodes' own sample messages (Debian libeccodes-data), small and of many grid types.
+  if [ "$t" = grib ]; then
+    for f in /usr/share/eccodes/samples/{GRIB1,GRIB2,gg_sfc_grib2,lambert_bf_grib2,polar_stereographic_pl_grib2,regular_ll_pl_grib1,rotated_ll_pl_grib2,reduced_gg_pl_32_grib2}.tmpl; do
+      [ -f "$f" ] && cp -f "$f" "$work/corpus/grib/sample-$(basename "$f")"
+    done
+  fi
   if [ -d "$data" ]; then
     case "$t" in
       cfradial) for f in "$data"/radar_cfradial/*.nc; do [ "$(stat -c %s "$f")" -le 2000000 ] && seed cfradial "$f"; done ;;
@@ -41,6 +47,7 @@ for t in "${targets[@]}"; do
       sigmet) for f in "$data"/radar_sigmet/*; do seed sigmet "$f" 200000; done ;;
       rainbow) for f in "$data"/radar_rainbow/*.vol; do seed rainbow "$f"; done ;;
       stations) for f in "$data"/stations/*.json; do seed stations "$f"; done ;;
+      grib) for f in "$data"/grids_grib/*; do [ "$(stat -c %s "$f")" -le 60000 ] && seed grib "$f"; done ;;
       overlay) for f in "$data"/overlays/*.geojson "$data"/overlays/*.kml; do [ -f "$f" ] && [ "$(stat -c %s "$f")" -le 200000 ] && seed overlay "$f"; done ;;
     esac
   fi

@@ -9,6 +9,7 @@ PKGS=(
   libnetcdf-dev libstb-dev libgtest-dev libepoxy-dev libegl-dev libgl-dev
   libegl-mesa0 libgl1-mesa-dri libbz2-dev libzip-dev
   libcli11-dev
+  libeccodes-dev libeccodes-tools   # GRIB grids (volume/src/grid/Grib*); grib_get_data in the tests
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip
   netcdf-bin clang-format zlib1g-dev libexpat1-dev teem-apps

@@ -1,5 +1,6 @@
 // `atmoglobe info` for forecast grids: GridFileInfo gathered from the file (dimensions, variables,
 // the variable's axes, extent, spacing and a sample of its heights), as JSON and as text.
+#include "GribInternal.h"
 #include "GridInternal.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -29,6 +30,7 @@ nlohmann::ordered_json finiteOrNull(double v) { return std::isfinite(v) ? nlohma
 }  // namespace
 
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable) {
+  if (grib::hasGribSignature(path)) return grib::describeGribFile(path, variable);
   auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   const io::NetcdfFile& f = *opened;
@@ -131,6 +133,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
 }
 
 std::string describeGridJson(const GridFileInfo& g) {
+  if (g.format.rfind("GRIB", 0) == 0) return grib::describeGribJson(g);
   nlohmann::ordered_json j;
   j["kind"] = "grid";
   j["format"] = g.format;
@@ -189,6 +192,7 @@ std::string describeGridJson(const GridFileInfo& g) {
 }
 
 std::string describeGridText(const GridFileInfo& g) {
+  if (g.format.rfind("GRIB", 0) == 0) return grib::describeGribText(g);
   std::ostringstream os;
   os << "file:       " << g.path << "\n";
   os << "format:     forecast grid, " << g.format << (g.conventions.empty() ? "" : ", " + g.conventions) << "\n";

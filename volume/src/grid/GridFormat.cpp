@@ -1,5 +1,6 @@
-// Which netCDF files are forecast grids, in what format (CF or WRF, and the container), and which
-// variable is read when none is named.
+// Which files are forecast grids (GRIB by its signature, netCDF by its content), in what format (CF or WRF, and the
+// container), and which variable is read when none is named.
+#include "GribInternal.h"
 #include "GridInternal.h"
 
 #include <atmoglobe/volume/GridReader.h>
@@ -77,6 +78,7 @@ std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& varia
 }
 
 bool isGridFile(const std::string& path) {
+  if (grib::hasGribSignature(path)) return true;  // every GRIB file: `info` lists what it holds
   if (!io::hasNetcdfSignature(path)) return false;
   auto f = io::NetcdfFile::open(path);
   if (!f) return false;

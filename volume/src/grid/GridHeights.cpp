@@ -118,16 +118,9 @@ struct HeightInput {
     *values = std::move(*r);
     return Ok{};
   }
-  /// Geopotential heights (gpm, nz x nc) -> geometric heights (m) in place, level by level, with
-  /// each column's WGS84 normal gravity.
+  /// Geopotential heights (gpm, nz x nc) -> geometric heights (m) in place.
   void toGeometric(std::vector<double>& geopotentialHeight) const {
-    std::vector<GeopotentialToGeometric> conv;
-    conv.reserve(nc);
-    for (std::size_t c = 0; c < nc; ++c) conv.emplace_back(latDeg[c]);
-    for (std::size_t k = 0; k < nz; ++k) {
-      double* h = geopotentialHeight.data() + k * nc;
-      for (std::size_t c = 0; c < nc; ++c) h[c] = conv[c](h[c]);
-    }
+    geopotentialToGeometricHeights(latDeg, geopotentialHeight);
   }
   /// "row R, column C" of column c, in file indices (for errors).
   std::string rowColumn(std::size_t c) const {
@@ -151,25 +144,11 @@ Status pressureToHeights(const HeightInput& in, const std::vector<double>& press
     std::vector<double> g;
     if (auto st = in.readField(*vs.geopotential, &g); !st) return st;
     for (double& x : g) x *= vs.geopotentialToGpm;
-    in.toGeometric(g);
-    out.h = std::move(g);
-    out.source = HeightSource::GeopotentialField;
-    out.fromVariable = vs.geopotential->name;
-    out.note = what + " with the geopotential field '" + vs.geopotential->name + "'" +
-               (vs.geopotentialToGpm != 1.0 ? " (m2 s-2 / 9.80665 = geopotential height)" : " (geopotential height)") +
-               " -> geometric height above mean sea level (WGS84 normal gravity)";
+    heightsFromGeopotentialField(in.latDeg, std::move(g), vs.geopotential->name, vs.geopotentialToGpm != 1.0, what,
+                                 out);
     return Ok{};
   }
-  for (std::size_t k = 0; k < in.nz; ++k)
-    for (std::size_t c = 0; c < in.nc; ++c) {
-      const double p = perColumn ? pressurePa[k * in.nc + c] : pressurePa[k];
-      out.h[k * in.nc + c] = p > 0 ? standardAtmosphereGeopotentialHeightMeters(p) : kNaN;
-    }
-  in.toGeometric(out.h);
-  out.source = HeightSource::StandardAtmosphere;
-  out.approximate = true;
-  out.note =
-      what + " without a geopotential field: " + kStandardAtmosphereNote + " -> geometric height above mean sea level";
+  heightsFromStandardAtmosphere(in.latDeg, in.nz, pressurePa, perColumn, what, out);
   return Ok{};
 }
 
@@ -385,6 +364,52 @@ Status wrfEtaHeights(const HeightInput& in, Heights& out) {
 /// Heights above mean sea level -> above the WGS84 ellipsoid: + the EGM96 undulation of each
 /// column, or (geoid off) as they are, said in the note.
 Status seaLevelToEllipsoid(const HeightInput& in, bool useGeoid, Heights& out) {
+  return addGeoidUndulation(in.f.path(), in.latDeg, in.lonDeg, useGeoid, out);
+}
+
+}  // namespace
+
+void geopotentialToGeometricHeights(const std::vector<double>& latDeg, std::vector<double>& h) {
+  const std::size_t nc = latDeg.size();
+  std::vector<GeopotentialToGeometric> conv;
+  conv.reserve(nc);
+  for (std::size_t c = 0; c < nc; ++c) conv.emplace_back(latDeg[c]);
+  for (std::size_t k = 0; nc > 0 && k < h.size() / nc; ++k) {
+    double* hk = h.data() + k * nc;
+    for (std::size_t c = 0; c < nc; ++c) hk[c] = conv[c](hk[c]);
+  }
+}
+
+void heightsFromGeopotentialField(const std::vector<double>& latDeg, std::vector<double> gpm, const std::string& field,
+                                  bool fromGeopotential, const std::string& what, Heights& out) {
+  geopotentialToGeometricHeights(latDeg, gpm);
+  out.h = std::move(gpm);
+  out.source = HeightSource::GeopotentialField;
+  out.fromVariable = field;
+  out.note = what + " with the geopotential field '" + field + "'" +
+             (fromGeopotential ? " (m2 s-2 / 9.80665 = geopotential height)" : " (geopotential height)") +
+             " -> geometric height above mean sea level (WGS84 normal gravity)";
+}
+
+void heightsFromStandardAtmosphere(const std::vector<double>& latDeg, std::size_t nz,
+                                   const std::vector<double>& pressurePa, bool perColumn, const std::string& what,
+                                   Heights& out) {
+  const std::size_t nc = latDeg.size();
+  out.h.assign(nz * nc, kNaN);
+  for (std::size_t k = 0; k < nz; ++k)
+    for (std::size_t c = 0; c < nc; ++c) {
+      const double p = perColumn ? pressurePa[k * nc + c] : pressurePa[k];
+      out.h[k * nc + c] = p > 0 ? standardAtmosphereGeopotentialHeightMeters(p) : kNaN;
+    }
+  geopotentialToGeometricHeights(latDeg, out.h);
+  out.source = HeightSource::StandardAtmosphere;
+  out.approximate = true;
+  out.note =
+      what + " without a geopotential field: " + kStandardAtmosphereNote + " -> geometric height above mean sea level";
+}
+
+Status addGeoidUndulation(const std::string& label, const std::vector<double>& latDeg,
+                          const std::vector<double>& lonDeg, bool useGeoid, Heights& out) {
   if (!useGeoid) {
     out.note +=
         "; no geoid correction (geoid off): heights above sea level used as above the WGS84 ellipsoid, "
@@ -392,16 +417,15 @@ Status seaLevelToEllipsoid(const HeightInput& in, bool useGeoid, Heights& out) {
     return Ok{};
   }
   const Result<GeoidGrid>& geoid = defaultEgm96Grid();
-  if (!geoid) return makeError(in.f.message(geoid.error()));
-  std::vector<double> n(in.nc);
-  for (std::size_t c = 0; c < in.nc; ++c) n[c] = geoid->undulationMeters(in.latDeg[c], in.lonDeg[c]);
-  for (std::size_t k = 0; k < in.nz; ++k)
-    for (std::size_t c = 0; c < in.nc; ++c) out.h[k * in.nc + c] += n[c];
+  if (!geoid) return makeError(label + ": " + geoid.error());
+  const std::size_t nc = latDeg.size();
+  std::vector<double> n(nc);
+  for (std::size_t c = 0; c < nc; ++c) n[c] = geoid->undulationMeters(latDeg[c], lonDeg[c]);
+  for (std::size_t k = 0; nc > 0 && k < out.h.size() / nc; ++k)
+    for (std::size_t c = 0; c < nc; ++c) out.h[k * nc + c] += n[c];
   out.note += "; + EGM96 geoid undulation -> above the WGS84 ellipsoid";
   return Ok{};
 }
-
-}  // namespace
 
 Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s,
                                bool useGeoid) {
@@ -541,6 +565,10 @@ Result<std::vector<std::size_t>> levelPicks(const io::NetcdfFile& f, const GridL
 }
 
 Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc) {
+  return checkHeights(f.path(), h, s, nc);
+}
+
+Status checkHeights(const std::string& label, const Heights& h, const Selection& s, std::size_t nc) {
   const std::size_t nz = s.levels.size();
   const std::size_t nx = s.hz->cols.size();
   auto where = [&](std::size_t k, std::size_t c) {
@@ -551,12 +579,12 @@ Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& 
     for (std::size_t c = 0; c < nc; ++c) {
       const float z = static_cast<float>(h.h[k * nc + c]);
       if (!std::isfinite(z))
-        return makeError(f.message("variable '" + h.fromVariable + "': height not finite at " + where(k, c) +
-                                   " (a missing value in what the heights come from)"));
+        return makeError(label + ": variable '" + h.fromVariable + "': height not finite at " + where(k, c) +
+                         " (a missing value in what the heights come from)");
       if (k > 0 && !(z > static_cast<float>(h.h[(k - 1) * nc + c])))
-        return makeError(f.message("variable '" + h.fromVariable + "': heights do not increase upwards at " +
-                                   where(k, c) + " (" + num(h.h[(k - 1) * nc + c], 1) + " m below, " +
-                                   num(h.h[k * nc + c], 1) + " m here)"));
+        return makeError(label + ": variable '" + h.fromVariable + "': heights do not increase upwards at " +
+                         where(k, c) + " (" + num(h.h[(k - 1) * nc + c], 1) + " m below, " + num(h.h[k * nc + c], 1) +
+                         " m here)");
     }
   return Ok{};
 }

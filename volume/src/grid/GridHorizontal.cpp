@@ -36,49 +36,59 @@ std::vector<std::size_t> strided(std::size_t a, std::size_t b, std::size_t strid
   return v;
 }
 
-Status checkCoordinates(const io::NetcdfFile& f, const io::NcVar& v, const std::vector<double>& values, bool latitude) {
+Status checkCoordinates(const CoordinateError& error, const std::vector<double>& values, bool latitude) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i]))
-      return varError(f, v,
-                      std::string(latitude ? "latitude" : "longitude") + " at index " + std::to_string(i) +
-                          " is not a finite number (missing or NaN coordinates)");
+      return error(std::string(latitude ? "latitude" : "longitude") + " at index " + std::to_string(i) +
+                   " is not a finite number (missing or NaN coordinates)");
     if (latitude && std::fabs(values[i]) > 90.0)
-      return varError(f, v,
-                      "latitude " + num(values[i]) + " at index " + std::to_string(i) + " is beyond +-90 degrees");
+      return error("latitude " + num(values[i]) + " at index " + std::to_string(i) + " is beyond +-90 degrees");
   }
   return Ok{};
 }
 
+Status checkCoordinates(const io::NetcdfFile& f, const io::NcVar& v, const std::vector<double>& values, bool latitude) {
+  return checkCoordinates([&](const std::string& what) { return varError(f, v, what); }, values, latitude);
+}
+
 }  // namespace
 
-Status checkCrop(const io::NetcdfFile& f, const GridCrop& c) {
+Status checkCrop(const std::string& label, const GridCrop& c) {
   for (double v : {c.southDeg, c.northDeg, c.westDeg, c.eastDeg})
-    if (!std::isfinite(v)) return makeError(f.message("crop: bounds must be finite numbers"));
+    if (!std::isfinite(v)) return makeError(label + ": crop: bounds must be finite numbers");
   if (c.southDeg < -90 || c.northDeg > 90 || c.southDeg > c.northDeg)
-    return makeError(f.message("crop: latitudes " + num(c.southDeg) + " .. " + num(c.northDeg) +
-                               " must satisfy -90 <= south <= north <= 90"));
-  if (c.levelCount == 0) return makeError(f.message("crop: a level count of 0 keeps nothing"));
+    return makeError(label + ": crop: latitudes " + num(c.southDeg) + " .. " + num(c.northDeg) +
+                     " must satisfy -90 <= south <= north <= 90");
+  if (c.levelCount == 0) return makeError(label + ": crop: a level count of 0 keeps nothing");
   return Ok{};
 }
+
+Status checkCrop(const io::NetcdfFile& f, const GridCrop& c) { return checkCrop(f.path(), c); }
 
 Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample) {
   auto latR = readPicked<double>(f, l.lat, {iota(0, l.ny)});
   if (!latR) return latR.forwardError();
   auto lonR = readPicked<double>(f, l.lon, {iota(0, l.nx)});
   if (!lonR) return lonR.forwardError();
-  const std::vector<double>& lat = *latR;
-  const std::vector<double>& lon = *lonR;
-  if (auto st = checkCoordinates(f, l.lat, lat, true); !st) return st.forwardError();
-  if (auto st = checkCoordinates(f, l.lon, lon, false); !st) return st.forwardError();
+  return rectilinearAxes(
+      *latR, *lonR, crop, sample, [&](const std::string& what) { return varError(f, l.lat, what); },
+      [&](const std::string& what) { return varError(f, l.lon, what); });
+}
+
+Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::vector<double>& lon, const GridCrop& crop,
+                                   std::size_t sample, const CoordinateError& latError,
+                                   const CoordinateError& lonError) {
+  if (lat.empty() || lon.empty()) return latError("no latitudes or no longitudes");
+  if (auto st = checkCoordinates(latError, lat, true); !st) return st.forwardError();
+  if (auto st = checkCoordinates(lonError, lon, false); !st) return st.forwardError();
   Horizontal h;
   // Latitudes: strictly monotonic; rows in output order ascend.
   const std::size_t ny = lat.size(), nx = lon.size();
   const bool latDown = ny >= 2 && lat[1] < lat[0];
   for (std::size_t i = 1; i < ny; ++i)
     if (!(latDown ? lat[i] < lat[i - 1] : lat[i] > lat[i - 1]))
-      return varError(f, l.lat,
-                      "latitudes are not strictly monotonic (index " + std::to_string(i - 1) + ": " + num(lat[i - 1]) +
-                          ", index " + std::to_string(i) + ": " + num(lat[i]) + ")");
+      return latError("latitudes are not strictly monotonic (index " + std::to_string(i - 1) + ": " + num(lat[i - 1]) +
+                      ", index " + std::to_string(i) + ": " + num(lat[i]) + ")");
   std::vector<double> latAsc(ny);
   for (std::size_t a = 0; a < ny; ++a) latAsc[a] = lat[latDown ? ny - 1 - a : a];
   // Longitudes: steps of one sign once wrapped to (-180, 180]; unwrapped to ascend.
@@ -93,16 +103,15 @@ Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, con
     }
     const double step = mod360(x - lon[lonDown ? nx - a : a - 1]);
     if (!(step > 0.0 && step < 180.0))
-      return varError(
-          f, l.lon,
-          "longitudes are not strictly monotonic (near index " + std::to_string(lonDown ? nx - 1 - a : a) + ")");
+      return lonError("longitudes are not strictly monotonic (near index " + std::to_string(lonDown ? nx - 1 - a : a) +
+                      ")");
     u[a] = u[a - 1] + step;
   }
   std::size_t n = nx;
   if (nx >= 2) {
     const double step = (u[nx - 1] - u[0]) / static_cast<double>(nx - 1);
     if (u[nx - 1] - u[0] >= 360.0 - 0.5 * step) {
-      if (u[nx - 1] - u[0] > 360.0 + 0.5 * step) return varError(f, l.lon, "longitudes span more than 360 degrees");
+      if (u[nx - 1] - u[0] > 360.0 + 0.5 * step) return lonError("longitudes span more than 360 degrees");
       n = nx - 1;  // the last column repeats the first (0 .. 360 inclusive)
       h.wrapsLongitude = true;
     } else if (u[nx - 1] - u[0] + step >= 360.0 - 0.5 * step) {
@@ -114,9 +123,8 @@ Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, con
 
   // Rows.
   if (crop.southDeg > latAsc[ny - 1] || crop.northDeg < latAsc[0])
-    return varError(f, l.lat,
-                    "the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
-                        " do not overlap the grid's " + num(latAsc[0]) + " .. " + num(latAsc[ny - 1]));
+    return latError("the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
+                    " do not overlap the grid's " + num(latAsc[0]) + " .. " + num(latAsc[ny - 1]));
   std::size_t ra = 0, rb = ny - 1;
   for (std::size_t a = 0; a < ny; ++a)
     if (latAsc[a] <= crop.southDeg) ra = a;
@@ -156,9 +164,8 @@ Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, con
         any = true;
       }
       if (!any)
-        return varError(f, l.lon,
-                        "the crop's longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) +
-                            " do not overlap the grid's " + num(u[0]) + " .. " + num(u[n - 1]));
+        return lonError("the crop's longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) +
+                        " do not overlap the grid's " + num(u[0]) + " .. " + num(u[n - 1]));
       ca = lo;
       cb = hi;
     }

@@ -4,6 +4,7 @@
 #include <atmoglobe/volume/CfTime.h>
 #include <atmoglobe/volume/GridReader.h>
 
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -162,8 +163,19 @@ struct Horizontal {
   }
 };
 
-/// The crop's bounds are finite, ordered latitudes and it keeps at least one level.
+/// The crop's bounds are finite, ordered latitudes and it keeps at least one level. `label`
+/// opens the message (the file).
 Status checkCrop(const io::NetcdfFile& f, const GridCrop& c);
+Status checkCrop(const std::string& label, const GridCrop& c);
+/// An error about a coordinate, naming the file and where the coordinate comes from.
+using CoordinateError = std::function<Error(const std::string& what)>;
+/// The rows and columns of a rectilinear grid whose file gives latitudes `lat` (per file row)
+/// and longitudes `lon` (per file column) that the crop keeps, every `sample`-th (and the last):
+/// the one normalisation of every rectilinear grid (netCDF 1-D coordinates, GRIB regular_ll and
+/// regular_gg): rows ascending, longitudes continuous, global grids wrapping.
+Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::vector<double>& lon, const GridCrop& crop,
+                                   std::size_t sample, const CoordinateError& latError,
+                                   const CoordinateError& lonError);
 /// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
 Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
 /// The same for a curvilinear grid, its coordinates read at time step `timeIndex`.
@@ -211,6 +223,29 @@ Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, con
 
 /// Heights must be finite and increase strictly upwards in every column (after float rounding).
 Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc);
+Status checkHeights(const std::string& label, const Heights& h, const Selection& s, std::size_t nc);
+
+// The pieces of the height rules that need no file, shared by the netCDF and GRIB readers.
+// Columns are given by their latitudes (and longitudes), row-major; heights are nz x nc,
+// level-major, bottom first.
+
+/// Geopotential heights (gpm) -> geometric heights above mean sea level in place, with each
+/// column's WGS84 normal gravity (geometricFromGeopotentialHeightMeters).
+void geopotentialToGeometricHeights(const std::vector<double>& latDeg, std::vector<double>& h);
+/// Heights above mean sea level from a geopotential field already read and scaled to
+/// geopotential metres (`fromGeopotential`: it was m2 s-2, divided by g0); `field` names it,
+/// `what` opens the note.
+void heightsFromGeopotentialField(const std::vector<double>& latDeg, std::vector<double> gpm, const std::string& field,
+                                  bool fromGeopotential, const std::string& what, Heights& out);
+/// Heights above mean sea level of pressures (Pa; one per level, or per level and column when
+/// `perColumn`) in the standard atmosphere: approximate, said in the note.
+void heightsFromStandardAtmosphere(const std::vector<double>& latDeg, std::size_t nz,
+                                   const std::vector<double>& pressurePa, bool perColumn, const std::string& what,
+                                   Heights& out);
+/// Heights above mean sea level -> above the WGS84 ellipsoid: + the EGM96 undulation of each
+/// column, or (`useGeoid` false) as they are, said in the note. `label` opens errors.
+Status addGeoidUndulation(const std::string& label, const std::vector<double>& latDeg,
+                          const std::vector<double>& lonDeg, bool useGeoid, Heights& out);
 
 /// How the heights were made, into a GridVolume or a GridFileInfo (fields of the same names).
 template <class Out>

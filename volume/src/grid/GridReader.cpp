@@ -2,7 +2,9 @@
 // format and the default variable are found in GridFormat.cpp, the variable's layout in
 // GridLayout.cpp, the columns of a crop in GridHorizontal.cpp, the vertical coordinates (heights
 // above the WGS84 ellipsoid for every column and level) in GridHeights.cpp, the netCDF layer in
-// GridNetcdf.cpp, `info` (describeGridFile and its text) in GridDescribe.cpp.
+// GridNetcdf.cpp, `info` (describeGridFile and its text) in GridDescribe.cpp. GRIB files go to
+// GribReader.cpp (messages indexed in GribIndex.cpp).
+#include "GribInternal.h"
 #include "GridInternal.h"
 
 #include <algorithm>
@@ -46,6 +48,10 @@ Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout&
 }  // namespace grid
 
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options) {
+  if (grib::hasGribSignature(path)) return grib::readGribVolume(path, options);
+  if (options.member >= 0)
+    return makeError(path + ": ensemble member " + std::to_string(options.member) +
+                     " asked for, but members are read from GRIB files only");
   auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   const io::NetcdfFile& f = *opened;

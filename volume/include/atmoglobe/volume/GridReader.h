@@ -1,6 +1,8 @@
 #pragma once
 // Forecast-grid reader: netCDF (classic or netCDF-4, groups included) model output following
-// the CF conventions, and WRF output. Format from content, never from the file name.
+// the CF conventions, WRF output, and GRIB editions 1 and 2 (through ecCodes: regular_ll and
+// regular_gg grids, pressure and height levels; docs/grids.md, "GRIB"). Format from content,
+// never from the file name.
 //
 // Horizontal: rectilinear grids (1-D latitude and longitude coordinate variables, longitudes in
 // 0..360 or -180..180, regional or global, latitudes north-to-south or south-to-north) and
@@ -44,14 +46,18 @@ struct GridCrop {
 };
 
 struct GridReadOptions {
-  /// Variable to read: its name ("QCLOUD") or full path ("/forecast/t"). Empty: the default
-  /// (chooseDefaultGridVariable).
+  /// Variable to read: its name ("QCLOUD") or full path ("/forecast/t"); GRIB: the shortName
+  /// ("t": its level type with the most levels) or shortName:typeOfLevel ("t:isobaricInhPa").
+  /// Empty: the default (chooseDefaultGridVariable; GRIB: docs/grids.md).
   std::string variable;
   /// Time step by index on the file's time axis...
   std::size_t timeIndex = 0;
   /// ...or by ISO 8601 UTC time ("2005-08-28T15:00:00Z", "2005-08-28 15:00"), matched exactly
   /// (to the second) to the time axis; non-empty overrides timeIndex.
   std::string timeIso8601;
+  /// Ensemble member (GRIB `number`) to read; -1: the first the variable has. Files without
+  /// members (netCDF) accept only -1.
+  long member = -1;
   GridCrop crop;
   /// Heights above mean sea level -> above the ellipsoid with the EGM96 undulation (Geoid.h).
   /// false: they are used as heights above the ellipsoid (errors of -106..+85 m; the note says so).
@@ -78,6 +84,14 @@ struct GridVariableInfo {
   std::string units, standardName, longName;
   bool packed = false;  ///< has scale_factor or add_offset
   bool onGrid = false;  ///< a 3-D variable readGridVolume can read
+
+  // GRIB only (name is shortName:typeOfLevel; the netCDF fields above stay empty but units and
+  // longName): what the variable's messages share and span.
+  std::string shortName, levelType, gridType;  ///< keys shortName, typeOfLevel, gridType
+  std::vector<double> levels;                  ///< `level` values, bottom first (hPa, Pa, m as the level type says)
+  std::size_t gridNi = 0, gridNj = 0;          ///< points along a parallel / a meridian (0: not regular)
+  std::size_t timeCount = 0, memberCount = 0, messageCount = 0;
+  std::string notReadable;  ///< why readGridVolume does not read it yet ("" when it does)
 };
 
 /// What describeGridFile finds: the file and, for one variable (the default or the one asked
@@ -110,9 +124,21 @@ struct GridFileInfo {
   std::string timeVariable, timeUnits, calendar;
 
   std::uint64_t bytesRead = 0;  ///< variable data read to describe the file
+
+  // GRIB only.
+  std::vector<std::string> steps;     ///< the variable's forecast steps (stepRange, file units), sorted
+  std::vector<long> members;          ///< the variable's ensemble members (`number`), sorted
+  std::size_t messageCount = 0;       ///< messages in the file
+  std::string indexFile;              ///< the message index in the cache ("" when it could not be written)
+  bool indexReused = false;           ///< the index came from the cache (no pass over the file)
+  std::vector<std::string> warnings;  ///< what the reader skipped (damaged messages)
+  /// The described variable is not read yet (a grid or level type of a later stage): why. Its
+  /// grid, heights and times are then not filled in.
+  std::string notReadable;
 };
 
-/// True when `path` is a netCDF file holding a forecast grid: a WRF file (TITLE mentioning WRF,
+/// True when `path` is a GRIB file (its content, unwrapped from gzip/bzip2, starts with "GRIB"),
+/// or a netCDF file holding a forecast grid: a WRF file (TITLE mentioning WRF,
 /// or XLAT/XLONG with bottom_top) or a file with a variable that has a vertical dimension and
 /// latitude/longitude (1-D coordinate variables or 2-D ones named in `coordinates`) and no
 /// radar marks (sweep_start_ray_index, ODIM_H5). False (not an error) for anything else,

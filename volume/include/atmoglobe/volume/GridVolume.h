@@ -91,6 +91,7 @@ struct GridVolume {
   std::vector<std::string> times;  ///< the file's time axis, ISO 8601 UTC (empty strings if it has none)
   std::size_t timeIndex = 0;       ///< which one was read
   std::string validTime;           ///< times[timeIndex] ("" when the variable has no time dimension)
+  long member = -1;                ///< ensemble member read (GRIB `number`); -1: the file has none
 
   // --- cost ---
   /// Bytes of variable data read from the file for this volume (values, coordinates, heights;

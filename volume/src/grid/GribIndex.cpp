@@ -1,0 +1,303 @@
+// The index of a GRIB file's messages: one pass with ecCodes at the first open records each
+// message's byte offset and length and the keys that place it in a variable (shortName,
+// typeOfLevel, level, times, step, member, grid); the index is kept in the cache directory
+// (never beside the data), keyed by the file's absolute path, size and modification time, so
+// that a later open reads the index and then only the messages it needs.
+#include "GribInternal.h"
+
+#include <atmoglobe/globe/AtomicFile.h>
+#include <atmoglobe/io/Compression.h>
+
+#include <eccodes.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <system_error>
+
+namespace atmoglobe::volume::grib {
+
+namespace {
+
+/// Bumped when the index's content changes meaning: an index of another version is rebuilt.
+constexpr int kIndexVersion = 1;
+
+/// ecCodes' default context is shared: one caller at a time (reads may run on loader threads).
+std::mutex& ecCodesMutex() {
+  static std::mutex m;
+  return m;
+}
+
+std::string getString(codes_handle* h, const char* key) {
+  char buf[256];
+  std::size_t len = sizeof buf;
+  if (codes_get_string(h, key, buf, &len) != CODES_SUCCESS) return {};
+  return std::string(buf);
+}
+
+long getLong(codes_handle* h, const char* key, long fallback) {
+  long v = 0;
+  if (codes_get_long(h, key, &v) != CODES_SUCCESS || v == CODES_MISSING_LONG) return fallback;
+  return v;
+}
+
+/// FNV-1a 64: a stable name for the cache file of a path (std::hash is not stable across builds).
+std::string pathHash(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+  return out;
+}
+
+/// What identifies the file's version: absolute path, size and modification time.
+struct FileStamp {
+  std::string absolutePath;
+  std::uint64_t size = 0;
+  std::int64_t mtimeNs = 0;
+};
+
+Result<FileStamp> stampOf(const std::string& path) {
+  std::error_code ec;
+  FileStamp s;
+  s.absolutePath = std::filesystem::absolute(path, ec).lexically_normal().string();
+  if (ec) return makeError(path + ": " + ec.message());
+  s.size = std::filesystem::file_size(path, ec);
+  if (ec) return makeError(path + ": cannot read: " + ec.message());
+  const auto t = std::filesystem::last_write_time(path, ec);
+  if (ec) return makeError(path + ": cannot read: " + ec.message());
+  s.mtimeNs = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  return s;
+}
+
+nlohmann::json toJson(const GribMessage& m) {
+  return {{"offset", m.offset},
+          {"length", m.length},
+          {"shortName", m.shortName},
+          {"typeOfLevel", m.typeOfLevel},
+          {"gridType", m.gridType},
+          {"name", m.name},
+          {"units", m.units},
+          {"level", m.level},
+          {"dataDate", m.dataDate},
+          {"dataTime", m.dataTime},
+          {"validityDate", m.validityDate},
+          {"validityTime", m.validityTime},
+          {"stepRange", m.stepRange},
+          {"endStep", m.endStep},
+          {"number", m.number},
+          {"Ni", m.ni},
+          {"Nj", m.nj},
+          {"edition", m.edition}};
+}
+
+GribMessage fromJson(const nlohmann::json& j) {
+  GribMessage m;
+  m.offset = j.at("offset").get<std::uint64_t>();
+  m.length = j.at("length").get<std::uint64_t>();
+  m.shortName = j.at("shortName").get<std::string>();
+  m.typeOfLevel = j.at("typeOfLevel").get<std::string>();
+  m.gridType = j.at("gridType").get<std::string>();
+  m.name = j.at("name").get<std::string>();
+  m.units = j.at("units").get<std::string>();
+  m.level = j.at("level").get<double>();
+  m.dataDate = j.at("dataDate").get<long>();
+  m.dataTime = j.at("dataTime").get<long>();
+  m.validityDate = j.at("validityDate").get<long>();
+  m.validityTime = j.at("validityTime").get<long>();
+  m.stepRange = j.at("stepRange").get<std::string>();
+  m.endStep = j.at("endStep").get<long>();
+  m.number = j.at("number").get<long>();
+  m.ni = j.at("Ni").get<long>();
+  m.nj = j.at("Nj").get<long>();
+  m.edition = j.at("edition").get<long>();
+  return m;
+}
+
+/// The cached index when it is there, readable and of this very file; nullopt otherwise (the
+/// caller rebuilds it).
+std::optional<GribIndex> loadCached(const std::string& cacheFile, const FileStamp& stamp) {
+  std::ifstream in(cacheFile, std::ios::binary);
+  if (!in) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("version").get<int>() != kIndexVersion || j.at("path").get<std::string>() != stamp.absolutePath ||
+        j.at("size").get<std::uint64_t>() != stamp.size || j.at("mtime_ns").get<std::int64_t>() != stamp.mtimeNs)
+      return std::nullopt;
+    GribIndex idx;
+    idx.compression = j.at("compression").get<std::string>();
+    for (const auto& m : j.at("messages")) idx.messages.push_back(fromJson(m));
+    for (const auto& w : j.at("warnings")) idx.warnings.push_back(w.get<std::string>());
+    if (idx.messages.empty()) return std::nullopt;
+    for (const GribMessage& m : idx.messages)  // an index claiming bytes past the file is stale or damaged
+      if (m.offset + m.length < m.offset || (idx.compression == "none" && m.offset + m.length > stamp.size))
+        return std::nullopt;
+    return idx;
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+/// One pass over the content with ecCodes: every message's keys; damaged stretches skipped
+/// with a warning naming the byte offset (ecCodes resynchronises on the next "GRIB").
+Status scan(FILE* f, const std::string& label, GribIndex& idx) {
+  const std::lock_guard<std::mutex> lock(ecCodesMutex());
+  for (std::size_t count = 0;; ++count) {
+    const long before = std::ftell(f);
+    int err = 0;
+    std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
+        codes_handle_new_from_file(nullptr, f, PRODUCT_GRIB, &err), &codes_handle_delete);
+    if (!h) {
+      if (err == CODES_SUCCESS) break;  // end of the content
+      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (from byte " +
+                             std::to_string(before) + "): " + codes_get_error_message(err) + "; skipped");
+      if (std::ftell(f) <= before) break;  // no progress: stop rather than loop
+      continue;
+    }
+    GribMessage m;
+    long offset = 0, length = 0;
+    codes_get_long(h.get(), "offset", &offset);
+    codes_get_long(h.get(), "totalLength", &length);
+    m.offset = static_cast<std::uint64_t>(offset);
+    m.length = static_cast<std::uint64_t>(length);
+    m.shortName = getString(h.get(), "shortName");
+    m.typeOfLevel = getString(h.get(), "typeOfLevel");
+    m.gridType = getString(h.get(), "gridType");
+    m.name = getString(h.get(), "name");
+    m.units = getString(h.get(), "units");
+    double level = 0;
+    if (codes_get_double(h.get(), "level", &level) == CODES_SUCCESS) m.level = level;
+    m.dataDate = getLong(h.get(), "dataDate", 0);
+    m.dataTime = getLong(h.get(), "dataTime", 0);
+    m.validityDate = getLong(h.get(), "validityDate", m.dataDate);
+    m.validityTime = getLong(h.get(), "validityTime", m.dataTime);
+    m.stepRange = getString(h.get(), "stepRange");
+    m.endStep = getLong(h.get(), "endStep", 0);
+    m.number = codes_is_defined(h.get(), "number") ? getLong(h.get(), "number", -1) : -1;
+    m.ni = getLong(h.get(), "Ni", 0);
+    m.nj = getLong(h.get(), "Nj", 0);
+    m.edition = getLong(h.get(), "edition", 0);
+    idx.messages.push_back(std::move(m));
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+bool hasGribSignature(const std::string& path) {
+  const std::vector<unsigned char> head = io::peekFileContent(path, 4);
+  return head.size() == 4 && head[0] == 'G' && head[1] == 'R' && head[2] == 'I' && head[3] == 'B';
+}
+
+std::string cacheDirectory() {
+  if (const char* d = std::getenv("ATMOGLOBE_CACHE_DIR"); d && *d) return d;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/atmoglobe";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/atmoglobe";
+  return {};
+}
+
+Result<GribIndex> gribIndex(const std::string& path) {
+  auto stamp = stampOf(path);
+  if (!stamp) return stamp.forwardError();
+  const std::string dir = cacheDirectory();
+  const std::string cacheFile = dir.empty() ? std::string()
+                                            : dir + "/grib-index/" + pathHash(stamp->absolutePath) + ".json";
+  if (!cacheFile.empty())
+    if (auto cached = loadCached(cacheFile, *stamp)) {
+      cached->path = path;
+      cached->cacheFile = cacheFile;
+      cached->fromCache = true;
+      return std::move(*cached);
+    }
+
+  auto compression = io::fileCompression(path);
+  if (!compression) return compression.forwardError();
+  GribIndex idx;
+  idx.path = path;
+  idx.compression = io::toString(*compression);
+  if (*compression == io::Compression::None) {
+    std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) return makeError(path + ": cannot open");
+    if (auto st = scan(f.get(), path, idx); !st) return st.forwardError();
+  } else {
+    auto content = io::readFileBytes(path);
+    if (!content) return content.forwardError();
+    std::unique_ptr<FILE, decltype(&std::fclose)> f(fmemopen(content->bytes.data(), content->bytes.size(), "rb"),
+                                                    &std::fclose);
+    if (!f) return makeError(content->label + ": cannot read the unwrapped content");
+    if (auto st = scan(f.get(), content->label, idx); !st) return st.forwardError();
+  }
+  if (idx.messages.empty()) {
+    std::string why = idx.warnings.empty() ? std::string() : " (" + idx.warnings.front() + ")";
+    return makeError(path + ": no readable GRIB message" + why);
+  }
+
+  if (!cacheFile.empty()) {
+    nlohmann::json j;
+    j["version"] = kIndexVersion;
+    j["path"] = stamp->absolutePath;
+    j["size"] = stamp->size;
+    j["mtime_ns"] = stamp->mtimeNs;
+    j["compression"] = idx.compression;
+    j["messages"] = nlohmann::json::array();
+    for (const GribMessage& m : idx.messages) j["messages"].push_back(toJson(m));
+    j["warnings"] = idx.warnings;
+    std::error_code ec;
+    std::filesystem::create_directories(dir + "/grib-index", ec);
+    // Not kept (read-only cache, full disk): the index is still used, only made again next time.
+    if (!ec && globe::writeFileAtomic(cacheFile, j.dump(0, ' ', false, nlohmann::json::error_handler_t::replace)))
+      idx.cacheFile = cacheFile;
+  }
+  return idx;
+}
+
+Result<GribContent> GribContent::open(const GribIndex& index) {
+  GribContent c;
+  c.path_ = index.path;
+  c.label_ = index.path;
+  if (index.compression != "none") {
+    auto content = io::readFileBytes(index.path);
+    if (!content) return content.forwardError();
+    c.compressed_ = true;
+    c.label_ = content->label;
+    c.unwrapped_ = std::move(content->bytes);
+  }
+  return c;
+}
+
+Result<const std::vector<unsigned char>*> GribContent::read(const GribMessage& m) {
+  if (auto it = read_.find(m.offset); it != read_.end() && it->second.size() == m.length) return &it->second;
+  std::vector<unsigned char> out;
+  if (compressed_) {
+    if (m.offset + m.length > unwrapped_.size())
+      return makeError(label_ + ": GRIB message at byte " + std::to_string(m.offset) +
+                       " is past the end of the content (the file changed since it was indexed)");
+    out.assign(unwrapped_.begin() + static_cast<std::ptrdiff_t>(m.offset),
+               unwrapped_.begin() + static_cast<std::ptrdiff_t>(m.offset + m.length));
+  } else {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) return makeError(path_ + ": cannot open");
+    out.resize(m.length);
+    in.seekg(static_cast<std::streamoff>(m.offset));
+    in.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(m.length));
+    if (static_cast<std::uint64_t>(in.gcount()) != m.length)
+      return makeError(path_ + ": GRIB message at byte " + std::to_string(m.offset) + " (" + std::to_string(m.length) +
+                       " bytes) is cut short (the file changed since it was indexed)");
+  }
+  bytesRead_ += m.length;
+  return &(read_[m.offset] = std::move(out));
+}
+
+std::mutex& ecCodesLock() { return ecCodesMutex(); }
+
+}  // namespace atmoglobe::volume::grib

@@ -1,0 +1,85 @@
+#pragma once
+// Internals of the GRIB side of the forecast-grid reader (not a public header): the index of a
+// file's messages (GribIndex.cpp) and the reader and `info` built on it (GribReader.cpp). GRIB
+// itself is decoded by ecCodes only; nothing here parses GRIB sections by hand.
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridReader.h>
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace atmoglobe::volume::grib {
+
+/// One message of a GRIB file: where it is and the keys that place it in a variable.
+struct GribMessage {
+  std::uint64_t offset = 0, length = 0;  ///< bytes in the file's content (unwrapped from gzip/bzip2)
+  std::string shortName, typeOfLevel, gridType;
+  std::string name, units;                  ///< ecCodes' parameter name and units ("Temperature", "K")
+  double level = 0;                         ///< key `level` (hPa for isobaricInhPa, Pa for isobaricInPa, m for heights)
+  long dataDate = 0, dataTime = 0;          ///< reference time (YYYYMMDD, hhmm)
+  long validityDate = 0, validityTime = 0;  ///< validity time (YYYYMMDD, hhmm)
+  std::string stepRange;                    ///< "12", "0-6" (stepUnits)
+  long endStep = 0;
+  long number = -1;     ///< ensemble member; -1: the message has none
+  long ni = 0, nj = 0;  ///< 0: missing (reduced grids)
+  long edition = 0;
+};
+
+/// The index of a file: every readable message, what was skipped, and where the index is kept.
+struct GribIndex {
+  std::string path;         ///< as given
+  std::string compression;  ///< "none", "gzip", "bzip2"
+  std::vector<GribMessage> messages;
+  std::vector<std::string> warnings;  ///< damaged stretches skipped, naming the file and byte offset
+  std::string cacheFile;              ///< "" when the index could not be written
+  bool fromCache = false;             ///< read from the cache (no pass over the file)
+};
+
+/// True when the content of `path` (unwrapped from gzip/bzip2) starts with "GRIB".
+bool hasGribSignature(const std::string& path);
+
+/// The cache directory of atmoglobe: $ATMOGLOBE_CACHE_DIR, else $XDG_CACHE_HOME/atmoglobe, else
+/// $HOME/.cache/atmoglobe ("" when none can be named).
+std::string cacheDirectory();
+
+/// The index of `path`: from the cache when an index of this file (absolute path, size and
+/// modification time equal) is there and readable, else made by one pass over the file with
+/// ecCodes and written to the cache atomically (temporary + rename; a failure to write is not an
+/// error: the index is used without being kept). Error: the file cannot be read, or holds no
+/// readable message.
+Result<GribIndex> gribIndex(const std::string& path);
+
+/// ecCodes' default context is shared: every call into ecCodes holds this lock (reads may run on
+/// the loaders' threads).
+std::mutex& ecCodesLock();
+
+/// The bytes of messages of one file: read at their offsets (plain files) or from the
+/// unwrapped content in memory (gzip/bzip2). Each message is read once per GribContent (a read
+/// decodes a message for its grid and its values, a geopotential for values and heights) and
+/// counted once.
+class GribContent {
+ public:
+  static Result<GribContent> open(const GribIndex& index);
+  /// The message's bytes (valid while this object lives). Error: the file changed or is
+  /// shorter than the index says.
+  Result<const std::vector<unsigned char>*> read(const GribMessage& m);
+  std::uint64_t bytesRead() const { return bytesRead_; }
+
+ private:
+  std::string path_, label_;
+  std::vector<unsigned char> unwrapped_;  ///< whole content of a compressed file
+  bool compressed_ = false;
+  std::map<std::uint64_t, std::vector<unsigned char>> read_;  ///< by offset
+  std::uint64_t bytesRead_ = 0;
+};
+
+/// readGridVolume and describeGridFile for GRIB files (GribReader.cpp).
+Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions& options);
+Result<GridFileInfo> describeGribFile(const std::string& path, const std::string& variable);
+std::string describeGribText(const GridFileInfo& info);
+std::string describeGribJson(const GridFileInfo& info);
+
+}  // namespace atmoglobe::volume::grib

@@ -1,0 +1,775 @@
+// GRIB editions 1 and 2 as forecast grids, through ecCodes: the messages of a file's index
+// (GribIndex.cpp) grouped into variables (shortName, typeOfLevel), one volume per variable, time
+// (validity) and ensemble member, its levels stacked bottom first. Horizontal: regular_ll and
+// regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp); heights by
+// its rules too (GridHeights.cpp: geopotential field or standard atmosphere for pressure levels,
+// lengths above ground or sea level, + EGM96). Only the messages of the selection are decoded.
+// Other grid and level types are listed by `info` and refused by the read, saying so.
+#include "GribInternal.h"
+#include "GridInternal.h"
+
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/CfTime.h>
+#include <atmoglobe/volume/VerticalCoordinate.h>
+
+#include <eccodes.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+namespace atmoglobe::volume::grib {
+
+namespace {
+
+/// What ecCodes is told to put at bitmap-masked points, then turned into NaN: far beyond any
+/// physical value a GRIB field holds (the largest float, as cfgrib uses).
+constexpr double kMissingSentinel = 3.4028234663852886e38;
+
+/// A variable: the messages sharing shortName and typeOfLevel.
+struct Variable {
+  std::string shortName, typeOfLevel, gridType, name, units;
+  std::vector<std::size_t> messages;            ///< indices into the index, file order
+  std::vector<double> levels;                   ///< distinct `level` values, bottom first
+  std::vector<std::pair<long, long>> validity;  ///< distinct (validityDate, validityTime), ascending
+  std::vector<long> members;                    ///< distinct `number`, ascending ({-1}: none)
+  std::vector<std::string> steps;
+  long ni = 0, nj = 0;
+  std::string notReadable;  ///< "" when the read handles it
+  std::string key() const { return shortName + ":" + typeOfLevel; }
+};
+
+bool isPressureType(const std::string& t) { return t == "isobaricInhPa" || t == "isobaricInPa"; }
+
+/// The level type's factor to SI (Pa or m), or 0 when this stage does not read it.
+double levelToSi(const std::string& t) {
+  if (t == "isobaricInhPa") return 100.0;
+  if (t == "isobaricInPa") return 1.0;
+  if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface") return 1.0;
+  return 0.0;
+}
+
+std::string iso(long date, long time) {
+  char buf[128];  // room for any long: the compiler checks the worst case
+  std::snprintf(buf, sizeof buf, "%04ld-%02ld-%02ldT%02ld:%02ld:00Z", date / 10000, (date / 100) % 100, date % 100,
+                time / 100, time % 100);
+  return buf;
+}
+
+std::string levelText(double v) { return grid::num(v, v == std::floor(v) ? 0 : 3); }
+
+std::vector<Variable> groupVariables(const GribIndex& idx) {
+  std::vector<Variable> vars;
+  std::map<std::string, std::size_t> byKey;
+  for (std::size_t i = 0; i < idx.messages.size(); ++i) {
+    const GribMessage& m = idx.messages[i];
+    const std::string key = m.shortName + ":" + m.typeOfLevel;
+    auto [it, added] = byKey.emplace(key, vars.size());
+    if (added) {
+      Variable v;
+      v.shortName = m.shortName;
+      v.typeOfLevel = m.typeOfLevel;
+      v.gridType = m.gridType;
+      v.name = m.name;
+      v.units = m.units;
+      v.ni = m.ni;
+      v.nj = m.nj;
+      vars.push_back(std::move(v));
+    }
+    Variable& v = vars[it->second];
+    v.messages.push_back(i);
+    if (m.gridType != v.gridType || m.ni != v.ni || m.nj != v.nj)
+      v.notReadable = "its messages are on different grids (" + v.gridType + " " + std::to_string(v.ni) + " x " +
+                      std::to_string(v.nj) + " and " + m.gridType + " " + std::to_string(m.ni) + " x " +
+                      std::to_string(m.nj) + ")";
+  }
+  for (Variable& v : vars) {
+    std::set<double> levels;
+    std::set<std::pair<long, long>> validity;
+    std::set<long> members;
+    std::set<std::string> steps;
+    for (std::size_t i : v.messages) {
+      const GribMessage& m = idx.messages[i];
+      levels.insert(m.level);
+      validity.insert({m.validityDate, m.validityTime});
+      members.insert(m.number);
+      steps.insert(m.stepRange);
+    }
+    v.levels.assign(levels.begin(), levels.end());
+    if (isPressureType(v.typeOfLevel)) std::reverse(v.levels.begin(), v.levels.end());  // high pressure = bottom
+    v.validity.assign(validity.begin(), validity.end());
+    v.members.assign(members.begin(), members.end());
+    v.steps.assign(steps.begin(), steps.end());
+    std::sort(v.steps.begin(), v.steps.end(), [](const std::string& a, const std::string& b) {
+      return a.size() != b.size() ? a.size() < b.size() : a < b;  // 3 before 12
+    });
+    if (!v.notReadable.empty()) continue;
+    if (v.gridType != "regular_ll" && v.gridType != "regular_gg")
+      v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
+    else if (v.typeOfLevel == "hybrid") v.notReadable = "GRIB hybrid (model) levels are not read yet";
+    else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
+    else if (v.ni < 1 || v.nj < 1) v.notReadable = "GRIB grid without Ni x Nj points";
+  }
+  return vars;
+}
+
+std::string formatOf(const GribIndex& idx) {
+  std::set<long> editions;
+  for (const GribMessage& m : idx.messages) editions.insert(m.edition);
+  std::string s = editions.size() == 1 ? "GRIB edition " : "GRIB editions ";
+  bool first = true;
+  for (long e : editions) {
+    if (!first) s += " and ";
+    s += std::to_string(e);
+    first = false;
+  }
+  if (idx.compression != "none") s += " (" + idx.compression + ")";
+  return s;
+}
+
+/// The file's messages, decoded on demand, each at most once per read.
+struct Context {
+  const GribIndex& idx;
+  GribContent content;
+  std::vector<Variable> vars;
+  std::string label;  ///< the file, for messages
+};
+
+/// One message decoded: its grid's axes (file rows and columns) and, when asked, its values.
+struct Decoded {
+  long ni = 0, nj = 0;
+  bool jConsecutive = false;
+  std::vector<double> latRows, lonCols;  ///< per file row / column
+  std::vector<double> values;            ///< file order; NaN at missing points
+  std::size_t at(std::size_t row, std::size_t col) const {
+    return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
+  }
+};
+
+Error varError(const Context& c, const Variable& v, const std::string& what) {
+  return makeError(c.label + ": variable " + v.key() + ": " + what);
+}
+
+Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues) {
+  auto bytes = c.content.read(m);
+  if (!bytes) return bytes.forwardError();
+  const std::lock_guard<std::mutex> lock(ecCodesLock());
+  // A copy: setting missingValue below must not touch the bytes kept for another decode.
+  std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
+      codes_handle_new_from_message_copy(nullptr, (*bytes)->data(), (*bytes)->size()), &codes_handle_delete);
+  const std::string where = "message at byte " + std::to_string(m.offset);
+  if (!h) return varError(c, v, where + ": ecCodes cannot decode it");
+  Decoded d;
+  long jc = 0, alt = 0;
+  codes_get_long(h.get(), "Ni", &d.ni);
+  codes_get_long(h.get(), "Nj", &d.nj);
+  codes_get_long(h.get(), "jPointsAreConsecutive", &jc);
+  codes_get_long(h.get(), "alternativeRowScanning", &alt);
+  d.jConsecutive = jc != 0;
+  if (alt != 0) return varError(c, v, where + ": alternative row scanning is not read yet");
+  if (d.ni != m.ni || d.nj != m.nj || d.ni < 1 || d.nj < 1)
+    return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
+  const std::size_t n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
+  auto array = [&](const char* key, std::vector<double>& out) -> Status {
+    std::size_t size = 0;
+    int err = codes_get_size(h.get(), key, &size);
+    if (err == CODES_SUCCESS && size != n)
+      return varError(c, v,
+                      where + ": " + std::to_string(size) + " " + key + " for " + std::to_string(d.ni) + " x " +
+                          std::to_string(d.nj) + " points");
+    out.resize(n);
+    if (err == CODES_SUCCESS) err = codes_get_double_array(h.get(), key, out.data(), &size);
+    if (err != CODES_SUCCESS) return varError(c, v, where + ": " + key + ": " + codes_get_error_message(err));
+    return Ok{};
+  };
+  if (wantAxes) {
+    std::vector<double> lat, lon;
+    if (auto st = array("latitudes", lat); !st) return st.forwardError();
+    if (auto st = array("longitudes", lon); !st) return st.forwardError();
+    const std::size_t ni = static_cast<std::size_t>(d.ni), nj = static_cast<std::size_t>(d.nj);
+    for (std::size_t r = 0; r < nj; ++r) d.latRows.push_back(lat[d.at(r, 0)]);
+    for (std::size_t col = 0; col < ni; ++col) d.lonCols.push_back(lon[d.at(0, col)]);
+  }
+  if (wantValues) {
+    long bitmap = 0;
+    codes_get_long(h.get(), "bitmapPresent", &bitmap);
+    if (bitmap) codes_set_double(h.get(), "missingValue", kMissingSentinel);
+    if (auto st = array("values", d.values); !st) return st.forwardError();
+    if (bitmap)
+      for (double& x : d.values)
+        if (x == kMissingSentinel) x = std::numeric_limits<double>::quiet_NaN();
+  }
+  return d;
+}
+
+/// The messages of `v` at validity `t`, member `member`, one per level of `levels` (indices into
+/// v.levels); several at one level (forecasts from different runs valid at once): the shortest
+/// step. Error naming what is missing.
+Result<std::vector<const GribMessage*>> pick(const Context& c, const Variable& v, std::size_t t, long member,
+                                             const std::vector<std::size_t>& levels) {
+  std::vector<const GribMessage*> out(levels.size(), nullptr);
+  for (std::size_t i : v.messages) {
+    const GribMessage& m = c.idx.messages[i];
+    if (m.number != member || std::make_pair(m.validityDate, m.validityTime) != v.validity[t]) continue;
+    for (std::size_t k = 0; k < levels.size(); ++k)
+      if (m.level == v.levels[levels[k]] && (!out[k] || m.endStep < out[k]->endStep)) out[k] = &m;
+  }
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (!out[k])
+      return varError(c, v,
+                      "no message at level " + levelText(v.levels[levels[k]]) + " (" + v.typeOfLevel + ") valid at " +
+                          iso(v.validity[t].first, v.validity[t].second) +
+                          (member >= 0 ? " for member " + std::to_string(member) : std::string()));
+  return out;
+}
+
+/// A field of another variable (geopotential, orography) at the same validity and member on the
+/// given levels (values), or nullopt when the file does not hold all of them.
+const Variable* findVar(const Context& c, const std::string& shortName, const std::string& typeOfLevel) {
+  for (const Variable& v : c.vars)
+    if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && v.notReadable.empty()) return &v;
+  return nullptr;
+}
+
+/// The values of `msgs` at the selected columns, level-major (nz x nc).
+Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
+                                         const grid::Horizontal& hz) {
+  std::vector<double> out;
+  out.reserve(msgs.size() * hz.rows.size() * hz.cols.size());
+  for (const GribMessage* m : msgs) {
+    auto d = decode(c, v, *m, false, true);
+    if (!d) return d.forwardError();
+    for (std::size_t r : hz.rows)
+      for (std::size_t col : hz.cols) out.push_back(d->values[d->at(r, col)]);
+  }
+  return out;
+}
+
+/// What a read (or describe's sample) produces.
+struct Selected {
+  std::vector<double> latRows, lonCols;  ///< the file's axes
+  grid::Horizontal hz;
+  std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
+  grid::Heights heights;
+  std::vector<float> values;  ///< nz x ny x nx (empty unless asked)
+};
+
+/// The heights of the selection by the level type (rules: docs/grids.md, "GRIB").
+Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid, Selected& s) {
+  const grid::Horizontal& hz = s.hz;
+  const std::size_t nx = hz.cols.size(), nc = hz.rows.size() * nx, nz = s.levels.size();
+  std::vector<double> lat(nc), lon(nc);
+  for (std::size_t j = 0; j < hz.rows.size(); ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      lat[j * nx + i] = hz.latDeg[j];
+      lon[j * nx + i] = hz.lonDeg[i];
+    }
+  grid::Heights& out = s.heights;
+  const double toSi = levelToSi(v.typeOfLevel);
+  for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
+  out.fromVariable = v.key();
+  if (isPressureType(v.typeOfLevel)) {
+    out.levelUnits = "Pa";
+    const std::string what = "pressure levels (GRIB " + v.typeOfLevel + ")";
+    // The geopotential of the same level type, time and member: z (m2 s-2) or gh (gpm).
+    for (const char* name : {"z", "gh"}) {
+      const Variable* g = findVar(c, name, v.typeOfLevel);
+      if (!g || std::find(g->validity.begin(), g->validity.end(), v.validity[t]) == g->validity.end() ||
+          std::find(g->members.begin(), g->members.end(), member) == g->members.end())
+        continue;
+      const std::size_t gt = static_cast<std::size_t>(std::find(g->validity.begin(), g->validity.end(), v.validity[t]) -
+                                                      g->validity.begin());
+      std::vector<std::size_t> gl;
+      for (std::size_t k : s.levels) {
+        auto at = std::find(g->levels.begin(), g->levels.end(), v.levels[k]);
+        if (at == g->levels.end()) break;
+        gl.push_back(static_cast<std::size_t>(at - g->levels.begin()));
+      }
+      if (gl.size() != nz) continue;
+      auto msgs = pick(c, *g, gt, member, gl);
+      if (!msgs) continue;
+      auto values = columnValues(c, *g, *msgs, hz);
+      if (!values) return values.forwardError();
+      const bool geopotential = std::string(name) == "z";
+      if (geopotential)
+        for (double& x : *values) x /= kStandardGravity;
+      grid::heightsFromGeopotentialField(lat, std::move(*values), g->key(), geopotential, what, out);
+      return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+    }
+    grid::heightsFromStandardAtmosphere(lat, nz, out.levelValues, false, what, out);
+    return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+  }
+  // Lengths: above ground (surface: 0 m above ground) or above sea level.
+  out.levelUnits = "m";
+  out.h.assign(nz * nc, 0.0);
+  for (std::size_t k = 0; k < nz; ++k)
+    for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] = out.levelValues[k];
+  if (v.typeOfLevel == "heightAboveSea") {
+    out.note = "heights above mean sea level (GRIB heightAboveSea)";
+    return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+  }
+  // The surface altitude: orog (m) or the surface geopotential z (m2 s-2), at this time and member
+  // or, failing that, the first such field (orography is often given once).
+  const std::string datum = v.typeOfLevel == "surface" ? "the surface (GRIB surface: 0 m above ground)"
+                                                       : "heights above ground (GRIB heightAboveGround)";
+  for (const char* name : {"orog", "z"}) {
+    const Variable* g = findVar(c, name, "surface");
+    if (!g) continue;
+    std::size_t gt = 0;
+    if (auto at = std::find(g->validity.begin(), g->validity.end(), v.validity[t]); at != g->validity.end())
+      gt = static_cast<std::size_t>(at - g->validity.begin());
+    const long gm = std::find(g->members.begin(), g->members.end(), member) != g->members.end() ? member
+                                                                                                : g->members.front();
+    auto msgs = pick(c, *g, gt, gm, {0});
+    if (!msgs) continue;
+    auto surf = columnValues(c, *g, *msgs, hz);
+    if (!surf) return surf.forwardError();
+    if (std::string(name) == "z") {
+      for (double& x : *surf) x /= kStandardGravity;
+      grid::geopotentialToGeometricHeights(lat, *surf);
+    }
+    for (std::size_t col = 0; col < nc; ++col)
+      if (!std::isfinite((*surf)[col]))
+        return varError(c, *g,
+                        "surface altitude missing at row " + std::to_string(hz.rows[col / nx]) + ", column " +
+                            std::to_string(hz.cols[col % nx]));
+    for (std::size_t k = 0; k < nz; ++k)
+      for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] += (*surf)[col];
+    out.note = datum + " + the surface altitude '" + g->key() + "'" +
+               (std::string(name) == "z" ? " (geopotential / 9.80665 -> geometric height)" : "") +
+               " -> above mean sea level";
+    return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+  }
+  out.approximate = true;
+  out.note = datum +
+             "; the file has no surface altitude (orog or z on the surface), so the ground is taken at sea "
+             "level (APPROXIMATE)";
+  return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+}
+
+/// The variable named `name` ("t" or "t:isobaricInhPa"; empty: the default). `readable`: only
+/// one the read handles (else an error saying why not).
+Result<const Variable*> findVariable(const Context& c, const std::string& name, bool readable) {
+  const Variable* best = nullptr;
+  auto better = [&](const Variable& v) {  // readable first, then the most levels, file order
+    if (!best) return true;
+    if (best->notReadable.empty() != v.notReadable.empty()) return v.notReadable.empty();
+    return v.levels.size() > best->levels.size();
+  };
+  if (name.empty()) {
+    // Default: the readable variable with the most levels, a geopotential (z, gh: the heights of
+    // the others) only when there is nothing else, file order among equals.
+    for (const Variable& v : c.vars) {
+      if (!best) {
+        best = &v;
+        continue;
+      }
+      const bool vz = v.shortName == "z" || v.shortName == "gh", bz = best->shortName == "z" || best->shortName == "gh";
+      if (best->notReadable.empty() != v.notReadable.empty()) {
+        if (v.notReadable.empty()) best = &v;
+      } else if (vz != bz) {
+        if (!vz) best = &v;
+      } else if (v.levels.size() > best->levels.size()) {
+        best = &v;
+      }
+    }
+  } else {
+    const auto colon = name.find(':');
+    for (const Variable& v : c.vars) {
+      if (colon == std::string::npos ? v.shortName != name : v.key() != name) continue;
+      if (better(v)) best = &v;
+    }
+    if (!best) {
+      std::string list;
+      for (const Variable& v : c.vars) list.append(list.empty() ? "" : ", ").append(v.key());
+      return makeError(c.label + ": no variable '" + name + "' (grid variables: " + list + ")");
+    }
+  }
+  if (readable && !best->notReadable.empty()) return varError(c, *best, best->notReadable);
+  return best;
+}
+
+Result<std::size_t> resolveTime(const Context& c, const Variable& v, const GridReadOptions& o) {
+  if (!o.timeIso8601.empty()) {
+    auto parsed = parseCfTimeUnits("seconds since " + o.timeIso8601, "standard");
+    if (!parsed) return makeError(c.label + ": time '" + o.timeIso8601 + "' is not an ISO 8601 date-time");
+    for (std::size_t i = 0; i < v.validity.size(); ++i)
+      if (iso(v.validity[i].first, v.validity[i].second) == parsed->referenceIso8601) return i;
+    return varError(c, v,
+                    "no time step at " + parsed->referenceIso8601 + " (the time axis has " +
+                        std::to_string(v.validity.size()) +
+                        " steps: " + iso(v.validity.front().first, v.validity.front().second) + " .. " +
+                        iso(v.validity.back().first, v.validity.back().second) + ")");
+  }
+  if (o.timeIndex >= v.validity.size())
+    return varError(c, v,
+                    "time index " + std::to_string(o.timeIndex) + " is beyond its " +
+                        std::to_string(v.validity.size()) + " time step" + (v.validity.size() == 1 ? "" : "s"));
+  return o.timeIndex;
+}
+
+Result<long> resolveMember(const Context& c, const Variable& v, long member) {
+  if (member < 0) return v.members.front();
+  if (std::find(v.members.begin(), v.members.end(), member) != v.members.end()) return member;
+  if (v.members.size() == 1 && v.members.front() < 0)
+    return varError(c, v, "has no ensemble members; cannot select member " + std::to_string(member));
+  std::string list;
+  for (long m : v.members) list.append(list.empty() ? "" : ", ").append(std::to_string(m));
+  return varError(c, v, "no ensemble member " + std::to_string(member) + " (members: " + list + ")");
+}
+
+/// The selection's columns, levels, heights and (`wantValues`) values.
+Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, long member, const GridCrop& crop,
+                               std::size_t sample, bool useGeoid, bool wantValues) {
+  if (auto st = grid::checkCrop(c.label, crop); !st) return st.forwardError();
+  Selected s;
+  const std::size_t nLevels = v.levels.size();
+  if (crop.firstLevel >= nLevels)
+    return varError(c, v,
+                    "crop: first level " + std::to_string(crop.firstLevel) + " is beyond its " +
+                        std::to_string(nLevels) + " levels");
+  for (std::size_t k = crop.firstLevel; k < nLevels && k - crop.firstLevel < crop.levelCount; ++k)
+    s.levels.push_back(k);
+  auto msgs = pick(c, v, t, member, s.levels);
+  if (!msgs) return msgs.forwardError();
+  auto axes = decode(c, v, *msgs->front(), true, false);
+  if (!axes) return axes.forwardError();
+  s.latRows = std::move(axes->latRows);
+  s.lonCols = std::move(axes->lonCols);
+  auto hz = grid::rectilinearAxes(
+      s.latRows, s.lonCols, crop, sample, [&](const std::string& what) { return varError(c, v, what); },
+      [&](const std::string& what) { return varError(c, v, what); });
+  if (!hz) return hz.forwardError();
+  s.hz = std::move(*hz);
+  if (wantValues) {
+    auto values = columnValues(c, v, *msgs, s.hz);
+    if (!values) return values.forwardError();
+    s.values.resize(values->size());
+    for (std::size_t i = 0; i < values->size(); ++i)
+      s.values[i] = static_cast<float>((*values)[i]);  // as netCDF: float
+  }
+  if (auto st = heightsOf(c, v, t, member, useGeoid, s); !st) return st.forwardError();
+  const grid::Selection sel{t, s.levels, &s.hz};
+  if (auto st = grid::checkHeights(c.label, s.heights, sel, s.hz.rows.size() * s.hz.cols.size()); !st)
+    return st.forwardError();
+  return s;
+}
+
+VerticalKind verticalKindOf(const std::string& typeOfLevel) {
+  if (isPressureType(typeOfLevel)) return VerticalKind::Pressure;
+  if (typeOfLevel == "heightAboveSea") return VerticalKind::HeightAboveSeaLevel;
+  return VerticalKind::HeightAboveGround;
+}
+
+Result<Context> openContext(const std::string& path, const GribIndex& idx) {
+  auto content = GribContent::open(idx);
+  if (!content) return content.forwardError();
+  return Context{idx, std::move(*content), groupVariables(idx), path};
+}
+
+std::vector<std::string> isoTimes(const Variable& v) {
+  std::vector<std::string> out;
+  for (const auto& [d, t] : v.validity) out.push_back(iso(d, t));
+  return out;
+}
+
+}  // namespace
+
+Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions& options) {
+  auto idx = gribIndex(path);
+  if (!idx) return idx.forwardError();
+  auto ctx = openContext(path, *idx);
+  if (!ctx) return ctx.forwardError();
+  Context& c = *ctx;
+  auto found = findVariable(c, options.variable, true);
+  if (!found) return found.forwardError();
+  const Variable& v = **found;
+  auto t = resolveTime(c, v, options);
+  if (!t) return t.forwardError();
+  auto member = resolveMember(c, v, options.member);
+  if (!member) return member.forwardError();
+  auto s = readSelection(c, v, *t, *member, options.crop, 1, options.useGeoid, true);
+  if (!s) return s.forwardError();
+
+  GridVolume g;
+  g.path = path;
+  g.format = formatOf(*idx);
+  g.variable = v.key();
+  g.units = v.units;
+  g.longName = v.name;
+  g.nx = s->hz.cols.size();
+  g.ny = s->hz.rows.size();
+  g.nz = s->levels.size();
+  g.latDeg = std::move(s->hz.latDeg);
+  g.lonDeg = std::move(s->hz.lonDeg);
+  g.wrapsLongitude = s->hz.wrapsLongitude;
+  g.fileFirstRow = s->hz.rows.front();
+  g.fileFirstColumn = s->hz.cols.front();
+  g.fileFirstLevel = s->levels.front();
+  g.fileRowStep = s->hz.rowStep;
+  g.fileColumnStep = s->hz.colStep;
+  g.fileLevelStep = 1;  // levels are indexed bottom first (Variable::levels)
+  g.values = std::move(s->values);
+  for (float x : g.values) {
+    if (!std::isfinite(x)) continue;
+    if (!(x >= g.valueMin)) g.valueMin = x;
+    if (!(x <= g.valueMax)) g.valueMax = x;
+  }
+  const grid::Heights& h = s->heights;
+  g.heightAboveEllipsoidMeters.resize(h.h.size());
+  for (std::size_t i = 0; i < h.h.size(); ++i)
+    g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
+  g.verticalKind = verticalKindOf(v.typeOfLevel);
+  g.heightSource = h.source;
+  g.verticalVariable = v.typeOfLevel;
+  g.heightNote = h.note;
+  g.approximateHeights = h.approximate;
+  g.levelValues = h.levelValues;
+  g.levelUnits = h.levelUnits;
+  g.times = isoTimes(v);
+  g.timeIndex = *t;
+  g.validTime = g.times[*t];
+  g.member = *member;
+  g.bytesRead = c.content.bytesRead();
+  return g;
+}
+
+Result<GridFileInfo> describeGribFile(const std::string& path, const std::string& variable) {
+  auto idx = gribIndex(path);
+  if (!idx) return idx.forwardError();
+  auto ctx = openContext(path, *idx);
+  if (!ctx) return ctx.forwardError();
+  Context& c = *ctx;
+  GridFileInfo info;
+  info.path = path;
+  info.format = formatOf(*idx);
+  info.messageCount = idx->messages.size();
+  info.indexFile = idx->cacheFile;
+  info.indexReused = idx->fromCache;
+  info.warnings = idx->warnings;
+  for (const Variable& v : c.vars) {
+    GridVariableInfo vi;
+    vi.name = v.key();
+    vi.shortName = v.shortName;
+    vi.levelType = v.typeOfLevel;
+    vi.gridType = v.gridType;
+    vi.units = v.units;
+    vi.longName = v.name;
+    vi.levels = v.levels;
+    vi.gridNi = static_cast<std::size_t>(std::max(0L, v.ni));
+    vi.gridNj = static_cast<std::size_t>(std::max(0L, v.nj));
+    vi.timeCount = v.validity.size();
+    vi.memberCount = v.members.front() < 0 ? 0 : v.members.size();
+    vi.messageCount = v.messages.size();
+    vi.notReadable = v.notReadable;
+    vi.onGrid = v.notReadable.empty();
+    info.variables.push_back(std::move(vi));
+  }
+  auto found = findVariable(c, variable, false);
+  if (!found) return found.forwardError();
+  const Variable& v = **found;
+  info.variable = v.key();
+  info.times = isoTimes(v);
+  info.steps = v.steps;
+  for (long m : v.members)
+    if (m >= 0) info.members.push_back(m);
+  info.nx = static_cast<std::size_t>(std::max(0L, v.ni));
+  info.ny = static_cast<std::size_t>(std::max(0L, v.nj));
+  info.nz = v.levels.size();
+  info.zDimension = v.typeOfLevel;
+  info.verticalKind = verticalKindOf(v.typeOfLevel);
+  info.verticalVariable = v.typeOfLevel;
+  if (!v.notReadable.empty()) {
+    info.notReadable = v.notReadable;
+    info.bytesRead = c.content.bytesRead();
+    return info;
+  }
+  // Heights from a sample of at most ~64 x 64 columns at the first time and member, as netCDF.
+  const std::size_t stride = std::max<std::size_t>(1, (static_cast<std::size_t>(std::max(v.ni, v.nj)) + 63) / 64);
+  info.heightColumnStride = stride;
+  auto s = readSelection(c, v, 0, v.members.front(), GridCrop{}, stride, true, false);
+  if (!s) return s.forwardError();
+  auto full = grid::rectilinearAxes(
+      s->latRows, s->lonCols, GridCrop{}, 1, [&](const std::string& what) { return varError(c, v, what); },
+      [&](const std::string& what) { return varError(c, v, what); });
+  if (!full) return full.forwardError();
+  info.southDeg = full->southDeg;
+  info.northDeg = full->northDeg;
+  info.westDeg = full->westDeg;
+  info.eastDeg = full->eastDeg;
+  info.wrapsLongitude = full->wrapsLongitude;
+  {
+    const std::size_t j = full->rows.size() / 2, i = full->cols.size() / 2;
+    double sum = 0;
+    int n = 0;
+    if (i + 1 < full->cols.size()) {
+      sum +=
+          globe::geodesicInverse(full->latDeg[j], full->lonDeg[i], full->latDeg[j], full->lonDeg[i + 1]).distanceMeters;
+      ++n;
+    }
+    if (j + 1 < full->rows.size()) {
+      sum +=
+          globe::geodesicInverse(full->latDeg[j], full->lonDeg[i], full->latDeg[j + 1], full->lonDeg[i]).distanceMeters;
+      ++n;
+    }
+    info.meanSpacingKm = n ? sum / n / 1000.0 : 0.0;
+  }
+  const grid::Heights& h = s->heights;
+  info.heightSource = h.source;
+  info.heightNote = h.note;
+  info.approximateHeights = h.approximate;
+  info.levelValues = h.levelValues;
+  info.levelUnits = h.levelUnits;
+  const auto [mn, mx] = std::minmax_element(h.h.begin(), h.h.end());
+  info.heightMinMeters = *mn;
+  info.heightMaxMeters = *mx;
+  info.bytesRead = c.content.bytesRead();
+  return info;
+}
+
+namespace {
+
+std::string levelsText(const std::vector<double>& levels) {
+  std::string s;
+  for (double l : levels) s.append(s.empty() ? "" : " ").append(levelText(l));
+  return s;
+}
+
+/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths".
+std::string gridSize(const GridVariableInfo& v) {
+  if (v.gridNi == 0) return std::to_string(v.gridNj) + " rows of different lengths";
+  return std::to_string(v.gridNi) + " x " + std::to_string(v.gridNj) + " points";
+}
+
+std::string membersText(const std::vector<long>& members) {
+  if (members.empty()) return "none";
+  bool run = true;
+  for (std::size_t i = 1; i < members.size(); ++i) run = run && members[i] == members[i - 1] + 1;
+  if (run && members.size() > 2)
+    return std::to_string(members.size()) + " (" + std::to_string(members.front()) + " .. " +
+           std::to_string(members.back()) + ")";
+  std::string s = std::to_string(members.size()) + " (";
+  for (std::size_t i = 0; i < members.size(); ++i) s.append(i ? ", " : "").append(std::to_string(members[i]));
+  return s + ")";
+}
+
+}  // namespace
+
+std::string describeGribText(const GridFileInfo& g) {
+  std::ostringstream os;
+  os << "file:       " << g.path << "\n";
+  os << "format:     forecast grid, " << g.format << ", " << g.messageCount << " message"
+     << (g.messageCount == 1 ? "" : "s") << "\n";
+  os << "index:      "
+     << (g.indexFile.empty() ? std::string("not kept (the cache directory cannot be written)") : g.indexFile)
+     << (g.indexReused ? " (reused)" : " (made now)") << "\n";
+  const GridVariableInfo* v = nullptr;
+  for (const auto& x : g.variables)
+    if (x.name == g.variable) v = &x;
+  os << "variable:   " << g.variable;
+  if (v) os << " (" << v->longName << ")" << (v->units.empty() ? "" : " [" + v->units + "]");
+  os << "\n";
+  if (!g.notReadable.empty()) {
+    os << "            NOT READ YET: " << g.notReadable << "\n";
+    if (v) os << "grid:       " << v->gridType << ", " << gridSize(*v) << "\n";
+    os << "levels:     " << g.nz << " (" << g.zDimension << ")" << (v ? ": " + levelsText(v->levels) : "") << "\n";
+  } else {
+    os << "grid:       " << (v ? v->gridType : std::string()) << " (rectilinear), " << g.nx << " x " << g.ny
+       << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+    os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3)
+       << " deg, longitude " << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
+       << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
+    os << "vertical:   " << toString(g.verticalKind) << " (" << g.verticalVariable << "), " << g.nz << " level"
+       << (g.nz == 1 ? "" : "s") << ", heights from " << toString(g.heightSource)
+       << (g.approximateHeights ? ", APPROXIMATE" : "") << "\n";
+    os << "            " << g.heightNote << "\n";
+    os << "levels:     bottom first: " << (v ? levelsText(v->levels) : std::string()) << " (" << g.zDimension << ")\n";
+    os << "heights:    " << grid::num(g.heightMinMeters, 1) << " .. " << grid::num(g.heightMaxMeters, 1)
+       << " m above the WGS84 ellipsoid (first time step and member"
+       << (g.heightColumnStride > 1 ? ", sampled every " + std::to_string(g.heightColumnStride) + " rows and columns"
+                                    : "")
+       << ")" << (g.approximateHeights ? " APPROXIMATE" : "") << "\n";
+  }
+  os << "times:      " << g.times.size() << " (validity)";
+  if (!g.times.empty()) os << ": " << g.times.front() << (g.times.size() > 1 ? " .. " + g.times.back() : "");
+  os << "\n";
+  os << "steps:      ";
+  for (std::size_t i = 0; i < g.steps.size(); ++i) os << (i ? " " : "") << g.steps[i];
+  os << "\n";
+  os << "members:    " << membersText(g.members) << "\n";
+  os << "variables (shortName:typeOfLevel; * = read):\n";
+  for (const auto& x : g.variables) {
+    os << (x.onGrid ? "  * " : "    ") << x.name << "  " << x.longName << (x.units.empty() ? "" : " [" + x.units + "]")
+       << ", " << x.gridType << " " << gridSize(x) << ", " << x.levels.size() << " level"
+       << (x.levels.size() == 1 ? "" : "s") << " (" << levelsText(x.levels) << "), " << x.timeCount << " time"
+       << (x.timeCount == 1 ? "" : "s") << ", " << x.memberCount << " member" << (x.memberCount == 1 ? "" : "s") << ", "
+       << x.messageCount << " message" << (x.messageCount == 1 ? "" : "s") << "\n";
+    if (!x.notReadable.empty()) os << "        not read yet: " << x.notReadable << "\n";
+  }
+  for (const auto& w : g.warnings) os << "warning:    " << w << "\n";
+  os << "read:       " << g.bytesRead << " bytes of GRIB messages\n";
+  return os.str();
+}
+
+std::string describeGribJson(const GridFileInfo& g) {
+  using J = nlohmann::ordered_json;
+  J j;
+  j["kind"] = "grid";
+  j["format"] = g.format;
+  j["file"] = g.path;
+  j["variable"] = g.variable;
+  j["not_readable"] = g.notReadable;
+  J vars = J::array();
+  for (const auto& v : g.variables)
+    vars.push_back({{"name", v.name},
+                    {"short_name", v.shortName},
+                    {"level_type", v.levelType},
+                    {"levels_bottom_first", v.levels},
+                    {"grid_type", v.gridType},
+                    {"ni", v.gridNi},
+                    {"nj", v.gridNj},
+                    {"times", v.timeCount},
+                    {"members", v.memberCount},
+                    {"messages", v.messageCount},
+                    {"units", v.units},
+                    {"long_name", v.longName},
+                    {"on_grid", v.onGrid},
+                    {"not_readable", v.notReadable}});
+  j["variables"] = std::move(vars);
+  if (g.notReadable.empty()) {
+    j["grid"] = {{"horizontal", "rectilinear"},
+                 {"nx", g.nx},
+                 {"ny", g.ny},
+                 {"nz", g.nz},
+                 {"south_deg", g.southDeg},
+                 {"north_deg", g.northDeg},
+                 {"west_deg", g.westDeg},
+                 {"east_deg", g.eastDeg},
+                 {"wraps_longitude", g.wrapsLongitude},
+                 {"mean_spacing_km", g.meanSpacingKm}};
+    j["vertical"] = {{"kind", toString(g.verticalKind)},
+                     {"variable", g.verticalVariable},
+                     {"height_source", toString(g.heightSource)},
+                     {"approximate", g.approximateHeights},
+                     {"note", g.heightNote},
+                     {"levels_bottom_first", g.levelValues},
+                     {"level_units", g.levelUnits},
+                     {"height_datum", "WGS84 ellipsoid"},
+                     {"height_min_m", g.heightMinMeters},
+                     {"height_max_m", g.heightMaxMeters},
+                     {"height_range_column_stride", g.heightColumnStride}};
+  }
+  j["time"] = {{"kind", "validity"}, {"values", g.times}};
+  j["grib"] = {{"messages", g.messageCount},    {"steps", g.steps},
+               {"members", g.members},          {"index_file", g.indexFile},
+               {"index_reused", g.indexReused}, {"warnings", g.warnings}};
+  j["bytes_read"] = g.bytesRead;
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+}  // namespace atmoglobe::volume::grib
