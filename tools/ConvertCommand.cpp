@@ -22,16 +22,20 @@ Command addConvertCommand(CLI::App& root) {
     std::string file, output, variable, time, crop, heights, size;
     std::string grid = "geographic", datum = "msl", interpolation = "linear";
     bool raw = false, noGeoid = false;
+    long member = -1;
   };
   auto opts = std::make_shared<Options>();
   Command c;
   c.app = root.add_subcommand("convert",
                               "Resample a forecast-grid variable or a radar field onto a regular "
                               "(longitude, latitude, height) or local Cartesian grid and write it as NRRD");
-  c.app->add_option("FILE", opts->file, "Forecast grid (netCDF) or radar file")->required();
+  c.app->add_option("FILE", opts->file, "Forecast grid (CF or WRF netCDF, GRIB 1 or 2) or radar file")->required();
   c.app->add_option("-o,--output", opts->output, "Output .nrrd file (written atomically)")->required();
   c.app->add_option("--var,--field", opts->variable, "Grid variable or radar field (default: the file's default)");
   c.app->add_option("--time", opts->time, "Grids: time step as an index or an ISO 8601 UTC time (default: the first)");
+  c.app->add_option("--member", opts->member,
+                    "Grids: the ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
+      ->check(CLI::NonNegativeNumber);
   c.app->add_option("--crop", opts->crop,
                     "Box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); grids read only it");
   c.app->add_option("--heights", opts->heights, "BOTTOM,TOP (m above the datum; cartesian: the z range)");
@@ -52,6 +56,7 @@ Command addConvertCommand(CLI::App& root) {
     o.outputPath = opts->output;
     o.variable = opts->variable;
     o.time = opts->time;
+    o.member = opts->member;
     if (!opts->crop.empty()) {
       auto v = parseNumbers(opts->crop, 4, 4, "--crop");
       if (!v) return fail("convert", v.error());

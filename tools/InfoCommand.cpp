@@ -33,7 +33,7 @@ Command addInfoCommand(CLI::App& root) {
                               "variables, grid, vertical coordinate and heights, times, extent)");
   c.app
       ->add_option("FILE", opts->file,
-                   "Radar file or forecast grid (netCDF); or the files of radar volumes split over files: a "
+                   "Radar file or forecast grid (netCDF, GRIB); or the files of radar volumes split over files: a "
                    "directory, a glob pattern (quoted: \"dir/*.h5\") or a comma-separated list (one entry per "
                    "assembled volume)")
       ->required();

@@ -116,9 +116,12 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   auto* gg =
       c.add_option_group("Forecast grids", "Each option below is given once (all grids) or once per --grid, in order");
   gg->add_option("--grid", o.grids,
-                 "NetCDF forecast grid to ray-march (CF or WRF; repeatable; replaces the scene's grids)");
+                 "Forecast grid to ray-march (CF or WRF netCDF, GRIB 1 or 2; repeatable; replaces the scene's grids)");
   gg->add_option("--var", o.variables, "Grid variable (default: the file's default, see `atmoglobe info`)");
   gg->add_option("--time", o.times, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
+  gg->add_option("--member", o.members,
+                 "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
+      ->check(CLI::NonNegativeNumber);
   gg->add_option(
       "--grid-colors", o.gridColors,
       "Grid colour table: auto (by the variable: NWS for dBZ, turbo for temperature, greens for humidity, grayscale for cloud, viridis otherwise), viridis, turbo, grayscale, greens, cividis, NWS or a .pal file");
@@ -525,10 +528,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
-  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
+  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
                   !o.gridSteps.empty() || !o.gridSettings.empty())) {
     return makeError(
-        "--var/--time/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--var/--time/--member/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -538,6 +541,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     d.path = o.grids[i];
     d.useGeoid = !o.noGeoid;
     for (const Status& st : {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
+                             pickGrid(o.members, "--member", i, d.member),
                              pickGrid(o.gridColors, "--grid-colors", i, d.colors),
                              pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
                              pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
@@ -557,7 +561,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (first != scene->volumes.end()) {
       const bool radar = first->kind == engine::VolumeKind::Radar;
       base.source = {radar ? volume::SliceSourceOptions::Kind::Radar : volume::SliceSourceOptions::Kind::Grid,
-                     first->path, first->field, first->time, first->useGeoid};
+                     first->path, first->field, first->time, first->useGeoid, first->member};
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

@@ -33,6 +33,7 @@ struct SceneOptions {
   // Forecast grids: one entry per --grid; --var/--time/--grid-colors/--grid-mode/--grid-step
   // once (every grid) or once per grid.
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
+  std::vector<int> members;
   std::vector<double> gridSteps;
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
   /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".

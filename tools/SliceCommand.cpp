@@ -28,6 +28,7 @@ struct SliceOptions {
   std::string path, box, heights, datum = "msl", colors = "auto", range, interpolation = "linear", size, output;
   bool noGeoid = false;
   int threads = 0;
+  long member = -1;
 };
 
 Result<std::pair<double, double>> parsePair(const std::string& text, const std::string& what) {
@@ -54,6 +55,7 @@ int runSlice(const SliceOptions& o) {
   if (o.radar.empty() == o.grid.empty()) return usage("give exactly one of --radar FILE or --grid FILE");
   if (o.heightMeters.has_value() == !o.path.empty()) return usage("give exactly one of --height-m H or --path POINTS");
   if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
+  if (o.member >= 0 && o.grid.empty()) return usage("--member is for --grid");
   if (!o.box.empty() && !o.heightMeters) return usage("--box is for a CAPPI (--height-m)");
   if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
   if (o.datum != "msl" && o.datum != "ellipsoid") return usage("--datum: msl or ellipsoid, got \"" + o.datum + "\"");
@@ -97,6 +99,7 @@ int runSlice(const SliceOptions& o) {
   load.path = o.radar.empty() ? o.grid : o.radar;
   load.field = o.field;
   load.time = o.time;
+  load.member = o.member;
   load.useGeoid = !o.noGeoid;
   auto source = volume::SliceSource::load(load);
   if (!source) return fail(cmd, source.error());
@@ -137,7 +140,7 @@ int runSlice(const SliceOptions& o) {
   char figures[256];
   std::snprintf(figures, sizeof figures, "%d x %d px; %zu echo, %zu no-echo, %zu no-data pixels", image->width,
                 image->height, raster->echoCount, raster->noEchoCount, raster->noDataCount);
-  std::cout << "wrote " << o.output << ": " << plot.title << "; " << figures;
+  std::cout << "wrote " << o.output << ": " << plot.title << "; " << plot.subtitle << "; " << figures;
   if (raster->echoCount) {
     char values[128];
     std::snprintf(values, sizeof values, "; echo %.1f .. %.1f %s", raster->minEcho, raster->maxEcho,
@@ -159,9 +162,12 @@ Command addSliceCommand(CLI::App& root) {
       "A CAPPI (horizontal slice at a height) or a vertical cross-section along a geodesic path through a radar "
       "volume or a forecast grid, as a PNG with axes, colour key, title and valid time");
   c->add_option("--radar", opts->radar, "Radar file (CfRadial, ODIM_H5, NEXRAD Level II)");
-  c->add_option("--grid", opts->grid, "Forecast grid (CF or WRF NetCDF)");
+  c->add_option("--grid", opts->grid, "Forecast grid (CF or WRF netCDF, GRIB 1 or 2)");
   c->add_option("--field,--var", opts->field, "Radar field or grid variable (default: the file's default)");
   c->add_option("--time", opts->time, "Grid time step: an index (0 = first) or an ISO 8601 UTC time");
+  c->add_option("--member", opts->member,
+                "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
   c->add_option("--box", opts->box,
                 "CAPPI box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); default: the volume's "

@@ -33,6 +33,7 @@ volume::GridReadOptions gridReadOptions(const VolumeLayerDescription& d) {
   volume::GridReadOptions read;
   read.variable = d.field;
   read.useGeoid = d.useGeoid;
+  read.member = d.member;
   read.crop.southDeg = d.settings.crop.southDeg;
   read.crop.northDeg = d.settings.crop.northDeg;
   read.crop.westDeg = d.settings.crop.westDeg;
@@ -251,7 +252,9 @@ LegendPart GridSourceGL::legendPart() const {
   const std::string variable = displayName(v.variable);
   return LegendPart{
       variable + " (forecast grid)",
-      variable + " valid " + utcLabel(v.validTime) + (v.approximateHeights ? "  (heights approximate)" : ""),
+      variable + " valid " + utcLabel(v.validTime) +
+          (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
+          (v.approximateHeights ? "  (heights approximate)" : ""),
       LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
 }
 
@@ -280,7 +283,8 @@ std::string GridSourceGL::loadNote() const {
   const volume::GridVolume& g = volume_->grid();
   std::ostringstream text;
   text << description_.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
-       << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime) << ", " << g.nx << " x " << g.ny << " x "
+       << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime)
+       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string()) << ", " << g.nx << " x " << g.ny << " x "
        << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0 << " MiB read; heights: " << g.heightNote
        << (g.approximateHeights ? " (APPROXIMATE)" : "");
   return text.str();

@@ -35,7 +35,7 @@ Status validateSliceLayer(const SliceLayerDescription& s, const std::string& whe
 
 Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, const std::string& dataDir,
                        SliceLayerDescription& d) {
-  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "height_m", "path", "box", "heights_m",
+  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "height_m", "path", "box", "heights_m",
                                "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
       !st)
     return st;
@@ -55,6 +55,12 @@ Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, c
                              {"time", &d.source.time},
                              {"colors", &d.colors}}) {
     if (auto st = r.string(key, *target); !st) return st;
+  }
+  if (r.has("member")) {
+    if (d.source.kind != volume::SliceSourceOptions::Kind::Grid) return r.error("member", "is for a \"grid\"");
+    int member = -1;
+    if (auto st = r.integer("member", member, 0, 1000000); !st) return st;
+    d.source.member = member;
   }
   if (d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
     d.colors = resolve(d.colors, baseDir, dataDir);

@@ -249,6 +249,8 @@ SlicePlotOptions slicePlotOptionsFor(const volume::SliceSource& source, const vo
   if (!source.field().units.empty()) field += " (" + source.field().units + ")";
   std::string time = source.isRadar() ? "volume start " : "valid ";
   time += utcLabel(source.validTime());
+  if (const volume::GridVolume* grid = source.grid(); grid && grid->member >= 0)
+    time += ", ensemble member " + std::to_string(grid->member);
   if (g.kind() == volume::SliceGeometry::Kind::Cappi) {
     char h[64];
     std::snprintf(h, sizeof h, "%.2f", g.cappiHeightMeters() / 1000.0);

@@ -123,3 +123,24 @@ TEST(SceneJson, EveryExampleSceneParses) {
   }
   EXPECT_GE(count, 4) << "the schema document promises examples";
 }
+
+// An ensemble member is a grid's (and a grid slice's) choice: read as given, refused below 0 and
+// on radars.
+TEST(SceneJson, GridMemberIsReadAndRefusedWhereItMeansNothing) {
+  auto scene = engine::parseSceneJson(
+      R"({"grids": [{"path": "a.grib", "member": 7}, {"path": "b.grib"}],
+          "slices": [{"grid": "a.grib", "member": 3, "height_m": 1000}]})",
+      "scene.json", "/base", "/data");
+  ASSERT_TRUE(scene) << scene.error();
+  ASSERT_EQ(scene->volumes.size(), 2u);
+  EXPECT_EQ(scene->volumes[0].member, 7);
+  EXPECT_EQ(scene->volumes[1].member, -1);
+  ASSERT_EQ(scene->slices.size(), 1u);
+  EXPECT_EQ(scene->slices[0].source.member, 3);
+  EXPECT_EQ(errorOf(R"({"grids": [{"path": "a.grib", "member": -2}]})"),
+            "scene.json: /grids/0/member: -2 is out of range 0..1000000");
+  EXPECT_NE(errorOf(R"({"radars": [{"path": "a.nc", "member": 1}]})").find("/radars/0/member: unknown key \"member\""),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"slices": [{"radar": "a.nc", "member": 1, "height_m": 1000}]})").find("member"),
+            std::string::npos);
+}

@@ -437,6 +437,7 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
     GridReadOptions read;
     read.variable = o.variable;
     read.useGeoid = o.useGeoid;
+    read.member = o.member;
     if (auto st = selectGridTime(o.time, read); !st) return makeError(in + ": " + st.error());
     if (o.cropSouthNorthWestEastDeg) {
       const auto& b = *o.cropSouthNorthWestEastDeg;

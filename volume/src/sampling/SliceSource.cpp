@@ -69,12 +69,8 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
     GridReadOptions read;
     read.variable = o.field;
     read.useGeoid = o.useGeoid;
-    if (!o.time.empty() && std::all_of(o.time.begin(), o.time.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      if (o.time.size() > 9) return makeError(o.path + ": time index " + o.time + " is too large");
-      read.timeIndex = static_cast<std::size_t>(std::stoul(o.time));
-    } else {
-      read.timeIso8601 = o.time;
-    }
+    read.member = o.member;
+    if (auto st = selectGridTime(o.time, read); !st) return makeError(o.path + ": " + st.error());
     auto grid = readGridVolume(o.path, read);
     if (!grid) return grid.forwardError();
     if (!(grid->valueMin <= grid->valueMax)) {
@@ -100,7 +96,8 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
 
 std::string SliceSource::description() const {
   if (polar_) return name_ + " (radar, " + field_.name + ")";
-  std::string d = name_ + " (grid, " + field_.name + ")";
+  std::string d = name_ + " (grid, " + field_.name +
+                  (grid_->member >= 0 ? ", member " + std::to_string(grid_->member) : std::string()) + ")";
   if (grid_->approximateHeights) d += ", APPROXIMATE heights";
   return d;
 }

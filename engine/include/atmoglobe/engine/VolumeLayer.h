@@ -106,13 +106,15 @@ struct VolumeLayerSettings {
 struct VolumeLayerDescription {
   VolumeKind kind = VolumeKind::Radar;
   /// Radar: a file, or one volume split over files or a loop (a directory, glob or comma list).
-  /// Grid: a CF or WRF netCDF file.
+  /// Grid: a CF or WRF netCDF file or a GRIB (1 or 2) file.
   std::string path;
   /// The radar field or grid variable; empty: the file's default (reflectivity for radars).
   std::string field;
   /// Grids: the step first shown: empty (the first), an index ("3") or an ISO 8601 UTC time.
   /// Radars: unused (a loop's steps are its files).
   std::string time;
+  /// Grids: the ensemble member (GRIB `number`, as `atmoglobe info` lists them); -1: the first.
+  int member = -1;
   /// "auto" (by the field's kind), a colour table by name (case ignored) or a .pal file.
   std::string colors = "auto";
   volume::VolumeRenderMode mode = volume::VolumeRenderMode::Dvr;

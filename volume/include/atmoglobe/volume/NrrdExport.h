@@ -98,6 +98,7 @@ struct NrrdExportOptions {
   std::string outputPath;  ///< .nrrd
   std::string variable;    ///< grid variable or radar field; empty: the default one
   std::string time;        ///< grids: an index or an ISO 8601 time (selectGridTime); empty: the first
+  long member = -1;        ///< grids: the ensemble member (GRIB `number`); -1: the first
   /// Box SOUTH, NORTH, WEST, EAST (deg; west > east crosses the antimeridian): grids read only
   /// this box; the regular grid spans it.
   std::optional<std::array<double, 4>> cropSouthNorthWestEastDeg;

@@ -25,6 +25,7 @@ struct SliceSourceOptions {
   std::string field;     ///< radar field or grid variable; empty: the file's default
   std::string time;      ///< grids: "" (first step), an index ("3") or an ISO 8601 UTC time
   bool useGeoid = true;  ///< heights above sea level in the file -> ellipsoid through EGM96
+  long member = -1;      ///< grids: the ensemble member (GRIB `number`); -1: the first
 };
 
 class SliceSource {
