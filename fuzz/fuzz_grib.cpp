@@ -10,8 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace atmoglobe;
-  static const bool cacheSet =
-      ::setenv("ATMOGLOBE_CACHE_DIR", (fuzz::scratchDir() / "cache").string().c_str(), 1) == 0;
+  static const bool cacheSet = ::setenv("ATMOGLOBE_CACHE_DIR", (fuzz::scratchDir() / "cache").string().c_str(), 1) == 0;
   (void)cacheSet;
   const std::string path = fuzz::writeScratch("grid.grib", data, size);
   fuzz::checkError(volume::describeGridFile(path), path);

@@ -35,7 +35,8 @@ Command addBenchCommand(CLI::App& root) {
   c->add_flag(
       "--grids", o->grids,
       "The forecast-grid bench on the built-in SYNTHETIC grids (regional 400x400x35, global 0.25 deg 1440x721x37)");
-  c->add_option("--grid", o->gridFile, "The forecast-grid bench on this grid file (CF or WRF netCDF, GRIB 1 or 2; its first ensemble member)");
+  c->add_option("--grid", o->gridFile,
+                "The forecast-grid bench on this grid file (CF or WRF netCDF, GRIB 1 or 2; its first ensemble member)");
   c->add_option("--var", o->gridVariable, "With --grid: the variable (default: the reader's choice)");
   c->add_option("--time", o->gridTimeIndex, "With --grid: the time step index (default 0)");
   c->add_option("--load-runs", o->loadRuns, "Grids: timed runs per load case (median)")->check(CLI::Range(1, 100));

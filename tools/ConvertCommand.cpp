@@ -33,8 +33,9 @@ Command addConvertCommand(CLI::App& root) {
   c.app->add_option("-o,--output", opts->output, "Output .nrrd file (written atomically)")->required();
   c.app->add_option("--var,--field", opts->variable, "Grid variable or radar field (default: the file's default)");
   c.app->add_option("--time", opts->time, "Grids: time step as an index or an ISO 8601 UTC time (default: the first)");
-  c.app->add_option("--member", opts->member,
-                    "Grids: the ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
+  c.app
+      ->add_option("--member", opts->member,
+                   "Grids: the ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
   c.app->add_option("--crop", opts->crop,
                     "Box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); grids read only it");

@@ -528,8 +528,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
-  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridColors.empty() || !o.gridModes.empty() ||
-                  !o.gridSteps.empty() || !o.gridSettings.empty())) {
+  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridColors.empty() ||
+                  !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
     return makeError(
         "--var/--time/--member/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
@@ -540,11 +540,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     d.kind = engine::VolumeKind::Grid;
     d.path = o.grids[i];
     d.useGeoid = !o.noGeoid;
-    for (const Status& st : {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
-                             pickGrid(o.members, "--member", i, d.member),
-                             pickGrid(o.gridColors, "--grid-colors", i, d.colors),
-                             pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
-                             pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
+    for (const Status& st :
+         {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
+          pickGrid(o.members, "--member", i, d.member), pickGrid(o.gridColors, "--grid-colors", i, d.colors),
+          pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
+          pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
       if (!st) return st.forwardError();
     }
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
@@ -561,7 +561,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (first != scene->volumes.end()) {
       const bool radar = first->kind == engine::VolumeKind::Radar;
       base.source = {radar ? volume::SliceSourceOptions::Kind::Radar : volume::SliceSourceOptions::Kind::Grid,
-                     first->path, first->field, first->time, first->useGeoid, first->member};
+                     first->path,
+                     first->field,
+                     first->time,
+                     first->useGeoid,
+                     first->member};
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

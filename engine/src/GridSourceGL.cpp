@@ -250,12 +250,11 @@ Status GridSourceGL::applyExaggeration(SourceContext context) {
 LegendPart GridSourceGL::legendPart() const {
   const volume::GridVolume& v = volume_->grid();
   const std::string variable = displayName(v.variable);
-  return LegendPart{
-      variable + " (forecast grid)",
-      variable + " valid " + utcLabel(v.validTime) +
-          (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
-          (v.approximateHeights ? "  (heights approximate)" : ""),
-      LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
+  return LegendPart{variable + " (forecast grid)",
+                    variable + " valid " + utcLabel(v.validTime) +
+                        (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
+                        (v.approximateHeights ? "  (heights approximate)" : ""),
+                    LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
 }
 
 LayerMemory GridSourceGL::memory() const {
@@ -284,9 +283,9 @@ std::string GridSourceGL::loadNote() const {
   std::ostringstream text;
   text << description_.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
        << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime)
-       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string()) << ", " << g.nx << " x " << g.ny << " x "
-       << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0 << " MiB read; heights: " << g.heightNote
-       << (g.approximateHeights ? " (APPROXIMATE)" : "");
+       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string()) << ", " << g.nx << " x " << g.ny
+       << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
+       << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "");
   return text.str();
 }
 

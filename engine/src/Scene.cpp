@@ -124,8 +124,8 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   Status st = all(
       [&] {
         return parsePath(r, "path", d.path,
-                         radar ? "a radar file, directory, glob or comma list" : "a CF or WRF netCDF or a GRIB file", baseDir,
-                         dataDir);
+                         radar ? "a radar file, directory, glob or comma list" : "a CF or WRF netCDF or a GRIB file",
+                         baseDir, dataDir);
       },
       [&] { return r.string(fieldKey, d.field); },
       [&] {

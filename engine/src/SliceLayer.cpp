@@ -35,8 +35,8 @@ Status validateSliceLayer(const SliceLayerDescription& s, const std::string& whe
 
 Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, const std::string& dataDir,
                        SliceLayerDescription& d) {
-  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "height_m", "path", "box", "heights_m",
-                               "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
+  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "height_m", "path", "box",
+                               "heights_m", "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
       !st)
     return st;
   for (auto [key, kind] : {std::pair{"radar", volume::SliceSourceOptions::Kind::Radar},

@@ -124,9 +124,9 @@ const std::vector<std::string>& overlayDriverNames() {
   // (DXF, AVC E00, OSM, GML with schema and xlink resolution, VRT naming other files or URLs,
   // network services) are not what an overlay needs, and each one is more surface for a damaged
   // or hostile file to hang or crash the process.
-  static const std::vector<std::string> names = {
-      "GeoJSON", "GeoJSONSeq",    "ESRIJSON", "TopoJSON",   "ESRI Shapefile", "KML",
-      "LIBKML",  "GPKG",          "FlatGeobuf", "GPX",      "OpenFileGDB",    "MapInfo File"};
+  static const std::vector<std::string> names = {"GeoJSON",        "GeoJSONSeq", "ESRIJSON",    "TopoJSON",
+                                                 "ESRI Shapefile", "KML",        "LIBKML",      "GPKG",
+                                                 "FlatGeobuf",     "GPX",        "OpenFileGDB", "MapInfo File"};
   return names;
 }
 

@@ -220,8 +220,7 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
 
   // --view names are checked before anything is loaded.
   const bool grids = isGridRun(o);
-  if (Status st = checkViewNames(o, knownViewNames(o), grids ? "grid views" : "views"); !st)
-    return st.forwardError();
+  if (Status st = checkViewNames(o, knownViewNames(o), grids ? "grid views" : "views"); !st) return st.forwardError();
   const WantedView wanted = [&](const std::string& view) {
     return o.viewNames.empty() || std::find(o.viewNames.begin(), o.viewNames.end(), view) != o.viewNames.end();
   };
@@ -318,9 +317,8 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
       const volume::VolumeImage ref =
           refs.get(view, kBigWidthPx, kBigHeightPx, settingsFor(view, kDvr, o.referenceStepMeters));
       if (Status s = measureView(
-              o, renderer, view, plan.bigCells, **bigTarget, std::min(o.frames, 3),
-              [&](const Cell&) { return ref; }, [&](const Cell&) { return view.name + "-1280-gpu-dvr.png"; },
-              report.bigRows);
+              o, renderer, view, plan.bigCells, **bigTarget, std::min(o.frames, 3), [&](const Cell&) { return ref; },
+              [&](const Cell&) { return view.name + "-1280-gpu-dvr.png"; }, report.bigRows);
           !s)
         return s.forwardError();
       if (Status s = writePngTo(o, view.name + "-1280-reference-dvr.png", toRgba8(ref)); !s) return s.forwardError();

@@ -52,5 +52,4 @@ struct VolumeBenchOutcome {
 /// loaded), a volume that cannot be loaded, no GL context, a file that cannot be written.
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& options, std::ostream& log);
 
-
 }  // namespace atmoglobe::bench
