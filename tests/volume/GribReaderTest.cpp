@@ -591,3 +591,30 @@ TEST(GribReader, DamagedFilesWarnOrFailNamingTheFileNeverCrash) {
   ASSERT_FALSE(j.ok());
   EXPECT_NE(j.error().find(junk + ": no readable GRIB message"), std::string::npos) << j.error();
 }
+
+// A message whose section 0 declares more bytes than the file holds (a GRIB2 length of about
+// 1.1e19, as a damaged header reads) is skipped with a warning naming its offset and the lengths,
+// before ecCodes would try to allocate that much; the message before it is read as usual.
+TEST(GribReader, DeclaredLengthBeyondTheFileIsSkippedBeforeDecoding) {
+  const std::string sample = "/usr/share/eccodes/samples/GRIB2.tmpl";  // Debian libeccodes-data
+  if (!std::filesystem::exists(sample)) GTEST_SKIP() << sample << " not installed";
+  useTestCache();
+  std::ifstream in(sample, std::ios::binary);
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(good.size(), 16u);
+  std::string damaged = "GRIB";
+  damaged += std::string("\xff\xff\x00\x02", 4);                  // reserved, discipline, edition 2
+  damaged += std::string("\x9a\x00\x00\x00\x00\x00\x01\x44", 8);  // total length ~1.1e19 bytes
+  damaged += std::string(200, '\x01');
+  const std::string path = atmoglobe_test::freshTestDir("grib_length") + "/declared.grib2";
+  std::ofstream(path, std::ios::binary) << good << damaged;
+  auto info = describeGridFile(path);
+  ASSERT_TRUE(info.ok()) << info.error();
+  EXPECT_EQ(info->messageCount, 1u);
+  ASSERT_EQ(info->warnings.size(), 1u);
+  EXPECT_NE(info->warnings.front().find(path + ": damaged GRIB message 2 (at byte " + std::to_string(good.size()) +
+                                        "): it declares 11096869481840902468 bytes, the content has " +
+                                        std::to_string(damaged.size()) + " from there; skipped"),
+            std::string::npos)
+      << info->warnings.front();
+}

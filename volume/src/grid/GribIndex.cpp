@@ -148,12 +148,53 @@ std::optional<GribIndex> loadCached(const std::string& cacheFile, const FileStam
   }
 }
 
+/// Section 0 of the next message at or after the position of `f` (searched for "GRIB"), checked
+/// before ecCodes reads it: ecCodes allocates the length a message declares before reading it, and
+/// a damaged GRIB2 length (64 bits) asks for exabytes, which aborts the process. A message that
+/// declares more bytes than the content has left is cut: returns its offset and declared length
+/// (the caller skips it); nullopt otherwise, `f` back where it was.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> cutMessageAhead(FILE* f, std::uint64_t contentBytes) {
+  const long start = std::ftell(f);
+  if (start < 0) return std::nullopt;
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> cut;
+  // The marker within the next 1 MiB (ecCodes skips junk between messages the same way).
+  std::vector<unsigned char> buf(1 << 20);
+  const std::size_t got = std::fread(buf.data(), 1, buf.size(), f);
+  for (std::size_t p = 0; p + 16 <= got; ++p) {
+    if (buf[p] != 'G' || buf[p + 1] != 'R' || buf[p + 2] != 'I' || buf[p + 3] != 'B') continue;
+    const std::uint64_t at = static_cast<std::uint64_t>(start) + p;
+    std::uint64_t declared = 0;
+    if (buf[p + 7] == 2) {
+      for (int k = 0; k < 8; ++k) declared = (declared << 8) | buf[p + 8 + static_cast<std::size_t>(k)];
+    } else if (buf[p + 7] == 1 && !(buf[p + 4] & 0x80)) {
+      // GRIB1: 24 bits (with the top bit set, ECMWF's large-message coding: left to ecCodes).
+      declared = (std::uint64_t{buf[p + 4]} << 16) | (std::uint64_t{buf[p + 5]} << 8) | buf[p + 6];
+    }
+    if (declared > 0 && (declared < 16 || declared > contentBytes - at)) cut = std::pair{at, declared};
+    break;
+  }
+  std::fseek(f, start, SEEK_SET);
+  return cut;
+}
+
 /// One pass over the content with ecCodes: every message's keys; damaged stretches skipped
 /// with a warning naming the byte offset (ecCodes resynchronises on the next "GRIB").
 Status scan(FILE* f, const std::string& label, GribIndex& idx) {
   const std::lock_guard<std::mutex> lock(ecCodesMutex());
+  std::fseek(f, 0, SEEK_END);
+  const long endPos = std::ftell(f);
+  std::fseek(f, 0, SEEK_SET);
+  const std::uint64_t contentBytes = endPos > 0 ? static_cast<std::uint64_t>(endPos) : 0;
   for (std::size_t count = 0;; ++count) {
     const long before = std::ftell(f);
+    if (auto cut = cutMessageAhead(f, contentBytes)) {
+      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                             std::to_string(cut->first) + "): it declares " + std::to_string(cut->second) +
+                             " bytes, the content has " + std::to_string(contentBytes - cut->first) +
+                             " from there; skipped");
+      std::fseek(f, static_cast<long>(cut->first + 4), SEEK_SET);  // on to the next "GRIB"
+      continue;
+    }
     int err = 0;
     std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
         codes_handle_new_from_file(nullptr, f, PRODUCT_GRIB, &err), &codes_handle_delete);
