@@ -192,3 +192,234 @@ TEST(GridArchiveLayouts, HeightsFromGeopotentialPackedWithANegativeScaleFactor) 
     }
   }
 }
+
+// ---------------------------------------------------------------- extra index dimensions
+
+namespace {
+
+/// An ensemble on pressure levels as grib_to_netcdf writes it: t and z on (time, number, level,
+/// latitude, longitude), `number` an int coordinate with long_name "ensemble_member" (values
+/// 10, 11, 12 here, so that a member's value and index differ), levels bottom first.
+struct Ensemble {
+  static constexpr std::size_t kMembers = 3, kLevels = 2, kRows = 3, kCols = 4;
+  std::vector<double> lat = {40.0, 42.5, 45.0};
+  std::vector<double> lon = {10.0, 12.5, 15.0, 17.5};
+  /// Geopotential (m2 s-2): each member's column a little higher than the last.
+  static double z(std::size_t t, std::size_t m, std::size_t k, std::size_t j, std::size_t i) {
+    return (k == 0 ? 14000.0 : 55000.0) + 100.0 * static_cast<double>(m) + 10.0 * static_cast<double>(t) +
+           static_cast<double>(j + i);
+  }
+  /// Temperature code: where the value came from.
+  static double t(std::size_t t, std::size_t m, std::size_t k, std::size_t j, std::size_t i) {
+    return 1e4 * static_cast<double>(t) + 1e3 * static_cast<double>(m) + 100.0 * static_cast<double>(k) +
+           10.0 * static_cast<double>(j) + static_cast<double>(i);
+  }
+};
+
+void writeEnsemble(const std::string& path) {
+  Ensemble e;
+  NcTestFile f(path);
+  f.globalText("Conventions", "CF-1.6");
+  f.dim("longitude", Ensemble::kCols);
+  f.dim("latitude", Ensemble::kRows);
+  f.dim("level", Ensemble::kLevels);
+  f.dim("number", Ensemble::kMembers);
+  f.dim("time", 2);
+  auto vx = f.var("longitude", NC_FLOAT, {"longitude"});
+  f.text(vx, "units", "degrees_east");
+  auto vy = f.var("latitude", NC_FLOAT, {"latitude"});
+  f.text(vy, "units", "degrees_north");
+  auto vl = f.var("level", NC_INT, {"level"});
+  f.text(vl, "units", "millibars");
+  auto vn = f.var("number", NC_INT, {"number"});
+  f.text(vn, "long_name", "ensemble_member");
+  auto vt = f.var("time", NC_INT, {"time"});
+  f.text(vt, "units", "hours since 2017-01-01 00:00:00");
+  auto vz = f.var("z", NC_DOUBLE, {"time", "number", "level", "latitude", "longitude"});
+  f.text(vz, "units", "m**2 s**-2");
+  f.text(vz, "standard_name", "geopotential");
+  auto vta = f.var("t", NC_FLOAT, {"time", "number", "level", "latitude", "longitude"});
+  f.text(vta, "units", "K");
+  f.put(vx, e.lon);
+  f.put(vy, e.lat);
+  f.put(vl, {850, 500});
+  f.put(vn, {10, 11, 12});
+  f.put(vt, {0, 12});
+  std::vector<double> zs, ts;
+  for (std::size_t t = 0; t < 2; ++t)
+    for (std::size_t m = 0; m < Ensemble::kMembers; ++m)
+      for (std::size_t k = 0; k < Ensemble::kLevels; ++k)
+        for (std::size_t j = 0; j < Ensemble::kRows; ++j)
+          for (std::size_t i = 0; i < Ensemble::kCols; ++i) {
+            zs.push_back(Ensemble::z(t, m, k, j, i));
+            ts.push_back(Ensemble::t(t, m, k, j, i));
+          }
+  f.put(vz, zs);
+  f.put(vta, ts);
+}
+
+/// Checks that `g` holds member index `m` at time `t`: values and heights from that member's z.
+void expectMember(const GridVolume& g, std::size_t t, std::size_t m) {
+  Ensemble e;
+  ASSERT_EQ(g.nz, Ensemble::kLevels);
+  ASSERT_EQ(g.ny, Ensemble::kRows);
+  ASSERT_EQ(g.nx, Ensemble::kCols);
+  for (std::size_t k = 0; k < g.nz; ++k)
+    for (std::size_t j = 0; j < g.ny; ++j)
+      for (std::size_t i = 0; i < g.nx; ++i) {
+        ASSERT_EQ(g.value(k, j, i), static_cast<float>(Ensemble::t(t, m, k, j, i))) << k << " " << j << " " << i;
+        // Same tolerance as above: float heights (2 mm at 6 km) and the reader's Newton solution.
+        ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(Ensemble::z(t, m, k, j, i) / kG0, e.lat[j]),
+                    4e-3)
+            << k << " " << j << " " << i;
+      }
+}
+
+}  // namespace
+
+TEST(GridArchiveLayouts, EnsembleDimensionIsAnIndexNotTheVerticalOne) {
+  const std::string path = testDir() + "/ensemble.nc";
+  writeEnsemble(path);
+  GridReadOptions o;
+  o.variable = "t";
+  o.useGeoid = false;
+  // Default: the first member.
+  auto first = readGridVolume(path, o);
+  ASSERT_TRUE(first.ok()) << first.error();
+  EXPECT_EQ(first->verticalKind, VerticalKind::Pressure);
+  EXPECT_EQ(first->verticalVariable, "/level");
+  EXPECT_EQ(first->heightSource, HeightSource::GeopotentialField);
+  EXPECT_EQ(first->member, 10);
+  ASSERT_EQ(first->extraDimensions.size(), 1u);
+  EXPECT_EQ(first->extraDimensions[0].name, "number");
+  EXPECT_EQ(first->extraDimensions[0].length, 3u);
+  EXPECT_EQ(first->extraDimensions[0].index, 0u);
+  EXPECT_EQ(first->extraDimensions[0].value, 10.0);
+  EXPECT_TRUE(first->extraDimensions[0].ensemble);
+  expectMember(*first, 0, 0);
+  // By member (the coordinate's value) at time 1: index 2, its own geopotential.
+  o.member = 12;
+  o.timeIndex = 1;
+  auto m12 = readGridVolume(path, o);
+  ASSERT_TRUE(m12.ok()) << m12.error();
+  EXPECT_EQ(m12->member, 12);
+  EXPECT_EQ(m12->extraDimensions[0].index, 2u);
+  expectMember(*m12, 1, 2);
+  // By index along the dimension's name: outranks member.
+  o.extraIndex["number"] = 1;
+  auto i1 = readGridVolume(path, o);
+  ASSERT_TRUE(i1.ok()) << i1.error();
+  EXPECT_EQ(i1->member, 11);
+  expectMember(*i1, 1, 1);
+  // A crop reads the same member: 41..44 N keeps rows 40 .. 45, 11..13 E columns 10 .. 15.
+  o.crop = {41.0, 44.0, 11.0, 13.0};
+  auto crop = readGridVolume(path, o);
+  ASSERT_TRUE(crop.ok()) << crop.error();
+  ASSERT_EQ(crop->ny, 3u);
+  ASSERT_EQ(crop->nx, 3u);
+  for (std::size_t k = 0; k < crop->nz; ++k)
+    for (std::size_t j = 0; j < crop->ny; ++j)
+      for (std::size_t i = 0; i < crop->nx; ++i)
+        ASSERT_EQ(crop->value(k, j, i), i1->value(k, j, i)) << k << " " << j << " " << i;
+}
+
+TEST(GridArchiveLayouts, ExtraDimensionErrorsSayWhatThereIs) {
+  const std::string path = testDir() + "/ensemble.nc";
+  writeEnsemble(path);
+  GridReadOptions o;
+  o.variable = "t";
+  o.member = 7;
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "no ensemble member 7", "'number'", "10, 11, 12"})) << r.error();
+  o.member = -1;
+  o.extraIndex["number"] = 3;
+  r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "index 3", "'number'", "3 values"})) << r.error();
+  o.extraIndex.clear();
+  o.extraIndex["month"] = 1;
+  r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "no dimension 'month'", "'number' (3)"})) << r.error();
+  // A file without an ensemble dimension refuses a member, naming the variable.
+  Era5Like e;
+  const std::string era = testDir() + "/era5.nc";
+  writeEra5Like(era, e);
+  GridReadOptions m;
+  m.variable = "t";
+  m.member = 1;
+  r = readGridVolume(era, m);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {era, "'/t'", "no ensemble dimension", "member 1"})) << r.error();
+}
+
+TEST(GridArchiveLayouts, LeadingMonthDimensionOfAClimatologyAndWhatInfoSays) {
+  // A monthly climatology: t(month, level, lat, lon), month an int coordinate 1..12 without
+  // units; level heights above sea level. The month is never the vertical dimension.
+  const std::string path = testDir() + "/climatology.nc";
+  {
+    NcTestFile f(path, 0);
+    f.globalText("Conventions", "CF-1.7");
+    f.dim("month", 12);
+    f.dim("level", 3);
+    f.dim("lat", 2);
+    f.dim("lon", 3);
+    auto vm = f.var("month", NC_INT, {"month"});
+    f.text(vm, "long_name", "month of the year");
+    auto vl = f.var("level", NC_DOUBLE, {"level"});
+    f.text(vl, "units", "km");
+    f.text(vl, "standard_name", "altitude");
+    auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+    f.text(vy, "units", "degrees_north");
+    auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+    f.text(vx, "units", "degrees_east");
+    auto vt = f.var("t", NC_FLOAT, {"month", "level", "lat", "lon"});
+    f.text(vt, "units", "K");
+    f.put(vm, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+    f.put(vl, {1.0, 5.0, 10.0});
+    f.put(vy, {-10.0, 10.0});
+    f.put(vx, {100.0, 110.0, 120.0});
+    std::vector<double> v;
+    for (int m = 0; m < 12; ++m)
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 3; ++i) v.push_back(1000 * m + 100 * k + 10 * j + i);
+    f.put(vt, v);
+  }
+  GridReadOptions o;
+  o.useGeoid = false;
+  auto jan = readGridVolume(path, o);
+  ASSERT_TRUE(jan.ok()) << jan.error();
+  EXPECT_EQ(jan->verticalKind, VerticalKind::HeightAboveSeaLevel);
+  EXPECT_EQ(jan->verticalVariable, "/level");
+  EXPECT_EQ(jan->member, -1);  // a month is not an ensemble member
+  ASSERT_EQ(jan->nz, 3u);
+  // Altitudes in km, as given (no geoid): 1, 5, 10 km.
+  EXPECT_FLOAT_EQ(jan->heightMeters(2, 1, 2), 10000.0f);
+  EXPECT_EQ(jan->value(2, 1, 2), 212.0f);
+  o.extraIndex["month"] = 6;  // July
+  auto jul = readGridVolume(path, o);
+  ASSERT_TRUE(jul.ok()) << jul.error();
+  ASSERT_EQ(jul->extraDimensions.size(), 1u);
+  EXPECT_EQ(jul->extraDimensions[0].value, 7.0);
+  EXPECT_FALSE(jul->extraDimensions[0].ensemble);
+  EXPECT_EQ(jul->value(2, 1, 2), 6212.0f);
+  EXPECT_EQ(jul->value(0, 0, 0), 6000.0f);
+  // info: which extra dimension, its size, the index described.
+  GridReadOptions d;
+  d.extraIndex["month"] = 6;
+  auto info = describeGridFile(path, d);
+  ASSERT_TRUE(info.ok()) << info.error();
+  const std::string text = describeGridText(*info);
+  EXPECT_TRUE(mentions(text, {"month (12 values)", "index 6 (7)"})) << text;
+  EXPECT_EQ(info->zDimension, "level");
+  const std::string json = describeGridJson(*info);
+  EXPECT_TRUE(mentions(json, {"\"extra_dimensions\"", "\"name\": \"month\"", "\"length\": 12", "\"index\": 6"}))
+      << json;
+  // The default description says index 0.
+  auto info0 = describeGridFile(path);
+  ASSERT_TRUE(info0.ok()) << info0.error();
+  EXPECT_TRUE(mentions(describeGridText(*info0), {"month (12 values): described at index 0 (1)"}))
+      << describeGridText(*info0);
+}
