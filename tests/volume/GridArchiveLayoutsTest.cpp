@@ -423,3 +423,174 @@ TEST(GridArchiveLayouts, LeadingMonthDimensionOfAClimatologyAndWhatInfoSays) {
   EXPECT_TRUE(mentions(describeGridText(*info0), {"month (12 values): described at index 0 (1)"}))
       << describeGridText(*info0);
 }
+
+// ---------------------------------------------------------------- CAM/NCL hybrid levels
+
+namespace {
+
+// CAM's hybrid levels, top first (hyam, hybm: p = hyam P0 + hybm PS).
+const std::vector<double> kHyam = {0.2, 0.1, 0.02, 0.0};
+const std::vector<double> kHybm = {0.0, 0.3, 0.75, 0.985};
+double camSurfacePressurePa(std::size_t j, std::size_t i) {
+  return 100500.0 - 900.0 * static_cast<double>(j) - 250.0 * static_cast<double>(i);
+}
+
+/// A CAM history file: lev with units "hybrid_sigma_pressure" and A_var/B_var/P0_var/PS_var
+/// naming hyam, hybm, P0, PS (no formula_terms); `p0Pa` < 0: no P0 variable.
+void writeCam(const std::string& path, double p0Pa, const std::string& aVar = "hyam") {
+  NcTestFile f(path, 0);
+  f.globalText("Conventions", "CF-1.0");
+  f.globalText("source", "CAM");
+  f.dim("time", 1);
+  f.dim("lev", kHyam.size());
+  f.dim("lat", 3);
+  f.dim("lon", 4);
+  auto vt = f.var("time", NC_DOUBLE, {"time"});
+  f.text(vt, "units", "days since 2000-01-01 00:00:00");
+  f.text(vt, "calendar", "noleap");
+  auto vl = f.var("lev", NC_DOUBLE, {"lev"});
+  f.text(vl, "long_name", "hybrid level at midpoints (1000*(A+B))");
+  f.text(vl, "units", "hybrid_sigma_pressure");
+  f.text(vl, "positive", "down");
+  f.text(vl, "A_var", aVar);
+  f.text(vl, "B_var", "hybm");
+  f.text(vl, "P0_var", "P0");
+  f.text(vl, "PS_var", "PS");
+  auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+  f.text(vy, "units", "degrees_north");
+  auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+  f.text(vx, "units", "degrees_east");
+  auto va = f.var("hyam", NC_DOUBLE, {"lev"});
+  f.text(va, "long_name", "hybrid A coefficient at layer midpoints");
+  auto vb = f.var("hybm", NC_DOUBLE, {"lev"});
+  f.text(vb, "long_name", "hybrid B coefficient at layer midpoints");
+  NcTestFile::Var vp0;
+  if (p0Pa >= 0) {
+    vp0 = f.var("P0", NC_DOUBLE, {});
+    f.text(vp0, "units", "Pa");
+  }
+  auto vps = f.var("PS", NC_FLOAT, {"time", "lat", "lon"});
+  f.text(vps, "units", "Pa");
+  auto vT = f.var("T", NC_FLOAT, {"time", "lev", "lat", "lon"});
+  f.text(vT, "units", "K");
+  f.put(vt, {31.0});
+  std::vector<double> lev;
+  for (std::size_t k = 0; k < kHyam.size(); ++k) lev.push_back(1000.0 * (kHyam[k] + kHybm[k]));
+  f.put(vl, lev);
+  f.put(vy, {40.0, 44.0, 48.0});
+  f.put(vx, {0.0, 5.0, 10.0, 15.0});
+  f.put(va, kHyam);
+  f.put(vb, kHybm);
+  if (p0Pa >= 0) f.put(vp0, {p0Pa});
+  std::vector<double> ps, t;
+  for (std::size_t j = 0; j < 3; ++j)
+    for (std::size_t i = 0; i < 4; ++i) ps.push_back(camSurfacePressurePa(j, i));
+  for (std::size_t k = 0; k < kHyam.size(); ++k)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t i = 0; i < 4; ++i) t.push_back(static_cast<double>(100 * k + 10 * j + i));
+  f.put(vps, ps);
+  f.put(vT, t);
+}
+
+/// The U.S. Standard Atmosphere 1976 below 11 km by its closed form (REFERENCE.md section 4 and
+/// the standard's troposphere: T0 = 288.15 K, lapse 6.5 K/km, p0 = 101325 Pa), geopotential
+/// metres of pressure `p` (Pa): H = T0 / L (1 - (p / p0)^(R L / g0)), R = 287.05287.
+double troposphereGeopotentialHeight(double pPa) {
+  constexpr double kT0 = 288.15, kL = 0.0065, kP0 = 101325.0, kR = 287.05287;
+  return kT0 / kL * (1.0 - std::pow(pPa / kP0, kR * kL / kG0));
+}
+
+}  // namespace
+
+TEST(GridArchiveLayouts, CamHybridLevelsNamedByAttributesWithTheDefaultP0) {
+  const std::string dir = testDir();
+  writeCam(dir + "/cam_no_p0.nc", -1.0);
+  writeCam(dir + "/cam_p0.nc", 100000.0);
+  GridReadOptions o;
+  o.useGeoid = false;
+  auto r = readGridVolume(dir + "/cam_no_p0.nc", o);
+  ASSERT_TRUE(r.ok()) << r.error();
+  const GridVolume& g = *r;
+  EXPECT_EQ(g.variable, "/T");
+  EXPECT_EQ(g.verticalKind, VerticalKind::HybridSigmaPressure);
+  EXPECT_EQ(g.heightSource, HeightSource::StandardAtmosphere);
+  EXPECT_TRUE(g.approximateHeights);
+  EXPECT_EQ(g.fileLevelStep, -1);  // top-first levels come out bottom first
+  EXPECT_TRUE(mentions(g.heightNote, {"100000 Pa", "CAM", "'P0'", "A_var"})) << g.heightNote;
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t i = 0; i < 4; ++i) {
+        const std::size_t kf = 3 - k;
+        // Hand computation of the pressure: p = A P0 + B PS with CAM's P0 = 1000 hPa (PS as
+        // stored, a float).
+        const double ps = static_cast<double>(static_cast<float>(camSurfacePressurePa(j, i)));
+        const double p = kHyam[kf] * 100000.0 + kHybm[kf] * ps;
+        // Every level here is below 11 km (p >= 200 hPa at the top: 11.8 km in the standard
+        // atmosphere is 226 hPa; the top level is 200 hPa at j = i = 0 only, hence > 22632 Pa is
+        // checked). The standard's troposphere formula gives geopotential height; geometric
+        // height differs by H^2 / r (<= 19 m at 11 km) and by the latitude's gravity (at 40-48 N,
+        // g within 0.1 % of g0: <= 11 m): 30 m covers both.
+        ASSERT_EQ(g.value(k, j, i), static_cast<float>(100 * kf + 10 * j + i));
+        if (p > 22632.0) {
+          ASSERT_NEAR(g.heightMeters(k, j, i), troposphereGeopotentialHeight(p), 30.0) << k << " " << j << " " << i;
+          // And the geometric conversion by the independent rule above: 0.05 m covers the float
+          // storage of heights (1 mm) and the standard's constants (R, T0) as the reader writes
+          // them (to 1e-6).
+          ASSERT_NEAR(g.heightMeters(k, j, i),
+                      referenceGeometricHeight(troposphereGeopotentialHeight(p), g.latDeg[j]), 0.05)
+              << k << " " << j << " " << i;
+        }
+      }
+  // P0 given as a variable of 100000 Pa: the same heights, and the note names it.
+  auto withP0 = readGridVolume(dir + "/cam_p0.nc", o);
+  ASSERT_TRUE(withP0.ok()) << withP0.error();
+  EXPECT_TRUE(mentions(withP0->heightNote, {"'/P0'"})) << withP0->heightNote;
+  EXPECT_EQ(withP0->heightNote.find("default"), std::string::npos) << withP0->heightNote;
+  ASSERT_EQ(withP0->heightAboveEllipsoidMeters, g.heightAboveEllipsoidMeters);
+}
+
+TEST(GridArchiveLayouts, CamHybridLevelsNamingAMissingVariableAreAnError) {
+  const std::string path = testDir() + "/cam_bad.nc";
+  writeCam(path, 100000.0, "hyai");
+  GridReadOptions o;
+  o.variable = "T";
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/lev'", "A_var", "'hyai'", "not in the file"})) << r.error();
+  // With no variable named: the same reason, from the 4-D variable (not the 2-D field PS).
+  r = readGridVolume(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/lev'", "'hyai'"})) << r.error();
+}
+
+// ---------------------------------------------------------------- coordinates naming missing variables
+
+TEST(GridArchiveLayouts, CoordinatesAttributeNamingMissingVariablesIsAnError) {
+  const std::string path = testDir() + "/missing_coordinates.nc";
+  {
+    NcTestFile f(path);
+    f.globalText("Conventions", "CF-1.8");
+    f.dim("lev", 2);
+    f.dim("y", 3);
+    f.dim("x", 4);
+    auto vl = f.var("lev", NC_DOUBLE, {"lev"});
+    f.text(vl, "units", "hPa");
+    auto vq = f.var("q", NC_FLOAT, {"lev", "y", "x"});
+    f.text(vq, "coordinates", "lev XLAT_M XLONG_M");
+    f.put(vl, {850.0, 500.0});
+    f.put(vq, std::vector<double>(24, 1.0));
+  }
+  GridReadOptions o;
+  o.variable = "q";
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/q'", "coordinates", "'XLAT_M', 'XLONG_M'", "lacks"})) << r.error();
+  auto d = describeGridFile(path, "q");
+  ASSERT_FALSE(d.ok());
+  EXPECT_TRUE(mentions(d.error(), {path, "'/q'", "'XLAT_M'"})) << d.error();
+  // Named by nobody: the file holds no grid this reader can read, and says why.
+  auto any = readGridVolume(path);
+  ASSERT_FALSE(any.ok());
+  EXPECT_TRUE(mentions(any.error(), {path, "'XLAT_M'"})) << any.error();
+  EXPECT_FALSE(isGridFile(path));
+}
