@@ -738,6 +738,7 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
     return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
   }
   for (const Other& o : others) {
+    if (o.length == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
     ExtraDim e;
     e.dimId = o.id;
     e.name = o.name;
