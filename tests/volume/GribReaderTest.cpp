@@ -244,12 +244,14 @@ TEST(GribReader, CropAcrossTheAntimeridianKeepsTheWholeGridsValues) {
   // A GRIB field is decoded whole: the crop reads the 500 hPa messages of t and z, no other.
   EXPECT_EQ(crop->bytesRead, 2u * 14752u);
   // 3-degree grid: 168 .. 192 (the columns around 170 and 190 = -170, so the cells cover the
-  // box), 30 .. 60 in latitude (both on grid rows: nothing more needed).
+  // box), 27 .. 63 in latitude (30 and 60 are grid rows: the rows beyond them are kept too, so
+  // that a point on the box's edge is inside the kept rows whatever its rounding).
   EXPECT_EQ(crop->nx, 9u);
-  EXPECT_EQ(crop->ny, 11u);
+  EXPECT_EQ(crop->ny, 13u);
   EXPECT_DOUBLE_EQ(crop->lonDeg.front(), 168.0);
   EXPECT_DOUBLE_EQ(crop->lonDeg.back(), 192.0);
-  EXPECT_DOUBLE_EQ(crop->latDeg.front(), 30.0);
+  EXPECT_DOUBLE_EQ(crop->latDeg.front(), 27.0);
+  EXPECT_DOUBLE_EQ(crop->latDeg.back(), 63.0);
   for (std::size_t i = 1; i < crop->nx; ++i) EXPECT_NEAR(crop->lonDeg[i] - crop->lonDeg[i - 1], 3.0, 1e-9);
   for (std::size_t j = 0; j < crop->ny; ++j)
     for (std::size_t i = 0; i < crop->nx; ++i) {

@@ -311,3 +311,98 @@ TEST(GridBadInput, BadRequests) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("'yesterday'"), std::string::npos) << r.error();
 }
+
+TEST(GridBadInput, ExtraDimensionsAndCamAttributes) {
+  const std::string d = dir();
+  // A file of ta (time, X, lev, lat, lon) with X chosen per case; lev in hPa, or CAM's hybrid
+  // attributes naming hyam / hybm / PS.
+  struct Case {
+    std::string extraDim = "number";
+    std::size_t extraLength = 2;
+    std::string extraUnits;  ///< units of the extra dimension's coordinate ("" none)
+    double extraValue0 = 0;  ///< NaN: a missing coordinate value
+    bool cam = false;
+    std::vector<std::string> camAttributes = {"A_var", "B_var", "PS_var"};
+    std::size_t hyamLength = 3;
+  };
+  auto writeCase = [&](const std::string& path, const Case& c) {
+    NcTestFile f(path);
+    f.dim("time", 1);
+    f.dim(c.extraDim, c.extraLength);
+    f.dim("lev", 3);
+    f.dim("nh", c.hyamLength);
+    f.dim("lat", 2);
+    f.dim("lon", 2);
+    auto ve = f.var(c.extraDim, NC_DOUBLE, {c.extraDim});
+    if (!c.extraUnits.empty()) f.text(ve, "units", c.extraUnits);
+    auto vl = f.var("lev", NC_DOUBLE, {"lev"});
+    f.text(vl, "units", c.cam ? "hybrid_sigma_pressure" : "hPa");
+    if (c.cam) {
+      for (const auto& a : c.camAttributes)
+        f.text(vl, a, a == "A_var" ? "hyam" : a == "B_var" ? "hybm" : "PS");
+    }
+    auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+    f.text(vy, "units", "degrees_north");
+    auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+    f.text(vx, "units", "degrees_east");
+    auto va = f.var("hyam", NC_DOUBLE, {c.hyamLength == 3 ? "lev" : "nh"});
+    auto vb = f.var("hybm", NC_DOUBLE, {"lev"});
+    auto vps = f.var("PS", NC_DOUBLE, {"time", "lat", "lon"});
+    f.text(vps, "units", "Pa");
+    auto vt = f.var("ta", NC_FLOAT, {"time", c.extraDim, "lev", "lat", "lon"});
+    std::vector<double> ev(c.extraLength);
+    for (std::size_t i = 0; i < ev.size(); ++i) ev[i] = static_cast<double>(i);
+    if (!ev.empty()) ev[0] = c.extraValue0;
+    if (!ev.empty()) f.put(ve, ev);
+    f.put(vl, c.cam ? std::vector<double>{200, 500, 900} : std::vector<double>{1000, 850, 500});
+    f.put(vy, {0, 1});
+    f.put(vx, {0, 1});
+    f.put(va, std::vector<double>(c.hyamLength, 0.1));
+    f.put(vb, {0.1, 0.5, 0.9});
+    f.put(vps, std::vector<double>(4, 100000.0));
+    if (c.extraLength) f.put(vt, std::vector<double>(c.extraLength * 12, 1.0));
+  };
+  {
+    writeCase(d + "/intact.nc", {});
+    Case cam;
+    cam.cam = true;
+    writeCase(d + "/intact_cam.nc", cam);
+    for (const char* name : {"/intact.nc", "/intact_cam.nc"}) {
+      auto r = readGridVolume(d + name);
+      EXPECT_TRUE(r.ok()) << name << ": " << r.error();
+    }
+  }
+  Case empty;
+  empty.extraLength = 0;
+  writeCase(d + "/empty_extra.nc", empty);
+  expectError(d + "/empty_extra.nc", {"'/ta'", "empty dimension", "number 0"}, "ta");
+  Case twoVertical;
+  twoVertical.extraDim = "height";
+  twoVertical.extraUnits = "m";
+  writeCase(d + "/two_vertical.nc", twoVertical);
+  expectError(d + "/two_vertical.nc", {"'/ta'", "'height'", "'lev'", "both vertical", "ambiguous"}, "ta");
+  Case nanMember;
+  nanMember.extraValue0 = std::nan("");
+  writeCase(d + "/nan_member.nc", nanMember);
+  {
+    GridReadOptions o;
+    o.member = 5;
+    auto r = readGridVolume(d + "/nan_member.nc", o);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("no ensemble member 5"), std::string::npos) << r.error();
+    EXPECT_EQ(r.error().rfind(d + "/nan_member.nc", 0), 0u) << r.error();
+    o.member = 1;  // the second value is fine
+    auto ok = readGridVolume(d + "/nan_member.nc", o);
+    EXPECT_TRUE(ok.ok()) << ok.error();
+  }
+  Case noA;
+  noA.cam = true;
+  noA.camAttributes = {"B_var"};
+  writeCase(d + "/cam_no_a.nc", noA);
+  expectError(d + "/cam_no_a.nc", {"'/lev'", "A_var, PS_var"}, "ta");
+  Case shortA;
+  shortA.cam = true;
+  shortA.hyamLength = 2;
+  writeCase(d + "/cam_short_a.nc", shortA);
+  expectError(d + "/cam_short_a.nc", {"'/hyam'", "2 values", "one per level (3)", "inconsistent sizes"}, "ta");
+}

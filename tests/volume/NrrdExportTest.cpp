@@ -1,8 +1,10 @@
 // NRRD export: the resampled values are the sampler's, the header says what teem reads, and
 // the gzip stream is what teem decodes (read back with Debian teem-apps' `teem-unu`).
+#include "NcTestFile.h"
 #include "SyntheticGridVolume.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/NrrdExport.h>
 
@@ -231,4 +233,91 @@ TEST(NrrdExport, ErrorsNameTheFileAndKeepThePreviousOutput) {
   std::string text;
   std::getline(in, text);
   EXPECT_EQ(text, "previous");
+}
+
+// A box whose edges lie on grid lines of a global file (here 2.5 degrees, latitudes north to
+// south, longitudes 0..357.5): every node of the box is inside the file's coverage, so every
+// node gets a value, the edges included. The field is linear in latitude, longitude (as the
+// file counts it, 0..360) and height, so linear interpolation gives it back exactly at any node.
+TEST(NrrdExport, CropBoxOnGridLinesHasDataOnEveryEdge) {
+  const std::string dir = atmoglobe_test::freshTestDir("nrrd");
+  const std::string path = dir + "/global_2p5.nc";
+  std::vector<double> lat, lon, lev;
+  for (int j = 0; j < 73; ++j) lat.push_back(90.0 - 2.5 * j);
+  for (int i = 0; i < 144; ++i) lon.push_back(2.5 * i);
+  for (int k = 0; k < 11; ++k) lev.push_back(2000.0 * k);  // 0 .. 20 km above the ellipsoid
+  auto field = [](double latDeg, double lon0To360Deg, double hMeters) {
+    return 3.0 * latDeg + 0.5 * lon0To360Deg + hMeters / 1000.0;
+  };
+  {
+    atmoglobe_test::NcTestFile f(path, 0);
+    f.globalText("Conventions", "CF-1.6");
+    f.dim("lev", lev.size());
+    f.dim("lat", lat.size());
+    f.dim("lon", lon.size());
+    auto vz = f.var("lev", NC_DOUBLE, {"lev"});
+    f.text(vz, "units", "m");
+    f.text(vz, "standard_name", "height_above_reference_ellipsoid");
+    auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+    f.text(vy, "units", "degrees_north");
+    auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+    f.text(vx, "units", "degrees_east");
+    auto vq = f.var("q", NC_DOUBLE, {"lev", "lat", "lon"});
+    f.put(vz, lev);
+    f.put(vy, lat);
+    f.put(vx, lon);
+    std::vector<double> q;
+    for (double h : lev)
+      for (double la : lat)
+        for (double lo : lon) q.push_back(field(la, lo, h));
+    f.put(vq, q);
+  }
+  // The reported case: 13 x 9 x 12 nodes over the USA, 25..45 N, 125..95 W (235..265 in the file).
+  NrrdExportOptions o;
+  o.inputPath = path;
+  o.outputPath = dir + "/usa.nrrd";
+  o.cropSouthNorthWestEastDeg = std::array<double, 4>{25.0, 45.0, -125.0, -95.0};
+  o.heightRangeMeters = std::array<double, 2>{1000.0, 12000.0};
+  o.size = std::array<std::size_t, 3>{13, 9, 12};
+  o.datum = HeightDatum::Ellipsoid;
+  o.gzip = false;
+  o.threads = 1;
+  auto r = exportNrrd(o);
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->finiteValues, 13u * 9u * 12u);
+  std::ifstream in(o.outputPath, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t end = bytes.find("\n\n");
+  ASSERT_NE(end, std::string::npos);
+  ASSERT_EQ(bytes.size() - (end + 2), 13u * 9u * 12u * sizeof(float));
+  std::vector<float> v(13 * 9 * 12);
+  std::memcpy(v.data(), bytes.data() + end + 2, v.size() * sizeof(float));
+  for (std::size_t k = 0; k < 12; ++k)
+    for (std::size_t j = 0; j < 9; ++j)
+      for (std::size_t i = 0; i < 13; ++i) {
+        const double la = 25.0 + 2.5 * static_cast<double>(j);
+        const double lo = 235.0 + 2.5 * static_cast<double>(i);
+        const double h = 1000.0 + 1000.0 * static_cast<double>(k);
+        // Tolerance: the values are floats (about 3e-5 at |f| < 300) and each node goes through
+        // ECEF and back (1e-9 degree, 1e-8 m): 1e-3 of the field's units covers both.
+        ASSERT_NEAR(v[(k * 9 + j) * 13 + i], field(la, lo, h), 1e-3) << "node " << i << ", " << j << ", " << k;
+      }
+  // Without a size: the data's 2.5-degree spacing over the box, 13 x 9 nodes, all with a value.
+  o.size.reset();
+  o.outputPath = dir + "/usa_default.nrrd";
+  auto d = exportNrrd(o);
+  ASSERT_TRUE(d.ok()) << d.error();
+  EXPECT_EQ(d->spec.nx, 13u);
+  EXPECT_EQ(d->spec.ny, 9u);
+  EXPECT_EQ(d->finiteValues, d->spec.sampleCount());
+  // The read kept the grid lines beyond the box on every side (where the file has them), so
+  // that a node on the box's edge lies inside the data, not on its rounded border.
+  GridReadOptions read;
+  read.crop = {25.0, 45.0, -125.0, -95.0};
+  auto g = readGridVolume(path, read);
+  ASSERT_TRUE(g.ok()) << g.error();
+  EXPECT_DOUBLE_EQ(g->latDeg.front(), 22.5);
+  EXPECT_DOUBLE_EQ(g->latDeg.back(), 47.5);
+  EXPECT_DOUBLE_EQ(g->lonDeg.front(), -127.5);
+  EXPECT_DOUBLE_EQ(g->lonDeg.back(), -92.5);
 }

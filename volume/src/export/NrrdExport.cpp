@@ -479,15 +479,22 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
   }
   spec.datum = o.datum;
   if (o.cropSouthNorthWestEastDeg) {
+    // The data's own node spacing, kept over the box (a grid read for a box holds the rows and
+    // columns just beyond it too, so its node count is not the box's).
+    const double dLonDeg = spec.nx > 1 ? (spec.eastDeg - spec.westDeg) / static_cast<double>(spec.nx - 1) : 0.0;
+    const double dLatDeg = spec.ny > 1 ? (spec.northDeg - spec.southDeg) / static_cast<double>(spec.ny - 1) : 0.0;
     const auto& b = *o.cropSouthNorthWestEastDeg;
     spec.southDeg = b[0];
     spec.northDeg = b[1];
     spec.westDeg = b[2];
     spec.eastDeg = b[3] < b[2] ? b[3] + 360.0 : b[3];
     if (!o.size) {
-      // Keep the data's spacing over the new box.
-      spec.nx = std::max<std::size_t>(2, spec.nx);
-      spec.ny = std::max<std::size_t>(2, spec.ny);
+      auto count = [](double span, double step) {
+        if (!(step > 0.0) || !(span > 0.0)) return std::size_t{2};
+        return std::max<std::size_t>(2, static_cast<std::size_t>(std::llround(std::min(span / step, 1e6))) + 1);
+      };
+      spec.nx = count(spec.eastDeg - spec.westDeg, dLonDeg);
+      spec.ny = count(spec.northDeg - spec.southDeg, dLatDeg);
     }
   }
   if (o.heightRangeMeters) {

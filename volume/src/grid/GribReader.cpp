@@ -454,7 +454,7 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
       s.values[i] = static_cast<float>((*values)[i]);  // as netCDF: float
   }
   if (auto st = heightsOf(c, v, t, member, useGeoid, s); !st) return st.forwardError();
-  const grid::Selection sel{t, s.levels, &s.hz};
+  const grid::Selection sel{t, s.levels, &s.hz, {}};
   if (auto st = grid::checkHeights(c.label, s.heights, sel, s.hz.rows.size() * s.hz.cols.size()); !st)
     return st.forwardError();
   return s;

@@ -30,7 +30,19 @@ nlohmann::ordered_json finiteOrNull(double v) { return std::isfinite(v) ? nlohma
 }  // namespace
 
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable) {
-  if (grib::hasGribSignature(path)) return grib::describeGribFile(path, variable);
+  GridReadOptions read;
+  read.variable = variable;
+  return describeGridFile(path, read);
+}
+
+Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOptions& read) {
+  const std::string& variable = read.variable;
+  if (grib::hasGribSignature(path)) {
+    if (!read.extraIndex.empty())
+      return makeError(path + ": an index along dimension '" + read.extraIndex.begin()->first +
+                       "' asked for, but a GRIB file has no such dimensions (ensemble members: member)");
+    return grib::describeGribFile(path, variable);
+  }
   auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   const io::NetcdfFile& f = *opened;
@@ -72,6 +84,10 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
   info.yDimension = grid::dimensionName(l.var.groupId, l.yDim);
   info.zDimension = grid::dimensionName(l.var.groupId, l.zDim);
   info.timeDimension = l.time.dimId >= 0 ? grid::dimensionName(l.var.groupId, l.time.dimId) : "";
+  std::map<int, std::size_t> extraIndex;
+  auto extras = grid::resolveExtraDimensions(f, l, read, &extraIndex);
+  if (!extras) return extras.forwardError();
+  info.extraDimensions = *extras;
 
   auto times = grid::readTimes(f, l.time);
   if (!times) return times.forwardError();
@@ -119,7 +135,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
   if (!lv) return lv.forwardError();
   auto levels = grid::levelPicks(f, l, *lv, all);
   if (!levels) return levels.forwardError();
-  grid::Selection sel{0, *levels, &*sample};
+  grid::Selection sel{0, *levels, &*sample, extraIndex};
   auto heights = grid::computeHeights(f, l, *lv, sel, true);
   if (!heights) return heights.forwardError();
   if (auto st = grid::checkHeights(f, *heights, sel, sample->rows.size() * sample->cols.size()); !st)
@@ -156,6 +172,15 @@ std::string describeGridJson(const GridFileInfo& g) {
                     {"on_grid", v.onGrid}});
   j["variables"] = std::move(vars);
   j["variable"] = g.variable;
+  nlohmann::ordered_json extras = nlohmann::ordered_json::array();
+  for (const auto& e : g.extraDimensions)
+    extras.push_back({{"name", e.name},
+                      {"length", e.length},
+                      {"index", e.index},
+                      {"value", finiteOrNull(e.value)},
+                      {"units", e.units},
+                      {"ensemble", e.ensemble}});
+  j["extra_dimensions"] = std::move(extras);
   j["grid"] = {{"horizontal", g.curvilinear ? "curvilinear" : "rectilinear"},
                {"nx", g.nx},
                {"ny", g.ny},
@@ -197,6 +222,15 @@ std::string describeGridText(const GridFileInfo& g) {
   os << "file:       " << g.path << "\n";
   os << "format:     forecast grid, " << g.format << (g.conventions.empty() ? "" : ", " + g.conventions) << "\n";
   os << "variable:   " << g.variable << "\n";
+  for (const auto& e : g.extraDimensions) {
+    // One line per dimension read at one index: its size, what it is, the index described.
+    os << "index dim:  " << e.name << " (" << e.length << (e.ensemble ? " ensemble members" : " values")
+       << "): described at index " << e.index;
+    if (std::isfinite(e.value))
+      os << " (" << grid::num(e.value, e.value == std::floor(e.value) ? 0 : 3) << (e.units.empty() ? "" : " " + e.units)
+         << ")";
+    os << "; choose with " << (e.ensemble ? "the member or " : "") << "an index along '" << e.name << "'\n";
+  }
   os << "grid:       "
      << (g.curvilinear ? "curvilinear (2-D latitude/longitude)" : "rectilinear (1-D latitude/longitude)") << ", "
      << g.nx << " x " << g.ny << " columns (" << g.xDimension << " x " << g.yDimension << "), " << g.nz << " levels ("

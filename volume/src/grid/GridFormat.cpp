@@ -44,13 +44,16 @@ Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, cons
   const std::vector<GridVariableInfo> vars = listVariables(f, kind);
   const std::string name = chooseDefaultGridVariable(vars);
   if (name.empty()) {
-    // Say why the first variable with three or more dimensions is not a grid variable.
+    // Say why the first of the variables with the most dimensions (three or more) is not a grid
+    // variable: a (time, level, y, x) field says more than a (time, y, x) one.
+    std::optional<io::NcVar> first;
     for (int g : allGroups(f))
       for (const io::NcVar& v : f.variables(g))
-        if (v.dimIds.size() >= 3 && io::ncTypeIsNumeric(v.type)) {
-          auto why = analyse(f, kind, v);
-          if (!why) return makeError(why.error() + " (no variable of the file is a 3-D grid this reader can read)");
-        }
+        if (v.dimIds.size() >= 3 && io::ncTypeIsNumeric(v.type) && (!first || v.dimIds.size() > first->dimIds.size()))
+          first = v;
+    if (first)
+      if (auto why = analyse(f, kind, *first); !why)
+        return makeError(why.error() + " (no variable of the file is a 3-D grid this reader can read)");
     return makeError(
         f.message("no variable with a vertical and two horizontal dimensions (latitude/longitude "
                   "coordinates) found: not a forecast grid"));

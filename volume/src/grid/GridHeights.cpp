@@ -59,6 +59,15 @@ Result<std::vector<double>> readTerm(const io::NetcdfFile& f, const VerticalSpec
   return r;
 }
 
+/// The reference pressure p0 (Pa) of hybrid sigma-pressure levels in the a p0 + b ps form: the
+/// term 'p0', or the default the layout chose (CAM's 100000 Pa) when the file has none.
+Result<double> referencePressurePa(const io::NetcdfFile& f, const VerticalSpec& vs) {
+  if (vs.defaultP0Pa) return *vs.defaultP0Pa;
+  auto p0 = readTerm(f, vs, "p0");
+  if (!p0) return p0.forwardError();
+  return p0->front();
+}
+
 /// Picks for a variable on (some of) the grid variable's dimensions. `zStagger`: the variable
 /// is on WRF's W levels (levels k and k+1 of each mass level k are read).
 Result<Picks> supportPicks(const io::NetcdfFile& f, const GridLayout& l, const Selection& s, const io::NcVar& v) {
@@ -73,6 +82,7 @@ Result<Picks> supportPicks(const io::NetcdfFile& f, const GridLayout& l, const S
       p.push_back(std::move(z));
     } else if (id == l.yDim) p.push_back(s.hz->rows);
     else if (id == l.xDim) p.push_back(s.hz->cols);
+    else if (auto e = s.extraIndex.find(id); e != s.extraIndex.end()) p.push_back({e->second});
     else if (v.shape[d] == 1) p.push_back({0});
     else
       return varError(f, v,
@@ -269,12 +279,15 @@ Status hybridSigmaPressureHeights(const HeightInput& in, Heights& out) {
     auto aa = readTerm(in.f, vs, "a");
     if (!aa) return aa.forwardError();
     a = *aa;
-    auto pp = readTerm(in.f, vs, "p0");
+    auto pp = referencePressurePa(in.f, vs);
     if (!pp) return pp.forwardError();
-    p0 = pp->front();
-    terms = "p = a p0 + b ps with '" + vs.terms.at("a").name + "', '" + vs.terms.at("p0").name + "', '" +
-            vs.terms.at("b").name + "', '" + vs.terms.at("ps").name + "'";
+    p0 = *pp;
+    const std::string p0Text = vs.defaultP0Pa ? "p0 = " + num(p0, 0) + " Pa (CAM's default: " + vs.defaultP0Reason + ")"
+                                              : "'" + vs.terms.at("p0").name + "'";
+    terms = "p = a p0 + b ps with '" + vs.terms.at("a").name + "', " + p0Text + ", '" + vs.terms.at("b").name +
+            "', '" + vs.terms.at("ps").name + "'";
   }
+  if (vs.termsSource != "formula_terms") terms += ", named by the " + vs.termsSource;
   const double psToPa = ps->toPa;
   return columnPressureToHeights(
       in, *ps, [&](std::size_t level, double surface) { return a[level] * p0 + (*b)[level] * surface * psToPa; },
@@ -506,9 +519,9 @@ Result<Levels> levelsOf(const io::NetcdfFile& f, const GridLayout& l) {
           auto aa = readTerm(f, vs, "a");
           if (!aa) return aa.forwardError();
           a = *aa;
-          auto pp = readTerm(f, vs, "p0");
+          auto pp = referencePressurePa(f, vs);
           if (!pp) return pp.forwardError();
-          p0 = pp->front();
+          p0 = *pp;
         }
         for (std::size_t i = 0; i < n; ++i) ref[i] = -(a[i] * p0 + b[i] * 1.0e5);
       } else {

@@ -125,23 +125,28 @@ Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::ve
   if (crop.southDeg > latAsc[ny - 1] || crop.northDeg < latAsc[0])
     return latError("the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
                     " do not overlap the grid's " + num(latAsc[0]) + " .. " + num(latAsc[ny - 1]));
+  // The rows inside the box and one more on each side, strictly outside it: a box edge on a grid
+  // line keeps the line beyond, so that a point on the edge (after the round trip through ECEF
+  // a sampler makes, a hair outside it) still lies between kept rows.
   std::size_t ra = 0, rb = ny - 1;
   for (std::size_t a = 0; a < ny; ++a)
-    if (latAsc[a] <= crop.southDeg) ra = a;
+    if (latAsc[a] < crop.southDeg) ra = a;
   for (std::size_t a = ny; a-- > 0;)
-    if (latAsc[a] >= crop.northDeg) rb = a;
+    if (latAsc[a] > crop.northDeg) rb = a;
   // Columns (logical indices m, possibly past n for a crop across the seam of a global grid).
   std::size_t ca = 0, cb = n - 1;
   const double span = cropSpanDeg(crop);
   if (span < 360.0) {
-    const double w1 = u[0] + mod360(crop.westDeg - u[0]);
+    // Columns as rows: one more on each side, strictly outside the box.
+    double w1 = u[0] + mod360(crop.westDeg - u[0]);
     if (h.wrapsLongitude) {
+      if (w1 == u[0]) w1 += 360.0;  // the west edge on column 0: keep the column west of it, across the seam
       ca = 0;
       for (std::size_t a = 0; a < n; ++a)
-        if (u[a] <= w1) ca = a;
+        if (u[a] < w1) ca = a;
       const double e = w1 + span;
       cb = ca;
-      while (U(cb) < e && cb < ca + n) ++cb;
+      while (U(cb) <= e && cb < ca + n) ++cb;
       if (cb - ca + 1 >= n) {
         ca = 0;
         cb = n - 1;
@@ -156,9 +161,9 @@ Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::ve
         if (a0 > b0) continue;
         std::size_t a = 0, b = n - 1;
         for (std::size_t i = 0; i < n; ++i)
-          if (u[i] <= a0) a = i;
+          if (u[i] < a0) a = i;
         for (std::size_t i = n; i-- > 0;)
-          if (u[i] >= b0) b = i;
+          if (u[i] > b0) b = i;
         lo = std::min(lo, a);
         hi = std::max(hi, b);
         any = true;

@@ -84,6 +84,12 @@ struct VerticalSpec {
   std::string datumReason;                   ///< why that datum ("standard_name altitude" ...)
   std::map<std::string, io::NcVar> terms;    ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
   std::map<std::string, double> termToSi;    ///< unit factor of each term
+  /// Hybrid sigma-pressure levels whose p0 is no variable of the file (CAM's A_var/B_var form
+  /// without P0): the p0 used (Pa) and why, said in the height note.
+  std::optional<double> defaultP0Pa;
+  std::string defaultP0Reason;
+  /// Where the terms come from ("formula_terms", or the A_var/B_var/P0_var/PS_var attributes).
+  std::string termsSource = "formula_terms";
   std::optional<io::NcVar> geopotential;     ///< level geopotential (or geopotential height) field
   double geopotentialToGpm = 1.0;            ///< factor to geopotential metres (1/g0 for m2 s-2)
   std::optional<io::NcVar> surfaceAltitude;  ///< for heights above ground
@@ -105,8 +111,19 @@ struct TimeSpec {
   std::string unitsError;  ///< why the units could not be parsed ("" if they could)
 };
 
+/// A dimension of the grid variable that is neither horizontal, vertical nor time: read at one
+/// index (GridReadOptions::extraIndex / member).
+struct ExtraDim {
+  int dimId = -1;
+  std::string name;
+  std::size_t length = 0;
+  std::optional<io::NcVar> coordinate;  ///< its 1-D coordinate variable, if numeric
+  bool ensemble = false;                ///< an ensemble member dimension (member picks it)
+};
+
 struct GridLayout {
   io::NcVar var;
+  std::vector<ExtraDim> extras;  ///< in the variable's dimension order
   bool wrf = false;
   // dimension ids of the roles (-1: none). For WRF the mass dimensions; the variable may use
   // the staggered ones instead (stagX/Y/Z).
@@ -142,6 +159,16 @@ Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& n
 
 /// Every variable of the file with its metadata and whether analyse() accepts it.
 std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileKind& kind);
+
+/// The index of every extra dimension of `l` asked for by `read` (extraIndex by name, member for
+/// an ensemble dimension, else 0), with the coordinate value there; errors name the file, the
+/// variable and what there is to choose from. `dimIndex` (dimension id -> index) for Selection.
+Result<std::vector<GridExtraDimension>> resolveExtraDimensions(const io::NetcdfFile& f, const GridLayout& l,
+                                                                const GridReadOptions& read,
+                                                                std::map<int, std::size_t>* dimIndex);
+/// The ensemble member of the extra dimensions read (the coordinate value, else the index), or
+/// -1 when there is no ensemble dimension.
+long memberOf(const std::vector<GridExtraDimension>& extras);
 
 /// The time axis as ISO strings ("" for a step whose time is unknown).
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
@@ -187,6 +214,7 @@ struct Selection {
   std::size_t time = 0;
   std::vector<std::size_t> levels;
   const Horizontal* hz = nullptr;
+  std::map<int, std::size_t> extraIndex;  ///< dimension id -> index, for the layout's extra dimensions
 };
 
 // ---------------------------------------------------------------- vertical coordinates (GridHeights.cpp)

@@ -7,6 +7,7 @@
 #include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace atmoglobe::volume::grid {
@@ -56,6 +57,26 @@ const std::vector<std::string>& verticalStandardNames() {
   return k;
 }
 
+/// What a dimension that is neither horizontal, vertical nor time is, by its name or its
+/// coordinate variable: an ensemble member (CF standard_name realization; names number,
+/// realization, member, ensemble ...; a long_name mentioning an ensemble), another index users
+/// choose (month, season ...), or neither (None: the dimension may still be a vertical one).
+enum class IndexKind { None, Ensemble, Other };
+
+IndexKind indexKindOf(const io::NetcdfFile& f, const std::string& dimName, const std::optional<io::NcVar>& c) {
+  const std::string n = toLowerAscii(dimName);
+  for (const char* e : {"number", "realization", "realisation", "member", "members", "ensemble", "ens",
+                        "ensemble_member", "member_id", "ens_mem", "mem"})
+    if (n == e) return IndexKind::Ensemble;
+  if (c) {
+    if (attrText(f, *c, "standard_name") == "realization") return IndexKind::Ensemble;
+    if (contains(toLowerAscii(attrText(f, *c, "long_name")), "ensemble")) return IndexKind::Ensemble;
+  }
+  for (const char* o : {"month", "months", "season", "seasons", "quantile", "percentile"})
+    if (n == o) return IndexKind::Other;
+  return IndexKind::None;
+}
+
 Role roleOf(const io::NetcdfFile& f, const io::NcVar& c) {
   const std::string sn = attrText(f, c, "standard_name");
   const std::string units = attrText(f, c, "units");
@@ -64,7 +85,8 @@ Role roleOf(const io::NetcdfFile& f, const io::NcVar& c) {
   if (sn == "longitude" || isLonUnits(units)) return Role::Lon;
   if (sn == "time" || axis == "t" || contains(toLowerAscii(units), " since ")) return Role::Time;
   if (axis == "z" || f.hasAttribute(c.groupId, c.varId, "positive") ||
-      f.hasAttribute(c.groupId, c.varId, "formula_terms") || pressureUnitToPascal(units) ||
+      f.hasAttribute(c.groupId, c.varId, "formula_terms") || units == "hybrid_sigma_pressure" ||
+      pressureUnitToPascal(units) ||
       geopotentialHeightUnitToMeters(units) ||
       std::find(verticalStandardNames().begin(), verticalStandardNames().end(), sn) != verticalStandardNames().end())
     return Role::Vertical;
@@ -144,14 +166,27 @@ bool hasDims(const io::NcVar& v, std::initializer_list<int> ids) {
   return true;
 }
 
+/// The dimensions of the grid variable a field it needs may have, in the variable's order: time,
+/// the extra dimensions, the vertical one when `withLevels`, and the horizontal ones.
+std::vector<int> supportDims(const GridLayout& l, bool withLevels) {
+  std::vector<int> out;
+  for (int id : l.var.dimIds) {
+    const bool extra =
+        std::any_of(l.extras.begin(), l.extras.end(), [id](const ExtraDim& e) { return e.dimId == id; });
+    if ((id == l.time.dimId && id >= 0) || extra || (withLevels && id == l.zDim) || id == l.yDim || id == l.xDim)
+      out.push_back(id);
+  }
+  return out;
+}
+
 /// A field on the grid variable's levels holding geopotential (m2 s-2) or geopotential height
-/// (gpm / m): by standard_name, else by a usual name with fitting units.
+/// (gpm / m): by standard_name, else by a usual name with fitting units. The grid variable
+/// itself when it is one (the heights of a geopotential field are its own).
 void findGeopotential(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
-  std::vector<int> allowed = {l.time.dimId, l.zDim, l.yDim, l.xDim};
+  const std::vector<int> allowed = supportDims(l, true);
   std::optional<int> g = l.var.groupId;
   while (g) {
     for (const io::NcVar& c : f.variables(*g)) {
-      if (c.varId == l.var.varId && c.groupId == l.var.groupId) continue;
       if (!hasDims(c, {l.zDim, l.yDim, l.xDim})) continue;
       if (!checkSupportDims(f, c, l.var, allowed, "geopotential")) continue;
       const std::string sn = attrText(f, c, "standard_name");
@@ -181,7 +216,7 @@ void findGeopotential(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec
 
 /// The surface altitude (m above sea level) for heights above ground.
 void findSurfaceAltitude(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec& vs) {
-  std::vector<int> allowed = {l.time.dimId, l.yDim, l.xDim};
+  const std::vector<int> allowed = supportDims(l, false);
   std::optional<int> g = l.var.groupId;
   while (g) {
     for (const io::NcVar& c : f.variables(*g)) {
@@ -202,29 +237,17 @@ void findSurfaceAltitude(const io::NetcdfFile& f, const GridLayout& l, VerticalS
   }
 }
 
-Status parseFormulaTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs,
-                         const std::vector<std::string>& required, const std::vector<std::string>& optional) {
-  const std::string ft = attrText(f, coord, "formula_terms");
-  const std::vector<std::string> t = tokens(ft);
-  if (t.empty() || t.size() % 2 != 0)
-    return varError(f, coord, "formula_terms '" + ft + "' is not a list of 'term: variable' pairs");
-  for (std::size_t i = 0; i + 1 < t.size(); i += 2) {
-    if (t[i].size() < 2 || t[i].back() != ':')
-      return varError(f, coord, "formula_terms '" + ft + "' is not a list of 'term: variable' pairs");
-    const std::string term = t[i].substr(0, t[i].size() - 1);
-    auto v = findInScope(f, coord.groupId, t[i + 1]);
-    if (!v)
-      return varError(
-          f, coord,
-          "formula_terms names variable '" + t[i + 1] + "' for term '" + term + "', which is not in the file");
-    vs.terms[term] = *v;
-  }
+/// Checks the terms of `vs.terms` (required and optional ones, `source` describing where they
+/// were named, for messages): units to SI (termToSi) and shapes.
+Status checkTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs,
+                  const std::vector<std::string>& required, const std::vector<std::string>& optional,
+                  const std::string& source) {
   for (const std::string& r : required)
-    if (!vs.terms.count(r)) return varError(f, coord, "formula_terms '" + ft + "' lacks the term '" + r + "'");
+    if (!vs.terms.count(r)) return varError(f, coord, source + " lacks the term '" + r + "'");
   for (const auto& [term, v] : vs.terms) {
     if (std::find(required.begin(), required.end(), term) == required.end() &&
         std::find(optional.begin(), optional.end(), term) == optional.end())
-      return varError(f, coord, "formula_terms '" + ft + "': unexpected term '" + term + "'");
+      return varError(f, coord, source + ": unexpected term '" + term + "'");
     const std::string units = attrText(f, v, "units");
     if (term == "ps" || term == "p0" || term == "ap" || term == "ptop") {
       if (units.empty()) {
@@ -261,11 +284,71 @@ Status parseFormulaTerms(const io::NetcdfFile& f, const GridLayout& l, const io:
         return makeError(f.message("variable '" + v.name + "' (term '" + term + "' of '" + coord.name +
                                    "') is not on the columns of '" + l.var.name + "' (" + dimList(f, v) + " against " +
                                    dimList(f, l.var) + "): inconsistent sizes"));
-      if (auto st = checkSupportDims(f, v, l.var, {l.time.dimId, l.yDim, l.xDim}, "term '" + term + "'"); !st)
-        return st;
+      if (auto st = checkSupportDims(f, v, l.var, supportDims(l, false), "term '" + term + "'"); !st) return st;
     }
   }
   return Ok{};
+}
+
+/// The terms named by the coordinate's formula_terms ("term: variable" pairs), checked.
+Status parseFormulaTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs,
+                         const std::vector<std::string>& required, const std::vector<std::string>& optional) {
+  const std::string ft = attrText(f, coord, "formula_terms");
+  const std::vector<std::string> t = tokens(ft);
+  if (t.empty() || t.size() % 2 != 0)
+    return varError(f, coord, "formula_terms '" + ft + "' is not a list of 'term: variable' pairs");
+  for (std::size_t i = 0; i + 1 < t.size(); i += 2) {
+    if (t[i].size() < 2 || t[i].back() != ':')
+      return varError(f, coord, "formula_terms '" + ft + "' is not a list of 'term: variable' pairs");
+    const std::string term = t[i].substr(0, t[i].size() - 1);
+    auto v = findInScope(f, coord.groupId, t[i + 1]);
+    if (!v)
+      return varError(
+          f, coord,
+          "formula_terms names variable '" + t[i + 1] + "' for term '" + term + "', which is not in the file");
+    vs.terms[term] = *v;
+  }
+  return checkTerms(f, l, coord, vs, required, optional, "formula_terms '" + ft + "'");
+}
+
+/// CAM/NCL hybrid sigma-pressure levels: the coordinate names its coefficients and surface
+/// pressure in the attributes A_var, B_var, PS_var and P0_var instead of formula_terms
+/// (p = A P0 + B PS). P0_var absent, or naming a variable the file lacks: CAM's reference
+/// pressure P0 = 100000 Pa, said in the height note.
+Status camHybridTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs) {
+  vs.termsSource = "attributes A_var, B_var, P0_var, PS_var";
+  std::vector<std::string> lacking;
+  for (const auto& [attr, term] : {std::pair<const char*, const char*>{"A_var", "a"}, {"B_var", "b"}, {"PS_var", "ps"}}) {
+    const std::string name = attrText(f, coord, attr);
+    if (name.empty()) {
+      lacking.push_back(attr);
+      continue;
+    }
+    auto v = findInScope(f, coord.groupId, name);
+    if (!v)
+      return varError(f, coord,
+                      std::string("attribute ") + attr + " names variable '" + name + "' (term '" + term +
+                          "' of p = A P0 + B PS), which is not in the file");
+    vs.terms[term] = *v;
+  }
+  if (!lacking.empty()) {
+    std::string s;
+    for (const auto& a : lacking) s.append(s.empty() ? "" : ", ").append(a);
+    return varError(f, coord,
+                    "hybrid sigma-pressure levels without formula_terms need the attributes A_var, B_var and "
+                    "PS_var (CAM's form); missing: " +
+                        s);
+  }
+  const std::string p0Name = attrText(f, coord, "P0_var");
+  std::optional<io::NcVar> p0 = p0Name.empty() ? std::nullopt : findInScope(f, coord.groupId, p0Name);
+  if (p0) {
+    vs.terms["p0"] = *p0;
+  } else {
+    vs.defaultP0Pa = 100000.0;
+    vs.defaultP0Reason = p0Name.empty() ? std::string("no P0_var attribute")
+                                        : "P0_var names '" + p0Name + "', which is not in the file";
+  }
+  return checkTerms(f, l, coord, vs, {"a", "b", "ps"}, {"p0"}, vs.termsSource);
 }
 
 /// The vertical coordinate of a CF variable from its coordinate variable's attributes.
@@ -279,14 +362,29 @@ Status cfVertical(const io::NetcdfFile& f, GridLayout& l, const io::NcVar& coord
   const std::string longName = toLowerAscii(attrText(f, coord, "long_name"));
   vs.coordinateUnits = units;
   vs.positiveDown = positive == "down";
-  const bool parametric = f.hasAttribute(coord.groupId, coord.varId, "formula_terms") ||
+  const bool formulaTerms = f.hasAttribute(coord.groupId, coord.varId, "formula_terms");
+  const bool camHybrid =
+      !formulaTerms && (units == "hybrid_sigma_pressure" || sn == "atmosphere_hybrid_sigma_pressure_coordinate") &&
+      (f.hasAttribute(coord.groupId, coord.varId, "A_var") || f.hasAttribute(coord.groupId, coord.varId, "B_var") ||
+       f.hasAttribute(coord.groupId, coord.varId, "PS_var") || units == "hybrid_sigma_pressure");
+  if (camHybrid) {
+    vs.kind = VerticalKind::HybridSigmaPressure;
+    if (auto st = camHybridTerms(f, l, coord, vs); !st) return st;
+    findGeopotential(f, l, vs);
+    return Ok{};
+  }
+  const bool parametric = formulaTerms ||
                           sn == "atmosphere_hybrid_sigma_pressure_coordinate" || sn == "atmosphere_sigma_coordinate" ||
                           sn == "atmosphere_hybrid_height_coordinate" || sn == "atmosphere_ln_pressure_coordinate" ||
                           sn == "atmosphere_sleve_coordinate" || sn == "ocean_sigma_coordinate" ||
                           sn == "ocean_s_coordinate";
   if (parametric) {
     if (!f.hasAttribute(coord.groupId, coord.varId, "formula_terms"))
-      return varError(f, coord, "standard_name '" + sn + "' needs a formula_terms attribute to give heights");
+      return varError(f, coord,
+                      "standard_name '" + sn + "' needs a formula_terms attribute to give heights" +
+                          (sn == "atmosphere_hybrid_sigma_pressure_coordinate"
+                               ? std::string(" (or CAM's attributes A_var, B_var, PS_var)")
+                               : std::string()));
     if (sn == "atmosphere_hybrid_sigma_pressure_coordinate") {
       vs.kind = VerticalKind::HybridSigmaPressure;
       if (auto st = parseFormulaTerms(f, l, coord, vs, {"b", "ps"}, {"a", "p0", "ap"}); !st) return st;
@@ -520,8 +618,19 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
     return varError(f, v,
                     "has " + std::to_string(v.dimIds.size()) +
                         " dimensions; a grid volume needs a vertical and two horizontal ones");
-  // 1. Curvilinear: 2-D latitude/longitude named in `coordinates`.
+  // 1. Curvilinear: 2-D latitude/longitude named in `coordinates`. Every variable it names must
+  // be in the file.
   std::optional<io::NcVar> lat2, lon2;
+  std::vector<std::string> missing;
+  for (const std::string& name : tokens(attrText(f, v, "coordinates")))
+    if (!findInScope(f, v.groupId, name)) missing.push_back("'" + name + "'");
+  if (!missing.empty()) {
+    std::string s;
+    for (const auto& m : missing) s.append(s.empty() ? "" : ", ").append(m);
+    return varError(f, v,
+                    "its coordinates attribute ('" + attrText(f, v, "coordinates") + "') names " +
+                        (missing.size() == 1 ? "variable " : "variables ") + s + ", which the file lacks");
+  }
   for (const std::string& name : tokens(attrText(f, v, "coordinates"))) {
     auto c = findInScope(f, v.groupId, name);
     if (!c || c->dimIds.size() < 2) continue;
@@ -551,17 +660,27 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
     l.ny = lat2->shape[r - 2];
     l.nx = lat2->shape[r - 1];
   }
-  // 2. The role of every dimension from its coordinate variable.
+  // 2. The role of every dimension from its coordinate variable. A dimension named or marked
+  // as an ensemble or another index (month ...) is never the vertical one; the others that are
+  // neither horizontal, vertical nor time are read at one index (extras).
   std::optional<io::NcVar> zCoord;
   int tPos = -1, zPos = -1;
-  std::vector<std::string> unknown;
+  struct Other {
+    int id = -1;
+    std::size_t length = 0;
+    std::string name, description;
+    std::optional<io::NcVar> coordinate;
+    IndexKind kind = IndexKind::None;
+  };
+  std::vector<Other> others;
   for (std::size_t d = 0; d < v.dimIds.size(); ++d) {
     const int id = v.dimIds[d];
     const int p = static_cast<int>(d);
     if (id == l.xDim || id == l.yDim) continue;
     auto c = coordinateVariable(f, v, id);
-    const Role r = c ? roleOf(f, *c) : Role::None;
     const std::string dn = dimensionName(v.groupId, id);
+    const IndexKind index = indexKindOf(f, dn, c);
+    const Role r = c && index == IndexKind::None ? roleOf(f, *c) : Role::None;
     if (!l.curvilinear && r == Role::Lat && l.yDim < 0) {
       l.yDim = id;
       l.lat = *c;
@@ -577,14 +696,27 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
       if (c) {
         if (auto st = timeSpecFromCoordinate(f, l.time, *c); !st) return st.forwardError();
       }
-    } else if (r == Role::Vertical && zPos < 0) {
+    } else if (r == Role::Vertical) {
+      // A second vertical coordinate of length 1 (a single height) is read at its one index.
+      if (zPos >= 0 && v.shape[d] == 1) continue;
+      if (zPos >= 0 && v.shape[static_cast<std::size_t>(zPos)] != 1)
+        return varError(f, v,
+                        "dimensions '" + dimensionName(v.groupId, l.zDim) + "' and '" + dn +
+                            "' are both vertical coordinates: which one the levels are is ambiguous");
       zPos = p;
       l.zDim = id;
       zCoord = c;
-    } else if (v.shape[d] != 1) {
-      unknown.push_back(c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" +
-                                attrText(f, *c, "units") + "')"
-                          : "dimension '" + dn + "' (no coordinate variable)");
+    } else if (v.shape[d] != 1 || index != IndexKind::None) {
+      Other o;
+      o.id = id;
+      o.length = v.shape[d];
+      o.name = dn;
+      o.kind = index;
+      if (c && io::ncTypeIsNumeric(c->type)) o.coordinate = c;
+      o.description = c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" +
+                              attrText(f, *c, "units") + "')"
+                        : "dimension '" + dn + "' (no coordinate variable)";
+      others.push_back(std::move(o));
     }
   }
   if (l.yDim < 0 || l.xDim < 0)
@@ -592,16 +724,31 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
                     "no latitude/longitude: neither 1-D coordinate variables with units degrees_north / "
                     "degrees_east (or standard_name latitude / longitude) among its dimensions (" +
                         dimList(f, v) + "), nor 2-D ones named in a coordinates attribute");
-  if (!unknown.empty()) {
+  if (zPos < 0) {
+    // No vertical dimension: one of the others may be a vertical coordinate of a kind this reader
+    // does not know; say so unless every one of them is a named index.
     std::string s;
-    for (const auto& u : unknown) s.append(s.empty() ? "" : "; ").append(u);
-    return varError(f, v,
-                    "unknown vertical coordinate: " + s +
-                        " is not a vertical coordinate this reader knows (a pressure, a length, "
-                        "geopotential metres, or a parametric coordinate with formula_terms)");
-  }
-  if (zPos < 0)
+    for (const Other& o : others)
+      if (o.kind == IndexKind::None && o.length != 1) s.append(s.empty() ? "" : "; ").append(o.description);
+    if (!s.empty())
+      return varError(f, v,
+                      "unknown vertical coordinate: " + s +
+                          " is not a vertical coordinate this reader knows (a pressure, a length, "
+                          "geopotential metres, or a parametric coordinate with formula_terms)");
     return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
+  }
+  for (const Other& o : others) {
+    if (o.length == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
+    ExtraDim e;
+    e.dimId = o.id;
+    e.name = o.name;
+    e.length = o.length;
+    e.coordinate = o.coordinate;
+    e.ensemble = o.kind == IndexKind::Ensemble;
+    if (e.coordinate)
+      if (auto st = checkWhole(f, *e.coordinate); !st) return st.forwardError();
+    l.extras.push_back(std::move(e));
+  }
   const int yPos = positionOf(v, l.yDim), xPos = positionOf(v, l.xDim);
   if (!(tPos < zPos && zPos < yPos && yPos < xPos))
     return varError(
@@ -693,6 +840,86 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
     }
   }
   return out;
+}
+
+Result<std::vector<GridExtraDimension>> resolveExtraDimensions(const io::NetcdfFile& f, const GridLayout& l,
+                                                                const GridReadOptions& read,
+                                                                std::map<int, std::size_t>* dimIndex) {
+  auto listExtras = [&] {
+    std::string s;
+    for (const ExtraDim& e : l.extras)
+      s.append(s.empty() ? "" : ", ").append("'" + e.name + "' (" + std::to_string(e.length) + ")");
+    return s.empty() ? std::string("none") : s;
+  };
+  for (const auto& [name, index] : read.extraIndex) {
+    (void)index;
+    if (std::none_of(l.extras.begin(), l.extras.end(), [&](const ExtraDim& e) { return e.name == name; }))
+      return varError(f, l.var,
+                      "no dimension '" + name +
+                          "' to choose an index along (its dimensions that are neither horizontal, vertical nor "
+                          "time: " +
+                          listExtras() + ")");
+  }
+  const bool hasEnsemble = std::any_of(l.extras.begin(), l.extras.end(), [](const ExtraDim& e) { return e.ensemble; });
+  if (read.member >= 0 && !hasEnsemble)
+    return varError(f, l.var,
+                    "has no ensemble dimension; cannot select member " + std::to_string(read.member) +
+                        " (its dimensions that are neither horizontal, vertical nor time: " + listExtras() + ")");
+  std::vector<GridExtraDimension> out;
+  for (const ExtraDim& e : l.extras) {
+    GridExtraDimension x;
+    x.name = e.name;
+    x.length = e.length;
+    x.ensemble = e.ensemble;
+    std::vector<double> values;
+    if (e.coordinate) {
+      auto v = readPicked<double>(f, *e.coordinate, {iota(0, e.length)});
+      if (!v) return v.forwardError();
+      values = std::move(*v);
+      x.units = attrText(f, *e.coordinate, "units");
+    }
+    if (auto it = read.extraIndex.find(e.name); it != read.extraIndex.end()) {
+      if (it->second >= e.length)
+        return varError(f, l.var,
+                        "index " + std::to_string(it->second) + " along dimension '" + e.name + "' is beyond its " +
+                            std::to_string(e.length) + (e.length == 1 ? " value" : " values"));
+      x.index = it->second;
+    } else if (e.ensemble && read.member >= 0) {
+      // The member as the file numbers it: its coordinate value, else its index.
+      bool found = false;
+      for (std::size_t i = 0; i < e.length && !found; ++i) {
+        const double want = static_cast<double>(read.member);
+        if (values.empty() ? static_cast<double>(i) == want : values[i] == want) {
+          x.index = i;
+          found = true;
+        }
+      }
+      if (!found) {
+        std::string list;
+        const std::size_t shown = std::min<std::size_t>(e.length, 20);
+        for (std::size_t i = 0; i < shown; ++i)
+          list.append(i ? ", " : "").append(values.empty() ? std::to_string(i) : num(values[i], 0));
+        if (shown < e.length) list.append(", ...");
+        return varError(f, l.var,
+                        "no ensemble member " + std::to_string(read.member) + " along dimension '" + e.name +
+                            "' (members: " + list + ")");
+      }
+    }
+    if (!values.empty()) x.value = values[x.index];
+    if (dimIndex) (*dimIndex)[e.dimId] = x.index;
+    out.push_back(std::move(x));
+  }
+  return out;
+}
+
+long memberOf(const std::vector<GridExtraDimension>& extras) {
+  for (const GridExtraDimension& e : extras) {
+    if (!e.ensemble) continue;
+    if (std::isfinite(e.value) && e.value == std::floor(e.value) && std::fabs(e.value) < 1e15)
+      return static_cast<long>(e.value);
+    return static_cast<long>(e.index);
+  }
+  return -1;
 }
 
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t) {

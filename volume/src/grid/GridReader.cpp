@@ -48,10 +48,12 @@ Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout&
 }  // namespace grid
 
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options) {
-  if (grib::hasGribSignature(path)) return grib::readGribVolume(path, options);
-  if (options.member >= 0)
-    return makeError(path + ": ensemble member " + std::to_string(options.member) +
-                     " asked for, but members are read from GRIB files only");
+  if (grib::hasGribSignature(path)) {
+    if (!options.extraIndex.empty())
+      return makeError(path + ": an index along dimension '" + options.extraIndex.begin()->first +
+                       "' asked for, but a GRIB file has no such dimensions (ensemble members: member)");
+    return grib::readGribVolume(path, options);
+  }
   auto opened = io::NetcdfFile::open(path);
   if (!opened) return opened.forwardError();
   const io::NetcdfFile& f = *opened;
@@ -66,13 +68,16 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   if (!times) return times.forwardError();
   auto t = grid::resolveTime(f, l, options, *times);
   if (!t) return t.forwardError();
+  std::map<int, std::size_t> extraIndex;
+  auto extras = grid::resolveExtraDimensions(f, l, options, &extraIndex);
+  if (!extras) return extras.forwardError();
   auto hz = l.curvilinear ? grid::curvilinear(f, l, *t, options.crop, 1) : grid::rectilinear(f, l, options.crop, 1);
   if (!hz) return hz.forwardError();
   auto lv = grid::levelsOf(f, l);
   if (!lv) return lv.forwardError();
   auto levels = grid::levelPicks(f, l, *lv, options.crop);
   if (!levels) return levels.forwardError();
-  grid::Selection sel{*t, *levels, &*hz};
+  grid::Selection sel{*t, *levels, &*hz, extraIndex};
   const std::size_t nz = sel.levels.size(), ny = hz->rows.size(), nx = hz->cols.size();
 
   // Values: the variable's own dimensions, staggered ones one longer, then averaged to mass points.
@@ -92,6 +97,7 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
     else if (l.stagY && id == l.yStagDim) picks.push_back(extended(hz->rows));
     else if (id == l.xDim) picks.push_back(hz->cols);
     else if (l.stagX && id == l.xStagDim) picks.push_back(extended(hz->cols));
+    else if (auto e = extraIndex.find(id); e != extraIndex.end()) picks.push_back({e->second});
     else picks.push_back({0});
   }
   auto values = grid::readPicked<float>(f, l.var, picks);
@@ -137,6 +143,8 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   g.times = std::move(*times);
   g.timeIndex = *t;
   g.validTime = l.time.dimId >= 0 && *t < g.times.size() ? g.times[*t] : std::string();
+  g.member = grid::memberOf(*extras);
+  g.extraDimensions = std::move(*extras);
   g.bytesRead = f.dataBytesRead();
   return g;
 }

@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,10 @@ namespace atmoglobe::volume {
 
 /// A region to read. Longitudes go east from westDeg to eastDeg (eastDeg < westDeg: across the
 /// antimeridian, e.g. 170 .. -170); a span of 360 or more keeps every column. The crop keeps
-/// the grid points inside the box and one more on each side where there is one, so the kept
-/// cells cover the box. Levels count from the bottom (0 = lowest after ordering).
+/// the grid points inside the box and one more on each side, strictly outside it, where there is
+/// one: the kept cells cover the box, and a point on its edge (a box edge on a grid line, after
+/// the rounding of a round trip through ECEF) lies between kept points. Levels count from the
+/// bottom (0 = lowest after ordering).
 struct GridCrop {
   double southDeg = -90.0, northDeg = 90.0;
   double westDeg = -180.0, eastDeg = 180.0;
@@ -55,9 +58,18 @@ struct GridReadOptions {
   /// ...or by ISO 8601 UTC time ("2005-08-28T15:00:00Z", "2005-08-28 15:00"), matched exactly
   /// (to the second) to the time axis; non-empty overrides timeIndex.
   std::string timeIso8601;
-  /// Ensemble member (GRIB `number`) to read; -1: the first the variable has. Files without
-  /// members (netCDF) accept only -1.
+  /// Ensemble member to read; -1: the first the variable has. GRIB: the `number` key. netCDF:
+  /// the value of the variable's ensemble dimension's coordinate (a dimension named number,
+  /// realization, member, ensemble ... or with standard_name realization; docs/grids.md), or
+  /// its index where that dimension has no coordinate variable. Files without members accept
+  /// only -1.
   long member = -1;
+  /// netCDF: the index to read along each dimension that is neither horizontal, vertical nor
+  /// time (an ensemble member, a month of a climatology ...), by dimension name ("month": 6).
+  /// A dimension not named here is read at index 0 (an ensemble dimension: at `member` when
+  /// that is set). A name that is not such a dimension of the variable, or an index beyond it,
+  /// is an error. GRIB files accept only an empty map.
+  std::map<std::string, std::size_t> extraIndex;
   GridCrop crop;
   /// Heights above mean sea level -> above the ellipsoid with the EGM96 undulation (Geoid.h).
   /// false: they are used as heights above the ellipsoid (errors of -106..+85 m; the note says so).
@@ -104,6 +116,8 @@ struct GridFileInfo {
   std::vector<GridVariableInfo> variables;
 
   std::string variable;  ///< the variable described below
+  /// Its dimensions that are neither horizontal, vertical nor time, and the index described.
+  std::vector<GridExtraDimension> extraDimensions;
   bool curvilinear = false;
   std::size_t nx = 0, ny = 0, nz = 0;
   std::string xDimension, yDimension, zDimension, timeDimension;  ///< names ("" for none)
@@ -147,6 +161,9 @@ bool isGridFile(const std::string& path);
 
 /// Describes the file (see GridFileInfo) for `variable` (empty: the default variable).
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable = {});
+/// The same for `read.variable` at `read.member` / `read.extraIndex` (the rest of `read` is
+/// not used).
+Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOptions& read);
 
 /// Reads one variable at one time over a region (see GridReadOptions).
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options = {});

@@ -44,6 +44,19 @@ enum class HeightSource {
 };
 const char* toString(HeightSource s);
 
+/// A dimension of a grid variable that is neither horizontal, vertical nor time (an ensemble
+/// member, a month of a climatology ...): the variable is read at one index along it.
+struct GridExtraDimension {
+  std::string name;  ///< the dimension's name
+  std::size_t length = 0;
+  std::size_t index = 0;  ///< the index read (or described)
+  /// The coordinate variable's value at `index` (NaN: the dimension has no numeric coordinate
+  /// variable) and its units.
+  double value = std::numeric_limits<double>::quiet_NaN();
+  std::string units;
+  bool ensemble = false;  ///< an ensemble dimension: `index` is chosen by GridReadOptions::member too
+};
+
 struct GridVolume {
   std::string path;    ///< the file read
   std::string format;  ///< "CF netCDF-4", "WRF (netCDF-4)", "CF netCDF classic" ...
@@ -91,7 +104,9 @@ struct GridVolume {
   std::vector<std::string> times;  ///< the file's time axis, ISO 8601 UTC (empty strings if it has none)
   std::size_t timeIndex = 0;       ///< which one was read
   std::string validTime;           ///< times[timeIndex] ("" when the variable has no time dimension)
-  long member = -1;                ///< ensemble member read (GRIB `number`); -1: the file has none
+  long member = -1;                ///< ensemble member read (GRIB `number`, see GridReadOptions::member); -1: none
+  /// The variable's dimensions that are neither horizontal, vertical nor time, and the index read.
+  std::vector<GridExtraDimension> extraDimensions;
 
   // --- cost ---
   /// Bytes of variable data read from the file for this volume (values, coordinates, heights;

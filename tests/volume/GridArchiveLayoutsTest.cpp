@@ -1,0 +1,596 @@
+// The forecast-grid reader on layouts real archives use, each in a small netCDF file written
+// here: extra index dimensions (ensemble members, months), geopotential packed in shorts with a
+// negative scale_factor on a north-to-south, top-first pressure grid (ERA5 style), CAM/NCL
+// hybrid levels named by A_var/B_var/P0_var/PS_var, and a `coordinates` attribute naming
+// variables the file lacks.
+#include "NcTestFile.h"
+
+#include <atmoglobe/volume/GridReader.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+using namespace atmoglobe::volume;
+using atmoglobe_test::NcTestFile;
+
+namespace {
+
+std::string testDir() { return atmoglobe_test::freshTestDir("grid_archive_layouts"); }
+
+bool mentions(const std::string& message, std::initializer_list<std::string> parts) {
+  for (const auto& p : parts)
+    if (message.find(p) == std::string::npos) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------- an independent height rule
+
+// WGS84 defining and derived constants (NIMA TR8350.2, 3rd ed., tables 3.1-3.4), written out here
+// rather than taken from the library, so that the reference below shares no code with it.
+constexpr double kA = 6378137.0;
+constexpr double kF = 1.0 / 298.257223563;
+constexpr double kGM = 3.986004418e14;
+constexpr double kOmega = 7292115.0e-11;
+constexpr double kGammaEquator = 9.7803253359, kGammaPole = 9.8321849378;
+constexpr double kG0 = 9.80665;  // standard gravity: geopotential / g0 = geopotential height
+
+/// Geometric height above sea level (m) of geopotential height `gpm` at latitude `latDeg`:
+/// g0 H = integral from 0 to z of gamma(lat) (1 - 2/a (1 + f + m - 2 f sin^2 lat) z + 3 z^2/a^2) dz
+/// (TR8350.2 eq. 4-3), gamma(lat) by Somigliana's formula with k from the polar gravity, the
+/// cubic solved by bisection.
+double referenceGeometricHeight(double gpm, double latDeg) {
+  const double b = kA * (1.0 - kF);
+  const double e2 = kF * (2.0 - kF);
+  const double m = kOmega * kOmega * kA * kA * b / kGM;
+  const double k = b * kGammaPole / (kA * kGammaEquator) - 1.0;
+  const double s2 = std::pow(std::sin(latDeg * M_PI / 180.0), 2);
+  const double gamma = kGammaEquator * (1.0 + k * s2) / std::sqrt(1.0 - e2 * s2);
+  const double c1 = (1.0 + kF + m - 2.0 * kF * s2) / kA;
+  auto integral = [&](double z) { return gamma * (z - c1 * z * z + z * z * z / (kA * kA)); };
+  double lo = -1000.0, hi = 200000.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (integral(mid) < kG0 * gpm ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// ---------------------------------------------------------------- ERA5-style pressure levels
+
+/// ERA5 as the CDS writes it: latitude north to south, levels top first (200, 500, 850 hPa),
+/// `z` and `t` shorts packed with scale_factor/add_offset; `negativeScale` packs z with a
+/// negative scale_factor (the largest value stored as -32766).
+struct Era5Like {
+  std::vector<double> lat = {50.0, 47.5, 45.0};
+  std::vector<double> lon = {350.0, 352.5, 355.0, 357.5};
+  std::vector<double> levHpa = {200.0, 500.0, 850.0};
+  bool negativeScale = true;
+  /// Geopotential (m2 s-2) at file level k, row j, column i: about 11.8, 5.6 and 1.5 km.
+  static double z(std::size_t k, std::size_t j, std::size_t i) {
+    static const double base[] = {115500.0, 55400.0, 14300.0};
+    return base[k] - 20.0 * static_cast<double>(j) + 35.0 * static_cast<double>(i);
+  }
+  double zScale = 0, zOffset = 0;
+  /// The packed short of z and what the reader must unpack it to.
+  short zPacked(std::size_t k, std::size_t j, std::size_t i) const {
+    return static_cast<short>(std::lround((z(k, j, i) - zOffset) / zScale));
+  }
+  double zUnpacked(std::size_t k, std::size_t j, std::size_t i) const {
+    return static_cast<double>(zPacked(k, j, i)) * zScale + zOffset;
+  }
+};
+
+void writeEra5Like(const std::string& path, Era5Like& e) {
+  // The CDS's packing: offset the middle of the range, scale spreading it over +-32766.
+  double zMin = HUGE_VAL, zMax = -HUGE_VAL;
+  for (std::size_t k = 0; k < e.levHpa.size(); ++k)
+    for (std::size_t j = 0; j < e.lat.size(); ++j)
+      for (std::size_t i = 0; i < e.lon.size(); ++i) {
+        zMin = std::min(zMin, Era5Like::z(k, j, i));
+        zMax = std::max(zMax, Era5Like::z(k, j, i));
+      }
+  e.zOffset = 0.5 * (zMin + zMax);
+  e.zScale = (zMax - zMin) / (2.0 * 32766.0) * (e.negativeScale ? -1.0 : 1.0);
+  NcTestFile f(path, 0);  // classic, as the CDS's netCDF3 files
+  f.globalText("Conventions", "CF-1.6");
+  f.dim("longitude", e.lon.size());
+  f.dim("latitude", e.lat.size());
+  f.dim("level", e.levHpa.size());
+  f.dim("time", NC_UNLIMITED);
+  auto vx = f.var("longitude", NC_FLOAT, {"longitude"});
+  f.text(vx, "units", "degrees_east");
+  auto vy = f.var("latitude", NC_FLOAT, {"latitude"});
+  f.text(vy, "units", "degrees_north");
+  auto vl = f.var("level", NC_INT, {"level"});
+  f.text(vl, "units", "millibars");
+  f.text(vl, "long_name", "pressure_level");
+  auto vt = f.var("time", NC_INT, {"time"});
+  f.text(vt, "units", "hours since 1900-01-01 00:00:00.0");
+  f.text(vt, "calendar", "gregorian");
+  auto vz = f.var("z", NC_SHORT, {"time", "level", "latitude", "longitude"});
+  f.number(vz, "scale_factor", NC_DOUBLE, {e.zScale});
+  f.number(vz, "add_offset", NC_DOUBLE, {e.zOffset});
+  f.number(vz, "_FillValue", NC_SHORT, {-32767});
+  f.number(vz, "missing_value", NC_SHORT, {-32767});
+  f.text(vz, "units", "m**2 s**-2");
+  f.text(vz, "long_name", "Geopotential");
+  f.text(vz, "standard_name", "geopotential");
+  auto vta = f.var("t", NC_SHORT, {"time", "level", "latitude", "longitude"});
+  f.number(vta, "scale_factor", NC_DOUBLE, {0.002});
+  f.number(vta, "add_offset", NC_DOUBLE, {250.0});
+  f.number(vta, "_FillValue", NC_SHORT, {-32767});
+  f.text(vta, "units", "K");
+  f.text(vta, "standard_name", "air_temperature");
+  f.put(vx, e.lon);
+  f.put(vy, e.lat);
+  f.put(vl, e.levHpa);
+  f.put(vt, {0}, {1}, {1063776.0});
+  std::vector<double> zs, ts;
+  for (std::size_t k = 0; k < e.levHpa.size(); ++k)
+    for (std::size_t j = 0; j < e.lat.size(); ++j)
+      for (std::size_t i = 0; i < e.lon.size(); ++i) {
+        zs.push_back(e.zPacked(k, j, i));
+        ts.push_back(static_cast<double>(k * 100 + j * 10 + i));  // 250 + 0.002 * code K
+      }
+  const std::size_t nl = e.levHpa.size(), ny = e.lat.size(), nx = e.lon.size();
+  f.put(vz, {0, 0, 0, 0}, {1, nl, ny, nx}, zs);
+  f.put(vta, {0, 0, 0, 0}, {1, nl, ny, nx}, ts);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- geopotential packed with a negative scale
+
+TEST(GridArchiveLayouts, HeightsFromGeopotentialPackedWithANegativeScaleFactor) {
+  for (bool negative : {true, false}) {
+    SCOPED_TRACE(negative ? "negative scale_factor" : "positive scale_factor");
+    const std::string path = testDir() + (negative ? "/era5_negative_scale.nc" : "/era5_positive_scale.nc");
+    Era5Like e;
+    e.negativeScale = negative;
+    writeEra5Like(path, e);
+    for (const char* variable : {"t", "z"}) {
+      SCOPED_TRACE(variable);
+      GridReadOptions o;
+      o.variable = variable;
+      o.useGeoid = false;  // heights above sea level, so that the reference needs no geoid
+      auto r = readGridVolume(path, o);
+      ASSERT_TRUE(r.ok()) << r.error();
+      const GridVolume& g = *r;
+      EXPECT_EQ(g.heightSource, HeightSource::GeopotentialField);
+      EXPECT_FALSE(g.approximateHeights);
+      ASSERT_EQ(g.nz, 3u);
+      ASSERT_EQ(g.ny, 3u);
+      ASSERT_EQ(g.nx, 4u);
+      EXPECT_EQ(g.fileLevelStep, -1);
+      EXPECT_EQ(g.fileRowStep, -1);
+      for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t j = 0; j < 3; ++j)
+          for (std::size_t i = 0; i < 4; ++i) {
+            const std::size_t kf = 2 - k, jf = 2 - j;  // bottom first, south first
+            ASSERT_DOUBLE_EQ(g.latDeg[j], e.lat[jf]);
+            // Hand computation: unpacked z / g0 = geopotential height, then geometric height.
+            // Tolerance: the reader stores heights as float (1 ms at 16 km: 2 mm spacing) and
+            // solves the same cubic by Newton to below 1e-6 m; 4 mm covers both.
+            const double expected = referenceGeometricHeight(e.zUnpacked(kf, jf, i) / kG0, e.lat[jf]);
+            ASSERT_NEAR(g.heightMeters(k, j, i), expected, 4e-3) << k << " " << j << " " << i;
+            // And the packing itself: within half a packing step of the value written.
+            ASSERT_NEAR(e.zUnpacked(kf, jf, i), Era5Like::z(kf, jf, i), 0.5 * std::fabs(e.zScale) + 1e-9);
+            if (std::string(variable) == "t") {
+              ASSERT_NEAR(g.value(k, j, i), 250.0 + 0.002 * static_cast<double>(kf * 100 + jf * 10 + i), 1e-4);
+            }
+          }
+      // The file's 850 hPa at about 1.4 km, 200 hPa at about 11.8 km (a real atmosphere's).
+      EXPECT_GT(g.heightMeters(0, 0, 0), 1000.0);
+      EXPECT_LT(g.heightMeters(0, 0, 0), 2000.0);
+      EXPECT_GT(g.heightMeters(2, 0, 0), 11000.0);
+      EXPECT_LT(g.heightMeters(2, 0, 0), 12500.0);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- extra index dimensions
+
+namespace {
+
+/// An ensemble on pressure levels as grib_to_netcdf writes it: t and z on (time, number, level,
+/// latitude, longitude), `number` an int coordinate with long_name "ensemble_member" (values
+/// 10, 11, 12 here, so that a member's value and index differ), levels bottom first.
+struct Ensemble {
+  static constexpr std::size_t kMembers = 3, kLevels = 2, kRows = 3, kCols = 4;
+  std::vector<double> lat = {40.0, 42.5, 45.0};
+  std::vector<double> lon = {10.0, 12.5, 15.0, 17.5};
+  /// Geopotential (m2 s-2): each member's column a little higher than the last.
+  static double z(std::size_t t, std::size_t m, std::size_t k, std::size_t j, std::size_t i) {
+    return (k == 0 ? 14000.0 : 55000.0) + 100.0 * static_cast<double>(m) + 10.0 * static_cast<double>(t) +
+           static_cast<double>(j + i);
+  }
+  /// Temperature code: where the value came from.
+  static double t(std::size_t t, std::size_t m, std::size_t k, std::size_t j, std::size_t i) {
+    return 1e4 * static_cast<double>(t) + 1e3 * static_cast<double>(m) + 100.0 * static_cast<double>(k) +
+           10.0 * static_cast<double>(j) + static_cast<double>(i);
+  }
+};
+
+void writeEnsemble(const std::string& path) {
+  Ensemble e;
+  NcTestFile f(path);
+  f.globalText("Conventions", "CF-1.6");
+  f.dim("longitude", Ensemble::kCols);
+  f.dim("latitude", Ensemble::kRows);
+  f.dim("level", Ensemble::kLevels);
+  f.dim("number", Ensemble::kMembers);
+  f.dim("time", 2);
+  auto vx = f.var("longitude", NC_FLOAT, {"longitude"});
+  f.text(vx, "units", "degrees_east");
+  auto vy = f.var("latitude", NC_FLOAT, {"latitude"});
+  f.text(vy, "units", "degrees_north");
+  auto vl = f.var("level", NC_INT, {"level"});
+  f.text(vl, "units", "millibars");
+  auto vn = f.var("number", NC_INT, {"number"});
+  f.text(vn, "long_name", "ensemble_member");
+  auto vt = f.var("time", NC_INT, {"time"});
+  f.text(vt, "units", "hours since 2017-01-01 00:00:00");
+  auto vz = f.var("z", NC_DOUBLE, {"time", "number", "level", "latitude", "longitude"});
+  f.text(vz, "units", "m**2 s**-2");
+  f.text(vz, "standard_name", "geopotential");
+  auto vta = f.var("t", NC_FLOAT, {"time", "number", "level", "latitude", "longitude"});
+  f.text(vta, "units", "K");
+  f.put(vx, e.lon);
+  f.put(vy, e.lat);
+  f.put(vl, {850, 500});
+  f.put(vn, {10, 11, 12});
+  f.put(vt, {0, 12});
+  std::vector<double> zs, ts;
+  for (std::size_t t = 0; t < 2; ++t)
+    for (std::size_t m = 0; m < Ensemble::kMembers; ++m)
+      for (std::size_t k = 0; k < Ensemble::kLevels; ++k)
+        for (std::size_t j = 0; j < Ensemble::kRows; ++j)
+          for (std::size_t i = 0; i < Ensemble::kCols; ++i) {
+            zs.push_back(Ensemble::z(t, m, k, j, i));
+            ts.push_back(Ensemble::t(t, m, k, j, i));
+          }
+  f.put(vz, zs);
+  f.put(vta, ts);
+}
+
+/// Checks that `g` holds member index `m` at time `t`: values and heights from that member's z.
+void expectMember(const GridVolume& g, std::size_t t, std::size_t m) {
+  Ensemble e;
+  ASSERT_EQ(g.nz, Ensemble::kLevels);
+  ASSERT_EQ(g.ny, Ensemble::kRows);
+  ASSERT_EQ(g.nx, Ensemble::kCols);
+  for (std::size_t k = 0; k < g.nz; ++k)
+    for (std::size_t j = 0; j < g.ny; ++j)
+      for (std::size_t i = 0; i < g.nx; ++i) {
+        ASSERT_EQ(g.value(k, j, i), static_cast<float>(Ensemble::t(t, m, k, j, i))) << k << " " << j << " " << i;
+        // Same tolerance as above: float heights (2 mm at 6 km) and the reader's Newton solution.
+        ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(Ensemble::z(t, m, k, j, i) / kG0, e.lat[j]),
+                    4e-3)
+            << k << " " << j << " " << i;
+      }
+}
+
+}  // namespace
+
+TEST(GridArchiveLayouts, EnsembleDimensionIsAnIndexNotTheVerticalOne) {
+  const std::string path = testDir() + "/ensemble.nc";
+  writeEnsemble(path);
+  GridReadOptions o;
+  o.variable = "t";
+  o.useGeoid = false;
+  // Default: the first member.
+  auto first = readGridVolume(path, o);
+  ASSERT_TRUE(first.ok()) << first.error();
+  EXPECT_EQ(first->verticalKind, VerticalKind::Pressure);
+  EXPECT_EQ(first->verticalVariable, "/level");
+  EXPECT_EQ(first->heightSource, HeightSource::GeopotentialField);
+  EXPECT_EQ(first->member, 10);
+  ASSERT_EQ(first->extraDimensions.size(), 1u);
+  EXPECT_EQ(first->extraDimensions[0].name, "number");
+  EXPECT_EQ(first->extraDimensions[0].length, 3u);
+  EXPECT_EQ(first->extraDimensions[0].index, 0u);
+  EXPECT_EQ(first->extraDimensions[0].value, 10.0);
+  EXPECT_TRUE(first->extraDimensions[0].ensemble);
+  expectMember(*first, 0, 0);
+  // By member (the coordinate's value) at time 1: index 2, its own geopotential.
+  o.member = 12;
+  o.timeIndex = 1;
+  auto m12 = readGridVolume(path, o);
+  ASSERT_TRUE(m12.ok()) << m12.error();
+  EXPECT_EQ(m12->member, 12);
+  EXPECT_EQ(m12->extraDimensions[0].index, 2u);
+  expectMember(*m12, 1, 2);
+  // By index along the dimension's name: outranks member.
+  o.extraIndex["number"] = 1;
+  auto i1 = readGridVolume(path, o);
+  ASSERT_TRUE(i1.ok()) << i1.error();
+  EXPECT_EQ(i1->member, 11);
+  expectMember(*i1, 1, 1);
+  // A crop reads the same member: 41..44 N keeps rows 40 .. 45, 11..13 E columns 10 .. 15.
+  o.crop = {41.0, 44.0, 11.0, 13.0};
+  auto crop = readGridVolume(path, o);
+  ASSERT_TRUE(crop.ok()) << crop.error();
+  ASSERT_EQ(crop->ny, 3u);
+  ASSERT_EQ(crop->nx, 3u);
+  for (std::size_t k = 0; k < crop->nz; ++k)
+    for (std::size_t j = 0; j < crop->ny; ++j)
+      for (std::size_t i = 0; i < crop->nx; ++i)
+        ASSERT_EQ(crop->value(k, j, i), i1->value(k, j, i)) << k << " " << j << " " << i;
+}
+
+TEST(GridArchiveLayouts, ExtraDimensionErrorsSayWhatThereIs) {
+  const std::string path = testDir() + "/ensemble.nc";
+  writeEnsemble(path);
+  GridReadOptions o;
+  o.variable = "t";
+  o.member = 7;
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "no ensemble member 7", "'number'", "10, 11, 12"})) << r.error();
+  o.member = -1;
+  o.extraIndex["number"] = 3;
+  r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "index 3", "'number'", "3 values"})) << r.error();
+  o.extraIndex.clear();
+  o.extraIndex["month"] = 1;
+  r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/t'", "no dimension 'month'", "'number' (3)"})) << r.error();
+  // A file without an ensemble dimension refuses a member, naming the variable.
+  Era5Like e;
+  const std::string era = testDir() + "/era5.nc";
+  writeEra5Like(era, e);
+  GridReadOptions m;
+  m.variable = "t";
+  m.member = 1;
+  r = readGridVolume(era, m);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {era, "'/t'", "no ensemble dimension", "member 1"})) << r.error();
+}
+
+TEST(GridArchiveLayouts, LeadingMonthDimensionOfAClimatologyAndWhatInfoSays) {
+  // A monthly climatology: t(month, level, lat, lon), month an int coordinate 1..12 without
+  // units; level heights above sea level. The month is never the vertical dimension.
+  const std::string path = testDir() + "/climatology.nc";
+  {
+    NcTestFile f(path, 0);
+    f.globalText("Conventions", "CF-1.7");
+    f.dim("month", 12);
+    f.dim("level", 3);
+    f.dim("lat", 2);
+    f.dim("lon", 3);
+    auto vm = f.var("month", NC_INT, {"month"});
+    f.text(vm, "long_name", "month of the year");
+    auto vl = f.var("level", NC_DOUBLE, {"level"});
+    f.text(vl, "units", "km");
+    f.text(vl, "standard_name", "altitude");
+    auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+    f.text(vy, "units", "degrees_north");
+    auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+    f.text(vx, "units", "degrees_east");
+    auto vt = f.var("t", NC_FLOAT, {"month", "level", "lat", "lon"});
+    f.text(vt, "units", "K");
+    f.put(vm, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+    f.put(vl, {1.0, 5.0, 10.0});
+    f.put(vy, {-10.0, 10.0});
+    f.put(vx, {100.0, 110.0, 120.0});
+    std::vector<double> v;
+    for (int m = 0; m < 12; ++m)
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 3; ++i) v.push_back(1000 * m + 100 * k + 10 * j + i);
+    f.put(vt, v);
+  }
+  GridReadOptions o;
+  o.useGeoid = false;
+  auto jan = readGridVolume(path, o);
+  ASSERT_TRUE(jan.ok()) << jan.error();
+  EXPECT_EQ(jan->verticalKind, VerticalKind::HeightAboveSeaLevel);
+  EXPECT_EQ(jan->verticalVariable, "/level");
+  EXPECT_EQ(jan->member, -1);  // a month is not an ensemble member
+  ASSERT_EQ(jan->nz, 3u);
+  // Altitudes in km, as given (no geoid): 1, 5, 10 km.
+  EXPECT_FLOAT_EQ(jan->heightMeters(2, 1, 2), 10000.0f);
+  EXPECT_EQ(jan->value(2, 1, 2), 212.0f);
+  o.extraIndex["month"] = 6;  // July
+  auto jul = readGridVolume(path, o);
+  ASSERT_TRUE(jul.ok()) << jul.error();
+  ASSERT_EQ(jul->extraDimensions.size(), 1u);
+  EXPECT_EQ(jul->extraDimensions[0].value, 7.0);
+  EXPECT_FALSE(jul->extraDimensions[0].ensemble);
+  EXPECT_EQ(jul->value(2, 1, 2), 6212.0f);
+  EXPECT_EQ(jul->value(0, 0, 0), 6000.0f);
+  // info: which extra dimension, its size, the index described.
+  GridReadOptions d;
+  d.extraIndex["month"] = 6;
+  auto info = describeGridFile(path, d);
+  ASSERT_TRUE(info.ok()) << info.error();
+  const std::string text = describeGridText(*info);
+  EXPECT_TRUE(mentions(text, {"month (12 values)", "index 6 (7)"})) << text;
+  EXPECT_EQ(info->zDimension, "level");
+  const std::string json = describeGridJson(*info);
+  EXPECT_TRUE(mentions(json, {"\"extra_dimensions\"", "\"name\": \"month\"", "\"length\": 12", "\"index\": 6"}))
+      << json;
+  // The default description says index 0.
+  auto info0 = describeGridFile(path);
+  ASSERT_TRUE(info0.ok()) << info0.error();
+  EXPECT_TRUE(mentions(describeGridText(*info0), {"month (12 values): described at index 0 (1)"}))
+      << describeGridText(*info0);
+}
+
+// ---------------------------------------------------------------- CAM/NCL hybrid levels
+
+namespace {
+
+// CAM's hybrid levels, top first (hyam, hybm: p = hyam P0 + hybm PS).
+const std::vector<double> kHyam = {0.2, 0.1, 0.02, 0.0};
+const std::vector<double> kHybm = {0.0, 0.3, 0.75, 0.985};
+double camSurfacePressurePa(std::size_t j, std::size_t i) {
+  return 100500.0 - 900.0 * static_cast<double>(j) - 250.0 * static_cast<double>(i);
+}
+
+/// A CAM history file: lev with units "hybrid_sigma_pressure" and A_var/B_var/P0_var/PS_var
+/// naming hyam, hybm, P0, PS (no formula_terms); `p0Pa` < 0: no P0 variable.
+void writeCam(const std::string& path, double p0Pa, const std::string& aVar = "hyam") {
+  NcTestFile f(path, 0);
+  f.globalText("Conventions", "CF-1.0");
+  f.globalText("source", "CAM");
+  f.dim("time", 1);
+  f.dim("lev", kHyam.size());
+  f.dim("lat", 3);
+  f.dim("lon", 4);
+  auto vt = f.var("time", NC_DOUBLE, {"time"});
+  f.text(vt, "units", "days since 2000-01-01 00:00:00");
+  f.text(vt, "calendar", "noleap");
+  auto vl = f.var("lev", NC_DOUBLE, {"lev"});
+  f.text(vl, "long_name", "hybrid level at midpoints (1000*(A+B))");
+  f.text(vl, "units", "hybrid_sigma_pressure");
+  f.text(vl, "positive", "down");
+  f.text(vl, "A_var", aVar);
+  f.text(vl, "B_var", "hybm");
+  f.text(vl, "P0_var", "P0");
+  f.text(vl, "PS_var", "PS");
+  auto vy = f.var("lat", NC_DOUBLE, {"lat"});
+  f.text(vy, "units", "degrees_north");
+  auto vx = f.var("lon", NC_DOUBLE, {"lon"});
+  f.text(vx, "units", "degrees_east");
+  auto va = f.var("hyam", NC_DOUBLE, {"lev"});
+  f.text(va, "long_name", "hybrid A coefficient at layer midpoints");
+  auto vb = f.var("hybm", NC_DOUBLE, {"lev"});
+  f.text(vb, "long_name", "hybrid B coefficient at layer midpoints");
+  NcTestFile::Var vp0;
+  if (p0Pa >= 0) {
+    vp0 = f.var("P0", NC_DOUBLE, {});
+    f.text(vp0, "units", "Pa");
+  }
+  auto vps = f.var("PS", NC_FLOAT, {"time", "lat", "lon"});
+  f.text(vps, "units", "Pa");
+  auto vT = f.var("T", NC_FLOAT, {"time", "lev", "lat", "lon"});
+  f.text(vT, "units", "K");
+  f.put(vt, {31.0});
+  std::vector<double> lev;
+  for (std::size_t k = 0; k < kHyam.size(); ++k) lev.push_back(1000.0 * (kHyam[k] + kHybm[k]));
+  f.put(vl, lev);
+  f.put(vy, {40.0, 44.0, 48.0});
+  f.put(vx, {0.0, 5.0, 10.0, 15.0});
+  f.put(va, kHyam);
+  f.put(vb, kHybm);
+  if (p0Pa >= 0) f.put(vp0, {p0Pa});
+  std::vector<double> ps, t;
+  for (std::size_t j = 0; j < 3; ++j)
+    for (std::size_t i = 0; i < 4; ++i) ps.push_back(camSurfacePressurePa(j, i));
+  for (std::size_t k = 0; k < kHyam.size(); ++k)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t i = 0; i < 4; ++i) t.push_back(static_cast<double>(100 * k + 10 * j + i));
+  f.put(vps, ps);
+  f.put(vT, t);
+}
+
+/// The U.S. Standard Atmosphere 1976 below 11 km by its closed form (REFERENCE.md section 4 and
+/// the standard's troposphere: T0 = 288.15 K, lapse 6.5 K/km, p0 = 101325 Pa), geopotential
+/// metres of pressure `p` (Pa): H = T0 / L (1 - (p / p0)^(R L / g0)), R = 287.05287.
+double troposphereGeopotentialHeight(double pPa) {
+  constexpr double kT0 = 288.15, kL = 0.0065, kP0 = 101325.0, kR = 287.05287;
+  return kT0 / kL * (1.0 - std::pow(pPa / kP0, kR * kL / kG0));
+}
+
+}  // namespace
+
+TEST(GridArchiveLayouts, CamHybridLevelsNamedByAttributesWithTheDefaultP0) {
+  const std::string dir = testDir();
+  writeCam(dir + "/cam_no_p0.nc", -1.0);
+  writeCam(dir + "/cam_p0.nc", 100000.0);
+  GridReadOptions o;
+  o.useGeoid = false;
+  auto r = readGridVolume(dir + "/cam_no_p0.nc", o);
+  ASSERT_TRUE(r.ok()) << r.error();
+  const GridVolume& g = *r;
+  EXPECT_EQ(g.variable, "/T");
+  EXPECT_EQ(g.verticalKind, VerticalKind::HybridSigmaPressure);
+  EXPECT_EQ(g.heightSource, HeightSource::StandardAtmosphere);
+  EXPECT_TRUE(g.approximateHeights);
+  EXPECT_EQ(g.fileLevelStep, -1);  // top-first levels come out bottom first
+  EXPECT_TRUE(mentions(g.heightNote, {"100000 Pa", "CAM", "'P0'", "A_var"})) << g.heightNote;
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t i = 0; i < 4; ++i) {
+        const std::size_t kf = 3 - k;
+        // Hand computation of the pressure: p = A P0 + B PS with CAM's P0 = 1000 hPa (PS as
+        // stored, a float).
+        const double ps = static_cast<double>(static_cast<float>(camSurfacePressurePa(j, i)));
+        const double p = kHyam[kf] * 100000.0 + kHybm[kf] * ps;
+        // Every level here is below 11 km (p >= 200 hPa at the top: 11.8 km in the standard
+        // atmosphere is 226 hPa; the top level is 200 hPa at j = i = 0 only, hence > 22632 Pa is
+        // checked). The standard's troposphere formula gives geopotential height; geometric
+        // height differs by H^2 / r (<= 19 m at 11 km) and by the latitude's gravity (at 40-48 N,
+        // g within 0.1 % of g0: <= 11 m): 30 m covers both.
+        ASSERT_EQ(g.value(k, j, i), static_cast<float>(100 * kf + 10 * j + i));
+        if (p > 22632.0) {
+          ASSERT_NEAR(g.heightMeters(k, j, i), troposphereGeopotentialHeight(p), 30.0) << k << " " << j << " " << i;
+          // And the geometric conversion by the independent rule above: 0.05 m covers the float
+          // storage of heights (1 mm) and the standard's constants (R, T0) as the reader writes
+          // them (to 1e-6).
+          ASSERT_NEAR(g.heightMeters(k, j, i),
+                      referenceGeometricHeight(troposphereGeopotentialHeight(p), g.latDeg[j]), 0.05)
+              << k << " " << j << " " << i;
+        }
+      }
+  // P0 given as a variable of 100000 Pa: the same heights, and the note names it.
+  auto withP0 = readGridVolume(dir + "/cam_p0.nc", o);
+  ASSERT_TRUE(withP0.ok()) << withP0.error();
+  EXPECT_TRUE(mentions(withP0->heightNote, {"'/P0'"})) << withP0->heightNote;
+  EXPECT_EQ(withP0->heightNote.find("default"), std::string::npos) << withP0->heightNote;
+  ASSERT_EQ(withP0->heightAboveEllipsoidMeters, g.heightAboveEllipsoidMeters);
+}
+
+TEST(GridArchiveLayouts, CamHybridLevelsNamingAMissingVariableAreAnError) {
+  const std::string path = testDir() + "/cam_bad.nc";
+  writeCam(path, 100000.0, "hyai");
+  GridReadOptions o;
+  o.variable = "T";
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/lev'", "A_var", "'hyai'", "not in the file"})) << r.error();
+  // With no variable named: the same reason, from the 4-D variable (not the 2-D field PS).
+  r = readGridVolume(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/lev'", "'hyai'"})) << r.error();
+}
+
+// ---------------------------------------------------------------- coordinates naming missing variables
+
+TEST(GridArchiveLayouts, CoordinatesAttributeNamingMissingVariablesIsAnError) {
+  const std::string path = testDir() + "/missing_coordinates.nc";
+  {
+    NcTestFile f(path);
+    f.globalText("Conventions", "CF-1.8");
+    f.dim("lev", 2);
+    f.dim("y", 3);
+    f.dim("x", 4);
+    auto vl = f.var("lev", NC_DOUBLE, {"lev"});
+    f.text(vl, "units", "hPa");
+    auto vq = f.var("q", NC_FLOAT, {"lev", "y", "x"});
+    f.text(vq, "coordinates", "lev XLAT_M XLONG_M");
+    f.put(vl, {850.0, 500.0});
+    f.put(vq, std::vector<double>(24, 1.0));
+  }
+  GridReadOptions o;
+  o.variable = "q";
+  auto r = readGridVolume(path, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "'/q'", "coordinates", "'XLAT_M', 'XLONG_M'", "lacks"})) << r.error();
+  auto d = describeGridFile(path, "q");
+  ASSERT_FALSE(d.ok());
+  EXPECT_TRUE(mentions(d.error(), {path, "'/q'", "'XLAT_M'"})) << d.error();
+  // Named by nobody: the file holds no grid this reader can read, and says why.
+  auto any = readGridVolume(path);
+  ASSERT_FALSE(any.ok());
+  EXPECT_TRUE(mentions(any.error(), {path, "'XLAT_M'"})) << any.error();
+  EXPECT_FALSE(isGridFile(path));
+}
