@@ -598,27 +598,7 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
       s->latRows, s->lonCols, GridCrop{}, 1, [&](const std::string& what) { return varError(c, v, what); },
       [&](const std::string& what) { return varError(c, v, what); });
   if (!full) return full.forwardError();
-  info.southDeg = full->southDeg;
-  info.northDeg = full->northDeg;
-  info.westDeg = full->westDeg;
-  info.eastDeg = full->eastDeg;
-  info.wrapsLongitude = full->wrapsLongitude;
-  {
-    const std::size_t j = full->rows.size() / 2, i = full->cols.size() / 2;
-    double sum = 0;
-    int n = 0;
-    if (i + 1 < full->cols.size()) {
-      sum +=
-          globe::geodesicInverse(full->latDeg[j], full->lonDeg[i], full->latDeg[j], full->lonDeg[i + 1]).distanceMeters;
-      ++n;
-    }
-    if (j + 1 < full->rows.size()) {
-      sum +=
-          globe::geodesicInverse(full->latDeg[j], full->lonDeg[i], full->latDeg[j + 1], full->lonDeg[i]).distanceMeters;
-      ++n;
-    }
-    info.meanSpacingKm = n ? sum / n / 1000.0 : 0.0;
-  }
+  grid::describeExtent(*full, false, info);
   const grid::Heights& h = s->heights;
   info.heightSource = h.source;
   info.heightNote = h.note;

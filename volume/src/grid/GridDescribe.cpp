@@ -105,28 +105,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   GridCrop all;
   auto full = l.curvilinear ? grid::curvilinear(f, l, 0, all, 1) : grid::rectilinear(f, l, all, 1);
   if (!full) return full.forwardError();
-  info.southDeg = full->southDeg;
-  info.northDeg = full->northDeg;
-  info.westDeg = full->westDeg;
-  info.eastDeg = full->eastDeg;
-  info.wrapsLongitude = full->wrapsLongitude;
-  {
-    const std::size_t j = full->rows.size() / 2, i = full->cols.size() / 2;
-    double sum = 0;
-    int n = 0;
-    const double la = full->latAt(j, i, l.curvilinear), lo = full->lonAt(j, i, l.curvilinear);
-    if (i + 1 < full->cols.size()) {
-      sum += globe::geodesicInverse(la, lo, full->latAt(j, i + 1, l.curvilinear), full->lonAt(j, i + 1, l.curvilinear))
-                 .distanceMeters;
-      ++n;
-    }
-    if (j + 1 < full->rows.size()) {
-      sum += globe::geodesicInverse(la, lo, full->latAt(j + 1, i, l.curvilinear), full->lonAt(j + 1, i, l.curvilinear))
-                 .distanceMeters;
-      ++n;
-    }
-    info.meanSpacingKm = n ? sum / n / 1000.0 : 0.0;
-  }
+  grid::describeExtent(*full, l.curvilinear, info);
   const std::size_t stride = std::max<std::size_t>(1, (std::max(l.nx, l.ny) + 63) / 64);
   info.heightColumnStride = stride;
   auto sample = l.curvilinear ? grid::curvilinear(f, l, 0, all, stride) : grid::rectilinear(f, l, all, stride);

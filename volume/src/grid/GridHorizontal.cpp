@@ -4,6 +4,8 @@
 // (2-D coordinates, WRF's mass points).
 #include "GridInternal.h"
 
+#include <atmoglobe/globe/Ellipsoid.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -267,6 +269,32 @@ Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std
   h.westDeg = west - shift;
   h.eastDeg = east - shift;
   return h;
+}
+
+double Horizontal::meanSpacingKm(bool curvilinear) const {
+  if (rows.empty() || cols.empty()) return 0.0;
+  const std::size_t j = rows.size() / 2, i = cols.size() / 2;
+  const double la = latAt(j, i, curvilinear), lo = lonAt(j, i, curvilinear);
+  double sum = 0;
+  int n = 0;
+  if (i + 1 < cols.size()) {
+    sum += globe::geodesicInverse(la, lo, latAt(j, i + 1, curvilinear), lonAt(j, i + 1, curvilinear)).distanceMeters;
+    ++n;
+  }
+  if (j + 1 < rows.size()) {
+    sum += globe::geodesicInverse(la, lo, latAt(j + 1, i, curvilinear), lonAt(j + 1, i, curvilinear)).distanceMeters;
+    ++n;
+  }
+  return n ? sum / n / 1000.0 : 0.0;
+}
+
+void describeExtent(const Horizontal& full, bool curvilinear, GridFileInfo& info) {
+  info.southDeg = full.southDeg;
+  info.northDeg = full.northDeg;
+  info.westDeg = full.westDeg;
+  info.eastDeg = full.eastDeg;
+  info.wrapsLongitude = full.wrapsLongitude;
+  info.meanSpacingKm = full.meanSpacingKm(curvilinear);
 }
 
 }  // namespace atmoglobe::volume::grid

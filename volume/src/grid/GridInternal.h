@@ -188,7 +188,14 @@ struct Horizontal {
   double lonAt(std::size_t j, std::size_t i, bool curvilinear) const {
     return curvilinear ? lonDeg[j * cols.size() + i] : lonDeg[i];
   }
+  /// The mean of the geodesic distances from the middle column to its east and north
+  /// neighbours (km; 0 for a single column): the spacing `info` reports.
+  double meanSpacingKm(bool curvilinear) const;
 };
+
+/// Sets the extent (south, north, west, east, wrap) and mean spacing of `info` from the full
+/// horizontal grid `full` (describe's rule for every format).
+void describeExtent(const Horizontal& full, bool curvilinear, GridFileInfo& info);
 
 /// The crop's bounds are finite, ordered latitudes and it keeps at least one level. `label`
 /// opens the message (the file).
