@@ -11,7 +11,8 @@
 // Values: scale_factor / add_offset, _FillValue, missing_value, valid_min / valid_max /
 // valid_range and _Unsigned applied; missing -> NaN.
 // Time: the CF time coordinate (units "UNIT since DATE", any CF calendar: CfTime.h) or WRF's
-// Times strings.
+// Times strings. Any other dimension (ensemble member, month ...) is read at one index
+// (GridReadOptions::extraIndex, member); it is never taken for the vertical one.
 // Vertical: every coordinate ends as heights above the WGS84 ellipsoid per column and level;
 // how (and whether approximately) is said in GridVolume::heightNote / approximateHeights. The
 // rules are in docs/grids.md.
