@@ -270,8 +270,7 @@ void expectMember(const GridVolume& g, std::size_t t, std::size_t m) {
       for (std::size_t i = 0; i < g.nx; ++i) {
         ASSERT_EQ(g.value(k, j, i), static_cast<float>(Ensemble::t(t, m, k, j, i))) << k << " " << j << " " << i;
         // Same tolerance as above: float heights (2 mm at 6 km) and the reader's Newton solution.
-        ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(Ensemble::z(t, m, k, j, i) / kG0, e.lat[j]),
-                    4e-3)
+        ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(Ensemble::z(t, m, k, j, i) / kG0, e.lat[j]), 4e-3)
             << k << " " << j << " " << i;
       }
 }
@@ -537,8 +536,8 @@ TEST(GridArchiveLayouts, CamHybridLevelsNamedByAttributesWithTheDefaultP0) {
           // And the geometric conversion by the independent rule above: 0.05 m covers the float
           // storage of heights (1 mm) and the standard's constants (R, T0) as the reader writes
           // them (to 1e-6).
-          ASSERT_NEAR(g.heightMeters(k, j, i),
-                      referenceGeometricHeight(troposphereGeopotentialHeight(p), g.latDeg[j]), 0.05)
+          ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(troposphereGeopotentialHeight(p), g.latDeg[j]),
+                      0.05)
               << k << " " << j << " " << i;
         }
       }
@@ -622,8 +621,7 @@ TEST(GridArchiveLayouts, PackedGeopotentialHeightsOverRandomLayouts) {
     const double south = global ? -90.0 : uniform(-80.0, 80.0 - step * static_cast<double>(ny));
     const double west = global ? (pick(0, 1) ? -180.0 : 0.0) : uniform(-180.0, 180.0);
     std::vector<double> lat(ny), lon(nx), lev(pressures.begin(), pressures.begin() + static_cast<long>(nz));
-    for (std::size_t j = 0; j < ny; ++j)
-      lat[j] = south + step * static_cast<double>(northToSouth ? ny - 1 - j : j);
+    for (std::size_t j = 0; j < ny; ++j) lat[j] = south + step * static_cast<double>(northToSouth ? ny - 1 - j : j);
     for (std::size_t i = 0; i < nx; ++i) lon[i] = west + step * static_cast<double>(i);
     if (topFirst) std::reverse(lev.begin(), lev.end());
     // Geopotential near the standard atmosphere's (REFERENCE.md section 4) with waves on it.

@@ -338,8 +338,7 @@ TEST(GridBadInput, ExtraDimensionsAndCamAttributes) {
     auto vl = f.var("lev", NC_DOUBLE, {"lev"});
     f.text(vl, "units", c.cam ? "hybrid_sigma_pressure" : "hPa");
     if (c.cam) {
-      for (const auto& a : c.camAttributes)
-        f.text(vl, a, a == "A_var" ? "hyam" : a == "B_var" ? "hybm" : "PS");
+      for (const auto& a : c.camAttributes) f.text(vl, a, a == "A_var" ? "hyam" : a == "B_var" ? "hybm" : "PS");
     }
     auto vy = f.var("lat", NC_DOUBLE, {"lat"});
     f.text(vy, "units", "degrees_north");

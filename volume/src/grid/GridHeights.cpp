@@ -284,8 +284,8 @@ Status hybridSigmaPressureHeights(const HeightInput& in, Heights& out) {
     p0 = *pp;
     const std::string p0Text = vs.defaultP0Pa ? "p0 = " + num(p0, 0) + " Pa (CAM's default: " + vs.defaultP0Reason + ")"
                                               : "'" + vs.terms.at("p0").name + "'";
-    terms = "p = a p0 + b ps with '" + vs.terms.at("a").name + "', " + p0Text + ", '" + vs.terms.at("b").name +
-            "', '" + vs.terms.at("ps").name + "'";
+    terms = "p = a p0 + b ps with '" + vs.terms.at("a").name + "', " + p0Text + ", '" + vs.terms.at("b").name + "', '" +
+            vs.terms.at("ps").name + "'";
   }
   if (vs.termsSource != "formula_terms") terms += ", named by the " + vs.termsSource;
   const double psToPa = ps->toPa;

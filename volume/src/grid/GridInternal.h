@@ -81,9 +81,9 @@ struct VerticalSpec {
   double toSi = 1.0;          ///< coordinate units -> Pa (pressure) or m (lengths, gpm)
   bool positiveDown = false;  ///< lengths counted downwards (depth)
   LengthDatum datum = LengthDatum::SeaLevel;
-  std::string datumReason;                   ///< why that datum ("standard_name altitude" ...)
-  std::map<std::string, io::NcVar> terms;    ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
-  std::map<std::string, double> termToSi;    ///< unit factor of each term
+  std::string datumReason;                 ///< why that datum ("standard_name altitude" ...)
+  std::map<std::string, io::NcVar> terms;  ///< formula_terms (a, b, ap, p0, ps, ptop, sigma, orog)
+  std::map<std::string, double> termToSi;  ///< unit factor of each term
   /// Hybrid sigma-pressure levels whose p0 is no variable of the file (CAM's A_var/B_var form
   /// without P0): the p0 used (Pa) and why, said in the height note.
   std::optional<double> defaultP0Pa;
@@ -164,8 +164,8 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
 /// an ensemble dimension, else 0), with the coordinate value there; errors name the file, the
 /// variable and what there is to choose from. `dimIndex` (dimension id -> index) for Selection.
 Result<std::vector<GridExtraDimension>> resolveExtraDimensions(const io::NetcdfFile& f, const GridLayout& l,
-                                                                const GridReadOptions& read,
-                                                                std::map<int, std::size_t>* dimIndex);
+                                                               const GridReadOptions& read,
+                                                               std::map<int, std::size_t>* dimIndex);
 /// The ensemble member of the extra dimensions read (the coordinate value, else the index), or
 /// -1 when there is no ensemble dimension.
 long memberOf(const std::vector<GridExtraDimension>& extras);

@@ -86,8 +86,7 @@ Role roleOf(const io::NetcdfFile& f, const io::NcVar& c) {
   if (sn == "time" || axis == "t" || contains(toLowerAscii(units), " since ")) return Role::Time;
   if (axis == "z" || f.hasAttribute(c.groupId, c.varId, "positive") ||
       f.hasAttribute(c.groupId, c.varId, "formula_terms") || units == "hybrid_sigma_pressure" ||
-      pressureUnitToPascal(units) ||
-      geopotentialHeightUnitToMeters(units) ||
+      pressureUnitToPascal(units) || geopotentialHeightUnitToMeters(units) ||
       std::find(verticalStandardNames().begin(), verticalStandardNames().end(), sn) != verticalStandardNames().end())
     return Role::Vertical;
   // A length-valued coordinate with a vertical-sounding name (lev, level, height, z, alt...).
@@ -171,8 +170,7 @@ bool hasDims(const io::NcVar& v, std::initializer_list<int> ids) {
 std::vector<int> supportDims(const GridLayout& l, bool withLevels) {
   std::vector<int> out;
   for (int id : l.var.dimIds) {
-    const bool extra =
-        std::any_of(l.extras.begin(), l.extras.end(), [id](const ExtraDim& e) { return e.dimId == id; });
+    const bool extra = std::any_of(l.extras.begin(), l.extras.end(), [id](const ExtraDim& e) { return e.dimId == id; });
     if ((id == l.time.dimId && id >= 0) || extra || (withLevels && id == l.zDim) || id == l.yDim || id == l.xDim)
       out.push_back(id);
   }
@@ -318,7 +316,8 @@ Status parseFormulaTerms(const io::NetcdfFile& f, const GridLayout& l, const io:
 Status camHybridTerms(const io::NetcdfFile& f, const GridLayout& l, const io::NcVar& coord, VerticalSpec& vs) {
   vs.termsSource = "attributes A_var, B_var, P0_var, PS_var";
   std::vector<std::string> lacking;
-  for (const auto& [attr, term] : {std::pair<const char*, const char*>{"A_var", "a"}, {"B_var", "b"}, {"PS_var", "ps"}}) {
+  for (const auto& [attr, term] :
+       {std::pair<const char*, const char*>{"A_var", "a"}, {"B_var", "b"}, {"PS_var", "ps"}}) {
     const std::string name = attrText(f, coord, attr);
     if (name.empty()) {
       lacking.push_back(attr);
@@ -373,11 +372,10 @@ Status cfVertical(const io::NetcdfFile& f, GridLayout& l, const io::NcVar& coord
     findGeopotential(f, l, vs);
     return Ok{};
   }
-  const bool parametric = formulaTerms ||
-                          sn == "atmosphere_hybrid_sigma_pressure_coordinate" || sn == "atmosphere_sigma_coordinate" ||
-                          sn == "atmosphere_hybrid_height_coordinate" || sn == "atmosphere_ln_pressure_coordinate" ||
-                          sn == "atmosphere_sleve_coordinate" || sn == "ocean_sigma_coordinate" ||
-                          sn == "ocean_s_coordinate";
+  const bool parametric = formulaTerms || sn == "atmosphere_hybrid_sigma_pressure_coordinate" ||
+                          sn == "atmosphere_sigma_coordinate" || sn == "atmosphere_hybrid_height_coordinate" ||
+                          sn == "atmosphere_ln_pressure_coordinate" || sn == "atmosphere_sleve_coordinate" ||
+                          sn == "ocean_sigma_coordinate" || sn == "ocean_s_coordinate";
   if (parametric) {
     if (!f.hasAttribute(coord.groupId, coord.varId, "formula_terms"))
       return varError(f, coord,
@@ -714,9 +712,9 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
       o.name = dn;
       o.kind = index;
       if (c && io::ncTypeIsNumeric(c->type)) o.coordinate = c;
-      o.description = c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" +
-                              attrText(f, *c, "units") + "')"
-                        : "dimension '" + dn + "' (no coordinate variable)";
+      o.description =
+          c ? "dimension '" + dn + "' (coordinate variable '" + c->name + "', units '" + attrText(f, *c, "units") + "')"
+            : "dimension '" + dn + "' (no coordinate variable)";
       others.push_back(std::move(o));
     }
   }
@@ -845,8 +843,8 @@ std::vector<GridVariableInfo> listVariables(const io::NetcdfFile& f, const FileK
 }
 
 Result<std::vector<GridExtraDimension>> resolveExtraDimensions(const io::NetcdfFile& f, const GridLayout& l,
-                                                                const GridReadOptions& read,
-                                                                std::map<int, std::size_t>* dimIndex) {
+                                                               const GridReadOptions& read,
+                                                               std::map<int, std::size_t>* dimIndex) {
   auto listExtras = [&] {
     std::string s;
     for (const ExtraDim& e : l.extras)
