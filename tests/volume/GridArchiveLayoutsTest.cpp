@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -592,4 +593,142 @@ TEST(GridArchiveLayouts, CoordinatesAttributeNamingMissingVariablesIsAnError) {
   ASSERT_FALSE(any.ok());
   EXPECT_TRUE(mentions(any.error(), {path, "'XLAT_M'"})) << any.error();
   EXPECT_FALSE(isGridFile(path));
+}
+
+// ---------------------------------------------------------------- packed geopotential, random layouts
+
+// Round trips over random layouts of the packed-geopotential file: rows north to south or south
+// to north, levels top or bottom first, a negative or positive scale_factor, classic or netCDF-4,
+// a fixed or unlimited time axis, global or regional, whole or cropped (levels too); the
+// variable read is t, its heights come from z. Every height is checked against the hand rule
+// (unpacked z / g0, TR8350.2 solved by bisection) at the file indices its coordinates say.
+TEST(GridArchiveLayouts, PackedGeopotentialHeightsOverRandomLayouts) {
+  std::mt19937 rng(20261127);
+  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  auto pick = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+  const std::vector<double> pressures = {1000, 925, 850, 700, 500, 300, 200, 100};
+  const std::string dir = testDir();
+  for (int layout = 0; layout < 24; ++layout) {
+    SCOPED_TRACE("layout " + std::to_string(layout));
+    const bool northToSouth = pick(0, 1), topFirst = pick(0, 1), negative = pick(0, 1), global = pick(0, 1);
+    const double step = global ? std::vector<double>{2.5, 3.0, 5.0}[static_cast<std::size_t>(pick(0, 2))]
+                               : uniform(0.2, 2.0);
+    const std::size_t ny = global ? static_cast<std::size_t>(std::lround(180.0 / step)) + 1
+                                  : static_cast<std::size_t>(pick(2, 30));
+    const std::size_t nx = global ? static_cast<std::size_t>(std::lround(360.0 / step))
+                                  : static_cast<std::size_t>(pick(2, 30));
+    const std::size_t nz = static_cast<std::size_t>(pick(2, 6)), nt = static_cast<std::size_t>(pick(1, 2));
+    const double south = global ? -90.0 : uniform(-80.0, 80.0 - step * static_cast<double>(ny));
+    const double west = global ? (pick(0, 1) ? -180.0 : 0.0) : uniform(-180.0, 180.0);
+    std::vector<double> lat(ny), lon(nx), lev(pressures.begin(), pressures.begin() + static_cast<long>(nz));
+    for (std::size_t j = 0; j < ny; ++j) lat[j] = south + step * static_cast<double>(northToSouth ? ny - 1 - j : j);
+    for (std::size_t i = 0; i < nx; ++i) lon[i] = west + step * static_cast<double>(i);
+    if (topFirst) std::reverse(lev.begin(), lev.end());
+    // Geopotential near the standard atmosphere's (REFERENCE.md section 4) with waves on it.
+    auto z = [&](std::size_t t, std::size_t k, std::size_t j, std::size_t i) {
+      return kG0 * (44331.5 - 4946.62 * std::pow(100.0 * lev[k], 0.190263)) +
+             300.0 * std::sin(0.05 * static_cast<double>(j) + 0.3 * static_cast<double>(t)) +
+             200.0 * std::cos(0.07 * static_cast<double>(i));
+    };
+    double zMin = HUGE_VAL, zMax = -HUGE_VAL;
+    for (std::size_t t = 0; t < nt; ++t)
+      for (std::size_t k = 0; k < nz; ++k)
+        for (std::size_t j = 0; j < ny; ++j)
+          for (std::size_t i = 0; i < nx; ++i) {
+            zMin = std::min(zMin, z(t, k, j, i));
+            zMax = std::max(zMax, z(t, k, j, i));
+          }
+    // grib_to_netcdf's packing: the extremes at -32766 and 32767, clear of the fill -32767.
+    const double scale = (zMax - zMin) / 65533.0 * (negative ? -1.0 : 1.0);
+    const double offset = (negative ? zMax : zMin) + 32766.0 * scale;
+    auto packed = [&](std::size_t t, std::size_t k, std::size_t j, std::size_t i) {
+      return static_cast<double>(std::lround((z(t, k, j, i) - offset) / scale));
+    };
+    const std::string path = dir + "/layout" + std::to_string(layout) + ".nc";
+    {
+      NcTestFile f(path, pick(0, 1) ? NC_NETCDF4 : 0);
+      f.dim("longitude", nx);
+      f.dim("latitude", ny);
+      f.dim("level", nz);
+      f.dim("time", pick(0, 1) ? NC_UNLIMITED : nt);
+      auto vx = f.var("longitude", NC_FLOAT, {"longitude"});
+      f.text(vx, "units", "degrees_east");
+      auto vy = f.var("latitude", NC_FLOAT, {"latitude"});
+      f.text(vy, "units", "degrees_north");
+      auto vl = f.var("level", NC_INT, {"level"});
+      f.text(vl, "units", "millibars");
+      auto vt = f.var("time", NC_INT, {"time"});
+      f.text(vt, "units", "hours since 1900-01-01 00:00:00.0");
+      auto vz = f.var("z", NC_SHORT, {"time", "level", "latitude", "longitude"});
+      f.number(vz, "scale_factor", NC_DOUBLE, {scale});
+      f.number(vz, "add_offset", NC_DOUBLE, {offset});
+      f.number(vz, "_FillValue", NC_SHORT, {-32767});
+      f.number(vz, "missing_value", NC_SHORT, {-32767});
+      f.text(vz, "units", "m**2 s**-2");
+      f.text(vz, "standard_name", "geopotential");
+      auto vta = f.var("t", NC_FLOAT, {"time", "level", "latitude", "longitude"});
+      f.put(vx, lon);
+      f.put(vy, lat);
+      f.put(vl, lev);
+      for (std::size_t t = 0; t < nt; ++t) {
+        f.put(vt, {t}, {1}, {1.0e6 + 6.0 * static_cast<double>(t)});
+        std::vector<double> zs, ts;
+        for (std::size_t k = 0; k < nz; ++k)
+          for (std::size_t j = 0; j < ny; ++j)
+            for (std::size_t i = 0; i < nx; ++i) {
+              zs.push_back(packed(t, k, j, i));
+              ts.push_back(static_cast<double>(1000 * k + j));
+            }
+        f.put(vz, {t, 0, 0, 0}, {1, nz, ny, nx}, zs);
+        f.put(vta, {t, 0, 0, 0}, {1, nz, ny, nx}, ts);
+      }
+    }
+    auto described = describeGridFile(path, "t");
+    ASSERT_TRUE(described.ok()) << described.error();
+    for (int read = 0; read < 3; ++read) {
+      GridReadOptions o;
+      o.variable = "t";
+      o.useGeoid = false;
+      o.timeIndex = static_cast<std::size_t>(pick(0, static_cast<int>(nt) - 1));
+      if (read > 0) {  // a crop inside the grid's latitudes, any longitudes, some levels
+        const double s = uniform(std::min(lat.front(), lat.back()), std::max(lat.front(), lat.back()));
+        o.crop.southDeg = s;
+        o.crop.northDeg = std::min(90.0, s + uniform(0.0, 20.0));
+        o.crop.westDeg = global ? uniform(-180.0, 180.0) : west + uniform(0.0, step * static_cast<double>(nx - 1));
+        o.crop.eastDeg = o.crop.westDeg + uniform(0.0, 40.0);
+        if (o.crop.eastDeg > 180.0) o.crop.eastDeg -= 360.0;
+        o.crop.firstLevel = static_cast<std::size_t>(pick(0, static_cast<int>(nz) - 1));
+        o.crop.levelCount = static_cast<std::size_t>(pick(1, static_cast<int>(nz)));
+      }
+      auto r = readGridVolume(path, o);
+      ASSERT_TRUE(r.ok()) << r.error();
+      const GridVolume& g = *r;
+      // File indices from the coordinates the volume reports (exact: the file's floats).
+      auto fileIndex = [](const std::vector<double>& axis, double v, bool longitude) {
+        for (std::size_t q = 0; q < axis.size(); ++q) {
+          const double a = static_cast<double>(static_cast<float>(axis[q]));
+          if (longitude ? std::fabs(std::remainder(a - v, 360.0)) < 1e-9 : a == v) return q;
+        }
+        return axis.size();
+      };
+      std::vector<std::size_t> cols(g.nx);
+      for (std::size_t i = 0; i < g.nx; ++i) cols[i] = fileIndex(lon, g.lonDeg[i], true);
+      for (std::size_t k = 0; k < g.nz; ++k) {
+        const std::size_t kf = fileIndex(lev, g.levelValues[k] / 100.0, false);
+        ASSERT_LT(kf, nz);
+        for (std::size_t j = 0; j < g.ny; ++j) {
+          const std::size_t jf = fileIndex(lat, g.latDeg[j], false);
+          ASSERT_LT(jf, ny);
+          for (std::size_t i = 0; i < g.nx; ++i) {
+            ASSERT_LT(cols[i], nx);
+            const double zUnpacked = packed(o.timeIndex, kf, jf, cols[i]) * scale + offset;
+            // 4 mm: float heights and the reader's Newton solution, as in the tests above.
+            ASSERT_NEAR(g.heightMeters(k, j, i), referenceGeometricHeight(zUnpacked / kG0, g.latDeg[j]), 4e-3)
+                << "read " << read << ", level " << k << ", row " << j << ", column " << i;
+            ASSERT_EQ(g.value(k, j, i), static_cast<float>(1000 * kf + jf));
+          }
+        }
+      }
+    }
+  }
 }

@@ -95,3 +95,28 @@ TEST(VerticalCoordinate, Units) {
   for (const char* u : {"m2 s-2", "m**2 s**-2", "m^2/s^2", "m2/s2", "J kg-1"}) EXPECT_TRUE(isGeopotentialUnit(u)) << u;
   EXPECT_FALSE(isGeopotentialUnit("m"));
 }
+
+TEST(VerticalCoordinate, UnitsThroughUdunits) {
+  EXPECT_TRUE(unitDatabaseProblem().empty()) << unitDatabaseProblem();
+  // Spellings no list held: prefixes, plurals, names, powers, blanks around.
+  EXPECT_EQ(pressureUnitToPascal("hectopascals"), 100.0);
+  EXPECT_EQ(pressureUnitToPascal("mbar"), 100.0);
+  EXPECT_EQ(pressureUnitToPascal("bar"), 1.0e5);
+  EXPECT_EQ(pressureUnitToPascal(" hPa "), 100.0);
+  EXPECT_EQ(pressureUnitToPascal("100 Pa"), 100.0);
+  EXPECT_EQ(lengthUnitToMeters("kilometres"), 1000.0);
+  EXPECT_EQ(lengthUnitToMeters("Meters"), 1.0);
+  EXPECT_DOUBLE_EQ(*lengthUnitToMeters("mm"), 1.0e-3);
+  EXPECT_EQ(lengthUnitToMeters("feet"), 0.3048);
+  EXPECT_EQ(geopotentialUnitToSi("J/kg"), 1.0);
+  EXPECT_EQ(geopotentialUnitToSi("m**2/s**2"), 1.0);
+  EXPECT_DOUBLE_EQ(*geopotentialUnitToSi("km2 s-2"), 1.0e6);
+  // Neither pressure, length nor geopotential: not units, another quantity, or an offset scale.
+  for (const char* u : {"", "level", "1", "hybrid_sigma_pressure", "K", "degC", "m s-1", "degrees_north", "sigma"}) {
+    EXPECT_FALSE(pressureUnitToPascal(u)) << u;
+    EXPECT_FALSE(lengthUnitToMeters(u)) << u;
+    EXPECT_FALSE(geopotentialUnitToSi(u)) << u;
+  }
+  EXPECT_FALSE(lengthUnitToMeters("Pa"));
+  EXPECT_FALSE(pressureUnitToPascal("J kg-1"));
+}

@@ -193,9 +193,9 @@ void findGeopotential(const io::NetcdfFile& f, const GridLayout& l, VerticalSpec
       const bool geoName = n == "z" || n == "Z" || n == "phi" || n == "PHI" || n == "geopotential" || n == "FI";
       const bool heightName = n == "zg" || n == "gh" || n == "hgt" || n == "HGT" || n == "gph" || n == "GH" ||
                               n == "geopotential_height" || n == "z_g";
-      if ((sn == "geopotential" || geoName) && isGeopotentialUnit(units)) {
+      if (const auto k = geopotentialUnitToSi(units); (sn == "geopotential" || geoName) && k) {
         vs.geopotential = c;
-        vs.geopotentialToGpm = 1.0 / kStandardGravity;
+        vs.geopotentialToGpm = *k / kStandardGravity;
         return;
       }
       if (sn == "geopotential_height" ||
@@ -459,7 +459,8 @@ Status cfVertical(const io::NetcdfFile& f, GridLayout& l, const io::NcVar& coord
   return varError(f, coord,
                   "unknown vertical coordinate: units '" + units + "'" +
                       (sn.empty() ? std::string() : ", standard_name '" + sn + "'") +
-                      " give neither a pressure, a length nor a parametric formula (formula_terms)");
+                      " give neither a pressure, a length nor a parametric formula (formula_terms)" +
+                      (unitDatabaseProblem().empty() ? std::string() : " (" + unitDatabaseProblem() + ")"));
 }
 
 Status timeSpecFromCoordinate(const io::NetcdfFile& f, TimeSpec& t, const io::NcVar& c) {
@@ -732,7 +733,8 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
       return varError(f, v,
                       "unknown vertical coordinate: " + s +
                           " is not a vertical coordinate this reader knows (a pressure, a length, "
-                          "geopotential metres, or a parametric coordinate with formula_terms)");
+                          "geopotential metres, or a parametric coordinate with formula_terms)" +
+                          (unitDatabaseProblem().empty() ? std::string() : " (" + unitDatabaseProblem() + ")"));
     return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
   }
   for (const Other& o : others) {

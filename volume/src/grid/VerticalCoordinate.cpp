@@ -4,12 +4,77 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Text.h>
 
+#include <udunits2.h>
+
 #include <array>
 #include <cmath>
+#include <map>
+#include <mutex>
 
 namespace atmoglobe::volume {
 
 namespace {
+
+/// The quantities whose units the grid reader converts: pressure (to Pa), length (to m) and
+/// geopotential (to m2 s-2).
+enum class Quantity { Pressure, Length, Geopotential };
+
+/// UDUNITS-2's unit database, read once, and the factors found so far. UDUNITS-2 is not
+/// thread-safe (its parser keeps global state): every call holds `mutex`.
+struct UnitDatabase {
+  std::mutex mutex;
+  ut_system* system = nullptr;
+  std::array<ut_unit*, 3> targets{};  ///< Pa, m, m2 s-2 (Quantity order)
+  std::string problem;                ///< why the database could not be read ("" when it was)
+  std::map<std::pair<std::string, Quantity>, std::optional<double>> factors;
+
+  UnitDatabase() {
+    ut_set_error_message_handler(ut_ignore);  // failures are reported by status, not on stderr
+    system = ut_read_xml(nullptr);            // $UDUNITS2_XML_PATH, else the installed database
+    if (!system) {
+      problem = "the UDUNITS-2 unit database could not be read (status " + std::to_string(ut_get_status()) +
+                "; Debian: libudunits2-data, or set UDUNITS2_XML_PATH)";
+      return;
+    }
+    const char* symbols[] = {"Pa", "m", "m2 s-2"};
+    for (std::size_t i = 0; i < targets.size(); ++i) targets[i] = ut_parse(system, symbols[i], UT_ASCII);
+  }
+  ~UnitDatabase() {
+    for (ut_unit* t : targets) ut_free(t);
+    if (system) ut_free_system(system);
+  }
+};
+
+UnitDatabase& unitDatabase() {
+  static UnitDatabase db;
+  return db;
+}
+
+/// Factor from `units` to the SI unit of `q`, by UDUNITS-2: a unit it parses, convertible to
+/// the target by a pure factor (no offset); nullopt otherwise.
+std::optional<double> factorToSi(const std::string& units, Quantity q) {
+  const std::string text(trimAscii(units));
+  if (text.empty()) return std::nullopt;
+  UnitDatabase& db = unitDatabase();
+  const std::lock_guard<std::mutex> lock(db.mutex);
+  if (!db.system) return std::nullopt;
+  const auto key = std::make_pair(text, q);
+  if (auto it = db.factors.find(key); it != db.factors.end()) return it->second;
+  std::optional<double> factor;
+  ut_unit* target = db.targets[static_cast<std::size_t>(q)];
+  if (ut_unit* u = ut_parse(db.system, text.c_str(), UT_UTF8)) {
+    if (target && ut_are_convertible(u, target)) {
+      if (cv_converter* c = ut_get_converter(u, target)) {
+        const double k = cv_convert_double(c, 1.0);
+        if (cv_convert_double(c, 0.0) == 0.0 && std::isfinite(k) && k > 0.0) factor = k;
+        cv_free(c);
+      }
+    }
+    ut_free(u);
+  }
+  db.factors.emplace(key, factor);
+  return factor;
+}
 
 // Lower case, blanks trimmed, each run of blanks inside one space ("Geopotential  Metres" ->
 // "geopotential metres").
@@ -52,25 +117,16 @@ const Layers& layers() {
 }  // namespace
 
 std::optional<double> pressureUnitToPascal(const std::string& units) {
-  const std::string u = lowerTrim(units);
-  if (units == "Pa" || u == "pascal" || u == "pascals") return 1.0;
-  if (units == "hPa" || u == "hectopascal" || u == "hectopascals" || u == "mbar" || u == "mb" || u == "millibar" ||
-      u == "millibars")
-    return 100.0;
-  if (units == "kPa" || u == "kilopascal" || u == "kilopascals") return 1000.0;
-  if (u == "bar" || u == "bars") return 1.0e5;
-  return std::nullopt;
+  // "mb" is the meteorologists' millibar; UDUNITS-2 reads it as a millibarn (an area).
+  if (lowerTrim(units) == "mb") return 100.0;
+  return factorToSi(units, Quantity::Pressure);
 }
 
-std::optional<double> lengthUnitToMeters(const std::string& units) {
-  const std::string u = lowerTrim(units);
-  if (u == "m" || u == "meter" || u == "meters" || u == "metre" || u == "metres") return 1.0;
-  if (u == "km" || u == "kilometer" || u == "kilometers" || u == "kilometre" || u == "kilometres") return 1000.0;
-  if (u == "ft" || u == "feet" || u == "foot") return 0.3048;
-  return std::nullopt;
-}
+std::optional<double> lengthUnitToMeters(const std::string& units) { return factorToSi(units, Quantity::Length); }
 
 std::optional<double> geopotentialHeightUnitToMeters(const std::string& units) {
+  // Geopotential metres are no unit of UDUNITS-2 (a geopotential height is a geopotential / g0,
+  // written as a length): the spellings model output uses.
   const std::string u = lowerTrim(units);
   if (u == "gpm" || u == "geopotential meter" || u == "geopotential meters" || u == "geopotential metre" ||
       u == "geopotential metres" || u == "m gpm")
@@ -79,10 +135,16 @@ std::optional<double> geopotentialHeightUnitToMeters(const std::string& units) {
   return std::nullopt;
 }
 
-bool isGeopotentialUnit(const std::string& units) {
-  const std::string u = toLowerAsciiWithoutBlanks(units);
-  return u == "m2s-2" || u == "m**2s**-2" || u == "m^2/s^2" || u == "m2/s2" || u == "m^2s^-2" || u == "m2.s-2" ||
-         u == "m**2/s**2" || u == "jkg-1" || u == "j/kg" || u == "jkg**-1";
+std::optional<double> geopotentialUnitToSi(const std::string& units) {
+  return factorToSi(units, Quantity::Geopotential);
+}
+
+bool isGeopotentialUnit(const std::string& units) { return geopotentialUnitToSi(units).has_value(); }
+
+const std::string& unitDatabaseProblem() {
+  UnitDatabase& db = unitDatabase();
+  const std::lock_guard<std::mutex> lock(db.mutex);
+  return db.problem;
 }
 
 double standardAtmosphereGeopotentialHeightMeters(double pressurePa) {

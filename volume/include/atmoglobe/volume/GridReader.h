@@ -162,8 +162,8 @@ bool isGridFile(const std::string& path);
 
 /// Describes the file (see GridFileInfo) for `variable` (empty: the default variable).
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable = {});
-/// The same for `read.variable` at `read.member` / `read.extraIndex` (the rest of `read` is
-/// not used).
+/// The same for `read.variable`; netCDF: at `read.member` / `read.extraIndex` (GRIB: its first
+/// member, as above). The rest of `read` is not used.
 Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOptions& read);
 
 /// Reads one variable at one time over a region (see GridReadOptions).

@@ -15,20 +15,32 @@ inline constexpr double kStandardGravity = 9.80665;
 /// its height above sea level: its terrain height HGT equals PHB/9.81 at the lowest W level.
 inline constexpr double kWrfGravity = 9.81;
 
-/// Factor to Pa of a pressure unit ("Pa", "hPa", "mbar", "mb", "millibar(s)", "kPa", "bar",
-/// "pascal(s)", "hectopascal(s)"; case-sensitive where SI is: "PA" is not accepted), or nullopt.
+/// Units are read by UDUNITS-2 (its database: SI and common units with prefixes, plurals and
+/// the usual spellings of powers: "hPa", "millibars", "kilometres", "m**2 s**-2", "J/kg" ...);
+/// symbols are case-sensitive ("PA" is no pressure). A unit converted needs a pure factor
+/// (no offset). Thread-safe.
+///
+/// Factor to Pa of a pressure unit, or nullopt. Also "mb" (the meteorologists' millibar, which
+/// UDUNITS-2 reads as a millibarn).
 std::optional<double> pressureUnitToPascal(const std::string& units);
 
-/// Factor to metres of a length unit ("m", "meter(s)", "metre(s)", "km", "kilometer(s)",
-/// "ft", "feet", "foot"), or nullopt. "gpm"/"gpdm" (geopotential metres / decametres) are not
-/// lengths: see geopotentialHeightUnitToMeters.
+/// Factor to metres of a length unit ("m", "metres", "km", "ft" ...), or nullopt. "gpm" / "gpdm"
+/// (geopotential metres / decametres) are not lengths: see geopotentialHeightUnitToMeters.
 std::optional<double> lengthUnitToMeters(const std::string& units);
 
-/// Factor to geopotential metres of "gpm", "gpdm", "geopotential meter(s)" ..., or nullopt.
+/// Factor to geopotential metres of "gpm", "gpdm", "dam", "geopotential meter(s)" ..., or nullopt
+/// (spellings of model output: UDUNITS-2 has no geopotential metre).
 std::optional<double> geopotentialHeightUnitToMeters(const std::string& units);
 
-/// True for geopotential units: m2 s-2, m**2 s**-2, m^2/s^2, m2/s2, m^2 s^-2, J kg-1, J/kg.
+/// Factor to m2 s-2 of a geopotential unit (m2 s-2, m**2 s**-2, m^2/s^2, J kg-1, J/kg ...), or
+/// nullopt.
+std::optional<double> geopotentialUnitToSi(const std::string& units);
+/// geopotentialUnitToSi(units) has a value.
 bool isGeopotentialUnit(const std::string& units);
+
+/// Why UDUNITS-2's database could not be read ("" when it was): every conversion above then
+/// gives nullopt, and messages about units quote this.
+const std::string& unitDatabaseProblem();
 
 /// Geopotential height (m') of pressure `pressurePa` in the standard atmosphere: ICAO / U.S.
 /// Standard Atmosphere 1976, its seven layers to 84.852 km (lapse rates -6.5, 0, +1, +2.8, 0,
