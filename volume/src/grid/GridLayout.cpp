@@ -851,8 +851,8 @@ Result<std::vector<GridExtraDimension>> resolveExtraDimensions(const io::NetcdfF
       s.append(s.empty() ? "" : ", ").append("'" + e.name + "' (" + std::to_string(e.length) + ")");
     return s.empty() ? std::string("none") : s;
   };
-  for (const auto& [name, index] : read.extraIndex) {
-    (void)index;
+  for (const auto& chosen : read.extraIndex) {
+    const std::string& name = chosen.first;  // not a structured binding: lambdas capture it (clang)
     if (std::none_of(l.extras.begin(), l.extras.end(), [&](const ExtraDim& e) { return e.name == name; }))
       return varError(f, l.var,
                       "no dimension '" + name +

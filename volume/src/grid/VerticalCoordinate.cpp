@@ -72,7 +72,9 @@ std::optional<double> factorToSi(const std::string& units, Quantity q) {
     }
     ut_free(u);
   }
-  db.factors.emplace(key, factor);
+  // Kept for the next file (a few spellings in practice); bounded, so that a stream of damaged
+  // files with ever new unit strings cannot grow it without end.
+  if (db.factors.size() < 4096) db.factors.emplace(key, factor);
   return factor;
 }
 
