@@ -732,17 +732,7 @@ std::string describeGribJson(const GridFileInfo& g) {
                  {"east_deg", g.eastDeg},
                  {"wraps_longitude", g.wrapsLongitude},
                  {"mean_spacing_km", g.meanSpacingKm}};
-    j["vertical"] = {{"kind", toString(g.verticalKind)},
-                     {"variable", g.verticalVariable},
-                     {"height_source", toString(g.heightSource)},
-                     {"approximate", g.approximateHeights},
-                     {"note", g.heightNote},
-                     {"levels_bottom_first", g.levelValues},
-                     {"level_units", g.levelUnits},
-                     {"height_datum", "WGS84 ellipsoid"},
-                     {"height_min_m", g.heightMinMeters},
-                     {"height_max_m", g.heightMaxMeters},
-                     {"height_range_column_stride", g.heightColumnStride}};
+    j["vertical"] = grid::verticalJson(g);
   }
   j["time"] = {{"kind", "validity"}, {"values", g.times}};
   j["grib"] = {{"messages", g.messageCount},    {"steps", g.steps},

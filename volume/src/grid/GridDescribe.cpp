@@ -127,6 +127,22 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   return info;
 }
 
+nlohmann::ordered_json grid::verticalJson(const GridFileInfo& g) {
+  nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+  for (double v : g.levelValues) levels.push_back(finiteOrNull(v));
+  return {{"kind", toString(g.verticalKind)},
+          {"variable", g.verticalVariable},
+          {"height_source", toString(g.heightSource)},
+          {"approximate", g.approximateHeights},
+          {"note", g.heightNote},
+          {"levels_bottom_first", std::move(levels)},
+          {"level_units", g.levelUnits},
+          {"height_datum", "WGS84 ellipsoid"},
+          {"height_min_m", finiteOrNull(g.heightMinMeters)},
+          {"height_max_m", finiteOrNull(g.heightMaxMeters)},
+          {"height_range_column_stride", g.heightColumnStride}};
+}
+
 std::string describeGridJson(const GridFileInfo& g) {
   if (g.format.rfind("GRIB", 0) == 0) return grib::describeGribJson(g);
   nlohmann::ordered_json j;
@@ -173,19 +189,7 @@ std::string describeGridJson(const GridFileInfo& g) {
                {"east_deg", g.eastDeg},
                {"wraps_longitude", g.wrapsLongitude},
                {"mean_spacing_km", g.meanSpacingKm}};
-  nlohmann::ordered_json levels = nlohmann::ordered_json::array();
-  for (double v : g.levelValues) levels.push_back(finiteOrNull(v));
-  j["vertical"] = {{"kind", toString(g.verticalKind)},
-                   {"variable", g.verticalVariable},
-                   {"height_source", toString(g.heightSource)},
-                   {"approximate", g.approximateHeights},
-                   {"note", g.heightNote},
-                   {"levels_bottom_first", std::move(levels)},
-                   {"level_units", g.levelUnits},
-                   {"height_datum", "WGS84 ellipsoid"},
-                   {"height_min_m", finiteOrNull(g.heightMinMeters)},
-                   {"height_max_m", finiteOrNull(g.heightMaxMeters)},
-                   {"height_range_column_stride", g.heightColumnStride}};
+  j["vertical"] = grid::verticalJson(g);
   j["time"] = {{"dimension", g.timeDimension},
                {"variable", g.timeVariable},
                {"units", g.timeUnits},

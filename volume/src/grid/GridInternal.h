@@ -4,6 +4,8 @@
 #include <atmoglobe/volume/CfTime.h>
 #include <atmoglobe/volume/GridReader.h>
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
 #include <limits>
 #include <map>
@@ -196,6 +198,8 @@ struct Horizontal {
 /// Sets the extent (south, north, west, east, wrap) and mean spacing of `info` from the full
 /// horizontal grid `full` (describe's rule for every format).
 void describeExtent(const Horizontal& full, bool curvilinear, GridFileInfo& info);
+/// The "vertical" object of `info --json` (every format): kind, source, levels, height range.
+nlohmann::ordered_json verticalJson(const GridFileInfo& info);
 
 /// The crop's bounds are finite, ordered latitudes and it keeps at least one level. `label`
 /// opens the message (the file).
