@@ -157,9 +157,14 @@ std::optional<std::pair<std::uint64_t, std::uint64_t>> cutMessageAhead(FILE* f, 
   const long start = std::ftell(f);
   if (start < 0) return std::nullopt;
   std::optional<std::pair<std::uint64_t, std::uint64_t>> cut;
-  // The marker within the next 1 MiB (ecCodes skips junk between messages the same way).
-  std::vector<unsigned char> buf(1 << 20);
-  const std::size_t got = std::fread(buf.data(), 1, buf.size(), f);
+  // Section 0 is usually right here (16 bytes read); after junk, the marker is searched within
+  // the next 64 KiB (ecCodes skips junk between messages the same way).
+  std::vector<unsigned char> buf(16);
+  std::size_t got = std::fread(buf.data(), 1, buf.size(), f);
+  if (got == 16 && !(buf[0] == 'G' && buf[1] == 'R' && buf[2] == 'I' && buf[3] == 'B')) {
+    buf.resize(std::size_t{1} << 16);
+    got += std::fread(buf.data() + 16, 1, buf.size() - 16, f);
+  }
   for (std::size_t p = 0; p + 16 <= got; ++p) {
     if (buf[p] != 'G' || buf[p + 1] != 'R' || buf[p + 2] != 'I' || buf[p + 3] != 'B') continue;
     const std::uint64_t at = static_cast<std::uint64_t>(start) + p;
