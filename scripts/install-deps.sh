@@ -10,6 +10,7 @@ PKGS=(
   libegl-mesa0 libgl1-mesa-dri libbz2-dev libzip-dev
   libcli11-dev
   libeccodes-dev libeccodes-tools   # GRIB grids (volume/src/grid/Grib*); grib_get_data in the tests
+  libproj-dev   # GRIB's projected grids (volume/src/grid/GribProjection.cpp)
   libudunits2-dev   # units of grid coordinates (volume/src/grid/VerticalCoordinate.cpp)
   proj-data proj-bin xplanet-images xvfb xauth
   opencollada-tools libxml2-utils nodejs unzip

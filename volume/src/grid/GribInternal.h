@@ -5,9 +5,12 @@
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/GridReader.h>
 
+#include <eccodes.h>
+
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,6 +78,20 @@ class GribContent {
   std::map<std::uint64_t, std::vector<unsigned char>> read_;  ///< by offset
   std::uint64_t bytesRead_ = 0;
 };
+
+/// A projected grid's points (GribProjection.cpp): latitude and longitude (degrees) of file row r
+/// (in scanning order) and column c at r * Ni + c, and the PROJ definition they came from.
+struct ProjectedGrid {
+  std::string definition;
+  std::vector<double> latDeg, lonDeg;
+};
+/// Whether `gridType` (ecCodes' key) is one of the projected grids projectedGrid places.
+bool isProjectedGrid(const std::string& gridType);
+/// The points of the projected grid of message `h` (ecCodes handle, held under ecCodesLock())
+/// from its projection keys through PROJ. Error naming `where`: a key missing, a projection PROJ
+/// refuses, a point off the Earth.
+Result<ProjectedGrid> projectedGrid(codes_handle* h, const std::string& gridType, long ni, long nj,
+                                    const std::string& where);
 
 /// readGridVolume and describeGridFile for GRIB files (GribReader.cpp).
 Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions& options);

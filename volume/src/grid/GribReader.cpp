@@ -109,7 +109,7 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       return a.size() != b.size() ? a.size() < b.size() : a < b;  // 3 before 12
     });
     if (!v.notReadable.empty()) continue;
-    if (v.gridType != "regular_ll" && v.gridType != "regular_gg")
+    if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isProjectedGrid(v.gridType))
       v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
     else if (v.typeOfLevel == "hybrid") v.notReadable = "GRIB hybrid (model) levels are not read yet";
     else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
@@ -144,8 +144,10 @@ struct Context {
 struct Decoded {
   long ni = 0, nj = 0;
   bool jConsecutive = false;
-  std::vector<double> latRows, lonCols;  ///< per file row / column
-  std::vector<double> values;            ///< file order; NaN at missing points
+  std::vector<double> latRows, lonCols;  ///< per file row / column (latitude/longitude grids)
+  /// A projected grid: its points, row-major in file rows and columns (GribProjection.cpp).
+  std::optional<ProjectedGrid> projected;
+  std::vector<double> values;  ///< file order; NaN at missing points
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
   }
@@ -187,7 +189,11 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
     if (err != CODES_SUCCESS) return varError(c, v, where + ": " + key + ": " + codes_get_error_message(err));
     return Ok{};
   };
-  if (wantAxes) {
+  if (wantAxes && isProjectedGrid(v.gridType)) {
+    auto p = projectedGrid(h.get(), v.gridType, d.ni, d.nj, c.label + ": variable " + v.key() + ": " + where);
+    if (!p) return p.forwardError();
+    d.projected = std::move(*p);
+  } else if (wantAxes) {
     std::vector<double> lat, lon;
     if (auto st = array("latitudes", lat); !st) return st.forwardError();
     if (auto st = array("longitudes", lon); !st) return st.forwardError();
@@ -252,7 +258,8 @@ Result<std::vector<double>> columnValues(Context& c, const Variable& v, const st
 
 /// What a read (or describe's sample) produces.
 struct Selected {
-  std::vector<double> latRows, lonCols;  ///< the file's axes
+  std::vector<double> latRows, lonCols;  ///< the file's axes (latitude/longitude grids)
+  std::optional<ProjectedGrid> projected;  ///< the file's points (projected grids)
   grid::Horizontal hz;
   std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
   grid::Heights heights;
@@ -264,10 +271,11 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   const grid::Horizontal& hz = s.hz;
   const std::size_t nx = hz.cols.size(), nc = hz.rows.size() * nx, nz = s.levels.size();
   std::vector<double> lat(nc), lon(nc);
+  const bool curvilinear = s.projected.has_value();
   for (std::size_t j = 0; j < hz.rows.size(); ++j)
     for (std::size_t i = 0; i < nx; ++i) {
-      lat[j * nx + i] = hz.latDeg[j];
-      lon[j * nx + i] = hz.lonDeg[i];
+      lat[j * nx + i] = hz.latAt(j, i, curvilinear);
+      lon[j * nx + i] = hz.lonAt(j, i, curvilinear);
     }
   grid::Heights& out = s.heights;
   const double toSi = levelToSi(v.typeOfLevel);
@@ -423,6 +431,17 @@ Result<long> resolveMember(const Context& c, const Variable& v, long member) {
   return varError(c, v, "no ensemble member " + std::to_string(member) + " (members: " + list + ")");
 }
 
+/// The columns of `s`'s grid that the crop keeps, every `sample`-th: rectilinear for
+/// latitude/longitude grids, curvilinear (a position per point) for projected ones.
+Result<grid::Horizontal> horizontalOf(const Context& c, const Variable& v, const Selected& s, const GridCrop& crop,
+                                      std::size_t sample) {
+  auto error = [&](const std::string& what) { return varError(c, v, what); };
+  if (s.projected)
+    return grid::curvilinearAxes(s.projected->latDeg, s.projected->lonDeg, static_cast<std::size_t>(v.nj),
+                                 static_cast<std::size_t>(v.ni), crop, sample, error, error);
+  return grid::rectilinearAxes(s.latRows, s.lonCols, crop, sample, error, error);
+}
+
 /// The selection's columns, levels, heights and (`wantValues`) values.
 Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, long member, const GridCrop& crop,
                                std::size_t sample, bool useGeoid, bool wantValues) {
@@ -441,9 +460,8 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
   if (!axes) return axes.forwardError();
   s.latRows = std::move(axes->latRows);
   s.lonCols = std::move(axes->lonCols);
-  auto hz = grid::rectilinearAxes(
-      s.latRows, s.lonCols, crop, sample, [&](const std::string& what) { return varError(c, v, what); },
-      [&](const std::string& what) { return varError(c, v, what); });
+  s.projected = std::move(axes->projected);
+  auto hz = horizontalOf(c, v, s, crop, sample);
   if (!hz) return hz.forwardError();
   s.hz = std::move(*hz);
   if (wantValues) {
@@ -508,6 +526,8 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.latDeg = std::move(s->hz.latDeg);
   g.lonDeg = std::move(s->hz.lonDeg);
   g.wrapsLongitude = s->hz.wrapsLongitude;
+  g.curvilinear = s->projected.has_value();
+  if (s->projected) g.projection = s->projected->definition;
   g.fileFirstRow = s->hz.rows.front();
   g.fileFirstColumn = s->hz.cols.front();
   g.fileFirstLevel = s->levels.front();
@@ -594,11 +614,11 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
   info.heightColumnStride = stride;
   auto s = readSelection(c, v, 0, v.members.front(), GridCrop{}, stride, true, false);
   if (!s) return s.forwardError();
-  auto full = grid::rectilinearAxes(
-      s->latRows, s->lonCols, GridCrop{}, 1, [&](const std::string& what) { return varError(c, v, what); },
-      [&](const std::string& what) { return varError(c, v, what); });
+  auto full = horizontalOf(c, v, *s, GridCrop{}, 1);
   if (!full) return full.forwardError();
-  grid::describeExtent(*full, false, info);
+  info.curvilinear = s->projected.has_value();
+  if (s->projected) info.projection = s->projected->definition;
+  grid::describeExtent(*full, info.curvilinear, info);
   const grid::Heights& h = s->heights;
   info.heightSource = h.source;
   info.heightNote = h.note;
@@ -659,8 +679,9 @@ std::string describeGribText(const GridFileInfo& g) {
     if (v) os << "grid:       " << v->gridType << ", " << gridSize(*v) << "\n";
     os << "levels:     " << g.nz << " (" << g.zDimension << ")" << (v ? ": " + levelsText(v->levels) : "") << "\n";
   } else {
-    os << "grid:       " << (v ? v->gridType : std::string()) << " (rectilinear), " << g.nx << " x " << g.ny
-       << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+    os << "grid:       " << (v ? v->gridType : std::string()) << (g.curvilinear ? " (curvilinear)" : " (rectilinear)")
+       << ", " << g.nx << " x " << g.ny << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+    if (!g.projection.empty()) os << "projection: " << g.projection << " (PROJ; points placed from it)\n";
     os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3)
        << " deg, longitude " << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
        << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
@@ -722,7 +743,8 @@ std::string describeGribJson(const GridFileInfo& g) {
                     {"not_readable", v.notReadable}});
   j["variables"] = std::move(vars);
   if (g.notReadable.empty()) {
-    j["grid"] = {{"horizontal", "rectilinear"},
+    j["grid"] = {{"horizontal", g.curvilinear ? "curvilinear" : "rectilinear"},
+                 {"projection", g.projection},
                  {"nx", g.nx},
                  {"ny", g.ny},
                  {"nz", g.nz},

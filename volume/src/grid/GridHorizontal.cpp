@@ -49,10 +49,6 @@ Status checkCoordinates(const CoordinateError& error, const std::vector<double>&
   return Ok{};
 }
 
-Status checkCoordinates(const io::NetcdfFile& f, const io::NcVar& v, const std::vector<double>& values, bool latitude) {
-  return checkCoordinates([&](const std::string& what) { return varError(f, v, what); }, values, latitude);
-}
-
 }  // namespace
 
 Status checkCrop(const std::string& label, const GridCrop& c) {
@@ -214,11 +210,21 @@ Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std
   if (!latR) return latR.forwardError();
   auto lonR = readPicked<double>(f, l.lon, picks(l.lon));
   if (!lonR) return lonR.forwardError();
-  std::vector<double>& lat = *latR;
-  std::vector<double>& lon = *lonR;
-  if (auto st = checkCoordinates(f, l.lat, lat, true); !st) return st.forwardError();
-  if (auto st = checkCoordinates(f, l.lon, lon, false); !st) return st.forwardError();
-  const std::size_t ny = l.ny, nx = l.nx;
+  return curvilinearAxes(
+      std::move(*latR), std::move(*lonR), l.ny, l.nx, crop, sample,
+      [&](const std::string& what) { return varError(f, l.lat, what); },
+      [&](const std::string& what) { return varError(f, l.lon, what); });
+}
+
+Result<Horizontal> curvilinearAxes(std::vector<double> lat, std::vector<double> lon, std::size_t ny, std::size_t nx,
+                                   const GridCrop& crop, std::size_t sample, const CoordinateError& latError,
+                                   const CoordinateError& lonError) {
+  if (ny == 0 || nx == 0 || lat.size() != ny * nx || lon.size() != ny * nx)
+    return latError("a curvilinear grid needs a latitude and a longitude per point (" + std::to_string(lat.size()) +
+                    " and " + std::to_string(lon.size()) + " for " + std::to_string(ny) + " x " + std::to_string(nx) +
+                    ")");
+  if (auto st = checkCoordinates(latError, lat, true); !st) return st.forwardError();
+  if (auto st = checkCoordinates(lonError, lon, false); !st) return st.forwardError();
   // Continuous longitudes: each within 180 degrees of the centre column's.
   const double ref = wrap180(lon[(ny / 2) * nx + nx / 2]);
   for (double& x : lon) x = ref + wrap180(x - ref);
@@ -240,8 +246,7 @@ Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std
         c1 = std::max(c1, i);
       }
     if (!any)
-      return varError(f, l.lat,
-                      "no grid point lies in the crop (latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
+      return latError("no grid point lies in the crop (latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
                           ", longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) + ")");
     ra = r0 > 0 ? r0 - 1 : 0;
     rb = std::min(r1 + 1, ny - 1);

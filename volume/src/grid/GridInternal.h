@@ -216,6 +216,14 @@ Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::ve
                                    const CoordinateError& lonError);
 /// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
 Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
+/// The rows and columns of a curvilinear grid (a latitude and a longitude per point, `ny` rows of
+/// `nx`, row-major) that the crop keeps, every `sample`-th (and the last), with one more on each
+/// side: the one normalisation of every curvilinear grid (netCDF 2-D coordinates, WRF, GRIB's
+/// projected grids): longitudes continuous across the grid (within 180 degrees of the centre
+/// point's), shifted so that the westernmost kept one lies in [-180, 180).
+Result<Horizontal> curvilinearAxes(std::vector<double> lat, std::vector<double> lon, std::size_t ny, std::size_t nx,
+                                   const GridCrop& crop, std::size_t sample, const CoordinateError& latError,
+                                   const CoordinateError& lonError);
 /// The same for a curvilinear grid, its coordinates read at time step `timeIndex`.
 Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std::size_t timeIndex,
                                const GridCrop& crop, std::size_t sample);

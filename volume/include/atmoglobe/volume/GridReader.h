@@ -147,6 +147,9 @@ struct GridFileInfo {
   std::string indexFile;              ///< the message index in the cache ("" when it could not be written)
   bool indexReused = false;           ///< the index came from the cache (no pass over the file)
   std::vector<std::string> warnings;  ///< what the reader skipped (damaged messages)
+  /// A projected grid (rotated, Lambert, polar stereographic ...): the PROJ definition its points
+  /// were placed by ("" for latitude/longitude grids).
+  std::string projection;
   /// The described variable is not read yet (a grid or level type of a later stage): why. Its
   /// grid, heights and times are then not filled in.
   std::string notReadable;

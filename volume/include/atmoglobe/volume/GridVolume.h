@@ -72,6 +72,8 @@ struct GridVolume {
   /// Rectilinear grid covering all longitudes: column nx-1 neighbours column 0 (a sampler
   /// interpolates across the seam). False for any crop narrower than the globe.
   bool wrapsLongitude = false;
+  /// A GRIB projected grid (curvilinear): the PROJ definition its points were placed by; "" else.
+  std::string projection;
   /// Index in the file of output row 0 / column 0 / level 0 and the direction (+1 or -1) in
   /// which the file index runs with the output index (rows of a north-to-south file run -1);
   /// for a crop across the antimeridian of a global grid the column index wraps modulo the
