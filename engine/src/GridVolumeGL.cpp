@@ -117,16 +117,26 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
   } else {
     const auto [lonMinIt, lonMaxIt] = std::minmax_element(g.lonDeg.begin(), g.lonDeg.end());
     const auto [latMinIt, latMaxIt] = std::minmax_element(g.latDeg.begin(), g.latDeg.end());
-    pr->lonRange = glm::vec2(static_cast<float>(*lonMinIt), static_cast<float>(*lonMaxIt - *lonMinIt));
-    pr->latRange = glm::vec2(static_cast<float>(*latMinIt), static_cast<float>(*latMaxIt - *latMinIt));
+    double lonMin = *lonMinIt, lonMax = *lonMaxIt, latMin = *latMinIt, latMax = *latMaxIt;
+    // A grid around a pole (the sampler finds the pole inside it): the table reaches the pole
+    // and takes every longitude.
+    const bool north = s.horizontalIndex(90.0, 0.0).has_value(), south = s.horizontalIndex(-90.0, 0.0).has_value();
+    if (north) latMax = 90.0;
+    if (south) latMin = -90.0;
+    if (north || south || lonMax - lonMin > 180.0) {
+      lonMin = -180.0;
+      lonMax = 180.0;
+    }
+    pr->lonRange = glm::vec2(static_cast<float>(lonMin), static_cast<float>(lonMax - lonMin));
+    pr->latRange = glm::vec2(static_cast<float>(latMin), static_cast<float>(latMax - latMin));
     const int w = std::clamp(4 * nx, 2, 2048), h = std::clamp(4 * ny, 2, 2048);
     pr->lookupSize = glm::ivec2(w, h);
     pr->lookup.assign(2 * static_cast<std::size_t>(w) * h, 0.0f);
     auto* table = reinterpret_cast<glm::vec2*>(pr->lookup.data());  // RG pairs
     for (int b = 0; b < h; ++b)
       for (int a = 0; a < w; ++a) {
-        const double lat = *latMinIt + (*latMaxIt - *latMinIt) * b / (h - 1);
-        const double lon = *lonMinIt + (*lonMaxIt - *lonMinIt) * a / (w - 1);
+        const double lat = latMin + (latMax - latMin) * b / (h - 1);
+        const double lon = lonMin + (lonMax - lonMin) * a / (w - 1);
         const auto ij = s.horizontalIndex(lat, lon);
         table[static_cast<std::size_t>(b) * w + a] = ij ? glm::vec2(*ij) : glm::vec2(-1.0e6f);
       }

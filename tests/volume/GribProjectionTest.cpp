@@ -6,6 +6,7 @@
 #include "GribTestUtil.h"
 
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/GridSampler.h>
 
 #include <gtest/gtest.h>
 
@@ -316,23 +317,22 @@ TEST(GribProjection, NegativeScanningExtendsFromTheFirstPointInItsDirections) {
     const SphereProjection lcc{true, 6371229, 33, 45, 40, 260, false};
     const double lat1 = 49.5, lon1 = 275.0, dxM = 30000, dyM = 20000;
     const long nx = 20, ny = 15;
-    const std::string lf =
-        makeFile(dir, "lambert.grib2", "GRIB2",
-                 {{"gridType", std::string("lambert")},
-                  {"shapeOfTheEarth", 6L},
-                  {"Nx", nx},
-                  {"Ny", ny},
-                  {"latitudeOfFirstGridPointInDegrees", lat1},
-                  {"longitudeOfFirstGridPointInDegrees", lon1},
-                  {"LaDInDegrees", 40.0},
-                  {"LoVInDegrees", 260.0},
-                  {"Latin1InDegrees", 33.0},
-                  {"Latin2InDegrees", 45.0},
-                  {"DxInMetres", dxM},
-                  {"DyInMetres", dyM},
-                  {"iScansNegatively", scan.iNegative},
-                  {"jScansPositively", scan.jPositive}},
-                 static_cast<std::size_t>(nx * ny));
+    const std::string lf = makeFile(dir, "lambert.grib2", "GRIB2",
+                                    {{"gridType", std::string("lambert")},
+                                     {"shapeOfTheEarth", 6L},
+                                     {"Nx", nx},
+                                     {"Ny", ny},
+                                     {"latitudeOfFirstGridPointInDegrees", lat1},
+                                     {"longitudeOfFirstGridPointInDegrees", lon1},
+                                     {"LaDInDegrees", 40.0},
+                                     {"LoVInDegrees", 260.0},
+                                     {"Latin1InDegrees", 33.0},
+                                     {"Latin2InDegrees", 45.0},
+                                     {"DxInMetres", dxM},
+                                     {"DyInMetres", dyM},
+                                     {"iScansNegatively", scan.iNegative},
+                                     {"jScansPositively", scan.jPositive}},
+                                    static_cast<std::size_t>(nx * ny));
     ASSERT_FALSE(lf.empty());
     const auto [x0, y0] = lcc.forward(lat1, lon1);
     const double sx = scan.iNegative ? -dxM : dxM, sy = scan.jPositive ? dyM : -dyM;
@@ -432,4 +432,66 @@ TEST(GribProjection, RotatedGridMatchesTheClosedFormRotation) {
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().find(angled), std::string::npos) << refused.error();
   EXPECT_NE(refused.error().find("angle of rotation (15 deg) is not read"), std::string::npos) << refused.error();
+}
+
+// A polar stereographic grid around the North Pole on three heights above sea level, made here,
+// read and sampled: every grid point gives its own value (the sampler's curvilinear lookup finds
+// the cells of a grid whose longitudes run all the way round), and the pole itself, inside the
+// grid, has data (no hole where the longitudes meet).
+TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
+  useTestCache();
+  const std::string dir = atmoglobe_test::freshTestDir("grib_projection");
+  const long nx = 62, ny = 62;
+  const double levelsM[] = {1000, 3000, 6000};
+  std::string content;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double> values(static_cast<std::size_t>(nx * ny));
+    for (long j = 0; j < ny; ++j)
+      for (long i = 0; i < nx; ++i) values[static_cast<std::size_t>(j * nx + i)] = 250.0 + i + 2.0 * j + 100.0 * k;
+    content += makeGribMessage("GRIB2",
+                               {{"gridType", std::string("polar_stereographic")},
+                                {"shapeOfTheEarth", 6L},
+                                {"Nx", nx},
+                                {"Ny", ny},
+                                {"latitudeOfFirstGridPointInDegrees", 50.0},
+                                {"longitudeOfFirstGridPointInDegrees", 315.0},
+                                {"LaDInDegrees", 60.0},
+                                {"orientationOfTheGridInDegrees", 0.0},
+                                {"DxInMetres", 100000.0},
+                                {"DyInMetres", 100000.0},
+                                {"projectionCentreFlag", 0L},
+                                {"iScansNegatively", 0L},
+                                {"jScansPositively", 1L},
+                                {"typeOfFirstFixedSurface", 102L},  // height above mean sea level
+                                {"scaleFactorOfFirstFixedSurface", 0L},
+                                {"scaledValueOfFirstFixedSurface", static_cast<long>(levelsM[k])}},
+                               values);
+  }
+  const std::string file = dir + "/polar_levels.grib2";
+  writeFile(file, content);
+  auto g = readGridVolume(file, GridReadOptions{});
+  ASSERT_TRUE(g.ok()) << g.error();
+  ASSERT_EQ(g->nz, 3u);
+  ASSERT_TRUE(g->curvilinear);
+  GridSampler s(*g);
+  std::size_t checked = 0;
+  for (std::size_t k = 0; k < g->nz; ++k)
+    for (std::size_t j = 0; j < g->ny; j += 3)
+      for (std::size_t i = 0; i < g->nx; i += 3) {
+        // 1 cm inside the bottom and top levels: exactly on them, a hair of weight on a
+        // neighbour column (the inverse's rounding) puts the point below or above its column.
+        // The value moves by 100 x 0.01 / 2000 = 5e-4 there (values are linear in height).
+        const double h = g->heightMeters(k, j, i) + (k == 0 ? 0.01 : k + 1 == g->nz ? -0.01 : 0.0);
+        auto v = s.sampleGeodetic(g->latDegAt(j, i), g->lonDegAt(j, i), h, Interpolation::Linear);
+        ASSERT_EQ(v.state, VolumeSample::State::Echo) << "row " << j << " column " << i << " level " << k;
+        // 1e-3: the point's value is a float of ~500; the lookup's Newton inverse is exact to 1e-10 of a cell.
+        ASSERT_NEAR(v.value, g->value(k, j, i), 1e-3) << "row " << j << " column " << i << " level " << k;
+        ++checked;
+      }
+  EXPECT_GT(checked, 1000u);
+  // The pole: between columns 30 and 31 and rows 30 and 31 (the grid is centred on it to 10 m).
+  auto pole = s.sampleGeodetic(90.0, 0.0, 3000.0 + 50.0, Interpolation::Linear);
+  ASSERT_EQ(pole.state, VolumeSample::State::Echo);
+  EXPECT_GT(pole.value, 350.0 + 30 + 2 * 30 - 1e-3);
+  EXPECT_LT(pole.value, 350.0 + 31 + 2 * 31 + 1e-3);
 }

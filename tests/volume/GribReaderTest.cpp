@@ -590,8 +590,8 @@ TEST(GribReader, DeclaredLengthBeyondTheFileIsSkippedBeforeDecoding) {
 // The projected grids of the samples (Lambert conformal GRIB1 on a sphere of 6367470 m, rotated
 // lat/lon GRIB1, polar stereographic GRIB2 with its south pole on the plane): every point the
 // reader places through PROJ agrees with ecCodes' geo-iterator (grib_get_data) to 1e-6 deg, as
-// the issue asks (5e-6 deg for the rotated grid: see below), and every value is the message's at that point. Rows and columns are the
-// file's (a projected grid is read as it is stored: no reordering).
+// the issue asks (5e-6 deg for the rotated grid: see below), and every value is the message's at that point. Rows and
+// columns are the file's (a projected grid is read as it is stored: no reordering).
 TEST(GribReader, ProjectedGridPositionsMatchGribGetData) {
   SKIP_WITHOUT_TEST_DATA(gribPath("lambert_grid.grib"), gribPath("rotated_ll.grib1"), gribPath("safrica.grib2"));
   SKIP_WITHOUT_ECCODES_TOOLS();
@@ -630,7 +630,7 @@ TEST(GribReader, ProjectedGridPositionsMatchGribGetData) {
     EXPECT_LT(maxLat, tolerance);
     EXPECT_LT(maxLon, tolerance);
     EXPECT_GT(valuesChecked, pts.size() / 2);
-    std::printf("%s: %s; largest position difference from grib_get_data: latitude %.2e deg, longitude %.2e deg\n",
-                name, g->projection.c_str(), maxLat, maxLon);
+    std::printf("%s: %s; largest position difference from grib_get_data: latitude %.2e deg, longitude %.2e deg\n", name,
+                g->projection.c_str(), maxLat, maxLon);
   }
 }

@@ -29,10 +29,10 @@ inline bool haveTool(const char* name) {
   return std::system((std::string("command -v ") + name + " >/dev/null").c_str()) == 0;
 }
 
-#define SKIP_WITHOUT_ECCODES_TOOLS()                                                                         \
-  do {                                                                                                       \
-    if (!atmoglobe_test::grib::haveTool("grib_get_data") || !atmoglobe_test::grib::haveTool("grib_set"))     \
-      GTEST_SKIP() << "grib_get_data/grib_set not found (apt-get install libeccodes-tools)";                 \
+#define SKIP_WITHOUT_ECCODES_TOOLS()                                                                     \
+  do {                                                                                                   \
+    if (!atmoglobe_test::grib::haveTool("grib_get_data") || !atmoglobe_test::grib::haveTool("grib_set")) \
+      GTEST_SKIP() << "grib_get_data/grib_set not found (apt-get install libeccodes-tools)";             \
   } while (false)
 
 struct Point {
@@ -72,8 +72,8 @@ struct GribKey {
 /// number of points). Empty with a test failure when ecCodes refuses a key.
 inline std::string makeGribMessage(const char* sample, const std::vector<GribKey>& keys,
                                    const std::vector<double>& values) {
-  std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
-      codes_grib_handle_new_from_samples(nullptr, sample), &codes_handle_delete);
+  std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(codes_grib_handle_new_from_samples(nullptr, sample),
+                                                                  &codes_handle_delete);
   if (!h) {
     ADD_FAILURE() << "no ecCodes sample " << sample;
     return {};

@@ -48,7 +48,8 @@ Result<std::string> earthOf(codes_handle* h, const std::string& where) {
   if (keyLong(h, "earthIsOblate", 0) != 0) {
     auto a = key(h, "earthMajorAxisInMetres"), b = key(h, "earthMinorAxisInMetres");
     if (!a || !b || !(*a > 1e6 && *b > 1e6 && *b <= *a))
-      return makeError(where + ": an oblate Earth without usable axes (earthMajorAxisInMetres, earthMinorAxisInMetres)");
+      return makeError(where +
+                       ": an oblate Earth without usable axes (earthMajorAxisInMetres, earthMinorAxisInMetres)");
     return "+a=" + numText(*a) + " +b=" + numText(*b);
   }
   auto r = key(h, "radius");
@@ -118,8 +119,8 @@ Result<ProjectedGrid> projectedGrid(codes_handle* h, const std::string& gridType
     dy = *dj;
     // The rotated pole: the grid's south pole at (spLat, spLon), so its north pole at (-spLat,
     // spLon + 180); PROJ's ob_tran takes the north pole's latitude and the central meridian.
-    g.definition = "+proj=ob_tran +o_proj=longlat +o_lat_p=" + numText(-*spLat) + " +o_lon_p=0 +lon_0=" +
-                   numText(*spLon) + " +R=1";
+    g.definition = "+proj=ob_tran +o_proj=longlat +o_lat_p=" + numText(-*spLat) +
+                   " +o_lon_p=0 +lon_0=" + numText(*spLon) + " +R=1";
   } else {
     auto earth = earthOf(h, where);
     if (!earth) return earth.forwardError();

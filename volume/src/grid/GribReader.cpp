@@ -258,7 +258,7 @@ Result<std::vector<double>> columnValues(Context& c, const Variable& v, const st
 
 /// What a read (or describe's sample) produces.
 struct Selected {
-  std::vector<double> latRows, lonCols;  ///< the file's axes (latitude/longitude grids)
+  std::vector<double> latRows, lonCols;    ///< the file's axes (latitude/longitude grids)
   std::optional<ProjectedGrid> projected;  ///< the file's points (projected grids)
   grid::Horizontal hz;
   std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first

@@ -247,7 +247,7 @@ Result<Horizontal> curvilinearAxes(std::vector<double> lat, std::vector<double> 
       }
     if (!any)
       return latError("no grid point lies in the crop (latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
-                          ", longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) + ")");
+                      ", longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) + ")");
     ra = r0 > 0 ? r0 - 1 : 0;
     rb = std::min(r1 + 1, ny - 1);
     ca = c0 > 0 ? c0 - 1 : 0;

@@ -29,7 +29,18 @@ double fractionalIndex(const std::vector<double>& a, std::size_t n, double x) {
   return static_cast<double>(k) + (x - a[k]) / (a[k + 1] - a[k]);
 }
 
+// The unit vector of a latitude/longitude taken as spherical angles (the chart's own sphere).
+glm::dvec3 unitVector(double latDeg, double lonDeg) {
+  const double la = glm::radians(latDeg), lo = glm::radians(lonDeg);
+  return {std::cos(la) * std::cos(lo), std::cos(la) * std::sin(lo), std::sin(la)};
+}
+
 }  // namespace
+
+glm::dvec2 GridSampler::toChart(double latDeg, double lonDeg) const {
+  const glm::dvec3 q = chart_ * unitVector(latDeg, lonDeg);
+  return {glm::degrees(std::atan2(q.y, q.x)), glm::degrees(std::asin(std::clamp(q.z, -1.0, 1.0)))};
+}
 
 GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
   const std::size_t columns = grid.nx * grid.ny;
@@ -65,12 +76,38 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
     }
   }
 
-  // Curvilinear: the bin index over the cells' corner boxes.
+  // Curvilinear: the bin index over the cells' corner boxes, in the chart (see GridSampler.h).
   if (grid.curvilinear && grid.nx >= 2 && grid.ny >= 2) {
-    lonMin_ = *std::min_element(grid.lonDeg.begin(), grid.lonDeg.end());
-    const double lonMax = *std::max_element(grid.lonDeg.begin(), grid.lonDeg.end());
-    const double latMin = *std::min_element(grid.latDeg.begin(), grid.latDeg.end());
-    const double latMax = *std::max_element(grid.latDeg.begin(), grid.latDeg.end());
+    const double latMin0 = *std::min_element(grid.latDeg.begin(), grid.latDeg.end());
+    const double latMax0 = *std::max_element(grid.latDeg.begin(), grid.latDeg.end());
+    const double lonMin0 = *std::min_element(grid.lonDeg.begin(), grid.lonDeg.end());
+    const double lonMax0 = *std::max_element(grid.lonDeg.begin(), grid.lonDeg.end());
+    if (latMax0 > 80.0 || latMin0 < -80.0 || lonMax0 - lonMin0 > 180.0) {
+      // The grid's mean direction becomes the chart's (0, 0); its "north" the meridian there.
+      glm::dvec3 mean(0.0);
+      for (std::size_t p = 0; p < grid.lonDeg.size(); ++p) mean += unitVector(grid.latDeg[p], grid.lonDeg[p]);
+      const glm::dvec3 e1 = glm::length(mean) > 1e-9 ? glm::normalize(mean) : glm::dvec3(1, 0, 0);
+      glm::dvec3 up = glm::dvec3(0, 0, 1) - e1.z * e1;
+      if (glm::length(up) < 1e-6) up = glm::dvec3(1, 0, 0) - e1.x * e1;  // centred on a pole
+      const glm::dvec3 e3 = glm::normalize(up), e2 = glm::cross(e3, e1);
+      chart_ = glm::transpose(glm::dmat3(e1, e2, e3));  // rows e1, e2, e3
+      charted_ = true;
+      chartLat_.resize(grid.latDeg.size());
+      chartLon_.resize(grid.lonDeg.size());
+      for (std::size_t p = 0; p < grid.lonDeg.size(); ++p) {
+        const glm::dvec2 c = toChart(grid.latDeg[p], grid.lonDeg[p]);
+        chartLat_[p] = c.y;
+        chartLon_[p] = c.x;
+      }
+    }
+    const std::vector<double>& lats = charted_ ? chartLat_ : grid.latDeg;
+    const std::vector<double>& lons = charted_ ? chartLon_ : grid.lonDeg;
+    auto latAt = [&](std::size_t j, std::size_t i) { return lats[j * grid.nx + i]; };
+    auto lonAt = [&](std::size_t j, std::size_t i) { return lons[j * grid.nx + i]; };
+    lonMin_ = *std::min_element(lons.begin(), lons.end());
+    const double lonMax = *std::max_element(lons.begin(), lons.end());
+    const double latMin = *std::min_element(lats.begin(), lats.end());
+    const double latMax = *std::max_element(lats.begin(), lats.end());
     const std::size_t cells = (grid.nx - 1) * (grid.ny - 1);
     const int side = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(cells)) / 2.0), 1, 256);
     binsLat_ = binsLon_ = side;
@@ -84,10 +121,10 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
         double la0 = 1e300, la1 = -1e300, lo0 = 1e300, lo1 = -1e300;
         for (std::size_t dj = 0; dj < 2; ++dj)
           for (std::size_t di = 0; di < 2; ++di) {
-            la0 = std::min(la0, grid.latDegAt(j + dj, i + di));
-            la1 = std::max(la1, grid.latDegAt(j + dj, i + di));
-            lo0 = std::min(lo0, grid.lonDegAt(j + dj, i + di));
-            lo1 = std::max(lo1, grid.lonDegAt(j + dj, i + di));
+            la0 = std::min(la0, latAt(j + dj, i + di));
+            la1 = std::max(la1, latAt(j + dj, i + di));
+            lo0 = std::min(lo0, lonAt(j + dj, i + di));
+            lo1 = std::max(lo1, lonAt(j + dj, i + di));
           }
         auto bin = [](double x, double origin, double size, int n) {
           return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, n - 1);
@@ -168,6 +205,15 @@ std::string GridSampler::description() const {
 
 std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lonDeg) const {
   if (bins_.empty()) return std::nullopt;
+  if (charted_) {
+    const glm::dvec2 c = toChart(latDeg, lonDeg);
+    latDeg = c.y;
+    lonDeg = c.x;
+  }
+  const std::vector<double>& lats = charted_ ? chartLat_ : grid_.latDeg;
+  const std::vector<double>& lons = charted_ ? chartLon_ : grid_.lonDeg;
+  const std::size_t nx = grid_.nx;
+  auto at = [&](std::size_t j, std::size_t i) { return glm::dvec2(lons[j * nx + i], lats[j * nx + i]); };
   const double lon = wrapFrom(lonDeg, lonMin_);
   const int b = static_cast<int>(std::floor((latDeg - latMinBin_) / binLatDeg_));
   const int c = static_cast<int>(std::floor((lon - lonMinBin_) / binLonDeg_));
@@ -179,10 +225,7 @@ std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lo
   for (std::uint32_t cell :
        bins_[static_cast<std::size_t>(bb) * static_cast<std::size_t>(binsLon_) + static_cast<std::size_t>(cc)]) {
     const std::size_t j = cell / nx1, i = cell % nx1;
-    const glm::dvec2 p00(grid_.lonDegAt(j, i), grid_.latDegAt(j, i)),
-        p10(grid_.lonDegAt(j, i + 1), grid_.latDegAt(j, i + 1));
-    const glm::dvec2 p01(grid_.lonDegAt(j + 1, i), grid_.latDegAt(j + 1, i));
-    const glm::dvec2 p11(grid_.lonDegAt(j + 1, i + 1), grid_.latDegAt(j + 1, i + 1));
+    const glm::dvec2 p00 = at(j, i), p10 = at(j, i + 1), p01 = at(j + 1, i), p11 = at(j + 1, i + 1);
     const glm::dvec2 target(lon, latDeg);
     // Newton on P(u, v) = target, P bilinear in the cell.
     double u = 0.5, v = 0.5;

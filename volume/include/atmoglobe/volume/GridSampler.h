@@ -13,7 +13,11 @@
 //     latitude into one value at the pole, the mean of that row (per level, heights too), so the
 //     cap has neither a hole nor a seam. Curvilinear: the cell holding the point (a bin index
 //     over the cells' latitude/longitude boxes) and the bilinear inverse of its four corners by
-//     Newton's method to 1e-10 of a cell: exact to rounding;
+//     Newton's method to 1e-10 of a cell: exact to rounding. Latitudes and longitudes as given,
+//     except for a grid reaching beyond 80 degrees of latitude or spanning more than 180 degrees
+//     of longitude (a polar stereographic grid around a pole): there in a chart, the sphere turned
+//     so that the grid's mean direction lies at latitude 0, longitude 0, where its longitudes run
+//     continuously (the pole becomes an ordinary point between grid points);
 //  3. the columns around (i, j) with bilinear weights (1, 2 or 4 of them); level k's height at
 //     the point is the weighted mean of theirs (monotonic, as each column is); the fractional
 //     level is found by bisection in these heights; below the lowest level's height or above the
@@ -99,6 +103,8 @@ class GridSampler final : public VolumeSampler {
   /// lowest or above the highest level there.
   std::optional<double> fractionalLevel(const GridColumns& columns, double heightMeters) const;
   std::optional<glm::dvec2> curvilinearIndex(double latDeg, double lonDeg) const;
+  /// A latitude/longitude in the chart (step 2): (longitude, latitude) there, degrees.
+  glm::dvec2 toChart(double latDeg, double lonDeg) const;
 
   const GridVolume& grid_;
   double minHeight_ = 0.0, maxHeight_ = 0.0;
@@ -113,6 +119,11 @@ class GridSampler final : public VolumeSampler {
   double lonMin_ = 0.0, latMinBin_ = 0.0, lonMinBin_ = 0.0, binLatDeg_ = 1.0, binLonDeg_ = 1.0;
   int binsLat_ = 0, binsLon_ = 0;
   std::vector<std::vector<std::uint32_t>> bins_;
+  // Curvilinear grids near a pole or wider than 180 degrees: the chart's rotation (rows: the
+  // chart's x, y, z axes in ECEF directions) and every point's chart latitude and longitude.
+  bool charted_ = false;
+  glm::dmat3 chart_{1.0};
+  std::vector<double> chartLat_, chartLon_;
 };
 
 /// The grid's empty-space grid (OccupancyGrid.h), 128 x 128 x 32 cells in the local frame of its
