@@ -179,13 +179,25 @@ struct Context {
   std::string label;  ///< the file, for messages
 };
 
+/// Which vertical grid a message of model levels is on: hybrid levels carry their coefficients
+/// (`pv`), generalised vertical levels (ICON, COSMO) the number and UUID of their grid
+/// (numberOfVGridUsed, uuidOfVGrid; ecCodes reads the same bytes so, not as `pv`).
+struct VerticalGrid {
+  std::vector<double> pv;  ///< empty: PVPresent = 0
+  std::string uuid;        ///< "grid N, uuid HEX"; empty for hybrid levels
+  bool empty() const { return pv.empty() && uuid.empty(); }
+  bool operator==(const VerticalGrid& o) const { return pv == o.pv && uuid == o.uuid; }
+  bool operator!=(const VerticalGrid& o) const { return !(*this == o); }
+  std::string text() const { return uuid.empty() ? "pv array of " + std::to_string(pv.size()) + " values" : uuid; }
+};
+
 /// One message decoded: its grid's axes (file rows and columns) and, when asked, its values.
 struct Decoded {
   long ni = 0, nj = 0;
   bool jConsecutive = false;
   std::vector<double> latRows, lonCols;  ///< per file row / column
   std::vector<double> values;            ///< file order; NaN at missing points
-  std::vector<double> pv;                ///< the `pv` array (when asked; empty: PVPresent = 0)
+  VerticalGrid vertical;                 ///< when asked
   long bottomLevel = -1;                 ///< key bottomLevel (when asked): a layer's lower surface
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
@@ -196,7 +208,7 @@ Error varError(const Context& c, const Variable& v, const std::string& what) {
   return makeError(c.label + ": variable " + v.key() + ": " + what);
 }
 
-/// `wantVertical`: the `pv` array and bottomLevel too (model levels).
+/// `wantVertical`: its vertical grid and bottomLevel too (model levels).
 Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues,
                        bool wantVertical = false) {
   auto bytes = c.content.read(m);
@@ -243,11 +255,18 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
     codes_get_long(h.get(), "PVPresent", &pvPresent);
     std::size_t size = 0;
     if (pvPresent && codes_get_size(h.get(), "pv", &size) == CODES_SUCCESS && size > 0) {
-      d.pv.resize(size);
-      if (const int err = codes_get_double_array(h.get(), "pv", d.pv.data(), &size); err != CODES_SUCCESS)
+      std::vector<double>& pv = d.vertical.pv;
+      pv.resize(size);
+      if (const int err = codes_get_double_array(h.get(), "pv", pv.data(), &size); err != CODES_SUCCESS)
         return varError(c, v, where + ": pv: " + codes_get_error_message(err));
-      d.pv.resize(size);
+      pv.resize(size);
     }
+    char uuid[128];
+    std::size_t uuidLength = sizeof uuid;
+    long grid = 0;
+    if (codes_get_string(h.get(), "uuidOfVGrid", uuid, &uuidLength) == CODES_SUCCESS &&
+        codes_get_long(h.get(), "numberOfVGridUsed", &grid) == CODES_SUCCESS)
+      d.vertical.uuid = "vertical grid " + std::to_string(grid) + ", uuid " + std::string(uuid);
     codes_get_long(h.get(), "bottomLevel", &d.bottomLevel);
   }
   if (wantValues) {
@@ -321,21 +340,20 @@ std::optional<std::size_t> levelIndex(const Variable& g, double level) {
   return static_cast<std::size_t>(at - g.levels.begin());
 }
 
-/// The values of `msgs` at the selected columns, level-major (nz x nc). `samePv`: a message of
-/// model levels must carry this `pv` array (one vertical grid; a message without one passes).
+/// The values of `msgs` at the selected columns, level-major (nz x nc). `sameGrid`: a message of
+/// model levels must be on this vertical grid (a message that names none passes: sp, orog).
 Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
-                                         const grid::Horizontal& hz, const std::vector<double>* samePv = nullptr) {
+                                         const grid::Horizontal& hz, const VerticalGrid* sameGrid = nullptr) {
   std::vector<double> out;
   out.reserve(msgs.size() * hz.rows.size() * hz.cols.size());
   for (const GribMessage* m : msgs) {
-    auto d = decode(c, v, *m, false, true, samePv != nullptr);
+    auto d = decode(c, v, *m, false, true, sameGrid != nullptr);
     if (!d) return d.forwardError();
-    if (samePv && !d->pv.empty() && d->pv != *samePv)
+    if (sameGrid && !d->vertical.empty() && d->vertical != *sameGrid)
       return varError(c, v,
                       "message at byte " + std::to_string(m->offset) + " (level " + levelText(m->level) +
-                          "): its pv array (" + std::to_string(d->pv.size()) +
-                          " values) is not that of the levels read (" + std::to_string(samePv->size()) +
-                          " values): two vertical grids");
+                          ") is on another vertical grid than the levels read (its " + d->vertical.text() + ", not " +
+                          sameGrid->text() + ")");
     for (std::size_t r : hz.rows)
       for (std::size_t col : hz.cols) out.push_back(d->values[d->at(r, col)]);
   }
@@ -347,7 +365,7 @@ struct Selected {
   std::vector<double> latRows, lonCols;  ///< the file's axes
   grid::Horizontal hz;
   std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
-  std::vector<double> pv;           ///< model levels: the `pv` array of the first message read
+  VerticalGrid vertical;            ///< model levels: the vertical grid of the first message read
   long bottomLevel = -1;            ///< model levels: bottomLevel of that message
   std::uint64_t firstOffset = 0;    ///< that message's byte offset, for errors
   grid::Heights heights;
@@ -392,7 +410,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
   const grid::Horizontal& hz = s.hz;
   const std::size_t nc = hz.rows.size() * hz.cols.size(), nz = s.levels.size();
   grid::Heights& out = s.heights;
-  const std::vector<double>& pv = s.pv;
+  const std::vector<double>& pv = s.vertical.pv;
   const std::string where = "message at byte " + std::to_string(s.firstOffset);
   if (pv.empty())
     return varError(c, v, where + ": no pv array (PVPresent = 0): the coefficients of the hybrid levels are missing");
@@ -435,7 +453,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
     if (auto at = levelIndex(*l, 1)) {
       auto msgs = pick(c, *l, fieldTime(*l, v, t, member).t, member, {*at});
       if (!msgs) return msgs.forwardError();
-      auto values = columnValues(c, *l, *msgs, hz, &pv);
+      auto values = columnValues(c, *l, *msgs, hz, &s.vertical);
       if (!values) return values.forwardError();
       for (std::size_t col = 0; col < nc; ++col) {
         const double x = (*values)[col];
@@ -540,12 +558,12 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
   std::size_t next = 0;  // the next level read, counted from the bottom
   for (std::size_t i = 0; i < tMsgs->size(); ++i) {
     const std::size_t level = nlev - i;
-    auto temperature = columnValues(c, *tVar, {(*tMsgs)[i]}, hz, &pv);
+    auto temperature = columnValues(c, *tVar, {(*tMsgs)[i]}, hz, &s.vertical);
     if (!temperature) return temperature.forwardError();
     c.content.forget(*(*tMsgs)[i]);
     std::vector<double> humidity;
     if (qMsgs) {
-      auto q = columnValues(c, *qVar, {(*qMsgs)[i]}, hz, &pv);
+      auto q = columnValues(c, *qVar, {(*qMsgs)[i]}, hz, &s.vertical);
       if (!q) return q.forwardError();
       c.content.forget(*(*qMsgs)[i]);
       humidity = std::move(*q);
@@ -631,7 +649,7 @@ Status generalVerticalHeights(Context& c, const Variable& v, std::size_t t, long
   }
   auto msgs = pick(c, *hhl, ft.t, ft.member, idx);
   if (!msgs) return msgs.forwardError();
-  auto halves = columnValues(c, *hhl, *msgs, hz, s.pv.empty() ? nullptr : &s.pv);
+  auto halves = columnValues(c, *hhl, *msgs, hz, &s.vertical);
   if (!halves) return halves.forwardError();
   for (std::size_t i = 0; i < halves->size(); ++i)
     if (!std::isfinite((*halves)[i]))
@@ -843,7 +861,7 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
   if (!axes) return axes.forwardError();
   s.latRows = std::move(axes->latRows);
   s.lonCols = std::move(axes->lonCols);
-  s.pv = std::move(axes->pv);
+  s.vertical = std::move(axes->vertical);
   s.bottomLevel = axes->bottomLevel;
   s.firstOffset = msgs->front()->offset;
   auto hz = grid::rectilinearAxes(
@@ -852,7 +870,7 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
   if (!hz) return hz.forwardError();
   s.hz = std::move(*hz);
   if (wantValues) {
-    auto values = columnValues(c, v, *msgs, s.hz, modelLevels ? &s.pv : nullptr);
+    auto values = columnValues(c, v, *msgs, s.hz, modelLevels ? &s.vertical : nullptr);
     if (!values) return values.forwardError();
     s.values.resize(values->size());
     for (std::size_t i = 0; i < values->size(); ++i)
