@@ -116,7 +116,7 @@ TEST(GribReader, InfoOnEveryFileListsWhatTheFilesHold) {
   const GridFileInfo& mixed = infos.at("t_on_different_level_types.grib");
   ASSERT_NE(findVar(mixed, "t:isobaricInhPa"), nullptr);
   ASSERT_NE(findVar(mixed, "t:hybrid"), nullptr);
-  EXPECT_EQ(findVar(mixed, "t:hybrid")->notReadable, "GRIB hybrid (model) levels are not read yet");
+  EXPECT_EQ(findVar(mixed, "t:hybrid")->notReadable, "");  // model levels: GribModelLevelsTest.cpp
   const GridFileInfo& hpa = infos.at("hpa_and_pa.grib");
   ASSERT_NE(findVar(hpa, "t:isobaricInhPa"), nullptr);
   ASSERT_NE(findVar(hpa, "t:isobaricInPa"), nullptr);
@@ -140,7 +140,15 @@ TEST(GribReader, InfoOnEveryFileListsWhatTheFilesHold) {
     EXPECT_NE(describeGridText(info).find("projection: " + proj), std::string::npos);
   }
   EXPECT_EQ(infos.at("safrica.grib2").messageCount, 75u);
-  EXPECT_EQ(infos.at("regular_gg_ml_g2.grib").notReadable, "GRIB hybrid (model) levels are not read yet");
+  // Model levels 1, 51, 101 of 137 with t only: pressures from pv, standard-atmosphere heights.
+  const GridFileInfo& ml = infos.at("regular_gg_ml_g2.grib");
+  EXPECT_EQ(ml.notReadable, "");
+  EXPECT_EQ(ml.verticalKind, VerticalKind::HybridSigmaPressure);
+  EXPECT_TRUE(ml.approximateHeights);
+  EXPECT_NE(describeGridText(ml).find("vertical:   hybrid sigma-pressure (hybrid), 3 levels, heights from standard "
+                                      "atmosphere, APPROXIMATE"),
+            std::string::npos)
+      << describeGridText(ml);
 }
 
 TEST(GribReader, PressureLevelValuesAndPositionsMatchGribGetData) {
@@ -233,9 +241,8 @@ TEST(GribReader, RegularGaussianPositionsMatchGribGetData) {
   SKIP_WITHOUT_TEST_DATA(gribPath("regular_gg_ml_g2.grib"));
   SKIP_WITHOUT_ECCODES_TOOLS();
   const std::string dir = useTestCache();
-  // The only regular_gg sample is on model levels (not read yet): its level 51 relabelled as
-  // 500 hPa by grib_set (ecCodes' tool) gives a regular_gg pressure-level field; the grid is
-  // untouched.
+  // The only regular_gg sample is on model levels: its level 51 relabelled as 500 hPa by
+  // grib_set (ecCodes' tool) gives a regular_gg pressure-level field; the grid is untouched.
   const std::string gg = dir + "/gg500.grib";
   ASSERT_EQ(std::system(("grib_set -s typeOfLevel=isobaricInhPa,level=500 -w level=51 '" +
                          gribPath("regular_gg_ml_g2.grib") + "' '" + gg + "'")
@@ -258,13 +265,13 @@ TEST(GribReader, RegularGaussianPositionsMatchGribGetData) {
     ASSERT_NEAR(lonDiff(g->lonDeg[i], ref[p].lonDeg), 0.0, 1e-6) << p;
     ASSERT_NEAR(g->value(0, j, i), ref[p].value, 1e-6 * std::fabs(ref[p].value)) << p;  // as above
   }
-  // The hybrid level beside it in the same file is refused, saying why.
+  // The model levels left beside it in the same file (1 and 101) read on the same grid.
   o.variable = "t:hybrid";
   auto h = readGridVolume(gg, o);
-  ASSERT_FALSE(h.ok());
-  EXPECT_NE(h.error().find("gg500.grib: variable t:hybrid: GRIB hybrid (model) levels are not read yet"),
-            std::string::npos)
-      << h.error();
+  ASSERT_TRUE(h.ok()) << h.error();
+  EXPECT_EQ(h->levelValues, (std::vector<double>{101, 1}));
+  EXPECT_EQ(h->latDeg, g->latDeg);
+  EXPECT_EQ(h->lonDeg, g->lonDeg);
 }
 
 TEST(GribReader, ScanningMode64ReadsTheOrientationItsPositionsSay) {
@@ -493,7 +500,7 @@ TEST(GribReader, ChoicesAndRefusalsNameTheFileAndWhatThereIs) {
             std::string::npos)
       << reduced.error();
 
-  // "t" on two level types: the readable one (the hybrid message is not read yet), one level.
+  // "t" on two level types, one level each: the first in the file.
   GridReadOptions t;
   t.variable = "t";
   auto mixed = readGridVolume(gribPath("t_on_different_level_types.grib"), t);

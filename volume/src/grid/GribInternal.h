@@ -69,6 +69,9 @@ class GribContent {
   /// The message's bytes (valid while this object lives). Error: the file changed or is
   /// shorter than the index says.
   Result<const std::vector<unsigned char>*> read(const GribMessage& m);
+  /// Drops the kept bytes of `m` (a message decoded once and not needed again: the temperatures
+  /// of a hydrostatic integration, one level at a time); read again, it is counted again.
+  void forget(const GribMessage& m) { read_.erase(m.offset); }
   std::uint64_t bytesRead() const { return bytesRead_; }
 
  private:

@@ -3,8 +3,11 @@
 // (validity) and ensemble member, its levels stacked bottom first. Horizontal: regular_ll and
 // regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp); heights by
 // its rules too (GridHeights.cpp: geopotential field or standard atmosphere for pressure levels,
-// lengths above ground or sea level, + EGM96). Only the messages of the selection are decoded.
-// Other grid and level types are listed by `info` and refused by the read, saying so.
+// lengths above ground or sea level, + EGM96), and here for the model levels only GRIB names:
+// hybrid levels (the `pv` coefficients, the surface pressure, IFS's hydrostatic integration) and
+// ICON/COSMO's generalised vertical levels (the half-level heights HHL). Only the messages of the
+// selection and of its heights are decoded. Other grid and level types are listed by `info` and
+// refused by the read, saying so.
 #include "GribInternal.h"
 #include "GridInternal.h"
 
@@ -20,6 +23,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -45,14 +49,31 @@ struct Variable {
 };
 
 bool isPressureType(const std::string& t) { return t == "isobaricInhPa" || t == "isobaricInPa"; }
+bool isGeneralVertical(const std::string& t) { return t == "generalVertical" || t == "generalVerticalLayer"; }
+/// Levels numbered from the top (model levels: 1 = the highest), so bottom first is descending.
+bool isModelLevelType(const std::string& t) { return t == "hybrid" || isGeneralVertical(t); }
 
-/// The level type's factor to SI (Pa or m), or 0 when this stage does not read it.
+/// The level type's factor to SI (Pa or m; 1 for model level numbers), or 0 when the read does
+/// not handle it.
 double levelToSi(const std::string& t) {
   if (t == "isobaricInhPa") return 100.0;
   if (t == "isobaricInPa") return 1.0;
   if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface") return 1.0;
+  if (isModelLevelType(t)) return 1.0;
   return 0.0;
 }
+
+/// IFS's constants of the geopotential on model levels (IFS documentation Part III, dynamics;
+/// ECMWF's compute_geopotential_on_ml.py): the gas constant of dry air (J kg-1 K-1) and
+/// Rv / Rd - 1 of the virtual temperature Tv = T (1 + 0.609133 q).
+constexpr double kDryAirGasConstant = 287.06;
+constexpr double kVirtualTemperatureFactor = 0.609133;
+/// The surface pressure taken for hybrid levels when the file has none (Pa): the standard
+/// atmosphere's sea-level pressure, said in the height note.
+constexpr double kStandardSurfacePressurePa = 101325.0;
+
+/// The units of GridVolume::levelValues for model levels: their numbers, 1 = top.
+constexpr const char* kModelLevelUnits = "model level (1 = top)";
 
 std::string iso(long date, long time) {
   char buf[128];  // room for any long: the compiler checks the worst case
@@ -88,6 +109,8 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
                       std::to_string(v.nj) + " and " + m.gridType + " " + std::to_string(m.ni) + " x " +
                       std::to_string(m.nj) + ")";
   }
+  bool hasHhl = false;  // ICON/COSMO's half-level heights, for generalVertical(Layer) variables
+  for (const Variable& v : vars) hasHhl = hasHhl || (v.shortName == "HHL" && v.typeOfLevel == "generalVertical");
   for (Variable& v : vars) {
     std::set<double> levels;
     std::set<std::pair<long, long>> validity;
@@ -101,7 +124,9 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       steps.insert(m.stepRange);
     }
     v.levels.assign(levels.begin(), levels.end());
-    if (isPressureType(v.typeOfLevel)) std::reverse(v.levels.begin(), v.levels.end());  // high pressure = bottom
+    // High pressure and high model level numbers are the bottom.
+    if (isPressureType(v.typeOfLevel) || isModelLevelType(v.typeOfLevel))
+      std::reverse(v.levels.begin(), v.levels.end());
     v.validity.assign(validity.begin(), validity.end());
     v.members.assign(members.begin(), members.end());
     v.steps.assign(steps.begin(), steps.end());
@@ -111,8 +136,22 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
     if (!v.notReadable.empty()) continue;
     if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isProjectedGrid(v.gridType))
       v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
-    else if (v.typeOfLevel == "hybrid") v.notReadable = "GRIB hybrid (model) levels are not read yet";
     else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
+    // IFS gives two surface fields on model level 1: they make the heights of hybrid levels, they
+    // are no 3-D fields (z on model level 1 only: a file with z on several model levels holds the
+    // geopotential of each).
+    else if (v.typeOfLevel == "hybrid" && v.shortName == "lnsp")
+      v.notReadable =
+          "the log of the surface pressure (IFS gives it on model level 1): it makes the pressures of "
+          "the hybrid levels, it is no 3-D field";
+    else if (v.typeOfLevel == "hybrid" && v.shortName == "z" && v.levels == std::vector<double>{1})
+      v.notReadable =
+          "the surface geopotential (IFS gives it on model level 1): it starts the hydrostatic "
+          "integration of the hybrid levels, it is no 3-D field";
+    else if (isGeneralVertical(v.typeOfLevel) && !hasHhl)
+      v.notReadable = "GRIB " + v.typeOfLevel +
+                      " levels take their heights from the half-level heights HHL (ICON, COSMO), and the file has "
+                      "no HHL on generalVertical levels";
     else if (v.ni < 1 || v.nj < 1) v.notReadable = "GRIB grid without Ni x Nj points";
   }
   return vars;
@@ -140,6 +179,18 @@ struct Context {
   std::string label;  ///< the file, for messages
 };
 
+/// Which vertical grid a message of model levels is on: hybrid levels carry their coefficients
+/// (`pv`), generalised vertical levels (ICON, COSMO) the number and UUID of their grid
+/// (numberOfVGridUsed, uuidOfVGrid; ecCodes reads the same bytes so, not as `pv`).
+struct VerticalGrid {
+  std::vector<double> pv;  ///< empty: PVPresent = 0
+  std::string uuid;        ///< "grid N, uuid HEX"; empty for hybrid levels
+  bool empty() const { return pv.empty() && uuid.empty(); }
+  bool operator==(const VerticalGrid& o) const { return pv == o.pv && uuid == o.uuid; }
+  bool operator!=(const VerticalGrid& o) const { return !(*this == o); }
+  std::string text() const { return uuid.empty() ? "pv array of " + std::to_string(pv.size()) + " values" : uuid; }
+};
+
 /// One message decoded: its grid's axes (file rows and columns) and, when asked, its values.
 struct Decoded {
   long ni = 0, nj = 0;
@@ -148,6 +199,8 @@ struct Decoded {
   /// A projected grid: its points, row-major in file rows and columns (GribProjection.cpp).
   std::optional<ProjectedGrid> projected;
   std::vector<double> values;  ///< file order; NaN at missing points
+  VerticalGrid vertical;       ///< when asked
+  long bottomLevel = -1;       ///< key bottomLevel (when asked): a layer's lower surface
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
   }
@@ -157,7 +210,9 @@ Error varError(const Context& c, const Variable& v, const std::string& what) {
   return makeError(c.label + ": variable " + v.key() + ": " + what);
 }
 
-Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues) {
+/// `wantVertical`: its vertical grid and bottomLevel too (model levels).
+Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues,
+                       bool wantVertical = false) {
   auto bytes = c.content.read(m);
   if (!bytes) return bytes.forwardError();
   const std::lock_guard<std::mutex> lock(ecCodesLock());
@@ -201,6 +256,25 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
     for (std::size_t r = 0; r < nj; ++r) d.latRows.push_back(lat[d.at(r, 0)]);
     for (std::size_t col = 0; col < ni; ++col) d.lonCols.push_back(lon[d.at(0, col)]);
   }
+  if (wantVertical) {
+    long pvPresent = 0;
+    codes_get_long(h.get(), "PVPresent", &pvPresent);
+    std::size_t size = 0;
+    if (pvPresent && codes_get_size(h.get(), "pv", &size) == CODES_SUCCESS && size > 0) {
+      std::vector<double>& pv = d.vertical.pv;
+      pv.resize(size);
+      if (const int err = codes_get_double_array(h.get(), "pv", pv.data(), &size); err != CODES_SUCCESS)
+        return varError(c, v, where + ": pv: " + codes_get_error_message(err));
+      pv.resize(size);
+    }
+    char uuid[128];
+    std::size_t uuidLength = sizeof uuid;
+    long grid = 0;
+    if (codes_get_string(h.get(), "uuidOfVGrid", uuid, &uuidLength) == CODES_SUCCESS &&
+        codes_get_long(h.get(), "numberOfVGridUsed", &grid) == CODES_SUCCESS)
+      d.vertical.uuid = "vertical grid " + std::to_string(grid) + ", uuid " + std::string(uuid);
+    codes_get_long(h.get(), "bottomLevel", &d.bottomLevel);
+  }
   if (wantValues) {
     long bitmap = 0;
     codes_get_long(h.get(), "bitmapPresent", &bitmap);
@@ -234,22 +308,58 @@ Result<std::vector<const GribMessage*>> pick(const Context& c, const Variable& v
   return out;
 }
 
-/// A field of another variable (geopotential, orography) at the same validity and member on the
-/// given levels (values), or nullopt when the file does not hold all of them.
-const Variable* findVar(const Context& c, const std::string& shortName, const std::string& typeOfLevel) {
+/// The variable a height rule takes from the file (geopotential, orography, surface pressure,
+/// temperature ...): `shortName` on `typeOfLevel`, on the grid of `like` (same grid type and
+/// size, so that its columns are those of `like`), or nullptr. `anyReadability`: also one the read
+/// does not take as a volume (lnsp and z on model level 1).
+const Variable* findVar(const Context& c, const std::string& shortName, const std::string& typeOfLevel,
+                        const Variable& like, bool anyReadability = false) {
   for (const Variable& v : c.vars)
-    if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && v.notReadable.empty()) return &v;
+    if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && (anyReadability || v.notReadable.empty()) &&
+        v.gridType == like.gridType && v.ni == like.ni && v.nj == like.nj)
+      return &v;
   return nullptr;
 }
 
-/// The values of `msgs` at the selected columns, level-major (nz x nc).
+/// Where a field `g` feeding the heights of `v` (validity index t, member) is read: at the same
+/// validity and member when `g` has them (`exact`), else at its first ones (fields given once,
+/// such as the orography).
+struct FieldTime {
+  std::size_t t = 0;
+  long member = -1;
+  bool exact = false;
+};
+FieldTime fieldTime(const Variable& g, const Variable& v, std::size_t t, long member) {
+  FieldTime ft;
+  const auto at = std::find(g.validity.begin(), g.validity.end(), v.validity[t]);
+  if (at != g.validity.end()) ft.t = static_cast<std::size_t>(at - g.validity.begin());
+  const bool hasMember = std::find(g.members.begin(), g.members.end(), member) != g.members.end();
+  ft.member = hasMember ? member : g.members.front();
+  ft.exact = at != g.validity.end() && hasMember;
+  return ft;
+}
+
+/// The index of level value `level` in g.levels, or nullopt.
+std::optional<std::size_t> levelIndex(const Variable& g, double level) {
+  const auto at = std::find(g.levels.begin(), g.levels.end(), level);
+  if (at == g.levels.end()) return std::nullopt;
+  return static_cast<std::size_t>(at - g.levels.begin());
+}
+
+/// The values of `msgs` at the selected columns, level-major (nz x nc). `sameGrid`: a message of
+/// model levels must be on this vertical grid (a message that names none passes: sp, orog).
 Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
-                                         const grid::Horizontal& hz) {
+                                         const grid::Horizontal& hz, const VerticalGrid* sameGrid = nullptr) {
   std::vector<double> out;
   out.reserve(msgs.size() * hz.rows.size() * hz.cols.size());
   for (const GribMessage* m : msgs) {
-    auto d = decode(c, v, *m, false, true);
+    auto d = decode(c, v, *m, false, true, sameGrid != nullptr);
     if (!d) return d.forwardError();
+    if (sameGrid && !d->vertical.empty() && d->vertical != *sameGrid)
+      return varError(c, v,
+                      "message at byte " + std::to_string(m->offset) + " (level " + levelText(m->level) +
+                          ") is on another vertical grid than the levels read (its " + d->vertical.text() + ", not " +
+                          sameGrid->text() + ")");
     for (std::size_t r : hz.rows)
       for (std::size_t col : hz.cols) out.push_back(d->values[d->at(r, col)]);
   }
@@ -262,9 +372,317 @@ struct Selected {
   std::optional<ProjectedGrid> projected;  ///< the file's points (projected grids)
   grid::Horizontal hz;
   std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
+  VerticalGrid vertical;            ///< model levels: the vertical grid of the first message read
+  long bottomLevel = -1;            ///< model levels: bottomLevel of that message
+  std::uint64_t firstOffset = 0;    ///< that message's byte offset, for errors
   grid::Heights heights;
   std::vector<float> values;  ///< nz x ny x nx (empty unless asked)
 };
+
+/// Geopotential (m2 s-2) of an altitude above mean sea level (m) at latitude `latDeg`: the
+/// inverse of geometricFromGeopotentialHeightMeters by fixed-point steps (dz/dH = g0 / gamma
+/// within 0.3 % of 1: each step shrinks the error 300-fold; three reach far below 1 mm).
+double geopotentialOfAltitude(double altitudeMeters, double latDeg) {
+  const GeopotentialToGeometric toAltitude(latDeg);
+  double h = altitudeMeters;
+  for (int i = 0; i < 3; ++i) h -= toAltitude(h) - altitudeMeters;
+  return h * kStandardGravity;
+}
+
+std::string joinText(const std::vector<std::string>& parts, const std::string& last) {
+  std::string s;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    s.append(i == 0 ? "" : (i + 1 == parts.size() ? last : ", ")).append(parts[i]);
+  return s;
+}
+
+/// "row R, column C" of selected column `col` (file indices), for errors.
+std::string rowColumn(const grid::Horizontal& hz, std::size_t col) {
+  return "row " + std::to_string(hz.rows[col / hz.cols.size()]) + ", column " +
+         std::to_string(hz.cols[col % hz.cols.size()]);
+}
+
+/// GRIB hybrid (model) levels, IFS's rule (docs/grids.md, "GRIB"; REFERENCE: IFS documentation
+/// Part III): `pv` = the half-level coefficients a (Pa) then b, NLEV + 1 each; model level k
+/// (1 = top .. NLEV = bottom) lies between half levels k - 1/2 and k + 1/2 (pv index k - 1 and k),
+/// p(k+1/2) = a(k+1/2) + b(k+1/2) ps, and its pressure is the mean of the two. ps: `sp` on the
+/// surface or exp(`lnsp`) on model level 1, at the same validity and member. Heights: with ps,
+/// the surface geopotential (z on model level 1 or on the surface, or orog) and t on every model
+/// level from NLEV up to the highest read (q too when it is there), the geopotential of each
+/// full level by hydrostatic integration upward from the surface as IFS does it; else the
+/// standard atmosphere of the pressures (ps = 101325 Pa without one), approximate, the note
+/// saying what was missing.
+Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid,
+                     const std::vector<double>& lat, const std::vector<double>& lon, Selected& s) {
+  const grid::Horizontal& hz = s.hz;
+  const std::size_t nc = hz.rows.size() * hz.cols.size(), nz = s.levels.size();
+  grid::Heights& out = s.heights;
+  const std::vector<double>& pv = s.vertical.pv;
+  const std::string where = "message at byte " + std::to_string(s.firstOffset);
+  if (pv.empty())
+    return varError(c, v, where + ": no pv array (PVPresent = 0): the coefficients of the hybrid levels are missing");
+  if (pv.size() < 4 || pv.size() % 2 != 0)
+    return varError(c, v,
+                    where + ": its pv array has " + std::to_string(pv.size()) +
+                        " values; hybrid levels need a and b at NLEV + 1 half levels: 2 (NLEV + 1) values");
+  const std::size_t nlev = pv.size() / 2 - 1;
+  for (std::size_t i = 0; i < pv.size(); ++i)
+    if (!std::isfinite(pv[i])) return varError(c, v, where + ": pv value " + std::to_string(i) + " is not finite");
+  // Half level i (0 = the top, nlev = the surface) at surface pressure ps (Pa).
+  auto half = [&](std::size_t i, double ps) { return pv[i] + pv[nlev + 1 + i] * ps; };
+  std::vector<std::size_t> modelLevel(nz);  // bottom first: descending
+  for (std::size_t k = 0; k < nz; ++k) {
+    const double l = v.levels[s.levels[k]];
+    if (l != std::floor(l) || l < 1 || l > static_cast<double>(nlev))
+      return varError(c, v,
+                      "model level " + levelText(l) + " is not one of the levels 1 .. " + std::to_string(nlev) +
+                          " that its pv array (" + std::to_string(pv.size()) + " values) defines");
+    modelLevel[k] = static_cast<std::size_t>(l);
+  }
+  const std::size_t top = modelLevel.back();
+  const std::string when = iso(v.validity[t].first, v.validity[t].second) +
+                           (member >= 0 ? " for member " + std::to_string(member) : std::string());
+
+  // The surface pressure (Pa) per column: sp on the surface, else exp(lnsp) on model level 1.
+  std::vector<double> ps;
+  std::string psFrom;
+  if (const Variable* g = findVar(c, "sp", "surface", v); g && fieldTime(*g, v, t, member).exact) {
+    auto msgs = pick(c, *g, fieldTime(*g, v, t, member).t, member, {0});
+    if (!msgs) return msgs.forwardError();
+    auto values = columnValues(c, *g, *msgs, hz);
+    if (!values) return values.forwardError();
+    for (std::size_t col = 0; col < nc; ++col)
+      if (!std::isfinite((*values)[col]) || !((*values)[col] > 0))
+        return varError(c, *g, "surface pressure missing or not positive at " + rowColumn(hz, col));
+    ps = std::move(*values);
+    psFrom = "'" + g->key() + "'";
+  } else if (const Variable* l = findVar(c, "lnsp", "hybrid", v, true); l && fieldTime(*l, v, t, member).exact) {
+    if (auto at = levelIndex(*l, 1)) {
+      auto msgs = pick(c, *l, fieldTime(*l, v, t, member).t, member, {*at});
+      if (!msgs) return msgs.forwardError();
+      auto values = columnValues(c, *l, *msgs, hz, &s.vertical);
+      if (!values) return values.forwardError();
+      for (std::size_t col = 0; col < nc; ++col) {
+        const double x = (*values)[col];
+        if (!std::isfinite(x) || !std::isfinite(std::exp(x)))
+          return varError(c, *l,
+                          "log of the surface pressure missing or not finite at " + rowColumn(hz, col) +
+                              " (model level 1, valid at " + when + ")");
+      }
+      for (double& x : *values) x = std::exp(x);
+      ps = std::move(*values);
+      psFrom = "exp('" + l->key() + "' on model level 1)";
+    }
+  }
+  const bool havePs = !ps.empty();
+
+  // The pressure of each level read (Pa, nz x nc); half levels must increase downwards.
+  std::vector<double> p(nz * nc);
+  auto checkHalves = [&](std::size_t level, double above, double below, std::size_t col) -> Status {
+    if (above >= 0 && below > above) return Ok{};
+    return varError(c, v,
+                    "the half-level pressures a + b ps of its pv array do not increase downwards at model level " +
+                        std::to_string(level) + " (" + grid::num(above, 3) + " Pa above, " + grid::num(below, 3) +
+                        " Pa below, at " + rowColumn(hz, col) + ")");
+  };
+  for (std::size_t col = 0; col < nc; ++col) {
+    const double surface = havePs ? ps[col] : kStandardSurfacePressurePa;
+    for (std::size_t k = 0; k < nz; ++k) {
+      const double above = half(modelLevel[k] - 1, surface), below = half(modelLevel[k], surface);
+      if (auto st = checkHalves(modelLevel[k], above, below, col); !st) return st;
+      p[k * nc + col] = 0.5 * (above + below);
+    }
+  }
+  const std::string what = "hybrid model levels (GRIB hybrid, " + std::to_string(nlev) +
+                           " levels from pv): p = (p(k-1/2) + p(k+1/2)) / 2, p(k+1/2) = a + b ps with ps = " +
+                           (havePs ? psFrom : std::string("101325 Pa (standard sea-level pressure)"));
+
+  // What the hydrostatic integration needs: ps, t on model levels nlev .. top, the surface geopotential.
+  std::vector<std::string> missing;
+  if (!havePs) missing.push_back("a surface pressure (sp on the surface or lnsp on model level 1) valid at " + when);
+  // The message of `g` on each model level from the bottom (nlev) up to `top`, at this validity
+  // and member, or nullopt (with how many of those levels `g` has) when one is missing.
+  auto fromBottom = [&](const Variable* g, std::size_t* have) -> std::optional<std::vector<const GribMessage*>> {
+    *have = 0;
+    if (!g || !fieldTime(*g, v, t, member).exact) return std::nullopt;
+    std::vector<std::size_t> idx;
+    for (std::size_t l = nlev; l >= top; --l)
+      if (auto at = levelIndex(*g, static_cast<double>(l))) idx.push_back(*at);
+    *have = idx.size();
+    if (idx.size() != nlev - top + 1) return std::nullopt;
+    auto msgs = pick(c, *g, fieldTime(*g, v, t, member).t, member, idx);
+    if (!msgs) return std::nullopt;
+    return *msgs;
+  };
+  const Variable* tVar = findVar(c, "t", "hybrid", v);
+  std::size_t tHave = 0;
+  const auto tMsgs = fromBottom(tVar, &tHave);
+  if (!tMsgs)
+    missing.push_back("t on every model level from " + std::to_string(nlev) + " (the bottom) up to " +
+                      std::to_string(top) + " valid at " + when + " (it has " + std::to_string(tHave) + " of those " +
+                      std::to_string(nlev - top + 1) + ")");
+  // The surface geopotential: z on model level 1 (IFS), z on the surface, or orog (m).
+  const Variable* surfaceZ = nullptr;
+  for (const auto& [name, type] :
+       {std::pair<const char*, const char*>{"z", "hybrid"}, {"z", "surface"}, {"orog", "surface"}}) {
+    const Variable* g = findVar(c, name, type, v, true);
+    if (g && (std::string(type) == "surface" || g->levels == std::vector<double>{1})) {
+      surfaceZ = g;
+      break;
+    }
+  }
+  if (!surfaceZ) missing.push_back("the surface geopotential (z on model level 1 or on the surface, or orog)");
+  if (!missing.empty()) {
+    grid::heightsFromStandardAtmosphere(lat, nz, p, true, what, out);
+    out.note = what +
+               "; heights: the standard-atmosphere height of each pressure (APPROXIMATE: not integrated "
+               "hydrostatically, the file lacks " +
+               joinText(missing, " and ") + ") -> geometric height above mean sea level";
+    return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+  }
+
+  // The surface geopotential (m2 s-2) per column.
+  const FieldTime zt = fieldTime(*surfaceZ, v, t, member);
+  auto zMsgs = pick(c, *surfaceZ, zt.t, zt.member, {0});
+  if (!zMsgs) return zMsgs.forwardError();
+  auto phiHalf = columnValues(c, *surfaceZ, *zMsgs, hz);
+  if (!phiHalf) return phiHalf.forwardError();
+  const bool orog = surfaceZ->shortName == "orog";
+  for (std::size_t col = 0; col < nc; ++col) {
+    double& x = (*phiHalf)[col];
+    if (!std::isfinite(x)) return varError(c, *surfaceZ, "surface altitude missing at " + rowColumn(hz, col));
+    if (orog) x = geopotentialOfAltitude(x, lat[col]);
+  }
+  std::size_t qHave = 0;
+  const Variable* qVar = findVar(c, "q", "hybrid", v);
+  const auto qMsgs = fromBottom(qVar, &qHave);
+
+  // Upward from the surface (IFS): at model level k, with Rd Tv(k),
+  //   phi(k) = phi(k+1/2) + alpha(k) Rd Tv(k),  phi(k-1/2) = phi(k+1/2) + Rd Tv(k) ln(p(k+1/2) / p(k-1/2)),
+  //   alpha(k) = 1 - p(k-1/2) / (p(k+1/2) - p(k-1/2)) ln(p(k+1/2) / p(k-1/2)), ln 2 where p(k-1/2) = 0 (the top).
+  // One level's t and q at a time: their messages are decoded once and dropped.
+  out.h.assign(nz * nc, std::numeric_limits<double>::quiet_NaN());
+  std::size_t next = 0;  // the next level read, counted from the bottom
+  for (std::size_t i = 0; i < tMsgs->size(); ++i) {
+    const std::size_t level = nlev - i;
+    auto temperature = columnValues(c, *tVar, {(*tMsgs)[i]}, hz, &s.vertical);
+    if (!temperature) return temperature.forwardError();
+    c.content.forget(*(*tMsgs)[i]);
+    std::vector<double> humidity;
+    if (qMsgs) {
+      auto q = columnValues(c, *qVar, {(*qMsgs)[i]}, hz, &s.vertical);
+      if (!q) return q.forwardError();
+      c.content.forget(*(*qMsgs)[i]);
+      humidity = std::move(*q);
+    }
+    const bool wanted = next < nz && modelLevel[next] == level;
+    for (std::size_t col = 0; col < nc; ++col) {
+      const double temp = (*temperature)[col], q = qMsgs ? humidity[col] : 0.0;
+      if (!std::isfinite(temp) || !(temp > 0))
+        return varError(
+            c, *tVar,
+            "temperature missing or not positive at model level " + std::to_string(level) + ", " + rowColumn(hz, col));
+      if (!std::isfinite(q))
+        return varError(c, *qVar,
+                        "humidity missing at model level " + std::to_string(level) + ", " + rowColumn(hz, col));
+      const double above = half(level - 1, ps[col]), below = half(level, ps[col]);
+      if (auto st = checkHalves(level, above, below, col); !st) return st;
+      const double rdTv = kDryAirGasConstant * temp * (1.0 + kVirtualTemperatureFactor * q);
+      const double dlogP = above > 0 ? std::log(below / above) : 0.0;
+      const double alpha = above > 0 ? 1.0 - above / (below - above) * dlogP : std::log(2.0);
+      if (wanted) out.h[next * nc + col] = (*phiHalf)[col] + alpha * rdTv;
+      (*phiHalf)[col] += rdTv * dlogP;
+    }
+    if (wanted) ++next;
+  }
+  for (double& x : out.h) x /= kStandardGravity;  // geopotential height
+  grid::geopotentialToGeometricHeights(lat, out.h);
+  out.source = HeightSource::HydrostaticIntegration;
+  out.fromVariable = tVar->key();
+  const std::string zText =
+      "'" + surfaceZ->key() + "'" +
+      (orog                                ? " (m, as geopotential)"
+       : surfaceZ->typeOfLevel == "hybrid" ? " on model level 1"
+                                           : "") +
+      (zt.exact ? "" : " (valid at " + iso(surfaceZ->validity[zt.t].first, surfaceZ->validity[zt.t].second) + ")");
+  const std::string tvText = qMsgs ? "Tv = T (1 + 0.609133 q) of '" + tVar->key() + "' and '" + qVar->key() + "'"
+                                   : "Tv = T of '" + tVar->key() +
+                                         "' (no q on all those levels: dry air, heights low by "
+                                         "up to a few tens of metres in moist air)";
+  out.note =
+      what +
+      "; geopotential by hydrostatic integration (IFS: Rd = 287.06 J kg-1 K-1) upward from the surface geopotential " +
+      zText + " with " + tvText + " on model levels " + std::to_string(nlev) + " .. " + std::to_string(top) +
+      ", / 9.80665 -> geometric height above mean sea level (WGS84 normal gravity)";
+  return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+}
+
+/// GRIB generalVertical / generalVerticalLayer levels (ICON, COSMO): numbered from the top, their
+/// heights from the half-level heights `HHL` (geometric, above mean sea level; one more half level
+/// than full levels): a generalVertical level's height is HHL's at the same level, a
+/// generalVerticalLayer layer k's the mean of HHL's at half levels k and k + 1 (its bottomLevel).
+/// HHL at the same validity and member when the file has it there, else its first (models write
+/// it once).
+Status generalVerticalHeights(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid,
+                              const std::vector<double>& lat, const std::vector<double>& lon, Selected& s) {
+  const grid::Horizontal& hz = s.hz;
+  const std::size_t nc = hz.rows.size() * hz.cols.size(), nz = s.levels.size();
+  grid::Heights& out = s.heights;
+  const Variable* hhl = findVar(c, "HHL", "generalVertical", v);
+  if (!hhl)
+    return varError(c, v,
+                    "GRIB " + v.typeOfLevel +
+                        " levels take their heights from the half-level heights HHL, and the file has none on this "
+                        "grid");
+  const bool layer = v.typeOfLevel == "generalVerticalLayer";
+  const double firstLevel = v.levels[s.levels.front()];
+  if (layer && s.bottomLevel != static_cast<long>(firstLevel) + 1)
+    return varError(c, v,
+                    "message at byte " + std::to_string(s.firstOffset) + ": layer " + levelText(firstLevel) +
+                        " has its bottom at level " + std::to_string(s.bottomLevel) + ", not " +
+                        levelText(firstLevel + 1) + ": only layers between half levels k and k + 1 are read");
+  const FieldTime ft = fieldTime(*hhl, v, t, member);
+  std::vector<std::size_t> idx;  // per level read: its half level(s)
+  for (std::size_t k : s.levels) {
+    const double l = v.levels[k];
+    for (double h : layer ? std::vector<double>{l, l + 1} : std::vector<double>{l}) {
+      auto at = levelIndex(*hhl, h);
+      if (!at)
+        return varError(c, v,
+                        "'" + hhl->key() + "' has no half level " + levelText(h) + " (needed for " +
+                            (layer ? "layer " : "level ") + levelText(l) + ")");
+      idx.push_back(*at);
+    }
+  }
+  auto msgs = pick(c, *hhl, ft.t, ft.member, idx);
+  if (!msgs) return msgs.forwardError();
+  auto halves = columnValues(c, *hhl, *msgs, hz, &s.vertical);
+  if (!halves) return halves.forwardError();
+  for (std::size_t i = 0; i < halves->size(); ++i)
+    if (!std::isfinite((*halves)[i]))
+      return varError(
+          c, *hhl,
+          "half-level height missing at level " + levelText((*msgs)[i / nc]->level) + ", " + rowColumn(hz, i % nc));
+  const std::size_t per = layer ? 2 : 1;
+  out.h.assign(nz * nc, 0.0);
+  for (std::size_t k = 0; k < nz; ++k)
+    for (std::size_t col = 0; col < nc; ++col) {
+      double sum = 0;
+      for (std::size_t j = 0; j < per; ++j) sum += (*halves)[(k * per + j) * nc + col];
+      out.h[k * nc + col] = sum / static_cast<double>(per);
+    }
+  out.source = HeightSource::HeightField;
+  out.fromVariable = hhl->key();
+  const std::string hhlText =
+      "'" + hhl->key() + "'" +
+      (ft.exact ? "" : " (valid at " + iso(hhl->validity[ft.t].first, hhl->validity[ft.t].second) + ")");
+  out.note = layer ? "generalised vertical layers (GRIB generalVerticalLayer, ICON/COSMO): layer k at the mean of the "
+                     "half-level heights k and k+1 of " +
+                         hhlText + " (geometric, above mean sea level)"
+                   : "generalised vertical levels (GRIB generalVertical, ICON/COSMO): the half-level heights of " +
+                         hhlText + " at the same levels (geometric, above mean sea level)";
+  return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+}
 
 /// The heights of the selection by the level type (rules: docs/grids.md, "GRIB").
 Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid, Selected& s) {
@@ -281,12 +699,17 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   const double toSi = levelToSi(v.typeOfLevel);
   for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
   out.fromVariable = v.key();
+  if (isModelLevelType(v.typeOfLevel)) {
+    out.levelUnits = kModelLevelUnits;
+    if (v.typeOfLevel == "hybrid") return hybridHeights(c, v, t, member, useGeoid, lat, lon, s);
+    return generalVerticalHeights(c, v, t, member, useGeoid, lat, lon, s);
+  }
   if (isPressureType(v.typeOfLevel)) {
     out.levelUnits = "Pa";
     const std::string what = "pressure levels (GRIB " + v.typeOfLevel + ")";
     // The geopotential of the same level type, time and member: z (m2 s-2) or gh (gpm).
     for (const char* name : {"z", "gh"}) {
-      const Variable* g = findVar(c, name, v.typeOfLevel);
+      const Variable* g = findVar(c, name, v.typeOfLevel, v);
       if (!g || std::find(g->validity.begin(), g->validity.end(), v.validity[t]) == g->validity.end() ||
           std::find(g->members.begin(), g->members.end(), member) == g->members.end())
         continue;
@@ -326,14 +749,10 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   const std::string datum = v.typeOfLevel == "surface" ? "the surface (GRIB surface: 0 m above ground)"
                                                        : "heights above ground (GRIB heightAboveGround)";
   for (const char* name : {"orog", "z"}) {
-    const Variable* g = findVar(c, name, "surface");
+    const Variable* g = findVar(c, name, "surface", v);
     if (!g) continue;
-    std::size_t gt = 0;
-    if (auto at = std::find(g->validity.begin(), g->validity.end(), v.validity[t]); at != g->validity.end())
-      gt = static_cast<std::size_t>(at - g->validity.begin());
-    const long gm = std::find(g->members.begin(), g->members.end(), member) != g->members.end() ? member
-                                                                                                : g->members.front();
-    auto msgs = pick(c, *g, gt, gm, {0});
+    const FieldTime ft = fieldTime(*g, v, t, member);
+    auto msgs = pick(c, *g, ft.t, ft.member, {0});
     if (!msgs) continue;
     auto surf = columnValues(c, *g, *msgs, hz);
     if (!surf) return surf.forwardError();
@@ -456,16 +875,20 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
     s.levels.push_back(k);
   auto msgs = pick(c, v, t, member, s.levels);
   if (!msgs) return msgs.forwardError();
-  auto axes = decode(c, v, *msgs->front(), true, false);
+  const bool modelLevels = isModelLevelType(v.typeOfLevel);
+  auto axes = decode(c, v, *msgs->front(), true, false, modelLevels);
   if (!axes) return axes.forwardError();
   s.latRows = std::move(axes->latRows);
   s.lonCols = std::move(axes->lonCols);
   s.projected = std::move(axes->projected);
+  s.vertical = std::move(axes->vertical);
+  s.bottomLevel = axes->bottomLevel;
+  s.firstOffset = msgs->front()->offset;
   auto hz = horizontalOf(c, v, s, crop, sample);
   if (!hz) return hz.forwardError();
   s.hz = std::move(*hz);
   if (wantValues) {
-    auto values = columnValues(c, v, *msgs, s.hz);
+    auto values = columnValues(c, v, *msgs, s.hz, modelLevels ? &s.vertical : nullptr);
     if (!values) return values.forwardError();
     s.values.resize(values->size());
     for (std::size_t i = 0; i < values->size(); ++i)
@@ -480,6 +903,8 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
 
 VerticalKind verticalKindOf(const std::string& typeOfLevel) {
   if (isPressureType(typeOfLevel)) return VerticalKind::Pressure;
+  if (typeOfLevel == "hybrid") return VerticalKind::HybridSigmaPressure;
+  if (isGeneralVertical(typeOfLevel)) return VerticalKind::GeneralVertical;
   if (typeOfLevel == "heightAboveSea") return VerticalKind::HeightAboveSeaLevel;
   return VerticalKind::HeightAboveGround;
 }

@@ -23,6 +23,7 @@ const char* toString(VerticalKind k) {
     case VerticalKind::Sigma: return "sigma";
     case VerticalKind::HybridHeight: return "hybrid height";
     case VerticalKind::WrfEta: return "WRF eta";
+    case VerticalKind::GeneralVertical: return "generalised vertical (ICON/COSMO)";
   }
   return "?";
 }
@@ -33,6 +34,8 @@ const char* toString(HeightSource s) {
     case HeightSource::GeopotentialField: return "geopotential field";
     case HeightSource::WrfGeopotential: return "WRF geopotential (PH+PHB)";
     case HeightSource::StandardAtmosphere: return "standard atmosphere";
+    case HeightSource::HydrostaticIntegration: return "hydrostatic integration";
+    case HeightSource::HeightField: return "height field";
   }
   return "?";
 }
@@ -466,6 +469,9 @@ Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, con
     case VerticalKind::Sigma: st = sigmaHeights(in, out); break;
     case VerticalKind::HybridHeight: st = hybridHeightHeights(in, out); break;
     case VerticalKind::WrfEta: st = wrfEtaHeights(in, out); break;
+    case VerticalKind::GeneralVertical:  // GRIB only (GribReader.cpp): no netCDF layout has it
+      st = makeError(f.path() + ": variable '" + l.var.name + "': generalised vertical levels are read from GRIB only");
+      break;
   }
   if (!st) return st.forwardError();
   if (seaLevel)

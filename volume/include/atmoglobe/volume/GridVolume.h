@@ -28,10 +28,12 @@ enum class VerticalKind {
   HeightAboveGround,     ///< lengths above the surface (standard_name height): surface altitude added
   GeopotentialHeight,    ///< levels in geopotential metres (gpm; standard_name geopotential_height)
   Pressure,              ///< isobaric levels (units Pa, hPa ... or standard_name air_pressure)
-  HybridSigmaPressure,   ///< CF atmosphere_hybrid_sigma_pressure_coordinate: p = a p0 + b ps or ap + b ps
+  HybridSigmaPressure,   ///< CF atmosphere_hybrid_sigma_pressure_coordinate: p = a p0 + b ps or ap + b ps; GRIB
+                         ///< hybrid (model) levels: p = a + b ps from the `pv` coefficients
   Sigma,                 ///< CF atmosphere_sigma_coordinate: p = ptop + sigma (ps - ptop)
   HybridHeight,          ///< CF atmosphere_hybrid_height_coordinate: z = a + b orog
   WrfEta,                ///< WRF terrain-following eta levels (bottom_top)
+  GeneralVertical,       ///< GRIB generalVertical(Layer) (ICON, COSMO): heights from the half-level height field HHL
 };
 const char* toString(VerticalKind k);
 
@@ -41,6 +43,10 @@ enum class HeightSource {
   GeopotentialField,   ///< a geopotential (or geopotential height) field of the file on the same levels
   WrfGeopotential,     ///< WRF (PH + PHB) / 9.81 on the staggered W levels, averaged to mass levels
   StandardAtmosphere,  ///< pressure converted by the standard atmosphere: approximate
+  /// Hydrostatic integration upward from the surface geopotential with the file's temperature
+  /// (and humidity) on every model level below (GRIB hybrid levels, as IFS computes them)
+  HydrostaticIntegration,
+  HeightField,  ///< a field of heights of the file on the same levels (ICON/COSMO HHL, half levels averaged)
 };
 const char* toString(HeightSource s);
 
@@ -97,8 +103,9 @@ struct GridVolume {
   std::string heightNote;           ///< one line: how heights were derived and from what
   bool approximateHeights = false;  ///< true: the heights are an estimate (standard atmosphere, datum guessed)
   /// The vertical coordinate's own value for each level read, bottom first (Pa for pressure
-  /// levels, m for heights, the dimensionless coordinate for hybrid/sigma/eta; empty when the
-  /// file has no 1-D coordinate values, e.g. WRF without ZNU) and its units.
+  /// levels, m for heights, the dimensionless coordinate for hybrid/sigma/eta; GRIB hybrid and
+  /// generalVertical levels: the model level number, 1 = top, units "model level"; empty when
+  /// the file has no 1-D coordinate values, e.g. WRF without ZNU) and its units.
   std::vector<double> levelValues;
   std::string levelUnits;
 
