@@ -473,6 +473,16 @@ TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
   ASSERT_TRUE(g.ok()) << g.error();
   ASSERT_EQ(g->nz, 3u);
   ASSERT_TRUE(g->curvilinear);
+  // The messages read (what the bench's ecCodes floor decodes again): the three levels, each once,
+  // at the offsets where they were written, adding up to bytesRead.
+  ASSERT_EQ(g->gribMessagesRead.size(), 3u);
+  std::uint64_t sum = 0;
+  for (const auto& [offset, length] : g->gribMessagesRead) {
+    EXPECT_EQ(content.compare(offset, 4, "GRIB"), 0) << offset;
+    sum += length;
+  }
+  EXPECT_EQ(sum, g->bytesRead);
+  EXPECT_EQ(sum, content.size());
   GridSampler s(*g);
   std::size_t checked = 0;
   for (std::size_t k = 0; k < g->nz; ++k)

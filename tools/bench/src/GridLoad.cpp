@@ -6,12 +6,15 @@
 #include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/GridReader.h>
 
+#include <eccodes.h>
 #include <netcdf.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <ostream>
 
 namespace atmoglobe::bench {
@@ -150,6 +153,37 @@ Result<std::vector<Hyperslab>> cropHyperslabs(const std::string& path, const vol
   return out;
 }
 
+namespace {
+
+/// The floor of a GRIB read: the messages (offset, length) read from the file and decoded by
+/// ecCodes (values only). Returns the bytes read.
+Result<std::uint64_t> decodeGribMessages(const std::string& path,
+                                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& messages) {
+  std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return makeError(path + ": cannot be opened");
+  std::vector<unsigned char> buffer;
+  std::vector<double> values;
+  std::uint64_t total = 0;
+  for (const auto& [offset, length] : messages) {
+    buffer.resize(length);
+    if (fseeko(f.get(), static_cast<off_t>(offset), SEEK_SET) != 0 ||
+        std::fread(buffer.data(), 1, buffer.size(), f.get()) != buffer.size())
+      return makeError(path + ": message at byte " + std::to_string(offset) + " cannot be read");
+    std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
+        codes_handle_new_from_message(nullptr, buffer.data(), buffer.size()), &codes_handle_delete);
+    std::size_t n = 0;
+    if (!h || codes_get_size(h.get(), "values", &n) != CODES_SUCCESS)
+      return makeError(path + ": message at byte " + std::to_string(offset) + ": ecCodes cannot decode it");
+    values.resize(n);
+    if (codes_get_double_array(h.get(), "values", values.data(), &n) != CODES_SUCCESS)
+      return makeError(path + ": message at byte " + std::to_string(offset) + ": values cannot be decoded");
+    total += length;
+  }
+  return total;
+}
+
+}  // namespace
+
 int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
   nlohmann::json job, result;
   try {
@@ -179,6 +213,20 @@ int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
       result["bytes"] = g->bytesRead;
       result["columns"] = g->nx * g->ny;
       result["levels"] = g->nz;
+    }
+  } else if (mode == "grib-floor") {
+    // Plain ecCodes: each message's bytes read at its offset and its values decoded, nothing else.
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> messages;
+    for (const auto& m : job["messages"]) messages.emplace_back(m[0].get<std::uint64_t>(), m[1].get<std::uint64_t>());
+    for (int r = 0; r < runs; ++r) {
+      const auto t0 = Clock::now();
+      auto bytes = decodeGribMessages(path, messages);
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      if (!bytes) {
+        result["error"] = bytes.error();
+        break;
+      }
+      result["bytes"] = *bytes;
     }
   } else if (mode == "floor") {
     std::vector<Hyperslab> slabs;
@@ -224,6 +272,21 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
     job["mode"] = "reader";
     if (crop) job["crop"] = {crop->southDeg, crop->northDeg, crop->westDeg, crop->eastDeg};
     c.reader = spawnProbe(selfExe, dir, tag + "-reader", job);
+    if (!read->gribMessagesRead.empty() || read->format.rfind("GRIB", 0) == 0) {
+      // GRIB: the floor decodes the same messages with plain ecCodes.
+      if (read->gribCompressed) {
+        c.floor.error = "a gzip/bzip2 GRIB file has no plain-ecCodes floor (its offsets are in the unwrapped content)";
+      } else {
+        job = base;
+        job["mode"] = "grib-floor";
+        job["messages"] = read->gribMessagesRead;
+        c.floor = spawnProbe(selfExe, dir, tag + "-floor", job);
+      }
+      log << " reader " << formatG(c.reader.medianMs, 4) << " ms, ecCodes floor " << formatG(c.floor.medianMs, 4)
+          << " ms\n";
+      cases.push_back(c);
+      return;
+    }
     auto slabs = cropHyperslabs(v.path, *read, v.heightVariables);
     if (!slabs) {
       c.floor.error = slabs.error();
@@ -245,8 +308,8 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
     addCase(view.name + " crop", &view.crop, &*cropped);
   }
   addCase("whole time step", nullptr, v.grid.get());
-  // The whole variable, every time step: the floor only (the reader reads one step).
-  {
+  // The whole variable, every time step: the floor only (the reader reads one step); netCDF only.
+  if (v.grid->gribMessagesRead.empty()) {
     LoadCase c;
     c.grid = v.key;
     c.name = "whole variable (all steps)";

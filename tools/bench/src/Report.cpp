@@ -248,7 +248,9 @@ void writeGridMarkdown(std::ostream& md, const BenchReport& r) {
     md << "\n## Load: the reader against the I/O floor\n\n"
           "Each case in a fresh child process (peak = its VmHWM); median of the timed runs, page cache warm. Floor: "
           "plain nc_get_vara of the same hyperslabs (the variable and what the heights come from) into a buffer "
-          "of the stored type, no conversion. Bytes: the reader's bytesRead / the floor's elements x stored size.\n\n"
+          "of the stored type, no conversion; for GRIB, plain ecCodes: the same messages (the variable's and those "
+          "its heights come from) read at their offsets and their values decoded. Bytes: the reader's bytesRead / "
+          "the floor's elements x stored size (GRIB: message bytes).\n\n"
           "| grid | case | columns x levels | reader (ms) | floor (ms) | reader / floor | reader bytes | floor bytes | "
           "reader peak (MB) | floor peak (MB) |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const LoadCase& c : r.loads) {

@@ -341,6 +341,7 @@ Result<const std::vector<unsigned char>*> GribContent::read(const GribMessage& m
                        " bytes) is cut short (the file changed since it was indexed)");
   }
   bytesRead_ += m.length;
+  reads_.emplace_back(m.offset, m.length);
   return &(read_[m.offset] = std::move(out));
 }
 

@@ -73,6 +73,8 @@ class GribContent {
   /// of a hydrostatic integration, one level at a time); read again, it is counted again.
   void forget(const GribMessage& m) { read_.erase(m.offset); }
   std::uint64_t bytesRead() const { return bytesRead_; }
+  /// Every read counted in bytesRead: (offset, length) in the content, in order.
+  const std::vector<std::pair<std::uint64_t, std::uint64_t>>& reads() const { return reads_; }
 
  private:
   std::string path_, label_;
@@ -80,6 +82,7 @@ class GribContent {
   bool compressed_ = false;
   std::map<std::uint64_t, std::vector<unsigned char>> read_;  ///< by offset
   std::uint64_t bytesRead_ = 0;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> reads_;
 };
 
 /// A projected grid's points (GribProjection.cpp): latitude and longitude (degrees) of file row r

@@ -981,6 +981,8 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.validTime = g.times[*t];
   g.member = *member;
   g.bytesRead = c.content.bytesRead();
+  g.gribMessagesRead = c.content.reads();
+  g.gribCompressed = idx->compression != "none";
   return g;
 }
 
