@@ -39,18 +39,21 @@ struct Variable {
   std::vector<std::pair<long, long>> validity;  ///< distinct (validityDate, validityTime), ascending
   std::vector<long> members;                    ///< distinct `number`, ascending ({-1}: none)
   std::vector<std::string> steps;
-  long ni = 0, nj = 0;
+  long ni = 0, nj = 0, points = 0;
   std::string notReadable;  ///< "" when the read handles it
   std::string key() const { return shortName + ":" + typeOfLevel; }
 };
 
 bool isPressureType(const std::string& t) { return t == "isobaricInhPa" || t == "isobaricInPa"; }
 
+/// Reduced grids: rows of different lengths (the pl array), each equally spaced in longitude.
+bool isReduced(const std::string& gridType) { return gridType == "reduced_gg" || gridType == "reduced_ll"; }
+
 /// The level type's factor to SI (Pa or m), or 0 when this stage does not read it.
 double levelToSi(const std::string& t) {
   if (t == "isobaricInhPa") return 100.0;
   if (t == "isobaricInPa") return 1.0;
-  if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface") return 1.0;
+  if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface" || t == "meanSea") return 1.0;
   return 0.0;
 }
 
@@ -79,11 +82,12 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       v.units = m.units;
       v.ni = m.ni;
       v.nj = m.nj;
+      v.points = m.points;
       vars.push_back(std::move(v));
     }
     Variable& v = vars[it->second];
     v.messages.push_back(i);
-    if (m.gridType != v.gridType || m.ni != v.ni || m.nj != v.nj)
+    if (m.gridType != v.gridType || m.ni != v.ni || m.nj != v.nj || m.points != v.points)
       v.notReadable = "its messages are on different grids (" + v.gridType + " " + std::to_string(v.ni) + " x " +
                       std::to_string(v.nj) + " and " + m.gridType + " " + std::to_string(m.ni) + " x " +
                       std::to_string(m.nj) + ")";
@@ -109,11 +113,13 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       return a.size() != b.size() ? a.size() < b.size() : a < b;  // 3 before 12
     });
     if (!v.notReadable.empty()) continue;
-    if (v.gridType != "regular_ll" && v.gridType != "regular_gg")
+    if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isReduced(v.gridType))
       v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
     else if (v.typeOfLevel == "hybrid") v.notReadable = "GRIB hybrid (model) levels are not read yet";
     else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
-    else if (v.ni < 1 || v.nj < 1) v.notReadable = "GRIB grid without Ni x Nj points";
+    else if (isReduced(v.gridType) && (v.nj < 1 || v.points < 1))
+      v.notReadable = "GRIB reduced grid without rows (Nj) or points";
+    else if (!isReduced(v.gridType) && (v.ni < 1 || v.nj < 1)) v.notReadable = "GRIB grid without Ni x Nj points";
   }
   return vars;
 }
@@ -145,7 +151,12 @@ struct Decoded {
   long ni = 0, nj = 0;
   bool jConsecutive = false;
   std::vector<double> latRows, lonCols;  ///< per file row / column
-  std::vector<double> values;            ///< file order; NaN at missing points
+  // Reduced grids (axes): the points of each file row, every point's latitude and longitude
+  // (message order), whether rows run west.
+  std::vector<long> pl;
+  std::vector<double> pointLat, pointLon;
+  bool westward = false;
+  std::vector<double> values;  ///< file order; NaN at missing points
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
   }
@@ -165,29 +176,71 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
   const std::string where = "message at byte " + std::to_string(m.offset);
   if (!h) return varError(c, v, where + ": ecCodes cannot decode it");
   Decoded d;
-  long jc = 0, alt = 0;
+  long jc = 0, alt = 0, west = 0;
+  const bool reduced = isReduced(v.gridType);
   codes_get_long(h.get(), "Ni", &d.ni);
   codes_get_long(h.get(), "Nj", &d.nj);
   codes_get_long(h.get(), "jPointsAreConsecutive", &jc);
   codes_get_long(h.get(), "alternativeRowScanning", &alt);
+  codes_get_long(h.get(), "iScansNegatively", &west);
   d.jConsecutive = jc != 0;
+  d.westward = west != 0;
   if (alt != 0) return varError(c, v, where + ": alternative row scanning is not read yet");
-  if (d.ni != m.ni || d.nj != m.nj || d.ni < 1 || d.nj < 1)
-    return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
-  const std::size_t n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
+  std::size_t n = 0;
+  std::string gridText;
+  if (reduced) {
+    // Rows of pl[r] points each, one after the other (points along a row consecutive).
+    if (d.jConsecutive) return varError(c, v, where + ": a reduced grid with consecutive points along meridians");
+    long points = 0;
+    codes_get_long(h.get(), "numberOfPoints", &points);
+    if (d.nj != m.nj || d.nj < 1 || points != m.points || points < 1)
+      return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
+    n = static_cast<std::size_t>(points);
+    gridText = std::to_string(d.nj) + " rows of " + std::to_string(n) + " points";
+    if (wantAxes) {
+      std::size_t size = 0;
+      if (codes_get_size(h.get(), "pl", &size) != CODES_SUCCESS || size != static_cast<std::size_t>(d.nj))
+        return varError(c, v,
+                        where + ": a reduced grid needs pl, the points of each of its " + std::to_string(d.nj) +
+                            " rows (has " + std::to_string(size) + ")");
+      d.pl.resize(size);
+      if (int err = codes_get_long_array(h.get(), "pl", d.pl.data(), &size); err != CODES_SUCCESS)
+        return varError(c, v, where + ": pl: " + codes_get_error_message(err));
+      // Before ecCodes computes positions from it: pl must count the message's points.
+      long long total = 0;
+      for (std::size_t r = 0; r < d.pl.size(); ++r) {
+        if (d.pl[r] < 0)
+          return varError(c, v,
+                          where + ": pl[" + std::to_string(r) + "] = " + std::to_string(d.pl[r]) + " is negative");
+        total += d.pl[r];
+      }
+      if (total != static_cast<long long>(n))
+        return varError(c, v,
+                        where + ": the reduced grid's pl counts " + std::to_string(total) + " points in its " +
+                            std::to_string(d.nj) + " rows, the message has " + std::to_string(n) +
+                            " (pl inconsistent with the values, or a sub-area whose pl counts whole circles: not "
+                            "read yet)");
+    }
+  } else {
+    if (d.ni != m.ni || d.nj != m.nj || d.ni < 1 || d.nj < 1)
+      return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
+    n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
+    gridText = std::to_string(d.ni) + " x " + std::to_string(d.nj) + " points";
+  }
   auto array = [&](const char* key, std::vector<double>& out) -> Status {
     std::size_t size = 0;
     int err = codes_get_size(h.get(), key, &size);
     if (err == CODES_SUCCESS && size != n)
-      return varError(c, v,
-                      where + ": " + std::to_string(size) + " " + key + " for " + std::to_string(d.ni) + " x " +
-                          std::to_string(d.nj) + " points");
+      return varError(c, v, where + ": " + std::to_string(size) + " " + key + " for " + gridText);
     out.resize(n);
     if (err == CODES_SUCCESS) err = codes_get_double_array(h.get(), key, out.data(), &size);
     if (err != CODES_SUCCESS) return varError(c, v, where + ": " + key + ": " + codes_get_error_message(err));
     return Ok{};
   };
-  if (wantAxes) {
+  if (wantAxes && reduced) {
+    if (auto st = array("latitudes", d.pointLat); !st) return st.forwardError();
+    if (auto st = array("longitudes", d.pointLon); !st) return st.forwardError();
+  } else if (wantAxes) {
     std::vector<double> lat, lon;
     if (auto st = array("latitudes", lat); !st) return st.forwardError();
     if (auto st = array("longitudes", lon); !st) return st.forwardError();
@@ -228,47 +281,67 @@ Result<std::vector<const GribMessage*>> pick(const Context& c, const Variable& v
   return out;
 }
 
-/// A field of another variable (geopotential, orography) at the same validity and member on the
-/// given levels (values), or nullopt when the file does not hold all of them.
-const Variable* findVar(const Context& c, const std::string& shortName, const std::string& typeOfLevel) {
+/// The variable `shortName` of level type `typeOfLevel` on the grid of `like` (another field the
+/// heights take: geopotential, orography), or nullptr.
+const Variable* findVar(const Context& c, const std::string& shortName, const std::string& typeOfLevel,
+                        const Variable& like) {
   for (const Variable& v : c.vars)
-    if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && v.notReadable.empty()) return &v;
+    if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && v.notReadable.empty() &&
+        v.gridType == like.gridType && v.ni == like.ni && v.nj == like.nj && v.points == like.points)
+      return &v;
   return nullptr;
-}
-
-/// The values of `msgs` at the selected columns, level-major (nz x nc).
-Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
-                                         const grid::Horizontal& hz) {
-  std::vector<double> out;
-  out.reserve(msgs.size() * hz.rows.size() * hz.cols.size());
-  for (const GribMessage* m : msgs) {
-    auto d = decode(c, v, *m, false, true);
-    if (!d) return d.forwardError();
-    for (std::size_t r : hz.rows)
-      for (std::size_t col : hz.cols) out.push_back(d->values[d->at(r, col)]);
-  }
-  return out;
 }
 
 /// What a read (or describe's sample) produces.
 struct Selected {
-  std::vector<double> latRows, lonCols;  ///< the file's axes
-  grid::Horizontal hz;
+  std::vector<double> latRows, lonCols;  ///< the file's axes (rectilinear)
+  grid::Horizontal hz;                   ///< the kept rows and columns (reduced: red.hz)
+  bool reduced = false;
+  grid::ReducedHorizontal red;  ///< a reduced grid's kept rows and points
+  // A reduced grid's file axes: the points of each row, every point's latitude and longitude.
+  std::vector<long> pl;
+  std::vector<double> pointLat, pointLon;
+  bool westward = false;
+  /// Every output column's latitude and longitude: rectilinear hz.rows x hz.cols, row-major; a
+  /// reduced grid's kept points, packed (red.points).
+  std::vector<double> colLat, colLon;
   std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
   grid::Heights heights;
-  std::vector<float> values;  ///< nz x ny x nx (empty unless asked)
+  std::vector<float> values;  ///< nz x columns (empty unless asked)
+  std::size_t columns() const { return colLat.size(); }
+  /// Column c in messages: its file row and column (reduced: its point in the message).
+  std::string columnName(std::size_t col) const {
+    if (reduced)
+      return "row " + std::to_string(hz.rows[red.pointRow[col]]) + " (latitude " + grid::num(colLat[col]) +
+             "), point " + std::to_string(red.points[col]) + " of the message";
+    const std::size_t nx = hz.cols.size();
+    return "row " + std::to_string(hz.rows[col / nx]) + ", column " + std::to_string(hz.cols[col % nx]);
+  }
 };
+
+/// The values of `msgs` at the selected columns, level-major (nz x columns).
+Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
+                                         const Selected& s) {
+  std::vector<double> out;
+  out.reserve(msgs.size() * s.columns());
+  for (const GribMessage* m : msgs) {
+    auto d = decode(c, v, *m, false, true);
+    if (!d) return d.forwardError();
+    if (s.reduced) {
+      for (std::size_t p : s.red.points) out.push_back(d->values[p]);  // p < numberOfPoints: decode checked
+      continue;
+    }
+    for (std::size_t r : s.hz.rows)
+      for (std::size_t col : s.hz.cols) out.push_back(d->values[d->at(r, col)]);
+  }
+  return out;
+}
 
 /// The heights of the selection by the level type (rules: docs/grids.md, "GRIB").
 Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid, Selected& s) {
-  const grid::Horizontal& hz = s.hz;
-  const std::size_t nx = hz.cols.size(), nc = hz.rows.size() * nx, nz = s.levels.size();
-  std::vector<double> lat(nc), lon(nc);
-  for (std::size_t j = 0; j < hz.rows.size(); ++j)
-    for (std::size_t i = 0; i < nx; ++i) {
-      lat[j * nx + i] = hz.latDeg[j];
-      lon[j * nx + i] = hz.lonDeg[i];
-    }
+  const std::size_t nc = s.columns(), nz = s.levels.size();
+  const std::vector<double>& lat = s.colLat;
+  const std::vector<double>& lon = s.colLon;
   grid::Heights& out = s.heights;
   const double toSi = levelToSi(v.typeOfLevel);
   for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
@@ -278,7 +351,7 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
     const std::string what = "pressure levels (GRIB " + v.typeOfLevel + ")";
     // The geopotential of the same level type, time and member: z (m2 s-2) or gh (gpm).
     for (const char* name : {"z", "gh"}) {
-      const Variable* g = findVar(c, name, v.typeOfLevel);
+      const Variable* g = findVar(c, name, v.typeOfLevel, v);
       if (!g || std::find(g->validity.begin(), g->validity.end(), v.validity[t]) == g->validity.end() ||
           std::find(g->members.begin(), g->members.end(), member) == g->members.end())
         continue;
@@ -293,7 +366,7 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
       if (gl.size() != nz) continue;
       auto msgs = pick(c, *g, gt, member, gl);
       if (!msgs) continue;
-      auto values = columnValues(c, *g, *msgs, hz);
+      auto values = columnValues(c, *g, *msgs, s);
       if (!values) return values.forwardError();
       const bool geopotential = std::string(name) == "z";
       if (geopotential)
@@ -309,8 +382,9 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   out.h.assign(nz * nc, 0.0);
   for (std::size_t k = 0; k < nz; ++k)
     for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] = out.levelValues[k];
-  if (v.typeOfLevel == "heightAboveSea") {
-    out.note = "heights above mean sea level (GRIB heightAboveSea)";
+  if (v.typeOfLevel == "heightAboveSea" || v.typeOfLevel == "meanSea") {
+    out.note = v.typeOfLevel == "meanSea" ? "mean sea level (GRIB meanSea: 0 m above mean sea level)"
+                                          : "heights above mean sea level (GRIB heightAboveSea)";
     return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
   }
   // The surface altitude: orog (m) or the surface geopotential z (m2 s-2), at this time and member
@@ -318,7 +392,7 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   const std::string datum = v.typeOfLevel == "surface" ? "the surface (GRIB surface: 0 m above ground)"
                                                        : "heights above ground (GRIB heightAboveGround)";
   for (const char* name : {"orog", "z"}) {
-    const Variable* g = findVar(c, name, "surface");
+    const Variable* g = findVar(c, name, "surface", v);
     if (!g) continue;
     std::size_t gt = 0;
     if (auto at = std::find(g->validity.begin(), g->validity.end(), v.validity[t]); at != g->validity.end())
@@ -327,17 +401,14 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
                                                                                                 : g->members.front();
     auto msgs = pick(c, *g, gt, gm, {0});
     if (!msgs) continue;
-    auto surf = columnValues(c, *g, *msgs, hz);
+    auto surf = columnValues(c, *g, *msgs, s);
     if (!surf) return surf.forwardError();
     if (std::string(name) == "z") {
       for (double& x : *surf) x /= kStandardGravity;
       grid::geopotentialToGeometricHeights(lat, *surf);
     }
     for (std::size_t col = 0; col < nc; ++col)
-      if (!std::isfinite((*surf)[col]))
-        return varError(c, *g,
-                        "surface altitude missing at row " + std::to_string(hz.rows[col / nx]) + ", column " +
-                            std::to_string(hz.cols[col % nx]));
+      if (!std::isfinite((*surf)[col])) return varError(c, *g, "surface altitude missing at " + s.columnName(col));
     for (std::size_t k = 0; k < nz; ++k)
       for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] += (*surf)[col];
     out.note = datum + " + the surface altitude '" + g->key() + "'" +
@@ -439,30 +510,47 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
   if (!msgs) return msgs.forwardError();
   auto axes = decode(c, v, *msgs->front(), true, false);
   if (!axes) return axes.forwardError();
-  s.latRows = std::move(axes->latRows);
-  s.lonCols = std::move(axes->lonCols);
-  auto hz = grid::rectilinearAxes(
-      s.latRows, s.lonCols, crop, sample, [&](const std::string& what) { return varError(c, v, what); },
-      [&](const std::string& what) { return varError(c, v, what); });
-  if (!hz) return hz.forwardError();
-  s.hz = std::move(*hz);
+  const grid::CoordinateError error = [&](const std::string& what) { return varError(c, v, what); };
+  if (isReduced(v.gridType)) {
+    s.reduced = true;
+    s.pl = std::move(axes->pl);
+    s.pointLat = std::move(axes->pointLat);
+    s.pointLon = std::move(axes->pointLon);
+    s.westward = axes->westward;
+    auto red = grid::reducedAxes(s.pl, s.pointLat, s.pointLon, s.westward, crop, sample, error);
+    if (!red) return red.forwardError();
+    s.red = std::move(*red);
+    s.hz = s.red.hz;
+    s.colLat = s.red.pointLatDeg;
+    s.colLon = s.red.pointLonDeg;
+  } else {
+    s.latRows = std::move(axes->latRows);
+    s.lonCols = std::move(axes->lonCols);
+    auto hz = grid::rectilinearAxes(s.latRows, s.lonCols, crop, sample, error, error);
+    if (!hz) return hz.forwardError();
+    s.hz = std::move(*hz);
+    for (double la : s.hz.latDeg)
+      for (double lo : s.hz.lonDeg) {
+        s.colLat.push_back(la);
+        s.colLon.push_back(lo);
+      }
+  }
   if (wantValues) {
-    auto values = columnValues(c, v, *msgs, s.hz);
+    auto values = columnValues(c, v, *msgs, s);
     if (!values) return values.forwardError();
     s.values.resize(values->size());
     for (std::size_t i = 0; i < values->size(); ++i)
       s.values[i] = static_cast<float>((*values)[i]);  // as netCDF: float
   }
   if (auto st = heightsOf(c, v, t, member, useGeoid, s); !st) return st.forwardError();
-  const grid::Selection sel{t, s.levels, &s.hz, {}};
-  if (auto st = grid::checkHeights(c.label, s.heights, sel, s.hz.rows.size() * s.hz.cols.size()); !st)
-    return st.forwardError();
+  const grid::Selection sel{t, s.levels, &s.hz, {}, [&](std::size_t col) { return s.columnName(col); }};
+  if (auto st = grid::checkHeights(c.label, s.heights, sel, s.columns()); !st) return st.forwardError();
   return s;
 }
 
 VerticalKind verticalKindOf(const std::string& typeOfLevel) {
   if (isPressureType(typeOfLevel)) return VerticalKind::Pressure;
-  if (typeOfLevel == "heightAboveSea") return VerticalKind::HeightAboveSeaLevel;
+  if (typeOfLevel == "heightAboveSea" || typeOfLevel == "meanSea") return VerticalKind::HeightAboveSeaLevel;
   return VerticalKind::HeightAboveGround;
 }
 
@@ -509,21 +597,42 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.lonDeg = std::move(s->hz.lonDeg);
   g.wrapsLongitude = s->hz.wrapsLongitude;
   g.fileFirstRow = s->hz.rows.front();
-  g.fileFirstColumn = s->hz.cols.front();
+  g.fileFirstColumn = s->hz.cols.empty() ? 0 : s->hz.cols.front();  // reduced: 0 (set below)
   g.fileFirstLevel = s->levels.front();
   g.fileRowStep = s->hz.rowStep;
   g.fileColumnStep = s->hz.colStep;
   g.fileLevelStep = 1;  // levels are indexed bottom first (Variable::levels)
-  g.values = std::move(s->values);
+  const grid::Heights& h = s->heights;
+  if (s->reduced) {
+    // Rows padded to the longest (GridVolume.h): the packed points spread over nx columns.
+    const grid::ReducedHorizontal& red = s->red;
+    g.nx = red.nx;
+    g.fileFirstColumn = 0;
+    g.fileColumnStep = s->westward ? -1 : 1;
+    g.rowLengthPoints = red.rowLength;
+    g.rowFirstLonDeg = red.rowFirstLonDeg;
+    g.rowSpacingDeg = red.rowSpacingDeg;
+    const std::size_t points = s->columns(), plane = g.nx * g.ny;
+    g.values.assign(g.nz * plane, std::numeric_limits<float>::quiet_NaN());
+    g.heightAboveEllipsoidMeters.assign(g.nz * plane, std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t k = 0; k < g.nz; ++k)
+      for (std::size_t p = 0, j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < red.rowLength[j]; ++i, ++p) {
+          g.values[g.index(k, j, i)] = s->values[k * points + p];
+          g.heightAboveEllipsoidMeters[g.index(k, j, i)] = static_cast<float>(h.h[k * points + p]);
+        }
+    if (auto st = finishReducedGrid(g); !st) return varError(c, v, "reduced grid: " + st.error());
+  } else {
+    g.values = std::move(s->values);
+    g.heightAboveEllipsoidMeters.resize(h.h.size());
+    for (std::size_t i = 0; i < h.h.size(); ++i)
+      g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
+  }
   for (float x : g.values) {
     if (!std::isfinite(x)) continue;
     if (!(x >= g.valueMin)) g.valueMin = x;
     if (!(x <= g.valueMax)) g.valueMax = x;
   }
-  const grid::Heights& h = s->heights;
-  g.heightAboveEllipsoidMeters.resize(h.h.size());
-  for (std::size_t i = 0; i < h.h.size(); ++i)
-    g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
   g.verticalKind = verticalKindOf(v.typeOfLevel);
   g.heightSource = h.source;
   g.verticalVariable = v.typeOfLevel;
@@ -563,6 +672,7 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
     vi.levels = v.levels;
     vi.gridNi = static_cast<std::size_t>(std::max(0L, v.ni));
     vi.gridNj = static_cast<std::size_t>(std::max(0L, v.nj));
+    vi.gridPoints = static_cast<std::size_t>(std::max(0L, v.points));
     vi.timeCount = v.validity.size();
     vi.memberCount = v.members.front() < 0 ? 0 : v.members.size();
     vi.messageCount = v.messages.size();
@@ -594,11 +704,24 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
   info.heightColumnStride = stride;
   auto s = readSelection(c, v, 0, v.members.front(), GridCrop{}, stride, true, false);
   if (!s) return s.forwardError();
-  auto full = grid::rectilinearAxes(
-      s->latRows, s->lonCols, GridCrop{}, 1, [&](const std::string& what) { return varError(c, v, what); },
-      [&](const std::string& what) { return varError(c, v, what); });
-  if (!full) return full.forwardError();
-  grid::describeExtent(*full, false, info);
+  const grid::CoordinateError error = [&](const std::string& what) { return varError(c, v, what); };
+  if (s->reduced) {
+    auto full = grid::reducedAxes(s->pl, s->pointLat, s->pointLon, s->westward, GridCrop{}, 1, error);
+    if (!full) return full.forwardError();
+    grid::describeExtent(full->hz, false, info);
+    info.meanSpacingKm = full->meanSpacingKm();
+    info.reduced = true;
+    info.nx = full->nx;
+    info.ny = full->rowLength.size();
+    info.minRowLengthPoints = *std::min_element(full->rowLength.begin(), full->rowLength.end());
+    info.maxRowLengthPoints = full->nx;
+    info.gridPoints = full->points.size();
+    info.emptyRowsLeftOut = full->emptyRowsDropped;
+  } else {
+    auto full = grid::rectilinearAxes(s->latRows, s->lonCols, GridCrop{}, 1, error, error);
+    if (!full) return full.forwardError();
+    grid::describeExtent(*full, false, info);
+  }
   const grid::Heights& h = s->heights;
   info.heightSource = h.source;
   info.heightNote = h.note;
@@ -620,9 +743,11 @@ std::string levelsText(const std::vector<double>& levels) {
   return s;
 }
 
-/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths".
+/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths, 13280 points".
 std::string gridSize(const GridVariableInfo& v) {
-  if (v.gridNi == 0) return std::to_string(v.gridNj) + " rows of different lengths";
+  if (v.gridNi == 0)
+    return std::to_string(v.gridNj) + " rows of different lengths" +
+           (v.gridPoints > 0 ? ", " + std::to_string(v.gridPoints) + " points" : std::string());
   return std::to_string(v.gridNi) + " x " + std::to_string(v.gridNj) + " points";
 }
 
@@ -659,8 +784,17 @@ std::string describeGribText(const GridFileInfo& g) {
     if (v) os << "grid:       " << v->gridType << ", " << gridSize(*v) << "\n";
     os << "levels:     " << g.nz << " (" << g.zDimension << ")" << (v ? ": " + levelsText(v->levels) : "") << "\n";
   } else {
-    os << "grid:       " << (v ? v->gridType : std::string()) << " (rectilinear), " << g.nx << " x " << g.ny
-       << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+    if (g.reduced) {
+      os << "grid:       " << (v ? v->gridType : std::string()) << " (reduced: rows of different lengths), " << g.ny
+         << " rows of " << g.minRowLengthPoints << " .. " << g.maxRowLengthPoints << " points (" << g.gridPoints
+         << " points), ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+      if (g.emptyRowsLeftOut > 0)
+        os << "            " << g.emptyRowsLeftOut << " empty row" << (g.emptyRowsLeftOut == 1 ? "" : "s")
+           << " (pl 0) at the grid's ends left out\n";
+    } else {
+      os << "grid:       " << (v ? v->gridType : std::string()) << " (rectilinear), " << g.nx << " x " << g.ny
+         << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+    }
     os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3)
        << " deg, longitude " << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
        << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
@@ -713,6 +847,7 @@ std::string describeGribJson(const GridFileInfo& g) {
                     {"grid_type", v.gridType},
                     {"ni", v.gridNi},
                     {"nj", v.gridNj},
+                    {"points", v.gridPoints},
                     {"times", v.timeCount},
                     {"members", v.memberCount},
                     {"messages", v.messageCount},
@@ -722,7 +857,7 @@ std::string describeGribJson(const GridFileInfo& g) {
                     {"not_readable", v.notReadable}});
   j["variables"] = std::move(vars);
   if (g.notReadable.empty()) {
-    j["grid"] = {{"horizontal", "rectilinear"},
+    j["grid"] = {{"horizontal", g.reduced ? "reduced" : "rectilinear"},
                  {"nx", g.nx},
                  {"ny", g.ny},
                  {"nz", g.nz},
@@ -732,6 +867,13 @@ std::string describeGribJson(const GridFileInfo& g) {
                  {"east_deg", g.eastDeg},
                  {"wraps_longitude", g.wrapsLongitude},
                  {"mean_spacing_km", g.meanSpacingKm}};
+    if (g.reduced) {
+      j["grid"]["rows"] = g.ny;
+      j["grid"]["min_row_length_points"] = g.minRowLengthPoints;
+      j["grid"]["max_row_length_points"] = g.maxRowLengthPoints;
+      j["grid"]["points"] = g.gridPoints;
+      j["grid"]["empty_rows_left_out"] = g.emptyRowsLeftOut;
+    }
     j["vertical"] = grid::verticalJson(g);
   }
   j["time"] = {{"kind", "validity"}, {"values", g.times}};
