@@ -152,10 +152,9 @@ struct Decoded {
   bool jConsecutive = false;
   std::vector<double> latRows, lonCols;  ///< per file row / column
   // Reduced grids (axes): the points of each file row, every point's latitude and longitude
-  // (message order), whether rows run west.
+  // (message order).
   std::vector<long> pl;
   std::vector<double> pointLat, pointLon;
-  bool westward = false;
   std::vector<double> values;  ///< file order; NaN at missing points
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
@@ -176,15 +175,13 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
   const std::string where = "message at byte " + std::to_string(m.offset);
   if (!h) return varError(c, v, where + ": ecCodes cannot decode it");
   Decoded d;
-  long jc = 0, alt = 0, west = 0;
+  long jc = 0, alt = 0;
   const bool reduced = isReduced(v.gridType);
   codes_get_long(h.get(), "Ni", &d.ni);
   codes_get_long(h.get(), "Nj", &d.nj);
   codes_get_long(h.get(), "jPointsAreConsecutive", &jc);
   codes_get_long(h.get(), "alternativeRowScanning", &alt);
-  codes_get_long(h.get(), "iScansNegatively", &west);
   d.jConsecutive = jc != 0;
-  d.westward = west != 0;
   if (alt != 0) return varError(c, v, where + ": alternative row scanning is not read yet");
   std::size_t n = 0;
   std::string gridText;
@@ -301,7 +298,6 @@ struct Selected {
   // A reduced grid's file axes: the points of each row, every point's latitude and longitude.
   std::vector<long> pl;
   std::vector<double> pointLat, pointLon;
-  bool westward = false;
   /// Every output column's latitude and longitude: rectilinear hz.rows x hz.cols, row-major; a
   /// reduced grid's kept points, packed (red.points).
   std::vector<double> colLat, colLon;
@@ -516,8 +512,7 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
     s.pl = std::move(axes->pl);
     s.pointLat = std::move(axes->pointLat);
     s.pointLon = std::move(axes->pointLon);
-    s.westward = axes->westward;
-    auto red = grid::reducedAxes(s.pl, s.pointLat, s.pointLon, s.westward, crop, sample, error);
+    auto red = grid::reducedAxes(s.pl, s.pointLat, s.pointLon, crop, sample, error);
     if (!red) return red.forwardError();
     s.red = std::move(*red);
     s.hz = s.red.hz;
@@ -608,7 +603,6 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
     const grid::ReducedHorizontal& red = s->red;
     g.nx = red.nx;
     g.fileFirstColumn = 0;
-    g.fileColumnStep = s->westward ? -1 : 1;
     g.rowLengthPoints = red.rowLength;
     g.rowFirstLonDeg = red.rowFirstLonDeg;
     g.rowSpacingDeg = red.rowSpacingDeg;
@@ -706,7 +700,7 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
   if (!s) return s.forwardError();
   const grid::CoordinateError error = [&](const std::string& what) { return varError(c, v, what); };
   if (s->reduced) {
-    auto full = grid::reducedAxes(s->pl, s->pointLat, s->pointLon, s->westward, GridCrop{}, 1, error);
+    auto full = grid::reducedAxes(s->pl, s->pointLat, s->pointLon, GridCrop{}, 1, error);
     if (!full) return full.forwardError();
     grid::describeExtent(full->hz, false, info);
     info.meanSpacingKm = full->meanSpacingKm();

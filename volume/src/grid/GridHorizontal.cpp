@@ -198,8 +198,8 @@ Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::ve
 }
 
 Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::vector<double>& lat,
-                                      const std::vector<double>& lon, bool westward, const GridCrop& crop,
-                                      std::size_t sample, const CoordinateError& error) {
+                                      const std::vector<double>& lon, const GridCrop& crop, std::size_t sample,
+                                      const CoordinateError& error) {
   if (auto st = checkCoordinates(error, lat, true); !st) return st.forwardError();
   if (auto st = checkCoordinates(error, lon, false); !st) return st.forwardError();
   std::size_t total = 0;
@@ -225,9 +225,9 @@ Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::ve
   struct Row {
     std::size_t fileRow = 0, start = 0, n = 0;
     double lat = 0, first = 0, step = 360.0;
-    bool global = false;
-    std::size_t nFile = 0;  // the row's points in the file (n + 1 when its last repeats its first)
-    std::size_t point(std::size_t a, bool west) const {  // eastward index -> message index
+    bool global = false, west = false;  // west: the file lists the row westward
+    std::size_t nFile = 0;              // the row's points in the file (n + 1 when its last repeats its first)
+    std::size_t point(std::size_t a) const {  // eastward index -> message index
       return start + (west ? nFile - 1 - a : a);
     }
   };
@@ -245,7 +245,10 @@ Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::ve
       if (std::abs(lat[start + m] - w.lat) > 1e-6)
         return error(name + ": its points are at different latitudes (" + num(w.lat) + " and " + num(lat[start + m]) +
                      ")");
-    auto east = [&](std::size_t a) { return lon[w.point(a, westward)]; };
+    // The direction from the longitudes themselves (ecCodes' reduced iterators differ in how they
+    // honour iScansNegatively).
+    w.west = w.n >= 2 && std::remainder(lon[start + 1] - lon[start], 360.0) < 0.0;
+    auto east = [&](std::size_t a) { return lon[w.point(a)]; };
     w.first = east(0);
     if (w.n >= 2) {
       double span = 0;
@@ -352,7 +355,7 @@ Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::ve
     std::size_t m = 0;
     for (long q = k.a; q <= k.b; q += static_cast<long>(sample), ++m) {
       const auto e = static_cast<std::size_t>(((q % n) + n) % n);
-      out.points.push_back(w.point(e, westward));
+      out.points.push_back(w.point(e));
       out.pointRow.push_back(row);
     }
     out.rowLength.push_back(m);

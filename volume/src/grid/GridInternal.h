@@ -235,15 +235,15 @@ struct ReducedHorizontal {
   double meanSpacingKm() const;
 };
 /// A reduced grid whose file rows hold pl[r] points each (sum = the values' count), every point's
-/// latitude and longitude given in the message's order (`lat`, `lon`; rows run west when
-/// `westward`): the rows the crop keeps (inside the box and one beyond each edge, as
+/// latitude and longitude given in the message's order (`lat`, `lon`; a row may run east or west):
+/// the rows the crop keeps (inside the box and one beyond each edge, as
 /// rectilinearAxes) and in each the points inside the box and one beyond each edge, every
 /// `sample`-th row and point. Rows of no point at the grid's ends are left out; one between rows
 /// with points, points of a row at different latitudes or not equally spaced in longitude, a row
 /// spanning more than 360 degrees are errors.
 Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::vector<double>& lat,
-                                      const std::vector<double>& lon, bool westward, const GridCrop& crop,
-                                      std::size_t sample, const CoordinateError& error);
+                                      const std::vector<double>& lon, const GridCrop& crop, std::size_t sample,
+                                      const CoordinateError& error);
 /// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
 Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
 /// The same for a curvilinear grid, its coordinates read at time step `timeIndex`.
