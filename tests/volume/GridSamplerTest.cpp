@@ -19,6 +19,7 @@
 #include <functional>
 #include <iostream>
 #include <random>
+#include <string>
 
 namespace {
 
@@ -446,20 +447,37 @@ TEST(GridOccupancy, IsConservativeForReducedGrids) {
     first.push_back(-100.0);
     spacing.push_back(3.0 / static_cast<double>(lengths.back() - 1));
   }
-  for (const bool global : {false, true}) {
-    const std::vector<double> levels{0.0, 3000.0, 6000.0, 9000.0, 12000.0};
+  // A crop of a global grid nearly round the circle (as the reader makes it, ReducedGrib.Crops...):
+  // rows start one spacing west of 0 degrees; the short ones hold the whole circle and their first
+  // point again, the long ones stop short of it.
+  std::vector<std::size_t> cropLengths;
+  std::vector<double> cropLat, cropFirst, cropSpacing;
+  for (int j = 0; j < 36; ++j) {
+    cropLat.push_back(-87.5 + 5.0 * j);
+    const auto n =
+        static_cast<std::size_t>(std::max(8.0, 4.0 * std::round(36.0 * std::cos(degreesToRadians(cropLat.back())))));
+    cropSpacing.push_back(360.0 / static_cast<double>(n));
+    cropFirst.push_back(-cropSpacing.back());
+    cropLengths.push_back(n <= 40 ? n + 1 : n - 2);
+  }
+  const std::vector<double> levels{0.0, 3000.0, 6000.0, 9000.0, 12000.0};
+  for (const std::string kind : {"regional", "global", "cropped"}) {
+    const bool global = kind == "global", cropped = kind == "cropped";
     const GridVolume g =
         global ? testutil::globalReducedGrid(
                      72, 0.0, levels, [](double, double) { return 0.0; }, field)
-               : testutil::reducedGrid(
-                     lengths, lat, first, false, spacing, levels,
-                     [](double la, double lo) { return 300.0 + 200.0 * std::sin(la * 7.0 + lo * 5.0); }, field);
+        : cropped ? testutil::reducedGrid(
+                        cropLengths, cropLat, cropFirst, false, cropSpacing, levels, [](double, double) { return 0.0; },
+                        field)
+                  : testutil::reducedGrid(
+                        lengths, lat, first, false, spacing, levels,
+                        [](double la, double lo) { return 300.0 + 200.0 * std::sin(la * 7.0 + lo * 5.0); }, field);
     const volume::GridSampler s(g);
     const volume::OccupancyGrid occ = volume::buildOccupancyGrid(s);
     ASSERT_EQ(occ.cells, glm::ivec3(128, 128, 32));
     std::mt19937 rng(11);
-    std::uniform_real_distribution<double> la(global ? -90.0 : 29.9, global ? 90.0 : 32.55),
-        lo(global ? -180.0 : -100.1, global ? 180.0 : -96.9), h(-100.0, 12600.0);
+    std::uniform_real_distribution<double> la(global || cropped ? -90.0 : 29.9, global || cropped ? 90.0 : 32.55),
+        lo(global || cropped ? -180.0 : -100.1, global || cropped ? 180.0 : -96.9), h(-100.0, 12600.0);
     int echoes = 0, violations = 0;
     for (int n = 0; n < 100000; ++n) {
       const double a = la(rng), b = lo(rng), hm = h(rng);
@@ -469,7 +487,7 @@ TEST(GridOccupancy, IsConservativeForReducedGrids) {
       if (occ.maxAtLocal(occ.localOfEcef(globe::geodeticToEcef({a, b, hm}))) < static_cast<float>(v.value))
         ++violations;
     }
-    std::cout << "reduced " << (global ? "global" : "regional") << ": " << echoes << " echo points, " << violations
+    std::cout << "reduced " << kind << ": " << echoes << " echo points, " << violations
               << " in a cell below their value\n";
     EXPECT_GT(echoes, 20000);
     EXPECT_EQ(violations, 0);

@@ -597,24 +597,13 @@ std::vector<OccupancyBox> reducedOccupancyBoxes(const GridSampler& s, const Grid
         float maxValue = kOccupancyEmptyValue;
         double hLow = std::numeric_limits<double>::infinity(), hHigh = -hLow;
         for (int r = r0; r <= r1; ++r) {
-          // The row's closed columns whose cells meet [lon0, lon1].
+          // The row's closed columns whose cells meet [lon0, lon1]: from a, the block's west edge
+          // in the row's columns, over its width.
           const GridSampler::ClosedRow row = s.closedRow(r);
           const int last = row.columns - 1;
-          double a = (wrapFrom(lon0, row.firstLonDeg) - row.firstLonDeg) / row.spacingDeg;
-          double b = a + (lon1 - lon0) / row.spacingDeg;
-          int c0 = static_cast<int>(std::floor(a)), c1 = static_cast<int>(std::ceil(b));
-          if (!g.wrapsLongitude && a > static_cast<double>(last)) {
-            // The block starts past the row's east end: maybe the row starts within it (the block
-            // west of the row's start).
-            a -= 360.0 / row.spacingDeg;
-            b -= 360.0 / row.spacingDeg;
-            c0 = static_cast<int>(std::floor(a));
-            c1 = static_cast<int>(std::ceil(b));
-          }
-          for (int c = std::max(c0, 0); c <= c1; ++c) {
-            // A wrapping row repeats every `last` columns (its closed column `last` is column 0).
-            const int tc = g.wrapsLongitude && last > 0 ? c % last : c;
-            if (tc > last) break;
+          const double a = (wrapFrom(lon0, row.firstLonDeg) - row.firstLonDeg) / row.spacingDeg;
+          const double cells = (lon1 - lon0) / row.spacingDeg;
+          auto take = [&](int tc) {
             const int column = s.closedColumn(tc, r);
             for (int k = k0; k <= k1; ++k) {
               const float v = s.columnValue(column, static_cast<std::size_t>(k));
@@ -624,6 +613,18 @@ std::vector<OccupancyBox> reducedOccupancyBoxes(const GridSampler& s, const Grid
             const double high = static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k1)));
             if (std::isfinite(low)) hLow = std::min(hLow, low);
             if (std::isfinite(high)) hHigh = std::max(hHigh, high);
+          };
+          if (g.wrapsLongitude) {
+            // The row repeats every `last` columns (its closed column `last` is column 0 again).
+            for (int c = static_cast<int>(std::floor(a)); c <= static_cast<int>(std::ceil(a + cells)); ++c)
+              take(last > 0 ? c % last : 0);
+          } else {
+            // A row of at most the circle: the block where the row holds it, west of its first
+            // point taken one circle on or not.
+            for (double start : {a, a - 360.0 / row.spacingDeg})
+              for (int c = std::max(static_cast<int>(std::floor(start)), 0);
+                   c <= std::min(static_cast<int>(std::ceil(start + cells)), last); ++c)
+                take(c);
           }
         }
         if (maxValue == kOccupancyEmptyValue || !(hLow <= hHigh)) continue;
