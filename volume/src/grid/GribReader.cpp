@@ -1,9 +1,11 @@
 // GRIB editions 1 and 2 as forecast grids, through ecCodes: the messages of a file's index
 // (GribIndex.cpp) grouped into variables (shortName, typeOfLevel), one volume per variable, time
 // (validity) and ensemble member, its levels stacked bottom first. Horizontal: regular_ll and
-// regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp); heights by
-// its rules too (GridHeights.cpp: geopotential field or standard atmosphere for pressure levels,
-// lengths above ground or sea level, + EGM96). Only the messages of the selection are decoded.
+// regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp), and
+// reduced_gg / reduced_ll in their own rows (pl; grid::reducedAxes, the volume padded to the
+// longest row: GridVolume.h); heights by its rules too (GridHeights.cpp: geopotential field or
+// standard atmosphere for pressure levels, lengths above ground or sea level, + EGM96). Only the
+// messages of the selection are decoded.
 // Other grid and level types are listed by `info` and refused by the read, saying so.
 #include "GribInternal.h"
 #include "GridInternal.h"
