@@ -225,8 +225,8 @@ Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::ve
   struct Row {
     std::size_t fileRow = 0, start = 0, n = 0;
     double lat = 0, first = 0, step = 360.0;
-    bool global = false, west = false;  // west: the file lists the row westward
-    std::size_t nFile = 0;              // the row's points in the file (n + 1 when its last repeats its first)
+    bool global = false, west = false;        // west: the file lists the row westward
+    std::size_t nFile = 0;                    // the row's points in the file (n + 1 when its last repeats its first)
     std::size_t point(std::size_t a) const {  // eastward index -> message index
       return start + (west ? nFile - 1 - a : a);
     }
