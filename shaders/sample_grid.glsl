@@ -9,17 +9,21 @@
 //
 // Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_CURVILINEAR (lookup by
 // (latitude, longitude) instead of per axis), VOL_WRAPS (longitudes taken modulo 360 over the
-// whole circle). Injected: STATE_ECHO, STATE_NOT_ECHO, GPU_NO_DATA, GPU_NO_DATA_BELOW, WGS84_A,
-// WGS84_F, WGS84_E2.
+// whole circle), VOL_REDUCED (a reduced grid: rows of different lengths; the row by the latitude
+// table, in each of the two rows its own column from the row table). Injected: STATE_ECHO,
+// STATE_NOT_ECHO, GPU_NO_DATA, GPU_NO_DATA_BELOW, WGS84_A, WGS84_F, WGS84_E2.
 
 uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or GPU_NO_DATA, height above the ellipsoid m)
 uniform sampler2D VOL_lookup;   // rectilinear R32F: row 0 longitude -> column, row 1 latitude -> row;
-                                // curvilinear RG32F: (latitude, longitude) -> (column, row), -1e6 outside
+                                // curvilinear RG32F: (latitude, longitude) -> (column, row), -1e6 outside;
+                                // reduced R32F: row 1 latitude -> row, and per closed row r at x = r:
+                                // row 0 its closed columns, row 2 its first longitude, row 3 its spacing (deg)
 uniform vec3 VOL_origin;        // the volume's origin (ECEF m, narrowed)
 uniform vec4 VOL_sphere;        // bounding sphere: centre relative to the origin, radius
 uniform float VOL_outerRadius;  // a sphere about the Earth's centre holding the top level (m)
 uniform vec2 VOL_heightRange;   // lowest and highest level height (m above the ellipsoid)
-uniform vec4 VOL_lonLat;        // the tables' domains: longitude start, span, latitude start, span (deg)
+uniform vec4 VOL_lonLat;        // the tables' domains: longitude start, span, latitude start, span (deg);
+                                // reduced: x, y the reference axis of the column index: west, spacing
 uniform ivec2 VOL_lookupSize;
 uniform ivec3 VOL_texSize;      // columns, rows, levels of VOL_data
 uniform int VOL_rowOffset;      // 1 when row 0 is the south pole row
@@ -76,6 +80,104 @@ bool VOL_columnRow(vec2 latLon, out vec2 ij) {
   return true;
 }
 
+#if VOL_REDUCED
+// A reduced grid's corner and weights: row c.z at columns c.x, c.x + 1 (fraction f.x), row c.z + 1
+// at columns c.y, c.y + 1 (fraction f.y), f.z between the rows.
+
+// Row r's fractional column of a longitude from the row table: c, c + 1 (fraction f) within the
+// row's closed columns; false when the row does not hold the longitude (a regional grid).
+bool VOL_rowColumn(int r, float lon, out int c, out float f) {
+  float n = texelFetch(VOL_lookup, ivec2(r, 0), 0).r;
+  float first = texelFetch(VOL_lookup, ivec2(r, 2), 0).r, step = texelFetch(VOL_lookup, ivec2(r, 3), 0).r;
+  float x = mod(lon - first, 360.0) / step;
+  c = clamp(int(floor(x)), 0, max(int(n) - 2, 0));
+  f = clamp(x - float(c), 0.0, 1.0);
+  return x <= n - 1.0;
+}
+
+vec2 VOL_level(ivec3 c, vec3 f, int k) {
+  vec2 d00 = texelFetch(VOL_data, ivec3(c.x, c.z, k), 0).rg, d10 = texelFetch(VOL_data, ivec3(c.x + 1, c.z, k), 0).rg;
+  vec2 d01 = texelFetch(VOL_data, ivec3(c.y, c.z + 1, k), 0).rg, d11 = texelFetch(VOL_data, ivec3(c.y + 1, c.z + 1, k), 0).rg;
+  // A corner of zero weight does not count, missing or not (as in the CPU rule).
+  float w00 = (1.0 - f.x) * (1.0 - f.z), w10 = f.x * (1.0 - f.z), w01 = (1.0 - f.y) * f.z, w11 = f.y * f.z;
+  bool missing = (w00 > 0.0 && d00.x < GPU_NO_DATA_BELOW) || (w10 > 0.0 && d10.x < GPU_NO_DATA_BELOW) ||
+                 (w01 > 0.0 && d01.x < GPU_NO_DATA_BELOW) || (w11 > 0.0 && d11.x < GPU_NO_DATA_BELOW);
+  vec2 blended = w00 * d00 + w10 * d10 + w01 * d01 + w11 * d11;
+  return vec2(missing ? GPU_NO_DATA : blended.x, blended.y);
+}
+
+bool VOL_locate(vec3 p, out ivec3 c, out vec3 f, out int lo, out float fk) {
+  c = ivec3(0);
+  f = vec3(0.0);
+  lo = 0;
+  fk = 0.0;
+  vec3 g = VOL_geodetic(p);
+  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y) return false;
+  // The row as for a rectilinear grid.
+  float y = (g.x - VOL_lonLat.z) / VOL_lonLat.w * float(VOL_lookupSize.x - 1);
+  if (y < 0.0 || y > float(VOL_lookupSize.x - 1)) return false;
+  int yi = min(int(y), VOL_lookupSize.x - 2);
+  float row = mix(texelFetch(VOL_lookup, ivec2(yi, 1), 0).r, texelFetch(VOL_lookup, ivec2(yi + 1, 1), 0).r, y - float(yi));
+  c.z = clamp(int(floor(row)), 0, VOL_texSize.y - 2);
+  f.z = clamp(row - float(c.z), 0.0, 1.0);
+  // Each row its own column; a row of positive weight must hold the longitude.
+  bool in0 = VOL_rowColumn(c.z, g.y, c.x, f.x), in1 = VOL_rowColumn(c.z + 1, g.y, c.y, f.y);
+  if ((f.z < 1.0 && !in0) || (f.z > 0.0 && !in1)) return false;
+#if VOL_INTERPOLATION == 0
+  // The column of largest weight alone (the CPU's rule): weights 0 or 1.
+  float w00 = (1.0 - f.x) * (1.0 - f.z), w10 = f.x * (1.0 - f.z), w01 = (1.0 - f.y) * f.z, w11 = f.y * f.z;
+  float best = max(max(w00, w10), max(w01, w11));
+  if (w00 == best || w10 == best) {
+    f = vec3(w00 == best ? 0.0 : 1.0, 0.0, 0.0);
+  } else {
+    f = vec3(0.0, w01 == best ? 0.0 : 1.0, 1.0);
+  }
+#endif
+  if (g.z < VOL_level(c, f, 0).y || g.z > VOL_level(c, f, VOL_texSize.z - 1).y) return false;
+  int hi = VOL_texSize.z - 1;
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (VOL_level(c, f, mid).y <= g.z) lo = mid; else hi = mid;
+  }
+  float hLo = VOL_level(c, f, lo).y, hHi = VOL_level(c, f, hi).y;
+  fk = hHi > hLo ? clamp((g.z - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  return true;
+}
+
+// (column on the reference axis, row, level): the column from the grid row of larger weight (a
+// pole row has none: the other), its longitude back on the reference axis.
+vec3 VOL_debugCoordinates(vec3 p) {
+  ivec3 c;
+  vec3 f;
+  int lo;
+  float fk;
+  if (!VOL_locate(p, c, f, lo, fk)) return vec3(-1.0);
+  int r = f.z < 0.5 ? c.z : c.z + 1;
+  if (r < VOL_rowOffset || r >= VOL_texSize.y - VOL_rowOffset) r = r == c.z ? c.z + 1 : c.z;
+  float column = r == c.z ? float(c.x) + f.x : float(c.y) + f.y;
+  float lon = texelFetch(VOL_lookup, ivec2(r, 2), 0).r + column * texelFetch(VOL_lookup, ivec2(r, 3), 0).r;
+  return vec3(mod(lon - VOL_lonLat.x, 360.0) / VOL_lonLat.y, float(c.z) + f.z - float(VOL_rowOffset), float(lo) + fk);
+}
+
+int VOL_sample(vec3 p, out float value) {
+  value = 0.0;
+  ivec3 c;
+  vec3 f;
+  int lo;
+  float fk;
+  if (!VOL_locate(p, c, f, lo, fk)) return STATE_NOT_ECHO;
+#if VOL_INTERPOLATION == 0
+  float v = VOL_level(c, f, fk < 0.5 ? lo : lo + 1).x;
+#else
+  float a = VOL_level(c, f, lo).x, b = VOL_level(c, f, lo + 1).x;
+  float v = (a < GPU_NO_DATA_BELOW || b < GPU_NO_DATA_BELOW) ? GPU_NO_DATA : mix(a, b, fk);
+#endif
+  if (v < GPU_NO_DATA_BELOW) return STATE_NOT_ECHO;
+  value = v;
+  return STATE_ECHO;
+}
+
+#else
 // Level k at the four columns, blended: (value or GPU_NO_DATA when any is missing, height).
 vec2 VOL_level(ivec2 c, vec2 f, int k) {
   vec2 d00 = texelFetch(VOL_data, ivec3(c, k), 0).rg, d10 = texelFetch(VOL_data, ivec3(c + ivec2(1, 0), k), 0).rg;
@@ -146,6 +248,7 @@ int VOL_sample(vec3 p, out float value) {
   value = v;
   return STATE_ECHO;
 }
+#endif
 
 vec2 VOL_interval(vec3 eyeRel, vec3 dir, float tMax) {
   vec2 a = sphereInterval(eyeRel - VOL_sphere.xyz, dir, VOL_sphere.w);

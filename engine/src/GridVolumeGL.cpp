@@ -85,14 +85,39 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
   for (int k = 0; k < ts.z; ++k)
     for (int tr = 0; tr < ts.y; ++tr)
       for (int tc = 0; tc < ts.x; ++tc) {
-        const int column = s.closedColumn(tc, tr);
+        int column = s.closedColumn(tc, tr);
         const float v = s.columnValue(column, static_cast<std::size_t>(k));
+        // A reduced row's padding: no data, and the height of the row's last closed column (the
+        // shader may fetch it with weight 0; 0 x NaN would be NaN).
+        if (column == volume::GridColumns::kPadding) column = s.closedColumn(s.closedRow(tr).columns - 1, tr);
         texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
             glm::vec2(std::isfinite(v) ? v : MarchConstants::kNoData,
                       static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
       }
   // Lookup tables, computed by the CPU sampler's own horizontalIndex (exact at the entries).
-  if (!g.curvilinear) {
+  if (g.reduced()) {
+    // R32F, 4 rows of max(kLookupEntries, closed rows) texels: row 1 the latitude table (as a
+    // rectilinear grid's); rows 0, 2, 3 at x = closed row: its closed columns, first longitude and
+    // spacing (the row table). The column index's reference axis in lonRange.
+    const double latStart = caps ? -90.0 : g.latDeg[0];
+    const double latSpan = (caps ? 90.0 : g.latDeg[g.ny - 1]) - latStart;
+    const int w = std::max(kLookupEntries, ts.y);
+    pr->lonRange = glm::vec2(static_cast<float>(s.reducedWestDeg()), static_cast<float>(s.reducedSpacingDeg()));
+    pr->latRange = glm::vec2(static_cast<float>(latStart), static_cast<float>(latSpan));
+    pr->lookupSize = glm::ivec2(w, 4);
+    std::vector<float>& table = pr->lookup;
+    table.assign(4 * static_cast<std::size_t>(w), 0.0f);
+    for (int e = 0; e < w; ++e) {
+      const double lat = std::clamp(latStart + static_cast<double>(e) / (w - 1) * latSpan, -90.0, 90.0);
+      table[static_cast<std::size_t>(w) + e] = static_cast<float>(s.rowIndex(lat).value_or(0.0) + pr->rowOffset);
+    }
+    for (int tr = 0; tr < ts.y; ++tr) {
+      const volume::GridSampler::ClosedRow row = s.closedRow(tr);
+      table[static_cast<std::size_t>(tr)] = static_cast<float>(row.columns);
+      table[2 * static_cast<std::size_t>(w) + tr] = static_cast<float>(row.firstLonDeg);
+      table[3 * static_cast<std::size_t>(w) + tr] = static_cast<float>(row.spacingDeg);
+    }
+  } else if (!g.curvilinear) {
     const double lonStart = g.lonDeg[0];
     const double lonSpan = wraps ? 360.0 : g.lonDeg[g.nx - 1] - g.lonDeg[0];
     const double latStart = caps ? -90.0 : g.latDeg[0];
@@ -202,7 +227,8 @@ GridVolumeGL::~GridVolumeGL() {
 std::vector<std::string> GridVolumeGL::samplerDefines(const VolumeRenderOptions& options) const {
   return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
           std::string("CURVILINEAR ") + (grid_->curvilinear ? "1" : "0"),
-          std::string("WRAPS ") + (grid_->wrapsLongitude && !grid_->curvilinear ? "1" : "0")};
+          std::string("WRAPS ") + (grid_->wrapsLongitude && !grid_->curvilinear ? "1" : "0"),
+          std::string("REDUCED ") + (grid_->reduced() ? "1" : "0")};
 }
 
 void GridVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {

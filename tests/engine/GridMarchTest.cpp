@@ -3,6 +3,7 @@
 // from camera heights of 1 m to 1e7 m; GPU images against the CPU reference; a radar and a grid
 // marched together.
 #include "GLTestUtil.h"
+#include "ReducedGrib.h"
 #include "SyntheticGridVolume.h"
 
 #include <atmoglobe/engine/Camera.h>
@@ -15,6 +16,7 @@
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
@@ -45,6 +47,40 @@ volume::GridVolume blobGrid(std::vector<double> lonAxis, std::vector<double> lat
   return testutil::rectilinearGrid(std::move(lonAxis), std::move(latAxis),
                                    {0.0, 150.0, 400.0, 800.0, 1500.0, 2500.0, 4000.0, 6000.0, 8500.0, 11000.0, 14000.0},
                                    surface, field);
+}
+
+// The same field on a reduced grid: global (`rows` rows evenly spaced, about 4 x rows x cos(lat)
+// points each, as a reduced Gaussian grid) or, with `regional`, rows of 0.1 degree in latitude
+// from `lat0` over [lon0, lon0 + spanDeg], each of its own length (101 .. 201 points).
+volume::GridVolume reducedBlobGrid(int rows, double lat0, double lon0, double radiusDeg) {
+  auto surface = [](double lat, double lon) { return 200.0 + 300.0 * std::sin(lat * 0.3) * std::cos(lon * 0.2); };
+  auto field = [=](double lat, double lon, double h) {
+    double dLon = std::remainder(lon - lon0, 360.0) * std::cos(degreesToRadians(lat));
+    const double d2 = ((lat - lat0) * (lat - lat0) + dLon * dLon) / (radiusDeg * radiusDeg);
+    return 60.0 * std::exp(-d2 - std::pow((h - 5000.0) / 3000.0, 2));
+  };
+  return testutil::globalReducedGrid(
+      rows, 0.0, {0.0, 150.0, 400.0, 800.0, 1500.0, 2500.0, 4000.0, 6000.0, 8500.0, 11000.0, 14000.0}, surface, field);
+}
+volume::GridVolume regionalReducedBlobGrid(double latSouth, double lonWest, double spanDeg, double lat0, double lon0,
+                                           double radiusDeg) {
+  auto surface = [](double lat, double lon) { return 200.0 + 300.0 * std::sin(lat * 0.3) * std::cos(lon * 0.2); };
+  auto field = [=](double lat, double lon, double h) {
+    double dLon = std::remainder(lon - lon0, 360.0) * std::cos(degreesToRadians(lat));
+    const double d2 = ((lat - lat0) * (lat - lat0) + dLon * dLon) / (radiusDeg * radiusDeg);
+    return 60.0 * std::exp(-d2 - std::pow((h - 5000.0) / 3000.0, 2));
+  };
+  std::vector<std::size_t> lengths;
+  std::vector<double> lat, first, spacing;
+  for (int j = 0; j <= 100; ++j) {
+    lat.push_back(latSouth + 0.1 * j);
+    lengths.push_back(static_cast<std::size_t>(101 + (j * 37) % 101));
+    first.push_back(lonWest);
+    spacing.push_back(spanDeg / static_cast<double>(lengths.back() - 1));
+  }
+  return testutil::reducedGrid(lengths, lat, first, false, spacing,
+                               {0.0, 150.0, 400.0, 800.0, 1500.0, 2500.0, 4000.0, 6000.0, 8500.0, 11000.0, 14000.0},
+                               surface, field);
 }
 
 struct MappingError {
@@ -592,4 +628,180 @@ TEST(SceneJson, NumbersBeyondDoubleAreAnError) {
   auto scene = engine::parseSceneJson(R"({"fov_deg": -2e1111111111})", "big.json", ".", ".");
   ASSERT_FALSE(scene);
   EXPECT_NE(scene.error().find("big.json: not valid JSON"), std::string::npos) << scene.error();
+}
+
+// A reduced grid's GPU mapping (shader variant VOL_REDUCED: the row by the latitude table, each
+// row's column from the row table) against the double path: GridSampler::gridIndex, whose column
+// index is the longitude on the reference axis (the finest row spacing, 360 / the longest row for
+// a global grid), the GPU's reconstructed from the row of larger weight's own column, so both the
+// row table and the float longitude are measured. Same bounds as the rectilinear and curvilinear
+// grids (GpuMappingMatchesTheDoublePathEverywhere).
+TEST(GridMarch, ReducedGridGpuMappingMatchesTheDoublePath) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    CameraPose pose;
+    double t;
+    double fovDeg = 40.0;
+  };
+  const volume::GridVolume global = reducedBlobGrid(72, 60.0, 180.0, 10.0);  // 8 .. 288 points per row
+  std::vector<Case> cases;
+  cases.push_back(
+      {"reduced global, mid latitudes from 1e6 m", global, {45.0, 10.0, 1e6, 0.0, -90.0, 0.0}, 1e6 - 5000.0, 20.0});
+  cases.push_back(
+      {"reduced global, its seam (0 deg) from 2e6 m", global, {30.0, 0.0, 2e6, 0.0, -90.0, 0.0}, 2e6 - 5000.0, 2.0});
+  cases.push_back(
+      {"reduced global, over the north pole from 1e7 m", global, {90.0, 0.0, 1e7, 0.0, -90.0, 0.0}, 1e7 - 5000.0, 0.5});
+  cases.push_back({"reduced regional across the antimeridian, 3e5 m",
+                   regionalReducedBlobGrid(-20.0, 170.0, 20.0, -15.0, 180.0, 2.0),
+                   {-15.0, 180.0, 3e5, 0.0, -90.0, 0.0},
+                   3e5 - 5000.0});
+  const double ground = 200.0 + 300.0 * std::sin(-15.0 * 0.3) * std::cos(180.0 * 0.2);
+  cases.push_back({"reduced regional, 1 m above the model surface",
+                   regionalReducedBlobGrid(-20.0, 170.0, 20.0, -15.0, 180.0, 2.0),
+                   {-15.0, 180.0, ground + 1.0, 0.0, 5.0, 0.0},
+                   20000.0});
+  for (const Case& c : cases) {
+    auto gl = engine::GridVolumeGL::create(c.grid);
+    ASSERT_TRUE(gl) << gl.error();
+    ASSERT_TRUE((*gl)->grid().reduced());
+    const Camera camera(c.pose, c.fovDeg, 48, 32);
+    const MappingError e = mappingError(**renderer, camera, **gl, c.t);
+    std::cout << "grid mapping, " << c.name << ": " << e.points << " points, max " << e.horizontalCells << " cells, "
+              << e.levels << " levels\n";
+    EXPECT_GT(e.points, 200) << c.name;
+    EXPECT_LT(e.horizontalCells, 1e-3) << c.name;
+    EXPECT_LT(e.levels, 0.02) << c.name;
+  }
+}
+
+// GPU images of reduced grids against the CPU reference in every mode: global (over the pole and
+// across its seam and the antimeridian: no holes or seams to differ) and regional.
+TEST(GridMarch, ReducedGridGpuMatchesTheReferenceInEveryMode) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    CameraPose pose;
+    double stepMeters;
+  };
+  const std::vector<Case> cases = {
+      {"reduced global, pole and antimeridian",
+       reducedBlobGrid(72, 80.0, 180.0, 15.0),
+       {70.0, 180.0, 3e6, 0.0, -70.0, 0.0},
+       5000.0},
+      {"reduced global, its seam", reducedBlobGrid(72, 40.0, 0.0, 12.0), {30.0, 0.0, 3e6, 0.0, -60.0, 0.0}, 5000.0},
+      {"reduced regional oblique",
+       regionalReducedBlobGrid(-20.0, 170.0, 20.0, -15.0, 180.0, 1.5),
+       {-17.0, 180.0, 6e4, 0.0, -30.0, 0.0},
+       500.0},
+  };
+  for (const Case& c : cases) {
+    auto gl = engine::GridVolumeGL::create(c.grid);
+    ASSERT_TRUE(gl) << gl.error();
+    const Camera camera(c.pose, 45.0, 64, 36);
+    for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso})
+      for (auto interpolation : {volume::Interpolation::Linear, volume::Interpolation::Nearest}) {
+        if (interpolation == volume::Interpolation::Nearest && mode != volume::VolumeRenderMode::Dvr) continue;
+        engine::VolumeRenderOptions o;
+        o.render.mode = mode;
+        o.render.interpolation = interpolation;
+        o.render.stepMeters = c.stepMeters;
+        o.render.isoValue = 30.0;
+        o.render.transfer = volume::defaultReflectivityTransfer();
+        o.render.transfer.opacityReferenceMeters = c.stepMeters * 10.0;
+        const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), o}});
+        const volume::VolumeImage ref = volume::renderReference({{&(*gl)->referenceSampler(), o.render}},
+                                                                engine::referenceCameraFor(camera), true, 2);
+        const volume::ImageError e = volume::compareImages(gpu, ref);
+        int drawn = 0;
+        for (const glm::dvec4& p : ref.rgbaPremultiplied) drawn += p.a > 0.05;
+        std::cout << "grid " << c.name << ", mode " << static_cast<int>(mode)
+                  << (interpolation == volume::Interpolation::Nearest ? " nearest" : "") << ": " << drawn
+                  << " pixels drawn, GPU vs reference mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb
+                  << " dB\n";
+        EXPECT_GT(drawn, 50) << c.name << " must show the blob";
+        EXPECT_LT(e.meanAbs, 1.0) << c.name;
+        EXPECT_GT(e.psnrDb, 30.0) << c.name;
+      }
+  }
+}
+
+// A multi-level reduced Gaussian GRIB file (N32, written in the test with ecCodes: a blob of 60
+// units over the Alps at 5 km on 12 heightAboveSea levels) loaded as a scene's grid layer: the
+// frame over the globe shows it where it is (the drawn pixels' centre at the blob's projection),
+// the GPU frame matches the reference frame, and the PNG is kept for a look.
+TEST(GridMarch, ReducedGribGridRendersInPlace) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  setenv("ATMOGLOBE_CACHE_DIR", (dir + "/reduced_grib_cache").c_str(), 1);
+  const double lat0 = 46.5, lon0 = 10.0;
+  testutil::ReducedGribSpec spec;
+  spec.levels = {0, 500, 1000, 2000, 3000, 4000, 5000, 6000, 7000, 8000, 10000, 12000};
+  spec.field = [=](double lat, double lon, double h) {
+    const double dLon = std::remainder(lon - lon0, 360.0) * std::cos(degreesToRadians(lat));
+    const double d2 = ((lat - lat0) * (lat - lat0) + dLon * dLon) / (8.0 * 8.0);
+    return 60.0 * std::exp(-d2 - std::pow((h - 5000.0) / 3000.0, 2));
+  };
+  const std::string path = dir + "/reduced_blob.grib2";
+  ASSERT_EQ(testutil::writeReducedGrib(path, spec), "");
+  auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 40.0, "lon_deg": 10.0, "height_m": 5000000,
+      "heading_deg": 0, "pitch_deg": -90, "roll_deg": 0}, "fov_deg": 60, "size": [320, 240],
+      "grids": [{"path": "@data/reduced_blob.grib2", "step_m": 500, "range": [0, 60], "colors": "turbo"}]})",
+                                      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  auto loader =
+      engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+  ASSERT_TRUE(loader) << loader.error();
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(renderer) << renderer.error();
+  const Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto globeOnly = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(globeOnly) << globeOnly.error();
+  auto grid = (*renderer)->addVolume(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0]);
+  ASSERT_TRUE(grid) << grid.error();
+  const volume::GridVolume& g = testutil::gridVolumeOf(*grid);
+  EXPECT_TRUE(g.reduced());
+  EXPECT_EQ(g.nz, 12u);
+  auto frame = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(frame) << frame.error();
+  EXPECT_TRUE(globe::writePng(dir + "/reduced_grib_blob.png", *frame));
+  // The pixels the grid changes, and their centre.
+  int changed = 0;
+  glm::dvec2 centre(0.0);
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::ivec4 d = glm::abs(glm::ivec4(frame->at(x, y)) - glm::ivec4(globeOnly->at(x, y)));
+      if (d.r + d.g + d.b > 30) {
+        ++changed;
+        centre += glm::dvec2(x + 0.5, y + 0.5);
+      }
+    }
+  ASSERT_GT(changed, 500) << "the blob must show";
+  centre /= static_cast<double>(changed);
+  const auto expected = camera.projectToPixel(globe::geodeticToEcef({lat0, lon0, 5000.0}));
+  ASSERT_TRUE(expected.has_value());
+  std::cout << "reduced GRIB blob: " << changed << " pixels changed, centre (" << centre.x << ", " << centre.y
+            << "), the blob's centre projects to (" << expected->x << ", " << expected->y << ")\n";
+  EXPECT_LT(glm::length(centre - *expected), 8.0);
+  (*renderer)->setReferenceVolumes(2);
+  auto ref = (*renderer)->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(ref) << ref.error();
+  EXPECT_TRUE(globe::writePng(dir + "/reduced_grib_blob_reference.png", *ref));
+  double sum = 0.0;
+  for (int y = 0; y < camera.heightPx(); ++y)
+    for (int x = 0; x < camera.widthPx(); ++x) {
+      const glm::ivec4 d = glm::abs(glm::ivec4(frame->at(x, y)) - glm::ivec4(ref->at(x, y)));
+      sum += d.r + d.g + d.b;
+    }
+  const double mean = sum / (3.0 * camera.widthPx() * camera.heightPx());
+  std::cout << "reduced GRIB blob: mean |GPU - reference frame| " << mean << " (8-bit)\n";
+  EXPECT_LT(mean, 1.0);
 }

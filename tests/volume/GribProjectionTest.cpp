@@ -447,7 +447,9 @@ TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
   for (int k = 0; k < 3; ++k) {
     std::vector<double> values(static_cast<std::size_t>(nx * ny));
     for (long j = 0; j < ny; ++j)
-      for (long i = 0; i < nx; ++i) values[static_cast<std::size_t>(j * nx + i)] = 250.0 + i + 2.0 * j + 100.0 * k;
+      for (long i = 0; i < nx; ++i)
+        values[static_cast<std::size_t>(j * nx + i)] =
+            250.0 + static_cast<double>(i) + 2.0 * static_cast<double>(j) + 100.0 * k;
     content += makeGribMessage("GRIB2",
                                {{"gridType", std::string("polar_stereographic")},
                                 {"shapeOfTheEarth", 6L},

@@ -8,6 +8,7 @@
 
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <gtest/gtest.h>
@@ -121,13 +122,6 @@ TEST(GribReader, InfoOnEveryFileListsWhatTheFilesHold) {
   ASSERT_NE(findVar(hpa, "t:isobaricInhPa"), nullptr);
   ASSERT_NE(findVar(hpa, "t:isobaricInPa"), nullptr);
   EXPECT_EQ(findVar(hpa, "t:isobaricInPa")->levels, (std::vector<double>{10, 1}));
-  // Grids of a later stage: listed, with the reason.
-  for (auto [file, grid] : std::map<std::string, std::string>{{"reduced_gg.grib", "reduced_gg"},
-                                                              {"reduced_latlon_surface.grib2", "reduced_ll"}}) {
-    SCOPED_TRACE(file);
-    EXPECT_EQ(infos.at(file).notReadable, "GRIB grid type " + grid + " is not read yet");
-    EXPECT_NE(describeGridText(infos.at(file)).find("not read yet"), std::string::npos);
-  }
   // Projected grids: read, curvilinear, placed by PROJ (positions: ProjectedGridPositionsMatchGribGetData).
   for (auto [file, proj] : std::map<std::string, std::string>{{"lambert_grid.grib", "+proj=lcc "},
                                                               {"rotated_ll.grib1", "+proj=ob_tran "},
@@ -149,6 +143,26 @@ TEST(GribReader, InfoOnEveryFileListsWhatTheFilesHold) {
                                       "atmosphere, APPROXIMATE"),
             std::string::npos)
       << describeGridText(ml);
+  // Reduced grids are read, in their own geometry.
+  for (auto [file, grid] : std::map<std::string, std::string>{{"reduced_gg.grib", "reduced_gg"},
+                                                              {"reduced_latlon_surface.grib2", "reduced_ll"}}) {
+    SCOPED_TRACE(file);
+    const GridFileInfo& info = infos.at(file);
+    EXPECT_EQ(info.notReadable, "");
+    EXPECT_TRUE(info.reduced);
+    ASSERT_EQ(info.variables.size(), 1u);
+    EXPECT_EQ(info.variables[0].gridType, grid);
+    EXPECT_TRUE(info.variables[0].onGrid);
+    EXPECT_TRUE(info.wrapsLongitude);
+    EXPECT_NE(describeGridText(info).find("* " + info.variable), std::string::npos);
+    EXPECT_NE(describeGridText(info).find(grid + " (reduced: rows of different lengths)"), std::string::npos);
+  }
+  EXPECT_EQ(infos.at("reduced_gg.grib").ny, 96u);  // N48
+  EXPECT_EQ(infos.at("reduced_gg.grib").minRowLengthPoints, 20u);
+  EXPECT_EQ(infos.at("reduced_gg.grib").maxRowLengthPoints, 192u);
+  EXPECT_EQ(infos.at("reduced_gg.grib").gridPoints, 13280u);
+  EXPECT_EQ(infos.at("reduced_latlon_surface.grib2").variable, "swh:meanSea");
+  EXPECT_EQ(infos.at("reduced_latlon_surface.grib2").emptyRowsLeftOut, 58u);
 }
 
 TEST(GribReader, PressureLevelValuesAndPositionsMatchGribGetData) {
@@ -469,7 +483,7 @@ TEST(GribReader, GzipWrappedFileReadsTheSame) {
 }
 
 TEST(GribReader, ChoicesAndRefusalsNameTheFileAndWhatThereIs) {
-  SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"), gribPath("reduced_gg.grib"),
+  SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"), gribPath("safrica.grib2"),
                          gribPath("t_on_different_level_types.grib"), gribPath("hpa_and_pa.grib"));
   useTestCache();
   const std::string era5 = gribPath("era5-levels-members.grib");
@@ -494,11 +508,15 @@ TEST(GribReader, ChoicesAndRefusalsNameTheFileAndWhatThereIs) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("no time step at 2017-01-03T00:00:00Z"), std::string::npos) << r.error();
 
-  auto reduced = readGridVolume(gribPath("reduced_gg.grib"));
-  ASSERT_FALSE(reduced.ok());
-  EXPECT_NE(reduced.error().find("reduced_gg.grib: variable 10u:surface: GRIB grid type reduced_gg is not read yet"),
+  // A level type not read (a single layer of the whole atmosphere): refused, saying so.
+  GridReadOptions pwat;
+  pwat.variable = "pwat";
+  auto single = readGridVolume(gribPath("safrica.grib2"), pwat);
+  ASSERT_FALSE(single.ok());
+  EXPECT_NE(single.error().find("safrica.grib2: variable pwat:atmosphereSingleLayer: GRIB level type "
+                                "atmosphereSingleLayer is not read yet"),
             std::string::npos)
-      << reduced.error();
+      << single.error();
 
   // "t" on two level types, one level each: the first in the file.
   GridReadOptions t;
@@ -639,5 +657,58 @@ TEST(GribReader, ProjectedGridPositionsMatchGribGetData) {
     EXPECT_GT(valuesChecked, pts.size() / 2);
     std::printf("%s: %s; largest position difference from grib_get_data: latitude %.2e deg, longitude %.2e deg\n", name,
                 g->projection.c_str(), maxLat, maxLon);
+  }
+}
+
+// The shared reduced samples (N48 reduced Gaussian 10u, GRIB1; 0.36 degree reduced lat/lon wave
+// height with missing points over land, GRIB2): every point's position and value against
+// grib_get_data, each row in its own geometry (rows ascending, each row's points east from its
+// first longitude); the CPU sampler returns the value at a few grid points.
+TEST(GribReader, ReducedSamplesMatchGribGetData) {
+  SKIP_WITHOUT_TEST_DATA(gribPath("reduced_gg.grib"), gribPath("reduced_latlon_surface.grib2"));
+  SKIP_WITHOUT_ECCODES_TOOLS();
+  useTestCache();
+  for (const char* name : {"reduced_gg.grib", "reduced_latlon_surface.grib2"}) {
+    SCOPED_TRACE(name);
+    auto g = readGridVolume(gribPath(name));
+    ASSERT_TRUE(g.ok()) << g.error();
+    ASSERT_TRUE(g->reduced());
+    EXPECT_EQ(g->nz, 1u);
+    const std::vector<Point> pts = gribGetData(gribPath(name), "");
+    std::map<double, std::size_t> rowOf;  // latitude -> row
+    for (std::size_t j = 0; j < g->ny; ++j) rowOf[g->latDeg[j]] = j;
+    std::size_t compared = 0, missing = 0, points = 0;
+    for (std::size_t j = 0; j < g->ny; ++j) points += g->rowLengthPoints[j];
+    for (const Point& p : pts) {
+      auto row = rowOf.lower_bound(p.latDeg - 1e-6);
+      ASSERT_TRUE(row != rowOf.end() && row->first <= p.latDeg + 1e-6) << "no row at latitude " << p.latDeg;
+      const std::size_t j = row->second;
+      const double x = std::remainder(p.lonDeg - g->rowFirstLonDeg[j], 360.0) / g->rowSpacingDeg[j];
+      const long n = static_cast<long>(g->rowLengthPoints[j]);
+      const long i = ((std::lround(x) % n) + n) % n;
+      ASSERT_NEAR(std::abs(x - std::round(x)), 0.0, 1e-6) << p.latDeg << " " << p.lonDeg;
+      EXPECT_NEAR(g->latDeg[j], p.latDeg, 1e-6);
+      EXPECT_NEAR(lonDiff(g->lonDegAt(j, static_cast<std::size_t>(i)), p.lonDeg), 0.0, 1e-6);
+      const float v = g->value(0, j, static_cast<std::size_t>(i));
+      if (std::isnan(p.value)) {
+        EXPECT_TRUE(std::isnan(v)) << p.latDeg << " " << p.lonDeg;
+        ++missing;
+      } else {
+        EXPECT_EQ(v, static_cast<float>(p.value)) << p.latDeg << " " << p.lonDeg;
+      }
+      ++compared;
+    }
+    std::cout << name << ": " << compared << " points against grib_get_data, " << missing << " missing\n";
+    EXPECT_EQ(compared, points);
+    EXPECT_EQ(missing > 0, std::string(name) == "reduced_latlon_surface.grib2");
+    // A surface field is one level: a sample exactly at a grid point's height is its value.
+    const GridSampler s(*g);
+    for (std::size_t j : {std::size_t{3}, g->ny / 2, g->ny - 2}) {
+      const std::size_t i = g->rowLengthPoints[j] / 3;
+      if (std::isnan(g->value(0, j, i))) continue;
+      const auto v = s.sampleGeodetic(g->latDeg[j], g->lonDegAt(j, i), g->heightMeters(0, j, i), Interpolation::Linear);
+      ASSERT_EQ(v.state, VolumeSample::State::Echo);
+      EXPECT_NEAR(v.value, g->value(0, j, i), 1e-6);
+    }
   }
 }

@@ -7,6 +7,7 @@
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/AnalyticVolume.h>
+#include <atmoglobe/volume/Decimate.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
@@ -18,6 +19,7 @@
 #include <functional>
 #include <iostream>
 #include <random>
+#include <string>
 
 namespace {
 
@@ -275,4 +277,250 @@ TEST(GridSampler, RealWrfGridPointsSampleToTheirValues) {
   // At a grid point the weights are 1 and 0 up to the inverse map's rounding (1e-12 of a cell):
   // the value itself, to float rounding of ~300 K (3e-5).
   EXPECT_LT(worst, 1e-4);
+}
+
+// ---------------------------------------------------------------- reduced grids
+
+namespace {
+
+// A smooth field of latitude, longitude and height for the reduced-grid tests.
+double reducedField(double lat, double lon, double h) {
+  return 10.0 + 5.0 * std::sin(lat * 0.05) * std::cos(degreesToRadians(lon)) + 3.0 * std::sin(degreesToRadians(lon)) +
+         0.001 * h;
+}
+
+// Row j's value at level k at longitude `lon`, linear between its two points around it (across
+// the seam of a wrapping grid): the sampling rule written out independently.
+double rowValue(const GridVolume& g, std::size_t k, std::size_t j, double lon) {
+  const double first = g.rowFirstLonDeg[j], step = g.rowSpacingDeg[j];
+  const std::size_t n = g.rowLengthPoints[j];
+  const double x = std::fmod(std::fmod(lon - first, 360.0) + 360.0, 360.0) / step;
+  const std::size_t a = static_cast<std::size_t>(std::floor(x)) % n;
+  const double t = x - std::floor(x);
+  return (1.0 - t) * g.value(k, j, a) + t * g.value(k, j, (a + 1) % n);
+}
+
+}  // namespace
+
+// A global reduced grid (rows of 8 .. 96 points, each starting at 0 degrees): exact at every grid
+// point, linear along a row between its own points (across the seam too), linear in latitude
+// between two rows each taken at its own column, one value at the poles (the end rows' means),
+// and the column index on the reference axis (the longest row's spacing).
+TEST(GridSampler, ReducedGridSamplesEachRowByItsOwnColumns) {
+  const std::vector<double> levels{0.0, 2000.0, 5000.0, 9000.0};
+  const GridVolume g = testutil::globalReducedGrid(
+      24, 0.0, levels, [](double, double) { return 0.0; }, reducedField);
+  ASSERT_TRUE(g.reduced());
+  ASSERT_EQ(g.nx, 96u);
+  ASSERT_EQ(g.rowLengthPoints.front(), 8u);
+  const volume::GridSampler s(g);
+  ASSERT_TRUE(s.hasPoleCaps());
+  EXPECT_EQ(s.closedSize(), glm::ivec3(97, 26, 4));
+  // Exact at grid points, at every level's height.
+  double worstPoint = 0.0;
+  for (std::size_t j = 0; j < g.ny; ++j)
+    for (std::size_t i = 0; i < g.rowLengthPoints[j]; i += 3)
+      for (std::size_t k = 0; k < g.nz; ++k) {
+        const VolumeSample v = s.sampleGeodetic(g.latDeg[j], g.lonDegAt(j, i), levels[k], Interpolation::Linear);
+        ASSERT_EQ(v.state, VolumeSample::State::Echo) << j << " " << i << " " << k;
+        worstPoint = std::max(worstPoint, std::abs(v.value - g.value(k, j, i)));
+        // Nearest at a grid point: its own value.
+        const VolumeSample n = s.sampleGeodetic(g.latDeg[j], g.lonDegAt(j, i), levels[k], Interpolation::Nearest);
+        EXPECT_FLOAT_EQ(static_cast<float>(n.value), g.value(k, j, i));
+      }
+  EXPECT_LT(worstPoint, 1e-9);
+  // Linear along a row between its own points, across the seam from the last point to the first
+  // too, and linear in height between levels (3000 m: a third of the way from 2000 to 5000 m).
+  double worstRow = 0.0;
+  for (std::size_t j : {std::size_t{0}, std::size_t{5}, std::size_t{12}, std::size_t{23}}) {
+    const std::size_t n = g.rowLengthPoints[j];
+    for (std::size_t i : {std::size_t{0}, n / 2, n - 1})
+      for (double t : {0.1, 0.37, 0.5, 0.93}) {
+        const double lon = g.lonDegAt(j, i) + t * g.rowSpacingDeg[j];
+        const double a = (1.0 - t) * g.value(1, j, i) + t * g.value(1, j, (i + 1) % n);
+        const double b = (1.0 - t) * g.value(2, j, i) + t * g.value(2, j, (i + 1) % n);
+        const VolumeSample v =
+            s.sampleGeodetic(g.latDeg[j], lon > 180.0 ? lon - 360.0 : lon, 3000.0, Interpolation::Linear);
+        ASSERT_EQ(v.state, VolumeSample::State::Echo);
+        worstRow = std::max(worstRow, std::abs(v.value - (a + (b - a) / 3.0)));
+      }
+  }
+  EXPECT_LT(worstRow, 1e-9);
+  // Between rows of different lengths: each row at its own column, then linear in latitude.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0), lonDist(-180.0, 180.0);
+  double worstBetween = 0.0;
+  for (int m = 0; m < 500; ++m) {
+    const std::size_t j = static_cast<std::size_t>(u(rng) * static_cast<double>(g.ny - 1));
+    const double f = u(rng), lon = lonDist(rng);
+    const double lat = g.latDeg[j] + f * (g.latDeg[j + 1] - g.latDeg[j]);
+    const double expected = (1.0 - f) * rowValue(g, 2, j, lon) + f * rowValue(g, 2, j + 1, lon);
+    const VolumeSample v = s.sampleGeodetic(lat, lon, 5000.0, Interpolation::Linear);
+    ASSERT_EQ(v.state, VolumeSample::State::Echo);
+    worstBetween = std::max(worstBetween, std::abs(v.value - expected));
+    // The column index: the longitude on the reference axis (the 96-point row's spacing).
+    const auto ij = s.horizontalIndex(lat, lon);
+    ASSERT_TRUE(ij.has_value());
+    EXPECT_NEAR(ij->x, std::fmod(lon + 360.0, 360.0) / 3.75, 1e-9);
+    EXPECT_NEAR(ij->y, static_cast<double>(j) + f, 1e-9);
+  }
+  std::cout << "reduced grid: worst |sample - rule| at grid points " << worstPoint << ", along rows " << worstRow
+            << ", between rows " << worstBetween << "\n";
+  EXPECT_LT(worstBetween, 1e-9);
+  // Poles: one value, the mean of the end row; no hole in the caps.
+  double mean = 0.0;
+  for (std::size_t i = 0; i < g.rowLengthPoints.back(); ++i) mean += g.value(2, g.ny - 1, i);
+  mean /= static_cast<double>(g.rowLengthPoints.back());
+  for (double lon = -180.0; lon < 180.0; lon += 17.0) {
+    const VolumeSample p = s.sampleGeodetic(90.0, lon, 5000.0, Interpolation::Linear);
+    ASSERT_EQ(p.state, VolumeSample::State::Echo);
+    EXPECT_NEAR(p.value, mean, 1e-6);
+    EXPECT_EQ(s.sampleGeodetic(-89.9, lon, 5000.0, Interpolation::Linear).state, VolumeSample::State::Echo);
+  }
+  // A missing point makes the samples that need it no data, the others keep theirs.
+  GridVolume holed = g;
+  holed.values[holed.index(2, 10, 4)] = NAN;
+  const volume::GridSampler sh(holed);
+  const double lon4 = g.lonDegAt(10, 4);
+  EXPECT_EQ(sh.sampleGeodetic(g.latDeg[10], lon4 + 0.3 * g.rowSpacingDeg[10], 5000.0, Interpolation::Linear).state,
+            VolumeSample::State::NoData);
+  EXPECT_EQ(sh.sampleGeodetic(g.latDeg[10], lon4 + 1.0 * g.rowSpacingDeg[10], 5000.0, Interpolation::Linear).state,
+            VolumeSample::State::Echo);
+  // The closed layout: each row closed by a copy of its column 0, padding beyond.
+  EXPECT_EQ(s.closedColumn(8, 1), static_cast<int>(0 * g.nx));  // closed row 1 = grid row 0 (8 points)
+  EXPECT_EQ(s.closedColumn(9, 1), volume::GridColumns::kPadding);
+  EXPECT_EQ(s.closedRow(1).columns, 9);
+  EXPECT_EQ(s.closedRow(0).columns, 2);  // a pole row
+  EXPECT_TRUE(std::isnan(s.columnValue(volume::GridColumns::kPadding, 0)));
+}
+
+// A regional reduced grid (rows of different lengths over one longitude range, not wrapping): no
+// data west or east of a row, the bounding sphere holds its points, and ray intervals exist.
+TEST(GridSampler, RegionalReducedGridEndsAtItsRows) {
+  std::vector<std::size_t> lengths;
+  std::vector<double> lat, first, spacing;
+  for (int j = 0; j < 21; ++j) {
+    lat.push_back(40.0 + 0.5 * j);
+    lengths.push_back(static_cast<std::size_t>(41 - j));  // 41 .. 21 points over 20 degrees
+    first.push_back(-10.0);
+    spacing.push_back(20.0 / static_cast<double>(lengths.back() - 1));
+  }
+  const GridVolume g = testutil::reducedGrid(
+      lengths, lat, first, false, spacing, {0.0, 4000.0, 9000.0}, [](double, double) { return 100.0; }, reducedField);
+  ASSERT_FALSE(g.wrapsLongitude);
+  EXPECT_DOUBLE_EQ(g.reducedWestDeg(), -10.0);
+  EXPECT_DOUBLE_EQ(g.reducedSpacingDeg(), 0.5);
+  EXPECT_DOUBLE_EQ(g.reducedEastDeg(), 10.0);
+  const volume::GridSampler s(g);
+  EXPECT_FALSE(s.hasPoleCaps());
+  EXPECT_EQ(s.closedSize(), glm::ivec3(41, 21, 3));
+  EXPECT_EQ(s.sampleGeodetic(45.0, 9.99, 3000.0, Interpolation::Linear).state, VolumeSample::State::Echo);
+  EXPECT_EQ(s.sampleGeodetic(45.0, 10.01, 3000.0, Interpolation::Linear).state, VolumeSample::State::NoData);
+  EXPECT_EQ(s.sampleGeodetic(45.0, -10.01, 3000.0, Interpolation::Linear).state, VolumeSample::State::NoData);
+  EXPECT_EQ(s.sampleGeodetic(50.01, 0.0, 3000.0, Interpolation::Linear).state, VolumeSample::State::NoData);
+  EXPECT_FALSE(s.horizontalIndex(45.0, 10.01).has_value());
+  // Exact at a grid point of a short row.
+  EXPECT_NEAR(s.sampleGeodetic(g.latDeg[20], g.lonDegAt(20, 7), 4100.0, Interpolation::Linear).value, g.value(1, 20, 7),
+              1e-9);
+  const volume::BoundingSphere b = s.boundingSphere();
+  double worstInside = -1e300;
+  for (std::size_t j = 0; j < g.ny; ++j)
+    for (std::size_t i = 0; i < g.rowLengthPoints[j]; ++i)
+      for (double h : {100.0, 9100.0})
+        worstInside = std::max(
+            worstInside,
+            glm::length(globe::geodeticToEcef({g.latDeg[j], g.lonDegAt(j, i), h}) - b.centreEcef) - b.radiusMeters);
+  EXPECT_LE(worstInside, 0.0) << "a grid point lies outside the bounding sphere";
+}
+
+// The empty-space grid of a reduced grid is conservative, global (ECEF axes, seam and caps) and
+// regional.
+TEST(GridOccupancy, IsConservativeForReducedGrids) {
+  auto field = [](double lat, double lon, double h) {
+    return 40.0 * std::sin(lat * 0.3) * std::cos(lon * 0.2) - h / 1000.0;
+  };
+  std::vector<std::size_t> lengths;
+  std::vector<double> lat, first, spacing;
+  for (int j = 0; j < 50; ++j) {
+    lat.push_back(30.0 + 0.05 * j);
+    lengths.push_back(static_cast<std::size_t>(60 - j / 2));
+    first.push_back(-100.0);
+    spacing.push_back(3.0 / static_cast<double>(lengths.back() - 1));
+  }
+  // A crop of a global grid nearly round the circle (as the reader makes it, ReducedGrib.Crops...):
+  // rows start one spacing west of 0 degrees; the short ones hold the whole circle and their first
+  // point again, the long ones stop short of it.
+  std::vector<std::size_t> cropLengths;
+  std::vector<double> cropLat, cropFirst, cropSpacing;
+  for (int j = 0; j < 36; ++j) {
+    cropLat.push_back(-87.5 + 5.0 * j);
+    const auto n =
+        static_cast<std::size_t>(std::max(8.0, 4.0 * std::round(36.0 * std::cos(degreesToRadians(cropLat.back())))));
+    cropSpacing.push_back(360.0 / static_cast<double>(n));
+    cropFirst.push_back(-cropSpacing.back());
+    cropLengths.push_back(n <= 40 ? n + 1 : n - 2);
+  }
+  const std::vector<double> levels{0.0, 3000.0, 6000.0, 9000.0, 12000.0};
+  for (const std::string kind : {"regional", "global", "cropped"}) {
+    const bool global = kind == "global", cropped = kind == "cropped";
+    const GridVolume g =
+        global ? testutil::globalReducedGrid(
+                     72, 0.0, levels, [](double, double) { return 0.0; }, field)
+        : cropped ? testutil::reducedGrid(
+                        cropLengths, cropLat, cropFirst, false, cropSpacing, levels, [](double, double) { return 0.0; },
+                        field)
+                  : testutil::reducedGrid(
+                        lengths, lat, first, false, spacing, levels,
+                        [](double la, double lo) { return 300.0 + 200.0 * std::sin(la * 7.0 + lo * 5.0); }, field);
+    const volume::GridSampler s(g);
+    const volume::OccupancyGrid occ = volume::buildOccupancyGrid(s);
+    ASSERT_EQ(occ.cells, glm::ivec3(128, 128, 32));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> la(global || cropped ? -90.0 : 29.9, global || cropped ? 90.0 : 32.55),
+        lo(global || cropped ? -180.0 : -100.1, global || cropped ? 180.0 : -96.9), h(-100.0, 12600.0);
+    int echoes = 0, violations = 0;
+    for (int n = 0; n < 100000; ++n) {
+      const double a = la(rng), b = lo(rng), hm = h(rng);
+      const VolumeSample v = s.sampleGeodetic(a, b, hm, Interpolation::Linear);
+      if (v.state != VolumeSample::State::Echo) continue;
+      ++echoes;
+      if (occ.maxAtLocal(occ.localOfEcef(globe::geodeticToEcef({a, b, hm}))) < static_cast<float>(v.value))
+        ++violations;
+    }
+    std::cout << "reduced " << kind << ": " << echoes << " echo points, " << violations
+              << " in a cell below their value\n";
+    EXPECT_GT(echoes, 20000);
+    EXPECT_EQ(violations, 0);
+  }
+}
+
+// The lower-resolution copy of a reduced grid (the GPU's out-of-memory fallback) stays a valid
+// reduced grid that wraps, keeping the rows' own points where their lengths allow.
+TEST(GridSampler, DecimatedReducedGridStaysWrapping) {
+  GridVolume g = testutil::globalReducedGrid(
+      24, 0.0, {0.0, 5000.0}, [](double, double) { return 0.0; }, reducedField);
+  g.rowLengthPoints[3] = 45;  // an odd row: resampled along the row
+  g.rowSpacingDeg[3] = 8.0;
+  for (std::size_t i = 0; i < 45; ++i)
+    for (std::size_t k = 0; k < 2; ++k) {
+      g.values[g.index(k, 3, i)] =
+          static_cast<float>(reducedField(g.latDeg[3], 8.0 * static_cast<double>(i), 5000.0 * static_cast<double>(k)));
+      g.heightAboveEllipsoidMeters[g.index(k, 3, i)] = static_cast<float>(5000.0 * static_cast<double>(k));
+    }
+  for (std::size_t i = 45; i < g.nx; ++i)
+    for (std::size_t k = 0; k < 2; ++k)
+      g.values[g.index(k, 3, i)] = g.heightAboveEllipsoidMeters[g.index(k, 3, i)] = NAN;
+  ASSERT_TRUE(volume::finishReducedGrid(g));
+  const GridVolume d = volume::decimateGrid(g, 2);
+  ASSERT_TRUE(d.reduced());
+  EXPECT_TRUE(d.wrapsLongitude);
+  EXPECT_EQ(d.ny, 13u);
+  EXPECT_EQ(d.nx, 48u);
+  GridVolume check = d;
+  EXPECT_TRUE(volume::finishReducedGrid(check)) << "a valid reduced grid";
+  // Row 0 (8 points) keeps points 0, 2, 4, 6.
+  EXPECT_EQ(d.rowLengthPoints[0], 4u);
+  EXPECT_EQ(d.value(1, 0, 1), g.value(1, 0, 2));
+  const volume::GridSampler s(d);
+  EXPECT_EQ(s.sampleGeodetic(0.0, 179.0, 2500.0, Interpolation::Linear).state, VolumeSample::State::Echo);
 }

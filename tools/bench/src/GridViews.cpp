@@ -45,7 +45,7 @@ std::vector<ViewSpec> viewSpecs(const BenchVolume& v) {
   // A file: around its centre, distances from its size.
   double latMin = 90, latMax = -90, lonMin = 1e9, lonMax = -1e9;
   for (std::size_t j = 0; j < g.ny; ++j)
-    for (std::size_t i = 0; i < g.nx; ++i) {
+    for (std::size_t i = 0; i < g.rowLength(j); ++i) {  // a reduced grid: its row's points
       latMin = std::min(latMin, g.latDegAt(j, i)), latMax = std::max(latMax, g.latDegAt(j, i));
       lonMin = std::min(lonMin, g.lonDegAt(j, i)), lonMax = std::max(lonMax, g.lonDegAt(j, i));
     }
@@ -160,13 +160,21 @@ volume::GridCrop visibleCrop(const engine::Camera& camera, const volume::GridVol
     const auto hit = globe::intersectRayEllipsoid(eye, d);
     return !hit || glm::length(*hit - eye) >= glm::length(d) - 1.0;
   };
+  // Visible columns: a reduced grid's points marked on its reference axis (g.lonDeg), the column
+  // of their longitude, so that the columns below mean longitudes for every row.
   std::vector<char> column(nx, 0);
   std::size_t rowMin = ny, rowMax = 0;
   for (std::size_t j = 0; j < ny; j += stride) {
-    for (std::size_t i = 0; i < nx; i += stride) {
+    for (std::size_t i = 0; i < g.rowLength(j); i += stride) {
       const double lat = g.latDegAt(j, i), lon = g.lonDegAt(j, i);
       if (!visible(lat, lon, g.heightMeters(0, j, i)) && !visible(lat, lon, g.heightMeters(nz - 1, j, i))) continue;
-      column[i] = 1;
+      std::size_t c = i;
+      if (g.reduced()) {
+        const double x = std::fmod(std::fmod(lon - g.reducedWestDeg(), 360.0) + 360.0, 360.0) / g.reducedSpacingDeg();
+        c = std::min(nx - 1, static_cast<std::size_t>(std::llround(x)) % nx);
+        c -= c % stride;
+      }
+      column[c] = 1;
       rowMin = std::min(rowMin, j), rowMax = std::max(rowMax, j);
     }
   }
@@ -200,7 +208,10 @@ volume::GridCrop visibleCrop(const engine::Camera& camera, const volume::GridVol
     const std::size_t i0 = on.front() >= stride ? on.front() - stride : 0, i1 = std::min(nx - 1, on.back() + stride);
     west = 1e9, east = -1e9;
     for (std::size_t j = j0; j <= j1; j += stride)
-      for (std::size_t i : {i0, i1}) west = std::min(west, g.lonDegAt(j, i)), east = std::max(east, g.lonDegAt(j, i));
+      for (std::size_t i : {i0, i1}) {
+        const double lon = g.reduced() ? g.lonDeg[i] : g.lonDegAt(j, i);  // reduced: its reference axis
+        west = std::min(west, lon), east = std::max(east, lon);
+      }
   }
   crop.southDeg = south;
   crop.northDeg = north;

@@ -116,7 +116,7 @@ RegularGridSpec defaultRegularGrid(const GridVolume& grid, HeightDatum datum, co
   spec.datum = datum;
   if (!grid.curvilinear) {
     spec.westDeg = grid.lonDeg.front();
-    spec.eastDeg = grid.lonDeg.back();
+    spec.eastDeg = grid.reduced() ? grid.reducedEastDeg() : grid.lonDeg.back();  // reduced: lonDeg is its axis
     spec.southDeg = grid.latDeg.front();
     spec.northDeg = grid.latDeg.back();
     spec.nx = grid.nx;
@@ -145,6 +145,7 @@ RegularGridSpec defaultRegularGrid(const GridVolume& grid, HeightDatum datum, co
   float low = std::numeric_limits<float>::max(), high = std::numeric_limits<float>::lowest();
   const std::size_t columns = grid.nx * grid.ny;
   for (std::size_t c = 0; c < columns; ++c) {
+    if (!std::isfinite(grid.heightAboveEllipsoidMeters[c])) continue;  // a reduced grid's padding
     low = std::min(low, grid.heightAboveEllipsoidMeters[c]);
     high = std::max(high, grid.heightAboveEllipsoidMeters[(grid.nz - 1) * columns + c]);
   }

@@ -27,7 +27,7 @@ namespace atmoglobe::volume::grib {
 namespace {
 
 /// Bumped when the index's content changes meaning: an index of another version is rebuilt.
-constexpr int kIndexVersion = 1;
+constexpr int kIndexVersion = 2;  // 2: numberOfPoints
 
 /// ecCodes' default context is shared: one caller at a time (reads may run on loader threads).
 std::mutex& ecCodesMutex() {
@@ -98,6 +98,7 @@ nlohmann::json toJson(const GribMessage& m) {
           {"number", m.number},
           {"Ni", m.ni},
           {"Nj", m.nj},
+          {"numberOfPoints", m.points},
           {"edition", m.edition}};
 }
 
@@ -120,6 +121,7 @@ GribMessage fromJson(const nlohmann::json& j) {
   m.number = j.at("number").get<long>();
   m.ni = j.at("Ni").get<long>();
   m.nj = j.at("Nj").get<long>();
+  m.points = j.at("numberOfPoints").get<long>();
   m.edition = j.at("edition").get<long>();
   return m;
 }
@@ -232,6 +234,7 @@ Status scan(FILE* f, const std::string& label, GribIndex& idx) {
     m.number = codes_is_defined(h.get(), "number") ? getLong(h.get(), "number", -1) : -1;
     m.ni = getLong(h.get(), "Ni", 0);
     m.nj = getLong(h.get(), "Nj", 0);
+    m.points = getLong(h.get(), "numberOfPoints", 0);
     m.edition = getLong(h.get(), "edition", 0);
     idx.messages.push_back(std::move(m));
   }

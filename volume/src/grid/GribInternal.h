@@ -28,6 +28,7 @@ struct GribMessage {
   long endStep = 0;
   long number = -1;     ///< ensemble member; -1: the message has none
   long ni = 0, nj = 0;  ///< 0: missing (reduced grids)
+  long points = 0;      ///< numberOfPoints (a reduced grid's size)
   long edition = 0;
 };
 

@@ -1,13 +1,16 @@
 // GRIB editions 1 and 2 as forecast grids, through ecCodes: the messages of a file's index
 // (GribIndex.cpp) grouped into variables (shortName, typeOfLevel), one volume per variable, time
 // (validity) and ensemble member, its levels stacked bottom first. Horizontal: regular_ll and
-// regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp); heights by
-// its rules too (GridHeights.cpp: geopotential field or standard atmosphere for pressure levels,
-// lengths above ground or sea level, + EGM96), and here for the model levels only GRIB names:
-// hybrid levels (the `pv` coefficients, the surface pressure, IFS's hydrostatic integration) and
-// ICON/COSMO's generalised vertical levels (the half-level heights HHL). Only the messages of the
-// selection and of its heights are decoded. Other grid and level types are listed by `info` and
-// refused by the read, saying so.
+// regular_gg, normalised by the netCDF reader's rectilinear rules (GridHorizontal.cpp); reduced_gg /
+// reduced_ll in their own rows (pl; grid::reducedAxes, the volume padded to the longest row:
+// GridVolume.h); projected grids (rotated, Lambert, polar stereographic, Mercator) as curvilinear
+// grids placed through PROJ (GribProjection.cpp). Heights by the netCDF rules too (GridHeights.cpp:
+// geopotential field or standard atmosphere for pressure levels, lengths above ground or sea
+// level, + EGM96), and here for the model levels only GRIB names: hybrid levels (the `pv`
+// coefficients, the surface pressure, IFS's hydrostatic integration) and ICON/COSMO's generalised
+// vertical levels (the half-level heights HHL). Only the messages of the selection and of its
+// heights are decoded. Other grid and level types are listed by `info` and refused by the read,
+// saying so.
 #include "GribInternal.h"
 #include "GridInternal.h"
 
@@ -43,7 +46,7 @@ struct Variable {
   std::vector<std::pair<long, long>> validity;  ///< distinct (validityDate, validityTime), ascending
   std::vector<long> members;                    ///< distinct `number`, ascending ({-1}: none)
   std::vector<std::string> steps;
-  long ni = 0, nj = 0;
+  long ni = 0, nj = 0, points = 0;
   std::string notReadable;  ///< "" when the read handles it
   std::string key() const { return shortName + ":" + typeOfLevel; }
 };
@@ -53,12 +56,15 @@ bool isGeneralVertical(const std::string& t) { return t == "generalVertical" || 
 /// Levels numbered from the top (model levels: 1 = the highest), so bottom first is descending.
 bool isModelLevelType(const std::string& t) { return t == "hybrid" || isGeneralVertical(t); }
 
+/// Reduced grids: rows of different lengths (the pl array), each equally spaced in longitude.
+bool isReduced(const std::string& gridType) { return gridType == "reduced_gg" || gridType == "reduced_ll"; }
+
 /// The level type's factor to SI (Pa or m; 1 for model level numbers), or 0 when the read does
 /// not handle it.
 double levelToSi(const std::string& t) {
   if (t == "isobaricInhPa") return 100.0;
   if (t == "isobaricInPa") return 1.0;
-  if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface") return 1.0;
+  if (t == "heightAboveGround" || t == "heightAboveSea" || t == "surface" || t == "meanSea") return 1.0;
   if (isModelLevelType(t)) return 1.0;
   return 0.0;
 }
@@ -100,11 +106,12 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       v.units = m.units;
       v.ni = m.ni;
       v.nj = m.nj;
+      v.points = m.points;
       vars.push_back(std::move(v));
     }
     Variable& v = vars[it->second];
     v.messages.push_back(i);
-    if (m.gridType != v.gridType || m.ni != v.ni || m.nj != v.nj)
+    if (m.gridType != v.gridType || m.ni != v.ni || m.nj != v.nj || m.points != v.points)
       v.notReadable = "its messages are on different grids (" + v.gridType + " " + std::to_string(v.ni) + " x " +
                       std::to_string(v.nj) + " and " + m.gridType + " " + std::to_string(m.ni) + " x " +
                       std::to_string(m.nj) + ")";
@@ -134,7 +141,8 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       return a.size() != b.size() ? a.size() < b.size() : a < b;  // 3 before 12
     });
     if (!v.notReadable.empty()) continue;
-    if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isProjectedGrid(v.gridType))
+    if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isProjectedGrid(v.gridType) &&
+        !isReduced(v.gridType))
       v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
     else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
     // IFS gives two surface fields on model level 1: they make the heights of hybrid levels, they
@@ -152,7 +160,9 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
       v.notReadable = "GRIB " + v.typeOfLevel +
                       " levels take their heights from the half-level heights HHL (ICON, COSMO), and the file has "
                       "no HHL on generalVertical levels";
-    else if (v.ni < 1 || v.nj < 1) v.notReadable = "GRIB grid without Ni x Nj points";
+    else if (isReduced(v.gridType) && (v.nj < 1 || v.points < 1))
+      v.notReadable = "GRIB reduced grid without rows (Nj) or points";
+    else if (!isReduced(v.gridType) && (v.ni < 1 || v.nj < 1)) v.notReadable = "GRIB grid without Ni x Nj points";
   }
   return vars;
 }
@@ -198,6 +208,10 @@ struct Decoded {
   std::vector<double> latRows, lonCols;  ///< per file row / column (latitude/longitude grids)
   /// A projected grid: its points, row-major in file rows and columns (GribProjection.cpp).
   std::optional<ProjectedGrid> projected;
+  // Reduced grids (axes): the points of each file row, every point's latitude and longitude
+  // (message order).
+  std::vector<long> pl;
+  std::vector<double> pointLat, pointLon;
   std::vector<double> values;  ///< file order; NaN at missing points
   VerticalGrid vertical;       ///< when asked
   long bottomLevel = -1;       ///< key bottomLevel (when asked): a layer's lower surface
@@ -223,28 +237,68 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
   if (!h) return varError(c, v, where + ": ecCodes cannot decode it");
   Decoded d;
   long jc = 0, alt = 0;
+  const bool reduced = isReduced(v.gridType);
   codes_get_long(h.get(), "Ni", &d.ni);
   codes_get_long(h.get(), "Nj", &d.nj);
   codes_get_long(h.get(), "jPointsAreConsecutive", &jc);
   codes_get_long(h.get(), "alternativeRowScanning", &alt);
   d.jConsecutive = jc != 0;
   if (alt != 0) return varError(c, v, where + ": alternative row scanning is not read yet");
-  if (d.ni != m.ni || d.nj != m.nj || d.ni < 1 || d.nj < 1)
-    return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
-  const std::size_t n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
+  std::size_t n = 0;
+  std::string gridText;
+  if (reduced) {
+    // Rows of pl[r] points each, one after the other (points along a row consecutive).
+    if (d.jConsecutive) return varError(c, v, where + ": a reduced grid with consecutive points along meridians");
+    long points = 0;
+    codes_get_long(h.get(), "numberOfPoints", &points);
+    if (d.nj != m.nj || d.nj < 1 || points != m.points || points < 1)
+      return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
+    n = static_cast<std::size_t>(points);
+    gridText = std::to_string(d.nj) + " rows of " + std::to_string(n) + " points";
+    if (wantAxes) {
+      std::size_t size = 0;
+      if (codes_get_size(h.get(), "pl", &size) != CODES_SUCCESS || size != static_cast<std::size_t>(d.nj))
+        return varError(c, v,
+                        where + ": a reduced grid needs pl, the points of each of its " + std::to_string(d.nj) +
+                            " rows (has " + std::to_string(size) + ")");
+      d.pl.resize(size);
+      if (int err = codes_get_long_array(h.get(), "pl", d.pl.data(), &size); err != CODES_SUCCESS)
+        return varError(c, v, where + ": pl: " + codes_get_error_message(err));
+      // Before ecCodes computes positions from it: pl must count the message's points.
+      long long total = 0;
+      for (std::size_t r = 0; r < d.pl.size(); ++r) {
+        if (d.pl[r] < 0)
+          return varError(c, v,
+                          where + ": pl[" + std::to_string(r) + "] = " + std::to_string(d.pl[r]) + " is negative");
+        total += d.pl[r];
+      }
+      if (total != static_cast<long long>(n))
+        return varError(c, v,
+                        where + ": the reduced grid's pl counts " + std::to_string(total) + " points in its " +
+                            std::to_string(d.nj) + " rows, the message has " + std::to_string(n) +
+                            " (pl inconsistent with the values, or a sub-area whose pl counts whole circles: not "
+                            "read yet)");
+    }
+  } else {
+    if (d.ni != m.ni || d.nj != m.nj || d.ni < 1 || d.nj < 1)
+      return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
+    n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
+    gridText = std::to_string(d.ni) + " x " + std::to_string(d.nj) + " points";
+  }
   auto array = [&](const char* key, std::vector<double>& out) -> Status {
     std::size_t size = 0;
     int err = codes_get_size(h.get(), key, &size);
     if (err == CODES_SUCCESS && size != n)
-      return varError(c, v,
-                      where + ": " + std::to_string(size) + " " + key + " for " + std::to_string(d.ni) + " x " +
-                          std::to_string(d.nj) + " points");
+      return varError(c, v, where + ": " + std::to_string(size) + " " + key + " for " + gridText);
     out.resize(n);
     if (err == CODES_SUCCESS) err = codes_get_double_array(h.get(), key, out.data(), &size);
     if (err != CODES_SUCCESS) return varError(c, v, where + ": " + key + ": " + codes_get_error_message(err));
     return Ok{};
   };
-  if (wantAxes && isProjectedGrid(v.gridType)) {
+  if (wantAxes && reduced) {
+    if (auto st = array("latitudes", d.pointLat); !st) return st.forwardError();
+    if (auto st = array("longitudes", d.pointLon); !st) return st.forwardError();
+  } else if (wantAxes && isProjectedGrid(v.gridType)) {
     auto p = projectedGrid(h.get(), v.gridType, d.ni, d.nj, c.label + ": variable " + v.key() + ": " + where);
     if (!p) return p.forwardError();
     d.projected = std::move(*p);
@@ -316,7 +370,7 @@ const Variable* findVar(const Context& c, const std::string& shortName, const st
                         const Variable& like, bool anyReadability = false) {
   for (const Variable& v : c.vars)
     if (v.shortName == shortName && v.typeOfLevel == typeOfLevel && (anyReadability || v.notReadable.empty()) &&
-        v.gridType == like.gridType && v.ni == like.ni && v.nj == like.nj)
+        v.gridType == like.gridType && v.ni == like.ni && v.nj == like.nj && v.points == like.points)
       return &v;
   return nullptr;
 }
@@ -346,12 +400,42 @@ std::optional<std::size_t> levelIndex(const Variable& g, double level) {
   return static_cast<std::size_t>(at - g.levels.begin());
 }
 
-/// The values of `msgs` at the selected columns, level-major (nz x nc). `sameGrid`: a message of
-/// model levels must be on this vertical grid (a message that names none passes: sp, orog).
+/// What a read (or describe's sample) produces.
+struct Selected {
+  std::vector<double> latRows, lonCols;    ///< the file's axes (rectilinear)
+  std::optional<ProjectedGrid> projected;  ///< the file's points (projected grids)
+  grid::Horizontal hz;                     ///< the kept rows and columns (reduced: red.hz)
+  bool reduced = false;
+  grid::ReducedHorizontal red;  ///< a reduced grid's kept rows and points
+  // A reduced grid's file axes: the points of each row, every point's latitude and longitude.
+  std::vector<long> pl;
+  std::vector<double> pointLat, pointLon;
+  /// Every output column's latitude and longitude: rectilinear hz.rows x hz.cols, row-major; a
+  /// reduced grid's kept points, packed (red.points).
+  std::vector<double> colLat, colLon;
+  std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
+  VerticalGrid vertical;            ///< model levels: the vertical grid of the first message read
+  long bottomLevel = -1;            ///< model levels: bottomLevel of that message
+  std::uint64_t firstOffset = 0;    ///< that message's byte offset, for errors
+  grid::Heights heights;
+  std::vector<float> values;  ///< nz x columns (empty unless asked)
+  std::size_t columns() const { return colLat.size(); }
+  /// Column c in messages: its file row and column (reduced: its point in the message).
+  std::string columnName(std::size_t col) const {
+    if (reduced)
+      return "row " + std::to_string(hz.rows[red.pointRow[col]]) + " (latitude " + grid::num(colLat[col]) +
+             "), point " + std::to_string(red.points[col]) + " of the message";
+    const std::size_t nx = hz.cols.size();
+    return "row " + std::to_string(hz.rows[col / nx]) + ", column " + std::to_string(hz.cols[col % nx]);
+  }
+};
+
+/// The values of `msgs` at the selected columns, level-major (nz x columns). `sameGrid`: a message
+/// of model levels must be on this vertical grid (a message that names none passes: sp, orog).
 Result<std::vector<double>> columnValues(Context& c, const Variable& v, const std::vector<const GribMessage*>& msgs,
-                                         const grid::Horizontal& hz, const VerticalGrid* sameGrid = nullptr) {
+                                         const Selected& s, const VerticalGrid* sameGrid = nullptr) {
   std::vector<double> out;
-  out.reserve(msgs.size() * hz.rows.size() * hz.cols.size());
+  out.reserve(msgs.size() * s.columns());
   for (const GribMessage* m : msgs) {
     auto d = decode(c, v, *m, false, true, sameGrid != nullptr);
     if (!d) return d.forwardError();
@@ -360,24 +444,15 @@ Result<std::vector<double>> columnValues(Context& c, const Variable& v, const st
                       "message at byte " + std::to_string(m->offset) + " (level " + levelText(m->level) +
                           ") is on another vertical grid than the levels read (its " + d->vertical.text() + ", not " +
                           sameGrid->text() + ")");
-    for (std::size_t r : hz.rows)
-      for (std::size_t col : hz.cols) out.push_back(d->values[d->at(r, col)]);
+    if (s.reduced) {
+      for (std::size_t p : s.red.points) out.push_back(d->values[p]);  // p < numberOfPoints: decode checked
+      continue;
+    }
+    for (std::size_t r : s.hz.rows)
+      for (std::size_t col : s.hz.cols) out.push_back(d->values[d->at(r, col)]);
   }
   return out;
 }
-
-/// What a read (or describe's sample) produces.
-struct Selected {
-  std::vector<double> latRows, lonCols;    ///< the file's axes (latitude/longitude grids)
-  std::optional<ProjectedGrid> projected;  ///< the file's points (projected grids)
-  grid::Horizontal hz;
-  std::vector<std::size_t> levels;  ///< indices into Variable::levels, bottom first
-  VerticalGrid vertical;            ///< model levels: the vertical grid of the first message read
-  long bottomLevel = -1;            ///< model levels: bottomLevel of that message
-  std::uint64_t firstOffset = 0;    ///< that message's byte offset, for errors
-  grid::Heights heights;
-  std::vector<float> values;  ///< nz x ny x nx (empty unless asked)
-};
 
 /// Geopotential (m2 s-2) of an altitude above mean sea level (m) at latitude `latDeg`: the
 /// inverse of geometricFromGeopotentialHeightMeters by fixed-point steps (dz/dH = g0 / gamma
@@ -396,12 +471,6 @@ std::string joinText(const std::vector<std::string>& parts, const std::string& l
   return s;
 }
 
-/// "row R, column C" of selected column `col` (file indices), for errors.
-std::string rowColumn(const grid::Horizontal& hz, std::size_t col) {
-  return "row " + std::to_string(hz.rows[col / hz.cols.size()]) + ", column " +
-         std::to_string(hz.cols[col % hz.cols.size()]);
-}
-
 /// GRIB hybrid (model) levels, IFS's rule (docs/grids.md, "GRIB"; REFERENCE: IFS documentation
 /// Part III): `pv` = the half-level coefficients a (Pa) then b, NLEV + 1 each; model level k
 /// (1 = top .. NLEV = bottom) lies between half levels k - 1/2 and k + 1/2 (pv index k - 1 and k),
@@ -414,8 +483,7 @@ std::string rowColumn(const grid::Horizontal& hz, std::size_t col) {
 /// saying what was missing.
 Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid,
                      const std::vector<double>& lat, const std::vector<double>& lon, Selected& s) {
-  const grid::Horizontal& hz = s.hz;
-  const std::size_t nc = hz.rows.size() * hz.cols.size(), nz = s.levels.size();
+  const std::size_t nc = s.columns(), nz = s.levels.size();
   grid::Heights& out = s.heights;
   const std::vector<double>& pv = s.vertical.pv;
   const std::string where = "message at byte " + std::to_string(s.firstOffset);
@@ -449,24 +517,24 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
   if (const Variable* g = findVar(c, "sp", "surface", v); g && fieldTime(*g, v, t, member).exact) {
     auto msgs = pick(c, *g, fieldTime(*g, v, t, member).t, member, {0});
     if (!msgs) return msgs.forwardError();
-    auto values = columnValues(c, *g, *msgs, hz);
+    auto values = columnValues(c, *g, *msgs, s);
     if (!values) return values.forwardError();
     for (std::size_t col = 0; col < nc; ++col)
       if (!std::isfinite((*values)[col]) || !((*values)[col] > 0))
-        return varError(c, *g, "surface pressure missing or not positive at " + rowColumn(hz, col));
+        return varError(c, *g, "surface pressure missing or not positive at " + s.columnName(col));
     ps = std::move(*values);
     psFrom = "'" + g->key() + "'";
   } else if (const Variable* l = findVar(c, "lnsp", "hybrid", v, true); l && fieldTime(*l, v, t, member).exact) {
     if (auto at = levelIndex(*l, 1)) {
       auto msgs = pick(c, *l, fieldTime(*l, v, t, member).t, member, {*at});
       if (!msgs) return msgs.forwardError();
-      auto values = columnValues(c, *l, *msgs, hz, &s.vertical);
+      auto values = columnValues(c, *l, *msgs, s, &s.vertical);
       if (!values) return values.forwardError();
       for (std::size_t col = 0; col < nc; ++col) {
         const double x = (*values)[col];
         if (!std::isfinite(x) || !std::isfinite(std::exp(x)))
           return varError(c, *l,
-                          "log of the surface pressure missing or not finite at " + rowColumn(hz, col) +
+                          "log of the surface pressure missing or not finite at " + s.columnName(col) +
                               " (model level 1, valid at " + when + ")");
       }
       for (double& x : *values) x = std::exp(x);
@@ -483,7 +551,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
     return varError(c, v,
                     "the half-level pressures a + b ps of its pv array do not increase downwards at model level " +
                         std::to_string(level) + " (" + grid::num(above, 3) + " Pa above, " + grid::num(below, 3) +
-                        " Pa below, at " + rowColumn(hz, col) + ")");
+                        " Pa below, at " + s.columnName(col) + ")");
   };
   for (std::size_t col = 0; col < nc; ++col) {
     const double surface = havePs ? ps[col] : kStandardSurfacePressurePa;
@@ -545,12 +613,12 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
   const FieldTime zt = fieldTime(*surfaceZ, v, t, member);
   auto zMsgs = pick(c, *surfaceZ, zt.t, zt.member, {0});
   if (!zMsgs) return zMsgs.forwardError();
-  auto phiHalf = columnValues(c, *surfaceZ, *zMsgs, hz);
+  auto phiHalf = columnValues(c, *surfaceZ, *zMsgs, s);
   if (!phiHalf) return phiHalf.forwardError();
   const bool orog = surfaceZ->shortName == "orog";
   for (std::size_t col = 0; col < nc; ++col) {
     double& x = (*phiHalf)[col];
-    if (!std::isfinite(x)) return varError(c, *surfaceZ, "surface altitude missing at " + rowColumn(hz, col));
+    if (!std::isfinite(x)) return varError(c, *surfaceZ, "surface altitude missing at " + s.columnName(col));
     if (orog) x = geopotentialOfAltitude(x, lat[col]);
   }
   std::size_t qHave = 0;
@@ -565,12 +633,12 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
   std::size_t next = 0;  // the next level read, counted from the bottom
   for (std::size_t i = 0; i < tMsgs->size(); ++i) {
     const std::size_t level = nlev - i;
-    auto temperature = columnValues(c, *tVar, {(*tMsgs)[i]}, hz, &s.vertical);
+    auto temperature = columnValues(c, *tVar, {(*tMsgs)[i]}, s, &s.vertical);
     if (!temperature) return temperature.forwardError();
     c.content.forget(*(*tMsgs)[i]);
     std::vector<double> humidity;
     if (qMsgs) {
-      auto q = columnValues(c, *qVar, {(*qMsgs)[i]}, hz, &s.vertical);
+      auto q = columnValues(c, *qVar, {(*qMsgs)[i]}, s, &s.vertical);
       if (!q) return q.forwardError();
       c.content.forget(*(*qMsgs)[i]);
       humidity = std::move(*q);
@@ -581,10 +649,10 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
       if (!std::isfinite(temp) || !(temp > 0))
         return varError(
             c, *tVar,
-            "temperature missing or not positive at model level " + std::to_string(level) + ", " + rowColumn(hz, col));
+            "temperature missing or not positive at model level " + std::to_string(level) + ", " + s.columnName(col));
       if (!std::isfinite(q))
         return varError(c, *qVar,
-                        "humidity missing at model level " + std::to_string(level) + ", " + rowColumn(hz, col));
+                        "humidity missing at model level " + std::to_string(level) + ", " + s.columnName(col));
       const double above = half(level - 1, ps[col]), below = half(level, ps[col]);
       if (auto st = checkHalves(level, above, below, col); !st) return st;
       const double rdTv = kDryAirGasConstant * temp * (1.0 + kVirtualTemperatureFactor * q);
@@ -625,8 +693,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
 /// it once).
 Status generalVerticalHeights(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid,
                               const std::vector<double>& lat, const std::vector<double>& lon, Selected& s) {
-  const grid::Horizontal& hz = s.hz;
-  const std::size_t nc = hz.rows.size() * hz.cols.size(), nz = s.levels.size();
+  const std::size_t nc = s.columns(), nz = s.levels.size();
   grid::Heights& out = s.heights;
   const Variable* hhl = findVar(c, "HHL", "generalVertical", v);
   if (!hhl)
@@ -656,13 +723,13 @@ Status generalVerticalHeights(Context& c, const Variable& v, std::size_t t, long
   }
   auto msgs = pick(c, *hhl, ft.t, ft.member, idx);
   if (!msgs) return msgs.forwardError();
-  auto halves = columnValues(c, *hhl, *msgs, hz, &s.vertical);
+  auto halves = columnValues(c, *hhl, *msgs, s, &s.vertical);
   if (!halves) return halves.forwardError();
   for (std::size_t i = 0; i < halves->size(); ++i)
     if (!std::isfinite((*halves)[i]))
       return varError(
           c, *hhl,
-          "half-level height missing at level " + levelText((*msgs)[i / nc]->level) + ", " + rowColumn(hz, i % nc));
+          "half-level height missing at level " + levelText((*msgs)[i / nc]->level) + ", " + s.columnName(i % nc));
   const std::size_t per = layer ? 2 : 1;
   out.h.assign(nz * nc, 0.0);
   for (std::size_t k = 0; k < nz; ++k)
@@ -686,15 +753,9 @@ Status generalVerticalHeights(Context& c, const Variable& v, std::size_t t, long
 
 /// The heights of the selection by the level type (rules: docs/grids.md, "GRIB").
 Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool useGeoid, Selected& s) {
-  const grid::Horizontal& hz = s.hz;
-  const std::size_t nx = hz.cols.size(), nc = hz.rows.size() * nx, nz = s.levels.size();
-  std::vector<double> lat(nc), lon(nc);
-  const bool curvilinear = s.projected.has_value();
-  for (std::size_t j = 0; j < hz.rows.size(); ++j)
-    for (std::size_t i = 0; i < nx; ++i) {
-      lat[j * nx + i] = hz.latAt(j, i, curvilinear);
-      lon[j * nx + i] = hz.lonAt(j, i, curvilinear);
-    }
+  const std::size_t nc = s.columns(), nz = s.levels.size();
+  const std::vector<double>& lat = s.colLat;
+  const std::vector<double>& lon = s.colLon;
   grid::Heights& out = s.heights;
   const double toSi = levelToSi(v.typeOfLevel);
   for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
@@ -724,7 +785,7 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
       if (gl.size() != nz) continue;
       auto msgs = pick(c, *g, gt, member, gl);
       if (!msgs) continue;
-      auto values = columnValues(c, *g, *msgs, hz);
+      auto values = columnValues(c, *g, *msgs, s);
       if (!values) return values.forwardError();
       const bool geopotential = std::string(name) == "z";
       if (geopotential)
@@ -740,8 +801,9 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   out.h.assign(nz * nc, 0.0);
   for (std::size_t k = 0; k < nz; ++k)
     for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] = out.levelValues[k];
-  if (v.typeOfLevel == "heightAboveSea") {
-    out.note = "heights above mean sea level (GRIB heightAboveSea)";
+  if (v.typeOfLevel == "heightAboveSea" || v.typeOfLevel == "meanSea") {
+    out.note = v.typeOfLevel == "meanSea" ? "mean sea level (GRIB meanSea: 0 m above mean sea level)"
+                                          : "heights above mean sea level (GRIB heightAboveSea)";
     return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
   }
   // The surface altitude: orog (m) or the surface geopotential z (m2 s-2), at this time and member
@@ -754,17 +816,14 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
     const FieldTime ft = fieldTime(*g, v, t, member);
     auto msgs = pick(c, *g, ft.t, ft.member, {0});
     if (!msgs) continue;
-    auto surf = columnValues(c, *g, *msgs, hz);
+    auto surf = columnValues(c, *g, *msgs, s);
     if (!surf) return surf.forwardError();
     if (std::string(name) == "z") {
       for (double& x : *surf) x /= kStandardGravity;
       grid::geopotentialToGeometricHeights(lat, *surf);
     }
     for (std::size_t col = 0; col < nc; ++col)
-      if (!std::isfinite((*surf)[col]))
-        return varError(c, *g,
-                        "surface altitude missing at row " + std::to_string(hz.rows[col / nx]) + ", column " +
-                            std::to_string(hz.cols[col % nx]));
+      if (!std::isfinite((*surf)[col])) return varError(c, *g, "surface altitude missing at " + s.columnName(col));
     for (std::size_t k = 0; k < nz; ++k)
       for (std::size_t col = 0; col < nc; ++col) out.h[k * nc + col] += (*surf)[col];
     out.note = datum + " + the surface altitude '" + g->key() + "'" +
@@ -878,26 +937,49 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
   const bool modelLevels = isModelLevelType(v.typeOfLevel);
   auto axes = decode(c, v, *msgs->front(), true, false, modelLevels);
   if (!axes) return axes.forwardError();
-  s.latRows = std::move(axes->latRows);
-  s.lonCols = std::move(axes->lonCols);
-  s.projected = std::move(axes->projected);
+  const grid::CoordinateError error = [&](const std::string& what) { return varError(c, v, what); };
+  if (isReduced(v.gridType)) {
+    s.reduced = true;
+    s.pl = std::move(axes->pl);
+    s.pointLat = std::move(axes->pointLat);
+    s.pointLon = std::move(axes->pointLon);
+    auto red = grid::reducedAxes(s.pl, s.pointLat, s.pointLon, crop, sample, error);
+    if (!red) return red.forwardError();
+    s.red = std::move(*red);
+    s.hz = s.red.hz;
+    s.colLat = s.red.pointLatDeg;
+    s.colLon = s.red.pointLonDeg;
+  } else {
+    s.latRows = std::move(axes->latRows);
+    s.lonCols = std::move(axes->lonCols);
+    s.projected = std::move(axes->projected);
+    auto hz = horizontalOf(c, v, s, crop, sample);
+    if (!hz) return hz.forwardError();
+    s.hz = std::move(*hz);
+    if (s.projected) {  // curvilinear: a position per column already
+      s.colLat = s.hz.latDeg;
+      s.colLon = s.hz.lonDeg;
+    } else {
+      for (double la : s.hz.latDeg)
+        for (double lo : s.hz.lonDeg) {
+          s.colLat.push_back(la);
+          s.colLon.push_back(lo);
+        }
+    }
+  }
   s.vertical = std::move(axes->vertical);
   s.bottomLevel = axes->bottomLevel;
   s.firstOffset = msgs->front()->offset;
-  auto hz = horizontalOf(c, v, s, crop, sample);
-  if (!hz) return hz.forwardError();
-  s.hz = std::move(*hz);
   if (wantValues) {
-    auto values = columnValues(c, v, *msgs, s.hz, modelLevels ? &s.vertical : nullptr);
+    auto values = columnValues(c, v, *msgs, s, modelLevels ? &s.vertical : nullptr);
     if (!values) return values.forwardError();
     s.values.resize(values->size());
     for (std::size_t i = 0; i < values->size(); ++i)
       s.values[i] = static_cast<float>((*values)[i]);  // as netCDF: float
   }
   if (auto st = heightsOf(c, v, t, member, useGeoid, s); !st) return st.forwardError();
-  const grid::Selection sel{t, s.levels, &s.hz, {}};
-  if (auto st = grid::checkHeights(c.label, s.heights, sel, s.hz.rows.size() * s.hz.cols.size()); !st)
-    return st.forwardError();
+  const grid::Selection sel{t, s.levels, &s.hz, {}, [&](std::size_t col) { return s.columnName(col); }};
+  if (auto st = grid::checkHeights(c.label, s.heights, sel, s.columns()); !st) return st.forwardError();
   return s;
 }
 
@@ -905,7 +987,7 @@ VerticalKind verticalKindOf(const std::string& typeOfLevel) {
   if (isPressureType(typeOfLevel)) return VerticalKind::Pressure;
   if (typeOfLevel == "hybrid") return VerticalKind::HybridSigmaPressure;
   if (isGeneralVertical(typeOfLevel)) return VerticalKind::GeneralVertical;
-  if (typeOfLevel == "heightAboveSea") return VerticalKind::HeightAboveSeaLevel;
+  if (typeOfLevel == "heightAboveSea" || typeOfLevel == "meanSea") return VerticalKind::HeightAboveSeaLevel;
   return VerticalKind::HeightAboveGround;
 }
 
@@ -954,21 +1036,41 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.curvilinear = s->projected.has_value();
   if (s->projected) g.projection = s->projected->definition;
   g.fileFirstRow = s->hz.rows.front();
-  g.fileFirstColumn = s->hz.cols.front();
+  g.fileFirstColumn = s->hz.cols.empty() ? 0 : s->hz.cols.front();  // reduced: 0 (set below)
   g.fileFirstLevel = s->levels.front();
   g.fileRowStep = s->hz.rowStep;
   g.fileColumnStep = s->hz.colStep;
   g.fileLevelStep = 1;  // levels are indexed bottom first (Variable::levels)
-  g.values = std::move(s->values);
+  const grid::Heights& h = s->heights;
+  if (s->reduced) {
+    // Rows padded to the longest (GridVolume.h): the packed points spread over nx columns.
+    const grid::ReducedHorizontal& red = s->red;
+    g.nx = red.nx;
+    g.fileFirstColumn = 0;
+    g.rowLengthPoints = red.rowLength;
+    g.rowFirstLonDeg = red.rowFirstLonDeg;
+    g.rowSpacingDeg = red.rowSpacingDeg;
+    const std::size_t points = s->columns(), plane = g.nx * g.ny;
+    g.values.assign(g.nz * plane, std::numeric_limits<float>::quiet_NaN());
+    g.heightAboveEllipsoidMeters.assign(g.nz * plane, std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t k = 0; k < g.nz; ++k)
+      for (std::size_t p = 0, j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < red.rowLength[j]; ++i, ++p) {
+          g.values[g.index(k, j, i)] = s->values[k * points + p];
+          g.heightAboveEllipsoidMeters[g.index(k, j, i)] = static_cast<float>(h.h[k * points + p]);
+        }
+    if (auto st = finishReducedGrid(g); !st) return varError(c, v, "reduced grid: " + st.error());
+  } else {
+    g.values = std::move(s->values);
+    g.heightAboveEllipsoidMeters.resize(h.h.size());
+    for (std::size_t i = 0; i < h.h.size(); ++i)
+      g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
+  }
   for (float x : g.values) {
     if (!std::isfinite(x)) continue;
     if (!(x >= g.valueMin)) g.valueMin = x;
     if (!(x <= g.valueMax)) g.valueMax = x;
   }
-  const grid::Heights& h = s->heights;
-  g.heightAboveEllipsoidMeters.resize(h.h.size());
-  for (std::size_t i = 0; i < h.h.size(); ++i)
-    g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
   g.verticalKind = verticalKindOf(v.typeOfLevel);
   g.heightSource = h.source;
   g.verticalVariable = v.typeOfLevel;
@@ -1010,6 +1112,7 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
     vi.levels = v.levels;
     vi.gridNi = static_cast<std::size_t>(std::max(0L, v.ni));
     vi.gridNj = static_cast<std::size_t>(std::max(0L, v.nj));
+    vi.gridPoints = static_cast<std::size_t>(std::max(0L, v.points));
     vi.timeCount = v.validity.size();
     vi.memberCount = v.members.front() < 0 ? 0 : v.members.size();
     vi.messageCount = v.messages.size();
@@ -1041,11 +1144,26 @@ Result<GridFileInfo> describeGribFile(const std::string& path, const std::string
   info.heightColumnStride = stride;
   auto s = readSelection(c, v, 0, v.members.front(), GridCrop{}, stride, true, false);
   if (!s) return s.forwardError();
-  auto full = horizontalOf(c, v, *s, GridCrop{}, 1);
-  if (!full) return full.forwardError();
-  info.curvilinear = s->projected.has_value();
-  if (s->projected) info.projection = s->projected->definition;
-  grid::describeExtent(*full, info.curvilinear, info);
+  const grid::CoordinateError error = [&](const std::string& what) { return varError(c, v, what); };
+  if (s->reduced) {
+    auto full = grid::reducedAxes(s->pl, s->pointLat, s->pointLon, GridCrop{}, 1, error);
+    if (!full) return full.forwardError();
+    grid::describeExtent(full->hz, false, info);
+    info.meanSpacingKm = full->meanSpacingKm();
+    info.reduced = true;
+    info.nx = full->nx;
+    info.ny = full->rowLength.size();
+    info.minRowLengthPoints = *std::min_element(full->rowLength.begin(), full->rowLength.end());
+    info.maxRowLengthPoints = full->nx;
+    info.gridPoints = full->points.size();
+    info.emptyRowsLeftOut = full->emptyRowsDropped;
+  } else {
+    auto full = horizontalOf(c, v, *s, GridCrop{}, 1);
+    if (!full) return full.forwardError();
+    info.curvilinear = s->projected.has_value();
+    if (s->projected) info.projection = s->projected->definition;
+    grid::describeExtent(*full, info.curvilinear, info);
+  }
   const grid::Heights& h = s->heights;
   info.heightSource = h.source;
   info.heightNote = h.note;
@@ -1067,9 +1185,11 @@ std::string levelsText(const std::vector<double>& levels) {
   return s;
 }
 
-/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths".
+/// "120 x 61 points", or for reduced grids (Ni missing) "96 rows of different lengths, 13280 points".
 std::string gridSize(const GridVariableInfo& v) {
-  if (v.gridNi == 0) return std::to_string(v.gridNj) + " rows of different lengths";
+  if (v.gridNi == 0)
+    return std::to_string(v.gridNj) + " rows of different lengths" +
+           (v.gridPoints > 0 ? ", " + std::to_string(v.gridPoints) + " points" : std::string());
   return std::to_string(v.gridNi) + " x " + std::to_string(v.gridNj) + " points";
 }
 
@@ -1106,9 +1226,18 @@ std::string describeGribText(const GridFileInfo& g) {
     if (v) os << "grid:       " << v->gridType << ", " << gridSize(*v) << "\n";
     os << "levels:     " << g.nz << " (" << g.zDimension << ")" << (v ? ": " + levelsText(v->levels) : "") << "\n";
   } else {
-    os << "grid:       " << (v ? v->gridType : std::string()) << (g.curvilinear ? " (curvilinear)" : " (rectilinear)")
-       << ", " << g.nx << " x " << g.ny << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
-    if (!g.projection.empty()) os << "projection: " << g.projection << " (PROJ; points placed from it)\n";
+    if (g.reduced) {
+      os << "grid:       " << (v ? v->gridType : std::string()) << " (reduced: rows of different lengths), " << g.ny
+         << " rows of " << g.minRowLengthPoints << " .. " << g.maxRowLengthPoints << " points (" << g.gridPoints
+         << " points), ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+      if (g.emptyRowsLeftOut > 0)
+        os << "            " << g.emptyRowsLeftOut << " empty row" << (g.emptyRowsLeftOut == 1 ? "" : "s")
+           << " (pl 0) at the grid's ends left out\n";
+    } else {
+      os << "grid:       " << (v ? v->gridType : std::string()) << (g.curvilinear ? " (curvilinear)" : " (rectilinear)")
+         << ", " << g.nx << " x " << g.ny << " points, ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
+      if (!g.projection.empty()) os << "projection: " << g.projection << " (PROJ; points placed from it)\n";
+    }
     os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3)
        << " deg, longitude " << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
        << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
@@ -1161,6 +1290,7 @@ std::string describeGribJson(const GridFileInfo& g) {
                     {"grid_type", v.gridType},
                     {"ni", v.gridNi},
                     {"nj", v.gridNj},
+                    {"points", v.gridPoints},
                     {"times", v.timeCount},
                     {"members", v.memberCount},
                     {"messages", v.messageCount},
@@ -1170,7 +1300,9 @@ std::string describeGribJson(const GridFileInfo& g) {
                     {"not_readable", v.notReadable}});
   j["variables"] = std::move(vars);
   if (g.notReadable.empty()) {
-    j["grid"] = {{"horizontal", g.curvilinear ? "curvilinear" : "rectilinear"},
+    j["grid"] = {{"horizontal", g.reduced       ? "reduced"
+                                : g.curvilinear ? "curvilinear"
+                                                : "rectilinear"},
                  {"projection", g.projection},
                  {"nx", g.nx},
                  {"ny", g.ny},
@@ -1181,6 +1313,13 @@ std::string describeGribJson(const GridFileInfo& g) {
                  {"east_deg", g.eastDeg},
                  {"wraps_longitude", g.wrapsLongitude},
                  {"mean_spacing_km", g.meanSpacingKm}};
+    if (g.reduced) {
+      j["grid"]["rows"] = g.ny;
+      j["grid"]["min_row_length_points"] = g.minRowLengthPoints;
+      j["grid"]["max_row_length_points"] = g.maxRowLengthPoints;
+      j["grid"]["points"] = g.gridPoints;
+      j["grid"]["empty_rows_left_out"] = g.emptyRowsLeftOut;
+    }
     j["vertical"] = grid::verticalJson(g);
   }
   j["time"] = {{"kind", "validity"}, {"values", g.times}};

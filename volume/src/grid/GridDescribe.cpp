@@ -114,7 +114,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   if (!lv) return lv.forwardError();
   auto levels = grid::levelPicks(f, l, *lv, all);
   if (!levels) return levels.forwardError();
-  grid::Selection sel{0, *levels, &*sample, extraIndex};
+  grid::Selection sel{0, *levels, &*sample, extraIndex, {}};
   auto heights = grid::computeHeights(f, l, *lv, sel, true);
   if (!heights) return heights.forwardError();
   if (auto st = grid::checkHeights(f, *heights, sel, sample->rows.size() * sample->cols.size()); !st)

@@ -591,6 +591,7 @@ Status checkHeights(const std::string& label, const Heights& h, const Selection&
   const std::size_t nz = s.levels.size();
   const std::size_t nx = s.hz->cols.size();
   auto where = [&](std::size_t k, std::size_t c) {
+    if (s.columnName) return "level " + std::to_string(s.levels[k]) + ", " + s.columnName(c);
     return "level " + std::to_string(s.levels[k]) + ", row " + std::to_string(s.hz->rows[c / nx]) + ", column " +
            std::to_string(s.hz->cols[c % nx]);
   };

@@ -193,6 +193,221 @@ Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::ve
   return h;
 }
 
+Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::vector<double>& lat,
+                                      const std::vector<double>& lon, const GridCrop& crop, std::size_t sample,
+                                      const CoordinateError& error) {
+  if (auto st = checkCoordinates(error, lat, true); !st) return st.forwardError();
+  if (auto st = checkCoordinates(error, lon, false); !st) return st.forwardError();
+  std::size_t total = 0;
+  std::size_t firstFull = pl.size(), lastFull = 0;
+  for (std::size_t r = 0; r < pl.size(); ++r) {
+    if (pl[r] < 0) return error("pl[" + std::to_string(r) + "] = " + std::to_string(pl[r]) + " is negative");
+    total += static_cast<std::size_t>(pl[r]);
+    if (pl[r] > 0) {
+      firstFull = std::min(firstFull, r);
+      lastFull = r;
+    }
+  }
+  if (total != lat.size() || total != lon.size())
+    return error("the reduced grid's pl (" + std::to_string(pl.size()) + " rows) counts " + std::to_string(total) +
+                 " points, the message has " + std::to_string(lat.size()) +
+                 " (a sub-area whose pl counts whole circles is not read yet)");
+  if (firstFull == pl.size()) return error("every row of the reduced grid is empty (pl all 0)");
+  for (std::size_t r = firstFull; r <= lastFull; ++r)
+    if (pl[r] == 0)
+      return error("row " + std::to_string(r) + " of the reduced grid has no points (pl 0) between rows that have");
+
+  // The file's rows with points: their latitude and, eastward, their first longitude and spacing.
+  struct Row {
+    std::size_t fileRow = 0, start = 0, n = 0;
+    double lat = 0, first = 0, step = 360.0;
+    bool global = false, west = false;        // west: the file lists the row westward
+    std::size_t nFile = 0;                    // the row's points in the file (n + 1 when its last repeats its first)
+    std::size_t point(std::size_t a) const {  // eastward index -> message index
+      return start + (west ? nFile - 1 - a : a);
+    }
+  };
+  std::vector<Row> rows;
+  std::size_t start = 0;
+  for (std::size_t r = 0; r < pl.size(); start += static_cast<std::size_t>(pl[r]), ++r) {
+    if (pl[r] == 0) continue;
+    Row w;
+    w.fileRow = r;
+    w.start = start;
+    w.n = w.nFile = static_cast<std::size_t>(pl[r]);
+    w.lat = lat[start];
+    const std::string name = "row " + std::to_string(r) + " (latitude " + num(w.lat) + ")";
+    for (std::size_t m = 1; m < w.n; ++m)
+      if (std::abs(lat[start + m] - w.lat) > 1e-6)
+        return error(name + ": its points are at different latitudes (" + num(w.lat) + " and " + num(lat[start + m]) +
+                     ")");
+    // The direction from the longitudes themselves (ecCodes' reduced iterators differ in how they
+    // honour iScansNegatively).
+    w.west = w.n >= 2 && std::remainder(lon[start + 1] - lon[start], 360.0) < 0.0;
+    auto east = [&](std::size_t a) { return lon[w.point(a)]; };
+    w.first = east(0);
+    if (w.n >= 2) {
+      double span = 0;
+      for (std::size_t a = 1; a < w.n; ++a) span += mod360(east(a) - east(a - 1));
+      const double d = span / static_cast<double>(w.n - 1);
+      const double tolerance = std::max(1e-6, 1e-4 * d);
+      for (std::size_t a = 1; a < w.n; ++a)
+        if (!(std::abs(mod360(east(a) - east(a - 1)) - d) <= tolerance))
+          return error(name + ": its longitudes are not equally spaced (" + num(east(a - 1), 6) + ", " +
+                       num(east(a), 6) + " after a mean step of " + num(d, 6) + ")");
+      if (!(d > 0.0)) return error(name + ": its points are at one longitude");
+      if (span >= 360.0 - 0.5 * d) {
+        if (span > 360.0 + 0.5 * d) return error(name + ": its longitudes span more than 360 degrees");
+        --w.n;  // the last point repeats the first (0 .. 360 inclusive)
+        w.global = true;
+      } else {
+        w.global = span + d >= 360.0 - 0.5 * d;
+      }
+      w.step = w.global ? 360.0 / static_cast<double>(w.n) : d;
+    }
+    rows.push_back(w);
+  }
+  bool gridWraps = false, anyLong = false;
+  for (const Row& w : rows)
+    if (w.nFile >= 2) {
+      gridWraps = anyLong ? gridWraps && w.global : w.global;
+      anyLong = true;
+    }
+  for (Row& w : rows)
+    if (w.nFile < 2) w.step = 360.0;  // a single point: any spacing names it
+  // Latitudes: strictly monotonic; output rows ascend.
+  const std::size_t ny = rows.size();
+  const bool latDown = ny >= 2 && rows[1].lat < rows[0].lat;
+  for (std::size_t a = 1; a < ny; ++a)
+    if (!(latDown ? rows[a].lat < rows[a - 1].lat : rows[a].lat > rows[a - 1].lat))
+      return error("the reduced grid's row latitudes are not strictly monotonic (row " +
+                   std::to_string(rows[a - 1].fileRow) + ": " + num(rows[a - 1].lat) + ", row " +
+                   std::to_string(rows[a].fileRow) + ": " + num(rows[a].lat) + ")");
+  auto asc = [&](std::size_t a) -> const Row& { return rows[latDown ? ny - 1 - a : a]; };
+  if (crop.southDeg > asc(ny - 1).lat || crop.northDeg < asc(0).lat)
+    return error("the crop's latitudes " + num(crop.southDeg) + " .. " + num(crop.northDeg) +
+                 " do not overlap the grid's " + num(asc(0).lat) + " .. " + num(asc(ny - 1).lat));
+  std::size_t ra = 0, rb = ny - 1;  // as rectilinearAxes: one row beyond each edge, strictly outside
+  for (std::size_t a = 0; a < ny; ++a)
+    if (asc(a).lat < crop.southDeg) ra = a;
+  for (std::size_t a = ny; a-- > 0;)
+    if (asc(a).lat > crop.northDeg) rb = a;
+
+  // Per kept row the logical (eastward) indices a .. b it keeps; past n - 1 or below 0 across the
+  // seam of a wrapping row (the point of index mod n).
+  const double span = cropSpanDeg(crop);
+  struct Kept {
+    const Row* row;
+    long a, b;
+  };
+  std::vector<Kept> kept;
+  bool allWhole = true;
+  for (std::size_t a : strided(ra, rb, sample)) {
+    const Row& w = asc(a);
+    const long n = static_cast<long>(w.n);
+    Kept k{&w, 0, n - 1};
+    if (span < 360.0) {
+      const double o = mod360(crop.westDeg - w.first);  // the box's west edge east of the row's first point
+      if (gridWraps) {
+        k.a = static_cast<long>(std::ceil(o / w.step - 1e-9)) - 1;  // the last point strictly west of the edge
+        k.b = static_cast<long>(std::floor((o + span) / w.step + 1e-9)) + 1;  // the first strictly east of it
+        allWhole = allWhole && k.b - k.a + 1 >= n;
+      } else {
+        const double end = w.first + static_cast<double>(n - 1) * w.step;
+        long lo = n, hi = -1;
+        for (double west : {w.first + o - 360.0, w.first + o}) {
+          const double a0 = std::max(west, w.first), b0 = std::min(west + span, end);
+          if (a0 > b0) continue;
+          lo = std::min(lo, std::max(0L, static_cast<long>(std::ceil((a0 - w.first) / w.step - 1e-9)) - 1));
+          hi = std::max(hi, std::min(n - 1, static_cast<long>(std::floor((b0 - w.first) / w.step + 1e-9)) + 1));
+        }
+        if (hi < 0)
+          return error("the crop's longitudes " + num(crop.westDeg) + " .. " + num(crop.eastDeg) +
+                       " do not overlap the row at latitude " + num(w.lat) + " (" + num(wrap180(w.first)) + " .. " +
+                       num(wrap180(w.first) + end - w.first) + ")");
+        k.a = lo;
+        k.b = hi;
+        allWhole = false;
+      }
+    }
+    kept.push_back(k);
+  }
+  const bool wraps = gridWraps && sample == 1 && (span >= 360.0 || allWhole);
+  ReducedHorizontal out;
+  out.emptyRowsDropped = pl.size() - rows.size();
+  Horizontal& h = out.hz;
+  for (Kept& k : kept) {
+    const Row& w = *k.row;
+    const long n = static_cast<long>(w.n);
+    if (wraps) {
+      k.a = 0;
+      k.b = n - 1;
+    } else if (gridWraps) {
+      k.b = std::min(k.b, k.a + n);  // at most the circle from point a, to a's copy one circle on
+    }
+    const std::size_t row = h.rows.size();
+    h.rows.push_back(w.fileRow);
+    h.latDeg.push_back(w.lat);
+    std::size_t m = 0;
+    for (long q = k.a; q <= k.b; q += static_cast<long>(sample), ++m) {
+      const auto e = static_cast<std::size_t>(((q % n) + n) % n);
+      out.points.push_back(w.point(e));
+      out.pointRow.push_back(row);
+    }
+    out.rowLength.push_back(m);
+    out.rowFirstLonDeg.push_back(w.first + static_cast<double>(k.a) * w.step);
+    out.rowSpacingDeg.push_back(w.step * static_cast<double>(sample));
+  }
+  // First longitudes continuous with each other (a crop's rows all start just west of its west
+  // edge), the westernmost in [-180, 180).
+  const double ref = span < 360.0 ? crop.westDeg : wrap180(out.rowFirstLonDeg.front());
+  for (double& x : out.rowFirstLonDeg) x = ref + wrap180(x - ref);
+  const double west = *std::min_element(out.rowFirstLonDeg.begin(), out.rowFirstLonDeg.end());
+  const double shift = 360.0 * std::floor((west + 180.0) / 360.0);
+  for (double& x : out.rowFirstLonDeg) x -= shift;
+  for (std::size_t p = 0, j = 0; j < out.rowLength.size(); ++j)
+    for (std::size_t i = 0; i < out.rowLength[j]; ++i, ++p) {
+      out.pointLatDeg.push_back(h.latDeg[j]);
+      out.pointLonDeg.push_back(out.rowFirstLonDeg[j] + static_cast<double>(i) * out.rowSpacingDeg[j]);
+    }
+  out.nx = *std::max_element(out.rowLength.begin(), out.rowLength.end());
+  h.wrapsLongitude = wraps;
+  h.rowStep = latDown ? -1 : 1;
+  h.southDeg = h.latDeg.front();
+  h.northDeg = h.latDeg.back();
+  // The reference axis (GridVolume::reducedWestDeg, reducedSpacingDeg).
+  double finest = std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < out.rowLength.size(); ++j)
+    if (out.rowLength[j] >= 2) finest = std::min(finest, out.rowSpacingDeg[j]);
+  if (!std::isfinite(finest)) finest = *std::min_element(out.rowSpacingDeg.begin(), out.rowSpacingDeg.end());
+  const double step = wraps ? 360.0 / static_cast<double>(out.nx) : finest;
+  h.westDeg = west - shift;
+  h.eastDeg = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < out.rowLength.size(); ++j)
+    h.eastDeg =
+        std::max(h.eastDeg, out.rowFirstLonDeg[j] + static_cast<double>(out.rowLength[j] - 1) * out.rowSpacingDeg[j]);
+  if (wraps) h.eastDeg = h.westDeg + 360.0 - step;
+  for (std::size_t i = 0; i < out.nx; ++i) h.lonDeg.push_back(h.westDeg + static_cast<double>(i) * step);
+  return out;
+}
+
+double ReducedHorizontal::meanSpacingKm() const {
+  if (rowLength.empty()) return 0.0;
+  const std::size_t j = rowLength.size() / 2, i = rowLength[j] / 2;
+  const double la = hz.latDeg[j], lo = rowFirstLonDeg[j] + static_cast<double>(i) * rowSpacingDeg[j];
+  double sum = 0;
+  int n = 0;
+  if (i + 1 < rowLength[j]) {
+    sum += globe::geodesicInverse(la, lo, la, lo + rowSpacingDeg[j]).distanceMeters;
+    ++n;
+  }
+  if (j + 1 < rowLength.size()) {
+    sum += globe::geodesicInverse(la, lo, hz.latDeg[j + 1], lo).distanceMeters;
+    ++n;
+  }
+  return n ? sum / n / 1000.0 : 0.0;
+}
+
 Result<Horizontal> curvilinear(const io::NetcdfFile& f, const GridLayout& l, std::size_t timeIndex,
                                const GridCrop& crop, std::size_t sample) {
   // 2-D (or time, y, x) latitude and longitude: the whole plane at the time step read.

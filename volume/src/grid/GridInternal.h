@@ -214,6 +214,36 @@ using CoordinateError = std::function<Error(const std::string& what)>;
 Result<Horizontal> rectilinearAxes(const std::vector<double>& lat, const std::vector<double>& lon, const GridCrop& crop,
                                    std::size_t sample, const CoordinateError& latError,
                                    const CoordinateError& lonError);
+/// What a crop keeps of a reduced grid (GRIB reduced_gg / reduced_ll: rows of different lengths,
+/// each equally spaced in longitude; GridVolume.h).
+struct ReducedHorizontal {
+  /// rows (file rows kept, output order: ascending latitudes), latDeg (per row), rowStep,
+  /// wrapsLongitude, the extent; lonDeg the reference axis (GridVolume::reducedWestDeg,
+  /// reducedSpacingDeg; nx values); cols empty.
+  Horizontal hz;
+  std::size_t nx = 0;  ///< the longest kept row
+  std::vector<std::size_t> rowLength;
+  std::vector<double> rowFirstLonDeg, rowSpacingDeg;
+  /// Every kept point, row by row (packed, no padding): its index in the message's values, and
+  /// its latitude and longitude.
+  std::vector<std::size_t> points;
+  std::vector<double> pointLatDeg, pointLonDeg;
+  std::vector<std::size_t> pointRow;  ///< the output row of each kept point
+  std::size_t emptyRowsDropped = 0;   ///< rows of no point (pl 0) at the grid's ends, left out
+  /// The mean of the distances from the middle row's middle point to its east neighbour and to
+  /// the next row at its longitude (km): the spacing `info` reports.
+  double meanSpacingKm() const;
+};
+/// A reduced grid whose file rows hold pl[r] points each (sum = the values' count), every point's
+/// latitude and longitude given in the message's order (`lat`, `lon`; a row may run east or west):
+/// the rows the crop keeps (inside the box and one beyond each edge, as
+/// rectilinearAxes) and in each the points inside the box and one beyond each edge, every
+/// `sample`-th row and point. Rows of no point at the grid's ends are left out; one between rows
+/// with points, points of a row at different latitudes or not equally spaced in longitude, a row
+/// spanning more than 360 degrees are errors.
+Result<ReducedHorizontal> reducedAxes(const std::vector<long>& pl, const std::vector<double>& lat,
+                                      const std::vector<double>& lon, const GridCrop& crop, std::size_t sample,
+                                      const CoordinateError& error);
 /// The rows and columns of a rectilinear grid the crop keeps, every `sample`-th (and the last).
 Result<Horizontal> rectilinear(const io::NetcdfFile& f, const GridLayout& l, const GridCrop& crop, std::size_t sample);
 /// The rows and columns of a curvilinear grid (a latitude and a longitude per point, `ny` rows of
@@ -234,6 +264,9 @@ struct Selection {
   std::vector<std::size_t> levels;
   const Horizontal* hz = nullptr;
   std::map<int, std::size_t> extraIndex;  ///< dimension id -> index, for the layout's extra dimensions
+  /// Names column c (of the heights' columns) in messages; unset: "row R, column C" from hz (a
+  /// GRIB reduced grid's columns are its kept points, which hz's rows x cols do not describe).
+  std::function<std::string(std::size_t)> columnName;
 };
 
 // ---------------------------------------------------------------- vertical coordinates (GridHeights.cpp)

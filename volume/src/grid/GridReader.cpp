@@ -77,7 +77,7 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   if (!lv) return lv.forwardError();
   auto levels = grid::levelPicks(f, l, *lv, options.crop);
   if (!levels) return levels.forwardError();
-  grid::Selection sel{*t, *levels, &*hz, extraIndex};
+  grid::Selection sel{*t, *levels, &*hz, extraIndex, {}};
   const std::size_t nz = sel.levels.size(), ny = hz->rows.size(), nx = hz->cols.size();
 
   // Values: the variable's own dimensions, staggered ones one longer, then averaged to mass points.

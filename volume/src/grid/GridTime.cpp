@@ -20,8 +20,9 @@ Result<GridVolume> interpolateGridSteps(const GridVolume& a, const GridVolume& b
   if (!(fraction >= 0.0 && fraction <= 1.0))
     return makeError(a.path + ": time fraction " + std::to_string(fraction) + " is outside [0, 1]");
   if (a.variable != b.variable || a.nx != b.nx || a.ny != b.ny || a.nz != b.nz || a.curvilinear != b.curvilinear ||
-      a.lonDeg != b.lonDeg || a.latDeg != b.latDeg || a.values.size() != b.values.size() ||
-      a.heightAboveEllipsoidMeters.size() != b.heightAboveEllipsoidMeters.size())
+      a.lonDeg != b.lonDeg || a.latDeg != b.latDeg || a.rowLengthPoints != b.rowLengthPoints ||
+      a.rowFirstLonDeg != b.rowFirstLonDeg || a.rowSpacingDeg != b.rowSpacingDeg ||
+      a.values.size() != b.values.size() || a.heightAboveEllipsoidMeters.size() != b.heightAboveEllipsoidMeters.size())
     return makeError(a.path + ": the two time steps to interpolate differ in variable, region or shape");
   GridVolume out = a;
   out.valueMin = std::numeric_limits<float>::quiet_NaN();

@@ -3,6 +3,7 @@
 #include <atmoglobe/volume/RadarVolume.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace atmoglobe::volume {
@@ -19,8 +20,83 @@ std::vector<std::size_t> keptIndices(std::size_t n, std::size_t f, bool periodic
 
 }  // namespace
 
+namespace {
+
+// A reduced grid (GridVolume.h): every `factor`-th row, and in each row every `factor`-th point
+// (the row's spacing times factor). A wrapping row whose length is not a multiple of factor is
+// resampled instead, linearly along the row to ceil(n / factor) points evenly round the circle,
+// so that the grid keeps wrapping with even rows.
+GridVolume decimateReduced(const GridVolume& g, std::size_t factor, const std::vector<std::size_t>& lev) {
+  const std::vector<std::size_t> rows = keptIndices(g.ny, factor, false);
+  GridVolume out = g;
+  out.ny = rows.size();
+  out.nz = lev.size();
+  out.latDeg.clear();
+  out.rowLengthPoints.clear();
+  out.rowFirstLonDeg.clear();
+  out.rowSpacingDeg.clear();
+  for (std::size_t j : rows) {
+    const std::size_t n = g.rowLengthPoints[j];
+    const std::size_t m = g.wrapsLongitude ? (n + factor - 1) / factor : (n - 1) / factor + 1;
+    out.latDeg.push_back(g.latDeg[j]);
+    out.rowLengthPoints.push_back(m);
+    out.rowFirstLonDeg.push_back(g.rowFirstLonDeg[j]);
+    out.rowSpacingDeg.push_back(g.wrapsLongitude ? 360.0 / static_cast<double>(m)
+                                                 : g.rowSpacingDeg[j] * static_cast<double>(factor));
+  }
+  out.nx = *std::max_element(out.rowLengthPoints.begin(), out.rowLengthPoints.end());
+  out.fileRowStep = g.fileRowStep * static_cast<int>(factor);
+  out.values.assign(out.nx * out.ny * out.nz, std::numeric_limits<float>::quiet_NaN());
+  out.heightAboveEllipsoidMeters.assign(out.values.size(), std::numeric_limits<float>::quiet_NaN());
+  out.valueMin = out.valueMax = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < lev.size(); ++k)
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const std::size_t j = rows[r], n = g.rowLengthPoints[j], m = out.rowLengthPoints[r];
+      for (std::size_t q = 0; q < m; ++q) {
+        float v = 0.0f, h = 0.0f;
+        if (!g.wrapsLongitude || n % factor == 0) {
+          v = g.value(lev[k], j, q * factor);
+          h = g.heightMeters(lev[k], j, q * factor);
+        } else {
+          // Point q at q / m of the circle: between points a and a + 1 (mod n) of the row.
+          const double x = static_cast<double>(q) * static_cast<double>(n) / static_cast<double>(m);
+          const std::size_t a = std::min(static_cast<std::size_t>(x), n - 1), b = (a + 1) % n;
+          const double f = x - static_cast<double>(a);
+          const float va = g.value(lev[k], j, a), vb = g.value(lev[k], j, b);
+          v = f == 0.0 ? va : static_cast<float>((1.0 - f) * va + f * vb);  // NaN stays NaN
+          h = static_cast<float>((1.0 - f) * g.heightMeters(lev[k], j, a) + f * g.heightMeters(lev[k], j, b));
+        }
+        out.values[out.index(k, r, q)] = v;
+        out.heightAboveEllipsoidMeters[out.index(k, r, q)] = h;
+        if (std::isfinite(v)) {
+          if (!(out.valueMin <= v)) out.valueMin = v;
+          if (!(out.valueMax >= v)) out.valueMax = v;
+        }
+      }
+    }
+  (void)finishReducedGrid(out);  // the reference axis (lonDeg); the rows are valid by construction
+  return out;
+}
+
+}  // namespace
+
 GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
   factor = std::max<std::size_t>(factor, 2);
+  if (g.reduced()) {
+    std::vector<std::size_t> lev;
+    if (levels) {
+      lev = keptIndices(g.nz, factor, false);
+    } else {
+      for (std::size_t k = 0; k < g.nz; ++k) lev.push_back(k);
+    }
+    GridVolume out = decimateReduced(g, factor, lev);
+    if (levels) out.fileLevelStep = g.fileLevelStep * static_cast<int>(factor);
+    if (!g.levelValues.empty() && levels) {
+      out.levelValues.clear();
+      for (std::size_t k : lev) out.levelValues.push_back(g.levelValues[k]);
+    }
+    return out;
+  }
   const bool periodic = g.wrapsLongitude && !g.curvilinear && g.nx % factor == 0;
   const std::vector<std::size_t> cols = keptIndices(g.nx, factor, periodic);
   const std::vector<std::size_t> rows = keptIndices(g.ny, factor, false);

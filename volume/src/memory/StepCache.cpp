@@ -41,7 +41,10 @@ std::uint64_t currentResidentBytes() {
 
 std::uint64_t gridVolumeBytes(const GridVolume& g) {
   return (g.values.capacity() + g.heightAboveEllipsoidMeters.capacity()) * sizeof(float) +
-         (g.lonDeg.capacity() + g.latDeg.capacity() + g.levelValues.capacity()) * sizeof(double);
+         (g.lonDeg.capacity() + g.latDeg.capacity() + g.levelValues.capacity() + g.rowFirstLonDeg.capacity() +
+          g.rowSpacingDeg.capacity()) *
+             sizeof(double) +
+         g.rowLengthPoints.capacity() * sizeof(std::size_t);
 }
 
 std::uint64_t polarVolumeBytes(const PolarVolume& v) {

@@ -53,25 +53,32 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
   }
   if (!(minHeight_ <= maxHeight_)) minHeight_ = maxHeight_ = 0.0;
 
-  // Global grids close their polar caps with the mean of the end rows.
+  if (grid.reduced()) {
+    west_ = grid.reducedWestDeg();
+    step_ = grid.reducedSpacingDeg();
+  }
+
+  // Global grids close their polar caps with the mean of the end rows (a reduced grid's: of the
+  // row's own points).
   poleCaps_ = !grid.curvilinear && grid.wrapsLongitude && grid.ny >= 1;
   if (poleCaps_) {
     for (auto [row, height, value] : {std::tuple{grid.ny - 1, &northHeight_, &northValue_},
                                       std::tuple{std::size_t{0}, &southHeight_, &southValue_}}) {
       height->assign(grid.nz, 0.0);
       value->assign(grid.nz, 0.0f);
+      const std::size_t n = grid.rowLength(row);
       for (std::size_t k = 0; k < grid.nz; ++k) {
         double hs = 0.0, vs = 0.0;
         bool missing = false;
-        for (std::size_t i = 0; i < grid.nx; ++i) {
+        for (std::size_t i = 0; i < n; ++i) {
           hs += grid.heightMeters(k, row, i);
           const float v = grid.value(k, row, i);
           missing = missing || !std::isfinite(v);
           vs += v;
         }
-        (*height)[k] = hs / static_cast<double>(grid.nx);
+        (*height)[k] = hs / static_cast<double>(n);
         (*value)[k] = missing ? std::numeric_limits<float>::quiet_NaN()
-                              : static_cast<float>(vs / static_cast<double>(grid.nx));
+                              : static_cast<float>(vs / static_cast<double>(n));
       }
     }
   }
@@ -139,11 +146,49 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
   // Bounding sphere: the whole atmosphere for global grids, else sampled columns at their
   // lowest and highest level, widened by the sagitta between samples (the top surface bulges
   // outwards between them) and 10 m.
-  const bool global = grid.wrapsLongitude || columns == 0 ||
-                      (!grid.curvilinear && grid.nx >= 2 && grid.lonDeg.back() - grid.lonDeg.front() >= 180.0) ||
+  const double lonSpan = grid.reduced() ? grid.reducedEastDeg() - grid.reducedWestDeg()
+                         : grid.nx >= 2 ? grid.lonDeg.back() - grid.lonDeg.front()
+                                        : 0.0;
+  const bool global = grid.wrapsLongitude || columns == 0 || (!grid.curvilinear && lonSpan >= 180.0) ||
                       (!grid.curvilinear && grid.ny >= 2 && grid.latDeg.back() - grid.latDeg.front() >= 90.0);
   if (global) {
     sphere_ = {glm::dvec3(0.0), globe::kWgs84A + std::max(0.0, maxHeight_) + 1.0};
+  } else if (grid.reduced()) {
+    // Sampled points of sampled rows (each row by its own length), the spacing between
+    // neighbours along a row and between rows at one longitude.
+    const std::size_t sy = std::max<std::size_t>(1, grid.ny / 48);
+    std::vector<std::size_t> js;
+    for (std::size_t j = 0; j < grid.ny; j += sy) js.push_back(j);
+    if (js.back() != grid.ny - 1) js.push_back(grid.ny - 1);
+    std::vector<glm::dvec3> pts;
+    glm::dvec3 lo(1e300), hi(-1e300);
+    double spacing = 0.0;
+    for (std::size_t b = 0; b < js.size(); ++b) {
+      const std::size_t j = js[b], n = grid.rowLength(j), sx = std::max<std::size_t>(1, n / 48);
+      std::vector<std::size_t> is;
+      for (std::size_t i = 0; i < n; i += sx) is.push_back(i);
+      if (is.back() != n - 1) is.push_back(n - 1);
+      for (std::size_t a = 0; a < is.size(); ++a) {
+        const double lat = grid.latDeg[j], lon = grid.lonDegAt(j, is[a]);
+        const glm::dvec3 base = globe::geodeticToEcef({lat, lon, minHeight_});
+        const glm::dvec3 top = globe::geodeticToEcef({lat, lon, maxHeight_});
+        for (const glm::dvec3& p : {base, top}) {
+          lo = glm::min(lo, p);
+          hi = glm::max(hi, p);
+          pts.push_back(p);
+        }
+        if (a > 0)
+          spacing = std::max(spacing,
+                             glm::length(top - globe::geodeticToEcef({lat, grid.lonDegAt(j, is[a - 1]), maxHeight_})));
+        if (b > 0)
+          spacing =
+              std::max(spacing, glm::length(top - globe::geodeticToEcef({grid.latDeg[js[b - 1]], lon, maxHeight_})));
+      }
+    }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    double radius = 0.0;
+    for (const glm::dvec3& p : pts) radius = std::max(radius, glm::length(p - centre));
+    sphere_ = {centre, radius + spacing * spacing / (8.0 * 6.35e6) + 10.0};
   } else {
     const std::size_t sx = std::max<std::size_t>(1, grid.nx / 48), sy = std::max<std::size_t>(1, grid.ny / 48);
     std::vector<std::size_t> is, js;
@@ -197,7 +242,7 @@ ValueRange GridSampler::valueRange() const {
 std::string GridSampler::description() const {
   std::ostringstream s;
   s << grid_.variable << " from " << grid_.path << " (" << grid_.nx << " x " << grid_.ny << " x " << grid_.nz
-    << (grid_.curvilinear ? ", curvilinear" : "");
+    << (grid_.curvilinear ? ", curvilinear" : "") << (grid_.reduced() ? ", reduced" : "");
   if (!grid_.validTime.empty()) s << ", " << grid_.validTime;
   s << ")";
   return s.str();
@@ -254,10 +299,59 @@ std::optional<glm::dvec2> GridSampler::curvilinearIndex(double latDeg, double lo
   return std::nullopt;
 }
 
+std::optional<double> GridSampler::rowIndex(double latDeg) const {
+  const GridVolume& g = grid_;
+  if (g.curvilinear || g.ny == 0 || !std::isfinite(latDeg)) return std::nullopt;
+  const double lat0 = g.latDeg[0], latN = g.latDeg[g.ny - 1];
+  if (latDeg < lat0) {
+    if (!poleCaps_ || lat0 <= -90.0) return std::nullopt;
+    return -(lat0 - latDeg) / (lat0 + 90.0);
+  }
+  if (latDeg > latN) {
+    if (!poleCaps_ || latN >= 90.0) return std::nullopt;
+    return static_cast<double>(g.ny - 1) + (latDeg - latN) / (90.0 - latN);
+  }
+  return g.ny >= 2 ? fractionalIndex(g.latDeg, g.ny, latDeg) : 0.0;
+}
+
+std::optional<double> GridSampler::rowColumn(std::size_t j, double lonDeg) const {
+  const double first = grid_.rowFirstLonDeg[j], step = grid_.rowSpacingDeg[j];
+  const auto n = static_cast<double>(grid_.rowLengthPoints[j]);
+  double x = (wrapFrom(lonDeg, first) - first) / step;
+  // A grid point's longitude, after a round trip through the reference axis, a hair off.
+  if (const double r = std::round(x); std::abs(x - r) < 1e-9) x = r;
+  if (grid_.wrapsLongitude) return x >= n ? x - n : x;  // x in [0, n): across the seam past n - 1
+  if (x <= n - 1.0) return x;
+  return std::nullopt;
+}
+
+std::array<GridSampler::RowWeight, 2> GridSampler::rowsAt(double j) const {
+  const GridVolume& g = grid_;
+  if (j < 0.0) return {RowWeight{0, 1.0 + j}, RowWeight{GridColumns::kSouthPole, -j}};
+  if (j > static_cast<double>(g.ny - 1)) {
+    const double t = j - static_cast<double>(g.ny - 1);
+    return {RowWeight{static_cast<int>(g.ny - 1), 1.0 - t}, RowWeight{GridColumns::kNorthPole, t}};
+  }
+  std::size_t j0 = static_cast<std::size_t>(std::floor(j));
+  double fj = j - static_cast<double>(j0);
+  if (j0 >= g.ny - 1) {
+    j0 = g.ny - 1;
+    fj = 0.0;
+  }
+  return {RowWeight{static_cast<int>(j0), 1.0 - fj}, RowWeight{static_cast<int>(std::min(j0 + 1, g.ny - 1)), fj}};
+}
+
 std::optional<glm::dvec2> GridSampler::horizontalIndex(double latDeg, double lonDeg) const {
   const GridVolume& g = grid_;
   if (g.nx == 0 || g.ny == 0 || !std::isfinite(latDeg) || !std::isfinite(lonDeg)) return std::nullopt;
   if (g.curvilinear) return curvilinearIndex(latDeg, lonDeg);
+  if (g.reduced()) {
+    const std::optional<double> j = rowIndex(latDeg);
+    if (!j) return std::nullopt;
+    for (const RowWeight& r : rowsAt(*j))
+      if (r.row >= 0 && r.weight > 0.0 && !rowColumn(static_cast<std::size_t>(r.row), lonDeg)) return std::nullopt;
+    return glm::dvec2((wrapFrom(lonDeg, west_) - west_) / step_, *j);
+  }
   // Columns.
   double i = 0.0;
   const double x = wrapFrom(lonDeg, g.lonDeg[0]);
@@ -287,6 +381,54 @@ std::optional<glm::dvec2> GridSampler::horizontalIndex(double latDeg, double lon
 
 GridColumns GridSampler::columnsAt(const glm::dvec2& ij) const {
   const GridVolume& g = grid_;
+  if (g.reduced()) {
+    // Each row by its own column fraction of the longitude, then linear in latitude.
+    const double lon = west_ + ij.x * step_;
+    GridColumns out;
+    auto add = [&](int column, double w) {
+      if (w <= 0.0) return;
+      for (int k = 0; k < out.count; ++k)
+        if (out.column[k] == column) {
+          out.weight[k] += w;
+          return;
+        }
+      out.column[out.count] = column;
+      out.weight[out.count] = w;
+      ++out.count;
+    };
+    const std::array<RowWeight, 2> rows = rowsAt(ij.y);
+    for (const RowWeight& r : rows) {
+      if (r.row < 0) {
+        add(r.row, r.weight);
+        continue;
+      }
+      const auto row = static_cast<std::size_t>(r.row);
+      const std::size_t n = g.rowLengthPoints[row];
+      // Outside the row (a fractional index not from horizontalIndex): its nearer end.
+      const double x = rowColumn(row, lon).value_or(
+          wrapFrom(lon, g.rowFirstLonDeg[row]) - g.rowFirstLonDeg[row] > 180.0 ? 0.0 : static_cast<double>(n - 1));
+      std::size_t i0 = static_cast<std::size_t>(std::max(0.0, std::floor(x)));
+      double fi = x - static_cast<double>(i0);
+      std::size_t i1 = i0 + 1;
+      if (i0 >= n - 1) {
+        if (g.wrapsLongitude && i0 == n - 1 && fi > 0.0) {
+          i1 = 0;  // across the seam
+        } else {
+          i0 = i1 = n - 1;
+          fi = 0.0;
+        }
+      }
+      const int base = r.row * static_cast<int>(g.nx);
+      add(base + static_cast<int>(i0), r.weight * (1.0 - fi));
+      add(base + static_cast<int>(i1), r.weight * fi);
+    }
+    if (out.count == 0) {  // every weight zero cannot happen for t in [0, 1]; keep one column
+      out.column[0] = rows[0].row < 0 ? rows[0].row : rows[0].row * static_cast<int>(g.nx);
+      out.weight[0] = 1.0;
+      out.count = 1;
+    }
+    return out;
+  }
   // Columns and their weights along i.
   std::size_t i0 = static_cast<std::size_t>(std::max(0.0, std::floor(ij.x)));
   double fi = ij.x - static_cast<double>(i0);
@@ -352,17 +494,19 @@ GridColumns GridSampler::columnsAt(const glm::dvec2& ij) const {
 double GridSampler::columnHeight(int column, std::size_t k) const {
   if (column == GridColumns::kNorthPole) return northHeight_[k];
   if (column == GridColumns::kSouthPole) return southHeight_[k];
+  if (column == GridColumns::kPadding) return kNaN;
   return grid_.heightAboveEllipsoidMeters[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
 }
 
 float GridSampler::columnValue(int column, std::size_t k) const {
   if (column == GridColumns::kNorthPole) return northValue_[k];
   if (column == GridColumns::kSouthPole) return southValue_[k];
+  if (column == GridColumns::kPadding) return std::numeric_limits<float>::quiet_NaN();
   return grid_.values[k * grid_.nx * grid_.ny + static_cast<std::size_t>(column)];
 }
 
 glm::ivec3 GridSampler::closedSize() const {
-  const bool wraps = grid_.wrapsLongitude && !grid_.curvilinear;
+  const bool wraps = grid_.wrapsLongitude && !grid_.curvilinear;  // reduced too: each row's copy of its column 0
   return glm::ivec3(static_cast<int>(grid_.nx) + (wraps ? 1 : 0), static_cast<int>(grid_.ny) + (poleCaps_ ? 2 : 0),
                     static_cast<int>(grid_.nz));
 }
@@ -372,7 +516,21 @@ int GridSampler::closedColumn(int tc, int tr) const {
   const int r = tr - closedRowOffset();
   if (r < 0) return int{GridColumns::kSouthPole};
   if (r >= ny) return int{GridColumns::kNorthPole};
+  if (grid_.reduced()) {
+    const int n = static_cast<int>(grid_.rowLengthPoints[static_cast<std::size_t>(r)]);
+    if (tc < n) return r * nx + tc;
+    if (tc == n && grid_.wrapsLongitude) return r * nx;
+    return int{GridColumns::kPadding};
+  }
   return r * nx + (tc % nx);
+}
+
+GridSampler::ClosedRow GridSampler::closedRow(int tr) const {
+  const int r = tr - closedRowOffset();
+  if (r < 0 || r >= static_cast<int>(grid_.ny) || !grid_.reduced()) return {2, west_, 360.0};
+  const auto row = static_cast<std::size_t>(r);
+  return {static_cast<int>(grid_.rowLengthPoints[row]) + (grid_.wrapsLongitude ? 1 : 0), grid_.rowFirstLonDeg[row],
+          grid_.rowSpacingDeg[row]};
 }
 
 glm::dvec2 GridSampler::closedLatLonDeg(int tc, int tr) const {
@@ -380,6 +538,10 @@ glm::dvec2 GridSampler::closedLatLonDeg(int tc, int tr) const {
   const int r = tr - closedRowOffset();
   if (r < 0) return glm::dvec2(-90.0, grid_.lonDeg[0]);
   if (r >= ny) return glm::dvec2(90.0, grid_.lonDeg[0]);
+  if (grid_.reduced()) {  // the copy of column 0 at column rowLength: one circle on
+    const auto row = static_cast<std::size_t>(r);
+    return glm::dvec2(grid_.latDeg[row], grid_.lonDegAt(row, static_cast<std::size_t>(tc)));
+  }
   const auto row = static_cast<std::size_t>(r), column = static_cast<std::size_t>(tc % nx);
   const double lon = grid_.lonDegAt(row, column) + (tc >= nx ? 360.0 : 0.0);
   return glm::dvec2(grid_.latDegAt(row, column), lon);
@@ -456,6 +618,78 @@ VolumeSample GridSampler::sample(const glm::dvec3& ecef, Interpolation interpola
   return sampleGeodetic(p.latDeg, p.lonDeg, p.heightMeters, interpolation);
 }
 
+namespace {
+
+// A reduced grid's occupancy boxes (buildOccupancyGrid's comment): blocks of closed rows x
+// reference columns x levels.
+std::vector<OccupancyBox> reducedOccupancyBoxes(const GridSampler& s, const GridVolume& g, const glm::dvec3& centre,
+                                                const glm::dmat3& toLocal) {
+  std::vector<OccupancyBox> boxes;
+  constexpr int kBx = 8, kBz = 4;
+  const glm::ivec3 size = s.closedSize();
+  const double west = s.reducedWestDeg(), step = s.reducedSpacingDeg();
+  // Reference columns 0 .. columns - 1 span the grid's longitudes (a wrapping grid: the circle).
+  const int columns = g.wrapsLongitude ? static_cast<int>(g.nx) + 1
+                                       : static_cast<int>(std::ceil((g.reducedEastDeg() - west) / step - 1e-9)) + 1;
+  for (int k0 = 0; k0 < std::max(size.z - 1, 1); k0 += kBz)
+    for (int r0 = 0; r0 < size.y - 1; r0 += kBx)
+      for (int u0 = 0; u0 < std::max(columns - 1, 1); u0 += kBx) {
+        const int k1 = std::min(k0 + kBz, size.z - 1), r1 = std::min(r0 + kBx, size.y - 1),
+                  u1 = std::min(u0 + kBx, std::max(columns - 1, 0));
+        const double lon0 = west + u0 * step, lon1 = west + u1 * step;
+        float maxValue = kOccupancyEmptyValue;
+        double hLow = std::numeric_limits<double>::infinity(), hHigh = -hLow;
+        for (int r = r0; r <= r1; ++r) {
+          // The row's closed columns whose cells meet [lon0, lon1]: from a, the block's west edge
+          // in the row's columns, over its width.
+          const GridSampler::ClosedRow row = s.closedRow(r);
+          const int last = row.columns - 1;
+          const double a = (wrapFrom(lon0, row.firstLonDeg) - row.firstLonDeg) / row.spacingDeg;
+          const double cells = (lon1 - lon0) / row.spacingDeg;
+          auto take = [&](int tc) {
+            const int column = s.closedColumn(tc, r);
+            for (int k = k0; k <= k1; ++k) {
+              const float v = s.columnValue(column, static_cast<std::size_t>(k));
+              if (std::isfinite(v)) maxValue = std::max(maxValue, v);
+            }
+            const double low = static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k0)));
+            const double high = static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k1)));
+            if (std::isfinite(low)) hLow = std::min(hLow, low);
+            if (std::isfinite(high)) hHigh = std::max(hHigh, high);
+          };
+          if (g.wrapsLongitude) {
+            // The row repeats every `last` columns (its closed column `last` is column 0 again).
+            for (int c = static_cast<int>(std::floor(a)); c <= static_cast<int>(std::ceil(a + cells)); ++c)
+              take(last > 0 ? c % last : 0);
+          } else {
+            // A row of at most the circle: the block where the row holds it, west of its first
+            // point taken one circle on or not.
+            for (double start : {a, a - 360.0 / row.spacingDeg})
+              for (int c = std::max(static_cast<int>(std::floor(start)), 0);
+                   c <= std::min(static_cast<int>(std::ceil(start + cells)), last); ++c)
+                take(c);
+          }
+        }
+        if (maxValue == kOccupancyEmptyValue || !(hLow <= hHigh)) continue;
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int r = r0; r <= r1; ++r) {
+          const double lat = s.closedLatLonDeg(0, r).x;
+          for (int u = u0; u <= u1; ++u)
+            for (double hgt : {hLow, hHigh}) {
+              const glm::dvec3 p = toLocal * (globe::geodeticToEcef({lat, west + u * step, hgt}) - centre);
+              lo = glm::min(lo, p);
+              hi = glm::max(hi, p);
+            }
+        }
+        const double width = glm::length(glm::dvec2(hi - lo));
+        const double margin = width * width / (8.0 * 6.35e6) + 0.05 * width + 10.0;
+        boxes.push_back({lo - margin, hi + margin, maxValue});
+      }
+  return boxes;
+}
+
+}  // namespace
+
 OccupancyGrid buildOccupancyGrid(const GridSampler& s) {
   const BoundingSphere sphere = s.boundingSphere();
   const bool global = sphere.centreEcef == glm::dvec3(0.0);
@@ -465,6 +699,9 @@ OccupancyGrid buildOccupancyGrid(const GridSampler& s) {
   }();
   const glm::dmat3 toLocal = glm::transpose(frame);
   const glm::ivec3 size = s.closedSize();
+  if (s.grid().reduced())
+    return buildOccupancyGrid(sphere.centreEcef, frame, reducedOccupancyBoxes(s, s.grid(), sphere.centreEcef, toLocal),
+                              glm::ivec3(128, 128, 32));
   std::vector<OccupancyBox> boxes;
   constexpr int kBx = 8, kBz = 4;
   for (int k0 = 0; k0 < size.z - 1; k0 += kBz)

@@ -227,6 +227,7 @@ LatLonBox gridExtent(const GridVolume& g) {
   b.northDeg = *latMax;
   b.westDeg = *lonMin;
   b.eastDeg = g.wrapsLongitude ? b.westDeg + 360.0 : *lonMax;
+  if (g.reduced() && !g.wrapsLongitude) b.eastDeg = g.reducedEastDeg();  // lonDeg: the reference axis
   return b;
 }
 

@@ -7,7 +7,12 @@
 //
 // Texture layout: a grid that wraps in longitude gets one more column (a copy of column 0), so
 // the seam is an ordinary cell; a global grid gets a row below and above (its pole columns: the
-// end rows' means, volume::GridSampler), so the polar caps are ordinary cells too.
+// end rows' means, volume::GridSampler), so the polar caps are ordinary cells too. A reduced grid
+// (rows of different lengths) is held padded to its longest row + 1: each row's copy of its
+// column 0 follows its last point (when it wraps), the texels beyond are no data (with the
+// height of the row's last closed column: finite); its lookup texture holds the latitude table
+// and a row table (each closed row's columns, first longitude and spacing), the shader's
+// VOL_REDUCED variant finding each row's own column.
 // Precision: the shader works on float32 ECEF (origin + position) converted to latitude,
 // longitude and height by Bowring's formula, about 0.5 m at the Earth's radius; the lookup
 // tables are sampled linearly (exact for uniform axes). Both errors are measured against the
@@ -45,7 +50,7 @@ class GridVolumeGL final : public VolumeGL {
     glm::vec2 lonRange{0.0f}, latRange{0.0f};
     glm::ivec2 lookupSize{1};
     std::vector<glm::vec2> texels;  ///< RG32F: value (or the missing mark), height
-    std::vector<float> lookup;      ///< R32F rows (rectilinear) or RG32F pairs (curvilinear)
+    std::vector<float> lookup;      ///< R32F rows (rectilinear, reduced) or RG32F pairs (curvilinear)
     volume::OccupancyGrid occupancy;
     std::uint64_t bytes() const;  ///< what it holds (the memory budget)
   };

@@ -12,7 +12,10 @@ namespace atmoglobe::volume {
 
 /// Every `factor`-th column and row (the last ones kept, so the grid covers the same region) and,
 /// when `levels` is true, every `factor`-th level (the top kept). A wrapping global grid stays
-/// wrapping only when its kept columns stay evenly spaced across the seam. factor >= 2.
+/// wrapping only when its kept columns stay evenly spaced across the seam. A reduced grid keeps
+/// every `factor`-th row and in each row every `factor`-th point, except that a wrapping row
+/// whose length is not a multiple of `factor` is resampled linearly along the row to
+/// ceil(n / factor) points evenly round the circle (the grid keeps wrapping). factor >= 2.
 GridVolume decimateGrid(const GridVolume& grid, std::size_t factor, bool levels = false);
 
 /// Every `factor`-th gate of every sweep (gate spacing times factor, the first gate kept), and,

@@ -1,7 +1,8 @@
 #pragma once
 // Forecast-grid reader: netCDF (classic or netCDF-4, groups included) model output following
-// the CF conventions, WRF output, and GRIB editions 1 and 2 (through ecCodes: regular_ll and
-// regular_gg grids, pressure and height levels; docs/grids.md, "GRIB"). Format from content,
+// the CF conventions, WRF output, and GRIB editions 1 and 2 (through ecCodes: regular_ll,
+// regular_gg, reduced_gg and reduced_ll grids, pressure and height levels; docs/grids.md, "GRIB").
+// Format from content,
 // never from the file name.
 //
 // Horizontal: rectilinear grids (1-D latitude and longitude coordinate variables, longitudes in
@@ -103,6 +104,7 @@ struct GridVariableInfo {
   std::string shortName, levelType, gridType;  ///< keys shortName, typeOfLevel, gridType
   std::vector<double> levels;                  ///< `level` values, bottom first (hPa, Pa, m as the level type says)
   std::size_t gridNi = 0, gridNj = 0;          ///< points along a parallel / a meridian (0: not regular)
+  std::size_t gridPoints = 0;                  ///< numberOfPoints (every grid type)
   std::size_t timeCount = 0, memberCount = 0, messageCount = 0;
   std::string notReadable;  ///< why readGridVolume does not read it yet ("" when it does)
 };
@@ -125,6 +127,11 @@ struct GridFileInfo {
   double southDeg = 0, northDeg = 0, westDeg = 0, eastDeg = 0;    ///< extent (eastDeg may exceed 180)
   bool wrapsLongitude = false;
   double meanSpacingKm = 0;  ///< mean distance between neighbouring columns (km)
+  /// A GRIB reduced grid (rows of different lengths; nx is then its longest row, ny its rows with
+  /// points): its shortest and longest row, its points, and the rows of no point (pl 0) at its
+  /// ends that the reader leaves out.
+  bool reduced = false;
+  std::size_t minRowLengthPoints = 0, maxRowLengthPoints = 0, gridPoints = 0, emptyRowsLeftOut = 0;
 
   VerticalKind verticalKind = VerticalKind::HeightAboveSeaLevel;
   HeightSource heightSource = HeightSource::Coordinate;

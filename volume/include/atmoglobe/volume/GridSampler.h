@@ -17,8 +17,18 @@
 //     except for a grid reaching beyond 80 degrees of latitude or spanning more than 180 degrees
 //     of longitude (a polar stereographic grid around a pole): there in a chart, the sphere turned
 //     so that the grid's mean direction lies at latitude 0, longitude 0, where its longitudes run
-//     continuously (the pole becomes an ordinary point between grid points);
-//  3. the columns around (i, j) with bilinear weights (1, 2 or 4 of them); level k's height at
+//     continuously (the pole becomes an ordinary point between grid points). Reduced (rows of
+//     different lengths, GridVolume.h): the rows j0, j0 + 1 around the latitude as for a
+//     rectilinear grid (polar caps included), and in each row its own fractional column from the
+//     longitude, (longitude - the row's first longitude, modulo 360) / the row's spacing, across
+//     the seam from its last point to its first when the grid wraps; a row of positive weight not
+//     holding the longitude (a regional grid): outside. The i of (i, j) is the longitude on the
+//     grid's reference axis, (longitude - reducedWestDeg(), modulo 360) / reducedSpacingDeg(): the
+//     fractional column in units of the finest row spacing (the longest row's for a global grid),
+//     what the GPU's mapping is measured against; each row's column follows from it;
+//  3. the columns around (i, j) with bilinear weights (1, 2 or 4 of them; reduced: two in each
+//     row, weighted by that row's own column fraction, then linear in latitude between the
+//     rows); level k's height at
 //     the point is the weighted mean of theirs (monotonic, as each column is); the fractional
 //     level is found by bisection in these heights; below the lowest level's height or above the
 //     highest: no data;
@@ -46,6 +56,8 @@ namespace atmoglobe::volume {
 /// j * nx + i; kNorthPole / kSouthPole are a global grid's virtual pole columns.
 struct GridColumns {
   static constexpr int kNorthPole = -1, kSouthPole = -2;
+  /// A closed column beyond a reduced grid's row (closedColumn): padding, no grid point (NaN).
+  static constexpr int kPadding = -3;
   std::array<int, 4> column{};
   std::array<double, 4> weight{};
   int count = 0;
@@ -69,12 +81,17 @@ class GridSampler final : public VolumeSampler {
   std::optional<glm::dvec2> horizontalIndex(double latDeg, double lonDeg) const;
   /// Step 3's columns and weights for a fractional (i, j) from horizontalIndex.
   GridColumns columnsAt(const glm::dvec2& ij) const;
+  /// Step 2's fractional row j of a latitude (rectilinear and reduced grids, polar caps
+  /// included); nullopt outside the rows (and for curvilinear grids).
+  std::optional<double> rowIndex(double latDeg) const;
   /// The sample at a geodetic position (steps 2-4), as sample() after its step 1.
   VolumeSample sampleGeodetic(double latDeg, double lonDeg, double heightMeters, Interpolation interpolation) const;
   /// Fractional (column i, row j, level k) of a geodetic position by steps 2-3 (linear weights);
   /// nullopt where sample() gives no data for lack of a position (outside horizontally, below
   /// the lowest or above the highest level there). What the GPU's mapping is measured against.
   std::optional<glm::dvec3> gridIndex(double latDeg, double lonDeg, double heightMeters) const;
+  /// The grid sampled.
+  const GridVolume& grid() const { return grid_; }
   /// Lowest and highest height of any level (m above the ellipsoid).
   double minHeightMeters() const { return minHeight_; }
   double maxHeightMeters() const { return maxHeight_; }
@@ -88,7 +105,9 @@ class GridSampler final : public VolumeSampler {
 
   /// The grid closed as the marcher samples it (and the GPU's textures hold it): x columns = nx,
   /// + 1 (a copy of column 0) when a rectilinear grid wraps in longitude; y rows = ny, + 2 (a pole
-  /// row below the first and above the last) with pole caps; z levels = nz.
+  /// row below the first and above the last) with pole caps; z levels = nz. A reduced grid: x =
+  /// nx + 1 when it wraps, row j closed by a copy of its column 0 after its last point (closed
+  /// column rowLength(j)), the columns beyond padding (kPadding).
   glm::ivec3 closedSize() const;
   /// The closed row holding grid row 0: 1 with pole caps, else 0.
   int closedRowOffset() const { return poleCaps_ ? 1 : 0; }
@@ -97,6 +116,18 @@ class GridSampler final : public VolumeSampler {
   /// Latitude, longitude (degrees) of closed column tc, row tr: the copy of column 0 at its
   /// longitude + 360, a pole at the longitude of grid column 0.
   glm::dvec2 closedLatLonDeg(int tc, int tr) const;
+  /// A reduced grid's closed row tr, as the GPU's row table holds it: its closed columns (the
+  /// row's points, + 1 for the copy of its first when the grid wraps; a pole row: 2, both the
+  /// pole), the longitude of its column 0 and its spacing (a pole row: reducedWestDeg(), 360).
+  struct ClosedRow {
+    int columns = 0;
+    double firstLonDeg = 0.0, spacingDeg = 360.0;
+  };
+  ClosedRow closedRow(int tr) const;
+  /// A reduced grid's reference axis (GridVolume::reducedWestDeg, reducedSpacingDeg): the i of
+  /// horizontalIndex is (longitude - west, modulo 360) / spacing. 0 and 1 for other grids.
+  double reducedWestDeg() const { return west_; }
+  double reducedSpacingDeg() const { return step_; }
 
  private:
   /// Step 3's level: lo + f by bisection in the columns' blended heights; nullopt below the
@@ -105,6 +136,15 @@ class GridSampler final : public VolumeSampler {
   std::optional<glm::dvec2> curvilinearIndex(double latDeg, double lonDeg) const;
   /// A latitude/longitude in the chart (step 2): (longitude, latitude) there, degrees.
   glm::dvec2 toChart(double latDeg, double lonDeg) const;
+  /// The rows around a fractional row j and their weights (a pole: kNorthPole / kSouthPole).
+  struct RowWeight {
+    int row;
+    double weight;
+  };
+  std::array<RowWeight, 2> rowsAt(double j) const;
+  /// A reduced grid's fractional column of a longitude in row j (0 .. rowLength, past rowLength
+  /// - 1 across the seam of a wrapping grid); nullopt when the row does not hold it.
+  std::optional<double> rowColumn(std::size_t j, double lonDeg) const;
 
   const GridVolume& grid_;
   double minHeight_ = 0.0, maxHeight_ = 0.0;
@@ -114,6 +154,8 @@ class GridSampler final : public VolumeSampler {
   bool poleCaps_ = false;
   std::vector<double> northHeight_, southHeight_;
   std::vector<float> northValue_, southValue_;
+  // Reduced: the reference axis of the column index i.
+  double west_ = 0.0, step_ = 1.0;
   // Curvilinear: longitudes continuous from lonMin_, and a uniform bin index over latitude and
   // longitude listing the cells (j * (nx - 1) + i) whose corner box overlaps each bin.
   double lonMin_ = 0.0, latMinBin_ = 0.0, lonMinBin_ = 0.0, binLatDeg_ = 1.0, binLonDeg_ = 1.0;
@@ -132,7 +174,11 @@ class GridSampler final : public VolumeSampler {
 /// block and of its far neighbours (samples interpolate up to the next column and level), with
 /// the block's largest value. The box is widened by the sagitta of its width over a 6350 km
 /// Earth (the levels curve between the columns), 5 % of the width and 10 m. Heights are taken
-/// as the GPU holds them (float).
+/// as the GPU holds them (float). A reduced grid's blocks are 8 closed rows x 8 reference
+/// columns (reducedSpacingDeg) of longitude x 4 levels: the box holds that latitude/longitude
+/// region between the lowest height at its bottom level and the highest at its top level of
+/// every column a sample in it interpolates (in each row, those whose cells meet the block's
+/// longitudes), and their largest value.
 OccupancyGrid buildOccupancyGrid(const GridSampler& s);
 
 }  // namespace atmoglobe::volume

@@ -11,6 +11,12 @@
 // a region across the antimeridian); curvilinear grids (WRF XLAT/XLONG, CF 2-D lat/lon) give a
 // latitude and a longitude per column (ny x nx, row-major), longitudes made continuous across
 // the grid (no jump of 360 between neighbours).
+// Reduced grids (GRIB reduced_gg, reduced_ll: a different number of points on each row) are
+// stored padded: nx is the longest row, row j holds its rowLengthPoints[j] points in columns
+// 0 .. rowLengthPoints[j] - 1, equally spaced in longitude from rowFirstLonDeg[j] by
+// rowSpacingDeg[j], and NaN values and heights in the columns beyond (padding: never a grid
+// point, never sampled). latDeg gives one latitude per row (ascending) as for rectilinear grids;
+// lonDegAt(j, i) is the longitude of point i of row j. index(k, j, i) keeps its meaning.
 #include <atmoglobe/globe/Result.h>
 #include <cmath>
 #include <cstddef>
@@ -77,10 +83,20 @@ struct GridVolume {
   std::size_t nx = 0, ny = 0, nz = 0;
   std::vector<double> lonDeg, latDeg;  ///< see the file comment (degrees, WGS84)
   /// Rectilinear grid covering all longitudes: column nx-1 neighbours column 0 (a sampler
-  /// interpolates across the seam). False for any crop narrower than the globe.
+  /// interpolates across the seam). False for any crop narrower than the globe. Reduced grid:
+  /// every row covers all longitudes, its last point neighbouring its first.
   bool wrapsLongitude = false;
   /// A GRIB projected grid (curvilinear): the PROJ definition its points were placed by; "" else.
   std::string projection;
+  /// Reduced grids only (empty otherwise, see the file comment): per row (ny values) the number
+  /// of its points (>= 1, <= nx), the longitude of its first point (degrees, continuous with the
+  /// other rows: a crop's rows start within one of their spacings west of its west edge) and the
+  /// spacing of its points (degrees east, > 0; a wrapping row has rowLengthPoints x
+  /// rowSpacingDeg = 360). For a reduced grid `lonDeg` holds nx longitudes spaced by
+  /// reducedSpacingDeg() from reducedWestDeg(): the axis GridSampler measures a reduced grid's
+  /// column index on (not the longitudes of any row's points in general; see lonDegAt).
+  std::vector<std::size_t> rowLengthPoints;
+  std::vector<double> rowFirstLonDeg, rowSpacingDeg;
   /// Index in the file of output row 0 / column 0 / level 0 and the direction (+1 or -1) in
   /// which the file index runs with the output index (rows of a north-to-south file run -1);
   /// for a crop across the antimeridian of a global grid the column index wraps modulo the
@@ -134,8 +150,30 @@ struct GridVolume {
     return heightAboveEllipsoidMeters[index(k, j, i)];
   }
   double latDegAt(std::size_t j, std::size_t i) const { return curvilinear ? latDeg[j * nx + i] : latDeg[j]; }
-  double lonDegAt(std::size_t j, std::size_t i) const { return curvilinear ? lonDeg[j * nx + i] : lonDeg[i]; }
+  /// The longitude of column i of row j (a reduced grid: of point i of row j; for a padding column,
+  /// where the row would put it).
+  double lonDegAt(std::size_t j, std::size_t i) const {
+    if (curvilinear) return lonDeg[j * nx + i];
+    if (reduced()) return rowFirstLonDeg[j] + static_cast<double>(i) * rowSpacingDeg[j];
+    return lonDeg[i];
+  }
+  /// A reduced grid (rows of different lengths, see the file comment).
+  bool reduced() const { return !rowLengthPoints.empty(); }
+  /// Points in row j: rowLengthPoints[j] for a reduced grid, else nx.
+  std::size_t rowLength(std::size_t j) const { return reduced() ? rowLengthPoints[j] : nx; }
+  /// A reduced grid's reference longitude axis (lonDeg): its westernmost row start, and its finest
+  /// row spacing (360 / nx when it wraps: the longest row's). NaN for other grids.
+  double reducedWestDeg() const;
+  double reducedSpacingDeg() const;
+  /// A reduced grid's easternmost point (the westernmost start + 360 - reducedSpacingDeg() when
+  /// it wraps, as a wrapping rectilinear grid's last column). NaN for other grids.
+  double reducedEastDeg() const;
 };
+
+/// Checks a reduced grid's description (row tables of ny entries, lengths 1..nx with nx the
+/// longest, finite first longitudes, positive finite spacings, wrapping rows covering 360
+/// degrees) and sets lonDeg to its reference axis. Error: what is wrong, for messages.
+Status finishReducedGrid(GridVolume& g);
 
 /// A grid between two time steps of one variable and region: values and heights linear in time,
 /// value = (1 - fraction) a + fraction b (NaN where either is NaN: no value is invented where a
