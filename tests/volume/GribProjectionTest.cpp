@@ -38,6 +38,24 @@ std::vector<GribKey> commonKeys(const char* sample) {
   return {{"typeOfFirstFixedSurface", 103L}, {"scaledValueOfFirstFixedSurface", 2L}};
 }
 
+/// A polar stereographic grid of 62 x 62 points 100 km apart, true at 60 N, around the North Pole
+/// (its first point at 50 N 45 W, 3060 km west and south of the pole on the plane).
+std::vector<GribKey> polarAroundTheNorthPoleKeys() {
+  return {{"gridType", std::string("polar_stereographic")},
+          {"shapeOfTheEarth", 6L},
+          {"Nx", 62L},
+          {"Ny", 62L},
+          {"latitudeOfFirstGridPointInDegrees", 50.0},
+          {"longitudeOfFirstGridPointInDegrees", 315.0},
+          {"LaDInDegrees", 60.0},
+          {"orientationOfTheGridInDegrees", 0.0},
+          {"DxInMetres", 100000.0},
+          {"DyInMetres", 100000.0},
+          {"projectionCentreFlag", 0L},
+          {"iScansNegatively", 0L},
+          {"jScansPositively", 1L}};
+}
+
 std::vector<Case> cases() {
   std::vector<Case> c;
   // Lambert conformal, secant (30 and 60 N) over North America, on the GRIB2 sphere of 6371229 m.
@@ -81,23 +99,7 @@ std::vector<Case> cases() {
                20,
                "+proj=lcc "});
   // Polar stereographic around the North Pole (the pole inside the grid), true at 60 N.
-  c.push_back({"polar_stereographic_north_pole_inside",
-               "GRIB2",
-               {{"gridType", std::string("polar_stereographic")},
-                {"shapeOfTheEarth", 6L},
-                {"Nx", 62L},
-                {"Ny", 62L},
-                {"latitudeOfFirstGridPointInDegrees", 50.0},
-                {"longitudeOfFirstGridPointInDegrees", 315.0},
-                {"LaDInDegrees", 60.0},
-                {"orientationOfTheGridInDegrees", 0.0},
-                {"DxInMetres", 100000.0},
-                {"DyInMetres", 100000.0},
-                {"projectionCentreFlag", 0L},
-                {"iScansNegatively", 0L},
-                {"jScansPositively", 1L}},
-               62,
-               62,
+  c.push_back({"polar_stereographic_north_pole_inside", "GRIB2", polarAroundTheNorthPoleKeys(), 62, 62,
                "+proj=stere +lat_0=90 "});
   // Polar stereographic GRIB1 (true at 60 N by definition). (With the South Pole on the plane,
   // ecCodes 2.28 keeps the scale true at 60 N, LaDInDegrees = 60, against the GRIB 1 definition
@@ -450,24 +452,11 @@ TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
       for (long i = 0; i < nx; ++i)
         values[static_cast<std::size_t>(j * nx + i)] =
             250.0 + static_cast<double>(i) + 2.0 * static_cast<double>(j) + 100.0 * k;
-    content += makeGribMessage("GRIB2",
-                               {{"gridType", std::string("polar_stereographic")},
-                                {"shapeOfTheEarth", 6L},
-                                {"Nx", nx},
-                                {"Ny", ny},
-                                {"latitudeOfFirstGridPointInDegrees", 50.0},
-                                {"longitudeOfFirstGridPointInDegrees", 315.0},
-                                {"LaDInDegrees", 60.0},
-                                {"orientationOfTheGridInDegrees", 0.0},
-                                {"DxInMetres", 100000.0},
-                                {"DyInMetres", 100000.0},
-                                {"projectionCentreFlag", 0L},
-                                {"iScansNegatively", 0L},
-                                {"jScansPositively", 1L},
-                                {"typeOfFirstFixedSurface", 102L},  // height above mean sea level
-                                {"scaleFactorOfFirstFixedSurface", 0L},
-                                {"scaledValueOfFirstFixedSurface", static_cast<long>(levelsM[k])}},
-                               values);
+    std::vector<GribKey> keys = polarAroundTheNorthPoleKeys();
+    keys.push_back({"typeOfFirstFixedSurface", 102L});  // height above mean sea level
+    keys.push_back({"scaleFactorOfFirstFixedSurface", 0L});
+    keys.push_back({"scaledValueOfFirstFixedSurface", static_cast<long>(levelsM[k])});
+    content += makeGribMessage("GRIB2", keys, values);
   }
   const std::string file = dir + "/polar_levels.grib2";
   writeFile(file, content);

@@ -194,6 +194,20 @@ int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
   const std::string mode = job.value("mode", "idle"), path = job.value("path", "");
   const int runs = std::max(1, job.value("runs", 1));
   std::vector<double> ms;
+  // `runs` timed calls of `read` (a Result: an error ends the runs), `record` keeping its figures.
+  auto timeRuns = [&](const auto& read, const auto& record) {
+    for (int r = 0; r < runs; ++r) {
+      const auto t0 = Clock::now();
+      auto got = read();
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      if (!got) {
+        result["error"] = got.error();
+        break;
+      }
+      record(*got);
+    }
+  };
+  auto recordBytes = [&](std::uint64_t bytes) { result["bytes"] = bytes; };
   if (mode == "reader") {
     volume::GridReadOptions o;
     o.variable = job.value("variable", "");
@@ -202,47 +216,23 @@ int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
       const auto& c = job["crop"];
       o.crop.southDeg = c[0], o.crop.northDeg = c[1], o.crop.westDeg = c[2], o.crop.eastDeg = c[3];
     }
-    for (int r = 0; r < runs; ++r) {
-      const auto t0 = Clock::now();
-      auto g = volume::readGridVolume(path, o);
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      if (!g) {
-        result["error"] = g.error();
-        break;
-      }
-      result["bytes"] = g->bytesRead;
-      result["columns"] = g->nx * g->ny;
-      result["levels"] = g->nz;
-    }
+    timeRuns([&] { return volume::readGridVolume(path, o); },
+             [&](const volume::GridVolume& g) {
+               result["bytes"] = g.bytesRead;
+               result["columns"] = g.nx * g.ny;
+               result["levels"] = g.nz;
+             });
   } else if (mode == "grib-floor") {
     // Plain ecCodes: each message's bytes read at its offset and its values decoded, nothing else.
     std::vector<std::pair<std::uint64_t, std::uint64_t>> messages;
     for (const auto& m : job["messages"]) messages.emplace_back(m[0].get<std::uint64_t>(), m[1].get<std::uint64_t>());
-    for (int r = 0; r < runs; ++r) {
-      const auto t0 = Clock::now();
-      auto bytes = decodeGribMessages(path, messages);
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      if (!bytes) {
-        result["error"] = bytes.error();
-        break;
-      }
-      result["bytes"] = *bytes;
-    }
+    timeRuns([&] { return decodeGribMessages(path, messages); }, recordBytes);
   } else if (mode == "floor") {
     std::vector<Hyperslab> slabs;
     for (const auto& s : job["slabs"])
       slabs.push_back(
           {s["variable"], s["start"].get<std::vector<std::size_t>>(), s["count"].get<std::vector<std::size_t>>()});
-    for (int r = 0; r < runs; ++r) {
-      const auto t0 = Clock::now();
-      auto bytes = readSlabs(path, slabs);
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      if (!bytes) {
-        result["error"] = bytes.error();
-        break;
-      }
-      result["bytes"] = *bytes;
-    }
+    timeRuns([&] { return readSlabs(path, slabs); }, recordBytes);
   }
   result["median_ms"] = ms.empty() ? 0.0 : median(ms);
   result["peak_rss_mb"] = peakRssMb();
@@ -272,31 +262,25 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
     job["mode"] = "reader";
     if (crop) job["crop"] = {crop->southDeg, crop->northDeg, crop->westDeg, crop->eastDeg};
     c.reader = spawnProbe(selfExe, dir, tag + "-reader", job);
-    if (!read->gribMessagesRead.empty() || read->format.rfind("GRIB", 0) == 0) {
+    job = base;
+    if (!read->gribMessagesRead.empty()) {
       // GRIB: the floor decodes the same messages with plain ecCodes.
       if (read->gribCompressed) {
         c.floor.error = "a gzip/bzip2 GRIB file has no plain-ecCodes floor (its offsets are in the unwrapped content)";
       } else {
-        job = base;
         job["mode"] = "grib-floor";
         job["messages"] = read->gribMessagesRead;
         c.floor = spawnProbe(selfExe, dir, tag + "-floor", job);
       }
-      log << " reader " << formatG(c.reader.medianMs, 4) << " ms, ecCodes floor " << formatG(c.floor.medianMs, 4)
-          << " ms\n";
-      cases.push_back(c);
-      return;
-    }
-    auto slabs = cropHyperslabs(v.path, *read, v.heightVariables);
-    if (!slabs) {
+    } else if (auto slabs = cropHyperslabs(v.path, *read, v.heightVariables); !slabs) {
       c.floor.error = slabs.error();
     } else {
-      job = base;
       job["mode"] = "floor";
       job["slabs"] = slabsJson(*slabs);
       c.floor = spawnProbe(selfExe, dir, tag + "-floor", job);
     }
-    log << " reader " << formatG(c.reader.medianMs, 4) << " ms, floor " << formatG(c.floor.medianMs, 4) << " ms\n";
+    log << " reader " << formatG(c.reader.medianMs, 4) << " ms, " << (read->gribMessagesRead.empty() ? "" : "ecCodes ")
+        << "floor " << formatG(c.floor.medianMs, 4) << " ms\n";
     cases.push_back(c);
   };
   for (const BenchView& view : views) {
