@@ -45,6 +45,14 @@ Command addInfoCommand(CLI::App& root) {
                     "Grid files: the variable whose grid, vertical coordinate and heights are described "
                     "(default: the reader's default variable)");
   c.run = [opts] {
+    // A grid first: a directory, pattern or list of GRIB files is one grid (a set of radar files
+    // holds no GRIB file).
+    if (volume::isGridFile(opts->file)) {
+      auto info = volume::describeGridFile(opts->file, opts->variable);
+      if (!info) return fail("info", info.error());
+      std::cout << (opts->json ? volume::describeGridJson(*info) + "\n" : volume::describeGridText(*info));
+      return 0;
+    }
     if (volume::isRadarFileSet(opts->file)) {
       auto paths = volume::expandRadarPaths(opts->file);
       if (!paths) return fail("info", paths.error());
@@ -69,12 +77,6 @@ Command addInfoCommand(CLI::App& root) {
           std::cout << "\n--- volume " << i + 1 << " of " << volumes->size() << "\n"
                     << volume::describeVolumeText((*volumes)[i]);
       }
-      return 0;
-    }
-    if (volume::isGridFile(opts->file)) {
-      auto info = volume::describeGridFile(opts->file, opts->variable);
-      if (!info) return fail("info", info.error());
-      std::cout << (opts->json ? volume::describeGridJson(*info) + "\n" : volume::describeGridText(*info));
       return 0;
     }
     if (!opts->variable.empty()) return fail("info", opts->file + ": --variable applies to forecast grids only");

@@ -468,9 +468,11 @@ TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
   // at the offsets where they were written, adding up to bytesRead.
   ASSERT_EQ(g->gribMessagesRead.size(), 3u);
   std::uint64_t sum = 0;
-  for (const auto& [offset, length] : g->gribMessagesRead) {
-    EXPECT_EQ(content.compare(offset, 4, "GRIB"), 0) << offset;
-    sum += length;
+  for (const auto& m : g->gribMessagesRead) {
+    EXPECT_EQ(m.path, file);
+    EXPECT_FALSE(m.compressed);
+    EXPECT_EQ(content.compare(m.offset, 4, "GRIB"), 0) << m.offset;
+    sum += m.length;
   }
   EXPECT_EQ(sum, g->bytesRead);
   EXPECT_EQ(sum, content.size());

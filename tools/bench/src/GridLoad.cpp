@@ -10,10 +10,12 @@
 #include <netcdf.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <ostream>
 
@@ -155,19 +157,30 @@ Result<std::vector<Hyperslab>> cropHyperslabs(const std::string& path, const vol
 
 namespace {
 
-/// The floor of a GRIB read: the messages (offset, length) read from the file and decoded by
-/// ecCodes (values only). Returns the bytes read.
-Result<std::uint64_t> decodeGribMessages(const std::string& path,
-                                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& messages) {
-  std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) return makeError(path + ": cannot be opened");
+struct GribFloorMessage {
+  std::string path;
+  std::uint64_t offset = 0, length = 0;
+};
+
+/// The floor of a GRIB read: the messages read from their files and decoded by ecCodes (values
+/// only). Returns the bytes read.
+Result<std::uint64_t> decodeGribMessages(const std::vector<GribFloorMessage>& messages) {
+  std::map<std::string, std::unique_ptr<FILE, decltype(&std::fclose)>> files;
   std::vector<unsigned char> buffer;
   std::vector<double> values;
   std::uint64_t total = 0;
-  for (const auto& [offset, length] : messages) {
+  for (const auto& [path, offset, length] : messages) {
+    auto it = files.find(path);
+    if (it == files.end())
+      it = files
+               .emplace(path,
+                        std::unique_ptr<FILE, decltype(&std::fclose)>(std::fopen(path.c_str(), "rb"), &std::fclose))
+               .first;
+    FILE* f = it->second.get();
+    if (!f) return makeError(path + ": cannot be opened");
     buffer.resize(length);
-    if (fseeko(f.get(), static_cast<off_t>(offset), SEEK_SET) != 0 ||
-        std::fread(buffer.data(), 1, buffer.size(), f.get()) != buffer.size())
+    if (fseeko(f, static_cast<off_t>(offset), SEEK_SET) != 0 ||
+        std::fread(buffer.data(), 1, buffer.size(), f) != buffer.size())
       return makeError(path + ": message at byte " + std::to_string(offset) + " cannot be read");
     std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
         codes_handle_new_from_message(nullptr, buffer.data(), buffer.size()), &codes_handle_delete);
@@ -224,9 +237,10 @@ int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
              });
   } else if (mode == "grib-floor") {
     // Plain ecCodes: each message's bytes read at its offset and its values decoded, nothing else.
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> messages;
-    for (const auto& m : job["messages"]) messages.emplace_back(m[0].get<std::uint64_t>(), m[1].get<std::uint64_t>());
-    timeRuns([&] { return decodeGribMessages(path, messages); }, recordBytes);
+    std::vector<GribFloorMessage> messages;
+    for (const auto& m : job["messages"])
+      messages.push_back({m[0].get<std::string>(), m[1].get<std::uint64_t>(), m[2].get<std::uint64_t>()});
+    timeRuns([&] { return decodeGribMessages(messages); }, recordBytes);
   } else if (mode == "floor") {
     std::vector<Hyperslab> slabs;
     for (const auto& s : job["slabs"])
@@ -265,11 +279,13 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
     job = base;
     if (!read->gribMessagesRead.empty()) {
       // GRIB: the floor decodes the same messages with plain ecCodes.
-      if (read->gribCompressed) {
+      const auto& reads = read->gribMessagesRead;
+      if (std::any_of(reads.begin(), reads.end(), [](const auto& m) { return m.compressed; })) {
         c.floor.error = "a gzip/bzip2 GRIB file has no plain-ecCodes floor (its offsets are in the unwrapped content)";
       } else {
         job["mode"] = "grib-floor";
-        job["messages"] = read->gribMessagesRead;
+        job["messages"] = nlohmann::json::array();
+        for (const auto& m : reads) job["messages"].push_back({m.path, m.offset, m.length});
         c.floor = spawnProbe(selfExe, dir, tag + "-floor", job);
       }
     } else if (auto slabs = cropHyperslabs(v.path, *read, v.heightVariables); !slabs) {

@@ -5,6 +5,8 @@
 // that a later open reads the index and then only the messages it needs.
 #include "GribInternal.h"
 
+#include <atmoglobe/volume/RadarVolumeSet.h>
+
 #include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/io/Compression.h>
 
@@ -19,6 +21,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <system_error>
 
@@ -264,6 +267,8 @@ Result<GribIndex> gribIndex(const std::string& path) {
   if (!cacheFile.empty())
     if (auto cached = loadCached(cacheFile, *stamp)) {
       cached->path = path;
+      cached->files = {path};
+      cached->fileCompressed = {cached->compression != "none"};
       cached->cacheFile = cacheFile;
       cached->fromCache = true;
       return std::move(*cached);
@@ -274,6 +279,8 @@ Result<GribIndex> gribIndex(const std::string& path) {
   GribIndex idx;
   idx.path = path;
   idx.compression = io::toString(*compression);
+  idx.files = {path};
+  idx.fileCompressed = {*compression != io::Compression::None};
   if (*compression == io::Compression::None) {
     std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) return makeError(path + ": cannot open");
@@ -312,40 +319,84 @@ Result<GribIndex> gribIndex(const std::string& path) {
 
 Result<GribContent> GribContent::open(const GribIndex& index) {
   GribContent c;
-  c.path_ = index.path;
-  c.label_ = index.path;
-  if (index.compression != "none") {
-    auto content = io::readFileBytes(index.path);
-    if (!content) return content.forwardError();
-    c.compressed_ = true;
-    c.label_ = content->label;
-    c.unwrapped_ = std::move(content->bytes);
+  for (std::size_t i = 0; i < index.files.size(); ++i) {
+    File f;
+    f.path = f.label = index.files[i];
+    if (i < index.fileCompressed.size() && index.fileCompressed[i]) {
+      auto content = io::readFileBytes(f.path);
+      if (!content) return content.forwardError();
+      f.compressed = true;
+      f.label = content->label;
+      f.unwrapped = std::move(content->bytes);
+    }
+    c.files_.push_back(std::move(f));
   }
   return c;
 }
 
 Result<const std::vector<unsigned char>*> GribContent::read(const GribMessage& m) {
-  if (auto it = read_.find(m.offset); it != read_.end() && it->second.size() == m.length) return &it->second;
+  if (auto it = read_.find({m.file, m.offset}); it != read_.end() && it->second.size() == m.length) return &it->second;
+  if (m.file >= files_.size()) return makeError("GRIB message of file " + std::to_string(m.file) + ": no such file");
+  const File& f = files_[m.file];
   std::vector<unsigned char> out;
-  if (compressed_) {
-    if (m.offset + m.length > unwrapped_.size())
-      return makeError(label_ + ": GRIB message at byte " + std::to_string(m.offset) +
+  if (f.compressed) {
+    if (m.offset + m.length > f.unwrapped.size())
+      return makeError(f.label + ": GRIB message at byte " + std::to_string(m.offset) +
                        " is past the end of the content (the file changed since it was indexed)");
-    out.assign(unwrapped_.begin() + static_cast<std::ptrdiff_t>(m.offset),
-               unwrapped_.begin() + static_cast<std::ptrdiff_t>(m.offset + m.length));
+    out.assign(f.unwrapped.begin() + static_cast<std::ptrdiff_t>(m.offset),
+               f.unwrapped.begin() + static_cast<std::ptrdiff_t>(m.offset + m.length));
   } else {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) return makeError(path_ + ": cannot open");
+    std::ifstream in(f.path, std::ios::binary);
+    if (!in) return makeError(f.path + ": cannot open");
     out.resize(m.length);
     in.seekg(static_cast<std::streamoff>(m.offset));
     in.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(m.length));
     if (static_cast<std::uint64_t>(in.gcount()) != m.length)
-      return makeError(path_ + ": GRIB message at byte " + std::to_string(m.offset) + " (" + std::to_string(m.length) +
+      return makeError(f.path + ": GRIB message at byte " + std::to_string(m.offset) + " (" + std::to_string(m.length) +
                        " bytes) is cut short (the file changed since it was indexed)");
   }
   bytesRead_ += m.length;
-  reads_.emplace_back(m.offset, m.length);
-  return &(read_[m.offset] = std::move(out));
+  reads_.push_back({f.path, m.offset, m.length, f.compressed});
+  return &(read_[{m.file, m.offset}] = std::move(out));
+}
+
+bool isGribSet(const std::string& spec) {
+  if (!isRadarFileSet(spec)) return false;
+  auto paths = expandRadarPaths(spec);
+  if (!paths) return false;
+  for (const std::string& p : *paths)
+    if (hasGribSignature(p)) return true;
+  return false;
+}
+
+Result<GribIndex> gribIndexOf(const std::string& spec) {
+  if (!isRadarFileSet(spec)) return gribIndex(spec);
+  auto paths = expandRadarPaths(spec);
+  if (!paths) return paths.forwardError();
+  GribIndex set;
+  set.path = spec;
+  set.fromCache = true;
+  std::set<std::string> compressions;
+  for (const std::string& p : *paths) {
+    if (!hasGribSignature(p))
+      return makeError(spec + ": " + p + " is not a GRIB file (a set of GRIB files holds GRIB files only)");
+    auto one = gribIndex(p);
+    if (!one) return one.forwardError();
+    const auto file = static_cast<std::uint32_t>(set.files.size());
+    set.files.push_back(p);
+    set.fileCompressed.push_back(one->compression != "none");
+    compressions.insert(one->compression);
+    for (GribMessage& m : one->messages) {
+      m.file = file;
+      set.messages.push_back(std::move(m));
+    }
+    for (std::string& w : one->warnings) set.warnings.push_back(std::move(w));
+    if (set.cacheFile.empty() && !one->cacheFile.empty())
+      set.cacheFile = one->cacheFile.substr(0, one->cacheFile.rfind('/') + 1);  // the directory
+    set.fromCache = set.fromCache && one->fromCache;
+  }
+  set.compression = compressions.size() == 1 ? *compressions.begin() : "mixed";
+  return set;
 }
 
 std::mutex& ecCodesLock() { return ecCodesMutex(); }

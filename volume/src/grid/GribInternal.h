@@ -26,16 +26,20 @@ struct GribMessage {
   long validityDate = 0, validityTime = 0;  ///< validity time (YYYYMMDD, hhmm)
   std::string stepRange;                    ///< "12", "0-6" (stepUnits)
   long endStep = 0;
-  long number = -1;     ///< ensemble member; -1: the message has none
-  long ni = 0, nj = 0;  ///< 0: missing (reduced grids)
-  long points = 0;      ///< numberOfPoints (a reduced grid's size)
+  long number = -1;        ///< ensemble member; -1: the message has none
+  std::uint32_t file = 0;  ///< which of GribIndex::files holds it (a set of files; not cached)
+  long ni = 0, nj = 0;     ///< 0: missing (reduced grids)
+  long points = 0;         ///< numberOfPoints (a reduced grid's size)
   long edition = 0;
 };
 
 /// The index of a file: every readable message, what was skipped, and where the index is kept.
 struct GribIndex {
-  std::string path;         ///< as given
-  std::string compression;  ///< "none", "gzip", "bzip2"
+  std::string path;         ///< as given (a set: its spec, a directory, pattern or list)
+  std::string compression;  ///< "none", "gzip", "bzip2" (a set: "none" unless every file is compressed alike)
+  /// The files (one, or a set's, sorted) and whether each is gzip/bzip2.
+  std::vector<std::string> files;
+  std::vector<bool> fileCompressed;
   std::vector<GribMessage> messages;
   std::vector<std::string> warnings;  ///< damaged stretches skipped, naming the file and byte offset
   std::string cacheFile;              ///< "" when the index could not be written
@@ -56,11 +60,19 @@ std::string cacheDirectory();
 /// readable message.
 Result<GribIndex> gribIndex(const std::string& path);
 
+/// Whether `spec` names a set of files (a directory, a pattern or a comma-separated list, as a
+/// radar set: volume/RadarVolumeSet.h) of which at least one is GRIB: read as one GRIB file.
+bool isGribSet(const std::string& spec);
+/// The index of `spec`: one file's (gribIndex), or the indexes of a set's files merged, each
+/// message knowing its file (centres publish one file per step or parameter). Error: a file of
+/// the set that is not GRIB (named), or one gribIndex refuses.
+Result<GribIndex> gribIndexOf(const std::string& spec);
+
 /// ecCodes' default context is shared: every call into ecCodes holds this lock (reads may run on
 /// the loaders' threads).
 std::mutex& ecCodesLock();
 
-/// The bytes of messages of one file: read at their offsets (plain files) or from the
+/// The bytes of messages of the index's files: read at their offsets (plain files) or from the
 /// unwrapped content in memory (gzip/bzip2). Each message is read once per GribContent (a read
 /// decodes a message for its grid and its values, a geopotential for values and heights) and
 /// counted once.
@@ -72,18 +84,21 @@ class GribContent {
   Result<const std::vector<unsigned char>*> read(const GribMessage& m);
   /// Drops the kept bytes of `m` (a message decoded once and not needed again: the temperatures
   /// of a hydrostatic integration, one level at a time); read again, it is counted again.
-  void forget(const GribMessage& m) { read_.erase(m.offset); }
+  void forget(const GribMessage& m) { read_.erase({m.file, m.offset}); }
   std::uint64_t bytesRead() const { return bytesRead_; }
-  /// Every read counted in bytesRead: (offset, length) in the content, in order.
-  const std::vector<std::pair<std::uint64_t, std::uint64_t>>& reads() const { return reads_; }
+  /// Every read counted in bytesRead, in order.
+  const std::vector<GridVolume::GribMessageRead>& reads() const { return reads_; }
 
  private:
-  std::string path_, label_;
-  std::vector<unsigned char> unwrapped_;  ///< whole content of a compressed file
-  bool compressed_ = false;
-  std::map<std::uint64_t, std::vector<unsigned char>> read_;  ///< by offset
+  struct File {
+    std::string path, label;
+    bool compressed = false;
+    std::vector<unsigned char> unwrapped;  ///< whole content of a compressed file
+  };
+  std::vector<File> files_;
+  std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<unsigned char>> read_;  ///< by file, offset
   std::uint64_t bytesRead_ = 0;
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> reads_;
+  std::vector<GridVolume::GribMessageRead> reads_;
 };
 
 /// A projected grid's points (GribProjection.cpp): latitude and longitude (degrees) of file row r

@@ -178,6 +178,7 @@ std::string formatOf(const GribIndex& idx) {
     first = false;
   }
   if (idx.compression != "none") s += " (" + idx.compression + ")";
+  if (idx.files.size() > 1) s += ", " + std::to_string(idx.files.size()) + " files";
   return s;
 }
 
@@ -1006,7 +1007,7 @@ std::vector<std::string> isoTimes(const Variable& v) {
 }  // namespace
 
 Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions& options) {
-  auto idx = gribIndex(path);
+  auto idx = gribIndexOf(path);
   if (!idx) return idx.forwardError();
   auto ctx = openContext(path, *idx);
   if (!ctx) return ctx.forwardError();
@@ -1084,12 +1085,11 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.member = *member;
   g.bytesRead = c.content.bytesRead();
   g.gribMessagesRead = c.content.reads();
-  g.gribCompressed = idx->compression != "none";
   return g;
 }
 
 Result<GridFileInfo> describeGribFile(const std::string& path, const std::string& variable) {
-  auto idx = gribIndex(path);
+  auto idx = gribIndexOf(path);
   if (!idx) return idx.forwardError();
   auto ctx = openContext(path, *idx);
   if (!ctx) return ctx.forwardError();

@@ -37,7 +37,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const std::string
 
 Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOptions& read) {
   const std::string& variable = read.variable;
-  if (grib::hasGribSignature(path)) {
+  if (grib::hasGribSignature(path) || grib::isGribSet(path)) {
     if (!read.extraIndex.empty())
       return makeError(path + ": an index along dimension '" + read.extraIndex.begin()->first +
                        "' asked for, but a GRIB file has no such dimensions (ensemble members: member)");

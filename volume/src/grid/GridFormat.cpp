@@ -81,7 +81,8 @@ std::string chooseDefaultGridVariable(const std::vector<GridVariableInfo>& varia
 }
 
 bool isGridFile(const std::string& path) {
-  if (grib::hasGribSignature(path)) return true;  // every GRIB file: `info` lists what it holds
+  // Every GRIB file or set of GRIB files: `info` lists what it holds.
+  if (grib::hasGribSignature(path) || grib::isGribSet(path)) return true;
   if (!io::hasNetcdfSignature(path)) return false;
   auto f = io::NetcdfFile::open(path);
   if (!f) return false;

@@ -138,11 +138,15 @@ struct GridVolume {
   /// Bytes of variable data read from the file for this volume (values, coordinates, heights;
   /// elements x stored size, before decompression). See io::NetcdfFile::dataBytesRead.
   std::uint64_t bytesRead = 0;
-  /// GRIB: the messages read for this volume, (byte offset, length) in the file's content (after
-  /// gzip/bzip2), in reading order: what `bytesRead` counts (the bench decodes the same messages
-  /// with plain ecCodes for its floor). Empty for netCDF.
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> gribMessagesRead;
-  bool gribCompressed = false;  ///< GRIB: the file is gzip/bzip2 (the offsets are in its content)
+  /// GRIB: the messages read for this volume (the file, byte offset and length in its content,
+  /// after gzip/bzip2), in reading order: what `bytesRead` counts (the bench decodes the same
+  /// messages with plain ecCodes for its floor). Empty for netCDF.
+  struct GribMessageRead {
+    std::string path;
+    std::uint64_t offset = 0, length = 0;
+    bool compressed = false;  ///< the file is gzip/bzip2: the offset is in its unwrapped content
+  };
+  std::vector<GribMessageRead> gribMessagesRead;
 
   std::size_t index(std::size_t k, std::size_t j, std::size_t i) const { return (k * ny + j) * nx + i; }
   float value(std::size_t k, std::size_t j, std::size_t i) const { return values[index(k, j, i)]; }
