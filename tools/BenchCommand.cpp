@@ -39,6 +39,7 @@ Command addBenchCommand(CLI::App& root) {
                 "The forecast-grid bench on this grid file (CF or WRF netCDF, GRIB 1 or 2; its first ensemble member)");
   c->add_option("--var", o->gridVariable, "With --grid: the variable (default: the reader's choice)");
   c->add_option("--time", o->gridTimeIndex, "With --grid: the time step index (default 0)");
+  c->add_option("--member", o->gridMember, "With --grid: the ensemble member (default: the first; listed by info)");
   c->add_option("--load-runs", o->loadRuns, "Grids: timed runs per load case (median)")->check(CLI::Range(1, 100));
   c->add_flag("!--no-load", o->load, "Grids: skip the load cases");
   c->add_flag("!--no-big", o->big, "Skip the 1280x720 frames");

@@ -225,6 +225,7 @@ int runLoadProbe(const std::string& jobFile, const std::string& resultFile) {
     volume::GridReadOptions o;
     o.variable = job.value("variable", "");
     o.timeIndex = job.value("time", std::size_t{0});
+    o.member = job.value("member", -1L);
     if (job.contains("crop")) {
       const auto& c = job["crop"];
       o.crop.southDeg = c[0], o.crop.northDeg = c[1], o.crop.westDeg = c[2], o.crop.eastDeg = c[3];
@@ -265,6 +266,7 @@ std::vector<LoadCase> measureGridLoads(const BenchVolume& v, const std::vector<B
   const nlohmann::json base = {{"path", fs::absolute(v.path).string()},
                                {"variable", v.gridRead.variable},
                                {"time", v.gridRead.timeIndex},
+                               {"member", v.gridRead.member},
                                {"runs", runs}};
   auto addCase = [&](const std::string& name, const volume::GridCrop* crop, const volume::GridVolume* read) {
     LoadCase c;

@@ -59,8 +59,8 @@ std::vector<ViewSpec> viewSpecs(const BenchVolume& v) {
 }  // namespace
 
 std::vector<GridBenchFile> builtinGridFiles(const fs::path& dir) {
-  GridBenchFile regional{"regional", (dir / kRegionalName).string(), "dbz", 3, true};
-  GridBenchFile global{"global", (dir / kGlobalName).string(), "dbz", 0, true};
+  GridBenchFile regional{"regional", (dir / kRegionalName).string(), "dbz", 3, -1, true};
+  GridBenchFile global{"global", (dir / kGlobalName).string(), "dbz", 0, -1, true};
   return {regional, global};
 }
 
@@ -88,6 +88,7 @@ Result<BenchVolume> loadGridBenchVolume(const GridBenchFile& file) {
   if (file.synthetic) v.identity = "builtin:" + fs::path(file.path).filename().string();
   v.gridRead.variable = file.variable;
   v.gridRead.timeIndex = file.timeIndex;
+  v.gridRead.member = file.member;
   auto g = volume::readGridVolume(file.path, v.gridRead);
   if (!g) return g.forwardError();
   if (!(g->valueMin <= g->valueMax)) return makeError(file.path + ": " + g->variable + " has no valid value");

@@ -22,7 +22,10 @@ std::string referenceKey(const BenchView& view, int widthPx, int heightPx, const
   std::ostringstream k;
   const engine::CameraPose& p = view.pose;
   k << "ref-v1|" << view.volume->cacheIdentity() << "|" << view.volume->fieldName();
-  if (view.volume->kind == VolumeKind::Grid) k << "@" << view.volume->gridRead.timeIndex;
+  if (view.volume->kind == VolumeKind::Grid) {
+    k << "@" << view.volume->gridRead.timeIndex;
+    if (view.volume->gridRead.member >= 0) k << "#" << view.volume->gridRead.member;
+  }
   k << "|" << formatG(p.latDeg) << "," << formatG(p.lonDeg) << "," << formatG(p.heightMeters) << ","
     << formatG(p.headingDeg) << "," << formatG(p.pitchDeg) << "," << formatG(p.rollDeg) << "|fov "
     << formatG(view.fovYDeg) << "|" << widthPx << "x" << heightPx << "|" << modeName(s.mode) << "|"

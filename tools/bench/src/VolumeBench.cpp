@@ -89,7 +89,7 @@ bool isGridRun(const VolumeBenchOptions& o) { return o.grids || !o.gridFile.empt
 
 std::vector<GridBenchFile> gridFilesOf(const VolumeBenchOptions& o) {
   if (!o.gridFile.empty())
-    return {{fs::path(o.gridFile).stem().string(), o.gridFile, o.gridVariable, o.gridTimeIndex, false}};
+    return {{fs::path(o.gridFile).stem().string(), o.gridFile, o.gridVariable, o.gridTimeIndex, o.gridMember, false}};
   return builtinGridFiles(fs::path(o.outDir) / "grids");
 }
 
@@ -143,7 +143,8 @@ Result<BenchPlan> planGrids(const VolumeBenchOptions& o, const WantedView& wante
     plan.volumes.push_back(std::make_unique<BenchVolume>(std::move(*v)));
     const BenchVolume& bv = *plan.volumes.back();
     const volume::GridVolume& g = *bv.grid;
-    log << bv.key << ": " << bv.path << ", " << g.variable << " at " << g.validTime << ", " << g.nx << " x " << g.ny
+    log << bv.key << ": " << bv.path << ", " << g.variable << " at " << g.validTime
+        << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string()) << ", " << g.nx << " x " << g.ny
         << " x " << g.nz << "\n";
     VolumeSummary s;
     s.key = bv.key;

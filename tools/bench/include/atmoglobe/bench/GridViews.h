@@ -32,6 +32,7 @@ struct GridBenchFile {
   std::string path;      ///< the netCDF file
   std::string variable;  ///< empty: the reader's default
   std::size_t timeIndex = 0;
+  long member = -1;  ///< ensemble member (GridReadOptions::member); -1: the first
   bool synthetic = false;
 };
 

@@ -31,6 +31,7 @@ struct VolumeBenchOptions {
   std::string gridFile;      ///< a grid file instead of the built-in ones
   std::string gridVariable;  ///< with gridFile; empty: the reader's default
   std::size_t gridTimeIndex = 0;
+  long gridMember = -1;               ///< with gridFile: the ensemble member; -1: the first
   int loadRuns = 5;                   ///< timed runs per load case (median), each case in a child process
   bool load = true;                   ///< measure the load cases
   bool big = true;                    ///< frames and errors at 1280x720 too
