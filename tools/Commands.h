@@ -2,8 +2,11 @@
 // Each subcommand registers itself on the root CLI11 app and returns how to run it.
 #include <CLI/CLI.hpp>
 
+#include <cstddef>
 #include <functional>
+#include <map>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace atmoglobe::tools {
@@ -26,6 +29,11 @@ Command addSliceCommand(CLI::App& root);
 
 /// Embedded files from assets/ (default scene...), by file name.
 std::optional<std::string_view> embeddedAsset(std::string_view fileName);
+
+/// Adds `--grid-index NAME=I` (repeatable) to `app`: the index read along a grid dimension that
+/// is neither horizontal, vertical nor time (a netCDF `month` axis, an ensemble dimension;
+/// GridReadOptions::extraIndex), listed by `atmoglobe info`. A malformed value is a usage error.
+CLI::Option* addGridIndexOption(CLI::App* app, std::map<std::string, std::size_t>& out);
 
 /// Prints "atmoglobe <command>: <message>" to stderr and returns exit code 1.
 int fail(std::string_view command, std::string_view message);

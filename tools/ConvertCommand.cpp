@@ -10,6 +10,7 @@
 
 #include <array>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -23,6 +24,7 @@ Command addConvertCommand(CLI::App& root) {
     std::string grid = "geographic", datum = "msl", interpolation = "linear";
     bool raw = false, noGeoid = false;
     long member = -1;
+    std::map<std::string, std::size_t> gridIndex;
   };
   auto opts = std::make_shared<Options>();
   Command c;
@@ -37,6 +39,7 @@ Command addConvertCommand(CLI::App& root) {
       ->add_option("--member", opts->member,
                    "Grids: the ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  addGridIndexOption(c.app, opts->gridIndex);
   c.app->add_option("--crop", opts->crop,
                     "Box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); grids read only it");
   c.app->add_option("--heights", opts->heights, "BOTTOM,TOP (m above the datum; cartesian: the z range)");
@@ -58,6 +61,7 @@ Command addConvertCommand(CLI::App& root) {
     o.variable = opts->variable;
     o.time = opts->time;
     o.member = opts->member;
+    o.gridIndex = opts->gridIndex;
     if (!opts->crop.empty()) {
       auto v = parseNumbers(opts->crop, 4, 4, "--crop");
       if (!v) return fail("convert", v.error());

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -24,6 +25,7 @@ Command addInfoCommand(CLI::App& root) {
     std::string variable;
     std::string nexradSites;
     bool json = false;
+    std::map<std::string, std::size_t> gridIndex;
   };
   auto opts = std::make_shared<Options>();
   Command c;
@@ -44,11 +46,15 @@ Command addInfoCommand(CLI::App& root) {
   c.app->add_option("--variable", opts->variable,
                     "Grid files: the variable whose grid, vertical coordinate and heights are described "
                     "(default: the reader's default variable)");
+  addGridIndexOption(c.app, opts->gridIndex);
   c.run = [opts] {
     // A grid first: a directory, pattern or list of GRIB files is one grid (a set of radar files
     // holds no GRIB file).
     if (volume::isGridFile(opts->file)) {
-      auto info = volume::describeGridFile(opts->file, opts->variable);
+      volume::GridReadOptions read;
+      read.variable = opts->variable;
+      read.extraIndex = opts->gridIndex;
+      auto info = volume::describeGridFile(opts->file, read);
       if (!info) return fail("info", info.error());
       std::cout << (opts->json ? volume::describeGridJson(*info) + "\n" : volume::describeGridText(*info));
       return 0;
@@ -79,7 +85,8 @@ Command addInfoCommand(CLI::App& root) {
       }
       return 0;
     }
-    if (!opts->variable.empty()) return fail("info", opts->file + ": --variable applies to forecast grids only");
+    if (!opts->variable.empty() || !opts->gridIndex.empty())
+      return fail("info", opts->file + ": --variable and --grid-index apply to forecast grids only");
     volume::ReadOptions ro;
     ro.loadValues = false;  // metadata only: fast, no field array read
     ro.nexradSiteList = opts->nexradSites;

@@ -122,6 +122,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   gg->add_option("--member", o.members,
                  "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  addGridIndexOption(gg, o.gridIndex);
   gg->add_option(
       "--grid-colors", o.gridColors,
       "Grid colour table: auto (by the variable: NWS for dBZ, turbo for temperature, greens for humidity, grayscale for cloud, viridis otherwise), viridis, turbo, grayscale, greens, cividis, NWS or a .pal file");
@@ -528,10 +529,10 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
-  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridColors.empty() ||
-                  !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
+  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridIndex.empty() ||
+                  !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
     return makeError(
-        "--var/--time/--member/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--var/--time/--member/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -540,6 +541,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     d.kind = engine::VolumeKind::Grid;
     d.path = o.grids[i];
     d.useGeoid = !o.noGeoid;
+    d.gridIndex = o.gridIndex;
     for (const Status& st :
          {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
           pickGrid(o.members, "--member", i, d.member), pickGrid(o.gridColors, "--grid-colors", i, d.colors),
@@ -565,7 +567,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
                      first->field,
                      first->time,
                      first->useGeoid,
-                     first->member};
+                     first->member,
+                     first->gridIndex};
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

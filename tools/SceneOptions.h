@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct SceneOptions {
   // once (every grid) or once per grid.
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
   std::vector<int> members;
+  std::map<std::string, std::size_t> gridIndex;  ///< --grid-index NAME=I: every grid and slice
   std::vector<double> gridSteps;
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
   /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,6 +30,7 @@ struct SliceOptions {
   bool noGeoid = false;
   int threads = 0;
   long member = -1;
+  std::map<std::string, std::size_t> gridIndex;
 };
 
 Result<std::pair<double, double>> parsePair(const std::string& text, const std::string& what) {
@@ -56,6 +58,7 @@ int runSlice(const SliceOptions& o) {
   if (o.heightMeters.has_value() == !o.path.empty()) return usage("give exactly one of --height-m H or --path POINTS");
   if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
   if (o.member >= 0 && o.grid.empty()) return usage("--member is for --grid");
+  if (!o.gridIndex.empty() && o.grid.empty()) return usage("--grid-index is for --grid");
   if (!o.box.empty() && !o.heightMeters) return usage("--box is for a CAPPI (--height-m)");
   if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
   if (o.datum != "msl" && o.datum != "ellipsoid") return usage("--datum: msl or ellipsoid, got \"" + o.datum + "\"");
@@ -100,6 +103,7 @@ int runSlice(const SliceOptions& o) {
   load.field = o.field;
   load.time = o.time;
   load.member = o.member;
+  load.gridIndex = o.gridIndex;
   load.useGeoid = !o.noGeoid;
   auto source = volume::SliceSource::load(load);
   if (!source) return fail(cmd, source.error());
@@ -168,6 +172,7 @@ Command addSliceCommand(CLI::App& root) {
   c->add_option("--member", opts->member,
                 "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  addGridIndexOption(c, opts->gridIndex);
   c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
   c->add_option("--box", opts->box,
                 "CAPPI box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); default: the volume's "

@@ -7,6 +7,33 @@
 #include <vector>
 
 namespace atmoglobe::tools {
+CLI::Option* addGridIndexOption(CLI::App* app, std::map<std::string, std::size_t>& out) {
+  return app
+      ->add_option_function<std::vector<std::string>>(
+          "--grid-index",
+          [&out](const std::vector<std::string>& values) {
+            for (const std::string& v : values) {
+              const auto eq = v.find('=');
+              std::size_t used = 0;
+              unsigned long long index = 0;
+              bool ok = eq != std::string::npos && eq > 0 && eq + 1 < v.size();
+              if (ok) {
+                try {
+                  index = std::stoull(v.substr(eq + 1), &used);
+                } catch (const std::exception&) {
+                  ok = false;
+                }
+              }
+              if (!ok || used != v.size() - eq - 1 || v[eq + 1] == '-')
+                throw CLI::ValidationError("--grid-index", "'" + v + "' is not NAME=INDEX (e.g. month=6)");
+              out[v.substr(0, eq)] = static_cast<std::size_t>(index);
+            }
+          },
+          "Grids: the index read along a dimension that is neither horizontal, vertical nor time, NAME=INDEX "
+          "(repeatable; e.g. month=6; the dimensions and their default 0 are listed by `atmoglobe info`)")
+      ->type_name("NAME=I");
+}
+
 int fail(std::string_view command, std::string_view message) {
   std::cerr << "atmoglobe " << command << ": " << message << "\n";
   return 1;

@@ -34,6 +34,7 @@ volume::GridReadOptions gridReadOptions(const VolumeLayerDescription& d) {
   read.variable = d.field;
   read.useGeoid = d.useGeoid;
   read.member = d.member;
+  read.extraIndex = d.gridIndex;
   read.crop.southDeg = d.settings.crop.southDeg;
   read.crop.northDeg = d.settings.crop.northDeg;
   read.crop.westDeg = d.settings.crop.westDeg;
@@ -253,6 +254,7 @@ LegendPart GridSourceGL::legendPart() const {
   return LegendPart{variable + " (forecast grid)",
                     variable + " valid " + utcLabel(v.validTime) +
                         (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
+                        (volume::extraIndexText(v).empty() ? std::string() : "  " + volume::extraIndexText(v)) +
                         (v.approximateHeights ? "  (heights approximate)" : ""),
                     LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
 }
@@ -283,8 +285,9 @@ std::string GridSourceGL::loadNote() const {
   std::ostringstream text;
   text << description_.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
        << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime)
-       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string()) << ", " << g.nx << " x " << g.ny
-       << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
+       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string())
+       << (volume::extraIndexText(g).empty() ? std::string() : ", " + volume::extraIndexText(g)) << ", " << g.nx
+       << " x " << g.ny << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
        << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "");
   return text.str();
 }

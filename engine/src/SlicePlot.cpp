@@ -251,6 +251,8 @@ SlicePlotOptions slicePlotOptionsFor(const volume::SliceSource& source, const vo
   time += utcLabel(source.validTime());
   if (const volume::GridVolume* grid = source.grid(); grid && grid->member >= 0)
     time += ", ensemble member " + std::to_string(grid->member);
+  if (const volume::GridVolume* grid = source.grid(); grid && !volume::extraIndexText(*grid).empty())
+    time += ", " + volume::extraIndexText(*grid);
   if (g.kind() == volume::SliceGeometry::Kind::Cappi) {
     char h[64];
     std::snprintf(h, sizeof h, "%.2f", g.cappiHeightMeters() / 1000.0);

@@ -498,3 +498,40 @@ TEST(GribProjection, PolarGridAroundThePoleSamplesEverywhere) {
   EXPECT_GT(pole.value, 350.0 + 30 + 2 * 30 - 1e-3);
   EXPECT_LT(pole.value, 350.0 + 31 + 2 * 31 + 1e-3);
 }
+
+// A 191-byte message fuzzing made (fuzz_grib): a rotated grid declaring 16 x 6094860 points (97.5
+// million) over a data section of 496. Refused naming the message and both counts before anything
+// of the declared size is allocated (it took 2.6 GB before); and a grid whose declared size is
+// consistent but beyond the reader's limit (a constant field needs no bytes per point) is refused
+// too (a regular grid of 4100 x 4000 points: the limit is 16 million).
+TEST(GribProjection, DeclaredGridSizesAreCheckedBeforeAllocating) {
+  useTestCache();
+  const std::string dir = atmoglobe_test::freshTestDir("grib_projection");
+  const std::string hex =
+      "47524942ffff000200000000000000bf00000015010062000004000107d703170c00000002000000540300000001f0000000"
+      "0106ffffffffffffffffffffffffffffff00000010005d000c00000000ffffffff0393870000000000300000000001c9c380"
+      "001e8480001e848000000000000000000000000000000000220400000000000000ff80000000010000000064ffffffffffff"
+      "ffffffffff0000001505000001f000003f800000800a000000000000000606ff000000050737373737";
+  std::string bytes;
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  ASSERT_EQ(bytes.size(), 191u);
+  const std::string file = dir + "/declared_rows.grib2";
+  writeFile(file, bytes);
+  auto info = describeGridFile(file);
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.error().find(file), std::string::npos) << info.error();
+  EXPECT_NE(info.error().find("its grid has 16 x 6094860 points, its data 496 points (numberOfDataPoints)"),
+            std::string::npos)
+      << info.error();
+
+  // 16.4 million points of one value: the message is a few hundred bytes.
+  const std::string big = dir + "/constant_16.4M.grib2";
+  writeFile(big, makeGribMessage("GRIB2", {{"Ni", 4100L}, {"Nj", 4000L}}, std::vector<double>(4100 * 4000, 280.0)));
+  auto refused = readGridVolume(big, GridReadOptions{});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().find("a grid of 16400000 points (4100 x 4000 points) is beyond the 16000000 points one "
+                                 "message may have here"),
+            std::string::npos)
+      << refused.error();
+}

@@ -38,6 +38,11 @@ namespace {
 /// physical value a GRIB field holds (the largest float, as cfgrib uses).
 constexpr double kMissingSentinel = 3.4028234663852886e38;
 
+/// The most points one message may have: 2.5 x the 6.5 million of a global 0.1 degree grid
+/// (ERA5-Land, IFS HRES), 128 MB per field in double; a read holds several such arrays (values,
+/// latitudes, longitudes and their kept copies) at once.
+constexpr std::size_t kMaxGridPoints = 16'000'000;
+
 /// A variable: the messages sharing shortName and typeOfLevel.
 struct Variable {
   std::string shortName, typeOfLevel, gridType, name, units;
@@ -285,7 +290,19 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
       return varError(c, v, where + ": its grid is not the index's (the file changed since it was indexed)");
     n = static_cast<std::size_t>(d.ni) * static_cast<std::size_t>(d.nj);
     gridText = std::to_string(d.ni) + " x " + std::to_string(d.nj) + " points";
+    long dataPoints = 0;
+    codes_get_long(h.get(), "numberOfDataPoints", &dataPoints);
+    if (dataPoints < 0 || static_cast<std::size_t>(dataPoints) != n)
+      return varError(c, v,
+                      where + ": its grid has " + gridText + ", its data " + std::to_string(dataPoints) +
+                          " points (numberOfDataPoints): a damaged message");
   }
+  // Before anything the size of the grid is allocated: a message of constant values (0 bits per
+  // value) declares any number of points in a few bytes.
+  if (n > kMaxGridPoints)
+    return varError(c, v,
+                    where + ": a grid of " + std::to_string(n) + " points (" + gridText + ") is beyond the " +
+                        std::to_string(kMaxGridPoints) + " points one message may have here");
   auto array = [&](const char* key, std::vector<double>& out) -> Status {
     std::size_t size = 0;
     int err = codes_get_size(h.get(), key, &size);

@@ -212,7 +212,7 @@ std::string describeGridText(const GridFileInfo& g) {
     if (std::isfinite(e.value))
       os << " (" << grid::num(e.value, e.value == std::floor(e.value) ? 0 : 3) << (e.units.empty() ? "" : " " + e.units)
          << ")";
-    os << "; choose with " << (e.ensemble ? "the member or " : "") << "an index along '" << e.name << "'\n";
+    os << "; choose with " << (e.ensemble ? "--member N or " : "") << "--grid-index " << e.name << "=I\n";
   }
   os << "grid:       "
      << (g.curvilinear ? "curvilinear (2-D latitude/longitude)" : "rectilinear (1-D latitude/longitude)") << ", "

@@ -70,6 +70,7 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
     read.variable = o.field;
     read.useGeoid = o.useGeoid;
     read.member = o.member;
+    read.extraIndex = o.gridIndex;
     if (auto st = selectGridTime(o.time, read); !st) return makeError(o.path + ": " + st.error());
     auto grid = readGridVolume(o.path, read);
     if (!grid) return grid.forwardError();

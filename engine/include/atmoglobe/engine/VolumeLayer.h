@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -115,6 +116,9 @@ struct VolumeLayerDescription {
   std::string time;
   /// Grids: the ensemble member (GRIB `number`, as `atmoglobe info` lists them); -1: the first.
   int member = -1;
+  /// Grids: the index read along each dimension that is neither horizontal, vertical nor time
+  /// (netCDF; volume::GridReadOptions::extraIndex); unnamed dimensions: 0.
+  std::map<std::string, std::size_t> gridIndex;
   /// "auto" (by the field's kind), a colour table by name (case ignored) or a .pal file.
   std::string colors = "auto";
   volume::VolumeRenderMode mode = volume::VolumeRenderMode::Dvr;

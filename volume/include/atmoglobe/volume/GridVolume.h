@@ -179,6 +179,11 @@ struct GridVolume {
 /// degrees) and sets lonDeg to its reference axis. Error: what is wrong, for messages.
 Status finishReducedGrid(GridVolume& g);
 
+/// The indices read along the grid's extra dimensions that are not its ensemble member (shown by
+/// `member`), for titles: "month 3 (index 2)", "month index 2" without a coordinate value, joined
+/// by ", "; empty when there is none.
+std::string extraIndexText(const GridVolume& grid);
+
 /// A grid between two time steps of one variable and region: values and heights linear in time,
 /// value = (1 - fraction) a + fraction b (NaN where either is NaN: no value is invented where a
 /// step has none), heights the same way (they stay strictly increasing per column: a convex

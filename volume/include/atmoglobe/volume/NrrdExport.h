@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -99,6 +100,8 @@ struct NrrdExportOptions {
   std::string variable;    ///< grid variable or radar field; empty: the default one
   std::string time;        ///< grids: an index or an ISO 8601 time (selectGridTime); empty: the first
   long member = -1;        ///< grids: the ensemble member (GRIB `number`); -1: the first
+  /// Grids: the index along each dimension that is neither horizontal, vertical nor time.
+  std::map<std::string, std::size_t> gridIndex;
   /// Box SOUTH, NORTH, WEST, EAST (deg; west > east crosses the antimeridian): grids read only
   /// this box; the regular grid spans it.
   std::optional<std::array<double, 4>> cropSouthNorthWestEastDeg;

@@ -11,6 +11,7 @@
 #include <atmoglobe/volume/Slice.h>
 #include <atmoglobe/volume/TransferFunction.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,6 +27,8 @@ struct SliceSourceOptions {
   std::string time;      ///< grids: "" (first step), an index ("3") or an ISO 8601 UTC time
   bool useGeoid = true;  ///< heights above sea level in the file -> ellipsoid through EGM96
   long member = -1;      ///< grids: the ensemble member (GRIB `number`); -1: the first
+  /// Grids: the index along each dimension that is neither horizontal, vertical nor time.
+  std::map<std::string, std::size_t> gridIndex;
 };
 
 class SliceSource {

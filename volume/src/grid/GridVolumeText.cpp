@@ -1,0 +1,23 @@
+// What a grid volume says about itself in titles (GridVolume.h).
+#include "GridInternal.h"
+
+#include <atmoglobe/volume/GridVolume.h>
+
+#include <cmath>
+
+namespace atmoglobe::volume {
+
+std::string extraIndexText(const GridVolume& grid) {
+  std::string out;
+  for (const GridExtraDimension& e : grid.extraDimensions) {
+    if (e.ensemble) continue;  // said as the member
+    out += out.empty() ? "" : ", ";
+    if (std::isfinite(e.value))
+      out += e.name + " " + grid::num(e.value, e.value == std::floor(e.value) ? 0 : 3) +
+             (e.units.empty() ? "" : " " + e.units) + " (index " + std::to_string(e.index) + ")";
+    else out += e.name + " index " + std::to_string(e.index);
+  }
+  return out;
+}
+
+}  // namespace atmoglobe::volume
