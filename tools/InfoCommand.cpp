@@ -86,7 +86,7 @@ Command addInfoCommand(CLI::App& root) {
       return 0;
     }
     if (!opts->variable.empty() || !opts->gridIndex.empty())
-      return fail("info", opts->file + ": --variable and --grid-index apply to forecast grids only");
+      return fail("info", opts->file + ": --variable (and --grid-index) applies to forecast grids only");
     volume::ReadOptions ro;
     ro.loadValues = false;  // metadata only: fast, no field array read
     ro.nexradSiteList = opts->nexradSites;
