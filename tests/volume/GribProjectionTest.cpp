@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -534,4 +535,37 @@ TEST(GribProjection, DeclaredGridSizesAreCheckedBeforeAllocating) {
                                  "message may have here"),
             std::string::npos)
       << refused.error();
+}
+
+// A 172-byte message from fuzz_grib with a forecast step of 1.9e9 hours: ecCodes computes its
+// validity time a day at a time (over 30 s). The index skips it with a warning naming the step;
+// with nothing else in the file, the file is refused at once.
+TEST(GribProjection, AnAbsurdForecastStepIsSkippedBeforeTheValidityTimeIsComputed) {
+  useTestCache();
+  const std::string dir = atmoglobe_test::freshTestDir("grib_projection");
+  const std::string hex =
+      "47524942ffff000200000000000000ac00000015010062000004000107d703170c00000002000000410300000001f0000000"
+      "1406ffffffffffffffffffffffffffffff000000100000001f0393870000000000000000000000000000001e8480001e8480"
+      "0000000000220400000000000000ff8000006d697373696e67ffffffffffffffffffffff0000001505000001f000003f8000"
+      "00800a000000000000000606ff000000050737373737";
+  std::string bytes;
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  ASSERT_EQ(bytes.size(), 172u);
+  const std::string file = dir + "/step.grib2";
+  writeFile(file, bytes);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto info = describeGridFile(file);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.error().find(file + ": no readable GRIB message"), std::string::npos) << info.error();
+  EXPECT_LT(seconds, 5.0);  // 30 s and more before; 5 s: a loaded machine under ASan
+  // Beside a good message, the good one is read and the bad one named in a warning.
+  const std::string pair = dir + "/good_and_step.grib2";
+  writeFile(pair, makeGribMessage("GRIB2", {}, std::vector<double>(496, 280.0)) + bytes);
+  auto both = describeGridFile(pair);
+  ASSERT_TRUE(both.ok()) << both.error();
+  ASSERT_EQ(both->warnings.size(), 1u);
+  EXPECT_NE(both->warnings[0].find("a forecast step of 1936943470 units; skipped"), std::string::npos)
+      << both->warnings[0];
 }

@@ -29,6 +29,9 @@ namespace atmoglobe::volume::grib {
 
 namespace {
 
+/// The largest forecast step (in the message's step units) the index takes (see scan).
+constexpr long kMaxStepUnits = 10'000'000;
+
 /// Bumped when the index's content changes meaning: an index of another version is rebuilt.
 constexpr int kIndexVersion = 2;  // 2: numberOfPoints
 
@@ -230,10 +233,18 @@ Status scan(FILE* f, const std::string& label, GribIndex& idx) {
     if (codes_get_double(h.get(), "level", &level) == CODES_SUCCESS) m.level = level;
     m.dataDate = getLong(h.get(), "dataDate", 0);
     m.dataTime = getLong(h.get(), "dataTime", 0);
+    // Before the validity time: ecCodes computes it in steps of a day, so a damaged step of 1.9e9
+    // hours (fuzz_grib) takes minutes. 1e7 step units: 1141 years in hours, 116 days in seconds.
+    m.endStep = getLong(h.get(), "endStep", 0);
+    if (m.endStep > kMaxStepUnits || m.endStep < -kMaxStepUnits) {
+      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                             std::to_string(offset) + "): a forecast step of " + std::to_string(m.endStep) +
+                             " units; skipped");
+      continue;
+    }
     m.validityDate = getLong(h.get(), "validityDate", m.dataDate);
     m.validityTime = getLong(h.get(), "validityTime", m.dataTime);
     m.stepRange = getString(h.get(), "stepRange");
-    m.endStep = getLong(h.get(), "endStep", 0);
     m.number = codes_is_defined(h.get(), "number") ? getLong(h.get(), "number", -1) : -1;
     m.ni = getLong(h.get(), "Ni", 0);
     m.nj = getLong(h.get(), "Nj", 0);
