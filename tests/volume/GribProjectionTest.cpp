@@ -232,6 +232,14 @@ constexpr double kPi = 3.14159265358979323846;
 double rad(double d) { return d * kPi / 180.0; }
 double deg(double r) { return r * 180.0 / kPi; }
 
+/// The bytes a hexadecimal text spells (a fuzzer's input kept in a test).
+std::string bytesOfHex(const std::string& hex) {
+  std::string bytes;
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  return bytes;
+}
+
 /// A spherical projection written out from Snyder, "Map Projections: A Working Manual" (USGS
 /// 1987): Lambert conformal conic (eqs. 15-1 to 15-5, 14-4; inverse 14-10, 15-9, 15-10) and polar
 /// stereographic (21-33, 21-34 with true scale at latitude `trueDeg`; inverse 20-18, 21-39, 21-40).
@@ -513,9 +521,7 @@ TEST(GribProjection, DeclaredGridSizesAreCheckedBeforeAllocating) {
       "0106ffffffffffffffffffffffffffffff00000010005d000c00000000ffffffff0393870000000000300000000001c9c380"
       "001e8480001e848000000000000000000000000000000000220400000000000000ff80000000010000000064ffffffffffff"
       "ffffffffff0000001505000001f000003f800000800a000000000000000606ff000000050737373737";
-  std::string bytes;
-  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
-    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  const std::string bytes = bytesOfHex(hex);
   ASSERT_EQ(bytes.size(), 191u);
   const std::string file = dir + "/declared_rows.grib2";
   writeFile(file, bytes);
@@ -548,9 +554,7 @@ TEST(GribProjection, AnAbsurdForecastStepIsSkippedBeforeTheValidityTimeIsCompute
       "1406ffffffffffffffffffffffffffffff000000100000001f0393870000000000000000000000000000001e8480001e8480"
       "0000000000220400000000000000ff8000006d697373696e67ffffffffffffffffffffff0000001505000001f000003f8000"
       "00800a000000000000000606ff000000050737373737";
-  std::string bytes;
-  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
-    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  const std::string bytes = bytesOfHex(hex);
   ASSERT_EQ(bytes.size(), 172u);
   const std::string file = dir + "/step.grib2";
   writeFile(file, bytes);
