@@ -9,6 +9,7 @@
 #include <poll.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -203,6 +204,103 @@ std::string signalName(int sig) {
   const char* abbrev = sigabbrev_np(sig);
   return abbrev ? std::string("SIG") + abbrev : "signal " + std::to_string(sig);
 }
+
+/// A child that waits on a lock: the child is single-threaded (fork copies only the calling
+/// thread), so a futex wait there can only be for a lock that another thread of the parent held at
+/// the fork and that nobody in the child will ever release. glibc's malloc and stdio take their
+/// locks around fork, but an allocator that does not (GCC 12's AddressSanitizer has no fork
+/// handler: a CI run's child hung on it until the 30 s deadline while another thread allocated)
+/// leaves its lock held in the child. Linux: /proc/PID/syscall names the system call a blocked
+/// task is in ("running" when it is not blocked).
+}  // namespace
+
+bool processWaitsOnLock(pid_t pid) {
+  char file[64];
+  std::snprintf(file, sizeof file, "/proc/%d/syscall", static_cast<int>(pid));
+  const int fd = ::open(file, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  char text[32] = {};
+  const ssize_t n = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  if (n <= 0) return false;
+  char* end = nullptr;
+  const long number = std::strtol(text, &end, 10);
+  return end != text && number == SYS_futex;
+}
+
+namespace {
+
+/// Seen waiting on a lock at this many consecutive polls (kLockPollSeconds apart), the child is
+/// deadlocked; so many deadlocked children in a row and the check gives up.
+constexpr int kLockPolls = 4;
+constexpr double kLockPollSeconds = 0.25;
+constexpr int kMaxDeadlockedChildren = 3;
+
+struct ChildRun {
+  std::string error;  ///< pipe or fork failed
+  bool timedOut = false, deadlocked = false;
+  int status = 0;  ///< waitpid's status, when neither
+};
+
+template <class Elapsed>
+ChildRun runChildOnce(const std::string& path, const unsigned char* memory, std::size_t size,
+                      const Hdf5GuardSettings& settings, Elapsed elapsed) {
+  ChildRun run;
+  // The child holds the write end of a pipe until it ends: the parent's poll wakes the moment
+  // it exits (or dies), and otherwise every kLockPollSeconds to see whether it waits on a lock.
+  int pipeFds[2] = {-1, -1};
+  if (::pipe2(pipeFds, O_CLOEXEC) != 0) {
+    run.error = std::string("pipe failed: ") + std::strerror(errno);
+    return run;
+  }
+  std::fflush(nullptr);  // the child leaves by _exit, but a buffer copied into it must not be written twice
+  const pid_t parent = ::getpid();
+  pid_t pid = -1;
+  {
+    // Forked under the library lock (NetcdfLock.h): no other thread is inside netCDF-C or HDF5, so
+    // the child starts from the libraries' state between two calls. The child inherits the lock as
+    // held by a thread that does not exist there: it never takes it (runChild calls netCDF-C
+    // directly) and never releases it (runChild leaves by _exit, before this scope ends). The
+    // parent lets go right after the fork: other threads read on while the child walks the file.
+    const NetcdfLock lock;
+    pid = ::fork();
+    if (pid == 0) {
+      ::close(pipeFds[0]);
+      runChild(path, memory, size, settings.mode == Hdf5GuardMode::Data, settings.deadlineSeconds, parent);
+    }
+  }
+  if (pid < 0) {
+    run.error = std::string("fork failed: ") + std::strerror(errno);
+    ::close(pipeFds[0]);
+    ::close(pipeFds[1]);
+    return run;
+  }
+  ::close(pipeFds[1]);
+  int lockPolls = 0;
+  for (;;) {
+    const double left = settings.deadlineSeconds - elapsed();
+    if (left <= 0.0) {
+      run.timedOut = true;
+      break;
+    }
+    pollfd p{pipeFds[0], POLLIN, 0};
+    const int r = ::poll(&p, 1, static_cast<int>(std::min(left, kLockPollSeconds) * 1000.0 + 1.0));
+    if (r > 0) break;  // POLLHUP: the child is gone (it never writes)
+    if (r < 0 && errno != EINTR) break;
+    if (r == 0) {
+      lockPolls = processWaitsOnLock(pid) ? lockPolls + 1 : 0;
+      if (lockPolls >= kLockPolls) {
+        run.deadlocked = true;
+        break;
+      }
+    }
+  }
+  ::close(pipeFds[0]);
+  if (run.timedOut || run.deadlocked) ::kill(pid, SIGKILL);
+  while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
+  }
+  return run;
+}
 }  // namespace
 
 Result<Hdf5GuardSettings> hdf5GuardSettingsFromEnvironment() {
@@ -250,52 +348,25 @@ Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* 
   }
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  // The child holds the write end of a pipe until it ends: the parent's poll wakes the moment
-  // it exits (or dies), with no polling delay, and gives up at the deadline.
-  int pipeFds[2] = {-1, -1};
-  if (::pipe2(pipeFds, O_CLOEXEC) != 0) {
-    out.message = std::string("pipe failed: ") + std::strerror(errno);
-    return out;
-  }
-  std::fflush(nullptr);  // the child leaves by _exit, but a buffer copied into it must not be written twice
-  const pid_t parent = ::getpid();
-  pid_t pid = -1;
-  {
-    // Forked under the library lock (NetcdfLock.h): no other thread is inside netCDF-C or HDF5, so
-    // the child starts from the libraries' state between two calls. The child inherits the lock as
-    // held by a thread that does not exist there: it never takes it (runChild calls netCDF-C
-    // directly) and never releases it (runChild leaves by _exit, before this scope ends). The
-    // parent lets go right after the fork: other threads read on while the child walks the file.
-    const NetcdfLock lock;
-    pid = ::fork();
-    if (pid == 0) {
-      ::close(pipeFds[0]);
-      runChild(path, memory, size, settings.mode == Hdf5GuardMode::Data, settings.deadlineSeconds, parent);
-    }
-  }
-  if (pid < 0) {
-    out.message = std::string("fork failed: ") + std::strerror(errno);
-    ::close(pipeFds[0]);
-    ::close(pipeFds[1]);
-    return out;
-  }
-  ::close(pipeFds[1]);
-  bool timedOut = false;
-  for (;;) {
-    const double left = settings.deadlineSeconds - elapsed();
-    if (left <= 0.0) {
-      timedOut = true;
-      break;
-    }
-    pollfd p{pipeFds[0], POLLIN, 0};
-    const int r = ::poll(&p, 1, static_cast<int>(std::min(left * 1000.0 + 1.0, 2.0e9)));
-    if (r > 0) break;  // POLLHUP: the child is gone (it never writes)
-    if (r < 0 && errno != EINTR) break;
-  }
-  ::close(pipeFds[0]);
-  if (timedOut) ::kill(pid, SIGKILL);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  bool timedOut = false;
+  for (int attempt = 1;; ++attempt) {
+    const ChildRun run = runChildOnce(path, memory, size, settings, elapsed);
+    if (!run.error.empty()) {
+      out.message = run.error;
+      return out;
+    }
+    if (run.deadlocked) {
+      // Not the file's fault (see waitForChild): another child gets a fresh copy of the locks.
+      if (attempt < kMaxDeadlockedChildren) continue;
+      out.message = "the check process deadlocked " + std::to_string(attempt) +
+                    " times on a lock held by another thread at fork; opening without the check";
+      out.seconds = elapsed();
+      return out;
+    }
+    status = run.status;
+    timedOut = run.timedOut;
+    break;
   }
   out.seconds = elapsed();
   if (timedOut) {

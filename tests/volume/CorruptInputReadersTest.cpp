@@ -28,6 +28,8 @@
 #include <bzlib.h>
 #include <gtest/gtest.h>
 #include <netcdf.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -42,9 +44,11 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "BoundedRun.h"
@@ -1321,6 +1325,64 @@ TEST(Hdf5Guard, SettingsComeFromTheEnvironmentAndBadOnesAreNamed) {
   ASSERT_FALSE(v);
   EXPECT_NE(v.error().find("good.nc"), std::string::npos) << v.error();
   EXPECT_NE(v.error().find("ATMOGLOBE_HDF5_GUARD"), std::string::npos) << v.error();
+}
+
+// The guard's deadlock watch (Hdf5Guard.h): a forked child that waits on a lock another thread
+// held at the fork is seen as waiting on a lock; children that sleep, compute or have exited are
+// not (a child reading a slow file must not be killed for it).
+TEST(Hdf5Guard, AChildWaitingOnALockHeldAtTheForkIsSeenAsSuch) {
+  auto watch = [](pid_t pid, double seconds) {
+    int seen = 0;
+    for (int i = 0; i < static_cast<int>(seconds / 0.05); ++i) {
+      if (processWaitsOnLock(pid)) ++seen;
+      ::usleep(50000);
+    }
+    return seen;
+  };
+  auto end = [](pid_t pid) {
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+  };
+  std::mutex held;
+  std::atomic<bool> locked{false}, release{false};
+  std::thread holder([&] {
+    const std::lock_guard lock(held);
+    locked = true;
+    while (!release) ::usleep(1000);
+  });
+  while (!locked) ::usleep(1000);
+  const pid_t waiting = ::fork();
+  if (waiting == 0) {
+    held.lock();  // its holder does not exist in the child: never returns
+    ::_exit(0);
+  }
+  release = true;
+  holder.join();
+  ASSERT_GT(waiting, 0);
+  const int lockSeen = watch(waiting, 1.0);
+  end(waiting);
+  // Scheduling may show the child before it reaches the wait, but not for long.
+  EXPECT_GE(lockSeen, 15) << "of 20 looks";
+
+  const pid_t sleeping = ::fork();
+  if (sleeping == 0) {
+    ::sleep(30);
+    ::_exit(0);
+  }
+  ASSERT_GT(sleeping, 0);
+  EXPECT_EQ(watch(sleeping, 0.5), 0);
+  end(sleeping);
+
+  const pid_t computing = ::fork();
+  if (computing == 0) {
+    volatile double x = 1.0;
+    for (;;) x = x * 1.0000001 + 1e-9;
+  }
+  ASSERT_GT(computing, 0);
+  EXPECT_EQ(watch(computing, 0.5), 0);
+  end(computing);
+  EXPECT_FALSE(processWaitsOnLock(computing));  // gone
 }
 
 TEST(Hdf5Guard, IntactFilesPassInEveryModeOnDiskAndInMemory) {

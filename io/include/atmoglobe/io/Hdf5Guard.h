@@ -25,13 +25,19 @@
 // (its copy is held by a thread that does not exist in the child); the parent releases it right
 // after the fork, so other threads read on while the child walks the file. The child's
 // stdout/stderr go to /dev/null and it leaves by _exit (no atexit handlers, no flushing of the
-// parent's buffers).
+// parent's buffers). Another thread may still hold a lock the child needs (an allocator without a
+// fork handler: GCC 12's AddressSanitizer); the child then waits forever. The parent watches for
+// that (processWaitsOnLock, every 0.25 s): a child seen waiting on a lock for 1 s is killed and the
+// check forked again, up to 3 times; after that the file is opened without the check, as when
+// fork fails.
 //
 // Settings (environment, read once per call):
 //   ATMOGLOBE_HDF5_GUARD=metadata (default) | data | off
 //   ATMOGLOBE_HDF5_GUARD_SECONDS=S   the child's deadline (default 30 s; a metadata walk of the
 //                                    largest sample file takes well under a second)
 #include <atmoglobe/globe/Result.h>
+
+#include <sys/types.h>
 
 #include <cstddef>
 #include <string>
@@ -72,10 +78,15 @@ struct Hdf5GuardOutcome {
 };
 
 /// Runs the check of a file on disk (`memory` null) or of a file image in memory (nc_open_mem;
-/// `path` is then the label netCDF-C is given). NotRun: the mode is Off, or fork() failed (the
-/// message says why; the caller then opens in process).
+/// `path` is then the label netCDF-C is given). NotRun: the mode is Off, fork() failed, or three
+/// children in a row deadlocked (the message says why; the caller then opens in process).
 Hdf5GuardOutcome checkHdf5InChild(const std::string& path, const unsigned char* memory, std::size_t size,
                                   const Hdf5GuardSettings& settings);
+
+/// True when the process `pid` is blocked in a futex wait (Linux: /proc/PID/syscall). In the
+/// guard's single-threaded child that means a lock held at the fork by a thread that does not
+/// exist there: it is never released.
+bool processWaitsOnLock(pid_t pid);
 
 /// Forgets the remembered verdicts (benches measuring the first open of a file; tests).
 void forgetHdf5GuardVerdicts();
