@@ -104,7 +104,7 @@ Status parseEnum(const Object& o, const char* key, E& out) {
 }
 
 // One element of "radars" or "grids": the keys both kinds share, then each kind's own ("field",
-// "iso_dbz", "beam", "label" for radars; "variable", "iso_value", "time", "member" for grids).
+// "iso_dbz", "beam", "label" for radars; "variable", "iso_value", "time", "member", "index" for grids).
 Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& baseDir, const std::string& dataDir,
                         VolumeLayerDescription& d) {
   d.kind = kind;
@@ -117,7 +117,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   if (radar) {
     keys.insert(keys.end(), {"beam", "label"});
   } else {
-    keys.insert(keys.end(), {"time", "member"});
+    keys.insert(keys.end(), {"time", "member", "index"});
   }
   if (auto st = r.checkObject(keys); !st) return st;
   double iso = 0.0;
@@ -138,6 +138,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       [&] { return radar ? parseEnum(r, "beam", d.beam) : Status(Ok{}); },
       [&] { return radar ? r.string("label", d.label) : r.string("time", d.time); },
       [&] { return radar ? Status(Ok{}) : r.integer("member", d.member, 0, 1000000); },
+      [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
       [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
       [&] { return r.number(isoKey, iso, -1e30, 1e30, radar ? "(field units)" : "(variable units)"); },

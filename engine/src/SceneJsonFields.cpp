@@ -146,6 +146,20 @@ Status Object::integer(const char* key, int& out, long long lo, long long hi, co
   return Ok{};
 }
 
+Status Object::indices(const char* key, std::map<std::string, std::size_t>& out, long long hi) const {
+  if (!value_.contains(key)) return Ok{};
+  const json& v = value_.at(key);
+  if (!v.is_object()) return error(key, expected("an object of dimension names to indices", v));
+  const Object o = member(key);
+  for (const auto& [name, index] : v.items()) {
+    if (name.empty()) return o.error("a dimension name must not be empty");
+    int i = 0;
+    if (auto st = o.integer(name.c_str(), i, 0, hi); !st) return st;
+    out[name] = static_cast<std::size_t>(i);
+  }
+  return Ok{};
+}
+
 Status Object::string(const char* key, std::string& out) const {
   if (!value_.contains(key)) return Ok{};
   const json& v = value_.at(key);

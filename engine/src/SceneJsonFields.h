@@ -8,7 +8,9 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -65,6 +67,8 @@ class Object {
                  const char* form, double lo = -1e300, double hi = 1e300) const;
   /// [r, g, b] in 0..1.
   Status color(const char* key, glm::vec3& out) const;
+  /// An object of names to indices (a grid's "index": {"month": 3}), each in 0..hi.
+  Status indices(const char* key, std::map<std::string, std::size_t>& out, long long hi) const;
   /// An array (each element visited by the caller with element(i)).
   Status array(const char* key) const;
   Object element(const char* key, std::size_t index) const {

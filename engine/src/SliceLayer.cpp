@@ -35,8 +35,8 @@ Status validateSliceLayer(const SliceLayerDescription& s, const std::string& whe
 
 Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, const std::string& dataDir,
                        SliceLayerDescription& d) {
-  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "height_m", "path", "box",
-                               "heights_m", "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
+  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "index", "height_m", "path",
+                               "box", "heights_m", "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
       !st)
     return st;
   for (auto [key, kind] : {std::pair{"radar", volume::SliceSourceOptions::Kind::Radar},
@@ -61,6 +61,10 @@ Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, c
     int member = -1;
     if (auto st = r.integer("member", member, 0, 1000000); !st) return st;
     d.source.member = member;
+  }
+  if (r.has("index")) {
+    if (d.source.kind != volume::SliceSourceOptions::Kind::Grid) return r.error("index", "is for a \"grid\"");
+    if (auto st = r.indices("index", d.source.gridIndex, 1000000000); !st) return st;
   }
   if (d.colors.size() > 4 && d.colors.substr(d.colors.size() - 4) == ".pal")
     d.colors = resolve(d.colors, baseDir, dataDir);

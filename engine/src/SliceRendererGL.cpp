@@ -168,7 +168,10 @@ Result<std::string> SliceRendererGL::add(const SliceLayerDescription& d) {
   char figures[160];
   std::snprintf(figures, sizeof figures, ": %d x %d px, %zu echo pixels", raster->columns, raster->rows,
                 raster->echoCount);
-  return text.title + figures;
+  std::string index;  // the netCDF index dimensions read ("month 3 (index 2)"), as in the slice's subtitle
+  if (const volume::GridVolume* grid = (*source)->grid(); grid && !volume::extraIndexText(*grid).empty())
+    index = ", " + volume::extraIndexText(*grid);
+  return text.title + index + figures;
 }
 
 void SliceRendererGL::draw(const Camera& camera) const {
