@@ -4,12 +4,14 @@
 
 #include "Commands.h"
 
+#include <atmoglobe/engine/Framing.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/StationList.h>
 
 #include <atmoglobe/globe/Progress.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -584,6 +586,19 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       d.request.cappi = false;
       d.request.path = *points;
       scene->slices.push_back(d);
+    }
+  }
+  // Data named over the default scene without --camera: the camera frames that data
+  // (engine/Framing.h), not the default scene's place. A file whose metadata cannot be read
+  // leaves the camera as it is (loading it reports the error).
+  if (o.sceneFile.empty() && o.camera.empty() && (!o.radars.empty() || !o.grids.empty())) {
+    if (auto target = engine::framingTargetOfVolumes(*scene)) {
+      scene->camera = engine::poseFraming(*target, scene->fovYDeg, scene->widthPx, scene->heightPx);
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "camera framing the named data: above %.3f, %.3f at %.0f km, looking down (--camera sets it)",
+                    scene->camera.latDeg, scene->camera.lonDeg, scene->camera.heightMeters / 1000.0);
+      std::cerr << "atmoglobe: " << line << "\n";
     }
   }
   // A missing imagery directory leaves that layer out (said in inputErrors: the rest renders).
