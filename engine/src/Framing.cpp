@@ -184,6 +184,8 @@ Result<FramingTarget> framingTargetOfVolumes(const SceneDescription& scene) {
     read.variable = d.field;
     read.member = d.member;
     read.extraIndex = d.gridIndex;
+    // The step shown first: a moving nest's latitudes and longitudes change with time.
+    if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
     auto info = volume::describeGridFile(d.path, read);
     if (!info) return info.forwardError();
     const double east = info->wrapsLongitude ? info->westDeg + 360.0 : info->eastDeg;

@@ -150,6 +150,39 @@ TEST(FieldKind, DefaultColoursFollowTheKind) {
   EXPECT_NE(bad.error().find("/nonexistent/x.pal"), std::string::npos);
 }
 
+// Model variables by what they measure (FieldKind.h, docs/grids.md's table): zero-based amounts
+// are transparent where the model has none (and up to 2 % of the largest value), smooth fields
+// only in their upper half and faintly; the colour table chosen by "auto" keeps that opacity.
+TEST(FieldKind, VariablesAreDrawnByWhatTheyMeasure) {
+  // Names as the grid reader gives them: netCDF-4 paths ("/QRAIN", "/forecast/clwc").
+  for (const FieldInfo& f : {FieldInfo{"/QRAIN", "kg kg-1", {}}, FieldInfo{"/forecast/clwc", "kg kg**-1", {}},
+                             FieldInfo{"x", "kg kg-1", "mass_fraction_of_cloud_liquid_water_in_air"},
+                             FieldInfo{"tp", "m", {}}, FieldInfo{"precip", "mm", {}}, FieldInfo{"CLDFRA", "", {}},
+                             FieldInfo{"c", "1", "cloud_area_fraction_in_atmosphere_layer"}})
+    EXPECT_EQ(variableAmountOf(f), VariableAmount::ZeroBased) << f.name << " " << f.standardName;
+  for (const FieldInfo& f : {FieldInfo{"t", "K", {}}, FieldInfo{"z", "m**2 s**-2", {}}, FieldInfo{"U", "m s-1", {}},
+                             FieldInfo{"q", "kg kg**-1", "specific_humidity"}, FieldInfo{"QVAPOR", "kg kg-1", {}},
+                             FieldInfo{"T", "K", "air_temperature"}})
+    EXPECT_EQ(variableAmountOf(f), VariableAmount::Smooth) << f.name << " " << f.standardName;
+
+  for (const char* colors : {"auto", "viridis"}) {
+    auto rain = transferForField(colors, FieldInfo{"/QRAIN", "kg kg-1", {}}, NAN, {0.0, 0.004});
+    ASSERT_TRUE(rain) << rain.error();
+    EXPECT_DOUBLE_EQ(rain->colors.stops().front().value, 0.0);
+    EXPECT_DOUBLE_EQ(rain->colors.stops().back().value, 0.004);
+    EXPECT_EQ(rain->classify(0.0).a, 0.0);
+    EXPECT_EQ(rain->classify(0.00008).a, 0.0);  // 2 % of the largest value
+    EXPECT_GT(rain->classify(0.0005).a, 0.0);
+    EXPECT_NEAR(rain->classify(0.001).a, 0.9, 1e-9);  // a quarter of the largest value
+    auto temperature = transferForField(colors, FieldInfo{"t", "K", {}}, NAN, {180.0, 310.0});
+    ASSERT_TRUE(temperature) << temperature.error();
+    EXPECT_EQ(temperature->classify(245.0).a, 0.0);  // the middle of the range
+    EXPECT_NEAR(temperature->classify(310.0).a, 0.05, 1e-9);
+    EXPECT_NEAR(temperature->classify(277.5).a, 0.025, 1e-9);
+  }
+  // The user's ramp still wins (withOpacityRamp is applied after, engine/VolumeSourceGL.cpp).
+}
+
 TEST(RadarReaderTime, NormalizeIso8601) {
   EXPECT_EQ(normalizeIso8601("2021-10-11 20:17:33.023"), "2021-10-11T20:17:33Z");
   EXPECT_EQ(normalizeIso8601("2020-03-12T00:30:09Z"), "2020-03-12T00:30:09Z");

@@ -101,20 +101,28 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
     info.calendar = l.time.parsed ? toString(l.time.parsed->calendar) : l.time.calendar;
   }
 
-  // Extent from the full coordinates; heights from a sample of at most ~64 x 64 columns.
+  // Extent from the full coordinates (curvilinear ones at the step `read` names: a moving nest's
+  // change with time); heights from a sample of at most ~64 x 64 columns.
+  auto step = grid::resolveTime(f, l, read, *times);
+  if (!step) return step.forwardError();
+  info.describedTimeIndex = *step;
+  info.coordinatesVaryWithTime =
+      l.curvilinear && l.time.dimId >= 0 &&
+      (std::find(l.lat.dimIds.begin(), l.lat.dimIds.end(), l.time.dimId) != l.lat.dimIds.end() ||
+       std::find(l.lon.dimIds.begin(), l.lon.dimIds.end(), l.time.dimId) != l.lon.dimIds.end());
   GridCrop all;
-  auto full = l.curvilinear ? grid::curvilinear(f, l, 0, all, 1) : grid::rectilinear(f, l, all, 1);
+  auto full = l.curvilinear ? grid::curvilinear(f, l, *step, all, 1) : grid::rectilinear(f, l, all, 1);
   if (!full) return full.forwardError();
   grid::describeExtent(*full, l.curvilinear, info);
   const std::size_t stride = std::max<std::size_t>(1, (std::max(l.nx, l.ny) + 63) / 64);
   info.heightColumnStride = stride;
-  auto sample = l.curvilinear ? grid::curvilinear(f, l, 0, all, stride) : grid::rectilinear(f, l, all, stride);
+  auto sample = l.curvilinear ? grid::curvilinear(f, l, *step, all, stride) : grid::rectilinear(f, l, all, stride);
   if (!sample) return sample.forwardError();
   auto lv = grid::levelsOf(f, l);
   if (!lv) return lv.forwardError();
   auto levels = grid::levelPicks(f, l, *lv, all);
   if (!levels) return levels.forwardError();
-  grid::Selection sel{0, *levels, &*sample, extraIndex, {}};
+  grid::Selection sel{*step, *levels, &*sample, extraIndex, {}};
   auto heights = grid::computeHeights(f, l, *lv, sel, true);
   if (!heights) return heights.forwardError();
   if (auto st = grid::checkHeights(f, *heights, sel, sample->rows.size() * sample->cols.size()); !st)
@@ -220,7 +228,11 @@ std::string describeGridText(const GridFileInfo& g) {
      << g.zDimension << "), ~" << grid::num(g.meanSpacingKm, 1) << " km apart\n";
   os << "extent:     latitude " << grid::num(g.southDeg, 3) << " .. " << grid::num(g.northDeg, 3) << " deg, longitude "
      << grid::num(g.westDeg, 3) << " .. " << grid::num(g.eastDeg, 3) << " deg"
-     << (g.wrapsLongitude ? " (global: wraps)" : "") << "\n";
+     << (g.wrapsLongitude ? " (global: wraps)" : "")
+     << (g.coordinatesVaryWithTime ? " at time step " + std::to_string(g.describedTimeIndex) +
+                                         " (the latitudes and longitudes change with time: a moving domain)"
+                                   : std::string())
+     << "\n";
   os << "vertical:   " << toString(g.verticalKind) << " (" << g.verticalVariable << "), heights from "
      << toString(g.heightSource) << (g.approximateHeights ? ", APPROXIMATE" : "") << "\n";
   os << "            " << g.heightNote << "\n";

@@ -174,6 +174,10 @@ long memberOf(const std::vector<GridExtraDimension>& extras);
 
 /// The time axis as ISO strings ("" for a step whose time is unknown).
 Result<std::vector<std::string>> readTimes(const io::NetcdfFile& f, const TimeSpec& t);
+/// The step `o` asks for (timeIso8601 matched exactly to `times`, else timeIndex), checked
+/// against the axis (GridReader.cpp).
+Result<std::size_t> resolveTime(const io::NetcdfFile& f, const GridLayout& l, const GridReadOptions& o,
+                                const std::vector<std::string>& times);
 
 // ---------------------------------------------------------------- the columns of a crop (GridHorizontal.cpp)
 

@@ -14,8 +14,6 @@ namespace atmoglobe::volume {
 
 namespace grid {
 
-namespace {
-
 Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout& l, const GridReadOptions& o,
                                 const std::vector<std::string>& times) {
   if (!o.timeIso8601.empty()) {
@@ -42,8 +40,6 @@ Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout&
                         (n == 1 ? "" : "s"));
   return o.timeIndex;
 }
-
-}  // namespace
 
 }  // namespace grid
 

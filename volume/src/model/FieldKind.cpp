@@ -7,9 +7,17 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace atmoglobe::volume {
 namespace {
+
+/// A variable's own name, lower case: netCDF-4 paths ("/forecast/QRAIN") lose their groups.
+std::string ownName(const std::string& name) {
+  const std::size_t slash = name.find_last_of('/');
+  return toLowerAscii(slash == std::string::npos ? name : name.substr(slash + 1));
+}
 
 // Known names per kind, lower case; for reflectivity in order of preference.
 const std::vector<std::string> kReflectivityNames = {"dbzh",
@@ -154,7 +162,7 @@ FieldKindEvidence classifyField(const FieldInfo& f) {
                                   {"specific_differential_phase_hv", FieldKind::SpecificDifferentialPhase}}) {
     if (sn == s.name) return {s.kind, std::string("CF standard_name ").append(s.name)};
   }
-  const std::string n = toLowerAscii(f.name);
+  const std::string n = ownName(f.name);
   struct ByName {
     const std::vector<std::string>* names;
     FieldKind kind;
@@ -251,6 +259,39 @@ TransferFunction defaultTransferFor(FieldKind kind, double nyquistMps, const Val
   return ramp(cividisTable(lo, hi), lo, hi, 0.5);
 }
 
+VariableAmount variableAmountOf(const FieldInfo& f) {
+  const std::string sn = toLowerAscii(f.standardName), n = ownName(f.name), u = toLowerAscii(f.units);
+  auto has = [](const std::string& s, const char* part) { return s.find(part) != std::string::npos; };
+  for (const char* part : {"cloud_liquid_water", "cloud_ice", "rain", "snow", "graupel", "hail", "precipitation",
+                           "cloud_area_fraction", "cloud_condensed_water"})
+    if (has(sn, part)) return VariableAmount::ZeroBased;
+  if (!sn.empty()) return VariableAmount::Smooth;  // a standard_name that names none of them
+  static const std::vector<std::string> kNames{
+      "qcloud", "qrain", "qice", "qsnow", "qgraup", "qhail", "cldfra",         // WRF
+      "clwc",   "ciwc",  "crwc", "cswc",  "cc",     "tp",    "cp",     "lsp",  // ECMWF (GRIB short names)
+      "qc",     "qi",    "qr",   "qs",    "qg",     "qh",    "clc"};           // ICON / COSMO
+  if (std::find(kNames.begin(), kNames.end(), n) != kNames.end()) return VariableAmount::ZeroBased;
+  if (u == "mm" || u == "kg m-2" || u == "kg m**-2" || u == "kg/m2" || u == "kg/m^2") return VariableAmount::ZeroBased;
+  return VariableAmount::Smooth;
+}
+
+const char* toString(VariableAmount amount) {
+  return amount == VariableAmount::ZeroBased ? "zero-based amount" : "smooth field";
+}
+
+TransferFunction defaultTransferForVariable(const FieldInfo& field, const ValueRange& range) {
+  double lo = range.minValue, hi = range.maxValue;
+  if (!(std::isfinite(lo) && std::isfinite(hi) && hi > lo)) {
+    lo = std::isfinite(lo) ? lo : 0.0;
+    hi = lo + 1.0;
+  }
+  if (variableAmountOf(field) == VariableAmount::ZeroBased && hi > 0.0) {
+    lo = std::min(lo, 0.0);
+    return ramp(cividisTable(lo, hi), 0.02 * hi, 0.25 * hi, 0.9);
+  }
+  return ramp(cividisTable(lo, hi), lo + 0.5 * (hi - lo), hi, 0.05);
+}
+
 namespace {
 
 // A CF standard_name that is not a radar moment's makes the field a model variable whatever its
@@ -267,7 +308,7 @@ std::string defaultColorsFor(const FieldInfo& field) {
   const FieldKind kind = colourKind(field);
   if (kind == FieldKind::Reflectivity) return "NWS";
   if (kind != FieldKind::Other) return "auto";
-  const std::string sn = toLowerAscii(field.standardName), n = toLowerAscii(field.name), u = toLowerAscii(field.units);
+  const std::string sn = toLowerAscii(field.standardName), n = ownName(field.name), u = toLowerAscii(field.units);
   auto has = [](const std::string& s, const char* part) { return s.find(part) != std::string::npos; };
   if (has(sn, "temperature") || n == "t" || n == "t2" || n == "tk" || u == "k" || u == "degc" || u == "celsius")
     return "turbo";
@@ -281,10 +322,15 @@ Result<TransferFunction> transferForField(const std::string& colors, const Field
   const FieldKind kind = colourKind(field);
   std::string c = toLowerAscii(colors);
   if ((c.empty() || c == "auto") && kind == FieldKind::Other) c = toLowerAscii(defaultColorsFor(field));
-  if (c.empty() || c == "auto") return defaultTransferFor(kind, nyquistMps, range);
+  // Model variables (and radar fields of no known kind): the ramp by what they measure.
+  auto kindDefault = [&] {
+    return kind == FieldKind::Other ? defaultTransferForVariable(field, range)
+                                    : defaultTransferFor(kind, nyquistMps, range);
+  };
+  if (c.empty() || c == "auto") return kindDefault();
   if (c == "nws") return defaultReflectivityTransfer();
   if (c == "velocity") return defaultTransferFor(FieldKind::Velocity, nyquistMps, range);
-  TransferFunction t = defaultTransferFor(kind, nyquistMps, range);
+  TransferFunction t = kindDefault();
   using TableMaker = ColorTable (*)(double, double);
   struct Named {
     const char* name;

@@ -65,6 +65,26 @@ DefaultField chooseDefaultFieldWithReason(const std::vector<FieldInfo>& fields);
 /// `range`: the field's values (velocity without Nyquist, Other).
 TransferFunction defaultTransferFor(FieldKind kind, double nyquistMps, const ValueRange& range);
 
+/// How a model variable (a field of kind Other) is drawn by default, by what it measures:
+///  - ZeroBased: an amount that is zero where there is none and matters where there is some:
+///    hydrometeor mixing ratios and mass fractions (cloud water and ice, rain, snow, graupel, hail:
+///    CF standard_names with "cloud_liquid_water", "cloud_ice", "rain", "snow", "graupel", "hail";
+///    WRF QCLOUD, QRAIN, QICE, QSNOW, QGRAUP, QHAIL; ECMWF clwc, ciwc, crwc, cswc; ICON qc, qi, qr,
+///    qs, qg), cloud cover (cloud_area_fraction, cc, clc, CLDFRA) and precipitation (standard_names
+///    with "precipitation"; tp, cp, lsp; units mm, kg m-2). Colours over 0 .. the largest value;
+///    transparent up to 2 % of it, opacity rising to 0.5 per km at half of it: no slab where the
+///    model has none, the cores opaque.
+///  - Smooth: anything else (temperature, geopotential, wind, pressure, humidity): a field with a
+///    value everywhere. Colours over its range; transparent up to the middle of the range, rising to
+///    0.05 per km at its top: the upper half shows as a haze through which the globe and its
+///    coastlines stay visible (a vertical 30 km column at the top value: 1 - 0.95^30 = 79 %, at
+///    three quarters of the range 54 %).
+enum class VariableAmount { ZeroBased, Smooth };
+VariableAmount variableAmountOf(const FieldInfo& field);
+const char* toString(VariableAmount amount);
+/// The default transfer function of a model variable (above) over its values `range`.
+TransferFunction defaultTransferForVariable(const FieldInfo& field, const ValueRange& range);
+
 /// The default colour table of a field for "auto": by kind (above); for other fields (model
 /// variables) by standard_name, name or units: temperature -> "turbo", humidity -> "greens",
 /// cloud water and ice -> "grayscale", anything else -> "viridis".

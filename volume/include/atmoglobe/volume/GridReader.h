@@ -126,6 +126,11 @@ struct GridFileInfo {
   std::string xDimension, yDimension, zDimension, timeDimension;  ///< names ("" for none)
   double southDeg = 0, northDeg = 0, westDeg = 0, eastDeg = 0;    ///< extent (eastDeg may exceed 180)
   bool wrapsLongitude = false;
+  /// The time step whose coordinates and heights are described (read.timeIndex / timeIso8601;
+  /// 0 by default), and whether the latitudes/longitudes change with time (a moving nest: the
+  /// extent is then that step's).
+  std::size_t describedTimeIndex = 0;
+  bool coordinatesVaryWithTime = false;
   double meanSpacingKm = 0;  ///< mean distance between neighbouring columns (km)
   /// A GRIB reduced grid (rows of different lengths; nx is then its longest row, ny its rows with
   /// points): its shortest and longest row, its points, and the rows of no point (pl 0) at its
@@ -173,7 +178,8 @@ bool isGridFile(const std::string& path);
 /// Describes the file (see GridFileInfo) for `variable` (empty: the default variable).
 Result<GridFileInfo> describeGridFile(const std::string& path, const std::string& variable = {});
 /// The same for `read.variable`; netCDF: at `read.member` / `read.extraIndex` (GRIB: its first
-/// member, as above). The rest of `read` is not used.
+/// member, as above); curvilinear coordinates and heights at `read`'s time step. The rest of
+/// `read` is not used.
 Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOptions& read);
 
 /// Reads one variable at one time over a region (see GridReadOptions).
