@@ -28,7 +28,7 @@ inline volume::RadarVolume syntheticRadarVolume(const SyntheticPolarGeometry& g,
   volume::RadarVolume v;
   v.format = "synthetic";
   v.sourcePath = "synthetic";
-  v.site = {"TEST", g.latDeg, g.lonDeg, g.antennaHeightMeters, volume::HeightDatum::Ellipsoid};
+  v.site = {"TEST", g.latDeg, g.lonDeg, g.antennaHeightMeters, volume::HeightDatum::Ellipsoid, {}};
   v.beamWidthDeg = 1.0;
   v.loadedField = {"DBZ", "dBZ", {}};
   v.fields = {v.loadedField};

@@ -167,7 +167,7 @@ Result<std::unique_ptr<RadarSourceGL>> RadarSourceGL::open(const VolumeLayerDesc
   source->siteMarker_.color = glm::vec3(1.0f, 1.0f, 1.0f);
   source->siteMarker_.sizePx = 12.0f;
   source->siteMarker_.label = d.label.empty() ? radar.volume.site.name : d.label;
-  source->siteName_ = radar.volume.site.name;
+  source->siteName_ = volume::siteTitle(radar.volume.site);
   source->synthetic_ = volume::fileSaysSynthetic(shown);
   source->description_ = d;
   source->show(std::move(*loaded));

@@ -21,7 +21,7 @@ TEST(ConeExportRender, ExportedGlbDrawsAtTheGeolocatedPlace) {
   volume::RadarVolume v;
   v.format = "synthetic";
   v.sourcePath = "synthetic";
-  v.site = {"TEST", 45.0, 7.0, 500.0, volume::HeightDatum::Ellipsoid};
+  v.site = {"TEST", 45.0, 7.0, 500.0, volume::HeightDatum::Ellipsoid, {}};
   v.loadedField = {"DBZ", "dBZ", {}};
   v.fields = {v.loadedField};
   volume::Sweep s;

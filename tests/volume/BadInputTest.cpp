@@ -343,21 +343,27 @@ TEST(BadInput, CfRadialRecordCountClaimingBillions) {
 // The site's name from /what/source (ODIM_H5 2.2, Table 3: comma-separated KEY:value pairs): the
 // node (NOD) first, then the radar (RAD), the place (PLC), the WMO number. Some writers separate the
 // pairs with ';': the name is still one value, never the whole string.
+// The place (PLC) is kept beside the name, and titles show both (siteTitle).
 TEST(BadInput, OdimSiteNameIsOneValueOfTheSource) {
-  const std::pair<const char*, const char*> cases[] = {
-      {"WMO:06234,RAD:NL51,PLC:Den Helder,NOD:nldhl", "nldhl"},
-      {"RAD:NL51;PLC:nldhl", "NL51"},
-      {"WMO:06475", "06475"},
-      {"PLC:Den Helder,WMO:06234", "Den Helder"},
+  struct Case {
+    const char *source, *name, *place, *title;
   };
-  for (const auto& [source, name] : cases) {
+  const Case cases[] = {
+      {"WMO:06234,RAD:NL51,PLC:Den Helder,NOD:nldhl", "nldhl", "Den Helder", "nldhl (Den Helder)"},
+      {"RAD:NL51;PLC:nldhl", "NL51", "nldhl", "NL51 (nldhl)"},
+      {"WMO:06475", "06475", "", "06475"},
+      {"PLC:Den Helder,WMO:06234", "Den Helder", "", "Den Helder"},
+  };
+  for (const Case& c : cases) {
     const std::string p = outDir() + "/odim_source.h5";
     OdimSpec spec;
-    spec.source = source;
+    spec.source = c.source;
     writeOdim(p, spec);
     auto r = readRadarVolume(p, {});
     ASSERT_TRUE(r.ok()) << r.error();
-    EXPECT_EQ(r->site.name, name) << source;
+    EXPECT_EQ(r->site.name, c.name) << c.source;
+    EXPECT_EQ(r->site.placeName, c.place) << c.source;
+    EXPECT_EQ(siteTitle(r->site), c.title) << c.source;
   }
 }
 

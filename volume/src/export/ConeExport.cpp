@@ -90,9 +90,10 @@ Result<ConeScene> assembleConeScene(const RadarVolume& volume, const SiteResolut
   scene.enuToEcef = globe::enuToEcef(
       globe::Geodetic{scene.site.site.latDeg, scene.site.site.lonDeg, scene.site.site.antennaHeightEllipsoidMeters});
   scene.straight = options.mesh.straight;
-  scene.title = (volume.site.name.empty() ? std::string("radar") : volume.site.name) +
-                (volume.timeIso8601.empty() ? "" : " " + volume.timeIso8601) +
-                (volume.loadedField.name.empty() ? "" : " " + volume.loadedField.name);
+  scene.title =
+      (volume.site.name.empty() && volume.site.placeName.empty() ? std::string("radar") : siteTitle(volume.site)) +
+      (volume.timeIso8601.empty() ? "" : " " + volume.timeIso8601) +
+      (volume.loadedField.name.empty() ? "" : " " + volume.loadedField.name);
 
   for (std::size_t k : chosen) {
     const Sweep& s = volume.sweeps[k];

@@ -5,6 +5,12 @@
 
 namespace atmoglobe::volume {
 
+std::string siteTitle(const RadarSite& site) {
+  if (site.placeName.empty() || site.placeName == site.name) return site.name;
+  if (site.name.empty()) return site.placeName;
+  return site.name + " (" + site.placeName + ")";
+}
+
 const char* toString(HeightDatum d) {
   switch (d) {
     case HeightDatum::MeanSeaLevel: return "msl";

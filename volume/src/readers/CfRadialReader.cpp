@@ -218,11 +218,12 @@ Result<RadarVolume> readCfRadial(const io::NetcdfFile& f, const ReadOptions& opt
   vol.site.lonDeg = std::remainder(*lon, 360.0);  // to [-180, 180]
   vol.site.antennaHeightMeters = *alt;
   vol.site.heightDatum = HeightDatum::MeanSeaLevel;
+  // The instrument names the radar, the site where it stands (CfRadial 1.4, section 4.1).
   for (const char* attr : {"instrument_name", "site_name"}) {
     if (f.hasAttribute(root, NC_GLOBAL, attr)) {
       if (auto s = f.attributeString(root, NC_GLOBAL, attr); s && !s->empty()) {
-        vol.site.name = *s;
-        break;
+        if (vol.site.name.empty()) vol.site.name = *s;
+        else if (*s != vol.site.name) vol.site.placeName = *s;
       }
     }
   }

@@ -592,13 +592,14 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
   vol.sourcePath = path;
   vol.site.name = trimName(header.data() + 20, 4);
   std::string locationSource;
+  std::string list = options.nexradSiteList;
+  if (list.empty()) {
+    if (const char* env = std::getenv("ATMOGLOBE_NEXRAD_SITES"); env && *env) list = env;
+  }
+  std::string placeName;
   if (!parser.haveSite) {
     if (parser.legacyRadials == 0) return makeError(path + ": no VOL block: the file does not give the radar site");
     // Legacy files carry no position: the NEXRAD site list gives it from the ICAO id.
-    std::string list = options.nexradSiteList;
-    if (list.empty()) {
-      if (const char* env = std::getenv("ATMOGLOBE_NEXRAD_SITES"); env && *env) list = env;
-    }
     const std::string icao = vol.site.name;
     if (list.empty()) {
       return makeError(path + ": a legacy NEXRAD Level II file (message 1) gives no site position, only the ICAO id '" +
@@ -616,6 +617,7 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
     }
     parser.site.latDeg = it->latDeg;
     parser.site.lonDeg = it->lonDeg;
+    placeName = it->name;
     // Antenna height: ground elevation + tower height (the OURadar list's "height").
     parser.site.antennaHeightMeters = it->elevationMeters + it->towerHeightMeters.value_or(0.0);
     parser.site.heightDatum = HeightDatum::MeanSeaLevel;
@@ -624,6 +626,15 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
                      std::to_string(static_cast<long long>(std::lround(it->towerHeightMeters.value_or(0)))) +
                      " m), not the file (legacy message-1 files give no position)";
     parser.haveSite = true;
+  } else if (!list.empty() && !vol.site.name.empty()) {
+    // The place of the ICAO id, for titles only: a list that cannot be read, or that lacks the
+    // id, leaves the name alone (the position comes from the file).
+    if (auto stations = readStationList(list)) {
+      const std::string icao = upper(vol.site.name);
+      const auto it =
+          std::find_if(stations->begin(), stations->end(), [&](const Station& st) { return upper(st.id) == icao; });
+      if (it != stations->end()) placeName = it->name;
+    }
   }
   if (!std::isfinite(parser.site.latDeg) || std::abs(parser.site.latDeg) > 90.0 || !std::isfinite(parser.site.lonDeg) ||
       std::abs(parser.site.lonDeg) > 360.0) {
@@ -656,6 +667,7 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
   vol.nyquistVelocityMps = parser.nyquistMps;
   vol.site = parser.site;
   vol.site.name = siteName;
+  vol.site.placeName = placeName == siteName ? std::string() : placeName;
   vol.siteLocationSource = locationSource;
   vol.timeIso8601 = isoTime(be32(header.data() + 12), be32(header.data() + 16));
   if (vol.timeIso8601.empty()) vol.timeIso8601 = isoTime(parser.firstRadialDay, parser.firstRadialMs);

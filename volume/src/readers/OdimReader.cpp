@@ -11,6 +11,8 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 namespace atmoglobe::volume {
 
@@ -86,9 +88,10 @@ int childOr(const io::NetcdfFile& f, int parent, const char* name) {
   return f.findGroup(parent, name).value_or(-1);
 }
 
-std::string siteName(const std::string& source) {
-  // ODIM /what/source: "KEY:value" pairs separated by ',' (ODIM_H5 2.2, Table 3; some writers use
-  // ';'). The node (NOD) names the radar best, then the radar (RAD), the place (PLC), WMO.
+/// The site's name and place from ODIM /what/source: "KEY:value" pairs separated by ',' (ODIM_H5
+/// 2.2, Table 3; some writers use ';'). The node (NOD) names the radar best, then the radar (RAD),
+/// the place (PLC), WMO; the place is PLC. A source with no pairs is the name as it stands.
+std::pair<std::string, std::string> siteNameAndPlace(const std::string& source) {
   std::map<std::string, std::string> kv;
   std::size_t pos = 0;
   while (pos <= source.size()) {
@@ -98,10 +101,13 @@ std::string siteName(const std::string& source) {
     if (colon != std::string::npos) kv[item.substr(0, colon)] = item.substr(colon + 1);
     pos = comma + 1;
   }
+  std::string place;
+  if (auto it = kv.find("PLC"); it != kv.end()) place = it->second;
   for (const char* key : {"NOD", "RAD", "PLC", "WMO"}) {
-    if (auto it = kv.find(key); it != kv.end() && !it->second.empty()) return it->second;
+    if (auto it = kv.find(key); it != kv.end() && !it->second.empty())
+      return {it->second, place == it->second ? std::string() : place};
   }
-  return source;
+  return {source, {}};
 }
 
 /// Decodes one raw value (as double): nodata -> kNoData, undetect -> kNoEcho (nodata wins
@@ -215,7 +221,8 @@ Result<RadarVolume> readOdimH5(const io::NetcdfFile& f, const ReadOptions& optio
   vol.site.antennaHeightMeters = *height;
   vol.site.heightDatum = HeightDatum::MeanSeaLevel;  // ODIM: height above sea level
   if (f.hasAttribute(rootWhat, NC_GLOBAL, "source")) {
-    if (auto s = f.attributeString(rootWhat, NC_GLOBAL, "source")) vol.site.name = siteName(*s);
+    if (auto s = f.attributeString(rootWhat, NC_GLOBAL, "source"))
+      std::tie(vol.site.name, vol.site.placeName) = siteNameAndPlace(*s);
   }
   if (f.hasAttribute(rootWhat, NC_GLOBAL, "date") && f.hasAttribute(rootWhat, NC_GLOBAL, "time")) {
     auto d = f.attributeString(rootWhat, NC_GLOBAL, "date");

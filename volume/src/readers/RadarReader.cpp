@@ -272,6 +272,7 @@ std::string describeVolumeJson(const RadarVolume& v) {
   j["file"] = v.sourcePath;
   if (!v.compression.empty()) j["compression"] = v.compression;
   j["site"] = {{"name", v.site.name},
+               {"place", v.site.placeName},
                {"lat_deg", v.site.latDeg},
                {"lon_deg", v.site.lonDeg},
                {"height_m", v.site.antennaHeightMeters},
@@ -325,9 +326,9 @@ std::string describeVolumeText(const RadarVolume& v) {
     for (const std::string& f : v.sourceFiles) os << "  " << f << "\n";
   }
   os << "format:  " << v.format << (v.compression.empty() ? "" : " (" + v.compression + "-compressed file)") << "\n";
-  os << "site:    " << (v.site.name.empty() ? "(unnamed)" : v.site.name) << std::setprecision(5) << "  lat "
-     << v.site.latDeg << " deg  lon " << v.site.lonDeg << " deg  antenna height " << std::setprecision(1)
-     << v.site.antennaHeightMeters << " m (" << toString(v.site.heightDatum) << ")\n";
+  os << "site:    " << (v.site.name.empty() && v.site.placeName.empty() ? "(unnamed)" : siteTitle(v.site))
+     << std::setprecision(5) << "  lat " << v.site.latDeg << " deg  lon " << v.site.lonDeg << " deg  antenna height "
+     << std::setprecision(1) << v.site.antennaHeightMeters << " m (" << toString(v.site.heightDatum) << ")\n";
   if (!v.siteLocationSource.empty()) os << "         position from " << v.siteLocationSource << "\n";
   os << "time:    " << (v.timeIso8601.empty() ? "(unknown)" : v.timeIso8601) << "\n";
   if (v.beamWidthDeg > 0) os << "beam:    " << std::setprecision(2) << v.beamWidthDeg << " deg\n";

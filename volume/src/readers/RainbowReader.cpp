@@ -263,6 +263,7 @@ Result<RadarVolume> Reader::read() {
   vol.site.antennaHeightMeters = alt.value_or(0.0);
   vol.site.heightDatum = HeightDatum::MeanSeaLevel;
   vol.site.name = sensor->attr("id").value_or(sensor->attr("name").value_or(""));
+  if (const auto name = sensor->attr("name"); name && *name != vol.site.name) vol.site.placeName = *name;
   if (const auto bw = sensorValue("beamwidth"); bw && *bw > 0 && *bw < 20) vol.beamWidthDeg = *bw;
   const std::string date = scan->attr("date").value_or(""), time = scan->attr("time").value_or("");
   vol.timeIso8601 = normalizeIso8601(date + "T" + time);

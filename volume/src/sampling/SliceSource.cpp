@@ -50,7 +50,8 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
     if (!radar) return radar.forwardError();
     s->polar_ = std::move(*radar->layout);
     s->sampler_ = std::make_unique<PolarSampler>(*s->polar_);
-    s->name_ = radar->volume.site.name.empty() ? fileName : radar->volume.site.name;
+    s->name_ = radar->volume.site.name.empty() && radar->volume.site.placeName.empty() ? fileName
+                                                                                       : siteTitle(radar->volume.site);
     s->field_ = radar->volume.loadedField;
     s->validTime_ = radar->volume.timeIso8601;
     s->nyquist_ = radar->volume.nyquistVelocityMps;

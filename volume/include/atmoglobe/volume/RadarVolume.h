@@ -30,12 +30,20 @@ enum class HeightDatum {
 const char* toString(HeightDatum d);
 
 struct RadarSite {
-  std::string name;                  ///< site id or name as the file gives it (may be empty)
+  std::string name;  ///< site id or name as the file gives it (may be empty)
   double latDeg = 0.0;               ///< WGS84 latitude (degrees)
   double lonDeg = 0.0;               ///< WGS84 longitude (degrees)
   double antennaHeightMeters = 0.0;  ///< antenna (feedhorn) height in `heightDatum` (m)
   HeightDatum heightDatum = HeightDatum::MeanSeaLevel;
+  /// Where the radar is, when the file (or the NEXRAD site list) says it apart from the name:
+  /// ODIM's PLC ("Wideumont"), CfRadial's site_name beside its instrument_name, Rainbow's sensor
+  /// name beside its id, the NEXRAD list's name of the ICAO id. Empty otherwise.
+  std::string placeName;
 };
+
+/// How titles, `info` and slices name a site: "bewid (Wideumont)", or the name alone when there
+/// is no place (or it is the name), or the place alone when there is no name.
+std::string siteTitle(const RadarSite& site);
 
 enum class SweepMode { Ppi, Rhi, Other };
 const char* toString(SweepMode m);
