@@ -19,6 +19,7 @@ PKGS=(
   tzdata   # /usr/share/zoneinfo/zone1970.tab: the viewer's fly-to place names (engine/Gazetteer.h)
   gmt-gshhg libgdal-dev
   libgif-dev   # animated GIF of render --time-series (engine/AnimationWriter)
+  ffmpeg   # its MP4 (engine/AnimationWriter runs ffmpeg); ffprobe checks the MP4 in the tests
   ccache   # the sanitized and fuzz builds of scripts/test-sanitized.sh (CI)
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
 )
