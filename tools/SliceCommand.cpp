@@ -7,6 +7,7 @@
 #include "SceneOptions.h"
 
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/map/Gshhg.h>
 #include <atmoglobe/volume/SliceSource.h>
 
 #include <chrono>
@@ -28,6 +29,8 @@ struct SliceOptions {
   std::optional<double> heightMeters;
   std::string path, box, heights, datum = "msl", colors = "auto", range, interpolation = "linear", size, output;
   bool noGeoid = false;
+  bool noMap = false;                 ///< --no-map: no coastlines or borders on a CAPPI
+  std::vector<std::string> overlays;  ///< --overlay FILE: vector files drawn on a CAPPI
   int threads = 0;
   long member = -1;
   std::map<std::string, std::size_t> gridIndex;
@@ -136,7 +139,17 @@ int runSlice(const SliceOptions& o) {
       **source, *geometry,
       o.interpolation == "nearest" ? volume::Interpolation::Nearest : volume::Interpolation::Linear, o.threads);
   if (!raster) return fail(cmd, raster.error());
-  const engine::SlicePlotOptions plot = engine::slicePlotOptionsFor(**source, *geometry, *transfer, width, height);
+  engine::SlicePlotOptions plot = engine::slicePlotOptionsFor(**source, *geometry, *transfer, width, height);
+  if (request.cappi && !o.noMap) {
+    // Coastlines and borders as on the globe; a missing GSHHG install is said and left out.
+    char resolution = '?';
+    if (auto st = engine::addSliceCoastlines(plot, *geometry, *layout, map::defaultGshhgDirectory(), &resolution); !st)
+      std::cerr << "atmoglobe slice: warning: no coastlines or borders on the picture: " << st.error()
+                << " (Debian package gmt-gshhg; --no-map leaves them out)\n";
+    else std::cerr << "atmoglobe slice: map lines: GSHHG resolution " << resolution << "\n";
+  }
+  if (request.cappi)  // the user's own overlays: one that cannot be read is an error
+    if (auto st = engine::addSliceOverlays(plot, o.overlays); !st) return fail(cmd, st.error());
   auto image = engine::drawSlicePlot(*raster, *geometry, plot);
   if (!image) return fail(cmd, image.error());
   if (auto st = globe::writePng(o.output, *image); !st) return fail(cmd, st.error());
@@ -190,6 +203,9 @@ Command addSliceCommand(CLI::App& root) {
   c->add_option("--interpolation", opts->interpolation, "linear (default) or nearest, as the samplers define them");
   c->add_option("--size", opts->size, "Image size WxH (default: 900 wide for a CAPPI, 1100x560 for a cross-section)");
   c->add_flag("--no-geoid", opts->noGeoid, "Take heights above sea level in the file as ellipsoidal");
+  c->add_flag("--no-map", opts->noMap, "No GSHHG coastlines or borders on a CAPPI (drawn by default, as on the globe)");
+  c->add_option("--overlay", opts->overlays,
+                "A vector file (GeoJSON, shapefile, KML, GeoPackage ... through GDAL) drawn on a CAPPI; repeatable");
   c->add_option("--threads", opts->threads, "Sampling threads (default: all cores)")->check(CLI::Range(0, 256));
   c->add_option("-o,--output", opts->output, "Output PNG (written atomically)")->required();
   return Command{c, [opts] { return runSlice(*opts); }};

@@ -1,11 +1,14 @@
 // Slice plots (SlicePlot.h).
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/map/MapLod.h>
+#include <atmoglobe/map/VectorFile.h>
 
 #include <atmoglobe/engine/Legend.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace atmoglobe::engine {
 namespace {
@@ -87,6 +90,32 @@ Result<SlicePlotLayout> layoutSlicePlot(const volume::SliceGeometry& g, int widt
   return l;
 }
 
+namespace {
+/// An antialiased segment `widthPx` wide from a to b (pixel coordinates; a pixel's centre is at
+/// +0.5), drawn only inside the layout's area: each pixel's coverage from its centre's distance
+/// to the segment.
+void drawClippedSegment(globe::ImageRGBA8& img, glm::dvec2 a, glm::dvec2 b, glm::u8vec4 color, double widthPx,
+                        const SlicePlotLayout& L) {
+  const double reach = 0.5 * widthPx + 0.5;
+  const int x0 = std::max(L.left, static_cast<int>(std::floor(std::min(a.x, b.x) - reach)));
+  const int x1 = std::min(L.right - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + reach)));
+  const int y0 = std::max(L.top, static_cast<int>(std::floor(std::min(a.y, b.y) - reach)));
+  const int y1 = std::min(L.bottom - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + reach)));
+  if (x0 > x1 || y0 > y1) return;
+  if ((x1 - x0 + 1.0) * (y1 - y0 + 1.0) > 4.0e6) return;  // a wild segment (a line across the wrap): skip it
+  const glm::dvec2 d = b - a;
+  const double len2 = glm::dot(d, d);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const glm::dvec2 c{x + 0.5, y + 0.5};
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(c - a, d) / len2, 0.0, 1.0) : 0.0;
+      const double dist = glm::length(c - (a + t * d));
+      const double coverage = std::clamp(reach - dist, 0.0, 1.0);
+      if (coverage > 0.0) blendPixel(img, x, y, color, static_cast<std::uint8_t>(std::lround(coverage * 255.0)));
+    }
+}
+}  // namespace
+
 Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const volume::SliceGeometry& g,
                                         const SlicePlotOptions& o) {
   const auto& fontResult = Font::dejaVuSans();
@@ -121,6 +150,25 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
   const std::vector<double> yTicks = niceTicks(g.yBottom() * yScale, g.yTop() * yScale, yTarget);
   const int xDecimals = xTicks.size() > 1 ? decimalsFor(xTicks[1] - xTicks[0]) : 0;
   const int yDecimals = yTicks.size() > 1 ? decimalsFor(yTicks[1] - yTicks[0]) : 0;
+
+  // --- map lines over the raster (CAPPI), clipped to the plot area ---
+  if (cappi) {
+    const double midLon = mid(g.xFirst(), g.xLast());
+    for (const SlicePlotLines& set : o.mapLines)
+      for (const map::GeoPolyline& line : set.lines) {
+        double previous = midLon;
+        glm::dvec2 last{0.0};
+        for (std::size_t k = 0; k < line.lonLatDeg.size(); ++k) {
+          // Longitudes continuous along the line, and near the box's middle.
+          double lon = line.lonLatDeg[k].x;
+          lon += 360.0 * std::round((previous - lon) / 360.0);
+          previous = lon;
+          const glm::dvec2 p{xPixel(lon), yPixel(line.lonLatDeg[k].y)};
+          if (k > 0) drawClippedSegment(img, last, p, set.color, set.widthPx, L);
+          last = p;
+        }
+      }
+  }
 
   // --- grid lines, then the frame and ticks ---
   for (double t : xTicks) vLine(img, static_cast<int>(std::floor(xPixel(t / xScale))), L.top, L.bottom, kGridLine);
@@ -229,6 +277,32 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
              HAlign::Left, VAlign::Bottom);
   }
   return img;
+}
+
+Status addSliceCoastlines(SlicePlotOptions& options, const volume::SliceGeometry& g, const SlicePlotLayout& L,
+                          const std::string& gshhgDir, char* resolutionOut) {
+  if (g.kind() != volume::SliceGeometry::Kind::Cappi || L.width() <= 0) return Ok{};
+  const double midLatRad = mid(g.yBottom(), g.yTop()) * std::numbers::pi / 180.0;
+  // Metres per pixel across the box (a degree of longitude: 111.32 km x cos(latitude) on the sphere).
+  const double metresPerPixel =
+      std::abs(g.xLast() - g.xFirst()) * 111320.0 * std::max(0.05, std::cos(midLatRad)) / L.width();
+  const map::GshhgResolution res = map::gshhgResolutionForScale(metresPerPixel);
+  auto lines = map::readBoxMapLines(gshhgDir, g.yBottom(), g.yTop(), g.xFirst(), g.xLast(), res);
+  if (!lines) return lines.forwardError();
+  if (resolutionOut) *resolutionOut = map::gshhgResolutionLetter(res);
+  options.mapLines.push_back({std::move(lines->internal), {120, 120, 120, 220}, 1.0});
+  options.mapLines.push_back({std::move(lines->coasts), {25, 25, 25, 235}, 1.3});
+  options.mapLines.push_back({std::move(lines->borders), {130, 20, 20, 235}, 1.3});
+  return Ok{};
+}
+
+Status addSliceOverlays(SlicePlotOptions& options, const std::vector<std::string>& overlayPaths) {
+  for (const std::string& path : overlayPaths) {
+    auto file = map::readVectorFile(path);
+    if (!file) return file.forwardError();
+    options.mapLines.push_back({std::move(file->lines), {0, 70, 170, 235}, 1.4});
+  }
+  return Ok{};
 }
 
 std::string utcLabel(const std::string& iso) {

@@ -3,6 +3,7 @@
 // colours (no echo and no data apart), and a slice of the synthetic radar is written as a PNG of
 // the size asked for.
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/map/MapLod.h>
 #include <atmoglobe/engine/TextRaster.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/SliceSource.h>
@@ -196,6 +197,85 @@ TEST(SlicePlot, RasterPixelsCarryTheTableColours) {
   // Too small an image is refused.
   o.widthPx = 100;
   EXPECT_FALSE(engine::drawSlicePlot(r, *geometry, o));
+}
+
+// Map lines on a CAPPI: a meridian and a parallel given as a polyline land on the pixels their
+// longitude and latitude map to (within the line's half-width plus antialiasing), in their colour,
+// and nothing of them outside the plot area (the lines run from far outside the box). Longitudes
+// given 360 deg away land at the same place.
+TEST(SlicePlot, MapLinesLandOnTheirCoordinatesInsideThePlotOnly) {
+  volume::CappiSpec spec;
+  spec.box = {34.0, 36.0, -98.0, -96.0};
+  spec.datum = volume::SliceHeightDatum::Ellipsoid;
+  spec.columns = 4;
+  spec.rows = 2;
+  auto geometry = volume::SliceGeometry::cappi(spec, nullptr);
+  ASSERT_TRUE(geometry);
+  const int width = 700, height = engine::cappiImageHeightFor(spec.box, width);
+  auto layout = engine::layoutSlicePlot(*geometry, width, height);
+  ASSERT_TRUE(layout);
+  const engine::SlicePlotLayout L = *layout;
+  volume::SliceRaster r;
+  r.columns = 4;
+  r.rows = 2;
+  r.values.assign(8, -std::numeric_limits<float>::infinity());  // no echo: white
+  engine::SlicePlotOptions o;
+  o.widthPx = width;
+  o.heightPx = height;
+  o.colors = volume::nwsReflectivityTable();
+  const glm::u8vec4 blue{0, 0, 255, 255};
+  map::GeoPolyline meridian, parallel;
+  meridian.lonLatDeg = {{-96.7 + 360.0, 20.0}, {-96.7 + 360.0, 50.0}};  // 263.3 E: the same meridian
+  parallel.lonLatDeg = {{-120.0, 35.3}, {-80.0, 35.3}};
+  auto plain = engine::drawSlicePlot(r, *geometry, o);
+  ASSERT_TRUE(plain) << plain.error();
+  o.mapLines.push_back({{meridian, parallel}, blue, 1.0});
+  auto img = engine::drawSlicePlot(r, *geometry, o);
+  ASSERT_TRUE(img) << img.error();
+  const double x = L.left + (-96.7 - -98.0) / 2.0 * L.width();
+  const double y = L.bottom - (35.3 - 34.0) / 2.0 * L.height();
+  // Every pixel the lines changed, by where it is.
+  int onMeridian = 0, onParallel = 0, outside = 0, elsewhere = 0;
+  for (int py = 0; py < img->height; ++py)
+    for (int px = 0; px < img->width; ++px) {
+      if (img->at(px, py) == plain->at(px, py)) continue;
+      const bool inPlot = px >= L.left && px < L.right && py >= L.top && py < L.bottom;
+      if (!inPlot) ++outside;
+      else if (std::abs(px + 0.5 - x) <= 1.0) ++onMeridian;
+      else if (std::abs(py + 0.5 - y) <= 1.0) ++onParallel;
+      else ++elsewhere;
+    }
+  EXPECT_EQ(outside, 0);
+  EXPECT_EQ(elsewhere, 0);
+  // The whole height and width, at most two pixels across (antialiasing); full blue on the centre
+  // pixel where no grid line passes.
+  EXPECT_GE(onMeridian, L.height());
+  EXPECT_LE(onMeridian, 2 * L.height() + 4);
+  EXPECT_GE(onParallel, L.width() - 4);
+  const glm::u8vec4 centre = img->at(static_cast<int>(std::floor(x)), L.top + L.height() / 3 + 1);
+  EXPECT_GT(centre.b, 200);
+  EXPECT_LT(centre.r, 100);
+}
+
+// The GSHHG lines of a box come at the resolution the scale asks for, and hold the coast the box
+// holds (the Texas Gulf coast in 26..30 N, 98..94 W); without GSHHG installed: skipped.
+TEST(SlicePlot, CoastlinesOfABoxAtTheScaleAsked) {
+  EXPECT_EQ(map::gshhgResolutionForScale(20000.0), map::GshhgResolution::Crude);
+  EXPECT_EQ(map::gshhgResolutionForScale(3000.0), map::GshhgResolution::Low);
+  EXPECT_EQ(map::gshhgResolutionForScale(600.0), map::GshhgResolution::Intermediate);
+  EXPECT_EQ(map::gshhgResolutionForScale(150.0), map::GshhgResolution::High);
+  EXPECT_EQ(map::gshhgResolutionForScale(50.0), map::GshhgResolution::Full);
+  const std::string dir = map::defaultGshhgDirectory();
+  if (!std::filesystem::exists(map::gshhgPath(dir, map::GshhgKind::Shoreline, map::GshhgResolution::Intermediate)))
+    GTEST_SKIP() << "GSHHG not installed (Debian package gmt-gshhg)";
+  auto lines = map::readBoxMapLines(dir, 26.0, 30.0, -98.0, -94.0, map::GshhgResolution::Intermediate);
+  ASSERT_TRUE(lines) << lines.error();
+  std::size_t inBox = 0;
+  for (const map::GeoPolyline& l : lines->coasts)
+    for (const glm::dvec2& p : l.lonLatDeg) inBox += p.x > -98.0 && p.x < -94.0 && p.y > 26.0 && p.y < 30.0;
+  EXPECT_GT(inBox, 100u);
+  EXPECT_FALSE(lines->internal.empty());  // the Texas-Louisiana line
+  EXPECT_FALSE(map::readBoxMapLines("/nonexistent", 26.0, 30.0, -98.0, -94.0, map::GshhgResolution::Crude));
 }
 
 // End to end: the synthetic radar volume, a cross-section, the plot, a PNG written and read back

@@ -12,6 +12,7 @@
 #include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/engine/TextRaster.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Slice.h>
 #include <atmoglobe/volume/SliceSource.h>
@@ -29,6 +30,14 @@ struct SlicePlotMarker {
   std::string label;
 };
 
+/// Lines drawn over a CAPPI's raster, clipped to the plot area (coastlines, borders, overlays):
+/// longitude/latitude polylines, antialiased, `widthPx` wide.
+struct SlicePlotLines {
+  std::vector<map::GeoPolyline> lines;
+  glm::u8vec4 color{0, 0, 0, 255};
+  double widthPx = 1.0;
+};
+
 struct SlicePlotOptions {
   int widthPx = 1000, heightPx = 640;  ///< the whole image
   std::string title;                   ///< line 1 (what and where)
@@ -37,6 +46,7 @@ struct SlicePlotOptions {
   bool synthetic = false;              ///< draws the SYNTHETIC DATA mark
   volume::ColorTable colors;
   std::vector<SlicePlotMarker> markers;  ///< CAPPI only
+  std::vector<SlicePlotLines> mapLines;  ///< CAPPI only (addSliceMapLines); drawn in order
   glm::u8vec4 noEchoColor{255, 255, 255, 255};
   glm::u8vec4 noDataColor{218, 218, 218, 255};
   glm::u8vec4 noDataHatchColor{182, 182, 182, 255};
@@ -65,6 +75,16 @@ struct SlicePlotLayout {
 /// slice at width() x height() for one raster pixel per image pixel. Error: an image too small
 /// for the margins (below 320 x 240) or a degenerate box.
 Result<SlicePlotLayout> layoutSlicePlot(const volume::SliceGeometry& geometry, int widthPx, int heightPx);
+
+/// A CAPPI's map: GSHHG coastlines (dark), national borders (dark red) and state/province lines
+/// (grey) from `gshhgDir` at the resolution the plot's scale asks for (map/MapLod.h
+/// gshhgResolutionForScale: metres per pixel across the box at its middle latitude), as on the
+/// globe (docs/map-context.md). A cross-section gets none. Errors name the file;
+/// `resolutionOut` (if given) gets the letter of the GSHHG resolution read.
+Status addSliceCoastlines(SlicePlotOptions& options, const volume::SliceGeometry& geometry,
+                          const SlicePlotLayout& layout, const std::string& gshhgDir, char* resolutionOut = nullptr);
+/// The lines of each GDAL/OGR vector file (map/VectorFile.h) over a CAPPI (blue). Errors name the file.
+Status addSliceOverlays(SlicePlotOptions& options, const std::vector<std::string>& overlayPaths);
 
 /// A CAPPI's natural image size for a given width: the box's shape at its middle latitude plus
 /// the margins (height clamped to 240..4096).
