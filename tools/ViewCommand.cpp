@@ -13,7 +13,8 @@
 // Time (scene grids and radar loops):
 //   . / ,                 next / previous time step (a substep with --time-substeps)
 //   Space                 play / pause (looping);  Home  the first step
-// Other: P  screenshot (atmoglobe-screenshot-N.png in the working directory);  Esc/Q  quit.
+// Other: P  screenshot (atmoglobe-screenshot-N.png in the working directory);  Ctrl+S  save the
+// scene shown (--save-scene, default atmoglobe-scene.json);  Esc/Q  quit.
 // (Right/Left used to step time; arrows now move the camera, as in globe viewers, and time
 // keeps the , . keys it already had.)
 //
@@ -36,6 +37,7 @@
 #include <atmoglobe/engine/SceneTime.h>
 #include <atmoglobe/engine/ViewerPanelGL.h>
 #include <atmoglobe/engine/ViewerScript.h>
+#include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 
@@ -70,6 +72,7 @@ struct ViewOptions {
   std::string script;        ///< --script FILE
   std::string flyTo;         ///< --fly-to NAME: start above it
   bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
+  std::string saveScene = "atmoglobe-scene.json";  ///< where Ctrl+S / "Save scene" writes
 };
 
 struct Flight {
@@ -88,11 +91,12 @@ struct Interaction {
   double fovYDeg = 60;
   int screenshotCount = 0;
   bool screenshotRequested = false;
-  std::string screenshotPath;      ///< a script's screenshot file
-  double lastInputSeconds = -1e9;  ///< glfwGetTime() of the last camera change
-  bool dirty = true;               ///< the picture must be redrawn
-  bool uiDirty = true;             ///< only the panel must be redrawn (over the last picture)
-  int timeMove = 0;                ///< time positions to move by (keys), applied by the loop
+  std::string screenshotPath;       ///< a script's screenshot file
+  bool saveSceneRequested = false;  ///< Ctrl+S or the panel's "Save scene"
+  double lastInputSeconds = -1e9;   ///< glfwGetTime() of the last camera change
+  bool dirty = true;                ///< the picture must be redrawn
+  bool uiDirty = true;              ///< only the panel must be redrawn (over the last picture)
+  int timeMove = 0;                 ///< time positions to move by (keys), applied by the loop
   bool timeHome = false;
   bool playing = false;
   bool readoutWanted = false;  ///< the cursor moved: recompute the value under it
@@ -257,6 +261,7 @@ void onKey(GLFWwindow* win, int key, int, int action, int mods) {
   if (action == GLFW_RELEASE || engine::ViewerPanelGL::capturesKeyboard()) return;
   const bool repeat = action == GLFW_REPEAT;
   const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
+  const bool ctrl = (mods & GLFW_MOD_CONTROL) != 0;
   int width = 0, height = 0;
   windowSize(win, &width, &height);
   auto pan = [&](double fx, double fy) {
@@ -287,8 +292,14 @@ void onKey(GLFWwindow* win, int key, int, int action, int mods) {
     case GLFW_KEY_D: pan(-kPanFraction, 0.0); break;
     case GLFW_KEY_UP:
     case GLFW_KEY_W: pan(0.0, kPanFraction); break;
-    case GLFW_KEY_DOWN:
-    case GLFW_KEY_S: pan(0.0, -kPanFraction); break;
+    case GLFW_KEY_S:
+      if (ctrl) {
+        if (!repeat) s.saveSceneRequested = true;
+        break;
+      }
+      pan(0.0, -kPanFraction);
+      break;
+    case GLFW_KEY_DOWN: pan(0.0, -kPanFraction); break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD: zoom(kKeyZoomFactor); break;
     case GLFW_KEY_MINUS:
@@ -676,6 +687,10 @@ int runView(const ViewOptions& o) {
       state.screenshotRequested = true;
       state.dirty = true;
     }
+    if (panelState.saveSceneRequested) {
+      panelState.saveSceneRequested = false;
+      state.saveSceneRequested = true;
+    }
   };
 
   std::unique_ptr<engine::FramebufferGL> target;
@@ -793,6 +808,39 @@ int runView(const ViewOptions& o) {
         std::cout << "screenshot: " << path << std::endl;
       }
     }
+    if (state.saveSceneRequested) {
+      state.saveSceneRequested = false;
+      // What is on the screen as a scene: the layers as edited, each grid at the step shown, the
+      // camera, field of view, size and exaggeration of this frame (engine::sceneToJson).
+      engine::SceneDescription saved = *scene;
+      saved.camera = state.pose;
+      saved.fovYDeg = state.fovYDeg;
+      saved.widthPx = fbw;
+      saved.heightPx = fbh;
+      saved.verticalExaggeration = (*renderer)->verticalExaggeration();
+      saved.volumes.clear();
+      for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
+        const engine::VolumeSourceGL& layer = (*renderer)->layer(i);
+        engine::VolumeLayerDescription d = layer.description();
+        if (d.kind == engine::VolumeKind::Grid) {
+          if (auto times = layer.times(); times && layer.step() < times->size() && !(*times)[layer.step()].empty())
+            d.time = (*times)[layer.step()];
+          // A grid's colours span the values of the step loaded first; loaded at another step the
+          // saved scene would span that step's: keep the span shown (the table's ends, field units).
+          const volume::ColorTable& table = layer.options().render.transfer.colors;
+          if (!d.settings.valueRange && table.stops().size() >= 2)
+            d.settings.valueRange = glm::dvec2((table.stops().front().value - table.offset()) / table.scale(),
+                                               (table.stops().back().value - table.offset()) / table.scale());
+        }
+        saved.volumes.push_back(std::move(d));
+      }
+      if (auto st = globe::writeFileAtomic(o.saveScene, engine::sceneToJson(saved)); !st) {
+        std::cerr << "atmoglobe view: error: " << st.error() << std::endl;
+        if (state.scripted) return fail("view", st.error());
+      } else {
+        std::cout << "scene saved: " << o.saveScene << std::endl;
+      }
+    }
     glfwSwapBuffers(w);
     if (last) break;
     if (batch) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
@@ -815,6 +863,9 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--play-seconds", options->playSeconds, "Seconds per time position while playing")
       ->capture_default_str();
   c->add_flag("--play", options->play, "Start playing the time steps (with --frames: one position per frame)");
+  c->add_option("--save-scene", options->saveScene,
+                "Where Ctrl+S and the panel's \"Save scene\" write the scene shown (layers as edited, camera, time)")
+      ->capture_default_str();
   c->add_flag("--no-panel", options->noPanel, "No control panel (time slider, layers, frame time, screenshot)");
   c->add_option("--script", options->script,
                 "Replay this file of viewer actions (mouse, wheel, keys, text, camera, waits, flyto, readout, "

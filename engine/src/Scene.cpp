@@ -47,6 +47,25 @@ Status parseLayerSettings(const Object& o, VolumeLayerSettings& out) {
     out.crop.bottomMeters = v[0];
     out.crop.topMeters = v[1];
   }
+  // The viewer's edited opacity curve (written by "Save scene"): [[value, opacity], ...], values
+  // increasing, opacity per reference length in 0..1.
+  if (o.has("opacity_points")) {
+    if (auto st = o.array("opacity_points"); !st) return st;
+    const nlohmann::json& points = o.value().at("opacity_points");
+    if (points.size() < 2) return o.error("opacity_points", "needs two or more [value, opacity] points");
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const nlohmann::json& p = points[i];
+      const std::string at = o.where("opacity_points") + "/" + std::to_string(i);
+      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+        return makeError(at + ": expected [value, opacity]");
+      const glm::dvec2 point(p[0].get<double>(), p[1].get<double>());
+      if (!std::isfinite(point.x) || !(point.y >= 0.0 && point.y <= 1.0))
+        return makeError(at + ": a finite value and an opacity in 0..1");
+      if (!out.opacityPoints.empty() && !(point.x > out.opacityPoints.back().x))
+        return makeError(at + ": values must increase");
+      out.opacityPoints.push_back(point);
+    }
+  }
   return Ok{};
 }
 
@@ -109,8 +128,9 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
                         VolumeLayerDescription& d) {
   d.kind = kind;
   const bool radar = kind == VolumeKind::Radar;
-  std::vector<std::string> keys{"path",           "colors", "mode",  "interpolation", "step_m",         "image_scale",
-                                "classification", "geoid",  "range", "opacity",       "crop_heights_m", "crop"};
+  std::vector<std::string> keys{"path",           "colors",         "mode",  "interpolation", "step_m",
+                                "image_scale",    "classification", "geoid", "range",         "opacity",
+                                "opacity_points", "crop_heights_m", "crop"};
   const char* fieldKey = radar ? "field" : "variable";
   const char* isoKey = radar ? "iso_dbz" : "iso_value";
   keys.insert(keys.end(), {fieldKey, isoKey});

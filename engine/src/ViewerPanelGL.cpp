@@ -155,6 +155,8 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
     for (const std::string& line : s.readout) ImGui::TextUnformatted(line.c_str());
   }
   if (ImGui::Button("Screenshot")) s.screenshotRequested = true;
+  ImGui::SameLine();
+  if (ImGui::Button("Save scene")) s.saveSceneRequested = true;
   ImGui::PopItemWidth();
   const ImVec2 panelMin = ImGui::GetWindowPos();
   const ImVec2 panelMax(panelMin.x + ImGui::GetWindowSize().x, panelMin.y + ImGui::GetWindowSize().y);

@@ -144,3 +144,73 @@ TEST(SceneJson, GridMemberIsReadAndRefusedWhereItMeansNothing) {
   EXPECT_NE(errorOf(R"({"slices": [{"radar": "a.nc", "member": 1, "height_m": 1000}]})").find("member"),
             std::string::npos);
 }
+
+// `view`'s "Save scene" writes sceneToJson: read back, it describes the same scene. Every example
+// scene and a scene using every key go through parse -> write -> parse -> write, and the two
+// writings are the same text (so nothing the parser reads is lost or changed); the values that
+// only the viewer produces (an edited opacity curve, the shown step) are checked one by one.
+TEST(SceneJson, WrittenScenesReadBackTheSame) {
+  auto roundTrip = [](const engine::SceneDescription& scene, const std::string& what) {
+    const std::string once = engine::sceneToJson(scene);
+    auto again = engine::parseSceneJson(once, what + " (written)", "/elsewhere", "/data");
+    EXPECT_TRUE(again) << what << ": " << (again ? "" : again.error()) << "\n" << once;
+    if (!again) return engine::SceneDescription{};
+    EXPECT_EQ(engine::sceneToJson(*again), once) << what;
+    return *again;
+  };
+  const std::filesystem::path dir = std::filesystem::path(ATMOGLOBE_SOURCE_DIR) / "assets" / "scenes";
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    auto scene = engine::loadSceneFile(entry.path().string(), "/data");
+    ASSERT_TRUE(scene) << scene.error();
+    roundTrip(*scene, entry.path().filename().string());
+  }
+  auto every = engine::parseSceneJson(R"({
+    "camera": {"lat_deg": 35.1, "lon_deg": -97.3, "height_m": 123456.7, "heading_deg": 12.5, "pitch_deg": -33, "roll_deg": 2},
+    "fov_deg": 41.5, "size": [640, 360], "vertical_exaggeration": 3, "memory_budget_mb": 512,
+    "map_context": false, "range_rings": true,
+    "imagery": [{"type": "xyz", "path": "tiles"}],
+    "markers": [{"lat_deg": 35.3, "lon_deg": -97.5, "height_m": 400, "label": "OKC", "color": [0.1, 0.2, 0.3], "size_px": 9}],
+    "stations": "sites.csv",
+    "radars": [{"path": "ktlx.nc", "field": "VRADH", "colors": "velocity", "mode": "mip", "interpolation": "nearest",
+                "step_m": 100, "image_scale": 0.5, "classification": "preintegrated", "iso_dbz": 35, "geoid": false,
+                "beam": "straight", "label": "Twin Lakes", "range": [-30, 30], "opacity": [0, 20, 0.7, 500],
+                "crop": [34, 36, -99, -96], "crop_heights_m": [0, 12000]}],
+    "grids": [{"path": "t.nc", "variable": "t", "time": "2001-01-01T06:00:00Z", "member": 3, "index": {"month": 2},
+               "iso_value": 250.5, "opacity_points": [[200, 0], [250, 0.1], [300, 0.6]]}],
+    "overlays": [{"path": "roads.geojson", "color": [1, 0, 0], "width_px": 2.5}],
+    "slices": [{"grid": "t.nc", "variable": "t", "time": "1", "member": 3, "index": {"month": 2}, "height_m": 5000,
+                "box": [30, 40, 170, -170], "datum": "ellipsoid", "colors": "turbo", "range": [200, 300],
+                "opacity": 0.5, "resolution_px": 256, "geoid": false},
+               {"radar": "ktlx.nc", "field": "DBZH", "path": [[35, -98], [35.5, -97]], "heights_m": [0, 15000]}]
+  })",
+                                      "every.json", "/base", "/data");
+  ASSERT_TRUE(every) << every.error();
+  const engine::SceneDescription back = roundTrip(*every, "every key");
+  ASSERT_EQ(back.volumes.size(), 2u);
+  EXPECT_EQ(back.volumes[0].path, "/base/ktlx.nc");  // written resolved, read back as it stands
+  EXPECT_EQ(back.volumes[0].label, "Twin Lakes");
+  EXPECT_EQ(back.volumes[0].settings.crop.topMeters, 12000.0);
+  const engine::VolumeLayerDescription& g = back.volumes[1];
+  EXPECT_EQ(g.time, "2001-01-01T06:00:00Z");
+  EXPECT_EQ(g.member, 3);
+  EXPECT_EQ(g.gridIndex.at("month"), 2u);
+  ASSERT_EQ(g.settings.opacityPoints.size(), 3u);
+  EXPECT_EQ(g.settings.opacityPoints[1], glm::dvec2(250.0, 0.1));
+  EXPECT_EQ(back.camera.heightMeters, 123456.7);
+  EXPECT_EQ(back.camera.rollDeg, 2.0);
+  ASSERT_EQ(back.slices.size(), 2u);
+  EXPECT_EQ(back.slices[0].source.gridIndex.at("month"), 2u);
+  EXPECT_EQ(back.slices[0].request.box->eastDeg, 190.0);  // over the antimeridian, as first read
+  EXPECT_EQ(back.slices[1].request.path.size(), 2u);
+  EXPECT_EQ(back.overlays.at(0).widthPx, 2.5f);
+  EXPECT_FALSE(back.mapContext);
+  // An edited curve must increase and stay in 0..1.
+  EXPECT_NE(
+      errorOf(R"({"grids": [{"path": "t.nc", "opacity_points": [[1, 0], [1, 0.5]]}]})").find("values must increase"),
+      std::string::npos);
+  EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "opacity_points": [[1, 0], [2, 1.5]]}]})").find("opacity in 0..1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "opacity_points": [[1, 0]]}]})").find("two or more"),
+            std::string::npos);
+}

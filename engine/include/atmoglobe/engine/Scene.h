@@ -97,6 +97,12 @@ Status checkInputFile(const std::string& path, const std::string& where);
 
 /// Parses and validates a JSON scene. `sourceName` names it in messages; `baseDir`
 /// resolves relative paths; `dataDir` replaces a leading "@data".
+/// The scene as scene JSON (SceneJsonWrite.cpp): every key parseSceneJson reads, paths resolved
+/// (absolute), so that parsing it again describes the same scene (`view`'s "Save scene"; test
+/// SceneJson.WrittenScenesReadBackTheSame). Layers given on the command line are written as scene
+/// layers; CLI-only inputs (--model) are not part of a scene.
+std::string sceneToJson(const SceneDescription& scene);
+
 Result<SceneDescription> parseSceneJson(std::string_view json, const std::string& sourceName,
                                         const std::string& baseDir, const std::string& dataDir);
 

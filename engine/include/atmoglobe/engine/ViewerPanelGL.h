@@ -40,6 +40,7 @@ struct ViewerPanelState {
   std::vector<std::string> readout;    ///< the value under the cursor (Readout.h), one line each
   FrameLegend legend;                  ///< what the frame shows (SceneRendererGL::legendFor): times, keys
   bool screenshotRequested = false;    ///< out: the Screenshot button was pressed
+  bool saveSceneRequested = false;     ///< out: the "Save scene" button was pressed
   std::function<void()> extraWindows;  ///< more ImGui windows drawn in the panel's frame (the fly-to box)
   /// The scene the layer controls edit (not owned); null: the layers are listed (`layers`) only.
   SceneRendererGL* scene = nullptr;
