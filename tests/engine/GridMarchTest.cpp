@@ -735,7 +735,9 @@ TEST(GridMarch, ReducedGridGpuMatchesTheReferenceInEveryMode) {
 // A multi-level reduced Gaussian GRIB file (N32, written in the test with ecCodes: a blob of 60
 // units over the Alps at 5 km on 12 heightAboveSea levels) loaded as a scene's grid layer: the
 // frame over the globe shows it where it is (the drawn pixels' centre at the blob's projection),
-// the GPU frame matches the reference frame, and the PNG is kept for a look.
+// the GPU frame matches the reference frame, and the PNG is kept for a look. The opacity ramp is
+// the scene's (0 .. 60 units, 0.5 per km), not the variable's default: the test is about where
+// the blob lands, and a smooth field's default shows only its upper half, faintly.
 TEST(GridMarch, ReducedGribGridRendersInPlace) {
   testutil::glContext();
   const std::string dir = testutil::testOutputDir();
@@ -752,7 +754,8 @@ TEST(GridMarch, ReducedGribGridRendersInPlace) {
   ASSERT_EQ(testutil::writeReducedGrib(path, spec), "");
   auto scene = engine::parseSceneJson(R"({"camera": {"lat_deg": 40.0, "lon_deg": 10.0, "height_m": 5000000,
       "heading_deg": 0, "pitch_deg": -90, "roll_deg": 0}, "fov_deg": 60, "size": [320, 240],
-      "grids": [{"path": "@data/reduced_blob.grib2", "step_m": 500, "range": [0, 60], "colors": "turbo"}]})",
+      "grids": [{"path": "@data/reduced_blob.grib2", "step_m": 500, "range": [0, 60], "colors": "turbo",
+                 "opacity": [0, 60, 0.5]}]})",
                                       "s.json", dir, dir);
   ASSERT_TRUE(scene) << scene.error();
   auto loader =

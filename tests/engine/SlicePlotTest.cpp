@@ -3,8 +3,8 @@
 // colours (no echo and no data apart), and a slice of the synthetic radar is written as a PNG of
 // the size asked for.
 #include <atmoglobe/engine/SlicePlot.h>
-#include <atmoglobe/map/MapLod.h>
 #include <atmoglobe/engine/TextRaster.h>
+#include <atmoglobe/map/MapLod.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/SyntheticRadar.h>

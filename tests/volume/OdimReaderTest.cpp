@@ -128,7 +128,7 @@ TEST(OdimReader, BewidBinCountChangesBetweenSweeps) {
   EXPECT_DOUBLE_EQ(v.site.latDeg, 49.9143);
   EXPECT_DOUBLE_EQ(v.site.lonDeg, 5.5056);
   EXPECT_DOUBLE_EQ(v.site.antennaHeightMeters, 590.0);
-  EXPECT_EQ(v.site.name, "bewid");  // /what/source "...NOD:bewid..."
+  EXPECT_EQ(v.site.name, "bewid");                    // /what/source "...NOD:bewid..."
   EXPECT_EQ(siteTitle(v.site), "bewid (Wideumont)");  // "...PLC:Wideumont..."
   EXPECT_EQ(v.timeIso8601, "2019-06-06T00:00:16Z");
   EXPECT_DOUBLE_EQ(v.beamWidthDeg, 1.0);  // /how/beamwidth

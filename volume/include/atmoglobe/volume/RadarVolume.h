@@ -30,7 +30,7 @@ enum class HeightDatum {
 const char* toString(HeightDatum d);
 
 struct RadarSite {
-  std::string name;  ///< site id or name as the file gives it (may be empty)
+  std::string name;                  ///< site id or name as the file gives it (may be empty)
   double latDeg = 0.0;               ///< WGS84 latitude (degrees)
   double lonDeg = 0.0;               ///< WGS84 longitude (degrees)
   double antennaHeightMeters = 0.0;  ///< antenna (feedhorn) height in `heightDatum` (m)
