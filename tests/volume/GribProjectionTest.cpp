@@ -240,6 +240,17 @@ std::string bytesOfHex(const std::string& hex) {
   return bytes;
 }
 
+/// A kept fuzz input (hex) written as dir/name; its size is checked so that a mistyped digit
+/// shows. Returns the path.
+std::string writeFuzzInput(const std::string& dir, const std::string& name, const std::string& hex,
+                           std::size_t expectedBytes) {
+  const std::string bytes = bytesOfHex(hex);
+  EXPECT_EQ(bytes.size(), expectedBytes);
+  const std::string file = dir + "/" + name;
+  writeFile(file, bytes);
+  return file;
+}
+
 /// A spherical projection written out from Snyder, "Map Projections: A Working Manual" (USGS
 /// 1987): Lambert conformal conic (eqs. 15-1 to 15-5, 14-4; inverse 14-10, 15-9, 15-10) and polar
 /// stereographic (21-33, 21-34 with true scale at latitude `trueDeg`; inverse 20-18, 21-39, 21-40).
@@ -521,10 +532,7 @@ TEST(GribProjection, DeclaredGridSizesAreCheckedBeforeAllocating) {
       "0106ffffffffffffffffffffffffffffff00000010005d000c00000000ffffffff0393870000000000300000000001c9c380"
       "001e8480001e848000000000000000000000000000000000220400000000000000ff80000000010000000064ffffffffffff"
       "ffffffffff0000001505000001f000003f800000800a000000000000000606ff000000050737373737";
-  const std::string bytes = bytesOfHex(hex);
-  ASSERT_EQ(bytes.size(), 191u);
-  const std::string file = dir + "/declared_rows.grib2";
-  writeFile(file, bytes);
+  const std::string file = writeFuzzInput(dir, "declared_rows.grib2", hex, 191);
   auto info = describeGridFile(file);
   ASSERT_FALSE(info.ok());
   EXPECT_NE(info.error().find(file), std::string::npos) << info.error();
@@ -554,10 +562,7 @@ TEST(GribProjection, AnAbsurdForecastStepIsSkippedBeforeTheValidityTimeIsCompute
       "1406ffffffffffffffffffffffffffffff000000100000001f0393870000000000000000000000000000001e8480001e8480"
       "0000000000220400000000000000ff8000006d697373696e67ffffffffffffffffffffff0000001505000001f000003f8000"
       "00800a000000000000000606ff000000050737373737";
-  const std::string bytes = bytesOfHex(hex);
-  ASSERT_EQ(bytes.size(), 172u);
-  const std::string file = dir + "/step.grib2";
-  writeFile(file, bytes);
+  const std::string file = writeFuzzInput(dir, "step.grib2", hex, 172);
   const auto t0 = std::chrono::steady_clock::now();
   auto info = describeGridFile(file);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -566,7 +571,7 @@ TEST(GribProjection, AnAbsurdForecastStepIsSkippedBeforeTheValidityTimeIsCompute
   EXPECT_LT(seconds, 5.0);  // 30 s and more before; 5 s: a loaded machine under ASan
   // Beside a good message, the good one is read and the bad one named in a warning.
   const std::string pair = dir + "/good_and_step.grib2";
-  writeFile(pair, makeGribMessage("GRIB2", {}, std::vector<double>(496, 280.0)) + bytes);
+  writeFile(pair, makeGribMessage("GRIB2", {}, std::vector<double>(496, 280.0)) + bytesOfHex(hex));
   auto both = describeGridFile(pair);
   ASSERT_TRUE(both.ok()) << both.error();
   ASSERT_EQ(both->warnings.size(), 1u);
