@@ -169,8 +169,8 @@ Result<std::string> SliceRendererGL::add(const SliceLayerDescription& d) {
   std::snprintf(figures, sizeof figures, ": %d x %d px, %zu echo pixels", raster->columns, raster->rows,
                 raster->echoCount);
   std::string index;  // the netCDF index dimensions read ("month 3 (index 2)"), as in the slice's subtitle
-  if (const volume::GridVolume* grid = (*source)->grid(); grid && !volume::extraIndexText(*grid).empty())
-    index = ", " + volume::extraIndexText(*grid);
+  if (const volume::GridVolume* grid = (*source)->grid())
+    if (const std::string text = volume::extraIndexText(*grid); !text.empty()) index = ", " + text;
   return text.title + index + figures;
 }
 
