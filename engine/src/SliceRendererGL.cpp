@@ -170,7 +170,7 @@ Result<std::string> SliceRendererGL::add(const SliceLayerDescription& d) {
                 raster->echoCount);
   std::string index;  // the netCDF index dimensions read ("month 3 (index 2)"), as in the slice's subtitle
   if (const volume::GridVolume* grid = (*source)->grid())
-    if (const std::string text = volume::extraIndexText(*grid); !text.empty()) index = ", " + text;
+    if (const std::string indexText = volume::extraIndexText(*grid); !indexText.empty()) index = ", " + indexText;
   return text.title + index + figures;
 }
 
