@@ -4,8 +4,9 @@
 //
 // Each sample: ECEF (float32: the origin plus the position) -> latitude, longitude, height
 // (Bowring's formula) -> fractional column and row (lookup tables) -> the four columns around
-// it, the level by bisection in their blended heights -> the value, linear in height between
-// levels (or the nearest column and level).
+// it -> the level: the cell's bracket of level pairs for the sample's height bin (one fetch,
+// volume::GridLevelIndex), a bisection inside it (usually 0 or 1 steps) in the four columns'
+// blended heights -> the value, linear in height between levels (or the nearest column and level).
 //
 // Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_CURVILINEAR (lookup by
 // (latitude, longitude) instead of per axis), VOL_WRAPS (longitudes taken modulo 360 over the
@@ -13,11 +14,13 @@
 // table, in each of the two rows its own column from the row table). Injected: STATE_ECHO,
 // STATE_NOT_ECHO, GPU_NO_DATA, GPU_NO_DATA_BELOW, WGS84_A, WGS84_F, WGS84_E2.
 
-uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or GPU_NO_DATA, height above the ellipsoid m)
+uniform sampler3D VOL_data;     // RG32F, texelFetch only: (value or GPU_NO_DATA, height above the ellipsoid m);
+                                // after the levels (z >= VOL_texSize.z) the level brackets, 4 bins per texel
 uniform sampler2D VOL_lookup;   // rectilinear R32F: row 0 longitude -> column, row 1 latitude -> row;
                                 // curvilinear RG32F: (latitude, longitude) -> (column, row), -1e6 outside;
                                 // reduced R32F: row 1 latitude -> row, and per closed row r at x = r:
-                                // row 0 its closed columns, row 2 its first longitude, row 3 its spacing (deg)
+                                // row 0 its closed columns, row 2 its first longitude, row 3 its spacing (deg);
+                                // then (y = VOL_lookupSize.y, .r) the level map: reference level at equal heights
 uniform vec3 VOL_origin;        // the volume's origin (ECEF m, narrowed)
 uniform vec4 VOL_sphere;        // bounding sphere: centre relative to the origin, radius
 uniform float VOL_outerRadius;  // a sphere about the Earth's centre holding the top level (m)
@@ -29,6 +32,7 @@ uniform ivec3 VOL_texSize;      // columns, rows, levels of VOL_data
 uniform int VOL_rowOffset;      // 1 when row 0 is the south pole row
 uniform vec4 VOL_reference;     // a reference latitude, longitude (deg) and their cos/sin packed: lat, lon, (unused)
 uniform vec4 VOL_referenceTrig; // cos lat0, sin lat0, cos lon0, sin lon0
+uniform vec4 VOL_levelMap;      // lowest height (m), (entries - 1) per metre, bins per reference level, bins
 
 // WGS84 geodetic latitude, longitude (deg) and height (m) of an ECEF point, Bowring's formula
 // (one step from the parametric latitude). The angles come out of atan as small differences from
@@ -80,6 +84,21 @@ bool VOL_columnRow(vec2 latLon, out vec2 ij) {
   return true;
 }
 
+// The level pairs [x, y - 1] a sample at height z in the cell whose first column is `cell` can
+// lie between (volume::GridLevelIndex: binOf and the packed brackets).
+ivec2 VOL_levelBracket(ivec2 cell, float z) {
+  float x = max(z - VOL_levelMap.x, 0.0) * VOL_levelMap.y;
+  int e = min(int(x), VOL_lookupSize.x - 2);
+  float ref = mix(texelFetch(VOL_lookup, ivec2(e, VOL_lookupSize.y), 0).r,
+                  texelFetch(VOL_lookup, ivec2(e + 1, VOL_lookupSize.y), 0).r, clamp(x - float(e), 0.0, 1.0));
+  int bin = clamp(int(floor(ref * VOL_levelMap.z)), 0, int(VOL_levelMap.w) - 1);
+  vec2 t = texelFetch(VOL_data, ivec3(cell, VOL_texSize.z + bin / 4), 0).rg;
+  int pair = int((bin & 2) == 0 ? t.x : t.y);
+  int code = (bin & 1) == 0 ? (pair & 4095) : (pair >> 12);
+  int lo = code & 255, span = code >> 8;
+  return ivec2(lo, span >= 15 ? VOL_texSize.z - 1 : lo + span + 1);
+}
+
 #if VOL_REDUCED
 // A reduced grid's corner and weights: row c.z at columns c.x, c.x + 1 (fraction f.x), row c.z + 1
 // at columns c.y, c.y + 1 (fraction f.y), f.z between the rows.
@@ -106,7 +125,9 @@ vec2 VOL_level(ivec3 c, vec3 f, int k) {
   return vec2(missing ? GPU_NO_DATA : blended.x, blended.y);
 }
 
-bool VOL_locate(vec3 p, out ivec3 c, out vec3 f, out int lo, out float fk) {
+bool VOL_locate(vec3 p, out ivec3 c, out vec3 f, out int lo, out float fk, out vec2 levelLo, out vec2 levelHi) {
+  levelLo = vec2(0.0);
+  levelHi = vec2(0.0);
   c = ivec3(0);
   f = vec3(0.0);
   lo = 0;
@@ -133,14 +154,18 @@ bool VOL_locate(vec3 p, out ivec3 c, out vec3 f, out int lo, out float fk) {
     f = vec3(0.0, w01 == best ? 0.0 : 1.0, 1.0);
   }
 #endif
-  if (g.z < VOL_level(c, f, 0).y || g.z > VOL_level(c, f, VOL_texSize.z - 1).y) return false;
-  int hi = VOL_texSize.z - 1;
+  ivec2 b0 = VOL_levelBracket(c.xz, g.z), b1 = VOL_levelBracket(ivec2(c.y, c.z + 1), g.z);
+  lo = min(b0.x, b1.x);
+  int hi = max(b0.y, b1.y);
   while (hi - lo > 1) {
     int mid = (lo + hi) / 2;
     if (VOL_level(c, f, mid).y <= g.z) lo = mid; else hi = mid;
   }
-  float hLo = VOL_level(c, f, lo).y, hHi = VOL_level(c, f, hi).y;
-  fk = hHi > hLo ? clamp((g.z - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  levelLo = VOL_level(c, f, lo);
+  levelHi = VOL_level(c, f, hi);
+  // Below the lowest or above the highest level here (the brackets hold every height between).
+  if (g.z < levelLo.y || g.z > levelHi.y) return false;
+  fk = levelHi.y > levelLo.y ? clamp((g.z - levelLo.y) / (levelHi.y - levelLo.y), 0.0, 1.0) : 0.0;
   return true;
 }
 
@@ -151,7 +176,8 @@ vec3 VOL_debugCoordinates(vec3 p) {
   vec3 f;
   int lo;
   float fk;
-  if (!VOL_locate(p, c, f, lo, fk)) return vec3(-1.0);
+  vec2 levelLo, levelHi;
+  if (!VOL_locate(p, c, f, lo, fk, levelLo, levelHi)) return vec3(-1.0);
   int r = f.z < 0.5 ? c.z : c.z + 1;
   if (r < VOL_rowOffset || r >= VOL_texSize.y - VOL_rowOffset) r = r == c.z ? c.z + 1 : c.z;
   float column = r == c.z ? float(c.x) + f.x : float(c.y) + f.y;
@@ -165,11 +191,12 @@ int VOL_sample(vec3 p, out float value) {
   vec3 f;
   int lo;
   float fk;
-  if (!VOL_locate(p, c, f, lo, fk)) return STATE_NOT_ECHO;
+  vec2 levelLo, levelHi;
+  if (!VOL_locate(p, c, f, lo, fk, levelLo, levelHi)) return STATE_NOT_ECHO;
 #if VOL_INTERPOLATION == 0
-  float v = VOL_level(c, f, fk < 0.5 ? lo : lo + 1).x;
+  float v = fk < 0.5 ? levelLo.x : levelHi.x;
 #else
-  float a = VOL_level(c, f, lo).x, b = VOL_level(c, f, lo + 1).x;
+  float a = levelLo.x, b = levelHi.x;
   float v = (a < GPU_NO_DATA_BELOW || b < GPU_NO_DATA_BELOW) ? GPU_NO_DATA : mix(a, b, fk);
 #endif
   if (v < GPU_NO_DATA_BELOW) return STATE_NOT_ECHO;
@@ -190,9 +217,11 @@ vec2 VOL_level(ivec2 c, vec2 f, int k) {
   return vec2(missing ? GPU_NO_DATA : blended.x, blended.y);
 }
 
-// Fractional (column, row, level) of p, the columns' corner and weights; false where there is no
-// data for lack of a position.
-bool VOL_locate(vec3 p, out ivec2 c, out vec2 f, out int lo, out float fk) {
+// Fractional (column, row, level) of p, the columns' corner and weights, the blended (value,
+// height) of the levels below and above; false where there is no data for lack of a position.
+bool VOL_locate(vec3 p, out ivec2 c, out vec2 f, out int lo, out float fk, out vec2 levelLo, out vec2 levelHi) {
+  levelLo = vec2(0.0);
+  levelHi = vec2(0.0);
   c = ivec2(0);
   f = vec2(0.0);
   lo = 0;
@@ -211,14 +240,18 @@ bool VOL_locate(vec3 p, out ivec2 c, out vec2 f, out int lo, out float fk) {
   f = vec2(shift);
   c -= shift;
 #endif
-  if (g.z < VOL_level(c, f, 0).y || g.z > VOL_level(c, f, VOL_texSize.z - 1).y) return false;
-  int hi = VOL_texSize.z - 1;
+  ivec2 bracket = VOL_levelBracket(c, g.z);
+  lo = bracket.x;
+  int hi = bracket.y;
   while (hi - lo > 1) {
     int mid = (lo + hi) / 2;
     if (VOL_level(c, f, mid).y <= g.z) lo = mid; else hi = mid;
   }
-  float hLo = VOL_level(c, f, lo).y, hHi = VOL_level(c, f, hi).y;
-  fk = hHi > hLo ? clamp((g.z - hLo) / (hHi - hLo), 0.0, 1.0) : 0.0;
+  levelLo = VOL_level(c, f, lo);
+  levelHi = VOL_level(c, f, hi);
+  // Below the lowest or above the highest level here (the brackets hold every height between).
+  if (g.z < levelLo.y || g.z > levelHi.y) return false;
+  fk = levelHi.y > levelLo.y ? clamp((g.z - levelLo.y) / (levelHi.y - levelLo.y), 0.0, 1.0) : 0.0;
   return true;
 }
 
@@ -227,7 +260,8 @@ vec3 VOL_debugCoordinates(vec3 p) {
   vec2 f;
   int lo;
   float fk;
-  if (!VOL_locate(p, c, f, lo, fk)) return vec3(-1.0);
+  vec2 levelLo, levelHi;
+  if (!VOL_locate(p, c, f, lo, fk, levelLo, levelHi)) return vec3(-1.0);
   return vec3(vec2(c) + f - vec2(0.0, float(VOL_rowOffset)), float(lo) + fk);
 }
 
@@ -237,11 +271,12 @@ int VOL_sample(vec3 p, out float value) {
   vec2 f;
   int lo;
   float fk;
-  if (!VOL_locate(p, c, f, lo, fk)) return STATE_NOT_ECHO;
+  vec2 levelLo, levelHi;
+  if (!VOL_locate(p, c, f, lo, fk, levelLo, levelHi)) return STATE_NOT_ECHO;
 #if VOL_INTERPOLATION == 0
-  float v = VOL_level(c, f, fk < 0.5 ? lo : lo + 1).x;
+  float v = fk < 0.5 ? levelLo.x : levelHi.x;
 #else
-  float a = VOL_level(c, f, lo).x, b = VOL_level(c, f, lo + 1).x;
+  float a = levelLo.x, b = levelHi.x;
   float v = (a < GPU_NO_DATA_BELOW || b < GPU_NO_DATA_BELOW) ? GPU_NO_DATA : mix(a, b, fk);
 #endif
   if (v < GPU_NO_DATA_BELOW) return STATE_NOT_ECHO;

@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/GridLevelIndex.h>
 #include <atmoglobe/volume/StepCache.h>
 
 #include <algorithm>
@@ -167,6 +168,36 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
       }
   }
 
+  // The level lookup (volume::GridLevelIndex): its brackets in slices after the levels, 4 bins per
+  // texel, and its height-to-bin map as one more row of the lookup texture (entries: its width).
+  {
+    const volume::GridLevelIndex index = volume::buildGridLevelIndex(s, pr->lookupSize.x);
+    pr->levelSlices = (index.bins + 3) / 4;
+    const std::size_t slice = static_cast<std::size_t>(ts.x) * ts.y;
+    texels.resize(slice * (static_cast<std::size_t>(ts.z) + pr->levelSlices), glm::vec2(0.0f));
+    for (int tr = 0; tr < ts.y; ++tr)
+      for (int tc = 0; tc < ts.x; ++tc) {
+        const std::size_t cell = static_cast<std::size_t>(tr) * ts.x + tc;
+        for (int b = 0; b < index.bins; ++b) {
+          const std::size_t i = cell * index.bins + b;
+          const int code = index.loMin[i] | (index.span[i] << 8);  // 12 bits
+          glm::vec2& t = texels[(static_cast<std::size_t>(ts.z) + b / 4) * slice + cell];
+          float& pair = (b & 2) == 0 ? t.x : t.y;
+          pair += static_cast<float>((b & 1) == 0 ? code : code * 4096);  // exact: < 2^24
+        }
+      }
+    const int w = pr->lookupSize.x, h = pr->lookupSize.y;
+    const int channels = g.curvilinear ? 2 : 1;
+    pr->lookup.resize(static_cast<std::size_t>(channels) * w * (h + 1), 0.0f);
+    for (int e = 0; e < w; ++e)
+      pr->lookup[(static_cast<std::size_t>(h) * w + e) * channels] = index.referenceLevelAtHeight[std::min<std::size_t>(
+          static_cast<std::size_t>(e), index.referenceLevelAtHeight.size() - 1)];
+    const double span = index.maxHeightMeters - index.minHeightMeters;
+    pr->levelMap = glm::vec4(static_cast<float>(index.minHeightMeters),
+                             span > 0.0 ? static_cast<float>((index.heightEntries() - 1) / span) : 0.0f,
+                             static_cast<float>(index.binsPerLevel), static_cast<float>(index.bins));
+  }
+
   // Empty-space grid: built in volume from the same closed columns (its origin is pr->origin).
   pr->occupancy = volume::buildOccupancyGrid(s);
   return pr;
@@ -184,9 +215,11 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::upload(const std::shared_ptr
   gl->lonRange_ = pr->lonRange;
   gl->latRange_ = pr->latRange;
   gl->lookupSize_ = pr->lookupSize;
+  gl->levelSlices_ = pr->levelSlices;
+  gl->levelMap_ = pr->levelMap;
   GLint max3d = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
-  const glm::ivec3 ts = pr->textureSize;
+  const glm::ivec3 ts = pr->textureSize + glm::ivec3(0, 0, pr->levelSlices);  // the levels, then the brackets
   const std::size_t textureBytes = pr->texels.size() * sizeof(glm::vec2);
   const std::string shape = std::to_string(g.nx) + " x " + std::to_string(g.ny) + " x " + std::to_string(g.nz);
   if (ts.x > max3d || ts.y > max3d || ts.z > max3d) {
@@ -212,8 +245,9 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::upload(const std::shared_ptr
   // Lookup tables: R32F rows (rectilinear: longitude, latitude) or an RG32F raster (curvilinear).
   gl->lookup_ = makeVolumeTextureGL(GL_TEXTURE_2D);
   const glm::ivec2 ls = pr->lookupSize;
-  glTextureStorage2D(gl->lookup_, 1, g.curvilinear ? GL_RG32F : GL_R32F, ls.x, ls.y);
-  glTextureSubImage2D(gl->lookup_, 0, 0, 0, ls.x, ls.y, g.curvilinear ? GL_RG : GL_RED, GL_FLOAT, pr->lookup.data());
+  glTextureStorage2D(gl->lookup_, 1, g.curvilinear ? GL_RG32F : GL_R32F, ls.x, ls.y + 1);  // + the level map
+  glTextureSubImage2D(gl->lookup_, 0, 0, 0, ls.x, ls.y + 1, g.curvilinear ? GL_RG : GL_RED, GL_FLOAT,
+                      pr->lookup.data());
   gl->gpuBytes_ += pr->lookup.size() * sizeof(float);
   gl->occupancy_ = OccupancyGridGL(pr->occupancy);
   return gl;
@@ -247,6 +281,7 @@ void GridVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform4f(u(name("lonLat")), lonRange_.x, lonRange_.y, latRange_.x, latRange_.y);
   glUniform2iv(u(name("lookupSize")), 1, glm::value_ptr(lookupSize_));
   glUniform3iv(u(name("texSize")), 1, glm::value_ptr(textureSize_));
+  glUniform4fv(u(name("levelMap")), 1, glm::value_ptr(levelMap_));
   glUniform1i(u(name("rowOffset")), rowOffset_);
   // The reference of the shader's small-angle geodetic conversion: the grid's centre.
   const globe::Geodetic ref = sphere.centreEcef == glm::dvec3(0.0) ? globe::Geodetic{0.0, 0.0, 0.0}

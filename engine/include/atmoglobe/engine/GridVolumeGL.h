@@ -13,6 +13,11 @@
 // height of the row's last closed column: finite); its lookup texture holds the latitude table
 // and a row table (each closed row's columns, first longitude and spacing), the shader's
 // VOL_REDUCED variant finding each row's own column.
+// Levels: after the grid's levels the 3-D texture holds volume::GridLevelIndex's brackets (per
+// cell and height bin, the level pairs a sample can lie between; 4 bins per texel, two 12-bit
+// codes loMin | span << 8 per float, exact in float), and the lookup texture one more row, the
+// height-to-bin map: a sample finds its level in one fetch and a bisection of usually 0 or 1
+// steps instead of one among all the levels.
 // Precision: the shader works on float32 ECEF (origin + position) converted to latitude,
 // longitude and height by Bowring's formula, about 0.5 m at the Earth's radius; the lookup
 // tables are sampled linearly (exact for uniform axes). Both errors are measured against the
@@ -48,9 +53,12 @@ class GridVolumeGL final : public VolumeGL {
     glm::ivec3 textureSize{1};
     int rowOffset = 0;
     glm::vec2 lonRange{0.0f}, latRange{0.0f};
-    glm::ivec2 lookupSize{1};
-    std::vector<glm::vec2> texels;  ///< RG32F: value (or the missing mark), height
-    std::vector<float> lookup;      ///< R32F rows (rectilinear, reduced) or RG32F pairs (curvilinear)
+    glm::ivec2 lookupSize{1};       ///< the tables' size; the texture has one row more (the level map)
+    std::vector<glm::vec2> texels;  ///< RG32F: value (or the missing mark), height; then the level slices
+    int levelSlices = 0;            ///< slices after the levels holding the level brackets, 4 bins each
+    std::vector<float> lookup;      ///< R32F rows (rectilinear, reduced) or RG32F pairs (curvilinear), then
+                                    ///< the level map row (reference level at equal height steps)
+    glm::vec4 levelMap{0.0f};       ///< lowest height, entries - 1 per metre, binsPerLevel, bins
     volume::OccupancyGrid occupancy;
     std::uint64_t bytes() const;  ///< what it holds (the memory budget)
   };
@@ -86,6 +94,8 @@ class GridVolumeGL final : public VolumeGL {
   int rowOffset_ = 0;                                   ///< 1 when the grid has pole rows
   glm::vec2 lonRange_{0.0f}, latRange_{0.0f};           ///< the lookup tables' domains (deg)
   glm::ivec2 lookupSize_{1};
+  int levelSlices_ = 0;
+  glm::vec4 levelMap_{0.0f};
   std::size_t gpuBytes_ = 0;
 };
 
