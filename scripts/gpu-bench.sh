@@ -4,11 +4,11 @@
 #
 #   bash .gpu/gpu-bench.sh OUT_DIR
 #
-# 1. the radar bench (KLBB, AU40; DVR steps 250 and 1000 m; 320x180 and 1280x720 frames);
-# 2. the grid bench on the SYNTHETIC regional and global grids (steps 250 and 1000 m, 1280x720 too);
-# 3. with the bundle's compare-shaders (another revision's shaders, the same binary through
+# 1. the grid bench on the SYNTHETIC regional and global grids (steps 250 and 1000 m, 1280x720 too);
+# 2. with the bundle's compare-shaders (another revision's shaders, the same binary through
 #    ATMOGLOBE_SHADER_DIR): the grid bench's default cells with those shaders and with ours,
-#    alternately, 3 runs each, so that a change is measured side by side on one machine;
+#    alternately, 2 runs each, so that a change is measured side by side on one machine;
+# 3. the radar bench (KLBB, AU40; DVR step 250 m; 320x180 and 1280x720 frames);
 # 4. several volumes (bench_volume_overlap);
 # 5. the scene-load bench (1/4/16 synthetic radars, 1/10 steps).
 # Each stage is bounded by `timeout` so the rest still run; OUT_DIR gets the reports (at most 8
@@ -26,8 +26,16 @@ for f in "$here"/*.deb; do dpkg -x "$f" /; done
 ldconfig
 export __EGL_VENDOR_LIBRARY_FILENAMES=${__EGL_VENDOR_LIBRARY_FILENAMES:-/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json}
 [[ -f $__EGL_VENDOR_LIBRARY_FILENAMES ]] || unset __EGL_VENDOR_LIBRARY_FILENAMES
-xz -dc "$here/bundle.tar.xz" | tar -x -C "$work"
+if command -v xz > /dev/null; then
+  xz -dc "$here/bundle.tar.xz" | tar -x -C "$work"
+else
+  python3 -c 'import lzma, sys, tarfile; tarfile.open(fileobj=lzma.open(sys.argv[1])).extractall(sys.argv[2])' \
+    "$here/bundle.tar.xz" "$work"
+fi
 export LD_LIBRARY_PATH=$work/lib
+for f in proj/egm96_15.gtx xml/udunits; do
+  [[ -e /usr/share/$f ]] || { mkdir -p "$(dirname "/usr/share/$f")" && cp -r "$work/share/$f" "/usr/share/$f"; }
+done
 ag=$work/bin/atmoglobe
 say "atmoglobe $(cat "$work/REVISION"); $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
 "$ag" --version >> "$log" 2>&1 || { say "the binary does not start"; ldd "$ag" | grep "not found" | tee -a "$log"; exit 1; }
@@ -39,9 +47,7 @@ stage() {  # stage NAME SECONDS COMMAND...
   local rc=$?
   say "$name: rc $rc"
 }
-stage radar 150 "$ag" bench --no-peer --data "$work/data" --out "$work/radar" --steps 250 1000 --frames 7 -q
-cp "$work/radar/volume_bench.md" "$out/" 2>/dev/null
-stage grids 200 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 1000 --frames 7 -q
+stage grids 150 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 1000 --frames 7 -q
 cp "$work/grids/grid_bench.md" "$out/" 2>/dev/null
 if [[ -d $work/compare-shaders ]]; then
   old=$(cat "$work/compare-shaders/REVISION")
@@ -51,20 +57,22 @@ if [[ -d $work/compare-shaders ]]; then
     echo "| run | shaders | view | size | cell | frame (ms) | mean | max | PSNR (dB) |"
     echo "|---|---|---|---|---|---|---|---|---|"
   } > "$out/compare.md"
-  for run in 1 2 3; do
+  for run in 1 2; do
     for which in old new; do
       if [[ $which == old ]]; then export ATMOGLOBE_SHADER_DIR=$work/compare-shaders; else unset ATMOGLOBE_SHADER_DIR; fi
-      stage "compare $which $run" 60 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 \
-        --view global-space --view regional-oblique --frames 7 -q
+      stage "compare $which $run" 45 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 \
+        --view global-space --view global-cyclone --view regional-oblique --frames 7 -q
       grep -E "\| (320x180|1280x720) \| dvr step 250 m, scale 1, linear( \(default\))? \|" "$work/grids/grid_bench.md" |
         sed "s/^|/| $run | $which ($([[ $which == old ]] && echo "$old" || cat "$work/REVISION")) |/" >> "$out/compare.md"
     done
   done
   unset ATMOGLOBE_SHADER_DIR
 fi
+stage radar 170 "$ag" bench --no-peer --data "$work/data" --out "$work/radar" --steps 250 --frames 7 -q
+cp "$work/radar/volume_bench.md" "$out/" 2>/dev/null
 say "overlap"
 timeout 60 "$work/bin/bench_volume_overlap" --runs 3 > "$out/overlap.md" 2>> "$log"
 say "overlap: rc $?"
-stage scenes 90 "$ag" bench --scenes --out "$work/scenes" -q
-cp "$work/scenes/"*.md "$out/" 2>/dev/null
+stage scenes 130 "$ag" bench --scenes --out "$work/scenes" -q
+cp "$work/scenes/scenes/scene-load.md" "$out/" 2>/dev/null
 say "done"

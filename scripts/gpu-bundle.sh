@@ -40,6 +40,11 @@ for p in "${programs[@]}"; do ldd "$p"; done | awk '$3 ~ /^\// {print $3}' | sor
   name=$(basename "$lib")
   [[ $name =~ $skip ]] || cp -L "$lib" "$stage/lib/$name"
 done
+# Data files the readers open by their Debian paths: the EGM96 geoid (proj-data) and the UDUNITS-2
+# database (libudunits2-data); gpu-bench.sh puts them there when that machine lacks them.
+mkdir -p "$stage/share/proj" "$stage/share/xml"
+cp /usr/share/proj/egm96_15.gtx "$stage/share/proj/"
+cp -r /usr/share/xml/udunits "$stage/share/xml/"
 if [[ -n $rev ]]; then
   mkdir -p "$stage/compare-shaders"
   git archive "$rev" shaders | tar -x -C "$stage/compare-shaders" --strip-components=1
