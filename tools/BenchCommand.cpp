@@ -43,6 +43,10 @@ Command addBenchCommand(CLI::App& root) {
   c->add_option("--load-runs", o->loadRuns, "Grids: timed runs per load case (median)")->check(CLI::Range(1, 100));
   c->add_flag("!--no-load", o->load, "Grids: skip the load cases");
   c->add_flag("!--no-big", o->big, "Skip the 1280x720 frames");
+  auto size = std::make_shared<std::string>();
+  c->add_option("--size", *size,
+                "Image size WxH of every cell and of the peer (default 320x180; quick 160x90; --scenes 480x270), e.g. "
+                "1280x720");
   c->add_option("--peer-voxels", o->gridPeerMaxVoxels, "Grids: the peer's Cartesian grid cap (voxels)")
       ->check(CLI::Range(1e5, 1e9));
   addQuietOption(*c);
@@ -56,11 +60,18 @@ Command addBenchCommand(CLI::App& root) {
       ->group("");
   auto probe = std::make_shared<std::vector<std::string>>();
   c->add_option("--load-probe", *probe, "(internal) run one load case: JOB.json RESULT.json")->expected(2)->group("");
-  return {c, [o, probe, scenes, sceneProbe] {
+  return {c, [o, probe, scenes, sceneProbe, size] {
             if (!probe->empty()) return bench::runLoadProbe((*probe)[0], (*probe)[1]);
             if (!sceneProbe->empty()) return bench::runSceneProbe((*sceneProbe)[0], (*sceneProbe)[1]);
+            if (!size->empty()) {
+              if (Status st = parseSize(*size, &o->widthPx, &o->heightPx); !st) return fail("bench", st.error());
+              // The engine's frame needs a few pixels; the peer and the reference take any size.
+              if (o->widthPx < 16 || o->heightPx < 16)
+                return fail("bench", "--size " + *size + ": each side at least 16 pixels");
+            }
             if (*scenes) {
               bench::SceneBenchOptions so;
+              if (o->widthPx > 0) so.widthPx = o->widthPx, so.heightPx = o->heightPx;
               so.dataDir = o->dataDir;
               so.outDir = o->outDir;
               so.runs = o->loadRuns;

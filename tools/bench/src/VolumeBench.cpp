@@ -233,7 +233,8 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
   BenchPlan& plan = *loaded;
   const std::vector<BenchView>& views = plan.views;
 
-  const int w = o.quick ? 160 : 320, h = o.quick ? 90 : 180;
+  const int w = o.widthPx > 0 ? o.widthPx : (o.quick ? 160 : 320);
+  const int h = o.heightPx > 0 ? o.heightPx : (o.quick ? 90 : 180);
   ReferenceStore refs;
   refs.dir = fs::path(o.outDir) / "reference-cache";
   refs.threads = threads;

@@ -18,6 +18,8 @@ struct VolumeBenchOptions {
   std::string outDir = "out/bench";
   bool quick = false;  ///< KLBB oblique only, a small grid, 160x90
   int frames = 7;      ///< timed frames per cell (median)
+  /// The settings grid's image size (the peer's too); 0: 320x180 (quick 160x90).
+  int widthPx = 0, heightPx = 0;
   double referenceStepMeters = 100.0;
   int threads = 0;  ///< reference and resampling threads; 0: hardware concurrency
   bool peer = true;
