@@ -51,6 +51,7 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -73,6 +74,7 @@ struct ViewOptions {
   std::string flyTo;         ///< --fly-to NAME: start above it
   bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
   std::string saveScene = "atmoglobe-scene.json";  ///< where Ctrl+S / "Save scene" writes
+  std::string frameLog;                            ///< --frame-log FILE: a CSV line per scene drawn
 };
 
 struct Flight {
@@ -616,6 +618,14 @@ int runView(const ViewOptions& o) {
                                 std::filesystem::path(layer.description().path).filename().string() + ")");
   }
   double frameMs = 0.0;
+  // A line per scene drawn: how long it took, and whether the camera was moving (volumes at the
+  // moving image scale) - the viewer's frame times, measured where it runs.
+  std::ofstream frameLog;
+  if (!o.frameLog.empty()) {
+    frameLog.open(o.frameLog);
+    if (!frameLog) return fail("view", "--frame-log " + o.frameLog + ": cannot open for writing");
+    frameLog << "frame,moving,volume_image_scale,width,height,scene_ms\n";
+  }
 
   // A fly-to asked for by the box (Enter or Fly), or by a script's flyto through the same state.
   auto handleFlyRequest = [&]() -> Status {
@@ -777,6 +787,12 @@ int runView(const ViewOptions& o) {
       (*renderer)->renderFrame(camera, markers, *target);
       glFinish();
       frameMs = 1000.0 * (glfwGetTime() - t0);
+      if (frameLog.is_open()) {
+        const double scale = (*renderer)->volumeLayerCount() > 0 ? (*renderer)->layer(0).options().imageScale : 1.0;
+        frameLog << frame << "," << (moving ? 1 : 0) << "," << scale << "," << fbw << "," << fbh << "," << frameMs
+                 << "\n";
+        frameLog.flush();
+      }
     }
     glBlitNamedFramebuffer(target->id(), 0, 0, 0, fbw, fbh, 0, 0, fbw, fbh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     drawPanel(&camera);
@@ -873,6 +889,9 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--fly-to", options->flyTo,
                 "Start above this radar, marker, NEXRAD site ($ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
                 "LAT,LON[,HEIGHT]");
+  c->add_option("--frame-log", options->frameLog,
+                "Write a CSV line per frame drawn: frame, moving (volumes at a quarter of the resolution), volume "
+                "image scale, size, milliseconds");
   c->add_flag("--no-prefetch", options->noPrefetch,
               "Read each time step when it is shown instead of ahead on a worker thread (for comparison)");
   c->footer(

@@ -27,10 +27,17 @@ namespace atmoglobe::io {
 /// The lock itself (a function-local static: ready before any other static needs it).
 std::recursive_mutex& netcdfLibraryMutex();
 
-/// Holds netcdfLibraryMutex() for its lifetime: `const io::NetcdfLock lock;`.
+/// Turns off HDF5's printing of its error stack on the calling thread (once per thread). HDF5
+/// keeps that setting per thread; netCDF-C turns it off only on the thread that first opens a
+/// file, so a worker thread's open printed pages of "HDF5-DIAG: Error detected" for attributes
+/// netCDF-C merely probes for. Our errors come from netCDF-C's return codes.
+void quietHdf5ErrorStackOnThisThread();
+
+/// Holds netcdfLibraryMutex() for its lifetime: `const io::NetcdfLock lock;`. Also quiets HDF5's
+/// error printing on the thread (quietHdf5ErrorStackOnThisThread).
 class NetcdfLock {
  public:
-  [[nodiscard]] NetcdfLock() : lock_(netcdfLibraryMutex()) {}
+  [[nodiscard]] NetcdfLock() : lock_(netcdfLibraryMutex()) { quietHdf5ErrorStackOnThisThread(); }
   NetcdfLock(const NetcdfLock&) = delete;
   NetcdfLock& operator=(const NetcdfLock&) = delete;
 
