@@ -75,6 +75,7 @@ struct ViewOptions {
   bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
   std::string saveScene = "atmoglobe-scene.json";  ///< where Ctrl+S / "Save scene" writes
   std::string frameLog;                            ///< --frame-log FILE: a CSV line per scene drawn
+  double refineMs = -1.0;  ///< --refine-ms: at-rest marching per frame; < 0: kRefineBudgetMs, whole frames in scripts
 };
 
 struct Flight {
@@ -110,10 +111,15 @@ struct Interaction {
 };
 
 /// While the camera moves (input in the last kSettleSeconds) volumes are marched at
-/// kMovingImageScale of their resolution; once it rests, one full-quality frame is drawn
-/// and nothing more until something changes.
+/// kMovingImageScale of their resolution; once it rests, the full-quality volumes are refined
+/// over frames of at most kRefineBudgetMs of marching, and nothing more is drawn until something
+/// changes.
 constexpr double kSettleSeconds = 0.3;
 constexpr double kMovingImageScale = 0.25;
+/// At rest the full-quality volumes are marched in tiles, at most this long a frame
+/// (SceneRendererGL::setProgressiveBudget), input handled between frames; scripts and --frames
+/// runs draw each frame whole (deterministic).
+constexpr double kRefineBudgetMs = 20.0;
 /// A script's clock runs at this many seconds per frame (flights take a fixed number of frames).
 constexpr double kScriptFrameSeconds = 0.25;
 constexpr double kPanFraction = 0.1;      ///< arrows/WASD: a tenth of the view
@@ -624,7 +630,7 @@ int runView(const ViewOptions& o) {
   if (!o.frameLog.empty()) {
     frameLog.open(o.frameLog);
     if (!frameLog) return fail("view", "--frame-log " + o.frameLog + ": cannot open for writing");
-    frameLog << "frame,moving,volume_image_scale,width,height,scene_ms\n";
+    frameLog << "frame,moving,volume_image_scale,width,height,scene_ms,volumes_complete\n";
   }
 
   // A fly-to asked for by the box (Enter or Fly), or by a script's flyto through the same state.
@@ -723,7 +729,7 @@ int runView(const ViewOptions& o) {
     const bool moving = state.scripted ? state.flight.has_value()
                                        : glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
     if (!batch && !state.dirty && !moving && !wasMoving && !state.playing && !state.screenshotRequested &&
-        (*renderer)->globe().lastFrameComplete()) {
+        (*renderer)->globe().lastFrameComplete() && (*renderer)->volumesComplete()) {
       if (target) updateReadout(*target);
       if (state.uiDirty && panel && target) {
         // Only the panel changed: the last picture again with the panel over it.
@@ -773,7 +779,7 @@ int runView(const ViewOptions& o) {
     // A script redraws the scene only when something changed (else the last picture with the
     // panel over it); everything else draws every frame it gets here.
     const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
-                             !(*renderer)->globe().lastFrameComplete();
+                             !(*renderer)->globe().lastFrameComplete() || !(*renderer)->volumesComplete();
     if (sceneNeeded) {
       for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
         engine::VolumeSourceGL& layer = (*renderer)->layer(i);
@@ -782,6 +788,9 @@ int runView(const ViewOptions& o) {
       }
       wasMoving = moving;
       state.dirty = false;
+      // A screenshot shows the finished picture: that frame is drawn whole.
+      const double refineMs = o.refineMs >= 0.0 ? o.refineMs : (batch ? 0.0 : kRefineBudgetMs);
+      (*renderer)->setProgressiveBudget(moving || state.screenshotRequested ? 0.0 : refineMs);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.
       const double t0 = glfwGetTime();
       (*renderer)->renderFrame(camera, markers, *target);
@@ -790,7 +799,7 @@ int runView(const ViewOptions& o) {
       if (frameLog.is_open()) {
         const double scale = (*renderer)->volumeLayerCount() > 0 ? (*renderer)->layer(0).options().imageScale : 1.0;
         frameLog << frame << "," << (moving ? 1 : 0) << "," << scale << "," << fbw << "," << fbh << "," << frameMs
-                 << "\n";
+                 << "," << ((*renderer)->volumesComplete() ? 1 : 0) << "\n";
         frameLog.flush();
       }
     }
@@ -892,6 +901,10 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--frame-log", options->frameLog,
                 "Write a CSV line per frame drawn: frame, moving (volumes at a quarter of the resolution), volume "
                 "image scale, size, milliseconds");
+  c->add_option("--refine-ms", options->refineMs,
+                "At rest, march the full-quality volumes in tiles for at most this long a frame, refining over "
+                "frames (default 30; 0: whole frames; scripts and --frames runs draw whole frames unless given)")
+      ->check(CLI::Range(0.0, 10000.0));
   c->add_flag("--no-prefetch", options->noPrefetch,
               "Read each time step when it is shown instead of ahead on a worker thread (for comparison)");
   c->footer(

@@ -101,6 +101,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
                                              const FramebufferGL& target) {
   const auto start = std::chrono::steady_clock::now();
   SceneFrameStats stats;
+  volumesComplete_ = true;
   target.bind();
   // Reverse-Z: depth = near / distance in [0, 1]; 0 is infinitely far.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -132,6 +133,8 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     const auto t0 = std::chrono::steady_clock::now();
     volumeRenderer_->drawReference(camera, layers, target, referenceThreads_);
     stats.referenceSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } else if (!layers.empty() && progressiveBudgetMs_ > 0.0) {
+    volumesComplete_ = volumeRenderer_->drawProgressive(camera, layers, target, progressiveBudgetMs_);
   } else if (!layers.empty()) {
     volumeRenderer_->draw(camera, layers, target);
   }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -438,23 +439,37 @@ void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& 
   glEnable(GL_DEPTH_TEST);
 }
 
+namespace {
+
+// A pass's volume image size at an image scale.
+glm::ivec2 volumeImageSize(const FramebufferGL& target, double imageScale) {
+  const double scale = std::clamp(imageScale, 0.05, 1.0);
+  return {std::max(1, static_cast<int>(std::lround(target.widthPx() * scale))),
+          std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)))};
+}
+
+// The pass's rectangle in a w x h volume image (x0, y0, x1, y1), two texels wider: the
+// composite's bilinear lookups inside the frame rectangle read only texels cleared and marched.
+glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target, glm::ivec2 size) {
+  const double sx = double(size.x) / target.widthPx(), sy = double(size.y) / target.heightPx();
+  return {std::max(0, int(std::floor(rectPx.x * sx)) - 2), std::max(0, int(std::floor(rectPx.y * sy)) - 2),
+          std::min(size.x, int(std::ceil((rectPx.x + rectPx.z) * sx)) + 2),
+          std::min(size.y, int(std::ceil((rectPx.y + rectPx.w) * sy)) + 2)};
+}
+
+}  // namespace
+
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                             const FramebufferGL& target) {
   for (const PassGL& pass : planPasses(camera, layers)) {
-    const double scale = std::clamp(pass.layers[0].options.imageScale, 0.05, 1.0);
-    const int w = std::max(1, static_cast<int>(std::lround(target.widthPx() * scale)));
-    const int h = std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)));
+    const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
+    const int w = size.x, h = size.y;
     ensureTarget(w, h, GL_RGBA16F);
     volumeTarget_->bind();
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
-    // The pass's rectangle in the volume image, two texels wider: the composite's bilinear
-    // lookups inside the frame rectangle read only texels cleared and marched here.
-    const double sx = double(w) / target.widthPx(), sy = double(h) / target.heightPx();
-    const int x0 = std::max(0, int(std::floor(pass.rectPx.x * sx)) - 2);
-    const int y0 = std::max(0, int(std::floor(pass.rectPx.y * sy)) - 2);
-    const int x1 = std::min(w, int(std::ceil((pass.rectPx.x + pass.rectPx.z) * sx)) + 2);
-    const int y1 = std::min(h, int(std::ceil((pass.rectPx.y + pass.rectPx.w) * sy)) + 2);
+    const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
+    const int x0 = box.x, y0 = box.y, x1 = box.z, y1 = box.w;
     glEnable(GL_SCISSOR_TEST);
     glScissor(x0, y0, x1 - x0, y1 - y0);
     glClearColor(0, 0, 0, 0);
@@ -469,6 +484,86 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
       glEnable(GL_DEPTH_TEST);
     }
   }
+}
+
+bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
+                                       const FramebufferGL& target, double budgetMs) {
+  const std::vector<PassGL> passes = planPasses(camera, layers);
+  // What the refinement is of: the camera, the frame size, each layer's volume and settings.
+  std::vector<double> key(glm::value_ptr(camera.cameraToEcef()), glm::value_ptr(camera.cameraToEcef()) + 9);
+  key.insert(key.end(), {camera.eyeEcef().x, camera.eyeEcef().y, camera.eyeEcef().z, camera.focalLengthPx(),
+                         camera.nearMeters(), double(target.widthPx()), double(target.heightPx())});
+  for (const VolumeLayerGL& l : layers) {
+    const volume::VolumeRenderSettings& r = l.options.render;
+    key.insert(key.end(),
+               {double(l.volume->id()), double(l.volume->uniformVersion()), l.options.imageScale,
+                double(l.options.skipEmptySpace), double(l.options.classification), double(r.mode),
+                double(r.interpolation), r.stepMeters, r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue,
+                r.transfer.opacityFullValue, r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
+    for (const glm::dvec2& q : r.transfer.opacityPoints) key.insert(key.end(), {q.x, q.y});
+  }
+  Progress& p = progress_;
+  if (!p.valid || p.key != key) {
+    p = Progress{};
+    p.valid = true;
+    p.key = key;
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+      const PassGL& pass = passes[i];
+      const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
+      auto image = FramebufferGL::create(size.x, size.y, GL_RGBA16F);
+      if (!image) return false;
+      // The preview: the pass marched at kPreviewScale (as draw() would), stretched over the box.
+      std::vector<VolumeLayerGL> preview = pass.layers;
+      for (VolumeLayerGL& l : preview) l.options.imageScale = std::min(l.options.imageScale, kPreviewScale);
+      const glm::ivec2 small = volumeImageSize(target, preview[0].options.imageScale);
+      ensureTarget(small.x, small.y, GL_RGBA16F);
+      volumeTarget_->bind();
+      glDisable(GL_DEPTH_TEST);
+      glDisable(GL_BLEND);
+      const glm::ivec4 sb = volumeImageBox(pass.rectPx, target, small);
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(sb.x, sb.y, sb.z - sb.x, sb.w - sb.y);
+      glClearColor(0, 0, 0, 0);
+      glClear(GL_COLOR_BUFFER_BIT);
+      const bool ok = march(camera, preview.data(), static_cast<int>(preview.size()), target.depthTexture(), 0, 0.0);
+      glDisable(GL_SCISSOR_TEST);
+      (*image)->bind();
+      glClearColor(0, 0, 0, 0);
+      glClear(GL_COLOR_BUFFER_BIT);
+      if (ok)
+        glBlitNamedFramebuffer(volumeTarget_->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
+                               GL_COLOR_BUFFER_BIT, GL_LINEAR);
+      // The tiles of the box draw() marches, row by row from the top of the picture.
+      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
+      for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
+        for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
+          p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
+      p.images.push_back(std::move(*image));
+    }
+  }
+  // Tiles until the budget is spent (at least one), each as draw() marches its box.
+  const auto start = std::chrono::steady_clock::now();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  for (bool first = true; p.next < p.tiles.size(); first = false) {
+    if (!first &&
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() >= budgetMs)
+      break;
+    const Progress::Tile& tile = p.tiles[p.next++];
+    const PassGL& pass = passes[tile.pass];
+    p.images[tile.pass]->bind();
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(tile.box.x, tile.box.y, tile.box.z - tile.box.x, tile.box.w - tile.box.y);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
+    glDisable(GL_SCISSOR_TEST);
+    glFinish();  // the time taken, not the time to queue
+  }
+  for (std::size_t i = 0; i < passes.size(); ++i) compositeOver(p.images[i]->colorTexture(), target, passes[i].rectPx);
+  target.bind();
+  glEnable(GL_DEPTH_TEST);
+  return p.next == p.tiles.size();
 }
 
 static std::vector<double> occluderDistancesGL(const Camera& camera, const FramebufferGL& target) {

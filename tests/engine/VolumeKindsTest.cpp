@@ -360,3 +360,76 @@ TEST(VolumeKinds, ApartVolumesAreDrawnBackToFront) {
     EXPECT_LT(mean * 255.0, 1.0);
   }
 }
+
+// Progressive refinement (the viewer at rest): tile by tile over several calls, the finished
+// frame is draw()'s pixel for pixel, with two passes (radars apart) and one (a radar alone); the
+// frames before show the coarse preview where tiles are not marched yet; a change of the camera
+// starts again.
+TEST(VolumeKinds, ProgressiveRefinementEndsInTheOneShotFrame) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  const globe::GeodesicPoint farSite = globe::geodesicDirect(35.0, -98.0, 0.0, 300e3);
+  auto glNear = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
+  auto glFar = engine::RadarVolumeGL::create(syntheticRadarAt(farSite.latDeg, farSite.lonDeg, 60e3, 180.0));
+  ASSERT_TRUE(glNear && glFar);
+  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 300, 150);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  auto frameOf = [&](const std::vector<engine::VolumeLayerGL>& layers, bool progressive, int* calls,
+                     std::vector<globe::ImageRGBA8>* partial) {
+    auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+    EXPECT_TRUE(fb);
+    for (int n = 1;; ++n) {
+      (*fb)->bind();
+      glClearDepth(0.0);
+      glClearColor(0, 0, 0, 0);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      if (!progressive) {
+        (*renderer)->draw(camera, layers, **fb);
+        return (*fb)->readColor();
+      }
+      // A budget of 0: one tile per call.
+      const bool done = (*renderer)->drawProgressive(camera, layers, **fb, 0.0);
+      if (done || n > 1000) {
+        *calls = n;
+        return (*fb)->readColor();
+      }
+      if (partial) partial->push_back((*fb)->readColor());
+    }
+  };
+  auto differing = [](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+    int n = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) n += a.at(x, y) != b.at(x, y);
+    return n;
+  };
+  const std::vector<engine::VolumeLayerGL> two{{glNear->get(), options}, {glFar->get(), options}};
+  const std::vector<engine::VolumeLayerGL> one{{glNear->get(), options}};
+  for (const auto* layers : {&two, &one}) {
+    int calls = 0;
+    std::vector<globe::ImageRGBA8> partial;
+    const globe::ImageRGBA8 oneShot = frameOf(*layers, false, nullptr, nullptr);
+    (*renderer)->restartProgressive();
+    const globe::ImageRGBA8 refined = frameOf(*layers, true, &calls, &partial);
+    const auto [marched, tiles] = (*renderer)->progressiveTiles();
+    std::cout << layers->size() << " layer(s): " << tiles << " tiles in " << calls << " calls\n";
+    EXPECT_EQ(marched, tiles);
+    EXPECT_EQ(static_cast<std::size_t>(calls), tiles);  // one tile per call at a budget of 0
+    EXPECT_GT(tiles, 8u);
+    EXPECT_EQ(differing(refined, oneShot), 0) << "the refined frame differs from the one-shot frame";
+    // Before the end the preview shows (coarser, so different), and the picture has volume in it
+    // (the storms cover 430-490 of its 45,000 pixels).
+    ASSERT_FALSE(partial.empty());
+    EXPECT_GT(differing(partial.front(), oneShot), 100);
+    EXPECT_GT(differing(oneShot, globe::ImageRGBA8::filled(oneShot.width, oneShot.height, {0, 0, 0, 0})), 300);
+  }
+  // The same camera again: nothing left to march (one call, complete); another camera: again.
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  EXPECT_TRUE((*renderer)->drawProgressive(camera, one, **fb, 0.0));
+  const Camera moved(CameraPose{eye.latDeg, eye.lonDeg, 26e3, 0.0, -6.0, 0.0}, 40.0, 300, 150);
+  EXPECT_FALSE((*renderer)->drawProgressive(moved, one, **fb, 0.0));
+}

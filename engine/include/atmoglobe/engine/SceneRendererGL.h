@@ -122,6 +122,12 @@ class SceneRendererGL {
   /// (VolumeRendererGL::drawReference) instead of the GPU marcher; everything else in the frame
   /// (globe, models, markers, labels) is drawn as always. 0: the GPU marcher (default).
   void setReferenceVolumes(int threads) { referenceThreads_ = threads; }
+  /// Volumes refined over several frames (the viewer at rest): each renderFrame marches volume
+  /// tiles for at most `budgetMs` (VolumeRendererGL::drawProgressive), the rest of the picture
+  /// showing a coarse preview until done. 0 (the default): every frame's volumes whole.
+  void setProgressiveBudget(double budgetMs) { progressiveBudgetMs_ = budgetMs; }
+  /// Whether the last frame's volumes were complete (always true without a budget).
+  bool volumesComplete() const { return volumesComplete_; }
   GlobeRendererGL& globe() { return *globe_; }
   VolumeRendererGL& volumeRenderer() { return *volumeRenderer_; }
 
@@ -137,6 +143,8 @@ class SceneRendererGL {
   bool rangeRings_ = false;
   std::size_t layersWithRings_ = 0;
   int referenceThreads_ = 0;
+  double progressiveBudgetMs_ = 0.0;
+  bool volumesComplete_ = true;
   double exaggeration_ = 1.0;
   std::vector<std::size_t> volumeOrder_;  ///< empty: the order added
   std::shared_ptr<volume::StepCache> cache_ = std::make_shared<volume::StepCache>();

@@ -14,6 +14,8 @@
 
 #include <map>
 #include <memory>
+#include <utility>
+#include <vector>
 
 namespace atmoglobe::engine {
 
@@ -64,6 +66,22 @@ class VolumeRendererGL {
   /// Full resolution whatever imageScale says. Slow (about 1 us per sample per volume).
   void drawReference(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
                      int threads);
+
+  /// Progressive refinement (the viewer at rest): the same passes and marches as draw(), the
+  /// volume image marched in tiles of kTilePx x kTilePx pixels over several calls, each call
+  /// marching tiles until `budgetMs` has passed (at least one), then compositing the volume
+  /// image as draw() does. The first call after a change of the camera, the image size, the
+  /// layers (their volumes, uniform versions, image scales) or restartProgressive() fills the
+  /// image from a march at kPreviewScale, so tiles not refined yet show that. Once every tile is
+  /// marched the frame is draw()'s, pixel for pixel (the same program at the same pixels; tests).
+  /// Returns whether every tile is marched.
+  bool drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
+                       double budgetMs);
+  void restartProgressive() { progress_.valid = false; }
+  /// Tiles marched and in all, of the refinement under way.
+  std::pair<std::size_t, std::size_t> progressiveTiles() const { return {progress_.next, progress_.tiles.size()}; }
+  static constexpr int kTilePx = 32;
+  static constexpr double kPreviewScale = 0.25;
   /// The last group's reference image from drawReference (row 0 = top).
   const volume::VolumeImage& lastReferenceImage() const { return lastReference_; }
 
@@ -133,6 +151,20 @@ class VolumeRendererGL {
   unsigned int transferIntegral_ = 0;  ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
   unsigned int nearestSampler_ = 0;
   std::unique_ptr<FramebufferGL> volumeTarget_;
+  /// The refinement under way (drawProgressive): what it is of, a full-scale image per pass, the
+  /// tiles (pass, x0, y0, x1, y1 in that image) and how many are marched.
+  struct Progress {
+    bool valid = false;
+    std::vector<double> key;
+    std::vector<std::unique_ptr<FramebufferGL>> images;
+    struct Tile {
+      std::size_t pass = 0;
+      glm::ivec4 box{0};
+    };
+    std::vector<Tile> tiles;
+    std::size_t next = 0;
+  };
+  Progress progress_;
   unsigned int volumeFormat_ = 0;
   unsigned int emptyDepth_ = 0;
   /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
