@@ -441,6 +441,25 @@ void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& 
 
 namespace {
 
+// What a frame's volumes are: the camera, the frame size, each layer's volume and settings (with
+// or without the image scale).
+std::vector<double> progressKey(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
+                                const FramebufferGL& target, bool withScale) {
+  std::vector<double> key(glm::value_ptr(camera.cameraToEcef()), glm::value_ptr(camera.cameraToEcef()) + 9);
+  key.insert(key.end(), {camera.eyeEcef().x, camera.eyeEcef().y, camera.eyeEcef().z, camera.focalLengthPx(),
+                         camera.nearMeters(), double(target.widthPx()), double(target.heightPx())});
+  for (const VolumeLayerGL& l : layers) {
+    const volume::VolumeRenderSettings& r = l.options.render;
+    key.insert(key.end(),
+               {double(l.volume->id()), double(l.volume->uniformVersion()), withScale ? l.options.imageScale : 0.0,
+                double(l.options.skipEmptySpace), double(l.options.classification), double(r.mode),
+                double(r.interpolation), r.stepMeters, r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue,
+                r.transfer.opacityFullValue, r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
+    for (const glm::dvec2& q : r.transfer.opacityPoints) key.insert(key.end(), {q.x, q.y});
+  }
+  return key;
+}
+
 // A pass's volume image size at an image scale.
 glm::ivec2 volumeImageSize(const FramebufferGL& target, double imageScale) {
   const double scale = std::clamp(imageScale, 0.05, 1.0);
@@ -461,7 +480,11 @@ glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target,
 
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                             const FramebufferGL& target) {
-  for (const PassGL& pass : planPasses(camera, layers)) {
+  const std::vector<PassGL> passes = planPasses(camera, layers);
+  // One pass: its volume image stays in volumeTarget_ (drawProgressive's preview may take it).
+  lastDrawValid_ = passes.size() == 1;
+  if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true);
+  for (const PassGL& pass : passes) {
     const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
     const int w = size.x, h = size.y;
     ensureTarget(w, h, GL_RGBA16F);
@@ -489,20 +512,10 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
 bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                        const FramebufferGL& target, double budgetMs) {
   const std::vector<PassGL> passes = planPasses(camera, layers);
-  // What the refinement is of: the camera, the frame size, each layer's volume and settings.
-  std::vector<double> key(glm::value_ptr(camera.cameraToEcef()), glm::value_ptr(camera.cameraToEcef()) + 9);
-  key.insert(key.end(), {camera.eyeEcef().x, camera.eyeEcef().y, camera.eyeEcef().z, camera.focalLengthPx(),
-                         camera.nearMeters(), double(target.widthPx()), double(target.heightPx())});
-  for (const VolumeLayerGL& l : layers) {
-    const volume::VolumeRenderSettings& r = l.options.render;
-    key.insert(key.end(),
-               {double(l.volume->id()), double(l.volume->uniformVersion()), l.options.imageScale,
-                double(l.options.skipEmptySpace), double(l.options.classification), double(r.mode),
-                double(r.interpolation), r.stepMeters, r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue,
-                r.transfer.opacityFullValue, r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
-    for (const glm::dvec2& q : r.transfer.opacityPoints) key.insert(key.end(), {q.x, q.y});
-  }
+  const std::vector<double> key = progressKey(camera, layers, target, true);
   Progress& p = progress_;
+  const bool lastDrawValid = lastDrawValid_;
+  lastDrawValid_ = false;
   if (!p.valid || p.key != key) {
     p = Progress{};
     p.valid = true;
@@ -513,20 +526,28 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
       auto image = FramebufferGL::create(size.x, size.y, GL_RGBA16F);
       if (!image) return false;
       // The preview: the pass marched at kPreviewScale (as draw() would), stretched over the box.
+      // The frame just drawn by draw() at that scale (the viewer's last moving frame, the camera
+      // now at rest) already holds it.
       std::vector<VolumeLayerGL> preview = pass.layers;
       for (VolumeLayerGL& l : preview) l.options.imageScale = std::min(l.options.imageScale, kPreviewScale);
       const glm::ivec2 small = volumeImageSize(target, preview[0].options.imageScale);
-      ensureTarget(small.x, small.y, GL_RGBA16F);
-      volumeTarget_->bind();
-      glDisable(GL_DEPTH_TEST);
-      glDisable(GL_BLEND);
-      const glm::ivec4 sb = volumeImageBox(pass.rectPx, target, small);
-      glEnable(GL_SCISSOR_TEST);
-      glScissor(sb.x, sb.y, sb.z - sb.x, sb.w - sb.y);
-      glClearColor(0, 0, 0, 0);
-      glClear(GL_COLOR_BUFFER_BIT);
-      const bool ok = march(camera, preview.data(), static_cast<int>(preview.size()), target.depthTexture(), 0, 0.0);
-      glDisable(GL_SCISSOR_TEST);
+      bool ok = true;
+      if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&
+          lastDrawKey_ == progressKey(camera, preview, target, true)) {
+        ++previewsReused_;
+      } else {
+        ensureTarget(small.x, small.y, GL_RGBA16F);
+        volumeTarget_->bind();
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        const glm::ivec4 sb = volumeImageBox(pass.rectPx, target, small);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(sb.x, sb.y, sb.z - sb.x, sb.w - sb.y);
+        glClearColor(0, 0, 0, 0);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ok = march(camera, preview.data(), static_cast<int>(preview.size()), target.depthTexture(), 0, 0.0);
+        glDisable(GL_SCISSOR_TEST);
+      }
       (*image)->bind();
       glClearColor(0, 0, 0, 0);
       glClear(GL_COLOR_BUFFER_BIT);
@@ -635,6 +656,7 @@ std::vector<glm::vec4> VolumeRendererGL::readVolumeImage() const {
 
 std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera, const VolumeGL& volume,
                                                             double tMeters) {
+  lastDrawValid_ = false;  // volumeTarget_ is taken
   ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);
   volumeTarget_->bind();
   glDisable(GL_DEPTH_TEST);

@@ -426,6 +426,26 @@ TEST(VolumeKinds, ProgressiveRefinementEndsInTheOneShotFrame) {
     EXPECT_GT(differing(partial.front(), oneShot), 100);
     EXPECT_GT(differing(oneShot, globe::ImageRGBA8::filled(oneShot.width, oneShot.height, {0, 0, 0, 0})), 300);
   }
+  // After a frame drawn at the preview scale (the viewer's last moving frame) the refinement takes
+  // that image as its preview instead of marching one, and still ends in the one-shot frame.
+  {
+    engine::VolumeRenderOptions quarter = options;
+    quarter.imageScale = engine::VolumeRendererGL::kPreviewScale;
+    const globe::ImageRGBA8 oneShot = frameOf(one, false, nullptr, nullptr);
+    auto fbq = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+    ASSERT_TRUE(fbq);
+    (*fbq)->bind();
+    glClearDepth(0.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    (*renderer)->draw(camera, {{glNear->get(), quarter}}, **fbq);
+    const std::size_t reused = (*renderer)->previewsReused();
+    int calls = 0;
+    (*renderer)->restartProgressive();
+    std::vector<globe::ImageRGBA8> partial;
+    const globe::ImageRGBA8 refined = frameOf(one, true, &calls, &partial);
+    EXPECT_EQ((*renderer)->previewsReused(), reused + 1);
+    EXPECT_EQ(differing(refined, oneShot), 0);
+  }
   // The same camera again: nothing left to march (one call, complete); another camera: again.
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
   ASSERT_TRUE(fb);

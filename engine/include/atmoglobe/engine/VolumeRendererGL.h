@@ -81,6 +81,8 @@ class VolumeRendererGL {
   /// Tiles marched and in all, of the refinement under way.
   std::pair<std::size_t, std::size_t> progressiveTiles() const { return {progress_.next, progress_.tiles.size()}; }
   static constexpr int kTilePx = 32;
+  /// Refinements whose preview was the last draw()'s image (no march of its own).
+  std::size_t previewsReused() const { return previewsReused_; }
   static constexpr double kPreviewScale = 0.25;
   /// The last group's reference image from drawReference (row 0 = top).
   const volume::VolumeImage& lastReferenceImage() const { return lastReference_; }
@@ -165,6 +167,9 @@ class VolumeRendererGL {
     std::size_t next = 0;
   };
   Progress progress_;
+  bool lastDrawValid_ = false;       ///< draw()'s last call was one pass: volumeTarget_ holds its image
+  std::vector<double> lastDrawKey_;  ///< of that call (progressKey)
+  std::size_t previewsReused_ = 0;
   unsigned int volumeFormat_ = 0;
   unsigned int emptyDepth_ = 0;
   /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
