@@ -719,6 +719,10 @@ int runView(const ViewOptions& o) {
       state.flyHome = false;
       startFlight(state, state.initial);
     }
+    // The frame that ends a flight is still a moving one: the first frame at rest then has the
+    // same camera as the last moving frame, whose quarter-resolution image is the refinement's
+    // preview (VolumeRendererGL::drawProgressive).
+    const bool flying = state.flight.has_value();
     if (state.flight) {
       const double t = (clockSeconds(state) - state.flight->startSeconds) / state.flight->seconds;
       state.pose = engine::flightPose(state.flight->from, state.flight->to, t);
@@ -726,8 +730,7 @@ int runView(const ViewOptions& o) {
       if (t >= 1.0) state.flight.reset();
     }
     // A script's run is deterministic: full quality except while flying.
-    const bool moving = state.scripted ? state.flight.has_value()
-                                       : glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
+    const bool moving = state.scripted ? flying : glfwGetTime() - state.lastInputSeconds < kSettleSeconds;
     if (!batch && !state.dirty && !moving && !wasMoving && !state.playing && !state.screenshotRequested &&
         (*renderer)->globe().lastFrameComplete() && (*renderer)->volumesComplete()) {
       if (target) updateReadout(*target);
