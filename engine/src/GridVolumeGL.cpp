@@ -86,14 +86,12 @@ std::shared_ptr<const GridVolumeGL::Prepared> GridVolumeGL::prepare(const volume
   for (int k = 0; k < ts.z; ++k)
     for (int tr = 0; tr < ts.y; ++tr)
       for (int tc = 0; tc < ts.x; ++tc) {
-        int column = s.closedColumn(tc, tr);
-        const float v = s.columnValue(column, static_cast<std::size_t>(k));
         // A reduced row's padding: no data, and the height of the row's last closed column (the
         // shader may fetch it with weight 0; 0 x NaN would be NaN).
-        if (column == volume::GridColumns::kPadding) column = s.closedColumn(s.closedRow(tr).columns - 1, tr);
+        const float v = s.columnValue(s.closedColumn(tc, tr), static_cast<std::size_t>(k));
         texels[(static_cast<std::size_t>(k) * ts.y + tr) * ts.x + tc] =
             glm::vec2(std::isfinite(v) ? v : MarchConstants::kNoData,
-                      static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k))));
+                      static_cast<float>(s.columnHeight(s.closedHeightColumn(tc, tr), static_cast<std::size_t>(k))));
       }
   // Lookup tables, computed by the CPU sampler's own horizontalIndex (exact at the entries).
   if (g.reduced()) {

@@ -478,6 +478,20 @@ glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target,
 
 }  // namespace
 
+bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
+                                const FramebufferGL& image, const glm::ivec4& box, const FramebufferGL& target) {
+  image.bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(box.x, box.y, box.z - box.x, box.w - box.y);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  const bool ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0);
+  glDisable(GL_SCISSOR_TEST);
+  return ok;
+}
+
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                             const FramebufferGL& target) {
   const std::vector<PassGL> passes = planPasses(camera, layers);
@@ -486,21 +500,8 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
   if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true);
   for (const PassGL& pass : passes) {
     const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
-    const int w = size.x, h = size.y;
-    ensureTarget(w, h, GL_RGBA16F);
-    volumeTarget_->bind();
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
-    const int x0 = box.x, y0 = box.y, x1 = box.z, y1 = box.w;
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(x0, y0, x1 - x0, y1 - y0);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
-    const bool ok =
-        march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
-    glDisable(GL_SCISSOR_TEST);
-    if (ok) {
+    ensureTarget(size.x, size.y, GL_RGBA16F);
+    if (marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target)) {
       compositeOver(volumeTarget_->colorTexture(), target, pass.rectPx);
     } else {
       target.bind();
@@ -537,16 +538,7 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
         ++previewsReused_;
       } else {
         ensureTarget(small.x, small.y, GL_RGBA16F);
-        volumeTarget_->bind();
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        const glm::ivec4 sb = volumeImageBox(pass.rectPx, target, small);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(sb.x, sb.y, sb.z - sb.x, sb.w - sb.y);
-        glClearColor(0, 0, 0, 0);
-        glClear(GL_COLOR_BUFFER_BIT);
-        ok = march(camera, preview.data(), static_cast<int>(preview.size()), target.depthTexture(), 0, 0.0);
-        glDisable(GL_SCISSOR_TEST);
+        ok = marchBox(camera, preview, *volumeTarget_, volumeImageBox(pass.rectPx, target, small), target);
       }
       (*image)->bind();
       glClearColor(0, 0, 0, 0);
@@ -564,21 +556,12 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
   }
   // Tiles until the budget is spent (at least one), each as draw() marches its box.
   const auto start = std::chrono::steady_clock::now();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
   for (bool first = true; p.next < p.tiles.size(); first = false) {
     if (!first &&
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() >= budgetMs)
       break;
     const Progress::Tile& tile = p.tiles[p.next++];
-    const PassGL& pass = passes[tile.pass];
-    p.images[tile.pass]->bind();
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(tile.box.x, tile.box.y, tile.box.z - tile.box.x, tile.box.w - tile.box.y);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
-    march(camera, pass.layers.data(), static_cast<int>(pass.layers.size()), target.depthTexture(), 0, 0.0);
-    glDisable(GL_SCISSOR_TEST);
+    marchBox(camera, passes[tile.pass].layers, *p.images[tile.pass], tile.box, target);
     glFinish();  // the time taken, not the time to queue
   }
   for (std::size_t i = 0; i < passes.size(); ++i) compositeOver(p.images[i]->colorTexture(), target, passes[i].rectPx);

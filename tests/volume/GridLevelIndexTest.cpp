@@ -63,9 +63,7 @@ void expectBracketsHold(const volume::GridVolume& g, int samples, unsigned seed)
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto height = [&](int tc, int tr, int k) {
-    int column = s.closedColumn(tc, tr);
-    if (column == volume::GridColumns::kPadding) column = s.closedColumn(s.closedRow(tr).columns - 1, tr);
-    return static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k)));
+    return static_cast<float>(s.columnHeight(s.closedHeightColumn(tc, tr), static_cast<std::size_t>(k)));
   };
   int mismatches = 0, floatMismatches = 0;
   for (int n = 0; n < samples; ++n) {

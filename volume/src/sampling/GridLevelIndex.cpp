@@ -51,17 +51,12 @@ GridLevelIndex buildGridLevelIndex(const GridSampler& s, int heightEntries, doub
   const std::size_t cellCount = static_cast<std::size_t>(ts.x) * static_cast<std::size_t>(ts.y);
   heightEntries = std::max(heightEntries, 2);
 
-  // The columns' heights as the GPU holds them (float; a reduced row's padding: its last column).
-  auto columnOf = [&](int tc, int tr) {
-    int column = s.closedColumn(tc, tr);
-    if (column == GridColumns::kPadding) column = s.closedColumn(s.closedRow(tr).columns - 1, tr);
-    return column;
-  };
+  // The columns' heights as the GPU holds them (float; closedHeightColumn).
   auto rowHeights = [&](int tr, std::vector<float>& out, std::vector<char>& increasing) {
     out.resize(static_cast<std::size_t>(ts.x) * nz);
     increasing.assign(static_cast<std::size_t>(ts.x), 1);
     for (int tc = 0; tc < ts.x; ++tc) {
-      const int column = columnOf(tc, tr);
+      const int column = s.closedHeightColumn(tc, tr);
       float* h = out.data() + static_cast<std::size_t>(tc) * nz;
       for (int k = 0; k < nz; ++k) {
         h[k] = static_cast<float>(s.columnHeight(column, static_cast<std::size_t>(k)));

@@ -511,6 +511,11 @@ glm::ivec3 GridSampler::closedSize() const {
                     static_cast<int>(grid_.nz));
 }
 
+int GridSampler::closedHeightColumn(int tc, int tr) const {
+  const int column = closedColumn(tc, tr);
+  return column == GridColumns::kPadding ? closedColumn(closedRow(tr).columns - 1, tr) : column;
+}
+
 int GridSampler::closedColumn(int tc, int tr) const {
   const int nx = static_cast<int>(grid_.nx), ny = static_cast<int>(grid_.ny);
   const int r = tr - closedRowOffset();

@@ -130,6 +130,10 @@ class VolumeRendererGL {
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
              double debugT);
   void ensureTarget(int widthPx, int heightPx, unsigned int format);
+  /// Clears `box` (x0, y0, x1, y1) of `image` and marches `layers` there (scissored), against the
+  /// depth of `target`: draw()'s work per pass, drawProgressive's per preview and tile.
+  bool marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& image,
+                const glm::ivec4& box, const FramebufferGL& target);
   /// One past the last layer of the group starting at `begin` (layers one program marches together).
   static std::size_t groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin);
   /// One march and composite: layers marched together, inside a rectangle of the target.

@@ -41,8 +41,6 @@ struct GridLevelIndex {
   int binOf(double heightMeters) const;
   /// The level pairs [lo, hi - 1] a sample of cell (tc, tr) at this bin can lie in: lo <= hi - 1.
   glm::ivec2 bracket(int tc, int tr, int bin) const;
-  /// Host bytes of the tables.
-  std::size_t bytes() const { return loMin.capacity() + span.capacity() + referenceLevelAtHeight.capacity() * 4; }
 };
 
 /// The index of a sampler's closed columns (at most kMaxLevels levels; else an index of one bin

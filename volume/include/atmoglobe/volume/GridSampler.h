@@ -113,6 +113,10 @@ class GridSampler final : public VolumeSampler {
   int closedRowOffset() const { return poleCaps_ ? 1 : 0; }
   /// The GridColumns column of closed column tc, row tr: a grid column, column 0 again or a pole.
   int closedColumn(int tc, int tr) const;
+  /// The column whose level heights closed column tc, row tr holds on the GPU: closedColumn, and
+  /// for a reduced row's padding the row's last closed column (finite heights where the shader
+  /// may fetch with weight 0).
+  int closedHeightColumn(int tc, int tr) const;
   /// Latitude, longitude (degrees) of closed column tc, row tr: the copy of column 0 at its
   /// longitude + 360, a pole at the longitude of grid column 0.
   glm::dvec2 closedLatLonDeg(int tc, int tr) const;
