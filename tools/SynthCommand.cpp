@@ -1,14 +1,16 @@
-// `atmoglobe synth -o FILE.nc [--seed N] [--storm-east KM] [--storm-north KM] [--noise DB] [--time ISO]`:
-// writes a SYNTHETIC CfRadial 1.4 volume (KTLX site, VCP 212 angles, an analytic supercell and
+// `atmoglobe synth -o FILE.nc [--site ID,LAT,LON[,M]] [--seed N] [--storm-east KM] [--storm-north KM] [--noise DB]
+// [--time ISO]`: writes a SYNTHETIC CfRadial 1.4 volume (KTLX site, VCP 212 angles, an analytic supercell and
 // stratiform area) for the default scene and for tests. See volume/SyntheticRadar.h.
 // `atmoglobe synth --grid -o FILE.nc [--grid-size NX,NY,LEVELS,TIMES] [--spacing KM]`: a SYNTHETIC
 // CF forecast grid around the same storm instead. See volume/SyntheticGrid.h.
 #include "Commands.h"
+#include "SceneOptions.h"
 
 #include <atmoglobe/volume/SyntheticGrid.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -24,7 +26,33 @@ struct Options {
   bool grid = false;
   std::vector<std::size_t> gridSize;
   volume::SyntheticGridOptions gridOptions;
+  std::string site;  ///< --site ID,LAT,LON[,ANTENNA_M]
 };
+
+// --site ID,LAT,LON[,ANTENNA_M]: the radar (and the grid's centre) at another place.
+Status applySite(const std::string& text, Options& o) {
+  const std::size_t comma = text.find(',');
+  const std::string id = text.substr(0, comma);
+  const auto bad = [&](const std::string& why) {
+    return makeError("--site " + text + ": " + why +
+                     " (expected ID,LAT,LON[,ANTENNA_M], e.g. KLIX,30.3367,-89.8256,38)");
+  };
+  if (comma == std::string::npos) return bad("no latitude and longitude");
+  if (id.empty() || id.size() > 32) return bad("the site id must have 1 to 32 characters");
+  auto v = parseNumbers(text.substr(comma + 1), 2, 3, "--site " + text);
+  if (!v) return v.forwardError();
+  const double latDeg = (*v)[0], lonDeg = (*v)[1], antennaMeters = v->size() == 3 ? (*v)[2] : 0.0;
+  if (std::fabs(latDeg) > 90.0) return bad("latitude outside -90..90");
+  if (lonDeg < -180.0 || lonDeg > 360.0) return bad("longitude outside -180..360");
+  if (std::fabs(antennaMeters) > 9000.0) return bad("antenna height outside -9000..9000 m");
+  o.synth.siteId = id;
+  o.synth.siteLatDeg = latDeg;
+  o.synth.siteLonDeg = lonDeg > 180.0 ? lonDeg - 360.0 : lonDeg;
+  o.synth.antennaAltitudeMslMeters = antennaMeters;
+  o.gridOptions.centerLatDeg = o.synth.siteLatDeg;
+  o.gridOptions.centerLonDeg = o.synth.siteLonDeg;
+  return Ok{};
+}
 
 int writeGrid(Options& o) {
   volume::SyntheticGridOptions& g = o.gridOptions;
@@ -70,6 +98,9 @@ Command addSynthCommand(CLI::App& root) {
   c.app->add_option("--noise", opts->synth.noiseDbz, "Gate noise standard deviation (dB)")->capture_default_str();
   c.app->add_option("--time", opts->synth.startTimeIso8601, "Volume start time, UTC (YYYY-MM-DDTHH:MM:SSZ)")
       ->capture_default_str();
+  c.app->add_option("--site", opts->site,
+                    "Radar site ID,LAT,LON[,ANTENNA_M] (degrees, m above MSL; default KTLX); with --grid the grid's "
+                    "centre, the storm placed as from that site");
   c.app->add_flag("--grid", opts->grid,
                   "Write a SYNTHETIC CF forecast grid instead (netCDF-4): simulated reflectivity of the same storm "
                   "moving ENE with a squall line, 400 x 400 columns 5 km apart around KTLX, 35 levels above ground "
@@ -82,6 +113,8 @@ Command addSynthCommand(CLI::App& root) {
   c.run = [opts, spacing] {
     if (!opts->grid && (!opts->gridSize.empty() || spacing->count() > 0))
       return fail("synth", "--grid-size and --spacing need --grid");
+    if (!opts->site.empty())
+      if (auto st = applySite(opts->site, *opts); !st) return fail("synth", st.error());
     if (opts->grid) return writeGrid(*opts);
     const auto t0 = std::chrono::steady_clock::now();
     volume::SyntheticRadarSummary s;

@@ -35,6 +35,7 @@
 #include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
+#include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/engine/ViewerPanelGL.h>
 #include <atmoglobe/engine/ViewerScript.h>
 #include <atmoglobe/globe/AtomicFile.h>
@@ -76,6 +77,7 @@ struct ViewOptions {
   std::string saveScene = "atmoglobe-scene.json";  ///< where Ctrl+S / "Save scene" writes
   std::string frameLog;                            ///< --frame-log FILE: a CSV line per scene drawn
   double refineMs = -1.0;  ///< --refine-ms: at-rest marching per frame; < 0: kRefineBudgetMs, whole frames in scripts
+  bool loadAll = false;    ///< --load-all: radars outside the first view loaded at start, not when they come into view
 };
 
 struct Flight {
@@ -509,7 +511,8 @@ void addScriptSteps(ScriptRunner& script, const std::vector<engine::ScriptAction
 }
 
 /// Names to fly to: the scene's radars and markers, $ATMOGLOBE_NEXRAD_SITES, tzdata's cities.
-engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const std::vector<engine::Marker>& markers) {
+engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const std::vector<engine::Marker>& markers,
+                                 const std::vector<engine::DeferredRadar>& deferred) {
   constexpr double kRadarViewMeters = 4e5;  // the 230 km of a radar's range in a 60 deg view
   constexpr double kMarkerViewMeters = 2e5;
   constexpr double kPlaceViewMeters = 1e5;
@@ -525,6 +528,17 @@ engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const 
     p.kind = "radar";
     p.latDeg = site.latDeg;
     p.lonDeg = globe::wrapLongitudeDeg(site.lonDeg);
+    p.viewHeightMeters = kRadarViewMeters;
+    g.add(std::move(p));
+  }
+  for (const engine::DeferredRadar& d : deferred) {  // not loaded yet: flying there loads them
+    engine::Place p;
+    for (const std::string& n : {d.footprint.siteName, d.description.label})
+      if (!n.empty()) p.names.push_back(n);
+    if (p.names.empty()) p.names.push_back("radar");
+    p.kind = "radar";
+    p.latDeg = d.footprint.latDeg;
+    p.lonDeg = globe::wrapLongitudeDeg(d.footprint.lonDeg);
     p.viewHeightMeters = kRadarViewMeters;
     g.add(std::move(p));
   }
@@ -566,11 +580,24 @@ int runView(const ViewOptions& o) {
   auto renderer = engine::SceneRendererGL::create(*loader);
   if (!renderer) return fail("view", renderer.error());
   std::vector<engine::Marker> markers = scene->markers;
+  // Radars the first view does not show wait until the camera may see them (sphereMayBeVisible
+  // each frame at rest): a network scene opens at the cost of the radars in view.
+  std::vector<engine::DeferredRadar> deferred;
+  if (!o.loadAll) {
+    const engine::Camera first(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
+    const std::size_t radars = static_cast<std::size_t>(
+        std::count_if(scene->volumes.begin(), scene->volumes.end(),
+                      [](const engine::VolumeLayerDescription& d) { return d.kind == engine::VolumeKind::Radar; }));
+    deferred = engine::deferRadarsOutsideView(*scene, first);
+    if (!deferred.empty())
+      std::cerr << "atmoglobe view: " << deferred.size() << " of " << radars
+                << " radars outside the view, loaded when they come into view (--load-all loads them now)\n";
+  }
   // An input that fails is reported and left out; the rest is shown (as `render` does).
   std::vector<std::string> inputErrors;
   if (auto s = populateScene(**renderer, *scene, &markers, &inputErrors); !s) return fail("view", s.error());
   for (const std::string& e : inputErrors) std::cerr << "atmoglobe view: error: " << e << "\n";
-  const engine::Gazetteer gazetteer = buildGazetteer(**renderer, markers);
+  const engine::Gazetteer gazetteer = buildGazetteer(**renderer, markers, deferred);
 
   Interaction state;
   state.pose = state.initial = scene->camera;
@@ -618,11 +645,54 @@ int runView(const ViewOptions& o) {
     if (scripted) engine::drawPointerMark();  // no system cursor in a scripted screenshot
   };
   panelState.scene = renderer->get();  // the panel edits the layers live
-  for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
-    const engine::VolumeSourceGL& layer = (*renderer)->layer(i);
+  auto listLayer = [&](const engine::VolumeSourceGL& layer) {
     panelState.layers.push_back(layer.title() + " (" +
                                 std::filesystem::path(layer.description().path).filename().string() + ")");
-  }
+  };
+  for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) listLayer((*renderer)->layer(i));
+  // Deferred radars `camera` may see, loaded now (on the GL thread: the frame waits for them).
+  // A loop or a timed volume joins the scene's time axis, which keeps the time shown.
+  auto loadComingIntoView = [&](const engine::Camera& camera) {
+    bool added = false;
+    for (auto it = deferred.begin(); it != deferred.end();) {
+      if (!engine::sphereMayBeVisible(camera, it->footprint.sphere)) {
+        ++it;
+        continue;
+      }
+      const double t0 = glfwGetTime();
+      auto layer = (*renderer)->addVolume(it->description);
+      if (!layer) {
+        std::cerr << "atmoglobe view: error: " << engine::layerOrigin({it->origin}, 0, "--radar") << ": "
+                  << layer.error() << std::endl;
+      } else {
+        char took[48];
+        std::snprintf(took, sizeof took, " (came into view, loaded in %.0f ms)", 1000.0 * (glfwGetTime() - t0));
+        std::cout << "loaded: " << (*layer)->title() << took << std::endl;
+        std::cerr << "atmoglobe view: " << (*layer)->loadNote() << "\n";
+        listLayer(**layer);
+        scene->volumes.push_back(it->description);
+        scene->origins.volumes.push_back(it->origin);
+        added = true;
+      }
+      it = deferred.erase(it);
+    }
+    if (!added) return;
+    state.dirty = true;
+    // The axis again, over every layer now; back at the time shown before when it is still on it.
+    const std::string shown = time.label;
+    std::vector<double> stalls = std::move(time.stallMs);
+    time = TimeCursor{};
+    time.start(**renderer, o.timeSubsteps, !o.noPrefetch);
+    time.stallMs = std::move(stalls);
+    if (time.axis && !shown.empty()) {
+      const auto& times = time.axis->times;
+      if (auto at = std::find(times.begin(), times.end(), shown); at != times.end()) {
+        time.position = -1;  // moveTo shows the step even when the position is the same
+        if (auto st = showTime(static_cast<long>(at - times.begin()) * time.substeps); !st)
+          std::cerr << "atmoglobe view: error: " << st.error() << std::endl;
+      }
+    }
+  };
   double frameMs = 0.0;
   // A line per scene drawn: how long it took, and whether the camera was moving (volumes at the
   // moving image scale) - the viewer's frame times, measured where it runs.
@@ -779,6 +849,7 @@ int runView(const ViewOptions& o) {
       target = std::move(*t);
     }
     const engine::Camera camera(state.pose, state.fovYDeg, fbw, fbh);
+    if (!deferred.empty() && !moving) loadComingIntoView(camera);
     // A script redraws the scene only when something changed (else the last picture with the
     // panel over it); everything else draws every frame it gets here.
     const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
@@ -847,7 +918,7 @@ int runView(const ViewOptions& o) {
       saved.heightPx = fbh;
       saved.verticalExaggeration = (*renderer)->verticalExaggeration();
       saved.volumes.clear();
-      for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
+      for (std::size_t i : (*renderer)->volumeOrder()) {
         const engine::VolumeSourceGL& layer = (*renderer)->layer(i);
         engine::VolumeLayerDescription d = layer.description();
         if (d.kind == engine::VolumeKind::Grid) {
@@ -862,6 +933,7 @@ int runView(const ViewOptions& o) {
         }
         saved.volumes.push_back(std::move(d));
       }
+      for (const engine::DeferredRadar& d : deferred) saved.volumes.push_back(d.description);  // not seen yet
       if (auto st = globe::writeFileAtomic(o.saveScene, engine::sceneToJson(saved)); !st) {
         std::cerr << "atmoglobe view: error: " << st.error() << std::endl;
         if (state.scripted) return fail("view", st.error());
@@ -894,6 +966,9 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--save-scene", options->saveScene,
                 "Where Ctrl+S and the panel's \"Save scene\" write the scene shown (layers as edited, camera, time)")
       ->capture_default_str();
+  c->add_flag(
+      "--load-all", options->loadAll,
+      "Load every radar at start (by default a radar outside the first view is loaded when it comes into view)");
   c->add_flag("--no-panel", options->noPanel, "No control panel (time slider, layers, frame time, screenshot)");
   c->add_option("--script", options->script,
                 "Replay this file of viewer actions (mouse, wheel, keys, text, camera, waits, flyto, readout, "

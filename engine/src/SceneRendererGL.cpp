@@ -233,9 +233,9 @@ Status SceneRendererGL::setVolumeOrder(const std::vector<std::size_t>& order) {
 }
 
 std::vector<std::size_t> SceneRendererGL::volumeOrder() const {
-  if (volumeOrder_.size() == volumeLayerCount()) return volumeOrder_;
-  std::vector<std::size_t> order(volumeLayerCount());  // layers added since: in the order added
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  // The order set, then the layers added since in the order added.
+  std::vector<std::size_t> order = volumeOrder_;
+  for (std::size_t i = volumeOrder_.size(); i < volumeLayerCount(); ++i) order.push_back(i);
   return order;
 }
 

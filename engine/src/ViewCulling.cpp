@@ -28,7 +28,7 @@ bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& s) {
   return !globe::isScaledSpacePointOccluded(globe::ecefToScaledSpace(camera.eyeEcef()), q);
 }
 
-Result<volume::BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration) {
+Result<RadarFootprint> radarFootprint(const std::string& path, double verticalExaggeration) {
   std::string file = path;
   if (volume::isRadarFileSet(path)) {
     auto files = volume::expandRadarPaths(path);
@@ -48,33 +48,50 @@ Result<volume::BoundingSphere> radarBoundingSphere(const std::string& path, doub
     rangeMeters = std::max(rangeMeters, last + last * std::sin(halfBeamRad));
   }
   if (!(rangeMeters > 0.0)) rangeMeters = 500e3;
-  volume::BoundingSphere b;
+  RadarFootprint f;
+  f.latDeg = v->site.latDeg;
+  f.lonDeg = v->site.lonDeg;
+  f.siteName = volume::siteTitle(v->site);
+  volume::BoundingSphere& b = f.sphere;
   b.centreEcef = globe::geodeticToEcef({v->site.latDeg, v->site.lonDeg, v->site.antennaHeightMeters});
   // The geoid (|N| < 110 m) and the antenna's own height under exaggeration: a margin of 1 km.
   b.radiusMeters = rangeMeters * std::max(1.0, verticalExaggeration) + 1000.0 +
                    std::abs(v->site.antennaHeightMeters) * std::max(0.0, verticalExaggeration - 1.0);
-  return b;
+  return f;
 }
 
-CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera) {
-  CullOutcome out;
+Result<volume::BoundingSphere> radarBoundingSphere(const std::string& path, double verticalExaggeration) {
+  auto f = radarFootprint(path, verticalExaggeration);
+  if (!f) return f.forwardError();
+  return f->sphere;
+}
+
+std::vector<DeferredRadar> deferRadarsOutsideView(SceneDescription& scene, const Camera& camera) {
+  std::vector<DeferredRadar> deferred;
   std::vector<VolumeLayerDescription> kept;
   std::vector<std::string> keptOrigins;
   for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
     const VolumeLayerDescription& d = scene.volumes[i];
+    const std::string origin = i < scene.origins.volumes.size() ? scene.origins.volumes[i] : std::string();
     if (d.kind == VolumeKind::Radar) {
-      auto sphere = radarBoundingSphere(d.path, scene.verticalExaggeration);
-      if (sphere && !sphereMayBeVisible(camera, *sphere)) {
-        out.culled.push_back(d.path);
+      auto footprint = radarFootprint(d.path, scene.verticalExaggeration);
+      if (footprint && !sphereMayBeVisible(camera, footprint->sphere)) {
+        deferred.push_back(DeferredRadar{d, origin, std::move(*footprint)});
         continue;
       }
-      ++out.kept;
     }
     kept.push_back(d);
-    if (i < scene.origins.volumes.size()) keptOrigins.push_back(scene.origins.volumes[i]);
+    if (i < scene.origins.volumes.size()) keptOrigins.push_back(origin);
   }
   scene.volumes = std::move(kept);
   scene.origins.volumes = std::move(keptOrigins);
+  return deferred;
+}
+
+CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera) {
+  CullOutcome out;
+  for (DeferredRadar& d : deferRadarsOutsideView(scene, camera)) out.culled.push_back(std::move(d.description.path));
+  for (const VolumeLayerDescription& d : scene.volumes) out.kept += d.kind == VolumeKind::Radar ? 1 : 0;
   return out;
 }
 

@@ -248,6 +248,10 @@ TEST_F(SceneEdits, ExaggerationOrderVisibilityAndMemory) {
   EXPECT_FALSE(renderer_->setVolumeOrder({0, 0}));
   EXPECT_FALSE(renderer_->setVolumeOrder({1}));
   EXPECT_TRUE(renderer_->setVolumeOrder({0}));
+  EXPECT_TRUE(renderer_->addVolume(renderer_->layer(0).description()));  // as the viewer adds a radar coming into view
+  ASSERT_TRUE(renderer_->setVolumeOrder({1, 0}));
+  ASSERT_TRUE(renderer_->addVolume(renderer_->layer(0).description()));
+  EXPECT_EQ(renderer_->volumeOrder(), (std::vector<std::size_t>{1, 0, 2})) << "a layer added after an order goes last";
   // Switched off: the frame is the frame without the volume.
   const Camera camera(CameraPose{34.6, -97.8, 3e5, 0.0, -90.0, 0.0}, 50.0, 96, 64);
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
@@ -255,6 +259,8 @@ TEST_F(SceneEdits, ExaggerationOrderVisibilityAndMemory) {
   auto shown = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(shown);
   renderer_->layer(0).visible = false;
+  renderer_->layer(1).visible = false;
+  renderer_->layer(2).visible = false;
   auto hidden = renderer_->renderToImage(camera, {}, **fb);
   ASSERT_TRUE(hidden);
   auto loader = engine::openImagery({}, {});

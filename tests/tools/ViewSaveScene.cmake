@@ -1,7 +1,7 @@
 # The viewer's "Save scene" (Ctrl+S) against `render`: VIEW (an xvfb-run command line) replays a
 # script that moves the camera and the time, saves the scene to SCENE and takes a screenshot SHOT
 # (no panel); RENDER renders SCENE without the legend to OUT_PNG; CHECK (atmoglobe_image_check)
-# must find no pixel that differs.
+# must find no pixel that differs. VIEW_REGEXES (optional): what the viewer must print.
 foreach(step VIEW RENDER CHECK)
   execute_process(COMMAND ${${step}} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message("${step}: exit ${rc}\n${out}${err}")
@@ -10,5 +10,12 @@ foreach(step VIEW RENDER CHECK)
   endif()
   if(step STREQUAL "VIEW" AND NOT out MATCHES "scene saved: ")
     message(FATAL_ERROR "the viewer did not say it saved the scene")
+  endif()
+  if(step STREQUAL "VIEW")
+    foreach(re IN LISTS VIEW_REGEXES)  # what the viewer must say (stdout or stderr)
+      if(NOT "${out}${err}" MATCHES "${re}")
+        message(FATAL_ERROR "the viewer's output does not match: ${re}")
+      endif()
+    endforeach()
   endif()
 endforeach()

@@ -10,7 +10,8 @@
 // not visible from that camera, and `render` does not load it (its file is only opened for the
 // site and the range: a metadata read).
 //
-// Not for the viewer: there the camera moves, so every volume is loaded.
+// The viewer defers such radars instead (deferRadarsOutsideView) and loads each when the moving
+// camera first may see it.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/globe/Result.h>
@@ -28,6 +29,16 @@ namespace atmoglobe::engine {
 /// sphere too large for a horizon point).
 bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& sphere);
 
+/// Where a radar is and how far its volume reaches, from a metadata read (radarFootprint).
+struct RadarFootprint {
+  volume::BoundingSphere sphere;
+  double latDeg = 0.0, lonDeg = 0.0;
+  std::string siteName;  ///< "KTLX", "nldhl (Den Helder)": volume::siteTitle of the file's site
+};
+
+/// The footprint of the radar volume at `path` (the sphere as radarBoundingSphere says).
+Result<RadarFootprint> radarFootprint(const std::string& path, double verticalExaggeration);
+
 /// The bounding sphere of the radar volume at `path` (one file, or the first file of a set or a
 /// loop: one site) from a metadata-only read: antenna on the ellipsoid (MSL heights taken as
 /// ellipsoidal: the geoid's +-110 m is far inside the margin), radius as the file comment says.
@@ -43,5 +54,17 @@ struct CullOutcome {
 /// Removes from `scene.volumes` (and its origins) the radars not visible from `camera` (their sphere as above).
 /// A radar whose metadata cannot be read is kept (loading it reports the error).
 CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera);
+
+/// A radar of a scene left unloaded because the camera did not see it: the layer as described,
+/// where it came from (a scene key or a flag, for messages) and its footprint.
+struct DeferredRadar {
+  VolumeLayerDescription description;
+  std::string origin;
+  RadarFootprint footprint;
+};
+
+/// cullRadarsOutsideView, keeping what was removed: the viewer loads each when
+/// sphereMayBeVisible(camera, footprint.sphere) becomes true.
+std::vector<DeferredRadar> deferRadarsOutsideView(SceneDescription& scene, const Camera& camera);
 
 }  // namespace atmoglobe::engine
