@@ -33,6 +33,9 @@ uniform int VOL_rowOffset;      // 1 when row 0 is the south pole row
 uniform vec4 VOL_reference;     // a reference latitude, longitude (deg) and their cos/sin packed: lat, lon, (unused)
 uniform vec4 VOL_referenceTrig; // cos lat0, sin lat0, cos lon0, sin lon0
 uniform vec4 VOL_levelMap;      // lowest height (m), (entries - 1) per metre, bins per reference level, bins
+uniform vec4 VOL_cellScale;     // the step rule's (volume::CellScale): column spacing (m; 0: no rule), first
+                                // height (m), entries per metre
+uniform float VOL_levelSpacing[CELL_SCALE_ENTRIES];  // reference level spacing by height (m)
 
 // WGS84 geodetic latitude, longitude (deg) and height (m) of an ECEF point, Bowring's formula
 // (one step from the parametric latitude). The angles come out of atan as small differences from
@@ -55,6 +58,21 @@ vec3 VOL_geodetic(vec3 p) {
   float sl = sin(lat), cl = cos(lat);
   float h = rho * cl + e.z * sl - a * sqrt(1.0 - e2 * sl * sl);
   return vec3(VOL_reference.x + degrees(dLat), VOL_reference.y + degrees(dLon), h);
+}
+
+// The length of ray that crosses one cell here (volume::cellCrossingMeters, the same formula in
+// float): the level spacing at the approximate height over |cos| of the angle with the
+// geocentric vertical, or the column spacing over |sin| of it, the smaller.
+float VOL_cellCrossing(vec3 p, vec3 dir) {
+  const float b = WGS84_A * (1.0 - WGS84_F);
+  vec3 e = VOL_origin + p;
+  float r = length(e);
+  float s = e.z / r;
+  float h = r - b / sqrt(1.0 - WGS84_E2 * (1.0 - s * s));
+  float cosUp = min(1.0, abs(dot(e, dir)) / r);
+  float sinUp = sqrt(max(0.0, 1.0 - cosUp * cosUp));
+  int i = int(clamp(floor((h - VOL_cellScale.y) * VOL_cellScale.z), 0.0, float(CELL_SCALE_ENTRIES - 1)));
+  return min(VOL_levelSpacing[i] / max(cosUp, 1e-6), VOL_cellScale.x / max(sinUp, 1e-6));
 }
 
 // Fractional texture column and row of a latitude/longitude; false outside the grid.

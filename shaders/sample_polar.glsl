@@ -130,6 +130,10 @@ ivec2 VOL_bracket(float el, out float t) {
 }
 
 // STATE_ECHO with its value, or STATE_NOT_ECHO (no echo or no data: the image treats both alike).
+// The step rule (volume/StepRule.h): this kind has no cell crossing yet, its samples take the
+// fixed step.
+float VOL_cellCrossing(vec3 p, vec3 dir) { return 0.0; }
+
 int VOL_sample(vec3 p, out float value) {
   value = 0.0;
   vec3 rae = VOL_antennaCoordinates(p);

@@ -6,6 +6,10 @@ uniform vec3 VOL_shellRadii;  // inner, outer radius (m), value
 
 vec3 VOL_debugCoordinates(vec3 p) { return vec3(length(p), 0.0, 0.0); }
 
+// The step rule (volume/StepRule.h): this kind has no cell crossing yet, its samples take the
+// fixed step.
+float VOL_cellCrossing(vec3 p, vec3 dir) { return 0.0; }
+
 int VOL_sample(vec3 p, out float value) {
   float r = length(p);
   value = VOL_shellRadii.z;

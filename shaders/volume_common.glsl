@@ -14,6 +14,7 @@ uniform float VOL_isoValue;
 uniform vec3 VOL_isoColor;         // classify(isoValue).rgb, exact (CPU): the table quantises values
 uniform float VOL_opacityZeroValue;
 uniform float VOL_mipVisibleMin;    // MIP: a maximum below this is transparent
+uniform float VOL_samplesPerCell;   // the step rule's samples per cell crossed (volume/StepRule.h); 0: fixed step
 
 vec4 VOL_classify(float v) {
   float x = (v - VOL_tfRange.x) / (VOL_tfRange.y - VOL_tfRange.x);

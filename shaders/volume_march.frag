@@ -10,14 +10,17 @@
 // folds away: a one-volume program is the one-volume marcher.
 //
 // Samples sit at t_i = (i + 0.5) * step from the eye (the same positions as the CPU reference);
-// volume k is sampled only at the t_i inside its interval (its kind's ray interval, before the
+// with a volume's samplesPerCell > 0 only the t_i the step rule picks (volume/StepRule.h: each sample has
+// a level L from the cells there and stands for 2^L steps); volume k is sampled only at the t_i
+// inside its interval (its kind's ray interval, before the
 // globe's depth, and inside its empty-space grid's box when skipping), so a pixel pays only for
 // the volumes its ray crosses.
 //
 // Variant constants: MARCH_MODE (0 DVR, 1 MIP, 2 isosurface, 3 debug: volume 0's coordinates at
 // u_debugT), MARCH_SKIP_EMPTY (1: jump over grid cells that cannot contribute),
 // MARCH_PREINTEGRATED (DVR: 0 each sample classified alone; 1 neighbouring samples of a volume
-// as a linear segment, u_tfIntegral), VOLUME_COUNT.
+// as a linear segment, u_tfIntegral), MARCH_STEP_RULE (1: some volume follows the step rule; 0:
+// every level is 0 at compile time, the fixed-step march), VOLUME_COUNT.
 
 in vec2 v_uv;
 
@@ -38,6 +41,7 @@ layout(location = 0) out vec4 o_color;
 const int kMode = MARCH_MODE;
 const int kSkipEmpty = MARCH_SKIP_EMPTY;
 const int kPreintegrated = MARCH_PREINTEGRATED;
+const int kStepRule = MARCH_STEP_RULE;
 
 vec2 sphereInterval(vec3 o, vec3 d, float radius) {
   float b = dot(o, d);
@@ -57,6 +61,30 @@ void orderPair(inout float a, inout float b) {
 // The per-volume code and the dispatch functions are inserted at the next line.
 // @VOLUMES@
 
+// The step rule (volume/StepRule.h): the level of fine index c, the smallest of the volumes'
+// whose range holds it (none: 0; a volume without the rule: 0), and c rounded up to a multiple
+// of 2^level.
+int stepLevelAt(int c, vec3 dir, ivec2 range[VOLUME_COUNT]) {
+  if (kStepRule == 0) return 0;
+  float t = (float(c) + 0.5) * u_step;
+  float spacing = 1e30;  // the sample spacing each volume asks for: its cell crossing / samples per cell
+  bool any = false;
+  for (int k = 0; k < VOLUME_COUNT; ++k) {
+    if (c >= range[k].x && c <= range[k].y) {
+      float n = volSamplesPerCell(k);
+      spacing = min(spacing, n > 0.0 ? volCellCrossing(k, volEyeRel(k) + t * dir, dir) / n : 0.0);
+      any = true;
+    }
+  }
+  float q = spacing / u_step;
+  return !any || !(q >= 2.0) ? 0 : min(int(floor(log2(q))), MAX_STEP_LEVEL);
+}
+
+int alignUp(int c, int level) {
+  int m = (1 << level) - 1;
+  return (c + m) & ~m;
+}
+
 // A piece of path as (emission, optical depth): its premultiplied colour is emission * alpha /
 // tau with alpha = 1 - exp(-tau) (emission when tau is tiny). Pieces of several volumes at the
 // same place add (Max 1995, "Optical models for direct volume rendering").
@@ -71,16 +99,16 @@ vec4 constantPiece(vec4 c, float lengthMeters) {
   return vec4(c.rgb * tau, tau);
 }
 
-// One step along which the value goes linearly from v0 (front) to v1 (back): exact optical depth
+// A path of `len` metres along which the value goes linearly from v0 (front) to v1 (back): exact optical depth
 // from the integral table; emission from the integral of extinction * colour. Below a change of
 // 1e-4 of the table's value range (0.013 dBZ for reflectivity) the table's difference quotient
 // loses float precision (its integrals carry a relative error of ~1e-7 of the whole range), and
 // the path is taken as the mean of its ends' classifications.
-vec4 linearPiece(float v0, vec4 i0, vec4 c0, float v1, vec4 i1, vec4 c1, vec2 tfRange) {
+vec4 linearPiece(float v0, vec4 i0, vec4 c0, float v1, vec4 i1, vec4 c1, vec2 tfRange, float len) {
   float dv = v1 - v0;
   if (abs(dv) > 1e-4 * (tfRange.y - tfRange.x))
-    return vec4(u_step * (i1.rgb - i0.rgb) / dv, max(u_step * (i1.a - i0.a) / dv, 0.0));
-  return vec4(u_step * 0.5 * (c0.rgb * c0.a + c1.rgb * c1.a), max(u_step * 0.5 * (c0.a + c1.a), 0.0));
+    return vec4(len * (i1.rgb - i0.rgb) / dv, max(len * (i1.a - i0.a) / dv, 0.0));
+  return vec4(len * 0.5 * (c0.rgb * c0.a + c1.rgb * c1.a), max(len * 0.5 * (c0.a + c1.a), 0.0));
 }
 
 void composite(inout vec4 acc, vec4 premultiplied) {
@@ -131,12 +159,14 @@ void main() {
   // t_j + step/2, like the post-classified samples it replaces: half a step of constant
   // classification at each end, a linear segment between neighbours.
   int prevIndex[VOLUME_COUNT];
+  float prevHalfStep[VOLUME_COUNT];  // half the step of the last sample taken
   bool prevEcho[VOLUME_COUNT];
   float prevV[VOLUME_COUNT];
   vec4 prevIntegral[VOLUME_COUNT], prevC[VOLUME_COUNT];
   float maxValue[VOLUME_COUNT], tOfMax[VOLUME_COUNT];
   for (int k = 0; k < VOLUME_COUNT; ++k) {
     prevIndex[k] = -2;
+    prevHalfStep[k] = 0.5 * u_step;
     prevEcho[k] = false;
     prevV[k] = 0.0;
     prevIntegral[k] = vec4(0.0);
@@ -149,7 +179,10 @@ void main() {
   int hitK = 0;
   int i = int(ceil(a / u_step - 0.5));
   int iEnd = int(floor(b / u_step - 0.5));
-  for (; i <= iEnd; ++i) {
+  int level = stepLevelAt(i, dir, range);
+  i = alignUp(i, level);
+  int lastIndex = -2;  // the march's previous sample (-2 after a jump over empty space)
+  while (i <= iEnd) {
     if (kSkipEmpty == 1) {
       // While nothing at the sample can change the result in any volume (DVR: nothing above its
       // zero-opacity value; MIP: nothing above its maximum so far or its first visible colour;
@@ -171,11 +204,15 @@ void main() {
           }
         }
         if (!empty) break;
-        i = max(i + 1, int(ceil(min(tNext, b) / u_step - 0.5)));
+        int c = max(i + 1, int(ceil(min(tNext, b) / u_step - 0.5)));
+        level = stepLevelAt(c, dir, range);
+        i = alignUp(c, level);
+        lastIndex = -2;
       }
       if (i > iEnd) break;
     }
     float t = (float(i) + 0.5) * u_step;
+    float stepHere = u_step * float(1 << level);  // what this sample stands for
     // This sample in every volume whose range holds it.
     vec4 tails = vec4(0.0), pieces = vec4(0.0);  // pre-integrated: run ends, then this sample's pieces
     int contributing = 0;
@@ -196,20 +233,24 @@ void main() {
         bool echo = state == STATE_ECHO && v > volOpacityZero(k);
         vec4 c = volClassify(k, v);
         vec4 integral = volTfIntegral(k, v);
-        bool adjacent = prevEcho[k] && echo && i == prevIndex[k] + 1;
+        bool adjacent = prevEcho[k] && echo && prevIndex[k] == lastIndex;
         // A run ends (this sample is not echo, or empty cells were skipped since the last one):
         // the last sample's half step.
-        if (prevEcho[k] && !adjacent) tails += constantPiece(prevC[k], 0.5 * u_step);
+        if (prevEcho[k] && !adjacent) tails += constantPiece(prevC[k], prevHalfStep[k]);
         if (echo)
-          pieces += adjacent ? linearPiece(prevV[k], prevIntegral[k], prevC[k], v, integral, c, volTfRange(k))
-                             : constantPiece(c, 0.5 * u_step);
+          pieces += adjacent ? linearPiece(prevV[k], prevIntegral[k], prevC[k], v, integral, c, volTfRange(k),
+                                           float(i - prevIndex[k]) * u_step)
+                             : constantPiece(c, 0.5 * stepHere);
         prevIndex[k] = i;
+        prevHalfStep[k] = 0.5 * stepHere;
         prevEcho[k] = echo;
         prevV[k] = v;
         prevIntegral[k] = integral;
         prevC[k] = c;
       } else if (kMode == 0 && kPreintegrated == 0 && state == STATE_ECHO) {
         vec4 c = volClassify(k, v);  // alpha corrected for the step length on the CPU
+        // A sample of level L stands for 2^L steps: 1 - (1 - alpha)^(2^L).
+        if (level > 0) c.a = 1.0 - pow(max(1.0 - c.a, 0.0), float(1 << level));
         if (c.a > 0.0) {
           ++contributing;
           single = c;
@@ -248,7 +289,7 @@ void main() {
       }
     } else if (kMode == 2 && hit) {
       // Bisection between the previous sample position and this one, in the volume hit.
-      float lo = t - u_step, hi = t;
+      float lo = t - stepHere, hi = t;
       for (int it = 0; it < 8; ++it) {
         float mid = 0.5 * (lo + hi);
         float vm;
@@ -258,13 +299,17 @@ void main() {
       hitT = hi;
       break;
     }
+    lastIndex = i;
+    int c = i + (1 << level);
+    level = stepLevelAt(c, dir, range);
+    i = alignUp(c, level);
   }
 
   if (kMode == 0) {
     if (kPreintegrated == 1 && acc.a < u_earlyTermination) {
       vec4 tails = vec4(0.0);
       for (int k = 0; k < VOLUME_COUNT; ++k)
-        if (prevEcho[k]) tails += constantPiece(prevC[k], 0.5 * u_step);
+        if (prevEcho[k]) tails += constantPiece(prevC[k], prevHalfStep[k]);
       if (tails.a > 0.0) composite(acc, pieceColor(tails));
     }
     o_color = acc;
@@ -285,7 +330,7 @@ void main() {
     o_color = outColor;
   } else if (kMode == 2 && hit) {
     vec3 p = volEyeRel(hitK) + hitT * dir;
-    float h = 0.5 * u_step;
+    float h = 0.5 * u_step * float(1 << level);
     vec3 grad;
     for (int axis = 0; axis < 3; ++axis) {
       vec3 e = vec3(0.0);

@@ -132,6 +132,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   addLayerSettingOptions(*gg, "--grid-", o.gridSettings, "only its columns are read");
   gg->add_option("--grid-step", o.gridSteps,
                  "Grid ray-march step (m; the radars' step integrates both where they overlap)");
+  gg->add_option("--grid-samples-per-cell", o.gridSamplesPerCell,
+                 "Grid step that follows the cells: about this many samples per cell crossed, never shorter than "
+                 "--grid-step (0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
   auto* sl = c.add_option_group("Slices", "Drawn on the globe, of the scene's first radar (else its first grid)");
   sl->add_option("--slice-height-m", o.sliceHeights, "A CAPPI at this height above sea level (m; repeatable)");
   sl->add_option("--slice-path", o.slicePaths,
@@ -548,7 +551,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
          {pickGrid(o.variables, "--var", i, d.field), pickGrid(o.times, "--time", i, d.time),
           pickGrid(o.members, "--member", i, d.member), pickGrid(o.gridColors, "--grid-colors", i, d.colors),
           pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
-          pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters)}) {
+          pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters),
+          pickGrid(o.gridSamplesPerCell, "--grid-samples-per-cell", i, d.samplesPerCell)}) {
       if (!st) return st.forwardError();
     }
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();

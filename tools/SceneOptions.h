@@ -37,6 +37,7 @@ struct SceneOptions {
   std::vector<int> members;
   std::map<std::string, std::size_t> gridIndex;  ///< --grid-index NAME=I: every grid and slice
   std::vector<double> gridSteps;
+  std::vector<double> gridSamplesPerCell;
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
   /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".
   struct LayerSettingTexts {

@@ -281,6 +281,14 @@ void GridVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform3iv(u(name("texSize")), 1, glm::value_ptr(textureSize_));
   glUniform4fv(u(name("levelMap")), 1, glm::value_ptr(levelMap_));
   glUniform1i(u(name("rowOffset")), rowOffset_);
+  // The step rule's cell scale (volume::CellScale; no table: zeros, the fixed step).
+  const volume::CellScale& cs = sampler_->cellScale();
+  std::vector<float> spacing(volume::CellScale::kEntries, 0.0f);
+  for (std::size_t e = 0; e < cs.levelSpacingMeters.size() && e < spacing.size(); ++e)
+    spacing[e] = static_cast<float>(cs.levelSpacingMeters[e]);
+  glUniform4f(u(name("cellScale")), cs.levelSpacingMeters.empty() ? 0.0f : static_cast<float>(cs.columnSpacingMeters),
+              static_cast<float>(cs.minHeightMeters), static_cast<float>(cs.entriesPerMeter), 0.0f);
+  glUniform1fv(u(name("levelSpacing")), volume::CellScale::kEntries, spacing.data());
   // The reference of the shader's small-angle geodetic conversion: the grid's centre.
   const globe::Geodetic ref = sphere.centreEcef == glm::dvec3(0.0) ? globe::Geodetic{0.0, 0.0, 0.0}
                                                                    : globe::ecefToGeodetic(sphere.centreEcef);

@@ -128,9 +128,9 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
                         VolumeLayerDescription& d) {
   d.kind = kind;
   const bool radar = kind == VolumeKind::Radar;
-  std::vector<std::string> keys{"path",           "colors",         "mode",  "interpolation", "step_m",
-                                "image_scale",    "classification", "geoid", "range",         "opacity",
-                                "opacity_points", "crop_heights_m", "crop"};
+  std::vector<std::string> keys{
+      "path",           "colors", "mode",  "interpolation", "step_m",         "samples_per_cell", "image_scale",
+      "classification", "geoid",  "range", "opacity",       "opacity_points", "crop_heights_m",   "crop"};
   const char* fieldKey = radar ? "field" : "variable";
   const char* isoKey = radar ? "iso_dbz" : "iso_value";
   keys.insert(keys.end(), {fieldKey, isoKey});
@@ -160,6 +160,13 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       [&] { return radar ? Status(Ok{}) : r.integer("member", d.member, 0, 1000000); },
       [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
+      [&] {
+        double n = 0.0;
+        if (!r.has("samples_per_cell")) return Status(Ok{});
+        Status s = r.number("samples_per_cell", n, 0.0, 64.0);
+        if (s) d.samplesPerCell = n;
+        return s;
+      },
       [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
       [&] { return r.number(isoKey, iso, -1e30, 1e30, radar ? "(field units)" : "(variable units)"); },
       [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });

@@ -51,6 +51,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   j["interpolation"] = nameOf(d.interpolation);
   j["classification"] = nameOf(d.classification);
   j["step_m"] = d.stepMeters;
+  if (d.samplesPerCell) j["samples_per_cell"] = *d.samplesPerCell;
   j["image_scale"] = d.imageScale;
   if (d.isoValue) j[radar ? "iso_dbz" : "iso_value"] = *d.isoValue;
   j["geoid"] = d.useGeoid;

@@ -407,6 +407,14 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         d.stepMeters = step;
         edited = true;
       }
+      if (d.kind == VolumeKind::Grid) {
+        // The step rule (docs/grids.md): 0 = the fixed step above everywhere.
+        float perCell = static_cast<float>(samplesPerCellOf(d));
+        if (ImGui::SliderFloat("samples per cell", &perCell, 0.0f, 8.0f, "%.1f")) {
+          d.samplesPerCell = perCell;
+          edited = true;
+        }
+      }
       float scale = static_cast<float>(d.imageScale);
       if (ImGui::SliderFloat("image scale", &scale, 0.1f, 1.0f, "%.2f")) {
         d.imageScale = scale;

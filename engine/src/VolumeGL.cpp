@@ -1,6 +1,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
 #include <atmoglobe/engine/ShaderConstants.h>
+#include <atmoglobe/volume/StepRule.h>
 
 #include "LoaderGL.h"
 
@@ -28,7 +29,9 @@ std::vector<std::string> marchShaderDefines() {
                                       "RAY_TABLE_BINS " + std::to_string(C::kRayTableBins),
                                       "ELEVATION_BINS " + std::to_string(C::kElevationBins),
                                       "GPU_NO_DATA " + glslFloatLiteral(C::kNoData),
-                                      "GPU_NO_DATA_BELOW " + glslFloatLiteral(C::kNoDataBelow)};
+                                      "GPU_NO_DATA_BELOW " + glslFloatLiteral(C::kNoDataBelow),
+                                      "MAX_STEP_LEVEL " + std::to_string(volume::kMaxStepLevel),
+                                      "CELL_SCALE_ENTRIES " + std::to_string(volume::CellScale::kEntries)};
   for (std::string& d : ellipsoidShaderDefines()) defines.push_back(std::move(d));
   return defines;
 }

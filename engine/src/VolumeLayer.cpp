@@ -75,10 +75,18 @@ Status validateVolumeLayerSettings(const VolumeLayerSettings& s, const std::stri
   return volume::validateCropBox(s.crop, where);
 }
 
+double samplesPerCellOf(const VolumeLayerDescription& d) {
+  return d.samplesPerCell.value_or(d.kind == VolumeKind::Grid ? kDefaultGridSamplesPerCell : 0.0);
+}
+
 Status validateVolumeLayer(const VolumeLayerDescription& d, const std::string& where) {
   if (d.path.empty()) return makeError(where + ": empty path");
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
+  if (d.samplesPerCell && !(*d.samplesPerCell >= 0.0 && *d.samplesPerCell <= 64.0))
+    return makeError(where + ": samples per cell must be in 0..64 (0: the fixed step)");
+  if (d.kind == VolumeKind::Radar && d.samplesPerCell && *d.samplesPerCell > 0.0)
+    return makeError(where + ": samples per cell is for grids (a radar's samples take the fixed step)");
   if (d.isoValue && !std::isfinite(*d.isoValue)) return makeError(where + ": iso value must be finite");
   if (d.kind == VolumeKind::Radar && !d.time.empty())
     return makeError(where + ": a radar has no time to choose (a loop's steps are its files)");
@@ -101,8 +109,9 @@ LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescri
       !sameCrop(a.settings.crop, b.settings.crop))
     return LayerChange::Reload;
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
-      a.imageScale != b.imageScale || a.isoValue != b.isoValue || a.beam != b.beam ||
-      a.classification != b.classification || a.label != b.label || !sameLook(a.settings, b.settings))
+      a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.isoValue != b.isoValue ||
+      a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
+      !sameLook(a.settings, b.settings))
     return LayerChange::Options;
   return LayerChange::None;
 }

@@ -61,6 +61,7 @@ std::string dispatchSource(int count) {
       {"float volEmptyUntil(int k, vec3 oL, vec3 dL, vec2 box, float ts, float threshold)", "float",
        "VOL_emptyUntil(oL, dL, box, ts, threshold)", "ts"},
       {"int volSample(int k, vec3 p, out float value)", "int", "VOL_sample(p, value)", "STATE_NOT_ECHO"},
+      {"float volCellCrossing(int k, vec3 p, vec3 dir)", "float", "VOL_cellCrossing(p, dir)", "0.0"},
       {"vec3 volDebug(int k, vec3 p)", "vec3", "VOL_debugCoordinates(p)", "vec3(0.0)"},
       {"vec4 volClassify(int k, float v)", "vec4", "VOL_classify(v)", "vec4(0.0)"},
       {"vec4 volTfIntegral(int k, float v)", "vec4", "VOL_tfIntegral(v)", "vec4(0.0)"},
@@ -68,6 +69,7 @@ std::string dispatchSource(int count) {
       {"float volIso(int k)", "float", "VOL_isoValue", "0.0"},
       {"vec3 volIsoColor(int k)", "vec3", "VOL_isoColor", "vec3(0.0)"},
       {"float volOpacityZero(int k)", "float", "VOL_opacityZeroValue", "0.0"},
+      {"float volSamplesPerCell(int k)", "float", "VOL_samplesPerCell", "0.0"},
       {"float volMipVisibleMin(int k)", "float", "VOL_mipVisibleMin", "0.0"},
   };
   std::ostringstream s;
@@ -167,6 +169,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   defines.push_back("MARCH_MODE " + std::to_string(variant.mode));
   defines.push_back(std::string("MARCH_SKIP_EMPTY ") + (variant.skipEmpty ? "1" : "0"));
   defines.push_back(std::string("MARCH_PREINTEGRATED ") + (variant.preintegrated ? "1" : "0"));
+  defines.push_back(std::string("MARCH_STEP_RULE ") + (variant.stepRule ? "1" : "0"));
   defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
   auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
   if (!program) return fail(program.error());
@@ -190,7 +193,8 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
     const std::string p = volumePrefix(k);
     auto v = [&](const char* name) { return location(std::string(p).append(name)); };
     l.volumes.push_back({v("eyeRel"), v("ecefToLocal"), v("gridMinLocal"), v("gridCellSize"), v("gridCells"),
-                         v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange"), v("isoColor")});
+                         v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange"), v("isoColor"),
+                         v("samplesPerCell")});
     glProgramUniform1i(id, v("grid"), gridUnit(static_cast<int>(k)));
   }
   entry.slots.resize(variant.volumes.size());
@@ -219,9 +223,11 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   variant.mode = debugMode ? 3 : mode;
   variant.skipEmpty = first.skipEmptySpace;
   variant.preintegrated = preintegrated;
-  for (int k = 0; k < count; ++k)
+  for (int k = 0; k < count; ++k) {
     variant.volumes.emplace_back(std::string(layers[k].volume->samplerShaderFile()),
                                  layers[k].volume->samplerDefines(layers[k].options));
+    variant.stepRule = variant.stepRule || (!debugMode && layers[k].options.render.samplesPerCell > 0.0);
+  }
   if (!marchProgram(variant)) return false;
   ProgramEntry& entry = programs_.find(variant)->second;
   entry.program.use();
@@ -326,8 +332,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     // The isosurface's colour, classified exactly here (the table quantises values to
     // (max - min) / TRANSFER_ENTRIES, which at a stepped table's band edge picks the band below).
     const glm::dvec4 isoColor = s.transfer.classify(s.isoValue);
-    generic.insert(generic.end(),
-                   {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g), static_cast<float>(isoColor.b)});
+    generic.insert(generic.end(), {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g),
+                                   static_cast<float>(isoColor.b), static_cast<float>(s.samplesPerCell)});
     if (generic != slot.generic) {
       glUniformMatrix3fv(vl.ecefToLocal, 1, GL_FALSE, generic.data());
       glUniform3fv(vl.eyeRel, 1, generic.data() + 9);
@@ -339,7 +345,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       glUniform1f(vl.mipVisibleMin, generic[23]);
       glUniform2f(vl.tfRange, generic[24], generic[25]);
       glUniform3fv(vl.isoColor, 1, generic.data() + 26);
-      uniformUploads_ += 10;
+      glUniform1f(vl.samplesPerCell, generic[29]);
+      uniformUploads_ += 11;
       slot.generic = std::move(generic);
     }
     glBindTextureUnit(static_cast<GLuint>(gridUnit(k)), vol.occupancy().texture());

@@ -57,6 +57,7 @@ Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& d, 
   o.render.mode = d.mode;
   o.render.interpolation = d.interpolation;
   o.render.stepMeters = d.stepMeters;
+  o.render.samplesPerCell = samplesPerCellOf(d);
   o.render.isoValue = d.isoValue.value_or(defaultIsoValue(d.kind, range.minValue, range.maxValue));
   auto transfer = transferForLayer(d.colors, d.settings, field, nyquistMps, range);
   if (!transfer) return transfer.forwardError();

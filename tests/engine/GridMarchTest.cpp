@@ -222,6 +222,74 @@ TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
   }
 }
 
+// The step rule (volume/StepRule.h) at 2 samples per cell: the GPU against the CPU reference
+// taking the same samples (the positions are the rule's on both), in every mode, with the
+// bounds of the fixed step (mean below one 8-bit step, 30 dB); and the picture with empty-space
+// skipping off equals the one with it on within the same bound (a jump's target is aligned by
+// the rule, so skipping lands where the walk does except where the level changes at the jump).
+// The rule must change the picture against the fixed step (it is on) while staying close to it.
+TEST(GridMarch, StepRuleGpuMatchesTheReferenceInEveryMode) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  volume::GridVolume global =
+      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
+  global.wrapsLongitude = true;
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    CameraPose pose;
+    double stepMeters;
+  };
+  const std::vector<Case> cases = {
+      {"regional oblique",
+       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0},
+       50.0},
+      {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, 250.0},
+  };
+  for (const Case& c : cases) {
+    auto gl = engine::GridVolumeGL::create(c.grid);
+    ASSERT_TRUE(gl) << gl.error();
+    const Camera camera(c.pose, 45.0, 64, 36);
+    for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
+      engine::VolumeRenderOptions o;
+      o.render.mode = mode;
+      o.render.stepMeters = c.stepMeters;
+      o.render.isoValue = 30.0;
+      o.render.transfer = volume::defaultReflectivityTransfer();
+      o.render.transfer.opacityReferenceMeters = 5000.0;
+      engine::VolumeRenderOptions fixed = o;
+      o.render.samplesPerCell = 2.0;
+      const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), o}});
+      engine::VolumeRenderOptions noSkip = o;
+      noSkip.skipEmptySpace = false;
+      const volume::VolumeImage gpuNoSkip = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), noSkip}});
+      const volume::VolumeImage ref = volume::renderReference({{&(*gl)->referenceSampler(), o.render}},
+                                                              engine::referenceCameraFor(camera), true, 2);
+      const volume::VolumeImage refFixed = volume::renderReference({{&(*gl)->referenceSampler(), fixed.render}},
+                                                                   engine::referenceCameraFor(camera), true, 2);
+      const volume::ImageError e = volume::compareImages(gpu, ref);
+      const volume::ImageError skip = volume::compareImages(gpu, gpuNoSkip);
+      const volume::ImageError rule = volume::compareImages(ref, refFixed);
+      int drawn = 0;
+      for (const glm::dvec4& p : ref.rgbaPremultiplied) drawn += p.a > 0.05;
+      std::cout << "step rule, grid " << c.name << ", mode " << static_cast<int>(mode) << ": " << drawn
+                << " pixels drawn, GPU vs reference mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb
+                << " dB; skipping on vs off mean " << skip.meanAbs << " max " << skip.maxAbs
+                << "; rule vs fixed step (reference) mean " << rule.meanAbs << " max " << rule.maxAbs << " PSNR "
+                << rule.psnrDb << " dB\n";
+      EXPECT_GT(drawn, 50) << c.name << " must show the blob";
+      EXPECT_LT(e.meanAbs, 1.0) << c.name;
+      EXPECT_GT(e.psnrDb, 30.0) << c.name;
+      EXPECT_LT(skip.meanAbs, 1.0) << c.name;
+      if (mode == volume::VolumeRenderMode::Dvr) {
+        EXPECT_GT(rule.maxAbs, 0.0) << c.name << ": the rule must take other samples";
+      }
+    }
+  }
+}
+
 // A scene with a radar and a forecast grid (both synthetic, the grid's storm where the radar
 // sees it): the scene file's "grids" entry is read (unknown keys and wrong types named), the grid
 // is loaded through the scene renderer (only its time step), and where the two volumes overlap

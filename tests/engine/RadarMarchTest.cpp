@@ -130,6 +130,7 @@ TEST_F(RadarMarch, EveryMarchVariantCompiles) {
       engine::MarchVariant v;
       v.mode = mode;
       v.preintegrated = preintegrated == 1;
+      v.stepRule = true;  // the step rule's code with every kind (radars and shells take level 0)
       for (int k = 0; k < engine::MarchConstants::kMaxVolumes; ++k)
         v.volumes.push_back(k % 2 ? std::pair<std::string, std::vector<std::string>>{"sample_shell.glsl", {}}
                                   : std::pair<std::string, std::vector<std::string>>{

@@ -1,6 +1,7 @@
 #include <atmoglobe/bench/Cells.h>
 
 #include <atmoglobe/bench/Format.h>
+#include <atmoglobe/engine/VolumeLayer.h>
 #include <atmoglobe/volume/TransferFunction.h>
 
 #include <algorithm>
@@ -23,24 +24,31 @@ const char* classificationName(const Cell& c) {
   return c.classification == engine::Classification::Preintegrated ? "preintegrated" : "point";
 }
 
+std::string stepName(const Cell& c) {
+  return formatG(c.stepMeters) + (c.samplesPerCell > 0.0 ? ", " + formatG(c.samplesPerCell) + "/cell" : "");
+}
+
 std::string cellLabel(const Cell& c) {
   std::ostringstream s;
-  s << modeName(c.mode) << " step " << formatG(c.stepMeters) << " m, scale " << formatG(c.imageScale) << ", "
-    << interpName(c.interpolation);
+  s << modeName(c.mode) << " step " << formatG(c.stepMeters) << " m";
+  if (c.samplesPerCell > 0.0) s << ", " << formatG(c.samplesPerCell) << " samples/cell";
+  s << ", scale " << formatG(c.imageScale) << ", " << interpName(c.interpolation);
   if (c.beamApplies) s << ", " << beamName(c.beam);
   if (c.classification == engine::Classification::Preintegrated) s << ", pre-integrated";
   return s.str();
 }
 
 bool sameCell(const Cell& a, const Cell& b) {
-  return a.mode == b.mode && a.stepMeters == b.stepMeters && a.imageScale == b.imageScale &&
-         a.interpolation == b.interpolation && a.beam == b.beam && a.classification == b.classification &&
-         a.beamApplies == b.beamApplies;
+  return a.mode == b.mode && a.stepMeters == b.stepMeters && a.samplesPerCell == b.samplesPerCell &&
+         a.imageScale == b.imageScale && a.interpolation == b.interpolation && a.beam == b.beam &&
+         a.classification == b.classification && a.beamApplies == b.beamApplies;
 }
 
 bool isEngineDefault(const Cell& c) {
   const engine::VolumeRenderOptions d;
-  return c.stepMeters == d.render.stepMeters && c.imageScale == d.imageScale &&
+  // Grids (no beam axis) take the step rule by default (engine::kDefaultGridSamplesPerCell).
+  const double samplesPerCell = c.beamApplies ? 0.0 : engine::kDefaultGridSamplesPerCell;
+  return c.stepMeters == d.render.stepMeters && c.samplesPerCell == samplesPerCell && c.imageScale == d.imageScale &&
          c.interpolation == d.render.interpolation && c.beam == engine::BeamApproximation::EffectiveEarthLocalSphere &&
          c.classification == d.classification;
 }
@@ -49,6 +57,7 @@ engine::VolumeRenderOptions optionsFor(const Cell& c) {
   engine::VolumeRenderOptions o;
   o.render.mode = c.mode;
   o.render.stepMeters = c.stepMeters;
+  o.render.samplesPerCell = c.samplesPerCell;
   o.render.interpolation = c.interpolation;
   o.render.transfer = volume::defaultReflectivityTransfer();
   o.imageScale = c.imageScale;
@@ -70,7 +79,7 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride) {
   return a;
 }
 
-std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis) {
+std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis, const std::vector<double>& samplesPerCell) {
   std::vector<Cell> cells;
   for (double step : axes.stepsMeters)
     for (double scale : axes.imageScales)
@@ -87,6 +96,14 @@ std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis) {
             c.classification = engine::Classification::Preintegrated;
             cells.push_back(c);
           }
+          if (interp == volume::Interpolation::Linear && scale == 1.0 && !beamAxis)
+            for (double n : samplesPerCell)
+              for (auto cl : {engine::Classification::Point, engine::Classification::Preintegrated}) {
+                Cell a = c;
+                a.samplesPerCell = n;
+                a.classification = cl;
+                cells.push_back(a);
+              }
         }
   for (auto mode : {volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
     Cell c;

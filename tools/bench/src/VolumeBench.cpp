@@ -165,14 +165,16 @@ Result<BenchPlan> planGrids(const VolumeBenchOptions& o, const WantedView& wante
       plan.views.push_back(std::move(view));
     }
   }
-  plan.cells = gridCells(standardAxes(o.quick, o.stepsMeters), false);
+  // The step rule at 1 and 2 samples per cell beside every fixed step (scale 1, linear).
+  plan.cells = gridCells(standardAxes(o.quick, o.stepsMeters), false, {1.0, 2.0});
   // At 1280x720: DVR, linear, point classification, the bench's steps among {250, 1000} m (the
-  // default and the interactive one) at every scale.
+  // default and the interactive one) at every scale, and the step rule from 250 m.
   if (o.big)
     for (const Cell& c : plan.cells)
       if (c.mode == volume::VolumeRenderMode::Dvr && c.interpolation == volume::Interpolation::Linear &&
           c.classification == engine::Classification::Point && (c.stepMeters == 250.0 || c.stepMeters == 1000.0) &&
-          (!o.quick || isEngineDefault(c)))
+          (c.samplesPerCell == 0.0 || c.stepMeters == 250.0) &&
+          (!o.quick || isEngineDefault(c) || c.samplesPerCell > 0.0))
         plan.bigCells.push_back(c);
   return plan;
 }

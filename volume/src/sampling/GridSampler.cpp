@@ -223,6 +223,43 @@ GridSampler::GridSampler(const GridVolume& grid) : grid_(grid) {
     for (const glm::dvec3& p : pts) radius = std::max(radius, glm::length(p - centre));
     sphere_ = {centre, radius + spacing * spacing / (8.0 * 6.35e6) + 10.0};
   }
+
+  // The step rule's cell scale (StepRule.h): mean level heights over at most ~65,000 columns
+  // (every column, or every s-th row and column), and the distance from the middle grid point to
+  // its neighbours along the row and the column.
+  if (grid.nz > 0 && grid.nx > 0 && grid.ny > 0) {
+    const std::size_t stride = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(columns) / 65536.0))));
+    std::vector<double> mean(grid.nz, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < grid.nz; ++k) {
+      double sum = 0.0;
+      std::size_t n = 0;
+      for (std::size_t j = 0; j < grid.ny; j += stride)
+        for (std::size_t i = 0; i < grid.rowLength(j); i += stride) {
+          const float h = grid.heightMeters(k, j, i);
+          if (!std::isfinite(h)) continue;
+          sum += h;
+          ++n;
+        }
+      if (n > 0) mean[k] = sum / static_cast<double>(n);
+    }
+    if (grid.nz >= 2 && mean.front() > mean.back()) std::reverse(mean.begin(), mean.end());
+    double spacing = std::numeric_limits<double>::infinity();
+    const std::size_t j = grid.ny / 2, i = grid.rowLength(j) / 2;
+    auto distance = [&](std::size_t j2, std::size_t i2) {
+      const double d =
+          globe::geodesicInverse(grid.latDegAt(j, i), grid.lonDegAt(j, i), grid.latDegAt(j2, i2), grid.lonDegAt(j2, i2))
+              .distanceMeters;
+      if (d > 0.0) spacing = std::min(spacing, d);
+    };
+    if (i + 1 < grid.rowLength(j)) distance(j, i + 1);
+    if (j + 1 < grid.ny) distance(j + 1, std::min(i, grid.rowLength(j + 1) - 1));
+    cellScale_ = cellScaleFromLevels(mean, minHeight_, maxHeight_, std::isfinite(spacing) ? spacing : 0.0);
+  }
+}
+
+double GridSampler::cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const {
+  return volume::cellCrossingMeters(cellScale_, ecef, unitDirEcef);
 }
 
 RayInterval GridSampler::rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const {

@@ -2,10 +2,12 @@
 #include <atmoglobe/volume/ReferenceRenderer.h>
 
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/StepRule.h>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <thread>
 
@@ -15,8 +17,8 @@ namespace {
 // One layer along one ray: its sample indices [iFirst, iLast] (t_i = (i + 0.5) step inside its
 // interval, i >= 0).
 struct LayerRange {
-  double iFirst = 0.0;
-  double iLast = -1.0;
+  std::int64_t iFirst = 0;
+  std::int64_t iLast = -1;
 };
 
 struct Context {
@@ -70,18 +72,18 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
   const double step = st.stepMeters;
   const std::size_t n = ctx.layers.size();
   std::vector<LayerRange> ranges(n);
-  double iBegin = std::numeric_limits<double>::infinity(), iEnd = -1.0;
+  std::int64_t iBegin = std::numeric_limits<std::int64_t>::max(), iEnd = -1;
   for (std::size_t k = 0; k < n; ++k) {
     const RayInterval span = ctx.layers[k].sampler->rayInterval(eye, dir);
     if (span.empty() || span.tExitMeters < 0.0) continue;
     // i with tEnter <= (i + 0.5) step <= tExit, i >= 0.
-    ranges[k].iFirst = std::max(0.0, std::ceil(span.tEnterMeters / step - 0.5));
-    ranges[k].iLast = std::floor(span.tExitMeters / step - 0.5);
+    ranges[k].iFirst = static_cast<std::int64_t>(std::max(0.0, std::ceil(span.tEnterMeters / step - 0.5)));
+    ranges[k].iLast = static_cast<std::int64_t>(std::floor(span.tExitMeters / step - 0.5));
     if (ranges[k].iLast < ranges[k].iFirst) continue;
     iBegin = std::min(iBegin, ranges[k].iFirst);
     iEnd = std::max(iEnd, ranges[k].iLast);
   }
-  if (!(iBegin <= iEnd)) return glm::dvec4(0.0);
+  if (iBegin > iEnd) return glm::dvec4(0.0);
   double tLimit = occluderMeters;
   if (occlude) {
     if (const std::optional<glm::dvec3> hit = globe::intersectRayEllipsoid(eye, dir))
@@ -95,9 +97,28 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
     bool anyEcho = false;
   };
   std::vector<MipState> mip(st.mode == VolumeRenderMode::Mip ? n : 0);
-  for (double i = iBegin; i <= iEnd; i += 1.0) {
-    const double t = (i + 0.5) * step;
+  // The step rule (StepRule.h): the level at fine index c, the smallest of the layers' whose
+  // range holds it (each by its own samplesPerCell).
+  const bool adaptive = std::any_of(ctx.layers.begin(), ctx.layers.end(),
+                                    [](const ReferenceLayer& l) { return l.settings.samplesPerCell > 0.0; });
+  auto levelAt = [&](std::int64_t c) {
+    if (!adaptive) return 0;
+    const double t = (static_cast<double>(c) + 0.5) * step;
+    int level = kMaxStepLevel + 1;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (c < ranges[k].iFirst || c > ranges[k].iLast) continue;
+      const VolumeRenderSettings& s = ctx.layers[k].settings;
+      const double crossing = s.samplesPerCell > 0.0 ? ctx.layers[k].sampler->cellCrossingMeters(eye + t * dir, dir)
+                                                     : 0.0;
+      level = std::min(level, stepLevel(crossing, step, s.samplesPerCell));
+    }
+    return level > kMaxStepLevel ? 0 : level;
+  };
+  int level = levelAt(iBegin);
+  for (std::int64_t i = alignUp(iBegin, level); i <= iEnd;) {
+    const double t = (static_cast<double>(i) + 0.5) * step;
     if (!(t < tLimit)) break;
+    const double stepHere = std::ldexp(step, level);  // what this sample stands for
     const glm::dvec3 p = eye + t * dir;
     // DVR over the layers at this sample: opacities and extinction-weighted colour.
     int contributing = 0;
@@ -113,7 +134,7 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
         case VolumeRenderMode::Dvr: {
           const glm::dvec4 c = layer.settings.transfer.classify(s.value);
           if (c.a <= 0.0) break;
-          const double as = layer.settings.transfer.correctedOpacity(c.a, step);
+          const double as = layer.settings.transfer.correctedOpacity(c.a, stepHere);
           ++contributing;
           single = glm::dvec4(glm::dvec3(c), as);
           transmitted *= 1.0 - as;
@@ -130,7 +151,7 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
           mip[k].anyEcho = true;
           break;
         case VolumeRenderMode::Iso:
-          if (s.value >= layer.settings.isoValue) return shadeIso(layer, step, eye, dir, t);
+          if (s.value >= layer.settings.isoValue) return shadeIso(layer, stepHere, eye, dir, t);
           break;
       }
     }
@@ -145,6 +166,9 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
       acc += glm::dvec4(rgb * w, w);
       if (acc.a >= st.earlyTerminationAlpha) return acc;
     }
+    const std::int64_t c = i + (std::int64_t{1} << level);
+    level = levelAt(c);
+    i = alignUp(c, level);
   }
   if (st.mode == VolumeRenderMode::Mip) {
     std::vector<std::size_t> order;

@@ -125,6 +125,10 @@ struct VolumeLayerDescription {
   volume::Interpolation interpolation = volume::Interpolation::Linear;
   /// Ray-march step (m). Layers of one step are integrated together where they overlap.
   double stepMeters = 250.0;
+  /// Grids: > 0 the step follows the cells, about this many samples per cell crossed, never
+  /// shorter than stepMeters (volume/StepRule.h); 0: the fixed step. Unset: the kind's default
+  /// (samplesPerCellOf).
+  std::optional<double> samplesPerCell;
   double imageScale = 1.0;  ///< volume image resolution relative to the frame (0.05..1)
   /// The isosurface value (field units). Empty: the kind's default (defaultIsoValue).
   std::optional<double> isoValue;
@@ -134,6 +138,13 @@ struct VolumeLayerDescription {
   bool useGeoid = true;  ///< heights above sea level to the ellipsoid through EGM96
   VolumeLayerSettings settings;
 };
+
+/// The step rule's samples per cell a grid takes unless its description sets one: 2 (errors
+/// against a fine fixed-step reference in docs/grids.md, "The step rule").
+inline constexpr double kDefaultGridSamplesPerCell = 2.0;
+/// The description's samplesPerCell, else its kind's default (grids kDefaultGridSamplesPerCell,
+/// radars 0: no rule for their cells yet).
+double samplesPerCellOf(const VolumeLayerDescription& d);
 
 /// The isosurface value a layer without one gets: radars 40 (dBZ), grids the middle of the
 /// values' range.

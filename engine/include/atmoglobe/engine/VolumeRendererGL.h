@@ -33,6 +33,9 @@ struct MarchVariant {
   int mode = 0;  ///< 0 DVR, 1 MIP, 2 isosurface, 3 debug (volume 0's coordinates)
   bool skipEmpty = true;
   bool preintegrated = false;
+  /// Some volume follows the step rule (samplesPerCell > 0, volume/StepRule.h); without, the
+  /// rule's code folds away and the march is the fixed-step one.
+  bool stepRule = false;
   /// Per volume: its sampler file and its sampler defines.
   std::vector<std::pair<std::string, std::vector<std::string>>> volumes;
   auto operator<=>(const MarchVariant&) const = default;
@@ -110,7 +113,7 @@ class VolumeRendererGL {
     int cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
     struct Volume {
       int eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
-          opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1;
+          opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1, samplesPerCell = -1;
     };
     std::vector<Volume> volumes;
   };

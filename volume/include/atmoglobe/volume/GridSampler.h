@@ -41,6 +41,7 @@
 // shows.
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
+#include <atmoglobe/volume/StepRule.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
 #include <glm/glm.hpp>
@@ -72,6 +73,11 @@ class GridSampler final : public VolumeSampler {
   RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override;
   VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
   BoundingSphere boundingSphere() const override { return sphere_; }
+  /// The step rule (StepRule.h) with cellScale().
+  double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const override;
+  /// The grid's cell size for the step rule: its mean level heights' spacing by height and the
+  /// distance between neighbouring columns at its middle grid point.
+  const CellScale& cellScale() const { return cellScale_; }
   ValueRange valueRange() const override;
   std::string description() const override;
 
@@ -152,6 +158,7 @@ class GridSampler final : public VolumeSampler {
 
   const GridVolume& grid_;
   double minHeight_ = 0.0, maxHeight_ = 0.0;
+  CellScale cellScale_;
   BoundingSphere sphere_;
   // Global grids: the pole columns (per level: mean height, mean value of the end row; NaN
   // value if any value of the row is missing).

@@ -35,7 +35,9 @@ struct ReferenceLayer {
 ///  - samples at t_i = (i + 0.5) * step along the unit ray from the eye, i >= 0, t_i before the
 ///    ray's first hit of the WGS84 ellipsoid if occludeByEllipsoid (globe::intersectRayEllipsoid);
 ///    layer k is sampled at t_i only when t_i lies in its rayInterval (so a pixel pays only for the
-///    layers its ray crosses, and only along their intervals);
+///    layers its ray crosses, and only along their intervals); with samplesPerCell > 0 only the
+///    t_i the step rule picks (StepRule.h), each standing for its step 2^L step ("step" below is
+///    that sample's);
 ///  - DVR: for each layer with an Echo sample, c_k = classify(value), a_k = correctedOpacity(c_k.a,
 ///    step). Where volumes overlap the emission-absorption integral of all of them is taken:
 ///    extinctions add, so the sample's opacity is a = 1 - prod(1 - a_k) and its colour the

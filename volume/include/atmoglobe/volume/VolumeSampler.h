@@ -90,6 +90,14 @@ class VolumeSampler {
     return false;
   }
 
+  /// The length of ray that crosses one of the kind's cells at `ecef` going along `unitDirEcef`
+  /// (the step rule, StepRule.h). 0: the kind has no rule, its samples take the fixed step.
+  virtual double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const {
+    (void)ecef;
+    (void)unitDirEcef;
+    return 0.0;
+  }
+
   /// The range of Echo values (finite; min <= max).
   virtual ValueRange valueRange() const = 0;
 

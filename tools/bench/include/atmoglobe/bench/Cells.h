@@ -13,6 +13,8 @@ namespace atmoglobe::bench {
 struct Cell {
   volume::VolumeRenderMode mode = volume::VolumeRenderMode::Dvr;
   double stepMeters = 250.0;
+  /// > 0: the step follows the cells (volume/StepRule.h), stepMeters the shortest; 0: fixed.
+  double samplesPerCell = 0.0;
   double imageScale = 1.0;
   volume::Interpolation interpolation = volume::Interpolation::Linear;
   engine::BeamApproximation beam = engine::BeamApproximation::EffectiveEarthLocalSphere;
@@ -28,7 +30,9 @@ const char* beamName(engine::BeamApproximation b);  ///< 4/3-earth, straight
 const char* beamName(const Cell& c);                ///< beamName(c.beam), or "-" where the kind has no beam
 /// DVR: point or preintegrated; MIP and iso: "-" (classification does not apply).
 const char* classificationName(const Cell& c);
-/// "dvr step 250 m, scale 1, linear, 4/3-earth[, pre-integrated]" (the per-view table).
+/// "250", or "250, 2/cell" for a step that follows the cells (the tables' step column).
+std::string stepName(const Cell& c);
+/// "dvr step 250 m[, 2 samples/cell], scale 1, linear, 4/3-earth[, pre-integrated]" (the per-view table).
 std::string cellLabel(const Cell& c);
 bool sameCell(const Cell& a, const Cell& b);
 
@@ -52,7 +56,8 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride);
 /// DVR: every step x scale x {nearest, linear} x {4/3-Earth, straight} with point
 /// classification, each linear cell again pre-integrated (pre-integration assumes the field
 /// linear between samples); then MIP and iso at the default. `beamAxis` false (forecast grids:
-/// no beam model): the straight-beam cells are left out and every cell has beamApplies false.
-std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis = true);
+/// no beam model): the straight-beam cells are left out and every cell has beamApplies false,
+/// and each linear cell at scale 1 is repeated with the step rule at `samplesPerCell` each.
+std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis = true, const std::vector<double>& samplesPerCell = {});
 
 }  // namespace atmoglobe::bench
