@@ -62,8 +62,8 @@ void orderPair(inout float a, inout float b) {
 // @VOLUMES@
 
 // The step rule (volume/StepRule.h): the level of fine index c, the smallest of the volumes'
-// whose range holds it (none: 0; a volume without the rule: 0), and c rounded up to a multiple
-// of 2^level.
+// whose range holds it (none: 0; a volume without the rule: 0) and of the pixel footprint's, and
+// c rounded up to a multiple of 2^level.
 int stepLevelAt(int c, vec3 dir, ivec2 range[VOLUME_COUNT]) {
   if (kStepRule == 0) return 0;
   float t = (float(c) + 0.5) * u_step;
@@ -76,7 +76,9 @@ int stepLevelAt(int c, vec3 dir, ivec2 range[VOLUME_COUNT]) {
       any = true;
     }
   }
-  float q = spacing / u_step;
+  // Never more than a pixel's footprint at that distance (of the full-resolution image): the
+  // positions' pattern stays below a pixel on the screen.
+  float q = min(spacing, t / u_focalPx) / u_step;
   return !any || !(q >= 2.0) ? 0 : min(int(floor(log2(q))), MAX_STEP_LEVEL);
 }
 

@@ -24,6 +24,7 @@ struct LayerRange {
 struct Context {
   const std::vector<ReferenceLayer>& layers;
   const VolumeRenderSettings& shared;  // layers[0]: mode, step, early termination
+  double focalPx = 0.0;                // the step rule's pixel footprint t / focalPx; 0: none
 };
 
 VolumeSample sampleLayer(const ReferenceLayer& layer, const glm::dvec3& ecef) {
@@ -112,6 +113,7 @@ glm::dvec4 marchRay(const Context& ctx, const glm::dvec3& eye, const glm::dvec3&
                                                      : 0.0;
       level = std::min(level, stepLevel(crossing, step, s.samplesPerCell));
     }
+    if (ctx.focalPx > 0.0) level = std::min(level, stepLevel(t / ctx.focalPx, step, 1.0));
     return level > kMaxStepLevel ? 0 : level;
   };
   int level = levelAt(iBegin);
@@ -204,7 +206,7 @@ void checkLayers(const std::vector<ReferenceLayer>& layers) {
 glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const glm::dvec3& eyeEcef,
                               const glm::dvec3& unitDirEcef, bool occludeByEllipsoid) {
   checkLayers(layers);
-  const Context ctx{layers, layers[0].settings};
+  const Context ctx{layers, layers[0].settings, 0.0};
   return marchRay(ctx, eyeEcef, unitDirEcef, occludeByEllipsoid);
 }
 
@@ -223,7 +225,7 @@ VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const Ren
   img.widthPx = camera.widthPx;
   img.heightPx = camera.heightPx;
   img.rgbaPremultiplied.assign(pixels, glm::dvec4(0.0));
-  const Context ctx{layers, layers[0].settings};
+  const Context ctx{layers, layers[0].settings, camera.focalLengthPx};
   const int nThreads = std::clamp(threads, 1, camera.heightPx);
   auto work = [&](int first) {
     for (int y = first; y < camera.heightPx; y += nThreads)

@@ -69,7 +69,8 @@ VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const Ren
 VolumeImage renderReference(const std::vector<ReferenceLayer>& layers, const RenderCamera& camera,
                             const std::vector<double>& occluderRayMeters, bool occludeByEllipsoid, int threads);
 
-/// The colour of one ray (premultiplied RGBA) by the rule of renderReference.
+/// The colour of one ray (premultiplied RGBA) by the rule of renderReference (no camera: the step
+/// rule without its pixel-footprint limit).
 glm::dvec4 renderReferenceRay(const std::vector<ReferenceLayer>& layers, const glm::dvec3& eyeEcef,
                               const glm::dvec3& unitDirEcef, bool occludeByEllipsoid);
 

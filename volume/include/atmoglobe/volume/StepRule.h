@@ -7,8 +7,11 @@
 // Samples sit on the fine grid t_i = (i + 0.5) step of the fixed-step march. Each sample has a
 // level L (0 .. kMaxStepLevel): it stands for a step of 2^L fine steps, and the next sample is
 // the next fine index that is a multiple of 2^L' where L' is the level found there:
-//   L(c) = stepLevel(min over the volumes whose range holds c of their cellCrossingMeters at t_c)
-//          (no volume there, or a kind without a rule: 0),
+//   L(c) = the smallest of stepLevel(cellCrossingMeters at t_c, step, samplesPerCell) over the
+//          volumes whose range holds c (no volume there, or a kind without a rule: 0) and of
+//          stepLevel(t_c / focalPx, step, 1): never more than the footprint of a pixel of the
+//          full-resolution image at that distance, so that the positions' pattern (the edges and
+//          bands a coarse step draws) stays below a pixel on the screen,
 //   start: c = the first index, L = L(c), i = alignUp(c, L);
 //   next:  c = i + 2^L,         L = L(c), i = alignUp(c, L).
 // Positions depend on the geometry only (no sample value), so skipping empty space lands where
