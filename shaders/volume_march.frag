@@ -66,20 +66,21 @@ void orderPair(inout float a, inout float b) {
 // c rounded up to a multiple of 2^level.
 int stepLevelAt(int c, vec3 dir, ivec2 range[VOLUME_COUNT]) {
   if (kStepRule == 0) return 0;
+  // In steps: a pixel's footprint at t_c, t_c / focal / step = (c + 0.5) / focal (of the
+  // full-resolution image: the positions' pattern stays below a pixel on the screen) ...
+  float q = (float(c) + 0.5) / u_focalPx;
   float t = (float(c) + 0.5) * u_step;
-  float spacing = 1e30;  // the sample spacing each volume asks for: its cell crossing / samples per cell
   bool any = false;
   for (int k = 0; k < VOLUME_COUNT; ++k) {
     if (c >= range[k].x && c <= range[k].y) {
+      // ... and the spacing each volume asks for: its cell crossing / samples per cell.
       float n = volSamplesPerCell(k);
-      spacing = min(spacing, n > 0.0 ? volCellCrossing(k, volEyeRel(k) + t * dir, dir) / n : 0.0);
+      q = min(q, n > 0.0 ? volCellCrossing(k, volEyeRel(k) + t * dir, dir) / (n * u_step) : 0.0);
       any = true;
     }
   }
-  // Never more than a pixel's footprint at that distance (of the full-resolution image): the
-  // positions' pattern stays below a pixel on the screen.
-  float q = min(spacing, t / u_focalPx) / u_step;
-  return !any || !(q >= 2.0) ? 0 : min(int(floor(log2(q))), MAX_STEP_LEVEL);
+  // floor(log2(q)) = the highest set bit of floor(q), for q >= 1.
+  return any && q >= 2.0 ? min(findMSB(int(min(q, 1e6))), MAX_STEP_LEVEL) : 0;
 }
 
 int alignUp(int c, int level) {
@@ -191,6 +192,7 @@ void main() {
       // isosurface: nothing at or above its iso value), jump to the first sample after the
       // nearest place where that may change, staying on the t_i grid. An inner loop, so that on
       // SIMD hardware the lanes of a group skip together and then sample together.
+      bool jumped = false;
       while (i <= iEnd) {
         float ts = (float(i) + 0.5) * u_step;
         float tNext = 1e30;
@@ -206,9 +208,14 @@ void main() {
           }
         }
         if (!empty) break;
-        int c = max(i + 1, int(ceil(min(tNext, b) / u_step - 0.5)));
-        level = stepLevelAt(c, dir, range);
-        i = alignUp(c, level);
+        // Aligned by the last level while jumping; the level of where the jumps end is found
+        // once, after them (the same place wherever the level is the same on both sides).
+        i = alignUp(max(i + 1, int(ceil(min(tNext, b) / u_step - 0.5))), level);
+        jumped = true;
+      }
+      if (jumped) {
+        level = stepLevelAt(i, dir, range);
+        i = alignUp(i, level);
         lastIndex = -2;
       }
       if (i > iEnd) break;
@@ -251,8 +258,10 @@ void main() {
         prevC[k] = c;
       } else if (kMode == 0 && kPreintegrated == 0 && state == STATE_ECHO) {
         vec4 c = volClassify(k, v);  // alpha corrected for the step length on the CPU
-        // A sample of level L stands for 2^L steps: 1 - (1 - alpha)^(2^L).
-        if (level > 0) c.a = 1.0 - pow(max(1.0 - c.a, 0.0), float(1 << level));
+        // A sample of level L stands for 2^L steps: 1 - (1 - alpha)^(2^L), by L squarings.
+        float kept = 1.0 - c.a;
+        for (int j = 0; j < level; ++j) kept *= kept;
+        c.a = 1.0 - kept;
         if (c.a > 0.0) {
           ++contributing;
           single = c;

@@ -228,6 +228,17 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
                                  layers[k].volume->samplerDefines(layers[k].options));
     variant.stepRule = variant.stepRule || (!debugMode && layers[k].options.render.samplesPerCell > 0.0);
   }
+  // The step rule never goes above a pixel's footprint t / focal: where the volumes' far side is
+  // nearer than 2 steps' worth of footprint, every level is 0 and the fixed-step program draws the
+  // same picture without the rule's cost per sample.
+  if (variant.stepRule) {
+    double farMeters = 0.0;
+    for (int k = 0; k < count; ++k) {
+      const volume::BoundingSphere b = layers[k].volume->referenceSampler().boundingSphere();
+      farMeters = std::max(farMeters, glm::length(b.centreEcef - camera.eyeEcef()) + b.radiusMeters);
+    }
+    if (farMeters / camera.focalLengthPx() < 2.0 * rs.stepMeters) variant.stepRule = false;
+  }
   if (!marchProgram(variant)) return false;
   ProgramEntry& entry = programs_.find(variant)->second;
   entry.program.use();
