@@ -172,39 +172,50 @@ TEST(GridMarch, GpuMappingMatchesTheDoublePathEverywhere) {
   }
 }
 
+namespace {
+// The blob seen obliquely on a regional grid, and on a global grid over the pole and across the
+// antimeridian, at the given steps.
+struct BlobCase {
+  const char* name;
+  volume::GridVolume grid;
+  CameraPose pose;
+  double stepMeters;
+};
+std::vector<BlobCase> blobCases(double regionalStepMeters, double globalStepMeters) {
+  volume::GridVolume global =
+      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
+  global.wrapsLongitude = true;
+  return {{"regional oblique",
+           blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
+           {33.0, -95.0, 6e4, 0.0, -30.0, 0.0},
+           regionalStepMeters},
+          {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, globalStepMeters}};
+}
+// Their drawing: the reflectivity table (iso at 30) in `mode` at this step.
+engine::VolumeRenderOptions blobOptions(volume::VolumeRenderMode mode, double stepMeters,
+                                        double opacityReferenceMeters) {
+  engine::VolumeRenderOptions o;
+  o.render.mode = mode;
+  o.render.stepMeters = stepMeters;
+  o.render.isoValue = 30.0;
+  o.render.transfer = volume::defaultReflectivityTransfer();
+  o.render.transfer.opacityReferenceMeters = opacityReferenceMeters;
+  return o;
+}
+}  // namespace
+
 // GPU images against the CPU reference (exact double sampling) in every mode, for a regional and
 // a global grid (over the pole and across the antimeridian: no seams or holes to differ).
 TEST(GridMarch, GpuMatchesTheReferenceInEveryMode) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  volume::GridVolume global =
-      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
-  global.wrapsLongitude = true;
-  struct Case {
-    const char* name;
-    volume::GridVolume grid;
-    CameraPose pose;
-    double stepMeters;
-  };
-  const std::vector<Case> cases = {
-      {"regional oblique",
-       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
-       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0},
-       500.0},
-      {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, 5000.0},
-  };
-  for (const Case& c : cases) {
+  for (const BlobCase& c : blobCases(500.0, 5000.0)) {
     auto gl = engine::GridVolumeGL::create(c.grid);
     ASSERT_TRUE(gl) << gl.error();
     const Camera camera(c.pose, 45.0, 64, 36);
     for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
-      engine::VolumeRenderOptions o;
-      o.render.mode = mode;
-      o.render.stepMeters = c.stepMeters;
-      o.render.isoValue = 30.0;
-      o.render.transfer = volume::defaultReflectivityTransfer();
-      o.render.transfer.opacityReferenceMeters = c.stepMeters * 10.0;
+      const engine::VolumeRenderOptions o = blobOptions(mode, c.stepMeters, c.stepMeters * 10.0);
       const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), o}});
       const volume::VolumeImage ref = volume::renderReference({{&(*gl)->referenceSampler(), o.render}},
                                                               engine::referenceCameraFor(camera), true, 2);
@@ -232,33 +243,12 @@ TEST(GridMarch, StepRuleGpuMatchesTheReferenceInEveryMode) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  volume::GridVolume global =
-      blobGrid(testutil::evenlySpaced(0.0, 2.5, 144), testutil::evenlySpaced(-88.75, 2.5, 72), 80.0, 180.0, 15.0);
-  global.wrapsLongitude = true;
-  struct Case {
-    const char* name;
-    volume::GridVolume grid;
-    CameraPose pose;
-    double stepMeters;
-  };
-  const std::vector<Case> cases = {
-      {"regional oblique",
-       blobGrid(testutil::evenlySpaced(-100.0, 0.1, 101), testutil::evenlySpaced(30.0, 0.1, 101), 35.0, -95.0, 1.5),
-       {33.0, -95.0, 6e4, 0.0, -30.0, 0.0},
-       50.0},
-      {"global, pole and antimeridian", global, {70.0, 180.0, 3e6, 0.0, -70.0, 0.0}, 250.0},
-  };
-  for (const Case& c : cases) {
+  for (const BlobCase& c : blobCases(50.0, 250.0)) {
     auto gl = engine::GridVolumeGL::create(c.grid);
     ASSERT_TRUE(gl) << gl.error();
     const Camera camera(c.pose, 45.0, 64, 36);
     for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
-      engine::VolumeRenderOptions o;
-      o.render.mode = mode;
-      o.render.stepMeters = c.stepMeters;
-      o.render.isoValue = 30.0;
-      o.render.transfer = volume::defaultReflectivityTransfer();
-      o.render.transfer.opacityReferenceMeters = 5000.0;
+      engine::VolumeRenderOptions o = blobOptions(mode, c.stepMeters, 5000.0);
       engine::VolumeRenderOptions fixed = o;
       o.render.samplesPerCell = 2.0;
       const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), o}});
