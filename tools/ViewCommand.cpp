@@ -517,31 +517,26 @@ engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const 
   constexpr double kMarkerViewMeters = 2e5;
   constexpr double kPlaceViewMeters = 1e5;
   engine::Gazetteer g;
+  // A place to fly to is a radar's site, by its names (site, label), loaded or not yet.
+  auto addRadar = [&](const std::string& site, const std::string& label, double latDeg, double lonDeg) {
+    engine::Place p;
+    for (const std::string& n : {site, label})
+      if (!n.empty()) p.names.push_back(n);
+    if (p.names.empty()) p.names.push_back("radar");
+    p.kind = "radar";
+    p.latDeg = latDeg;
+    p.lonDeg = globe::wrapLongitudeDeg(lonDeg);
+    p.viewHeightMeters = kRadarViewMeters;
+    g.add(std::move(p));
+  };
   for (std::size_t i = 0; i < renderer.volumeLayerCount(); ++i) {
-    const auto* r = renderer.layerAs<engine::RadarSourceGL>(i);
-    if (!r) continue;  // a place to fly to is a radar's site
-    const volume::GeolocationSite& site = r->radarVolume().polar().site;
-    engine::Place p;
-    for (const std::string& n : {r->siteName(), r->siteMarker()->label})
-      if (!n.empty()) p.names.push_back(n);
-    if (p.names.empty()) p.names.push_back("radar");
-    p.kind = "radar";
-    p.latDeg = site.latDeg;
-    p.lonDeg = globe::wrapLongitudeDeg(site.lonDeg);
-    p.viewHeightMeters = kRadarViewMeters;
-    g.add(std::move(p));
+    if (const auto* r = renderer.layerAs<engine::RadarSourceGL>(i)) {
+      const volume::GeolocationSite& site = r->radarVolume().polar().site;
+      addRadar(r->siteName(), r->siteMarker()->label, site.latDeg, site.lonDeg);
+    }
   }
-  for (const engine::DeferredRadar& d : deferred) {  // not loaded yet: flying there loads them
-    engine::Place p;
-    for (const std::string& n : {d.footprint.siteName, d.description.label})
-      if (!n.empty()) p.names.push_back(n);
-    if (p.names.empty()) p.names.push_back("radar");
-    p.kind = "radar";
-    p.latDeg = d.footprint.latDeg;
-    p.lonDeg = globe::wrapLongitudeDeg(d.footprint.lonDeg);
-    p.viewHeightMeters = kRadarViewMeters;
-    g.add(std::move(p));
-  }
+  for (const engine::DeferredRadar& d : deferred)  // not loaded yet: flying there loads them
+    addRadar(d.footprint.siteName, d.description.label, d.footprint.latDeg, d.footprint.lonDeg);
   for (const engine::Marker& m : markers) {
     if (m.label.empty()) continue;
     g.add(engine::Place{{m.label}, "marker", m.latDeg, m.lonDeg, kMarkerViewMeters});
