@@ -1,0 +1,204 @@
+// The coverage index and the overlap rules of a radar network (RadarNetwork.h): the index never
+// leaves out a radar that has data at a point, the network's samples through the index equal those
+// that visit every radar, and each rule gives the value worked out here from its formula.
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/RadarNetwork.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace atmoglobe::volume {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A radar at (lat, lon) whose every gate holds `value` (dBZ): 36 rays, 100 gates of 1 km from 1 km,
+// sweeps at 0.5, 1.5, 3, 6 and 10 deg.
+PolarVolume constantRadar(double latDeg, double lonDeg, float value, double antennaMeters = 300.0) {
+  RadarVolume rv;
+  rv.format = "test";
+  rv.sourcePath = "constant.nc";
+  rv.beamWidthDeg = 1.0;
+  rv.loadedField = FieldInfo{"DBZH", "dBZ", {}};
+  rv.fields = {rv.loadedField};
+  int index = 0;
+  for (double el : {0.5, 1.5, 3.0, 6.0, 10.0}) {
+    Sweep s;
+    s.fixedAngleDeg = el;
+    s.mode = SweepMode::Ppi;
+    for (int r = 0; r < 36; ++r) s.azimuthDeg.push_back(10.0f * static_cast<float>(r) + 5.0f);
+    s.elevationDeg.assign(s.azimuthDeg.size(), static_cast<float>(el));
+    s.firstGateRangeMeters = 1000.0;
+    s.gateSpacingMeters = 1000.0;
+    s.gateCount = 100;
+    s.values.assign(s.azimuthDeg.size() * s.gateCount, value);
+    s.indexInFile = index++;
+    rv.sweeps.push_back(std::move(s));
+  }
+  SiteResolution site;
+  site.site = GeolocationSite{latDeg, lonDeg, antennaMeters};
+  Result<PolarVolume> pv = buildPolarVolume(rv, site, BeamModel{});
+  EXPECT_TRUE(pv.ok()) << (pv.ok() ? "" : pv.error());
+  return pv.ok() ? *pv : PolarVolume{};
+}
+
+glm::dvec3 ecefOf(double latDeg, double lonDeg, double h) { return globe::geodeticToEcef({latDeg, lonDeg, h}); }
+
+// Uniform random point in the ball of `s`.
+glm::dvec3 pointInSphere(const BoundingSphere& s, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (;;) {
+    const glm::dvec3 d(u(rng), u(rng), u(rng));
+    if (glm::dot(d, d) <= 1.0) return s.centreEcef + s.radiusMeters * d;
+  }
+}
+
+TEST(RadarNetwork, CoverageIndexListsEveryRadarWithDataAtAPoint) {
+  // Spheres of radar size (40 to 470 km) at random places, with the hard ones added: across the
+  // antimeridian, at a pole, next to a pole; random points inside each must find it listed.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> lat(-89.0, 89.0), lon(-180.0, 180.0), radius(40e3, 470e3);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<BoundingSphere> spheres;
+    if (trial == 0) {
+      for (double l : {179.7, -179.6, 178.0, -176.0}) spheres.push_back({ecefOf(20.0, l, 500.0), 250e3});
+    } else if (trial == 1) {
+      spheres.push_back({ecefOf(90.0, 0.0, 100.0), 300e3});
+      spheres.push_back({ecefOf(88.0, 120.0, 100.0), 300e3});
+      spheres.push_back({ecefOf(-87.0, -60.0, 100.0), 200e3});
+    } else {
+      // A network over a region of 10-40 degrees, somewhere on the globe.
+      const double lat0 = std::uniform_real_distribution<double>(-70.0, 70.0)(rng), lon0 = lon(rng);
+      const double extent = std::uniform_real_distribution<double>(10.0, 40.0)(rng);
+      for (int k = 0; k < 30; ++k) {
+        const double la =
+            std::clamp(lat0 + extent * (std::uniform_real_distribution<double>(-0.5, 0.5)(rng)), -89.0, 89.0);
+        const double lo = lon0 + extent * std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+        spheres.push_back({ecefOf(la, lo > 180.0 ? lo - 360.0 : lo, 300.0), radius(rng)});
+      }
+    }
+    const CoverageIndex index = buildCoverageIndex(spheres);
+    ASSERT_GT(index.cellCount(), 0u);
+    std::size_t checked = 0;
+    for (std::size_t k = 0; k < spheres.size(); ++k)
+      for (int i = 0; i < 2000; ++i) {
+        const glm::dvec3 p = pointInSphere(spheres[k], rng);
+        const auto [first, last] = index.radarsAt(p);
+        ASSERT_NE(first, last) << "trial " << trial << " sphere " << k << ": the point's cell lists nothing";
+        ASSERT_NE(std::find(first, last, static_cast<std::uint32_t>(k)), last)
+            << "trial " << trial << " sphere " << k << " is not listed at a point inside it";
+        ++checked;
+      }
+    EXPECT_GT(checked, 0u);
+    // The index is a filter, not the whole list: in a spread network a cell lists far fewer
+    // radars than there are.
+    if (trial >= 2) {
+      EXPECT_LT(index.meanPerOccupiedCell(), 0.5 * static_cast<double>(spheres.size())) << "trial " << trial;
+    }
+  }
+}
+
+TEST(RadarNetwork, TheIndexTakesTheSameSamplesAsVisitingEveryRadar) {
+  // Five overlapping radars of different values; the index only filters, so every rule gives the
+  // same sample through it as over every radar.
+  std::vector<PolarVolume> volumes;
+  const double sites[5][2] = {{35.0, -97.0}, {35.2, -96.6}, {34.8, -96.7}, {35.5, -97.4}, {36.4, -95.0}};
+  for (int k = 0; k < 5; ++k)
+    volumes.push_back(constantRadar(sites[k][0], sites[k][1], 10.0f + 7.0f * static_cast<float>(k)));
+  std::vector<const PolarVolume*> ptrs;
+  for (const auto& v : volumes) ptrs.push_back(&v);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> lat(34.3, 36.9), lon(-97.9, -94.5), h(0.0, 3000.0);
+  for (OverlapRule rule : {OverlapRule::WeightedMean, OverlapRule::LowestBeam, OverlapRule::Maximum}) {
+    auto n = makeRadarNetworkSampler(ptrs, rule, FieldKind::Reflectivity, 0.1);
+    ASSERT_TRUE(n.ok()) << n.error();
+    int echoes = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const glm::dvec3 p = ecefOf(lat(rng), lon(rng), h(rng));
+      for (Interpolation interp : {Interpolation::Nearest, Interpolation::Linear}) {
+        const VolumeSample a = (*n)->sample(p, interp), b = (*n)->sampleEveryRadar(p, interp);
+        ASSERT_EQ(a.state, b.state) << toString(rule);
+        ASSERT_EQ(a.value, b.value) << toString(rule);
+        echoes += a.state == VolumeSample::State::Echo;
+      }
+    }
+    EXPECT_GT(echoes, 1000) << toString(rule);  // the points do fall inside the radars
+  }
+}
+
+TEST(RadarNetwork, EachRuleGivesItsFormulasValue) {
+  // Two radars 60 km apart on the equator (A at 0.0 E holds 10 dBZ, B at 0.54 E holds 40).
+  const PolarVolume a = constantRadar(0.0, 0.0, 10.0f), b = constantRadar(0.0, 0.54, 40.0f);
+  std::vector<const PolarVolume*> both{&a, &b};
+  auto sampler = [&](OverlapRule rule) {
+    auto n = makeRadarNetworkSampler(both, rule, FieldKind::Reflectivity);
+    EXPECT_TRUE(n.ok()) << n.error();
+    return std::move(*n);
+  };
+  auto mean = sampler(OverlapRule::WeightedMean), lowest = sampler(OverlapRule::LowestBeam),
+       maximum = sampler(OverlapRule::Maximum);
+  for (double lonDeg : {0.12, 0.2, 0.27, 0.35, 0.42}) {
+    const glm::dvec3 p = ecefOf(0.0, lonDeg, 1200.0);
+    const AntennaCoordinates ca = antennaCoordinatesExact(a.site, a.beam, p);
+    const AntennaCoordinates cb = antennaCoordinatesExact(b.site, b.beam, p);
+    // Both radars see the point (between their lowest and highest beams).
+    ASSERT_EQ(PolarSampler(a).sample(p, Interpolation::Linear).state, VolumeSample::State::Echo);
+    ASSERT_EQ(PolarSampler(b).sample(p, Interpolation::Linear).state, VolumeSample::State::Echo);
+    const double wa = std::exp(-std::pow(ca.rangeMeters / 50000.0, 2.0));
+    const double wb = std::exp(-std::pow(cb.rangeMeters / 50000.0, 2.0));
+    const VolumeSample m = mean->sample(p, Interpolation::Linear);
+    ASSERT_EQ(m.state, VolumeSample::State::Echo);
+    EXPECT_NEAR(m.value, (10.0 * wa + 40.0 * wb) / (wa + wb), 1e-4) << lonDeg;  // float gates
+    // Linear interpolation of equal gates: the value up to the rounding of its weights.
+    EXPECT_NEAR(maximum->sample(p, Interpolation::Linear).value, 40.0, 1e-12);
+    // The lowest beam over the point is the nearer radar's (same antenna height, same angles);
+    // at 0.27 E the two are equally far and the tie goes to the first.
+    const double expected =
+        ca.rangeMeters < cb.rangeMeters - 1.0 ? 10.0 : (cb.rangeMeters < ca.rangeMeters - 1.0 ? 40.0 : 10.0);
+    EXPECT_NEAR(lowest->sample(p, Interpolation::Linear).value, expected, 1e-12) << lonDeg;
+    EXPECT_EQ(*lowest->leadingRadar(p, Interpolation::Linear), expected == 10.0 ? 0u : 1u) << lonDeg;
+  }
+  // Where one radar alone has data, every rule gives its sample.
+  const glm::dvec3 onlyA = ecefOf(0.0, -0.5, 1500.0);  // 56 km from A, 116 km from B (range 100 km)
+  const VolumeSample alone = PolarSampler(a).sample(onlyA, Interpolation::Linear);
+  ASSERT_EQ(alone.state, VolumeSample::State::Echo);
+  for (auto* n : {mean.get(), lowest.get(), maximum.get()}) {
+    EXPECT_EQ(n->sample(onlyA, Interpolation::Linear).state, alone.state);
+    EXPECT_EQ(n->sample(onlyA, Interpolation::Linear).value, alone.value);
+  }
+  // Beyond both: no data.
+  EXPECT_EQ(mean->sample(ecefOf(3.0, 3.0, 1000.0), Interpolation::Linear).state, VolumeSample::State::NoData);
+}
+
+TEST(RadarNetwork, TheLowestBeamFollowsAntennaHeightNotJustDistance) {
+  // A mountain-top radar (3000 m) 10 km nearer than a valley radar (0 m): over a point between
+  // them the valley radar's lowest beam passes about 2.9 km lower (it starts 3 km lower; 10 km
+  // more distance at 0.5 deg raises it by about 90 m), so its value wins although it is farther.
+  const PolarVolume mountain = constantRadar(0.0, 0.0, 20.0f, 3000.0), valley = constantRadar(0.0, 0.4, 30.0f, 0.0);
+  std::vector<const PolarVolume*> both{&mountain, &valley};
+  auto n = makeRadarNetworkSampler(both, OverlapRule::LowestBeam, FieldKind::Reflectivity);
+  ASSERT_TRUE(n.ok()) << n.error();
+  const glm::dvec3 p = ecefOf(0.0, 0.155, 3400.0);  // 17 km from the mountain, 27 km from the valley
+  ASSERT_EQ(PolarSampler(mountain).sample(p, Interpolation::Linear).state, VolumeSample::State::Echo);
+  ASSERT_EQ(PolarSampler(valley).sample(p, Interpolation::Linear).state, VolumeSample::State::Echo);
+  EXPECT_NEAR((*n)->sample(p, Interpolation::Linear).value, 30.0, 1e-12);
+}
+
+TEST(RadarNetwork, RulesThatCannotGiveAValueAreRefused) {
+  const PolarVolume a = constantRadar(0.0, 0.0, 10.0f);
+  std::vector<const PolarVolume*> one{&a};
+  auto integrate = makeRadarNetworkSampler(one, OverlapRule::Integrate, FieldKind::Reflectivity);
+  ASSERT_FALSE(integrate.ok());
+  EXPECT_NE(integrate.error().find("integrate"), std::string::npos) << integrate.error();
+  auto velocity = makeRadarNetworkSampler(one, OverlapRule::WeightedMean, FieldKind::Velocity);
+  ASSERT_FALSE(velocity.ok());
+  EXPECT_NE(velocity.error().find("cannot be combined"), std::string::npos) << velocity.error();
+  EXPECT_FALSE(makeRadarNetworkSampler({}, OverlapRule::Maximum, FieldKind::Reflectivity).ok());
+  EXPECT_FALSE(parseOverlapRule("average").ok());
+  EXPECT_EQ(*parseOverlapRule("lowest"), OverlapRule::LowestBeam);
+}
+
+}  // namespace
+}  // namespace atmoglobe::volume
