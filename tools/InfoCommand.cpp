@@ -39,9 +39,10 @@ Command addInfoCommand(CLI::App& root) {
                    "directory, a glob pattern (quoted: \"dir/*.h5\") or a comma-separated list (one entry per "
                    "assembled volume)")
       ->required();
-  c.app->add_option("--nexrad-sites", opts->nexradSites,
-                    "NEXRAD site list (CSV or JSON) giving the position of legacy NEXRAD Level II files, which "
-                    "hold only the ICAO id (default: $ATMOGLOBE_NEXRAD_SITES)");
+  c.app->add_option(
+      "--nexrad-sites", opts->nexradSites,
+      "NEXRAD site list (CSV or JSON) giving the position of legacy NEXRAD Level II files, which "
+      "hold only the ICAO id (default: $ATMOGLOBE_NEXRAD_SITES, else the built-in table of every WSR-88D site)");
   c.app->add_flag("--json", opts->json, "Print one JSON object instead of text");
   c.app->add_option("--variable", opts->variable,
                     "Grid files: the variable whose grid, vertical coordinate and heights are described "

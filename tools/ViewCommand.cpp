@@ -41,6 +41,7 @@
 #include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/volume/StationList.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -510,7 +511,8 @@ void addScriptSteps(ScriptRunner& script, const std::vector<engine::ScriptAction
   }
 }
 
-/// Names to fly to: the scene's radars and markers, $ATMOGLOBE_NEXRAD_SITES, tzdata's cities.
+/// Names to fly to: the scene's radars and markers, the NEXRAD sites ($ATMOGLOBE_NEXRAD_SITES or the built-in
+/// table), tzdata's cities.
 engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const std::vector<engine::Marker>& markers,
                                  const std::vector<engine::DeferredRadar>& deferred) {
   constexpr double kRadarViewMeters = 4e5;  // the 230 km of a radar's range in a 60 deg view
@@ -541,9 +543,12 @@ engine::Gazetteer buildGazetteer(const engine::SceneRendererGL& renderer, const 
     if (m.label.empty()) continue;
     g.add(engine::Place{{m.label}, "marker", m.latDeg, m.lonDeg, kMarkerViewMeters});
   }
+  // Every WSR-88D site: the user's list ($ATMOGLOBE_NEXRAD_SITES) if given, else the built-in table.
   if (const char* sites = std::getenv("ATMOGLOBE_NEXRAD_SITES"); sites && *sites) {
     if (auto s = g.addStationList(sites, "NEXRAD site", kRadarViewMeters); !s)
       std::cerr << "atmoglobe view: fly-to names: " << s.error() << " (NEXRAD sites left out)\n";
+  } else {
+    g.addStations(volume::builtinNexradSites(), "NEXRAD site", kRadarViewMeters);
   }
   if (std::filesystem::exists(engine::kZoneTabPath)) {
     if (auto s = g.addZoneTab(engine::kZoneTabPath, kPlaceViewMeters); !s)
@@ -968,9 +973,10 @@ Command addViewCommand(CLI::App& root) {
   c->add_option("--script", options->script,
                 "Replay this file of viewer actions (mouse, wheel, keys, text, camera, waits, flyto, readout, "
                 "screenshot; see engine/ViewerScript.h and the README), then quit");
-  c->add_option("--fly-to", options->flyTo,
-                "Start above this radar, marker, NEXRAD site ($ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
-                "LAT,LON[,HEIGHT]");
+  c->add_option(
+      "--fly-to", options->flyTo,
+      "Start above this radar, marker, NEXRAD site (built in, or $ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
+      "LAT,LON[,HEIGHT]");
   c->add_option("--frame-log", options->frameLog,
                 "Write a CSV line per frame drawn: frame, moving (volumes at a quarter of the resolution), volume "
                 "image scale, size, milliseconds");

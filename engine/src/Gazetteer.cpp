@@ -79,7 +79,13 @@ void Gazetteer::add(Place place) { places_.push_back(std::move(place)); }
 Status Gazetteer::addStationList(const std::string& path, const std::string& kind, double viewHeightMeters) {
   auto stations = volume::readStationList(path);
   if (!stations) return stations.forwardError();
-  for (const volume::Station& s : *stations) {
+  addStations(*stations, kind, viewHeightMeters);
+  return Ok{};
+}
+
+void Gazetteer::addStations(const std::vector<volume::Station>& stations, const std::string& kind,
+                            double viewHeightMeters) {
+  for (const volume::Station& s : stations) {
     Place p;
     p.names.push_back(s.id);
     if (!s.name.empty()) p.names.push_back(s.name);
@@ -89,7 +95,6 @@ Status Gazetteer::addStationList(const std::string& path, const std::string& kin
     p.viewHeightMeters = viewHeightMeters;
     add(std::move(p));
   }
-  return Ok{};
 }
 
 Status Gazetteer::addZoneTab(const std::string& path, double viewHeightMeters) {

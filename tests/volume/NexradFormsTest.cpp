@@ -274,29 +274,36 @@ TEST(NexradLegacy, IncompleteVolumeIsReadAndSaysWhichCutsAreComplete) {
   EXPECT_NE(w.find("no end-of-volume radial"), std::string::npos) << w;
 }
 
-TEST(NexradLegacy, WithoutASiteListTheErrorSaysHowToGiveOne) {
+TEST(NexradLegacy, WithoutASiteListTheBuiltInTableGivesThePosition) {
   const fs::path dir = outDir("legacy_nolist");
   const std::string path = writeFile(dir / "KTLX_nolist", legacyFile("ARCHIVE2.", legacyRadials()));
   unsetenv("ATMOGLOBE_NEXRAD_SITES");
   Result<RadarVolume> v = readNexradLevel2(path, ReadOptions{});
-  ASSERT_FALSE(v.ok());
-  EXPECT_NE(v.error().find(path), std::string::npos) << v.error();
-  EXPECT_NE(v.error().find("KTLX"), std::string::npos) << v.error();
-  EXPECT_NE(v.error().find("ATMOGLOBE_NEXRAD_SITES"), std::string::npos) << v.error();
-  // The environment variable is the other way to give it.
+  ASSERT_TRUE(v.ok()) << v.error();
+  // KTLX in assets/nexrad_sites.csv: 35.333056 N, 97.277778 W, ground 369.7 m, tower 15 m (NOAA).
+  EXPECT_NEAR(v->site.latDeg, 35.333056, 1e-6);
+  EXPECT_NEAR(v->site.lonDeg, -97.277778, 1e-6);
+  EXPECT_NEAR(v->site.antennaHeightMeters, 369.7 + 15.0, 1e-9);
+  EXPECT_NE(v->siteLocationSource.find("built-in NEXRAD site table"), std::string::npos) << v->siteLocationSource;
+  // A user's list wins over the table (here it puts KTLX elsewhere).
   setenv("ATMOGLOBE_NEXRAD_SITES", siteList().c_str(), 1);
   Result<RadarVolume> w = readNexradLevel2(path, ReadOptions{});
   unsetenv("ATMOGLOBE_NEXRAD_SITES");
   ASSERT_TRUE(w.ok()) << w.error();
   EXPECT_EQ(w->site.latDeg, 35.25);
 
-  // An ICAO id the list does not have.
+  // An ICAO id neither has: the error says how to give a list.
   Bytes other = legacyFile("ARCHIVE2.", legacyRadials());
   std::memcpy(&other[20], "KXYZ", 4);
   const std::string unknown = writeFile(dir / "KXYZ", other);
   Result<RadarVolume> u = readNexradLevel2(unknown, withSites());
   ASSERT_FALSE(u.ok());
-  EXPECT_NE(u.error().find("'KXYZ' is not in the NEXRAD site list"), std::string::npos) << u.error();
+  EXPECT_NE(u.error().find("'KXYZ' is not in NEXRAD site list"), std::string::npos) << u.error();
+  Result<RadarVolume> x = readNexradLevel2(unknown, ReadOptions{});
+  ASSERT_FALSE(x.ok());
+  EXPECT_NE(x.error().find(unknown), std::string::npos) << x.error();
+  EXPECT_NE(x.error().find("'KXYZ' is not in the built-in NEXRAD site table"), std::string::npos) << x.error();
+  EXPECT_NE(x.error().find("ATMOGLOBE_NEXRAD_SITES"), std::string::npos) << x.error();
 }
 
 TEST(NexradLegacy, TruncatedFrameIsAnError) {

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 namespace atmoglobe::volume {
@@ -192,6 +193,42 @@ TEST(StationList, UnreadablePaths) {
   r = readStationList(dir.string());
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find(dir.string()), std::string::npos) << r.error();
+}
+
+}  // namespace
+}  // namespace atmoglobe::volume
+
+namespace atmoglobe::volume {
+namespace {
+
+TEST(StationList, BuiltinNexradTableHoldsEveryWsr88dSite) {
+  const std::vector<Station>& sites = builtinNexradSites();
+  // 159 rows: the NOAA list's 147 sites (contiguous US, Hawaii, Puerto Rico, the Azores), 7 in
+  // Alaska, Guam, 3 at bases in Korea and Okinawa, and KDGX.
+  ASSERT_EQ(sites.size(), 159u);
+  std::set<std::string> ids;
+  for (const Station& s : sites) {
+    EXPECT_EQ(s.id.size(), 4u) << s.id;
+    EXPECT_TRUE(ids.insert(s.id).second) << "duplicate " << s.id;
+    EXPECT_FALSE(s.name.empty()) << s.id;
+    EXPECT_TRUE(s.hasElevation) << s.id;
+    // Every site is in the northern hemisphere, south of Fairbanks (64.8 N), west of the Azores
+    // (Lajes, 27.3 W) and east of Guam (144.8 E) going west.
+    EXPECT_GT(s.latDeg, 13.0) << s.id;
+    EXPECT_LT(s.latDeg, 66.0) << s.id;
+    EXPECT_TRUE(s.lonDeg > 120.0 || s.lonDeg < -27.0) << s.id << " " << s.lonDeg;
+  }
+  const Station* ktlx = findStation(sites, "ktlx");
+  ASSERT_NE(ktlx, nullptr);
+  EXPECT_EQ(ktlx->name, "Oklahoma City, OK");
+  EXPECT_NEAR(ktlx->latDeg, 35.333056, 1e-9);
+  EXPECT_NEAR(ktlx->lonDeg, -97.277778, 1e-9);
+  ASSERT_TRUE(ktlx->towerHeightMeters.has_value());
+  EXPECT_EQ(*ktlx->towerHeightMeters, 15.0);
+  const Station* guam = findStation(sites, "PGUA");
+  ASSERT_NE(guam, nullptr);
+  EXPECT_GT(guam->lonDeg, 144.0);
+  EXPECT_EQ(findStation(sites, "KXYZ"), nullptr);
 }
 
 }  // namespace

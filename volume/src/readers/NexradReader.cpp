@@ -597,23 +597,23 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
     if (const char* env = std::getenv("ATMOGLOBE_NEXRAD_SITES"); env && *env) list = env;
   }
   std::string placeName;
+  // The user's list ($ATMOGLOBE_NEXRAD_SITES, --nexrad-sites) wins over the built-in table.
+  Result<std::vector<Station>> userStations = std::vector<Station>{};
+  if (!list.empty()) userStations = readStationList(list);
+  const std::vector<Station>& builtin = builtinNexradSites();
+  const std::string listName = list.empty() ? std::string(kBuiltinNexradSiteTable) : "NEXRAD site list " + list;
   if (!parser.haveSite) {
     if (parser.legacyRadials == 0) return makeError(path + ": no VOL block: the file does not give the radar site");
     // Legacy files carry no position: the NEXRAD site list gives it from the ICAO id.
     const std::string icao = vol.site.name;
-    if (list.empty()) {
-      return makeError(path + ": a legacy NEXRAD Level II file (message 1) gives no site position, only the ICAO id '" +
-                       icao +
-                       "'; no NEXRAD site list to look it up in: set ATMOGLOBE_NEXRAD_SITES=FILE (a CSV or JSON "
-                       "station list, e.g. OURadar's nexrad-locations.json) or pass one (info --nexrad-sites FILE)");
-    }
-    auto stations = readStationList(list);
-    if (!stations) return makeError(path + ": NEXRAD site list: " + stations.error());
-    const auto it =
-        std::find_if(stations->begin(), stations->end(), [&](const Station& s) { return upper(s.id) == upper(icao); });
-    if (icao.empty() || it == stations->end()) {
+    if (!userStations) return makeError(path + ": NEXRAD site list: " + userStations.error());
+    const Station* it = findStation(list.empty() ? builtin : *userStations, icao);
+    if (icao.empty() || !it) {
       return makeError(path + ": a legacy NEXRAD Level II file (message 1) gives no site position, and its ICAO id '" +
-                       icao + "' is not in the NEXRAD site list " + list);
+                       icao + "' is not in " + listName +
+                       (list.empty() ? "; give a list that has it: set ATMOGLOBE_NEXRAD_SITES=FILE (a CSV or JSON "
+                                       "station list) or pass one (info --nexrad-sites FILE)"
+                                     : ""));
     }
     parser.site.latDeg = it->latDeg;
     parser.site.lonDeg = it->lonDeg;
@@ -621,20 +621,16 @@ Result<RadarVolume> readWithField(const std::string& label, const std::vector<Se
     // Antenna height: ground elevation + tower height (the OURadar list's "height").
     parser.site.antennaHeightMeters = it->elevationMeters + it->towerHeightMeters.value_or(0.0);
     parser.site.heightDatum = HeightDatum::MeanSeaLevel;
-    locationSource = "NEXRAD site list " + list + " (" + it->id + ": ground " +
+    locationSource = listName + " (" + it->id + ": ground " +
                      std::to_string(static_cast<long long>(std::lround(it->elevationMeters))) + " m + tower " +
                      std::to_string(static_cast<long long>(std::lround(it->towerHeightMeters.value_or(0)))) +
                      " m), not the file (legacy message-1 files give no position)";
     parser.haveSite = true;
-  } else if (!list.empty() && !vol.site.name.empty()) {
+  } else if (!vol.site.name.empty()) {
     // The place of the ICAO id, for titles only: a list that cannot be read, or that lacks the
     // id, leaves the name alone (the position comes from the file).
-    if (auto stations = readStationList(list)) {
-      const std::string icao = upper(vol.site.name);
-      const auto it =
-          std::find_if(stations->begin(), stations->end(), [&](const Station& st) { return upper(st.id) == icao; });
-      if (it != stations->end()) placeName = it->name;
-    }
+    const Station* it = findStation(list.empty() || !userStations ? builtin : *userStations, vol.site.name);
+    if (it) placeName = it->name;
   }
   if (!std::isfinite(parser.site.latDeg) || std::abs(parser.site.latDeg) > 90.0 || !std::isfinite(parser.site.lonDeg) ||
       std::abs(parser.site.lonDeg) > 360.0) {

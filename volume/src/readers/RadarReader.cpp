@@ -18,9 +18,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <system_error>
 
@@ -260,6 +262,19 @@ std::string normalizeIso8601(const std::string& text) {
       !digits(11, 2) || t[13] != ':' || !digits(14, 2) || t[16] != ':' || !digits(17, 2))
     return {};
   return t.substr(0, 10) + "T" + t.substr(11, 8) + "Z";
+}
+
+double iso8601ToEpochSeconds(const std::string& text) {
+  const std::string t = normalizeIso8601(text);
+  if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::tm tm{};
+  tm.tm_year = std::stoi(t.substr(0, 4)) - 1900;
+  tm.tm_mon = std::stoi(t.substr(5, 2)) - 1;
+  tm.tm_mday = std::stoi(t.substr(8, 2));
+  tm.tm_hour = std::stoi(t.substr(11, 2));
+  tm.tm_min = std::stoi(t.substr(14, 2));
+  tm.tm_sec = std::stoi(t.substr(17, 2));
+  return static_cast<double>(timegm(&tm));
 }
 
 namespace {

@@ -40,20 +40,6 @@ std::string fmt(const char* format, double v) {
   return buf;
 }
 
-/// Seconds since 1970 of "YYYY-MM-DDTHH:MM:SSZ"; NaN when empty or malformed.
-double epochSeconds(const std::string& iso) {
-  const std::string t = normalizeIso8601(iso);
-  if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::tm tm{};
-  tm.tm_year = std::stoi(t.substr(0, 4)) - 1900;
-  tm.tm_mon = std::stoi(t.substr(5, 2)) - 1;
-  tm.tm_mday = std::stoi(t.substr(8, 2));
-  tm.tm_hour = std::stoi(t.substr(11, 2));
-  tm.tm_min = std::stoi(t.substr(14, 2));
-  tm.tm_sec = std::stoi(t.substr(17, 2));
-  return static_cast<double>(timegm(&tm));
-}
-
 std::string isoFromEpoch(double seconds) {
   if (!std::isfinite(seconds)) return "(no time)";
   const auto t = static_cast<std::time_t>(seconds);
@@ -197,10 +183,10 @@ Result<std::vector<Entry>> collectEntries(const std::vector<std::string>& paths,
   for (Entry& e : entries) {
     double earliest = std::numeric_limits<double>::quiet_NaN();
     for (const Sweep& s : e.meta.sweeps) {
-      const double t = epochSeconds(s.startTimeIso8601);
+      const double t = iso8601ToEpochSeconds(s.startTimeIso8601);
       if (std::isfinite(t) && !(t >= earliest)) earliest = t;
     }
-    const double volumeTime = epochSeconds(e.meta.timeIso8601);
+    const double volumeTime = iso8601ToEpochSeconds(e.meta.timeIso8601);
     e.scanStart = std::isfinite(earliest) ? earliest : volumeTime;
     if (e.meta.singleScanFile && std::isfinite(e.scanStart) && options.scanCycleSeconds > 0) {
       const double cycle = options.scanCycleSeconds;
@@ -309,7 +295,7 @@ std::vector<Group> groupEntries(const std::vector<Entry>& entries, const RadarSe
       double shortest = std::numeric_limits<double>::infinity();
       for (const Entry* e : g.entries)
         for (const Sweep& s : e->meta.sweeps) {
-          const double a = epochSeconds(s.startTimeIso8601), b = epochSeconds(s.endTimeIso8601);
+          const double a = iso8601ToEpochSeconds(s.startTimeIso8601), b = iso8601ToEpochSeconds(s.endTimeIso8601);
           if (std::isfinite(a) && std::isfinite(b) && b >= a) {
             spans.push_back({a, b});
             shortest = std::min(shortest, b - a);

@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
+#include <string_view>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -14,6 +17,9 @@
 #include <sstream>
 
 namespace atmoglobe::volume {
+
+// Generated from assets/nexrad_sites.csv (volume/CMakeLists.txt).
+std::optional<std::string_view> embeddedVolumeAsset(std::string_view fileName);
 
 namespace {
 
@@ -362,6 +368,24 @@ Result<std::vector<Station>> readStationList(const std::string& path) {
   std::string text(static_cast<std::size_t>(size), '\0');
   if (!in.read(text.data(), size)) return makeError(path + ": cannot read station list");
   return parseStationList(text, path);
+}
+
+const std::vector<Station>& builtinNexradSites() {
+  // The table is part of the build (a broken one fails StationList.BuiltinNexradTable*): an
+  // unreadable one is empty here rather than an exception in every reader.
+  static const std::vector<Station> kSites = [] {
+    const auto text = embeddedVolumeAsset("nexrad_sites.csv");
+    if (!text) return std::vector<Station>{};
+    auto parsed = parseStationList(std::string(*text), kBuiltinNexradSiteTable);
+    return parsed ? std::move(*parsed) : std::vector<Station>{};
+  }();
+  return kSites;
+}
+
+const Station* findStation(const std::vector<Station>& stations, const std::string& id) {
+  for (const Station& s : stations)
+    if (equalsIgnoringCaseAscii(s.id, id)) return &s;
+  return nullptr;
 }
 
 }  // namespace atmoglobe::volume

@@ -1,6 +1,6 @@
 #include <atmoglobe/volume/SyntheticGrid.h>
 
-#include "NcWriter.h"
+#include "../export/NcWriter.h"
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -58,35 +58,6 @@ struct Column {
   double xKm, yKm;  // east / north of the radar site in its azimuthal-equidistant plane
   double orogMeters;
 };
-
-/// Creates an empty file beside `path` (so the rename stays on one file system) and opens it as
-/// a netCDF-4 file for writing.
-Status createTemporaryNetcdf(const std::string& path, std::string* temp, int* ncid) {
-  auto tempName = temporaryPathBeside(path);
-  if (!tempName) return tempName.forwardError();
-  *temp = *tempName;
-  const int fd = ::open(temp->c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return makeError(path + ": cannot create file in its directory: " + std::strerror(errno));
-  ::close(fd);
-  if (const int st = nc_create(temp->c_str(), NC_NETCDF4 | NC_CLOBBER, ncid); st != NC_NOERR) {
-    ::unlink(temp->c_str());
-    return makeError(path + ": cannot create netCDF-4 file: " + nc_strerror(st));
-  }
-  return Ok{};
-}
-
-/// Closes the file and renames it into place; on any failure (the writer's first or the close)
-/// removes the temporary and returns the error.
-Status closeAndCommitNetcdf(const std::string& path, const std::string& temp, const NcWriter& w) {
-  std::string err = w.ok() ? std::string() : w.error();
-  if (const int st = nc_close(w.ncid()); st != NC_NOERR && err.empty())
-    err = path + ": netCDF close failed: " + nc_strerror(st);
-  if (!err.empty()) {
-    ::unlink(temp.c_str());
-    return makeError(err);
-  }
-  return commitTemporary(temp, path);
-}
 
 }  // namespace
 

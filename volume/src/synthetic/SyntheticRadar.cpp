@@ -1,6 +1,6 @@
 #include <atmoglobe/volume/SyntheticRadar.h>
 
-#include "NcWriter.h"
+#include "../export/NcWriter.h"
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/io/NetcdfLock.h>

@@ -11,6 +11,7 @@
 // "KTLX" in a scene is the scene's radar, not the list's.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/StationList.h>
 
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ class Gazetteer {
   void add(Place place);
   /// A station list (volume/StationList.h: CSV or JSON); each station by id and name.
   Status addStationList(const std::string& path, const std::string& kind, double viewHeightMeters);
+  /// Stations already read (volume::builtinNexradSites), each by id and name.
+  void addStations(const std::vector<volume::Station>& stations, const std::string& kind, double viewHeightMeters);
   /// zone1970.tab: "CODES<TAB>+DDMM[SS]+DDDMM[SS]<TAB>Area/City[/Sub]..."; each zone by its city
   /// ("New York") and its full name ("America/New_York").
   Status addZoneTab(const std::string& path, double viewHeightMeters);

@@ -51,6 +51,9 @@ Result<std::size_t> selectField(const std::vector<FieldInfo>& fields, const std:
 /// date and time, drops fractional seconds). Returns an empty string if it does not parse.
 std::string normalizeIso8601(const std::string& text);
 
+/// Seconds since 1970-01-01T00:00:00Z of a date-time normalizeIso8601 accepts; NaN if it does not.
+double iso8601ToEpochSeconds(const std::string& text);
+
 /// The volume's metadata as one JSON object (for `atmoglobe info --json`): format, file,
 /// compression ("gzip"/"bzip2", only for a wrapped file),
 /// site {name, lat_deg, lon_deg, height_m, height_datum[, location_source]}, files (when

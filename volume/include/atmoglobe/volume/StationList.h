@@ -49,4 +49,14 @@ Result<std::vector<Station>> readStationList(const std::string& path);
 /// The same from text already in memory; `sourceName` is used in messages in place of a path.
 Result<std::vector<Station>> parseStationList(const std::string& text, const std::string& sourceName);
 
+/// How messages name the built-in table.
+inline constexpr const char* kBuiltinNexradSiteTable = "the built-in NEXRAD site table (assets/nexrad_sites.csv)";
+/// The WSR-88D sites built into the library (assets/nexrad_sites.csv: ICAO id, name, position,
+/// ground elevation and tower height; public-domain NOAA facts), parsed once: what legacy Level II
+/// files, `synth --sites` and fly-to use when the user gives no list ($ATMOGLOBE_NEXRAD_SITES or
+/// --nexrad-sites, which override it).
+const std::vector<Station>& builtinNexradSites();
+/// The station of `id` (any case) in `stations`; nullptr if none.
+const Station* findStation(const std::vector<Station>& stations, const std::string& id);
+
 }  // namespace atmoglobe::volume

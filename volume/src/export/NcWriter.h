@@ -1,7 +1,9 @@
 #pragma once
-// Private to the volume library: a netCDF-C call wrapper for the synthetic-file writers
-// (SyntheticRadar.cpp, SyntheticGrid.cpp). The first failure is kept, naming the file and what was
+// Private to the volume library: a netCDF-C call wrapper for the netCDF writers (SyntheticRadar.cpp,
+// SyntheticGrid.cpp, Mosaic.cpp). The first failure is kept, naming the file and what was
 // being written. Its users hold io::NetcdfLock from nc_create to nc_close (io/NetcdfLock.h).
+#include <atmoglobe/globe/Result.h>
+
 #include <netcdf.h>
 
 #include <string>
@@ -35,5 +37,13 @@ class NcWriter {
   int ncid_;
   std::string err_;
 };
+
+/// Creates an empty file beside `path` (so the rename stays on one file system) and opens it as
+/// a netCDF-4 file for writing.
+Status createTemporaryNetcdf(const std::string& path, std::string* temp, int* ncid);
+
+/// Closes the file and renames it into place; on any failure (the writer's first or the close)
+/// removes the temporary and returns the error.
+Status closeAndCommitNetcdf(const std::string& path, const std::string& temp, const NcWriter& w);
 
 }  // namespace atmoglobe::volume
