@@ -26,6 +26,7 @@ Command addSynthCommand(CLI::App& root);
 Command addBenchCommand(CLI::App& root);
 Command addConvertCommand(CLI::App& root);
 Command addSliceCommand(CLI::App& root);
+Command addMosaicCommand(CLI::App& root);
 
 /// Embedded files from assets/ (default scene...), by file name.
 std::optional<std::string_view> embeddedAsset(std::string_view fileName);

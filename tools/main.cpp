@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   commands.push_back(addSynthCommand(app));
   commands.push_back(addBenchCommand(app));
   commands.push_back(addSliceCommand(app));
+  commands.push_back(addMosaicCommand(app));
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;
     for (const Command& c : commands) known = known || c.app->get_name() == argv[1];

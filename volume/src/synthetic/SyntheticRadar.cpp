@@ -3,9 +3,11 @@
 #include "../export/NcWriter.h"
 
 #include <atmoglobe/globe/Angles.h>
+#include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/io/NetcdfLock.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/RadarReader.h>
 
 #include <netcdf.h>
 
@@ -20,6 +22,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 
 namespace atmoglobe::volume {
 
@@ -402,6 +405,48 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
   return w.ok() ? std::string() : w.error();
 }
 
+// --- the network field (SyntheticRadarOptions::networkStorms) --------------------------------
+constexpr double kStormReachKm = 250.0;  // no component of the storm model reaches farther
+constexpr double kLatticeDeg = 3.0;      // syntheticNetworkStorms: one cell per storm at most
+constexpr double kStormChance = 0.7;
+
+struct NetworkStorm {
+  SyntheticRadarOptions options;  // the model centred at the origin of the storm's plane
+  Texture tex;
+  double latDeg, lonDeg;
+};
+
+std::vector<NetworkStorm> networkStormsOf(const SyntheticRadarOptions& o) {
+  std::vector<NetworkStorm> out;
+  for (const SyntheticNetworkStorm& s : o.networkStorms) {
+    NetworkStorm n{o, textureFor(s.seed), s.latDeg, s.lonDeg};
+    n.options.stormEastKm = 0.0;
+    n.options.stormNorthKm = 0.0;
+    n.options.seed = s.seed;
+    n.options.networkStorms.clear();
+    out.push_back(std::move(n));
+  }
+  return out;
+}
+
+double hoursFromNetworkStart(const SyntheticRadarOptions& o, const std::string& timeIso8601) {
+  const double a = iso8601ToEpochSeconds(o.networkStartIso8601), b = iso8601ToEpochSeconds(timeIso8601);
+  return std::isfinite(a) && std::isfinite(b) ? (b - a) / 3600.0 : 0.0;
+}
+
+// Adds storm n's reflectivity at (x, y) km of its plane, z km above MSL, `hours` after the start.
+void addStorm(double& linearZ, const NetworkStorm& n, const SyntheticRadarOptions& o, double x, double y, double z,
+              double hours) {
+  if (x * x + y * y > kStormReachKm * kStormReachKm) return;
+  const double v = stormDbzKm(n.options, n.tex, x - o.networkMotionEastKmPerHour * hours,
+                              y - o.networkMotionNorthKmPerHour * hours, z);
+  if (std::isfinite(v)) addDbz(linearZ, v);
+}
+
+double dbzOf(double linearZ) {
+  return linearZ > 0.0 ? 10.0 * std::log10(linearZ) : -std::numeric_limits<double>::infinity();
+}
+
 }  // namespace
 
 Status validateSyntheticRadarOptions(const SyntheticRadarOptions& o) {
@@ -439,6 +484,59 @@ double syntheticStormDbz(const SyntheticRadarOptions& options, double eastMeters
                     heightMslMeters / 1000.0);
 }
 
+std::vector<SyntheticNetworkStorm> syntheticNetworkStorms(const std::vector<std::pair<double, double>>& sitesLatLonDeg,
+                                                          double reachKm, std::uint64_t seed) {
+  std::vector<SyntheticNetworkStorm> out;
+  if (sitesLatLonDeg.empty()) return out;
+  // Candidate cells: those within the sites' reach plus a cell, by latitude/longitude bounds.
+  const double reachDeg = reachKm / 111.0 + kLatticeDeg;
+  const int rows = static_cast<int>(180.0 / kLatticeDeg), cols = static_cast<int>(360.0 / kLatticeDeg);
+  std::vector<char> taken(static_cast<std::size_t>(rows) * cols, 0);
+  for (const auto& [lat, lon] : sitesLatLonDeg) {
+    const double lonReach = std::min(
+        180.0, reachDeg / std::max(0.05, std::cos(degreesToRadians(std::min(89.0, std::fabs(lat) + reachDeg)))));
+    const int r0 = std::max(0, static_cast<int>(std::floor((lat - reachDeg + 90.0) / kLatticeDeg)));
+    const int r1 = std::min(rows - 1, static_cast<int>(std::floor((lat + reachDeg + 90.0) / kLatticeDeg)));
+    const int c0 = static_cast<int>(std::floor((lon - lonReach + 180.0) / kLatticeDeg));
+    const int c1 = static_cast<int>(std::floor((lon + lonReach + 180.0) / kLatticeDeg));
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c) {
+        const int cw = ((c % cols) + cols) % cols;
+        char& t = taken[static_cast<std::size_t>(r) * cols + cw];
+        if (t) continue;
+        t = 1;
+        const std::uint64_t cell = static_cast<std::uint64_t>(r) * 1000u + static_cast<std::uint64_t>(cw);
+        const std::uint64_t h = splitMix64(seed * 0x2545F4914F6CDD1Dull ^ splitMix64(cell));
+        if (unitFromBits(h) > kStormChance) continue;
+        SyntheticNetworkStorm s;
+        s.latDeg = -90.0 + kLatticeDeg * (r + 0.15 + 0.7 * unitFromBits(splitMix64(h + 1)));
+        s.lonDeg = -180.0 + kLatticeDeg * (cw + 0.15 + 0.7 * unitFromBits(splitMix64(h + 2)));
+        s.seed = splitMix64(h + 3) % 1000000u + 1u;
+        // Kept when within reach of a site (exact distance).
+        bool near = false;
+        for (const auto& [la, lo] : sitesLatLonDeg)
+          if (globe::geodesicInverse(la, lo, s.latDeg, s.lonDeg).distanceMeters <= reachKm * 1000.0) {
+            near = true;
+            break;
+          }
+        if (near) out.push_back(s);
+      }
+  }
+  return out;
+}
+
+double syntheticNetworkDbz(const SyntheticRadarOptions& o, double latDeg, double lonDeg, double heightMslMeters,
+                           const std::string& timeIso8601) {
+  const double hours = hoursFromNetworkStart(o, timeIso8601);
+  double linearZ = 0.0;
+  for (const NetworkStorm& n : networkStormsOf(o)) {
+    const globe::GeodesicLine g = globe::geodesicInverse(n.latDeg, n.lonDeg, latDeg, lonDeg);
+    const double a = degreesToRadians(g.azimuth1Deg), d = g.distanceMeters / 1000.0;
+    addStorm(linearZ, n, o, d * std::sin(a), d * std::cos(a), heightMslMeters / 1000.0, hours);
+  }
+  return dbzOf(linearZ);
+}
+
 Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptions& o, SyntheticRadarSummary* summary) {
   if (auto st = validateSyntheticRadarOptions(o); !st) return st;
   const Geometry g{o.elevationsDeg.size(), static_cast<std::size_t>(o.raysPerSweep), gateCountFor(o)};
@@ -469,6 +567,17 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
   sum.raysPerSweep = g.nRay;
   sum.gatesPerRay = g.nGate;
   std::vector<double> heightKm(g.nGate), groundKm(g.nGate);
+  // Network field: the storms that can reach this radar, and per ray their planes' coordinates at
+  // ground-distance nodes (interpolated linearly to the gates).
+  std::vector<NetworkStorm> storms;
+  const double maxGroundMeters = o.maxRangeMeters + 1000.0;
+  for (NetworkStorm& n : networkStormsOf(o))
+    if (globe::geodesicInverse(o.siteLatDeg, o.siteLonDeg, n.latDeg, n.lonDeg).distanceMeters <=
+        maxGroundMeters + kStormReachKm * 1000.0)
+      storms.push_back(std::move(n));
+  const std::size_t nodes = static_cast<std::size_t>(std::ceil(maxGroundMeters / kNetworkNodeSpacingMeters)) + 2;
+  std::vector<double> nodeXy(storms.size() * nodes * 2);
+  const double hours = hoursFromNetworkStart(o, o.startTimeIso8601);
   for (std::size_t s = 0; s < g.nSweep; ++s) {
     for (std::size_t k = 0; k < g.nGate; ++k) {
       double h = 0, sd = 0;
@@ -482,9 +591,37 @@ Status writeSyntheticCfRadial(const std::string& path, const SyntheticRadarOptio
       const std::size_t ray = s * g.nRay + r;
       const double a = degreesToRadians(static_cast<double>(az[ray]));
       const double sa = std::sin(a), ca = std::cos(a);
+      if (!storms.empty()) {
+        // Network field: each node's position in each storm's plane, exactly (two geodesics).
+        for (std::size_t j = 0; j < nodes; ++j) {
+          const globe::GeodesicPoint p = globe::geodesicDirect(o.siteLatDeg, o.siteLonDeg, static_cast<double>(az[ray]),
+                                                               kNetworkNodeSpacingMeters * static_cast<double>(j));
+          for (std::size_t i = 0; i < storms.size(); ++i) {
+            const globe::GeodesicLine gl =
+                globe::geodesicInverse(storms[i].latDeg, storms[i].lonDeg, p.latDeg, p.lonDeg);
+            const double b = degreesToRadians(gl.azimuth1Deg), d = gl.distanceMeters / 1000.0;
+            nodeXy[(i * nodes + j) * 2] = d * std::sin(b);
+            nodeXy[(i * nodes + j) * 2 + 1] = d * std::cos(b);
+          }
+        }
+      }
       for (std::size_t k = 0; k < g.nGate; ++k) {
         const double x = groundKm[k] * sa, y = groundKm[k] * ca;
-        double v = stormDbzKm(o, tex, x, y, heightKm[k]);
+        double v;
+        if (storms.empty()) {
+          v = stormDbzKm(o, tex, x, y, heightKm[k]);
+        } else {
+          const double t = groundKm[k] * 1000.0 / kNetworkNodeSpacingMeters;
+          const std::size_t j = std::min(static_cast<std::size_t>(t), nodes - 2);
+          const double f = t - static_cast<double>(j);
+          double linearZ = 0.0;
+          for (std::size_t i = 0; i < storms.size(); ++i) {
+            const double* n0 = &nodeXy[(i * nodes + j) * 2];
+            addStorm(linearZ, storms[i], o, n0[0] + f * (n0[2] - n0[0]), n0[1] + f * (n0[3] - n0[1]), heightKm[k],
+                     hours);
+          }
+          v = dbzOf(linearZ);
+        }
         if (!std::isfinite(v)) continue;
         const std::size_t idx = ray * g.nGate + k;
         if (o.noiseDbz > 0) v += o.noiseDbz * gaussian(o.seed, idx);

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atmoglobe::volume {
@@ -39,6 +40,14 @@ inline const std::vector<double>& vcp212ElevationsDeg() {
   static const std::vector<double> kAngles = {0.5, 0.9, 1.3, 1.8, 2.4, 3.1, 4.0, 5.1, 6.4, 8.0, 10.0, 12.5, 15.6, 19.5};
   return kAngles;
 }
+
+/// A storm of a network field (SyntheticRadarOptions::networkStorms): the supercell model of
+/// syntheticStormDbz centred on (latDeg, lonDeg) at the field's start time, in the
+/// azimuthal-equidistant plane of that point, with its own seed.
+struct SyntheticNetworkStorm {
+  double latDeg = 0.0, lonDeg = 0.0;
+  std::uint64_t seed = 1;
+};
 
 struct SyntheticRadarOptions {
   // --- site (default KTLX; see the file comment for the source) ---
@@ -67,6 +76,16 @@ struct SyntheticRadarOptions {
   double sweepSeconds = 18.0;                                 ///< duration of one sweep (time variable)
   std::string startTimeIso8601 = "2020-05-01T21:00:00Z";      ///< volume start, UTC, "YYYY-MM-DDTHH:MM:SSZ"
 
+  // --- network field (`synth --sites`) ---
+  /// When not empty, the gates hold one storm field shared by every radar of a network instead of
+  /// the storm at stormEastKm/stormNorthKm: the sum (in linear reflectivity) of these storms, each
+  /// evaluated in its own plane (stormEastKm = stormNorthKm = 0 there) at the point's position
+  /// relative to its centre, moved by the motion since networkStartIso8601. Radars that overlap
+  /// see the same field (syntheticNetworkDbz is its exact value).
+  std::vector<SyntheticNetworkStorm> networkStorms;
+  std::string networkStartIso8601 = "2020-05-01T21:00:00Z";
+  double networkMotionEastKmPerHour = 36.0;  ///< ENE at 40 km/h, as the synthetic grid's storms
+  double networkMotionNorthKmPerHour = 18.0;
   // --- encoding ---
   int deflateLevel = 4;  ///< netCDF-4 zlib level 0..9 (0: none)
 };
@@ -93,6 +112,24 @@ Status validateSyntheticRadarOptions(const SyntheticRadarOptions& options);
 /// Deterministic for a given options.seed (the seed sets the phases of the cell texture).
 double syntheticStormDbz(const SyntheticRadarOptions& options, double eastMeters, double northMeters,
                          double heightMslMeters);
+
+/// The storms of the SYNTHETIC network field of `seed` that can reach radars at the given sites
+/// (latitude, longitude in degrees) within `reachKm` of a site: one storm in 70 % of the cells of
+/// a fixed 3 x 3 degree latitude/longitude lattice, at a place in the cell and with a seed drawn
+/// from (seed, cell). The lattice does not depend on the sites, so every set of sites sees the same
+/// storms where it looks.
+std::vector<SyntheticNetworkStorm> syntheticNetworkStorms(const std::vector<std::pair<double, double>>& sitesLatLonDeg,
+                                                          double reachKm, std::uint64_t seed);
+
+/// The network field of options.networkStorms (without noise) at a geographic point and time,
+/// computed exactly (one geodesic per storm): dBZ, -infinity where no storm has echo.
+double syntheticNetworkDbz(const SyntheticRadarOptions& options, double latDeg, double lonDeg, double heightMslMeters,
+                           const std::string& timeIso8601);
+
+/// How far (m) the writer's positions in a storm's plane may be from the exact ones: it maps each
+/// ray's gates through geodesics at nodes every kNetworkNodeSpacingMeters of ground distance and
+/// interpolates linearly between them (the map is smooth: the error is about spacing^2 / (8 R)).
+inline constexpr double kNetworkNodeSpacingMeters = 10000.0;
 
 /// Writes the volume to `path` as CfRadial 1.4 in netCDF-4 (deflated DBZ, short with
 /// scale_factor 0.01 dB). Atomic: written to a hidden temporary in the same directory, closed,
