@@ -13,6 +13,7 @@
 //   VOL_EXAGGERATED    1: a vertical exaggeration is drawn (volume/VerticalExaggeration.h): each
 //                      point is moved back to its true height on the local sphere first
 // Injected constants: MAX_SWEEPS, RAY_TABLE_BINS, ELEVATION_BINS, STATE_ECHO, STATE_NOT_ECHO.
+// @NEEDS polar_beam.glsl
 
 uniform sampler2DArray VOL_values;    // RG16F, linear (nearest sampler for nearest interpolation): [sweep] (rays + 1) x (gates + 1): (value if echo else 0, 1 if echo else 0)
 uniform vec2 VOL_valuesInvSize;       // 1 / (gates + 1, rays + 1) of a layer
@@ -33,46 +34,14 @@ uniform float VOL_effectiveRadius;          // Re = ke * R (m)
 uniform float VOL_exaggeration;             // vertical exaggeration (1: none)
 
 // --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
-// The float32 twin of volume::LocalSphereBeam::antennaCoordinates (same formulas).
+// The float32 twin of volume::LocalSphereBeam::antennaCoordinates (polar_beam.glsl).
 vec3 VOL_antennaCoordinates(vec3 p) {
   vec3 l = VOL_ecefToEnu * p;  // east, north, up
 #if VOL_EXAGGERATED
-  {
-    // The float32 twin of volume::LocalSphereBeam::unexaggerateEnu: back to height h / e along
-    // the local sphere's normal.
-    float dh0 = length(l.xy);
-    float c0 = dh0 > 0.0 ? l.y / dh0 : 1.0, s0 = dh0 > 0.0 ? l.x / dh0 : 0.0;
-    float rc0 = 1.0 / (c0 * c0 / VOL_meridionalRadius + s0 * s0 / VOL_primeVerticalRadius) + VOL_h0;
-    float w0 = l.z + rc0;
-    float dl0 = sqrt(dh0 * dh0 + w0 * w0);
-    float h0 = VOL_h0 + (dh0 * dh0 + l.z * l.z + 2.0 * l.z * rc0) / (dl0 + rc0);
-    l -= (1.0 - 1.0 / VOL_exaggeration) * h0 / dl0 * vec3(l.xy, w0);
-  }
+  l = polarUnexaggerateEnu(l, VOL_h0, VOL_meridionalRadius, VOL_primeVerticalRadius, VOL_exaggeration);
 #endif
-  float dh = length(l.xy);
-  float az = degrees(atan(l.x, l.y));
-  if (az < 0.0) az += 360.0;
-  if (VOL_BEAM == 1) {
-    float r = length(l);
-    return vec3(r, az, degrees(asin(clamp(l.z / max(r, 1e-6), -1.0, 1.0))));
-  }
-  // Local sphere with the ellipsoid's normal-section radius in this azimuth (Euler).
-  float ca = dh > 0.0 ? l.y / dh : 1.0, sa = dh > 0.0 ? l.x / dh : 0.0;
-  float rAlpha = 1.0 / (ca * ca / VOL_meridionalRadius + sa * sa / VOL_primeVerticalRadius);
-  float rc = rAlpha + VOL_h0;
-  float w = l.z + rc;
-  float dl = sqrt(dh * dh + w * w);
-  float h = VOL_h0 + (dh * dh + l.z * l.z + 2.0 * l.z * rc) / (dl + rc);  // |d| - rc without cancellation
-  float s = rAlpha * atan(dh, w);
-  // Effective-Earth beam inverse (Doviak & Zrnic 1993, eq. 2.28) in the cancellation-free form.
-  float re = VOL_effectiveRadius;
-  float gamma = s / re;
-  float rho1 = re + VOL_h0, rho2 = re + h;
-  float sg = sin(0.5 * gamma);
-  float dz = h - VOL_h0;
-  float r = sqrt(dz * dz + 4.0 * rho1 * rho2 * sg * sg);
-  float el = degrees(atan(dz - 2.0 * rho2 * sg * sg, rho2 * sin(gamma)));
-  return vec3(r, az, el);
+  return polarAntennaCoordinatesEnu(l, VOL_h0, VOL_meridionalRadius, VOL_primeVerticalRadius, VOL_effectiveRadius,
+                                    VOL_BEAM == 1);
 }
 
 vec3 VOL_debugCoordinates(vec3 p) { return VOL_antennaCoordinates(p); }

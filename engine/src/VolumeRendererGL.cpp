@@ -155,6 +155,24 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   const std::size_t at = main->find(marker);
   if (at == std::string::npos || variant.volumes.empty()) return fail("volume_march.frag has no " + marker + " line");
   std::ostringstream volumes;
+  // Files the samplers share ("// @NEEDS FILE" lines), once each, before the volumes.
+  std::vector<std::string> needed;
+  for (const auto& entry : variant.volumes) {
+    const std::string& file = entry.first;
+    auto sampler = loadShaderSource(file);
+    if (!sampler) return fail(sampler.error());
+    const std::string tag = "// @NEEDS ";
+    for (std::size_t pos = sampler->find(tag); pos != std::string::npos; pos = sampler->find(tag, pos + 1)) {
+      const std::size_t end = sampler->find('\n', pos);
+      const std::string name =
+          sampler->substr(pos + tag.size(), end == std::string::npos ? end : end - pos - tag.size());
+      if (std::find(needed.begin(), needed.end(), name) != needed.end()) continue;
+      auto shared = loadShaderSource(name);
+      if (!shared) return fail(file + " needs " + name + ": " + shared.error());
+      needed.push_back(name);
+      volumes << *shared << "\n";
+    }
+  }
   for (std::size_t k = 0; k < variant.volumes.size(); ++k) {
     const std::string prefix = volumePrefix(static_cast<std::size_t>(k));
     auto sampler = loadShaderSource(variant.volumes[k].first);
