@@ -380,7 +380,7 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     }
     glBindTextureUnit(static_cast<GLuint>(gridUnit(k)), vol.occupancy().texture());
     const SamplerBindingGL binding{&entry.uniforms, volumePrefix(static_cast<std::size_t>(k)), samplerFirstUnit(k),
-                                   nearestSampler_};
+                                   nearestSampler_, static_cast<int>(k)};
     if (slot.volumeId != vol.id() || slot.uniformVersion != vol.uniformVersion()) {
       vol.setSamplerUniforms(binding);
       ++uniformUploads_;  // counted once per volume (a handful of glUniform calls)

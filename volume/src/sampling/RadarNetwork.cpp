@@ -262,13 +262,16 @@ RadarNetworkSampler::Combined RadarNetworkSampler::combine(It first, It last, co
         break;
       case OverlapRule::LowestBeam:
       case OverlapRule::Integrate: {
+        // The lowest sweep's beam centre over the point's ground distance s = re g:
+        // H = h0 + (re + h0) (cos e0 / cos(e0 + g) - 1), written without cancellation (the GPU's
+        // float twin, sample_network.glsl, uses the same form).
         const double re = effectiveRadius_[k];
         const double h0 = v.site.antennaHeightEllipsoidMeters;
-        double h = 0.0, s0 = 0.0;
-        beamHeightAndGroundDistance(ac.rangeMeters, ac.elevationDeg, h0, re, &h, &s0);
+        const double el = ac.elevationDeg * kDeg;
+        const double g = std::atan2(ac.rangeMeters * std::cos(el), ac.rangeMeters * std::sin(el) + re + h0);
         const double e0 = v.sweeps.front().elevationDeg * kDeg;
-        const double angle = std::min(e0 + s0 / re, 0.5 * kPi - 1e-9);
-        const double lowBeam = (re + h0) * std::cos(e0) / std::cos(angle) - re;
+        const double lowBeam = h0 + (re + h0) * 2.0 * std::sin(e0 + 0.5 * g) * std::sin(0.5 * g) /
+                                        std::cos(std::min(e0 + g, 0.5 * kPi - 1e-9));
         if (lowBeam < lowest) {
           lowest = lowBeam;
           lowestSample = s;

@@ -72,6 +72,7 @@ struct SamplerBindingGL {
   std::string prefix;  ///< "v0_", "v1_", ...
   int firstUnit = 0;
   unsigned int nearestSampler = 0;  ///< a sampler object with nearest filtering, clamp to edge
+  int slot = 0;                     ///< the volume's index in the march (VOL_INDEX): its buffer binding point
 };
 
 /// An empty-space grid on the GPU: one R16F 3-D texture, the cells (z < cells.z) and above them

@@ -25,10 +25,10 @@
 //    as one radar's rule does between its gates; otherwise NoEcho if any measured it, else NoData.
 //  - LowestBeam: the value of the radar whose lowest sweep passes lowest over the point (OPERA's
 //    composites take the lowest valid bins): among the radars that measured the point, the least
-//    height of the lowest sweep's beam centre at the point's ground distance from the radar,
-//    H_k = (Re + h0) cos e0 / cos(e0 + s / Re) - Re + (the antenna's height), the effective-Earth
-//    beam of elevation e0 as a straight line over a sphere of radius Re = ke R (Doviak and Zrnic
-//    1993, eq. 2.28); ties: the radar listed first.
+//    height of the lowest sweep's beam centre at the point's ground distance s from the radar,
+//    H_k = h0 + (Re + h0) (cos e0 / cos(e0 + s / Re) - 1) (h0 the antenna's height), the
+//    effective-Earth beam of elevation e0 as a straight line over a sphere of radius Re = ke R
+//    (Doviak and Zrnic 1993, eq. 2.28); ties: the radar listed first.
 //  - Maximum: the largest Echo value; NoEcho if none echoes but one measured; else NoData.
 //  - Integrate is the renderers' rule for overlapping volumes (extinctions add, colours weighted
 //    by extinction; docs/volume-rendering.md): it has no single value, so it is not a sampler rule.

@@ -1,0 +1,55 @@
+#pragma once
+// A radar network on the GPU as one volume (volume/RadarNetwork.h): every radar's sweeps in its own
+// polar geometry as tiles of one texture array, their azimuth and elevation tables, per-radar and
+// per-sweep records and the coverage index in a shader storage buffer; drawn by VolumeRendererGL
+// through shaders/sample_network.glsl, where a sample visits only the radars its coverage cell
+// lists and combines them by the overlap rule. The CPU reference draws the same network through
+// volume::RadarNetworkSampler (the same index and rule, in double).
+#include <atmoglobe/engine/VolumeGL.h>
+#include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/FieldKind.h>
+#include <atmoglobe/volume/PolarVolume.h>
+#include <atmoglobe/volume/RadarNetwork.h>
+
+#include <memory>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+class RadarNetworkGL final : public VolumeGL {
+ public:
+  /// Uploads `radars` (1 or more, each of 1..MarchConstants::kMaxSweeps sweeps, one field `kind`)
+  /// under `rule` (not Integrate: the march's rule for separate volumes). Errors: those of
+  /// volume::makeRadarNetworkSampler; a tile or table larger than the GPU's texture limits; out
+  /// of GPU memory.
+  static Result<std::unique_ptr<RadarNetworkGL>> create(std::vector<std::shared_ptr<const volume::PolarVolume>> radars,
+                                                        volume::OverlapRule rule, volume::FieldKind kind);
+  ~RadarNetworkGL() override;
+  RadarNetworkGL(const RadarNetworkGL&) = delete;
+  RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;
+
+  std::string_view samplerShaderFile() const override { return "sample_network.glsl"; }
+  std::vector<std::string> samplerDefines(const VolumeRenderOptions& options) const override;
+  glm::dvec3 originEcef() const override { return origin_; }
+  void setSamplerUniforms(const SamplerBindingGL& binding) const override;
+  void bindSamplerTextures(const SamplerBindingGL& binding, const VolumeRenderOptions& options) const override;
+  volume::ValueRange valueRange() const override { return sampler_->valueRange(); }
+  std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
+  std::string description() const override { return sampler_->description(); }
+  const volume::VolumeSampler& referenceSampler() const override { return *sampler_; }
+  const volume::RadarNetworkSampler& network() const { return *sampler_; }
+
+ private:
+  RadarNetworkGL() = default;
+  std::vector<std::shared_ptr<const volume::PolarVolume>> radars_;
+  std::unique_ptr<volume::RadarNetworkSampler> sampler_;
+  glm::dvec3 origin_{0.0};
+  unsigned int values_ = 0, rayTable_ = 0, buffer_ = 0;
+  glm::vec2 valuesSize_{1.0f};
+  int tileWidth_ = 1, tilesPerLayer_ = 1, rayTableRows_ = 1;
+  int sweepBase_ = 0, cellBase_ = 0, memberBase_ = 0;
+  glm::vec4 enclosing_{0.0f}, top_{0.0f};
+  std::size_t gpuBytes_ = 0;
+};
+
+}  // namespace atmoglobe::engine

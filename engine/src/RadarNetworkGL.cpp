@@ -1,0 +1,269 @@
+#include <atmoglobe/engine/RadarNetworkGL.h>
+
+#include "LoaderGL.h"
+
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/Geolocation.h>
+
+#include <glm/gtc/packing.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace atmoglobe::engine {
+
+namespace {
+
+constexpr int kRadarWords = 24;  // sample_network.glsl: VOL_RADAR_WORDS
+constexpr int kSweepWords = 8;   // VOL_SWEEP_WORDS
+
+std::uint32_t bitsOf(float f) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+// The elevation -> last sweep at or below lookup of one radar over [range.x, range.y] (as
+// RadarVolumeGL's; bins start where the shader computes them, in float).
+std::vector<float> elevationLookup(const volume::PolarVolume& v, glm::vec2 range, int width) {
+  using C = MarchConstants;
+  std::vector<float> el(static_cast<std::size_t>(width), -1.0f);
+  const int n = static_cast<int>(v.sweeps.size());
+  int last = -1;
+  for (int b = 0; b < C::kElevationBins; ++b) {
+    const float start = range.x + (range.y - range.x) * static_cast<float>(b) / static_cast<float>(C::kElevationBins);
+    while (last + 1 < n && static_cast<float>(v.sweeps[last + 1].elevationDeg) <= start) ++last;
+    el[static_cast<std::size_t>(b)] = static_cast<float>(last);
+  }
+  return el;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
+    std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind) {
+  using C = MarchConstants;
+  std::vector<const volume::PolarVolume*> raw;
+  int maxGates = 1, maxRays = 1, sweeps = 0;
+  for (const auto& r : radars) {
+    const int n = static_cast<int>(r->sweeps.size());
+    if (n < 1 || n > C::kMaxSweeps)
+      return makeError(r->sourcePath + ": " + std::to_string(n) + " sweeps; the renderer takes 1.." +
+                       std::to_string(C::kMaxSweeps));
+    raw.push_back(r.get());
+    maxGates = std::max(maxGates, r->maxGates);
+    maxRays = std::max(maxRays, r->maxRays);
+    sweeps += n;
+  }
+  auto sampler = volume::makeRadarNetworkSampler(raw, rule, kind);
+  if (!sampler) return sampler.forwardError();
+
+  GLint maxSize = 0, maxLayers = 0, maxBuffer = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBuffer);
+  const int tileW = maxGates + 2, tileH = maxRays + 1;
+  if (tileW > maxSize || tileH > maxSize || C::kRayTableBins + 1 > maxSize)
+    return makeError("radar network: sweeps of " + std::to_string(maxGates) + " gates x " + std::to_string(maxRays) +
+                     " rays exceed the GPU's texture size " + std::to_string(maxSize));
+  const int radarCount = static_cast<int>(radars.size());
+  if (sweeps + radarCount > maxSize)
+    return makeError("radar network: " + std::to_string(sweeps) + " sweeps of " + std::to_string(radarCount) +
+                     " radars exceed the GPU's texture size " + std::to_string(maxSize) + " (azimuth tables)");
+  const int tilesPerLayer = std::max(1, std::min(maxSize / tileW, sweeps));
+  const int layers = (sweeps + tilesPerLayer - 1) / tilesPerLayer;
+  if (layers > maxLayers)
+    return makeError("radar network: " + std::to_string(sweeps) + " sweeps need " + std::to_string(layers) +
+                     " texture layers, over the GPU's " + std::to_string(maxLayers));
+
+  std::unique_ptr<RadarNetworkGL> gl(new RadarNetworkGL());
+  gl->radars_ = std::move(radars);
+  gl->sampler_ = std::move(*sampler);
+  const volume::CoverageIndex& index = gl->sampler_->coverage();
+  for (const auto& r : gl->radars_) gl->origin_ += volume::localSphereBeam(r->site, r->beam).antennaEcef;
+  gl->origin_ /= static_cast<double>(radarCount);
+  const glm::dvec3 origin = gl->origin_;
+
+  // Values: RGBA16F (value if echo else 0, 1 if echo, 1 if measured, 0) per texel; each sweep a
+  // tile of (gates + 2) x (rays + 1): column 0 repeats gate 0 and column gates + 1 the last gate
+  // (the clamp of the rule, and no filtering across tiles), row rays repeats ray 0 (the wrap).
+  const int width = tilesPerLayer * tileW;
+  std::vector<std::uint64_t> texels(static_cast<std::size_t>(width) * tileH * layers, 0u);
+  const std::uint64_t noEcho = glm::packHalf4x16(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+  std::vector<std::uint32_t> words(static_cast<std::size_t>(radarCount) * kRadarWords +
+                                   static_cast<std::size_t>(sweeps) * kSweepWords);
+  std::vector<float> table(static_cast<std::size_t>(C::kRayTableBins + 1) * (sweeps + radarCount), 0.0f);
+  gl->sweepBase_ = radarCount * kRadarWords;
+  double topRadius = 0.0;
+  std::vector<volume::OccupancyBox> boxes;
+  // The occupancy grid's frame: east, north, up at the origin's direction.
+  const glm::dvec3 up = glm::normalize(origin);
+  glm::dvec3 east = glm::cross(glm::dvec3(0.0, 0.0, 1.0), up);
+  east = glm::length(east) > 1e-6 ? glm::normalize(east) : glm::dvec3(0.0, 1.0, 0.0);
+  const glm::dmat3 frame(east, glm::cross(up, east), up);
+  const glm::dmat3 toFrame = glm::transpose(frame);
+  int g = 0;
+  for (int r = 0; r < radarCount; ++r) {
+    const volume::PolarVolume& v = *gl->radars_[static_cast<std::size_t>(r)];
+    const volume::LocalSphereBeam beam = volume::localSphereBeam(v.site, v.beam);
+    const int n = static_cast<int>(v.sweeps.size());
+    const double clip = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
+    const double hb = 0.5 * v.beamWidthDeg;
+    const glm::vec2 elRange(static_cast<float>(v.sweeps.front().elevationDeg - hb),
+                            static_cast<float>(v.sweeps.back().elevationDeg + hb));
+    std::uint32_t* rec = words.data() + static_cast<std::size_t>(r) * kRadarWords;
+    const glm::dvec3 site = beam.antennaEcef - origin;
+    for (int i = 0; i < 3; ++i) rec[i] = bitsOf(static_cast<float>(site[i]));
+    rec[3] = bitsOf(static_cast<float>(beam.antennaHeightMeters));
+    for (int row = 0; row < 3; ++row)
+      for (int i = 0; i < 3; ++i) rec[4 + 3 * row + i] = bitsOf(static_cast<float>(beam.enuToEcef[row][i]));
+    rec[13] = bitsOf(static_cast<float>(beam.meridionalRadiusMeters));
+    rec[14] = bitsOf(static_cast<float>(beam.primeVerticalRadiusMeters));
+    rec[15] = bitsOf(static_cast<float>(beam.effectiveRadiusMeters));
+    rec[16] = bitsOf(static_cast<float>(clip));
+    rec[17] = bitsOf(static_cast<float>(hb));
+    rec[18] = static_cast<std::uint32_t>(n);
+    rec[19] = static_cast<std::uint32_t>(g);
+    rec[20] = bitsOf(elRange.x);
+    rec[21] = bitsOf(elRange.y);
+    rec[22] = static_cast<std::uint32_t>(sweeps + r);
+    const std::vector<float> lookup = elevationLookup(v, elRange, C::kRayTableBins + 1);
+    std::copy(lookup.begin(), lookup.end(),
+              table.begin() + static_cast<std::ptrdiff_t>(sweeps + r) * (C::kRayTableBins + 1));
+    // The highest point a beam reaches: the top sweep's upper edge at the clip range.
+    double top = 0.0, ground = 0.0;
+    volume::beamHeightAndGroundDistance(clip, v.sweeps.back().elevationDeg + hb, beam.antennaHeightMeters,
+                                        beam.effectiveRadiusMeters, &top, &ground);
+    // |x| of a point with data: at most the antenna's distance from the centre plus the height
+    // it rises above the antenna, plus what the ellipsoid's radius grows within the clip range
+    // (under 2 km at 500 km): a 5 km margin.
+    topRadius =
+        std::max(topRadius, glm::length(beam.antennaEcef) + std::max(0.0, top - beam.antennaHeightMeters) + 5000.0);
+    for (int k = 0; k < n; ++k, ++g) {
+      const auto& s = v.sweeps[static_cast<std::size_t>(k)];
+      std::uint32_t* sw = words.data() + gl->sweepBase_ + static_cast<std::size_t>(g) * kSweepWords;
+      sw[0] = bitsOf(static_cast<float>(s.elevationDeg));
+      sw[1] = bitsOf(static_cast<float>(s.firstGateRangeMeters));
+      sw[2] = bitsOf(static_cast<float>(s.gateSpacingMeters));
+      sw[3] = bitsOf(static_cast<float>(s.gateCount));
+      sw[4] = bitsOf(static_cast<float>(s.rayCount));
+      const std::vector<float> rays = volume::rayCoordinateTable(s, C::kRayTableBins);
+      std::copy(rays.begin(), rays.end(), table.begin() + static_cast<std::ptrdiff_t>(g) * (C::kRayTableBins + 1));
+      const int layer = g / tilesPerLayer, x0 = (g % tilesPerLayer) * tileW;
+      std::uint64_t* base = texels.data() + static_cast<std::size_t>(layer) * width * tileH;
+      for (int row = 0; row <= s.rayCount; ++row) {
+        const int ray = row % s.rayCount;
+        for (int col = 0; col < s.gateCount + 2; ++col) {
+          const float value = v.value(k, ray, std::clamp(col - 1, 0, s.gateCount - 1));
+          std::uint64_t t = 0;
+          if (volume::isMeasuredValue(value)) t = glm::packHalf4x16(glm::vec4(value, 1.0f, 1.0f, 0.0f));
+          else if (volume::isNoEcho(value)) t = noEcho;
+          base[static_cast<std::size_t>(row) * width + x0 + col] = t;
+        }
+      }
+    }
+    // Empty space: the radar's own grid's blocks, as boxes in the network's frame.
+    const volume::OccupancyGrid og = volume::buildOccupancyGrid(v);
+    constexpr int kB = volume::OccupancyGrid::kBlock;
+    for (int bz = 0; bz < og.blocks.z; ++bz)
+      for (int by = 0; by < og.blocks.y; ++by)
+        for (int bx = 0; bx < og.blocks.x; ++bx) {
+          const float m = og.blockMaxValues[(static_cast<std::size_t>(bz) * og.blocks.y + by) * og.blocks.x + bx];
+          if (m <= volume::kOccupancyEmptyValue) continue;
+          const glm::dvec3 lo = og.minLocal + glm::dvec3(bx, by, bz) * double(kB) * og.cellSizeMeters;
+          const glm::dvec3 hi = lo + double(kB) * og.cellSizeMeters;
+          volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), m};
+          for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+            const glm::dvec3 local = toFrame * (og.originEcef + og.localToEcef * corner - origin);
+            box.lo = glm::min(box.lo, local);
+            box.hi = glm::max(box.hi, local);
+          }
+          boxes.push_back(box);
+        }
+  }
+  gl->cellBase_ = static_cast<int>(words.size());
+  words.insert(words.end(), index.cellStart.begin(), index.cellStart.end());
+  gl->memberBase_ = static_cast<int>(words.size());
+  words.insert(words.end(), index.members.begin(), index.members.end());
+  if (words.size() * 4 > static_cast<std::size_t>(maxBuffer))
+    return makeError("radar network: its records need " + megabytes(words.size() * 4) +
+                     ", over the GPU's shader storage block size " + megabytes(static_cast<std::size_t>(maxBuffer)));
+
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  clearErrorsGL();
+  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+  glTextureStorage3D(gl->values_, 1, GL_RGBA16F, width, tileH, layers);
+  if (outOfMemoryGL())
+    return makeError("radar network: the GPU is out of memory for its " + megabytes(texels.size() * 8) +
+                     " texture of " + std::to_string(sweeps) + " sweeps");
+  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, width, tileH, layers, GL_RGBA, GL_HALF_FLOAT, texels.data());
+  gl->gpuBytes_ += texels.size() * 8;
+  gl->valuesSize_ = glm::vec2(static_cast<float>(width), static_cast<float>(tileH));
+  gl->tileWidth_ = tileW;
+  gl->tilesPerLayer_ = tilesPerLayer;
+  gl->rayTableRows_ = sweeps + radarCount;
+  gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
+  glTextureStorage2D(gl->rayTable_, 1, GL_R32F, C::kRayTableBins + 1, gl->rayTableRows_);
+  glTextureSubImage2D(gl->rayTable_, 0, 0, 0, C::kRayTableBins + 1, gl->rayTableRows_, GL_RED, GL_FLOAT, table.data());
+  gl->gpuBytes_ += table.size() * 4;
+  glCreateBuffers(1, &gl->buffer_);
+  glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(words.size() * 4), words.data(), 0);
+  gl->gpuBytes_ += words.size() * 4;
+  if (outOfMemoryGL()) return makeError("radar network: the GPU is out of memory for its tables");
+
+  const volume::BoundingSphere enclosing = gl->sampler_->boundingSphere();
+  gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
+  gl->top_ = glm::vec4(glm::vec3(-origin), static_cast<float>(topRadius));
+  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(origin, frame, boxes, glm::ivec3(256, 256, 32)));
+  return gl;
+}
+
+RadarNetworkGL::~RadarNetworkGL() {
+  for (GLuint t : {values_, rayTable_})
+    if (t) glDeleteTextures(1, &t);
+  if (buffer_) glDeleteBuffers(1, &buffer_);
+}
+
+std::vector<std::string> RadarNetworkGL::samplerDefines(const VolumeRenderOptions& options) const {
+  const int rule = sampler_->rule() == volume::OverlapRule::WeightedMean ? 0
+                   : sampler_->rule() == volume::OverlapRule::LowestBeam ? 1
+                                                                         : 2;
+  return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
+          "RULE " + std::to_string(rule)};
+}
+
+void RadarNetworkGL::setSamplerUniforms(const SamplerBindingGL& b) const {
+  UniformCacheGL& u = *b.uniforms;
+  const std::string& p = b.prefix;
+  const volume::CoverageIndex& index = sampler_->coverage();
+  glUniform1i(u(p + "values"), b.firstUnit);
+  glUniform1i(u(p + "rayTable"), b.firstUnit + 1);
+  glUniform2f(u(p + "valuesInvSize"), 1.0f / valuesSize_.x, 1.0f / valuesSize_.y);
+  glUniform1f(u(p + "tileWidth"), static_cast<float>(tileWidth_));
+  glUniform1i(u(p + "tilesPerLayer"), tilesPerLayer_);
+  glUniform1f(u(p + "rayTableRows"), static_cast<float>(rayTableRows_));
+  glUniform1i(u(p + "sweepBase"), sweepBase_);
+  glUniform1i(u(p + "cellBase"), cellBase_);
+  glUniform1i(u(p + "memberBase"), memberBase_);
+  const glm::vec3 origin(origin_);
+  glUniform3fv(u(p + "originEcef"), 1, glm::value_ptr(origin));
+  glUniform4f(u(p + "coverage"), static_cast<float>(index.latMinDeg), static_cast<float>(index.lonOriginDeg),
+              static_cast<float>(index.cellDeg), 0.0f);
+  glUniform2i(u(p + "coverageCells"), index.columns, index.rows);
+  glUniform4fv(u(p + "enclosing"), 1, glm::value_ptr(enclosing_));
+  glUniform4fv(u(p + "top"), 1, glm::value_ptr(top_));
+}
+
+void RadarNetworkGL::bindSamplerTextures(const SamplerBindingGL& b, const VolumeRenderOptions& options) const {
+  glBindTextureUnit(static_cast<GLuint>(b.firstUnit), values_);
+  glBindSampler(static_cast<GLuint>(b.firstUnit),
+                options.render.interpolation == volume::Interpolation::Nearest ? b.nearestSampler : 0);
+  glBindTextureUnit(static_cast<GLuint>(b.firstUnit + 1), rayTable_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b.slot), buffer_);
+}
+
+}  // namespace atmoglobe::engine

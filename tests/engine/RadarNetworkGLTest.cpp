@@ -1,0 +1,129 @@
+// A radar network as one GPU volume (engine/RadarNetworkGL.h, shaders/sample_network.glsl) against
+// the CPU reference of the same network (volume::RadarNetworkSampler: the same coverage index and
+// overlap rule in double), in every mode and rule; and a network of one radar against that radar
+// drawn alone.
+#include "GLTestUtil.h"
+#include "SyntheticPolarVolume.h"
+
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/RadarNetworkGL.h>
+#include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/Geolocation.h>
+#include <atmoglobe/volume/ReferenceRenderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+namespace {
+
+using namespace atmoglobe;
+using engine::Camera;
+using engine::CameraPose;
+
+constexpr double kStormLatDeg = 35.4, kStormLonDeg = -97.3;
+
+// A radar at (lat, lon) seeing one storm (a 3-D Gaussian around (kStormLatDeg, kStormLonDeg,
+// 3 km), 55 dBZ at its centre, 30 km wide) with a calibration bias of `biasDb`: 8 sweeps
+// 0.5..7.5 deg, 180 rays, 240 gates of 500 m (to 122 km).
+std::shared_ptr<const volume::PolarVolume> radarSeeingTheStorm(double latDeg, double lonDeg, double biasDb) {
+  testutil::SyntheticPolarGeometry g;
+  g.latDeg = latDeg;
+  g.lonDeg = lonDeg;
+  g.antennaHeightMeters = 400.0;
+  g.sweeps = 8;
+  g.rays = 180;
+  g.gates = 240;
+  g.gateSpacingMeters = 500.0;
+  const volume::GeolocationSite site{latDeg, lonDeg, g.antennaHeightMeters};
+  return std::make_shared<const volume::PolarVolume>(
+      testutil::polarOf(testutil::syntheticRadarVolume(g, [&](double r, double az, double el) {
+        const volume::GatePosition p = volume::geolocateGateExact(site, volume::BeamModel{}, az, el, r);
+        const double d = globe::geodesicInverse(kStormLatDeg, kStormLonDeg, p.latDeg, p.lonDeg).distanceMeters;
+        const double x = 55.0 * std::exp(-std::pow(d / 30e3, 2) - std::pow((p.heightMeters - 3000.0) / 3000.0, 2));
+        return x < 5.0 ? volume::kNoEcho : static_cast<float>(x + biasDb);
+      })));
+}
+
+TEST(RadarNetworkGL, GpuMatchesTheReferenceForEveryRuleAndMode) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  // Three radars around the storm (60-90 km from it, overlapping) with different biases, and a
+  // fourth 700 km away that no coverage cell over the storm lists.
+  std::vector<std::shared_ptr<const volume::PolarVolume>> radars = {
+      radarSeeingTheStorm(35.33, -97.95, 0.0), radarSeeingTheStorm(35.95, -96.9, 6.0),
+      radarSeeingTheStorm(34.8, -96.9, -4.0), radarSeeingTheStorm(35.0, -89.5, 0.0)};
+  // Looking north-east at the storm from 90 km south-west, 25 km up.
+  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  options.render.isoValue = 25.0;
+  options.skipEmptySpace = false;
+  for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
+    auto gl = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity);
+    ASSERT_TRUE(gl) << gl.error();
+    for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip, volume::VolumeRenderMode::Iso}) {
+      options.render.mode = mode;
+      options.skipEmptySpace = false;
+      const volume::VolumeImage ref =
+          volume::renderReference({{&(*gl)->referenceSampler(), options.render}}, rc, false, 2);
+      const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), options}});
+      const volume::ImageError e = volume::compareImages(gpu, ref);
+      int drawn = 0;
+      for (int y = 0; y < camera.heightPx(); ++y)
+        for (int x = 0; x < camera.widthPx(); ++x) drawn += ref.at(x, y).a > 0.05;
+      std::cout << "network rule " << volume::toString(rule) << ", mode " << static_cast<int>(mode)
+                << ": GPU vs reference mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB, "
+                << drawn << " pixels drawn\n";
+      ASSERT_GT(drawn, 200) << "the storm must fill part of the view";
+      // As for one radar (RadarMarch.GpuMatchesTheReferenceInEveryMode): mean below one 8-bit
+      // step, 30 dB.
+      EXPECT_LT(e.meanAbs, 1.0);
+      EXPECT_GT(e.psnrDb, 30.0);
+      // Skipping (the network's empty-space grid, built from each radar's) does not change the picture.
+      options.skipEmptySpace = true;
+      const volume::VolumeImage skipped = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), options}});
+      EXPECT_LE(volume::compareImages(skipped, gpu).maxAbs, 1.0) << "skipping changed the picture";
+    }
+  }
+}
+
+TEST(RadarNetworkGL, ANetworkOfOneRadarIsThatRadar) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  const auto radar = radarSeeingTheStorm(35.33, -97.95, 0.0);
+  auto network =
+      engine::RadarNetworkGL::create({radar}, volume::OverlapRule::WeightedMean, volume::FieldKind::Reflectivity);
+  ASSERT_TRUE(network) << network.error();
+  auto alone = engine::RadarVolumeGL::create(*radar);
+  ASSERT_TRUE(alone) << alone.error();
+  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  for (auto mode : {volume::VolumeRenderMode::Dvr, volume::VolumeRenderMode::Mip}) {
+    options.render.mode = mode;
+    const volume::VolumeImage a = testutil::renderVolumesGpu(**renderer, camera, {{network->get(), options}});
+    const volume::VolumeImage b = testutil::renderVolumesGpu(**renderer, camera, {{alone->get(), options}});
+    const volume::ImageError e = volume::compareImages(a, b);
+    std::cout << "network of one vs the radar alone, mode " << static_cast<int>(mode) << ": mean " << e.meanAbs
+              << " max " << e.maxAbs << "\n";
+    // The same samples of the same half-float texels through the same beam model; the two
+    // samplers' float arithmetic differs (positions relative to the network's origin, the mean
+    // rule's weight), so a pixel may differ by rounding: at most 2 of 255.
+    EXPECT_LE(e.maxAbs, 2.0);
+    EXPECT_LT(e.meanAbs, 0.05);
+  }
+}
+
+}  // namespace
