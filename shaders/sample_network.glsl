@@ -13,32 +13,33 @@
 // 1 lowest beam, 2 maximum: volume::OverlapRule).
 // @NEEDS polar_beam.glsl
 
-// Per radar and sweep records, the coverage index (RadarNetworkGL.cpp writes them; words are
-// uint, floats by their bits).
-layout(std430, binding = VOL_INDEX) readonly buffer VOL_NetworkData { uint VOL_words[]; };
+// Per radar and sweep records, then the coverage index (RadarNetworkGL.cpp writes them): vec4s,
+// so that a record is a few vector loads; the index's integers as floats (exact below 2^24).
+layout(std430, binding = VOL_INDEX) readonly buffer VOL_NetworkData { vec4 VOL_data[]; };
 uniform sampler2DArray VOL_values;  // RGBA16F, linear: sweeps as tiles side by side: (value if echo else 0, 1 if echo, 1 if measured)
 uniform vec2 VOL_valuesInvSize;     // 1 / (layer width, height)
 uniform float VOL_tileWidth;        // texels per tile (gates + 2: a padding column each side)
 uniform int VOL_tilesPerLayer;
 uniform sampler2D VOL_rayTable;     // R32F, linear: row g = sweep g's azimuth table; rows after the sweeps: each radar's elevation lookup
 uniform float VOL_rayTableRows;
-uniform int VOL_sweepBase, VOL_cellBase, VOL_memberBase;  // word offsets (radars start at 0)
+uniform int VOL_sweepBase;                // vec4 offset of the sweep records (radars start at 0)
+uniform int VOL_cellBase, VOL_memberBase;  // float offsets (4 per vec4) of the cell starts and the members
 uniform vec3 VOL_originEcef;        // the origin (float: only the coverage cell is found from it)
 uniform vec4 VOL_coverage;          // latMinDeg, lonOriginDeg, cellDeg, -
 uniform ivec2 VOL_coverageCells;    // columns, rows
 uniform vec4 VOL_enclosing;         // centre (relative to the origin), radius: every radar's clip sphere
 uniform vec4 VOL_top;               // the Earth's centre (relative to the origin), the radius above every beam
 
-const int VOL_RADAR_WORDS = 24;
-const int VOL_SWEEP_WORDS = 8;
+const int VOL_RADAR_VEC4S = 6;
 // The mean rule's weights exp(-(r / L)^2) times exp(64) (they cancel in the mean): float holds
 // them out to 700 km instead of 460 (exp(-86) is float's smallest normal).
 const float VOL_WEIGHT_SHIFT = 64.0;
 const float VOL_WEIGHT_LENGTH = 50000.0;  // volume::kMosaicWeightLengthMeters
 
-float VOL_f(int i) { return uintBitsToFloat(VOL_words[i]); }
-int VOL_i(int i) { return int(VOL_words[i]); }
-vec3 VOL_f3(int i) { return vec3(VOL_f(i), VOL_f(i + 1), VOL_f(i + 2)); }
+// The i-th float of the buffer (the index's integers).
+int VOL_int(int i) { return int(VOL_data[i >> 2][i & 3]); }
+vec4 VOL_sweep(int g) { return VOL_data[VOL_sweepBase + 2 * g]; }  // elevationDeg, firstGateRange, gateSpacing, gateCount
+float VOL_sweepRays(int g) { return VOL_data[VOL_sweepBase + 2 * g + 1].x; }
 
 // The ray interval of a sphere, computed from the perpendicular part of the offset (float: the
 // Earth's centre is 6400 km away) and widened by a margin that covers its rounding.
@@ -59,11 +60,10 @@ vec2 VOL_interval(vec3 eyeRel, vec3 dir, float tMax) {
 
 // Sweep g's contribution with weight w: (sum of echo values, echo weight, measured weight).
 void VOL_sampleSweep(int g, float w, vec3 rae, inout vec3 acc) {
-  int s = VOL_sweepBase + g * VOL_SWEEP_WORDS;
-  float gates = VOL_f(s + 3);
-  float gc = (rae.x - VOL_f(s + 1)) / VOL_f(s + 2);
-  if (gc < -0.5 || gc > gates - 0.5) return;  // outside this sweep's gates: no data
-  float n = VOL_f(s + 4);
+  vec4 s = VOL_sweep(g);
+  float gc = (rae.x - s.y) / s.z;
+  if (gc < -0.5 || gc > s.w - 0.5) return;  // outside this sweep's gates: no data
+  float n = VOL_sweepRays(g);
   float u = (rae.y * (float(RAY_TABLE_BINS) / 360.0) + 0.5) / float(RAY_TABLE_BINS + 1);
   float a = textureLod(VOL_rayTable, vec2(u, (float(g) + 0.5) / VOL_rayTableRows), 0.0).r;
   float y = a < 0.0 ? a + n : a;
@@ -80,16 +80,18 @@ int VOL_sampleRadar(int r, vec3 p, out float value, out float rangeMeters, out f
   value = 0.0;
   rangeMeters = 0.0;
   lowBeam = 0.0;
-  int b = r * VOL_RADAR_WORDS;
-  vec3 d = p - VOL_f3(b);
-  float clip = VOL_f(b + 16);
-  if (dot(d, d) > clip * clip) return 0;
-  vec3 l = vec3(dot(VOL_f3(b + 4), d), dot(VOL_f3(b + 7), d), dot(VOL_f3(b + 10), d));
-  float h0 = VOL_f(b + 3), re = VOL_f(b + 15);
-  vec3 rae = polarAntennaCoordinatesEnu(l, h0, VOL_f(b + 13), VOL_f(b + 14), re, false);
-  float hb = VOL_f(b + 17);
-  int n = VOL_i(b + 18), g0 = VOL_i(b + 19);
-  float e0 = VOL_f(VOL_sweepBase + g0 * VOL_SWEEP_WORDS), en = VOL_f(VOL_sweepBase + (g0 + n - 1) * VOL_SWEEP_WORDS);
+  int b = r * VOL_RADAR_VEC4S;
+  vec4 site = VOL_data[b];  // site - origin, h0
+  vec4 limits = VOL_data[b + 4];  // clip radius, half beam width, sweeps, first sweep
+  vec3 d = p - site.xyz;
+  if (dot(d, d) > limits.x * limits.x) return 0;
+  vec4 east = VOL_data[b + 1], north = VOL_data[b + 2], up = VOL_data[b + 3];  // rows of ecefToEnu; M, N, Re
+  vec3 l = vec3(dot(east.xyz, d), dot(north.xyz, d), dot(up.xyz, d));
+  float h0 = site.w, re = up.w;
+  vec3 rae = polarAntennaCoordinatesEnu(l, h0, east.w, north.w, re, false);
+  float hb = limits.y;
+  int n = int(limits.z), g0 = int(limits.w);
+  float e0 = VOL_sweep(g0).x, en = VOL_sweep(g0 + n - 1).x;
   float el = rae.z;
   if (el < e0 - hb || el > en + hb) return 0;
   // Bracket the elevation (PolarVolume.h, step 1).
@@ -100,12 +102,12 @@ int VOL_sampleRadar(int r, vec3 p, out float value, out float rangeMeters, out f
   } else if (el >= en) {
     k0 = k1 = n - 1;
   } else {
-    vec2 range = vec2(VOL_f(b + 20), VOL_f(b + 21));
-    int bin = clamp(int((el - range.x) / (range.y - range.x) * float(ELEVATION_BINS)), 0, ELEVATION_BINS - 1);
-    int k = int(texelFetch(VOL_rayTable, ivec2(bin, VOL_i(b + 22)), 0).r);
-    for (int it = 0; it < MAX_SWEEPS && k + 1 < n && VOL_f(VOL_sweepBase + (g0 + k + 1) * VOL_SWEEP_WORDS) <= el; ++it) ++k;
-    float ek = VOL_f(VOL_sweepBase + (g0 + k) * VOL_SWEEP_WORDS);
-    float ek1 = VOL_f(VOL_sweepBase + (g0 + k + 1) * VOL_SWEEP_WORDS);
+    vec4 lookup = VOL_data[b + 5];  // elevation range of the lookup, its row
+    int bin = clamp(int((el - lookup.x) / (lookup.y - lookup.x) * float(ELEVATION_BINS)), 0, ELEVATION_BINS - 1);
+    int k = int(texelFetch(VOL_rayTable, ivec2(bin, int(lookup.z)), 0).r);
+    for (int it = 0; it < MAX_SWEEPS && k + 1 < n && VOL_sweep(g0 + k + 1).x <= el; ++it) ++k;
+    float ek = VOL_sweep(g0 + k).x;
+    float ek1 = VOL_sweep(g0 + k + 1).x;
     if (VOL_INTERPOLATION == 0) {
       k0 = k1 = abs(el - ek1) < abs(el - ek) ? k + 1 : k;
     } else {
@@ -118,12 +120,14 @@ int VOL_sampleRadar(int r, vec3 p, out float value, out float rangeMeters, out f
   VOL_sampleSweep(g0 + k0, 1.0 - t, rae, acc);
   VOL_sampleSweep(g0 + k1, t, rae, acc);
   rangeMeters = rae.x;
-  // The lowest sweep's beam centre over the point's ground distance s (RadarNetwork.h):
-  // H - h0 = (re + h0) 2 sin(e0 + g / 2) sin(g / 2) / cos(e0 + g), g = s / re, without cancellation.
-  float e0r = radians(e0);
-  float elr = radians(el);
-  float gam = atan(rae.x * cos(elr), rae.x * sin(elr) + re + h0);
-  lowBeam = h0 + (re + h0) * 2.0 * sin(e0r + 0.5 * gam) * sin(0.5 * gam) / cos(min(e0r + gam, 1.5707));
+  if (VOL_RULE == 1) {
+    // The lowest sweep's beam centre over the point's ground distance s (RadarNetwork.h):
+    // H - h0 = (re + h0) 2 sin(e0 + g / 2) sin(g / 2) / cos(e0 + g), g = s / re, without cancellation.
+    float e0r = radians(e0);
+    float elr = radians(el);
+    float gam = atan(rae.x * cos(elr), rae.x * sin(elr) + re + h0);
+    lowBeam = h0 + (re + h0) * 2.0 * sin(e0r + 0.5 * gam) * sin(0.5 * gam) / cos(min(e0r + gam, 1.5707));
+  }
   if (acc.y >= 0.5) {
     value = acc.x / acc.y;
     return 2;
@@ -146,7 +150,7 @@ int VOL_cellOf(vec3 p) {
 
 vec3 VOL_debugCoordinates(vec3 p) {
   int c = VOL_cellOf(p);
-  return vec3(float(c), c < 0 ? 0.0 : float(VOL_i(VOL_cellBase + c + 1) - VOL_i(VOL_cellBase + c)), 0.0);
+  return vec3(float(c), c < 0 ? 0.0 : float(VOL_int(VOL_cellBase + c + 1) - VOL_int(VOL_cellBase + c)), 0.0);
 }
 
 // The step rule (volume/StepRule.h): no cell crossing for radars yet, the fixed step.
@@ -156,7 +160,7 @@ int VOL_sample(vec3 p, out float value) {
   value = 0.0;
   int c = VOL_cellOf(p);
   if (c < 0) return STATE_NOT_ECHO;
-  int first = VOL_i(VOL_cellBase + c), last = VOL_i(VOL_cellBase + c + 1);
+  int first = VOL_int(VOL_cellBase + c), last = VOL_int(VOL_cellBase + c + 1);
   float sumW = 0.0, echoW = 0.0, sumWV = 0.0;
   float best = -3.0e38, lowest = 3.0e38;
   bool echo = false;
@@ -164,7 +168,7 @@ int VOL_sample(vec3 p, out float value) {
   float lowestValue = 0.0;
   for (int j = first; j < last; ++j) {
     float v, r, low;
-    int st = VOL_sampleRadar(VOL_i(VOL_memberBase + j), p, v, r, low);
+    int st = VOL_sampleRadar(VOL_int(VOL_memberBase + j), p, v, r, low);
     if (st == 0) continue;
     if (VOL_RULE == 0) {
       float q = r / VOL_WEIGHT_LENGTH;

@@ -17,14 +17,8 @@ namespace atmoglobe::engine {
 
 namespace {
 
-constexpr int kRadarWords = 24;  // sample_network.glsl: VOL_RADAR_WORDS
-constexpr int kSweepWords = 8;   // VOL_SWEEP_WORDS
-
-std::uint32_t bitsOf(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
+constexpr int kRadarVec4s = 6;  // sample_network.glsl: VOL_RADAR_VEC4S
+constexpr int kSweepVec4s = 2;  // VOL_sweep, VOL_sweepRays
 
 // The elevation -> last sweep at or below lookup of one radar over [range.x, range.y] (as
 // RadarVolumeGL's; bins start where the shader computes them, in float).
@@ -93,10 +87,14 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   const int width = tilesPerLayer * tileW;
   std::vector<std::uint64_t> texels(static_cast<std::size_t>(width) * tileH * layers, 0u);
   const std::uint64_t noEcho = glm::packHalf4x16(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
-  std::vector<std::uint32_t> words(static_cast<std::size_t>(radarCount) * kRadarWords +
-                                   static_cast<std::size_t>(sweeps) * kSweepWords);
+  // The buffer: per radar 6 vec4 (site - origin, h0; the rows of ecefToEnu with M, N, Re; clip
+  // radius, half beam width, sweeps, first sweep; the elevation lookup's range and row), per sweep
+  // 2 (elevation, first gate, spacing, gates; rays), then the index's cell starts and members,
+  // each a float (exact: below 2^24, checked).
+  std::vector<glm::vec4> data(static_cast<std::size_t>(radarCount) * kRadarVec4s +
+                              static_cast<std::size_t>(sweeps) * kSweepVec4s);
   std::vector<float> table(static_cast<std::size_t>(C::kRayTableBins + 1) * (sweeps + radarCount), 0.0f);
-  gl->sweepBase_ = radarCount * kRadarWords;
+  gl->sweepBase_ = radarCount * kRadarVec4s;
   double topRadius = 0.0;
   std::vector<volume::OccupancyBox> boxes;
   // The occupancy grid's frame: east, north, up at the origin's direction.
@@ -114,22 +112,13 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     const double hb = 0.5 * v.beamWidthDeg;
     const glm::vec2 elRange(static_cast<float>(v.sweeps.front().elevationDeg - hb),
                             static_cast<float>(v.sweeps.back().elevationDeg + hb));
-    std::uint32_t* rec = words.data() + static_cast<std::size_t>(r) * kRadarWords;
-    const glm::dvec3 site = beam.antennaEcef - origin;
-    for (int i = 0; i < 3; ++i) rec[i] = bitsOf(static_cast<float>(site[i]));
-    rec[3] = bitsOf(static_cast<float>(beam.antennaHeightMeters));
-    for (int row = 0; row < 3; ++row)
-      for (int i = 0; i < 3; ++i) rec[4 + 3 * row + i] = bitsOf(static_cast<float>(beam.enuToEcef[row][i]));
-    rec[13] = bitsOf(static_cast<float>(beam.meridionalRadiusMeters));
-    rec[14] = bitsOf(static_cast<float>(beam.primeVerticalRadiusMeters));
-    rec[15] = bitsOf(static_cast<float>(beam.effectiveRadiusMeters));
-    rec[16] = bitsOf(static_cast<float>(clip));
-    rec[17] = bitsOf(static_cast<float>(hb));
-    rec[18] = static_cast<std::uint32_t>(n);
-    rec[19] = static_cast<std::uint32_t>(g);
-    rec[20] = bitsOf(elRange.x);
-    rec[21] = bitsOf(elRange.y);
-    rec[22] = static_cast<std::uint32_t>(sweeps + r);
+    glm::vec4* rec = data.data() + static_cast<std::size_t>(r) * kRadarVec4s;
+    rec[0] = glm::vec4(glm::vec3(beam.antennaEcef - origin), static_cast<float>(beam.antennaHeightMeters));
+    const double radii[3] = {beam.meridionalRadiusMeters, beam.primeVerticalRadiusMeters, beam.effectiveRadiusMeters};
+    for (int row = 0; row < 3; ++row)  // row `row` of ecefToEnu: column `row` of enuToEcef
+      rec[1 + row] = glm::vec4(glm::vec3(beam.enuToEcef[row]), static_cast<float>(radii[row]));
+    rec[4] = glm::vec4(static_cast<float>(clip), static_cast<float>(hb), static_cast<float>(n), static_cast<float>(g));
+    rec[5] = glm::vec4(elRange.x, elRange.y, static_cast<float>(sweeps + r), 0.0f);
     const std::vector<float> lookup = elevationLookup(v, elRange, C::kRayTableBins + 1);
     std::copy(lookup.begin(), lookup.end(),
               table.begin() + static_cast<std::ptrdiff_t>(sweeps + r) * (C::kRayTableBins + 1));
@@ -144,12 +133,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         std::max(topRadius, glm::length(beam.antennaEcef) + std::max(0.0, top - beam.antennaHeightMeters) + 5000.0);
     for (int k = 0; k < n; ++k, ++g) {
       const auto& s = v.sweeps[static_cast<std::size_t>(k)];
-      std::uint32_t* sw = words.data() + gl->sweepBase_ + static_cast<std::size_t>(g) * kSweepWords;
-      sw[0] = bitsOf(static_cast<float>(s.elevationDeg));
-      sw[1] = bitsOf(static_cast<float>(s.firstGateRangeMeters));
-      sw[2] = bitsOf(static_cast<float>(s.gateSpacingMeters));
-      sw[3] = bitsOf(static_cast<float>(s.gateCount));
-      sw[4] = bitsOf(static_cast<float>(s.rayCount));
+      glm::vec4* sw = data.data() + gl->sweepBase_ + static_cast<std::size_t>(g) * kSweepVec4s;
+      sw[0] = glm::vec4(static_cast<float>(s.elevationDeg), static_cast<float>(s.firstGateRangeMeters),
+                        static_cast<float>(s.gateSpacingMeters), static_cast<float>(s.gateCount));
+      sw[1] = glm::vec4(static_cast<float>(s.rayCount), 0.0f, 0.0f, 0.0f);
       const std::vector<float> rays = volume::rayCoordinateTable(s, C::kRayTableBins);
       std::copy(rays.begin(), rays.end(), table.begin() + static_cast<std::ptrdiff_t>(g) * (C::kRayTableBins + 1));
       const int layer = g / tilesPerLayer, x0 = (g % tilesPerLayer) * tileW;
@@ -165,32 +152,47 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         }
       }
     }
-    // Empty space: the radar's own grid's blocks, as boxes in the network's frame.
+    // Empty space: the radar's own grid's cells, as boxes in the network's frame (a run of cells
+    // along x with values is one box, of their largest value).
     const volume::OccupancyGrid og = volume::buildOccupancyGrid(v);
-    constexpr int kB = volume::OccupancyGrid::kBlock;
-    for (int bz = 0; bz < og.blocks.z; ++bz)
-      for (int by = 0; by < og.blocks.y; ++by)
-        for (int bx = 0; bx < og.blocks.x; ++bx) {
-          const float m = og.blockMaxValues[(static_cast<std::size_t>(bz) * og.blocks.y + by) * og.blocks.x + bx];
-          if (m <= volume::kOccupancyEmptyValue) continue;
-          const glm::dvec3 lo = og.minLocal + glm::dvec3(bx, by, bz) * double(kB) * og.cellSizeMeters;
-          const glm::dvec3 hi = lo + double(kB) * og.cellSizeMeters;
-          volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), m};
-          for (int c = 0; c < 8; ++c) {
-            const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-            const glm::dvec3 local = toFrame * (og.originEcef + og.localToEcef * corner - origin);
-            box.lo = glm::min(box.lo, local);
-            box.hi = glm::max(box.hi, local);
+    auto addBox = [&](const glm::dvec3& lo, const glm::dvec3& hi, float m) {
+      volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), m};
+      for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+        const glm::dvec3 local = toFrame * (og.originEcef + og.localToEcef * corner - origin);
+        box.lo = glm::min(box.lo, local);
+        box.hi = glm::max(box.hi, local);
+      }
+      boxes.push_back(box);
+    };
+    for (int z = 0; z < og.cells.z; ++z)
+      for (int y = 0; y < og.cells.y; ++y)
+        for (int x = 0; x < og.cells.x;) {
+          float m = og.maxValues[og.cellIndex(x, y, z)];
+          if (m <= volume::kOccupancyEmptyValue) {
+            ++x;
+            continue;
           }
-          boxes.push_back(box);
+          const int x0 = x;
+          while (x + 1 < og.cells.x && og.maxValues[og.cellIndex(x + 1, y, z)] > volume::kOccupancyEmptyValue)
+            m = std::max(m, og.maxValues[og.cellIndex(++x, y, z)]);
+          ++x;
+          const glm::dvec3 lo = og.minLocal + glm::dvec3(x0, y, z) * og.cellSizeMeters;
+          addBox(lo, og.minLocal + glm::dvec3(x, y + 1, z + 1) * og.cellSizeMeters, m);
         }
   }
-  gl->cellBase_ = static_cast<int>(words.size());
-  words.insert(words.end(), index.cellStart.begin(), index.cellStart.end());
-  gl->memberBase_ = static_cast<int>(words.size());
-  words.insert(words.end(), index.members.begin(), index.members.end());
-  if (words.size() * 4 > static_cast<std::size_t>(maxBuffer))
-    return makeError("radar network: its records need " + megabytes(words.size() * 4) +
+  std::vector<float> floats(data.size() * 4);
+  std::memcpy(floats.data(), data.data(), data.size() * sizeof(glm::vec4));
+  if (index.members.size() >= (1u << 24))
+    return makeError("radar network: its coverage index lists " + std::to_string(index.members.size()) +
+                     " radars in all, over the 2^24 the GPU's float indices hold");
+  gl->cellBase_ = static_cast<int>(floats.size());
+  for (std::uint32_t v : index.cellStart) floats.push_back(static_cast<float>(v));
+  gl->memberBase_ = static_cast<int>(floats.size());
+  for (std::uint32_t v : index.members) floats.push_back(static_cast<float>(v));
+  floats.resize((floats.size() + 3) / 4 * 4, 0.0f);
+  if (floats.size() * 4 > static_cast<std::size_t>(maxBuffer))
+    return makeError("radar network: its records need " + megabytes(floats.size() * 4) +
                      ", over the GPU's shader storage block size " + megabytes(static_cast<std::size_t>(maxBuffer)));
 
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -211,8 +213,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   glTextureSubImage2D(gl->rayTable_, 0, 0, 0, C::kRayTableBins + 1, gl->rayTableRows_, GL_RED, GL_FLOAT, table.data());
   gl->gpuBytes_ += table.size() * 4;
   glCreateBuffers(1, &gl->buffer_);
-  glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(words.size() * 4), words.data(), 0);
-  gl->gpuBytes_ += words.size() * 4;
+  glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(floats.size() * 4), floats.data(), 0);
+  gl->gpuBytes_ += floats.size() * 4;
   if (outOfMemoryGL()) return makeError("radar network: the GPU is out of memory for its tables");
 
   const volume::BoundingSphere enclosing = gl->sampler_->boundingSphere();

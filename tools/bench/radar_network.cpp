@@ -1,0 +1,324 @@
+// Benchmark (a program, not a test): a radar network drawn as one volume (engine::RadarNetworkGL)
+// as it grows from one radar to every WSR-88D site.
+//
+//   build/tools/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160] [--sizes 320x180,1280x720]
+//                                   [--gate M] [--separate-max N] [--skip 0|1] [--out DIR]
+//
+// The radars: SYNTHETIC volumes of one storm field (volume::syntheticNetworkStorms, seed 1; VCP 212
+// angles, 360 rays, gates of --gate m to 230 km) at the NEXRAD sites of the built-in table nearest
+// KTLX: 1 (KTLX), 10, 40, and 160 (every site of the table, 159). Written once under
+// DIR/network_volumes. Two views: "continental" (above the central US, 4500 km up, looking down)
+// and "regional" (200 km south-west of KTLX, 60 km up, looking north-east). Per count, view and
+// size: the median frame time (glFinish per frame; median of --frames frames per run, then of
+// --runs runs) of the network under the mean rule with empty-space skipping, against the one-radar
+// scene of the same view; the samples a frame takes inside the network's ray interval and the
+// radars each one visits (the coverage index's list at the sample: computed on the CPU from the
+// same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
+// --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
+// volumes: one cluster of up to 8 volumes per pass), for comparison.
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/ContextGL.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/RadarNetworkGL.h>
+#include <atmoglobe/engine/RadarVolumeGL.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/RenderCamera.h>
+#include <atmoglobe/volume/StationList.h>
+#include <atmoglobe/volume/SyntheticRadar.h>
+#include <atmoglobe/volume/TransferFunction.h>
+
+#include <epoxy/gl.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+using namespace atmoglobe;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::vector<int> parseList(const char* text) {
+  std::vector<int> out;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) out.push_back(std::atoi(item.c_str()));
+  return out;
+}
+
+double timeFrames(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
+                  const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames,
+                  int runs) {
+  auto frame = [&] {
+    target.bind();
+    glClearDepth(0.0);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    renderer.draw(camera, layers, target);
+    glFinish();
+  };
+  frame();  // warm-up: programs, transfer rows
+  std::vector<double> runMedians;
+  for (int r = 0; r < runs; ++r) {
+    std::vector<double> ms;
+    for (int f = 0; f < frames; ++f) {
+      const auto t0 = Clock::now();
+      frame();
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    runMedians.push_back(median(ms));
+  }
+  return median(runMedians);
+}
+
+// The samples a frame takes inside the network's ray interval (before the ellipsoid) and the
+// radars their coverage cells list, summed over pixels.
+struct Visits {
+  double samples = 0.0, visits = 0.0;
+  std::size_t maxListed = 0;
+};
+
+Visits countVisits(const engine::Camera& camera, const volume::RadarNetworkSampler& net, double step) {
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  Visits v;
+  for (int y = 0; y < rc.heightPx; ++y)
+    for (int x = 0; x < rc.widthPx; ++x) {
+      const glm::dvec3 dir = volume::pixelRayDirection(rc, x + 0.5, y + 0.5);
+      double tLimit = 1e300;
+      if (auto hit = globe::intersectRayEllipsoid(rc.eyeEcef, dir)) tLimit = glm::dot(*hit - rc.eyeEcef, dir);
+      const volume::RayInterval span = net.rayInterval(rc.eyeEcef, dir);
+      if (span.empty()) continue;
+      const double a = std::max(0.0, span.tEnterMeters), b = std::min(span.tExitMeters, tLimit);
+      for (double i = std::ceil(a / step - 0.5); (i + 0.5) * step <= b; i += 1.0) {
+        const auto [first, last] = net.coverage().radarsAt(rc.eyeEcef + (i + 0.5) * step * dir);
+        const std::size_t n = static_cast<std::size_t>(last - first);
+        v.samples += 1.0;
+        v.visits += static_cast<double>(n);
+        v.maxListed = std::max(v.maxListed, n);
+      }
+    }
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 3, frames = 3, separateMax = 10;
+  bool skip = true;
+  double gateMeters = 1000.0;
+  std::vector<int> counts = {1, 10, 40, 160};
+  std::vector<std::pair<int, int>> sizes = {{320, 180}, {1280, 720}};
+  fs::path out = "out/bench";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const char* a = argv[i];
+    if (!std::strcmp(a, "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
+    else if (!std::strcmp(a, "--skip")) skip = std::atoi(argv[i + 1]) != 0;
+    else if (!std::strcmp(a, "--frames")) frames = std::max(1, std::atoi(argv[i + 1]));
+    else if (!std::strcmp(a, "--counts")) counts = parseList(argv[i + 1]);
+    else if (!std::strcmp(a, "--gate")) gateMeters = std::max(50.0, std::atof(argv[i + 1]));
+    else if (!std::strcmp(a, "--separate-max")) separateMax = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(a, "--out")) out = argv[i + 1];
+    else if (!std::strcmp(a, "--sizes")) {
+      sizes.clear();
+      std::stringstream s(argv[i + 1]);
+      std::string item;
+      while (std::getline(s, item, ',')) {
+        int w = 0, h = 0;
+        if (std::sscanf(item.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16) {
+          std::cerr << "bench_radar_network: --sizes " << item << ": expected WxH, each >= 16\n";
+          return 2;
+        }
+        sizes.emplace_back(w, h);
+      }
+    } else {
+      std::cerr << "bench_radar_network: unknown option " << a << "\n";
+      return 2;
+    }
+  }
+  if (counts.empty() || *std::min_element(counts.begin(), counts.end()) < 1) {
+    std::cerr << "bench_radar_network: --counts: positive numbers\n";
+    return 2;
+  }
+  auto context = engine::HeadlessContextGL::create();
+  if (!context) {
+    std::cerr << "bench_radar_network: " << context.error() << "\n";
+    return 1;
+  }
+  auto renderer = engine::VolumeRendererGL::create();
+  if (!renderer) {
+    std::cerr << "bench_radar_network: " << renderer.error() << "\n";
+    return 1;
+  }
+
+  // The sites nearest KTLX, all of them for the largest count.
+  std::vector<volume::Station> sites = volume::builtinNexradSites();
+  const volume::Station* ktlx = volume::findStation(sites, "KTLX");
+  if (!ktlx || sites.empty()) {
+    std::cerr << "bench_radar_network: the built-in NEXRAD table has no KTLX\n";
+    return 1;
+  }
+  const double lat0 = ktlx->latDeg, lon0 = ktlx->lonDeg;
+  std::sort(sites.begin(), sites.end(), [&](const volume::Station& a, const volume::Station& b) {
+    return globe::geodesicInverse(lat0, lon0, a.latDeg, a.lonDeg).distanceMeters <
+           globe::geodesicInverse(lat0, lon0, b.latDeg, b.lonDeg).distanceMeters;
+  });
+  const std::size_t maxCount =
+      std::min<std::size_t>(sites.size(), static_cast<std::size_t>(*std::max_element(counts.begin(), counts.end())));
+  sites.resize(maxCount);
+
+  // The volumes, written once.
+  const fs::path dir = out / "network_volumes";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  volume::SyntheticRadarOptions base;
+  base.gateSpacingMeters = gateMeters;
+  base.firstGateRangeMeters = std::max(gateMeters, 2125.0);
+  std::vector<std::pair<double, double>> latLon;
+  for (const auto& s : volume::builtinNexradSites()) latLon.emplace_back(s.latDeg, s.lonDeg);
+  base.networkStorms = volume::syntheticNetworkStorms(latLon, 230.0 + 250.0, 1);
+  std::vector<std::string> files(maxCount);
+  {
+    const auto t0 = Clock::now();
+    std::atomic<std::size_t> next{0};
+    std::atomic<int> failed{0};
+    std::vector<std::thread> pool;
+    for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w)
+      pool.emplace_back([&] {
+        for (std::size_t i = next++; i < maxCount; i = next++) {
+          const volume::Station& s = sites[i];
+          files[i] = (dir / (s.id + "_g" + std::to_string(static_cast<int>(gateMeters)) + ".nc")).string();
+          if (fs::exists(files[i])) continue;
+          volume::SyntheticRadarOptions o = base;
+          o.siteId = s.id;
+          o.siteLatDeg = s.latDeg;
+          o.siteLonDeg = s.lonDeg;
+          o.antennaAltitudeMslMeters = s.elevationMeters + s.towerHeightMeters.value_or(0.0);
+          if (auto st = volume::writeSyntheticCfRadial(files[i], o); !st) {
+            std::cerr << "bench_radar_network: " << st.error() << "\n";
+            ++failed;
+          }
+        }
+      });
+    for (auto& t : pool) t.join();
+    if (failed) return 1;
+    std::fprintf(stderr, "volumes ready in %.1f s (%zu sites, %zu storms)\n", secondsSince(t0), maxCount,
+                 base.networkStorms.size());
+  }
+
+  std::printf(
+      "renderer: %s\ncores: %ld\nstep %.0f m (default), gates %.0f m, empty-space skipping %s, %d runs x %d frames "
+      "(median of run medians)\n\n",
+      (*context)->describe().c_str(), sysconf(_SC_NPROCESSORS_ONLN), volume::VolumeRenderSettings{}.stepMeters,
+      gateMeters, skip ? "on" : "off", runs, frames);
+  struct View {
+    const char* name;
+    engine::CameraPose pose;
+  };
+  const globe::GeodesicPoint sw = globe::geodesicDirect(lat0, lon0, 225.0, 200e3);
+  const std::vector<View> views = {{"continental", {38.5, -97.0, 4.5e6, 0.0, -90.0, 0.0}},
+                                   {"regional", {sw.latDeg, sw.lonDeg, 6e4, 45.0, -15.0, 0.0}}};
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.skipEmptySpace = skip;
+
+  std::printf(
+      "| radars | view | size | network frame (ms) | / 1 radar | separate volumes (ms) | samples (M) | radars "
+      "visited per sample (mean, max) | GPU MB | read + upload (s) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<double> oneRadar(views.size() * sizes.size(), 0.0);
+  std::vector<std::shared_ptr<const volume::PolarVolume>> loaded;
+  double readSeconds = 0.0;
+  for (int count : counts) {
+    const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(count), maxCount);
+    const auto t0 = Clock::now();
+    while (loaded.size() < n) {
+      volume::RadarLoadOptions load;
+      load.buildRenderLayout = true;
+      auto r = volume::loadRadar(files[loaded.size()], load);
+      if (!r) {
+        std::cerr << "bench_radar_network: " << r.error() << "\n";
+        return 1;
+      }
+      loaded.push_back(std::make_shared<const volume::PolarVolume>(std::move(*r->layout)));
+    }
+    readSeconds += secondsSince(t0);
+    const auto t1 = Clock::now();
+    std::vector<std::shared_ptr<const volume::PolarVolume>> radars(loaded.begin(),
+                                                                   loaded.begin() + static_cast<std::ptrdiff_t>(n));
+    auto network =
+        engine::RadarNetworkGL::create(radars, volume::OverlapRule::WeightedMean, volume::FieldKind::Reflectivity);
+    if (!network) {
+      std::cerr << "bench_radar_network: " << network.error() << "\n";
+      return 1;
+    }
+    const double uploadSeconds = secondsSince(t1);
+    std::vector<std::unique_ptr<engine::RadarVolumeGL>> separate;
+    if (count <= separateMax)
+      for (const auto& r : radars) {
+        auto gl = engine::RadarVolumeGL::create(*r);
+        if (!gl) {
+          std::cerr << "bench_radar_network: " << gl.error() << "\n";
+          return 1;
+        }
+        separate.push_back(std::move(*gl));
+      }
+    for (std::size_t v = 0; v < views.size(); ++v)
+      for (std::size_t s = 0; s < sizes.size(); ++s) {
+        const engine::Camera camera(views[v].pose, 60.0, sizes[s].first, sizes[s].second);
+        auto target = engine::FramebufferGL::create(sizes[s].first, sizes[s].second);
+        if (!target) {
+          std::cerr << "bench_radar_network: " << target.error() << "\n";
+          return 1;
+        }
+        const double ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs);
+        if (count == counts.front()) oneRadar[v * sizes.size() + s] = ms;
+        std::string separateMs = "-";
+        if (!separate.empty()) {
+          std::vector<engine::VolumeLayerGL> layers;
+          for (const auto& g : separate) layers.push_back({g.get(), options});
+          char b[32];
+          std::snprintf(b, sizeof b, "%.1f", timeFrames(**renderer, camera, layers, **target, frames, runs));
+          separateMs = b;
+        }
+        // The visits at the smaller size only (the CPU walks every sample).
+        std::string visits = "-", samples = "-";
+        if (s == 0) {
+          const Visits c = countVisits(camera, (*network)->network(), options.render.stepMeters);
+          char b[64];
+          std::snprintf(b, sizeof b, "%.2f, %zu", c.samples > 0 ? c.visits / c.samples : 0.0, c.maxListed);
+          visits = b;
+          std::snprintf(b, sizeof b, "%.2f", c.samples / 1e6);
+          samples = b;
+        }
+        std::printf("| %zu | %s | %dx%d | %.1f | %.2f | %s | %s | %s | %.0f | %.1f |\n", n, views[v].name,
+                    sizes[s].first, sizes[s].second, ms, ms / oneRadar[v * sizes.size() + s], separateMs.c_str(),
+                    samples.c_str(), visits.c_str(), static_cast<double>((*network)->gpuBytes()) / 1e6,
+                    readSeconds + uploadSeconds);
+        std::fflush(stdout);
+      }
+  }
+  return 0;
+}
