@@ -155,6 +155,11 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   g->add_option("--image-scale", o.imageScales, "Volume image resolution relative to the frame, 0.05..1 (default 1)");
   g->add_option("--iso", o.isoValues, "Isosurface value (field units; default 40)");
   g->add_option("--beam", o.beams, "Beam model: 4/3 (default) or straight");
+  g->add_option("--overlap", o.overlaps,
+                "A --radar set holding several sites is a network drawn as one volume: where radars overlap, mean "
+                "(default; weights exp(-(range/50 km)^2)), lowest (the lowest beam's radar) or max (docs/networks.md)");
+  g->add_option("--window-minutes", o.windowMinutes,
+                "Networks: at each time, every site's latest volume at most this old (default 10)");
   g->add_option("--classification", o.classifications,
                 "DVR between samples: point (default; each sample over one step) or preintegrated (neighbouring "
                 "samples as a linear segment: lower error at any step for 5-12 % more time)");
@@ -500,11 +505,13 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--radar", nr, i, out);
   };
-  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() ||
-                  !o.interpolations.empty() || !o.beams.empty() || !o.classifications.empty() ||
-                  !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty())) {
+  if (nr == 0 &&
+      (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
+       !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() || !o.windowMinutes.empty() ||
+       !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty())) {
     return makeError(
-        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--image-scale/--iso/--range/--opacity/"
+        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--overlap/--window-minutes/"
+        "--image-scale/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
   std::vector<engine::VolumeLayerDescription> radars;
@@ -521,8 +528,15 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
           pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
           pick(o.steps, "--step", i, d.stepMeters), pick(o.imageScales, "--image-scale", i, d.imageScale),
-          pick(o.isoValues, "--iso", i, iso)}) {
+          pick(o.isoValues, "--iso", i, iso), pick(o.windowMinutes, "--window-minutes", i, d.windowMinutes)}) {
       if (!st) return st.forwardError();
+    }
+    if (!o.overlaps.empty()) {
+      std::string rule;
+      if (auto st = pick(o.overlaps, "--overlap", i, rule); !st) return st.forwardError();
+      auto parsed = volume::parseOverlapRule(rule);
+      if (!parsed) return makeError("--overlap: " + parsed.error());
+      d.overlap = *parsed;
     }
     if (!o.isoValues.empty()) d.isoValue = iso;
     if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();

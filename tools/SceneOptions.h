@@ -28,7 +28,8 @@ struct SceneOptions {
   // Radar volumes: one entry per --radar; each per-radar option is given once (applies to
   // every radar) or once per radar, in order.
   std::vector<std::string> radars;
-  std::vector<std::string> fields, colors, modes, interpolations, beams, classifications;
+  std::vector<std::string> fields, colors, modes, interpolations, beams, classifications, overlaps;
+  std::vector<double> windowMinutes;
   std::vector<double> steps, imageScales, isoValues;
   bool noGeoid = false;
   // Forecast grids: one entry per --grid; --var/--time/--grid-colors/--grid-mode/--grid-step

@@ -15,10 +15,6 @@
 
 namespace atmoglobe::engine {
 
-namespace {
-
-/// One radar volume (a file, or a set's files) read with its render layout and cut to the
-/// layer's crop box: what open, reload and a loop step load.
 Result<volume::LoadedRadar> readCroppedRadar(const VolumeLayerDescription& d, const std::string& files) {
   volume::RadarLoadOptions load;
   load.fieldName = d.field;
@@ -33,6 +29,8 @@ Result<volume::LoadedRadar> readCroppedRadar(const VolumeLayerDescription& d, co
   }
   return radar;
 }
+
+namespace {
 
 // The volumes of a radar loop: a set (directory, glob, list) holding several times of one site.
 // Empty when `path` is one file or one volume. Metadata only.

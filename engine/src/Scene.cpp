@@ -123,7 +123,8 @@ Status parseEnum(const Object& o, const char* key, E& out) {
 }
 
 // One element of "radars" or "grids": the keys both kinds share, then each kind's own ("field",
-// "iso_dbz", "beam", "label" for radars; "variable", "iso_value", "time", "member", "index" for grids).
+// "iso_dbz", "beam", "label", "overlap", "window_minutes" for radars; "variable", "iso_value", "time", "member",
+// "index" for grids).
 Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& baseDir, const std::string& dataDir,
                         VolumeLayerDescription& d) {
   d.kind = kind;
@@ -135,7 +136,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   const char* isoKey = radar ? "iso_dbz" : "iso_value";
   keys.insert(keys.end(), {fieldKey, isoKey});
   if (radar) {
-    keys.insert(keys.end(), {"beam", "label"});
+    keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes"});
   } else {
     keys.insert(keys.end(), {"time", "member", "index"});
   }
@@ -157,6 +158,14 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       [&] { return parseEnum(r, "classification", d.classification); },
       [&] { return radar ? parseEnum(r, "beam", d.beam) : Status(Ok{}); },
       [&] { return radar ? r.string("label", d.label) : r.string("time", d.time); },
+      [&] {
+        if (!radar || !r.has("overlap")) return Status(Ok{});
+        std::string rule;
+        if (Status s = r.choice("overlap", rule, {"mean", "lowest", "max", "integrate"}); !s) return s;
+        d.overlap = *volume::parseOverlapRule(rule);
+        return Status(Ok{});
+      },
+      [&] { return radar ? r.number("window_minutes", d.windowMinutes, 0.01, 1440.0, "min") : Status(Ok{}); },
       [&] { return radar ? Status(Ok{}) : r.integer("member", d.member, 0, 1000000); },
       [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },

@@ -58,6 +58,8 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   if (radar) {
     j["beam"] = nameOf(d.beam);
     if (!d.label.empty()) j["label"] = d.label;
+    if (d.overlap) j["overlap"] = volume::toString(*d.overlap);
+    if (d.windowMinutes != defaults.windowMinutes) j["window_minutes"] = d.windowMinutes;
   } else {
     if (!d.time.empty()) j["time"] = d.time;
     if (d.member >= 0) j["member"] = d.member;

@@ -127,7 +127,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     const VolumeSourceGL& source = *layers_[i];
     if (!source.visible) continue;
     layers.push_back(VolumeLayerGL{&source.volume(), source.options()});
-    if (const Marker* site = source.siteMarker()) all.push_back(*site);
+    for (const Marker& site : source.siteMarkers()) all.push_back(site);
   }
   if (!layers.empty() && referenceThreads_ > 0) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -1,6 +1,7 @@
 #include <atmoglobe/engine/ViewerPanelGL.h>
 
 #include <atmoglobe/engine/LayerEdit.h>
+#include <atmoglobe/engine/RadarNetworkSourceGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/volume/OpacityEditor.h>
 #include <atmoglobe/volume/ValueHistogram.h>
@@ -422,6 +423,20 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       }
       edited = enumCombo("interpolation", d.interpolation) || edited;
       if (d.kind == VolumeKind::Radar) edited = enumCombo("beam", d.beam) || edited;  // the beam model is a radar's
+      if (dynamic_cast<const RadarNetworkSourceGL*>(&layer)) {
+        // A network's overlap rule (docs/networks.md): one value where radars overlap.
+        const volume::OverlapRule rule = d.overlap.value_or(volume::OverlapRule::WeightedMean);
+        if (ImGui::BeginCombo("overlap", volume::toString(rule))) {
+          for (volume::OverlapRule c :
+               {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
+            if (ImGui::Selectable(volume::toString(c), rule == c) && c != rule) {
+              d.overlap = c;
+              edited = true;
+            }
+          }
+          ImGui::EndCombo();
+        }
+      }
       edited = enumCombo("classification", d.classification) || edited;
       ImGui::TreePop();
     }

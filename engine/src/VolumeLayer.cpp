@@ -91,6 +91,13 @@ Status validateVolumeLayer(const VolumeLayerDescription& d, const std::string& w
   if (d.kind == VolumeKind::Radar && !d.time.empty())
     return makeError(where + ": a radar has no time to choose (a loop's steps are its files)");
   if (d.kind == VolumeKind::Grid && !d.label.empty()) return makeError(where + ": a grid has no site label");
+  if (d.kind == VolumeKind::Grid && d.overlap) return makeError(where + ": an overlap rule is for radar networks");
+  if (d.overlap == volume::OverlapRule::Integrate)
+    return makeError(where +
+                     ": overlap 'integrate' (extinctions add) is how separate radar layers meet; a network "
+                     "drawn as one layer takes mean, lowest or max");
+  if (!(d.windowMinutes > 0.0 && d.windowMinutes <= 1440.0))
+    return makeError(where + ": window_minutes must be in (0, 1440]");
   return validateVolumeLayerSettings(d.settings, where);
 }
 
@@ -106,7 +113,7 @@ bool sameLook(const VolumeLayerSettings& a, const VolumeLayerSettings& b) {
 
 LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescription& b) {
   if (a.kind != b.kind || a.path != b.path || a.field != b.field || a.time != b.time || a.useGeoid != b.useGeoid ||
-      !sameCrop(a.settings.crop, b.settings.crop))
+      !sameCrop(a.settings.crop, b.settings.crop) || a.overlap != b.overlap || a.windowMinutes != b.windowMinutes)
     return LayerChange::Reload;
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
       a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.isoValue != b.isoValue ||

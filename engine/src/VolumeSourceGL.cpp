@@ -1,6 +1,7 @@
 #include <atmoglobe/engine/VolumeSourceGL.h>
 
 #include <atmoglobe/engine/GridSourceGL.h>
+#include <atmoglobe/engine/RadarNetworkSourceGL.h>
 #include <atmoglobe/engine/RadarSourceGL.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/FieldKind.h>
@@ -26,6 +27,14 @@ std::string stepKey(std::size_t layer, std::size_t step, bool gpu, double fracti
 Result<std::unique_ptr<VolumeSourceGL>> openVolumeSource(const VolumeLayerDescription& d, SourceContext context) {
   switch (d.kind) {
     case VolumeKind::Radar: {
+      // A set of several sites is a network, drawn as one volume under the overlap rule.
+      auto several = RadarNetworkSourceGL::holdsSeveralSites(d.path, d.field);
+      if (!several) return several.forwardError();
+      if (*several) {
+        auto network = RadarNetworkSourceGL::open(d, context);
+        if (!network) return network.forwardError();
+        return std::unique_ptr<VolumeSourceGL>(std::move(*network));
+      }
       auto source = RadarSourceGL::open(d, context);
       if (!source) return source.forwardError();
       return std::unique_ptr<VolumeSourceGL>(std::move(*source));

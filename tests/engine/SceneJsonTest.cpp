@@ -175,7 +175,7 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
     "radars": [{"path": "ktlx.nc", "field": "VRADH", "colors": "velocity", "mode": "mip", "interpolation": "nearest",
                 "step_m": 100, "image_scale": 0.5, "classification": "preintegrated", "iso_dbz": 35, "geoid": false,
                 "beam": "straight", "label": "Twin Lakes", "range": [-30, 30], "opacity": [0, 20, 0.7, 500],
-                "crop": [34, 36, -99, -96], "crop_heights_m": [0, 12000]}],
+                "crop": [34, 36, -99, -96], "crop_heights_m": [0, 12000], "overlap": "lowest", "window_minutes": 6}],
     "grids": [{"path": "t.nc", "variable": "t", "time": "2001-01-01T06:00:00Z", "member": 3, "index": {"month": 2},
                "iso_value": 250.5, "opacity_points": [[200, 0], [250, 0.1], [300, 0.6]]}],
     "overlays": [{"path": "roads.geojson", "color": [1, 0, 0], "width_px": 2.5}],
@@ -191,6 +191,8 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.volumes[0].path, "/base/ktlx.nc");  // written resolved, read back as it stands
   EXPECT_EQ(back.volumes[0].label, "Twin Lakes");
   EXPECT_EQ(back.volumes[0].settings.crop.topMeters, 12000.0);
+  EXPECT_EQ(back.volumes[0].overlap, volume::OverlapRule::LowestBeam);
+  EXPECT_EQ(back.volumes[0].windowMinutes, 6.0);
   const engine::VolumeLayerDescription& g = back.volumes[1];
   EXPECT_EQ(g.time, "2001-01-01T06:00:00Z");
   EXPECT_EQ(g.member, 3);
@@ -205,6 +207,12 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.slices[1].request.path.size(), 2u);
   EXPECT_EQ(back.overlays.at(0).widthPx, 2.5f);
   EXPECT_FALSE(back.mapContext);
+  // The overlap rule: the spellings, and integrate refused for a network layer.
+  EXPECT_NE(errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})").find("\"mean\""), std::string::npos)
+      << errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})");
+  EXPECT_NE(errorOf(R"({"radars": [{"path": "k.nc", "overlap": "integrate"}]})").find("overlap 'integrate'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "overlap": "mean"}]})").find("overlap"), std::string::npos);
   // An edited curve must increase and stay in 0..1.
   EXPECT_NE(
       errorOf(R"({"grids": [{"path": "t.nc", "opacity_points": [[1, 0], [1, 0.5]]}]})").find("values must increase"),

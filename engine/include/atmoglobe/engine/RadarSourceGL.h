@@ -5,6 +5,7 @@
 // readout is a row of `atmoglobe gates`.
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/VolumeSourceGL.h>
+#include <atmoglobe/volume/RadarLoad.h>
 
 #include <memory>
 #include <string>
@@ -23,6 +24,10 @@ struct RadarStepData {
   /// background loader; null: upload from `layout`.
   std::shared_ptr<const RadarVolumeGL::Prepared> prepared;
 };
+/// One radar volume (a file, or a set's files as one comma list) read with its render layout and
+/// cut to the layer's crop box: what a radar layer's open, reload and loop steps, and a network's
+/// sites, load. Thread-safe.
+Result<volume::LoadedRadar> readCroppedRadar(const VolumeLayerDescription& description, const std::string& files);
 /// Reads one loop step (`files`: a file, or a set's files as one comma list) for `description`.
 /// Thread-safe (the readers hold io's netCDF lock while they call netCDF-C).
 Result<RadarStepData> prepareRadarStep(const VolumeLayerDescription& description, const std::string& files);

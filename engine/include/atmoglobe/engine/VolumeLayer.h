@@ -8,6 +8,7 @@
 // CLI and the panel use ("dvr", "4/3", ...), from one table per enum.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/RadarNetwork.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 
 #include <glm/glm.hpp>
@@ -106,7 +107,9 @@ struct VolumeLayerSettings {
 /// A volume to ray-march (VolumeRendererGL.h; readers: volume/RadarLoad.h, volume/GridReader.h).
 struct VolumeLayerDescription {
   VolumeKind kind = VolumeKind::Radar;
-  /// Radar: a file, or one volume split over files or a loop (a directory, glob or comma list).
+  /// Radar: a file, or one volume split over files or a loop (a directory, glob or comma list),
+  /// or a network: a set holding several sites (and times), drawn as one volume
+  /// (RadarNetworkSourceGL.h).
   /// Grid: a CF or WRF netCDF file or a GRIB (1 or 2) file.
   std::string path;
   /// The radar field or grid variable; empty: the file's default (reflectivity for radars).
@@ -134,7 +137,12 @@ struct VolumeLayerDescription {
   std::optional<double> isoValue;
   Classification classification = Classification::Point;                  ///< DVR only
   BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;  ///< radars only
-  std::string label;     ///< radars: the site marker's label; empty: the site name from the file
+  std::string label;  ///< radars: the site marker's label; empty: the site name from the file
+  /// Radar networks: how overlapping radars make one value (volume/RadarNetwork.h; not Integrate).
+  /// Unset: WeightedMean.
+  std::optional<volume::OverlapRule> overlap;
+  /// Radar networks: at each time, every site's latest volume at most this many minutes old.
+  double windowMinutes = 10.0;
   bool useGeoid = true;  ///< heights above sea level to the ellipsoid through EGM96
   VolumeLayerSettings settings;
 };

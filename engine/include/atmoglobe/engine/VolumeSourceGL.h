@@ -140,6 +140,11 @@ class VolumeSourceGL {
                                                double stepMeters) const = 0;
   /// A marker drawn at the layer's site (radars), else null.
   virtual const Marker* siteMarker() const { return nullptr; }
+  /// Every site marker the layer draws (a radar's one, a network's each): siteMarker() by default.
+  virtual std::vector<Marker> siteMarkers() const {
+    const Marker* m = siteMarker();
+    return m ? std::vector<Marker>{*m} : std::vector<Marker>{};
+  }
   /// Map context drawn with the layer when range rings are on (a radar's rings and spokes).
   virtual std::vector<map::GeoPolyline> rangeRings() const { return {}; }
   /// A line for the user after loading (datum used, bytes read, heights).
