@@ -224,6 +224,27 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   return gl;
 }
 
+Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
+    const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
+    volume::FieldKind kind) {
+  std::vector<volume::BoundingSphere> spheres;
+  for (const auto& r : radars) spheres.push_back(volume::PolarSampler(*r).boundingSphere());
+  std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
+  std::stable_sort(clusters.begin(), clusters.end(),
+                   [](const volume::VolumeCluster& a, const volume::VolumeCluster& b) {
+                     return a.members.size() > b.members.size();
+                   });
+  std::vector<std::unique_ptr<RadarNetworkGL>> out;
+  for (const volume::VolumeCluster& c : clusters) {
+    std::vector<std::shared_ptr<const volume::PolarVolume>> members;
+    for (std::size_t i : c.members) members.push_back(radars[i]);
+    auto gl = create(std::move(members), rule, kind);
+    if (!gl) return gl.forwardError();
+    out.push_back(std::move(*gl));
+  }
+  return out;
+}
+
 RadarNetworkGL::~RadarNetworkGL() {
   for (GLuint t : {values_, rayTable_})
     if (t) glDeleteTextures(1, &t);

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 #include <span>
 #include <thread>
@@ -191,11 +192,19 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     markers.push_back(std::move(m));
   }
   const volume::FieldKind kind = volume::classifyField(field_).kind;
-  auto gl = RadarNetworkGL::create(radars, d.overlap.value_or(volume::OverlapRule::WeightedMean), kind);
+  const volume::OverlapRule rule = d.overlap.value_or(volume::OverlapRule::WeightedMean);
+  auto gl = RadarNetworkGL::createByCluster(radars, rule, kind);
   if (!gl) return makeError(d.path + ": " + gl.error());
-  auto options = layerRenderOptions(d, field_, nyquistMps_, (*gl)->valueRange());
+  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const auto& c : *gl) {
+    range.minValue = std::min(range.minValue, c->valueRange().minValue);
+    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
+  }
+  auto options = layerRenderOptions(d, field_, nyquistMps_, range);
   if (!options) return options.forwardError();
-  volume_ = std::move(*gl);
+  clusters_.clear();
+  for (auto& c : *gl) clusters_.push_back(std::move(c));
+  rule_ = rule;
   options_ = std::move(*options);
   read_.clear();
   for (const auto& [i, v] : chosen) read_[v->files] = fresh.at(v->files);
@@ -208,17 +217,16 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
 }
 
 std::string RadarNetworkSourceGL::title() const {
-  return "network " + std::to_string(shownSites_.size()) + " radars  " + field_.name + " (" +
-         volume::toString(volume_->network().rule()) + ")";
+  return "network " + std::to_string(shownSites_.size()) + " radars  " + field_.name + " (" + volume::toString(rule_) +
+         ")";
 }
 
 volume::ValueHistogram RadarNetworkSourceGL::histogram(int bins) const {
   // Every radar's gates over the network's value range, added bin by bin.
-  const volume::ValueRange range = volume_->valueRange();
+  const volume::ValueRange range = colourRange();
   volume::ValueHistogram out = volume::valueHistogram(std::span<const float>(), range.minValue, range.maxValue, bins);
-  for (std::size_t k = 0; k < volume_->network().radarCount(); ++k) {
-    const volume::ValueHistogram h =
-        volume::valueHistogram(volume_->network().radar(k).values, range.minValue, range.maxValue, bins);
+  for (const auto& [files, radar] : read_) {
+    const volume::ValueHistogram h = volume::valueHistogram(radar->values, range.minValue, range.maxValue, bins);
     for (std::size_t b = 0; b < out.counts.size() && b < h.counts.size(); ++b) out.counts[b] += h.counts[b];
     out.below += h.below;
     out.above += h.above;
@@ -264,7 +272,7 @@ Status RadarNetworkSourceGL::applyExaggeration(SourceContext context) {
 
 LegendPart RadarNetworkSourceGL::legendPart() const {
   std::string subtitle = std::to_string(shownSites_.size()) + " radars, latest volumes at " + utcLabel(times_[step_]) +
-                         " (" + volume::toString(volume_->network().rule()) + " where they overlap)";
+                         " (" + volume::toString(rule_) + " where they overlap)";
   if (!missingSites_.empty()) subtitle += "; " + std::to_string(missingSites_.size()) + " sites missing";
   const std::string name = "network " + field_.name;
   return LegendPart{name, subtitle, LegendKey{name, field_.units, options_.render.transfer.colors}, synthetic_};
@@ -273,23 +281,55 @@ LegendPart RadarNetworkSourceGL::legendPart() const {
 LayerMemory RadarNetworkSourceGL::memory() const {
   std::uint64_t cpu = 0;
   for (const auto& [files, v] : read_) cpu += v->byteSize();
-  return LayerMemory{title(), cpu, volume_->gpuBytes()};
+  std::uint64_t gpu = 0;
+  for (const auto& c : clusters_) gpu += c->gpuBytes();
+  return LayerMemory{title(), cpu, gpu};
 }
 
 std::optional<std::string> RadarNetworkSourceGL::readoutAt(const glm::dvec3& eye, const glm::dvec3& dir,
                                                            double tMaxMeters, double stepMeters) const {
-  const volume::RadarNetworkSampler& net = volume_->network();
-  const auto hit = firstValueAlong(net, eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
-  if (!hit) return std::nullopt;
-  const auto lead = net.leadingRadar(hit->ecef, volume::Interpolation::Linear);
-  const auto [first, last] = net.coverage().radarsAt(hit->ecef);
-  const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
+  // The nearest first value over the clusters (apart: at most one holds a point).
+  std::optional<RayValue> best;
+  const volume::RadarNetworkSampler* where = nullptr;
+  for (const auto& c : clusters_) {
+    const auto hit = firstValueAlong(c->network(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+    if (hit && (!best || hit->tMeters < best->tMeters)) {
+      best = hit;
+      where = &c->network();
+    }
+  }
+  if (!best) return std::nullopt;
+  const auto lead = where->leadingRadar(best->ecef, volume::Interpolation::Linear);
+  const auto [first, last] = where->coverage().radarsAt(best->ecef);
+  const globe::Geodetic g = globe::ecefToGeodetic(best->ecef);
+  std::string leader;
+  if (lead) {
+    // The leading radar's site as the legend names it: the shown site at its position.
+    const volume::PolarVolume& r = where->radar(*lead);
+    for (std::size_t i = 0; i < markers_.size(); ++i)
+      if (std::abs(markers_[i].latDeg - r.site.latDeg) < 1e-9 && std::abs(markers_[i].lonDeg - r.site.lonDeg) < 1e-9)
+        leader = ", led by " + markers_[i].label;
+  }
   char text[320];
-  std::snprintf(text, sizeof text, "%.1f %s  (%s of %d radars over the point%s%s; height %.0f m above sea level)",
-                hit->value, field_.units.c_str(), volume::toString(net.rule()), static_cast<int>(last - first),
-                lead ? ", led by " : "", lead && *lead < shownSites_.size() ? shownSites_[*lead].c_str() : "",
-                seaLevelHeightMeters(g));
+  std::snprintf(text, sizeof text, "%.1f %s  (%s of %d radars over the point%s; height %.0f m above sea level)",
+                best->value, field_.units.c_str(), volume::toString(rule_), static_cast<int>(last - first),
+                leader.c_str(), seaLevelHeightMeters(g));
   return "network " + field_.name + ": " + text;
+}
+
+std::vector<const VolumeGL*> RadarNetworkSourceGL::volumes() const {
+  std::vector<const VolumeGL*> out;
+  for (const auto& c : clusters_) out.push_back(c.get());
+  return out;
+}
+
+volume::ValueRange RadarNetworkSourceGL::colourRange() const {
+  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const auto& c : clusters_) {
+    range.minValue = std::min(range.minValue, c->valueRange().minValue);
+    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
+  }
+  return range;
 }
 
 std::string RadarNetworkSourceGL::loadNote() const {

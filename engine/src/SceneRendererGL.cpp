@@ -126,7 +126,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
     const VolumeSourceGL& source = *layers_[i];
     if (!source.visible) continue;
-    layers.push_back(VolumeLayerGL{&source.volume(), source.options()});
+    for (const VolumeGL* v : source.volumes()) layers.push_back(VolumeLayerGL{v, source.options()});
     for (const Marker& site : source.siteMarkers()) all.push_back(site);
   }
   if (!layers.empty() && referenceThreads_ > 0) {

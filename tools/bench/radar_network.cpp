@@ -10,7 +10,8 @@
 // DIR/network_volumes. Two views: "continental" (above the central US, 4500 km up, looking down)
 // and "regional" (200 km south-west of KTLX, 60 km up, looking north-east). Per count, view and
 // size: the median frame time (glFinish per frame; median of --frames frames per run, then of
-// --runs runs) of the network under the mean rule with empty-space skipping, against the one-radar
+// --runs runs) of the network under the mean rule with empty-space skipping (one volume per cluster
+// of radars whose clip spheres meet: RadarNetworkGL::createByCluster), against the one-radar
 // scene of the same view; the samples a frame takes inside the network's ray interval and the
 // radars each one visits (the coverage index's list at the sample: computed on the CPU from the
 // same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
@@ -268,8 +269,8 @@ int main(int argc, char** argv) {
     const auto t1 = Clock::now();
     std::vector<std::shared_ptr<const volume::PolarVolume>> radars(loaded.begin(),
                                                                    loaded.begin() + static_cast<std::ptrdiff_t>(n));
-    auto network =
-        engine::RadarNetworkGL::create(radars, volume::OverlapRule::WeightedMean, volume::FieldKind::Reflectivity);
+    auto network = engine::RadarNetworkGL::createByCluster(radars, volume::OverlapRule::WeightedMean,
+                                                           volume::FieldKind::Reflectivity);
     if (!network) {
       std::cerr << "bench_radar_network: " << network.error() << "\n";
       return 1;
@@ -293,7 +294,13 @@ int main(int argc, char** argv) {
           std::cerr << "bench_radar_network: " << target.error() << "\n";
           return 1;
         }
-        const double ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs);
+        std::vector<engine::VolumeLayerGL> networkLayers;
+        std::size_t gpuBytes = 0;
+        for (const auto& c : *network) {
+          networkLayers.push_back({c.get(), options});
+          gpuBytes += c->gpuBytes();
+        }
+        const double ms = timeFrames(**renderer, camera, networkLayers, **target, frames, runs);
         if (count == counts.front()) oneRadar[v * sizes.size() + s] = ms;
         std::string separateMs = "-";
         if (!separate.empty()) {
@@ -306,7 +313,13 @@ int main(int argc, char** argv) {
         // The visits at the smaller size only (the CPU walks every sample).
         std::string visits = "-", samples = "-";
         if (s == 0) {
-          const Visits c = countVisits(camera, (*network)->network(), options.render.stepMeters);
+          Visits c;
+          for (const auto& cluster : *network) {
+            const Visits one = countVisits(camera, cluster->network(), options.render.stepMeters);
+            c.samples += one.samples;
+            c.visits += one.visits;
+            c.maxListed = std::max(c.maxListed, one.maxListed);
+          }
           char b[64];
           std::snprintf(b, sizeof b, "%.2f, %zu", c.samples > 0 ? c.visits / c.samples : 0.0, c.maxListed);
           visits = b;
@@ -315,8 +328,7 @@ int main(int argc, char** argv) {
         }
         std::printf("| %zu | %s | %dx%d | %.1f | %.2f | %s | %s | %s | %.0f | %.1f |\n", n, views[v].name,
                     sizes[s].first, sizes[s].second, ms, ms / oneRadar[v * sizes.size() + s], separateMs.c_str(),
-                    samples.c_str(), visits.c_str(), static_cast<double>((*network)->gpuBytes()) / 1e6,
-                    readSeconds + uploadSeconds);
+                    samples.c_str(), visits.c_str(), static_cast<double>(gpuBytes) / 1e6, readSeconds + uploadSeconds);
         std::fflush(stdout);
       }
   }

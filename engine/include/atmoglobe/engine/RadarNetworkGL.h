@@ -24,6 +24,13 @@ class RadarNetworkGL final : public VolumeGL {
   /// of GPU memory.
   static Result<std::unique_ptr<RadarNetworkGL>> create(std::vector<std::shared_ptr<const volume::PolarVolume>> radars,
                                                         volume::OverlapRule rule, volume::FieldKind kind);
+  /// The radars split into the clusters whose clip spheres meet (volume::clusterBySphere), one
+  /// network each, largest first: the marcher draws clusters apart in passes of their own, each
+  /// with its own tight ray interval and empty-space grid (a national network with sites in
+  /// Alaska, Hawaii, Guam and Europe would otherwise be one volume spanning the globe).
+  static Result<std::vector<std::unique_ptr<RadarNetworkGL>>> createByCluster(
+      const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
+      volume::FieldKind kind);
   ~RadarNetworkGL() override;
   RadarNetworkGL(const RadarNetworkGL&) = delete;
   RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;

@@ -24,12 +24,15 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   static Result<std::unique_ptr<RadarNetworkSourceGL>> open(const VolumeLayerDescription& description,
                                                             SourceContext context);
 
-  const VolumeGL& volume() const override { return *volume_; }
-  const RadarNetworkGL& network() const { return *volume_; }
+  /// The largest cluster of the network (volumes() has every cluster: radars whose clip spheres
+  /// meet, RadarNetworkGL::createByCluster).
+  const VolumeGL& volume() const override { return *clusters_.front(); }
+  std::vector<const VolumeGL*> volumes() const override;
+  const std::vector<std::shared_ptr<RadarNetworkGL>>& clusters() const { return clusters_; }
   std::string title() const override;
   std::vector<std::string> fieldChoices() const override { return fields_; }
   std::string fieldShown() const override { return field_.name; }
-  volume::ValueRange colourRange() const override { return volume_->valueRange(); }
+  volume::ValueRange colourRange() const override;
   volume::ValueHistogram histogram(int bins) const override;
 
   Result<std::vector<std::string>> times() const override { return times_; }
@@ -72,7 +75,8 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   std::vector<std::string> times_;
   std::vector<double> stepEpochs_;
   std::size_t step_ = 0;
-  std::shared_ptr<RadarNetworkGL> volume_;
+  std::vector<std::shared_ptr<RadarNetworkGL>> clusters_;
+  volume::OverlapRule rule_ = volume::OverlapRule::WeightedMean;
   /// The volumes read, by their files (kept while a step shows them, so a step that changes
   /// a few sites reads only those).
   std::map<std::string, std::shared_ptr<const volume::PolarVolume>> read_;

@@ -97,6 +97,9 @@ class VolumeSourceGL {
 
   /// The GPU volume shown now (with its CPU twin: VolumeGL::referenceSampler).
   virtual const VolumeGL& volume() const = 0;
+  /// Every GPU volume the layer draws: volume() alone, except for a radar network split into
+  /// clusters apart (RadarNetworkSourceGL).
+  virtual std::vector<const VolumeGL*> volumes() const { return {&volume()}; }
   /// "radar KTLX  DBZH", "grid QRAIN": the panel's and the memory table's name.
   virtual std::string title() const = 0;
   /// The fields (radar) or variables (grid) the file holds, for the panel's choice; the one
