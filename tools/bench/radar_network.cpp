@@ -17,6 +17,7 @@
 // same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
 // --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
 // volumes: one cluster of up to 8 volumes per pass), for comparison.
+#include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
@@ -55,12 +56,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::vector<int> parseList(const char* text) {
@@ -71,29 +66,13 @@ std::vector<int> parseList(const char* text) {
   return out;
 }
 
+// The median over `runs` runs of the median frame time of each.
 double timeFrames(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
                   const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames,
                   int runs) {
-  auto frame = [&] {
-    target.bind();
-    glClearDepth(0.0);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    renderer.draw(camera, layers, target);
-    glFinish();
-  };
-  frame();  // warm-up: programs, transfer rows
   std::vector<double> runMedians;
-  for (int r = 0; r < runs; ++r) {
-    std::vector<double> ms;
-    for (int f = 0; f < frames; ++f) {
-      const auto t0 = Clock::now();
-      frame();
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    }
-    runMedians.push_back(median(ms));
-  }
-  return median(runMedians);
+  for (int r = 0; r < runs; ++r) runMedians.push_back(bench::timeLayersGL(renderer, camera, layers, target, frames));
+  return bench::median(runMedians);
 }
 
 // The samples a frame takes inside the network's ray interval (before the ellipsoid) and the

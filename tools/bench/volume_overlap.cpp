@@ -15,6 +15,7 @@
 // time (glFinish per frame; median of --frames frames per run, then the median of --runs runs),
 // with and without empty-space skipping. If the rule holds, time per million interval samples
 // stays flat as N grows (without skipping, where every interval sample is taken).
+#include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
@@ -48,12 +49,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Radar {
   std::unique_ptr<volume::PolarVolume> polar;
@@ -124,26 +119,6 @@ Work predictedWork(const engine::Camera& camera, const std::vector<const volume:
   w.volumesPerCrossedPixel = w.pixelsCrossed ? static_cast<double>(crossings) / static_cast<double>(w.pixelsCrossed)
                                              : 0.0;
   return w;
-}
-
-double timeFrames(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
-                  const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames) {
-  auto frame = [&] {
-    target.bind();
-    glClearDepth(0.0);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    renderer.draw(camera, layers, target);
-    glFinish();
-  };
-  frame();  // warm-up: programs, transfer rows
-  std::vector<double> ms;
-  for (int f = 0; f < frames; ++f) {
-    const auto t0 = Clock::now();
-    frame();
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
-  return median(ms);
 }
 
 }  // namespace
@@ -246,10 +221,10 @@ int main(int argc, char** argv) {
       const Work w = predictedWork(*camera, samplers, step);
       std::vector<double> skipRuns, fullRuns;
       for (int r = 0; r < runs; ++r) {
-        skipRuns.push_back(timeFrames(**renderer, *camera, layers, **target, frames));
-        fullRuns.push_back(timeFrames(**renderer, *camera, layersNoSkip, **target, frames));
+        skipRuns.push_back(bench::timeLayersGL(**renderer, *camera, layers, **target, frames));
+        fullRuns.push_back(bench::timeLayersGL(**renderer, *camera, layersNoSkip, **target, frames));
       }
-      const double skipMs = median(skipRuns), fullMs = median(fullRuns);
+      const double skipMs = bench::median(skipRuns), fullMs = bench::median(fullRuns);
       if (n == 1) baseline = fullMs;
       std::printf("| %s | %d | %ld | %.2f | %.2f | %.1f | %.1f | %.2f | %.2f |\n", name, n, w.pixelsCrossed,
                   w.volumesPerCrossedPixel, w.intervalSamples / 1e6, skipMs, fullMs, fullMs / (w.intervalSamples / 1e6),

@@ -17,6 +17,26 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+double timeLayersGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
+                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames) {
+  auto frame = [&] {
+    target.bind();
+    glClearDepth(0.0);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    renderer.draw(camera, layers, target);
+    glFinish();
+  };
+  frame();
+  std::vector<double> ms;
+  for (int f = 0; f < frames; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    frame();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return median(ms);
+}
+
 GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera, engine::VolumeGL& volume,
                     const engine::VolumeRenderOptions& options, engine::BeamApproximation beam,
                     engine::FramebufferGL& target, int frames, bool warmUp, const std::vector<float>* depth) {

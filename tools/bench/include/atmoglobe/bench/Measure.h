@@ -34,6 +34,11 @@ GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& ca
                     engine::FramebufferGL& target, int frames, bool warmUp = true,
                     const std::vector<float>* depth = nullptr);
 
+/// The median time (ms) of `frames` frames of `layers` drawn together over black into `target`,
+/// each ended by glFinish, after one untimed warm-up frame (programs, transfer rows): the
+/// stand-alone benches of several volumes (bench_volume_overlap, bench_radar_network).
+double timeLayersGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
+                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames);
 /// timeFramesGL for every cell, frames taken round-robin over the cells (frame 1 of every
 /// cell, then frame 2, ...) after one untimed round: a slow spell of a shared machine then
 /// lands on every cell alike instead of on whichever cells it happened to overlap (in per-cell
