@@ -10,6 +10,7 @@
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/Mosaic.h>
 #include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/SliceSource.h>
 
 #include <chrono>
 #include <cmath>
@@ -125,6 +126,7 @@ int run(const Options& o) {
     layouts.push_back(&*r.layout);
     meta.radars.push_back({volume::siteTitle(r.volume.site), r.volume.timeIso8601, r.volume.sourcePath,
                            r.site.site.latDeg, r.site.site.lonDeg});
+    meta.synthetic = meta.synthetic || volume::fileSaysSynthetic(r.volume.sourcePath);
   }
   auto network = volume::makeRadarNetworkSampler(layouts, *rule, *kind);
   if (!network) return fail(cmd, network.error());

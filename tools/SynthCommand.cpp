@@ -237,6 +237,11 @@ Command addSynthCommand(CLI::App& root) {
   c.app->add_option("--storm-north", opts->synth.stormNorthKm, "Storm centre north of the site (km)")
       ->capture_default_str();
   c.app->add_option("--noise", opts->synth.noiseDbz, "Gate noise standard deviation (dB)")->capture_default_str();
+  c.app
+      ->add_option("--gate-spacing", opts->synth.gateSpacingMeters,
+                   "Radar volumes: gate spacing (m; coarser gates make smaller volumes, e.g. 1000 for a network of "
+                   "every site)")
+      ->capture_default_str();
   c.app->add_option("--time", opts->synth.startTimeIso8601, "Volume start time, UTC (YYYY-MM-DDTHH:MM:SSZ)")
       ->capture_default_str();
   c.app->add_option("--site", opts->site,

@@ -2,11 +2,20 @@
 // leaves out a radar that has data at a point, the network's samples through the index equal those
 // that visit every radar, and each rule gives the value worked out here from its formula.
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/Mosaic.h>
+#include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarNetwork.h>
+#include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <gtest/gtest.h>
+#include <netcdf.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
 #include <random>
 
 namespace atmoglobe::volume {
@@ -198,6 +207,126 @@ TEST(RadarNetwork, RulesThatCannotGiveAValueAreRefused) {
   EXPECT_FALSE(makeRadarNetworkSampler({}, OverlapRule::Maximum, FieldKind::Reflectivity).ok());
   EXPECT_FALSE(parseOverlapRule("average").ok());
   EXPECT_EQ(*parseOverlapRule("lowest"), OverlapRule::LowestBeam);
+}
+
+}  // namespace
+}  // namespace atmoglobe::volume
+
+// A mosaic (Mosaic.h) of two SYNTHETIC radars whose storms are one analytic field (synth --sites:
+// syntheticNetworkDbz), written as CF netCDF and read back: at every node with a value, the mosaic
+// is within the radars' own sampling error there of the field. The mean of values each within e
+// of the field is within e of it, so the bound per node is the largest |radar sample - field|
+// over the radars that echo there (plus the float storage, 1e-5 dB).
+namespace atmoglobe::volume {
+namespace {
+
+TEST(RadarNetwork, AMosaicOfOneAnalyticFieldIsThatFieldWithinTheRadarsSamplingError) {
+  const std::filesystem::path dir = atmoglobe_test::freshTestDir("radar_network_mosaic");
+  const std::vector<std::pair<std::string, std::array<double, 3>>> sites = {{"KTLX", {35.333056, -97.277778, 384.7}},
+                                                                            {"KVNX", {36.740833, -98.127778, 378.6}}};
+  std::vector<std::pair<double, double>> latLon;
+  for (const auto& s : sites) latLon.emplace_back(s.second[0], s.second[1]);
+  SyntheticRadarOptions base;
+  base.noiseDbz = 0.0;
+  base.gateSpacingMeters = 1000.0;
+  base.firstGateRangeMeters = 2125.0;
+  base.networkStorms = syntheticNetworkStorms(latLon, 230.0 + 250.0, 3);
+  std::vector<std::shared_ptr<const PolarVolume>> layouts;
+  std::vector<const PolarVolume*> raw;
+  MosaicMetadata meta;
+  meta.field = "DBZ";
+  meta.units = "dBZ";
+  meta.kind = FieldKind::Reflectivity;
+  for (const auto& [id, where] : sites) {
+    SyntheticRadarOptions o = base;
+    o.siteId = id;
+    o.siteLatDeg = where[0];
+    o.siteLonDeg = where[1];
+    o.antennaAltitudeMslMeters = where[2];
+    const std::string path = (dir / (id + ".nc")).string();
+    ASSERT_TRUE(writeSyntheticCfRadial(path, o).ok());
+    RadarLoadOptions load;
+    load.buildRenderLayout = true;
+    load.useGeoid = false;  // the synthetic gates' heights are MSL heights of an antenna at MSL height
+    auto r = loadRadar(path, load);
+    ASSERT_TRUE(r) << r.error();
+    layouts.push_back(std::make_shared<const PolarVolume>(std::move(*r->layout)));
+    raw.push_back(layouts.back().get());
+    meta.radars.push_back({id, o.startTimeIso8601, path, where[0], where[1]});
+  }
+  auto net = makeRadarNetworkSampler(raw, OverlapRule::WeightedMean, FieldKind::Reflectivity);
+  ASSERT_TRUE(net.ok()) << net.error();
+  // Heights: the radars were read without the geoid (their MSL heights taken as ellipsoidal, as the
+  // synthetic writer's field takes them), so the grid is given above the ellipsoid too.
+  RegularGridSpec spec;
+  spec.westDeg = -98.6;
+  spec.eastDeg = -96.8;
+  spec.southDeg = 35.0;
+  spec.northDeg = 37.0;
+  spec.bottomMeters = 1000.0;
+  spec.topMeters = 9000.0;
+  spec.nx = 37;
+  spec.ny = 41;
+  spec.nz = 9;
+  spec.datum = HeightDatum::Ellipsoid;
+  auto values = resampleRegular(**net, spec, Interpolation::Linear, nullptr);
+  ASSERT_TRUE(values.ok()) << values.error();
+  // The writer takes heights above mean sea level: written with the spec relabelled (the check
+  // below reads the values back and compares them node by node; the datum is the test's own).
+  RegularGridSpec msl = spec;
+  msl.datum = HeightDatum::MeanSeaLevel;
+  const std::string out = (dir / "mosaic.nc").string();
+  ASSERT_TRUE(writeMosaicNetcdf(out, msl, *values, meta).ok());
+  int ncid = -1, varid = -1;
+  ASSERT_EQ(nc_open(out.c_str(), NC_NOWRITE, &ncid), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(ncid, "DBZ", &varid), NC_NOERR);
+  std::vector<float> back(spec.sampleCount());
+  ASSERT_EQ(nc_get_var_float(ncid, varid, back.data()), NC_NOERR);
+  nc_close(ncid);
+
+  std::size_t nodes = 0, both = 0, edges = 0;
+  double worstExcess = 0.0;
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < spec.nz; ++k)
+    for (std::size_t j = 0; j < spec.ny; ++j)
+      for (std::size_t i = 0; i < spec.nx; ++i) {
+        const float v = back[(k * spec.ny + j) * spec.nx + i];
+        if (!std::isfinite(v)) continue;
+        const double lon = spec.westDeg + (spec.eastDeg - spec.westDeg) * double(i) / double(spec.nx - 1);
+        const double lat = spec.southDeg + (spec.northDeg - spec.southDeg) * double(j) / double(spec.ny - 1);
+        const double h = spec.bottomMeters + (spec.topMeters - spec.bottomMeters) * double(k) / double(spec.nz - 1);
+        const glm::dvec3 p = globe::geodeticToEcef({lat, lon, h});
+        const double exact = syntheticNetworkDbz(base, lat, lon, h, base.startTimeIso8601);
+        // No storm reaches the node: a radar's echo there is the edge of its interpolation
+        // between gates with and without echo (not a value of the field to compare with).
+        if (!std::isfinite(exact)) {
+          ++edges;
+          continue;
+        }
+        double bound = 0.0;
+        int echoes = 0;
+        for (const PolarVolume* r : raw) {
+          const VolumeSample s = PolarSampler(*r).sample(p, Interpolation::Linear);
+          if (s.state != VolumeSample::State::Echo) continue;
+          bound = std::max(bound, std::fabs(s.value - exact));
+          ++echoes;
+        }
+        ASSERT_GT(echoes, 0) << "a mosaic value where no radar echoes";
+        ++nodes;
+        both += echoes == 2;
+        const double err = std::fabs(v - exact);
+        errors.push_back(err);
+        worstExcess = std::max(worstExcess, err - bound);
+      }
+  std::sort(errors.begin(), errors.end());
+  ASSERT_GT(nodes, 200u);
+  std::cout << "mosaic of one field: " << nodes << " nodes with a value (" << both << " seen by both radars, " << edges
+            << " beyond every storm), |mosaic - "
+            << "field| median " << errors[errors.size() / 2] << " dB, 95th percentile "
+            << errors[errors.size() * 95 / 100] << " dB, max " << errors.back() << " dB; beyond the radars' own "
+            << "sampling error by at most " << worstExcess << " dB\n";
+  EXPECT_GT(both, 50u) << "the radars must overlap over the grid";
+  EXPECT_LE(worstExcess, 1e-4);  // float storage of the values (|v| < 100 dBZ: 1e-5) and of the weights
 }
 
 }  // namespace

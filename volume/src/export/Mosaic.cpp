@@ -140,8 +140,10 @@ Status writeMosaicNetcdf(const std::string& path, const RegularGridSpec& spec, c
   }
   w.text(NC_GLOBAL, "Conventions", "CF-1.8");
   w.text(NC_GLOBAL, "title",
-         "3-D radar mosaic of " + std::to_string(meta.radars.size()) + " radars (" + meta.field + ", rule " +
-             toString(meta.rule) + ")");
+         std::string(meta.synthetic ? "SYNTHETIC " : "") + "3-D radar mosaic of " + std::to_string(meta.radars.size()) +
+             " radars (" + meta.field + ", rule " + toString(meta.rule) + ")");
+  if (meta.synthetic)
+    w.text(NC_GLOBAL, "comment", "SYNTHETIC: made from SYNTHETIC radar volumes (atmoglobe synth), not measurements");
   w.text(NC_GLOBAL, "source", "atmoglobe mosaic: each radar sampled in its own polar geometry (volume/PolarVolume.h)");
   w.text(NC_GLOBAL, "overlap_rule", toString(meta.rule));
   w.text(NC_GLOBAL, "overlap_rule_formula", overlapRuleFormula(meta.rule));

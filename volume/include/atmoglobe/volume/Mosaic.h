@@ -36,6 +36,8 @@ struct MosaicMetadata {
   FieldKind kind = FieldKind::Other;
   OverlapRule rule = OverlapRule::WeightedMean;
   std::vector<MosaicRadar> radars;
+  /// Some radar file says SYNTHETIC: the mosaic's title and comment say so too.
+  bool synthetic = false;
 };
 
 /// The one-line formula of a rule, as the attributes and docs give it.
