@@ -46,23 +46,26 @@ class NoPreparer final : public StepPreparer {
   std::optional<Prepared> prepare(std::size_t) const override { return std::nullopt; }
 };
 
-}  // namespace
-
-Result<bool> RadarNetworkSourceGL::holdsSeveralSites(const std::string& path, const std::string& field) {
-  auto groups = volumesOfSet(path, field);
-  if (!groups) return groups.forwardError();
-  for (const auto& g : *groups)
-    if (!sameSite(g, groups->front())) return true;
-  return false;
+// The values of every cluster.
+volume::ValueRange unionRange(const std::vector<std::shared_ptr<RadarNetworkGL>>& clusters) {
+  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const auto& c : clusters) {
+    range.minValue = std::min(range.minValue, c->valueRange().minValue);
+    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
+  }
+  return range;
 }
 
-Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::open(const VolumeLayerDescription& d,
-                                                                         SourceContext context) {
+}  // namespace
+
+Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::openIfNetwork(const VolumeLayerDescription& d,
+                                                                                  SourceContext context) {
   if (d.kind != VolumeKind::Radar)
     return makeError(d.path + ": a " + std::string(nameOf(d.kind)) + " layer is not a radar");
   auto groups = volumesOfSet(d.path, d.field);
   if (!groups) return groups.forwardError();
-  if (groups->empty()) return makeError(d.path + ": not a set of radar files");
+  if (std::all_of(groups->begin(), groups->end(), [&](const auto& g) { return sameSite(g, groups->front()); }))
+    return std::unique_ptr<RadarNetworkSourceGL>();  // one file, or one site's volumes: not a network
   std::unique_ptr<RadarNetworkSourceGL> s(new RadarNetworkSourceGL());
   // Sites (a volume joins the site within 0.01 deg of its position) and the steps: the distinct
   // volume times.
@@ -76,7 +79,6 @@ Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::open(const V
       added.name = volume::siteTitle(g.site);
       added.latDeg = g.site.latDeg;
       added.lonDeg = g.site.lonDeg;
-      added.antennaMeters = g.site.antennaHeightMeters;
       s->sites_.push_back(std::move(added));
       site = s->sites_.end() - 1;
     }
@@ -195,15 +197,11 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
   const volume::OverlapRule rule = d.overlap.value_or(volume::OverlapRule::WeightedMean);
   auto gl = RadarNetworkGL::createByCluster(radars, rule, kind);
   if (!gl) return makeError(d.path + ": " + gl.error());
-  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const auto& c : *gl) {
-    range.minValue = std::min(range.minValue, c->valueRange().minValue);
-    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
-  }
-  auto options = layerRenderOptions(d, field_, nyquistMps_, range);
+  std::vector<std::shared_ptr<RadarNetworkGL>> clusters(std::make_move_iterator(gl->begin()),
+                                                        std::make_move_iterator(gl->end()));
+  auto options = layerRenderOptions(d, field_, nyquistMps_, unionRange(clusters));
   if (!options) return options.forwardError();
-  clusters_.clear();
-  for (auto& c : *gl) clusters_.push_back(std::move(c));
+  clusters_ = std::move(clusters);
   rule_ = rule;
   options_ = std::move(*options);
   read_.clear();
@@ -323,14 +321,7 @@ std::vector<const VolumeGL*> RadarNetworkSourceGL::volumes() const {
   return out;
 }
 
-volume::ValueRange RadarNetworkSourceGL::colourRange() const {
-  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const auto& c : clusters_) {
-    range.minValue = std::min(range.minValue, c->valueRange().minValue);
-    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
-  }
-  return range;
-}
+volume::ValueRange RadarNetworkSourceGL::colourRange() const { return unionRange(clusters_); }
 
 std::string RadarNetworkSourceGL::loadNote() const {
   std::string note = description_.path + ": network of " + std::to_string(sites_.size()) + " sites, " +

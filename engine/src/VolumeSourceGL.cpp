@@ -28,13 +28,9 @@ Result<std::unique_ptr<VolumeSourceGL>> openVolumeSource(const VolumeLayerDescri
   switch (d.kind) {
     case VolumeKind::Radar: {
       // A set of several sites is a network, drawn as one volume under the overlap rule.
-      auto several = RadarNetworkSourceGL::holdsSeveralSites(d.path, d.field);
-      if (!several) return several.forwardError();
-      if (*several) {
-        auto network = RadarNetworkSourceGL::open(d, context);
-        if (!network) return network.forwardError();
-        return std::unique_ptr<VolumeSourceGL>(std::move(*network));
-      }
+      auto network = RadarNetworkSourceGL::openIfNetwork(d, context);
+      if (!network) return network.forwardError();
+      if (*network) return std::unique_ptr<VolumeSourceGL>(std::move(*network));
       auto source = RadarSourceGL::open(d, context);
       if (!source) return source.forwardError();
       return std::unique_ptr<VolumeSourceGL>(std::move(*source));

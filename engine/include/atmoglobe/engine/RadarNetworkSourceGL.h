@@ -16,13 +16,12 @@ namespace atmoglobe::engine {
 
 class RadarNetworkSourceGL final : public VolumeSourceGL {
  public:
-  /// Whether `path` names a set of files holding several radar sites (every file's metadata read;
-  /// false for one file or one site's volumes).
-  static Result<bool> holdsSeveralSites(const std::string& path, const std::string& field);
-  /// Reads the network `description` names and shows its latest time. Errors: the readers', a
-  /// vertical exaggeration other than 1 (not drawn for networks yet), the overlap rule's.
-  static Result<std::unique_ptr<RadarNetworkSourceGL>> open(const VolumeLayerDescription& description,
-                                                            SourceContext context);
+  /// The network `description` names, showing its latest time, when its path is a set of files
+  /// holding several radar sites (every file's metadata read once); null for one file or one
+  /// site's volumes. Errors: the readers', a vertical exaggeration other than 1 (not drawn for
+  /// networks yet), the overlap rule's.
+  static Result<std::unique_ptr<RadarNetworkSourceGL>> openIfNetwork(const VolumeLayerDescription& description,
+                                                                     SourceContext context);
 
   /// The largest cluster of the network (volumes() has every cluster: radars whose clip spheres
   /// meet, RadarNetworkGL::createByCluster).
@@ -65,7 +64,7 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   };
   struct Site {
     std::string name;
-    double latDeg = 0.0, lonDeg = 0.0, antennaMeters = 0.0;
+    double latDeg = 0.0, lonDeg = 0.0;
     std::vector<SiteVolume> volumes;  ///< oldest first
   };
   /// Reads the sites' volumes for `step` (on worker threads), uploads the network, colours it.
