@@ -17,9 +17,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace atmoglobe::tools {
 
@@ -37,7 +39,50 @@ struct RenderOptions {
   bool loadAll = false;                 ///< --load-all: no view culling of radars at load
   std::vector<std::string> animations;  ///< --animation FILE.gif / FILE.mp4
   double framesPerSecond = 4.0;
+  std::string shard;  ///< --shard K/N (docs/scale-out.md); empty: $SLURM_ARRAY_TASK_ID/COUNT if set
 };
+
+struct Shard {
+  std::size_t index = 0, count = 1;
+  std::string from;  ///< where it was given, for the message
+};
+
+// A whole non-negative decimal number, or nothing.
+std::optional<std::size_t> wholeNumber(const std::string& text) {
+  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  return static_cast<std::size_t>(std::stoul(text));
+}
+
+// The shard of a series this run renders: --shard K/N, else a Slurm array task's
+// (SLURM_ARRAY_TASK_ID minus SLURM_ARRAY_TASK_MIN, of SLURM_ARRAY_TASK_COUNT), else none.
+Result<std::optional<Shard>> shardToRender(const std::string& option) {
+  if (!option.empty()) {
+    const std::size_t slash = option.find('/');
+    const auto k = wholeNumber(option.substr(0, slash));
+    const auto n = slash == std::string::npos ? std::nullopt : wholeNumber(option.substr(slash + 1));
+    if (!k || !n || *n == 0 || *k >= *n)
+      return makeError("--shard " + option + ": expected K/N, shard K (0 to N-1) of N shards, e.g. 0/4");
+    return std::optional<Shard>(Shard{*k, *n, "--shard"});
+  }
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (!id || !count) return std::optional<Shard>();
+  const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+  const auto k = wholeNumber(id), n = wholeNumber(count),
+             first = min ? wholeNumber(min) : std::optional<std::size_t>(0);
+  if (!k) return makeError(std::string("SLURM_ARRAY_TASK_ID=") + id + ": not a task number");
+  if (!n || *n == 0) return makeError(std::string("SLURM_ARRAY_TASK_COUNT=") + count + ": not a task count");
+  if (!first || *first > *k)
+    return makeError(std::string("SLURM_ARRAY_TASK_MIN=") + (min ? min : "") + ": not a task number at or below " +
+                     "SLURM_ARRAY_TASK_ID=" + id);
+  // Arrays with a step (--array=0-30:10) or lists have ids that are not consecutive: the shard
+  // would skip frames, so such arrays are refused rather than rendered incompletely.
+  if (*k - *first >= *n)
+    return makeError(std::string("SLURM_ARRAY_TASK_ID=") + id + " is not within SLURM_ARRAY_TASK_MIN=" +
+                     std::to_string(*first) + " and the " + count + " tasks of the array: give the array as a range " +
+                     "(sbatch --array=0-" + std::to_string(*n - 1) + ") or --shard K/N");
+  return std::optional<Shard>(Shard{*k - *first, *n, "SLURM_ARRAY_TASK_ID/COUNT"});
+}
 
 // NAME.png -> NAME_007.png (frame 7 of a series).
 std::string seriesPath(const std::string& output, std::size_t frame) {
@@ -57,6 +102,18 @@ void printMemoryLine(const volume::StepCache::Stats& c, std::uint64_t rssBeforeB
 }
 
 int runRender(const RenderOptions& o) {
+  if (!o.shard.empty() && !o.timeSeries) return fail("render", "--shard needs --time-series");
+  std::optional<Shard> shard;
+  if (o.timeSeries) {
+    auto s = shardToRender(o.shard);
+    if (!s) return fail("render", s.error());
+    shard = *s;
+    if (shard && !o.animations.empty())
+      return fail("render",
+                  "--animation needs the whole series: make it after every shard has rendered (e.g. "
+                  "ffmpeg over NAME_%03d.png), not in one shard (" +
+                      shard->from + ")");
+  }
   auto scene = resolveScene(o.scene);
   if (!scene) return fail("render", scene.error());
   if (!o.loadAll) {
@@ -124,13 +181,29 @@ int runRender(const RenderOptions& o) {
         return fail("render", "--animation " + a + ": the name must end in .gif or .mp4");
       }
     }
-    std::size_t frame = 0;
+    // The frames this run renders: all, or its shard's (numbered as in the whole series).
+    const std::size_t frames = engine::seriesFrameCount(axis->times.size(), o.timeSubsteps);
+    engine::FrameRange range{0, frames};
+    if (shard) {
+      auto r = engine::seriesShard(frames, shard->index, shard->count);
+      if (!r) return fail("render", r.error());
+      range = *r;
+      std::cerr << "atmoglobe render: shard " << shard->index << "/" << shard->count << " (" << shard->from
+                << "): frames " << range.begin << " to " << range.end << " (exclusive) of " << frames << "\n";
+      if (range.size() == 0) {
+        std::cerr << "atmoglobe render: this shard has no frames (more shards than the " << frames
+                  << " frames of the series)\n";
+        return done();
+      }
+    }
+    std::size_t frame = 0, rendered = 0;
     const std::uint64_t rssBefore = volume::currentResidentBytes();
     std::uint64_t rssFirst = 0;  // peak RSS after the first frame (shaders compiled, one step shown)
-    globe::Progress progress("frames", (axis->times.size() - 1) * static_cast<std::size_t>(o.timeSubsteps) + 1);
+    globe::Progress progress("frames", range.size());
     for (std::size_t step = 0; step < axis->times.size(); ++step) {
       const int subs = step + 1 < axis->times.size() ? o.timeSubsteps : 1;
       for (int sub = 0; sub < subs; ++sub, ++frame) {
+        if (!range.contains(frame)) continue;
         auto when = engine::showSceneTime(**renderer, *axis, step, static_cast<double>(sub) / o.timeSubsteps);
         if (!when) return fail("render", when.error());
         auto image = (*renderer)->renderToImage(camera, markers, **target, 64, &stats);
@@ -144,7 +217,7 @@ int runRender(const RenderOptions& o) {
           if (auto s = gif->addFrame(*image); !s) return fail("render", s.error());
         progress.print(path + " " + *when, stdout);  // the result line, not mixed into a bar
         progress.advance(1, *when);
-        if (frame == 0) rssFirst = volume::peakResidentBytes();
+        if (rendered++ == 0) rssFirst = volume::peakResidentBytes();
       }
     }
     progress.finish();
@@ -222,6 +295,10 @@ Command addRenderCommand(CLI::App& root) {
   c->add_option("--animation", options->animations,
                 "With --time-series: also an animated FILE.gif (giflib, 256 colours per frame) or FILE.mp4 "
                 "(H.264 through ffmpeg when it is on PATH; skipped with a message otherwise); repeatable");
+  c->add_option("--shard", options->shard,
+                "With --time-series: render shard K (0 to N-1) of N, a contiguous run of the series' frames named "
+                "as in the whole series (a Slurm array task: read from SLURM_ARRAY_TASK_ID and "
+                "SLURM_ARRAY_TASK_COUNT when not given; docs/scale-out.md)");
   c->add_option("--fps", options->framesPerSecond, "With --animation: frames per second")
       ->check(CLI::Range(0.1, 60.0))
       ->capture_default_str();

@@ -242,6 +242,9 @@ Command addSynthCommand(CLI::App& root) {
                    "Radar volumes: gate spacing (m; coarser gates make smaller volumes, e.g. 1000 for a network of "
                    "every site)")
       ->capture_default_str();
+  c.app->add_flag("--velocity", opts->synth.radialVelocity,
+                  "Radar volumes: also write VEL, the radial velocity of a uniform wind (the storms' motion, 10 m/s "
+                  "east and 5 m/s north) at gates with echo");
   c.app->add_option("--time", opts->synth.startTimeIso8601, "Volume start time, UTC (YYYY-MM-DDTHH:MM:SSZ)")
       ->capture_default_str();
   c.app->add_option("--site", opts->site,
@@ -277,6 +280,7 @@ Command addSynthCommand(CLI::App& root) {
     }
     if (!opts->site.empty())
       if (auto st = applySite(opts->site, *opts); !st) return fail("synth", st.error());
+    if (opts->grid && opts->synth.radialVelocity) return fail("synth", "--velocity is a radar field: not with --grid");
     if (opts->grid) return writeGrid(*opts);
     const auto t0 = std::chrono::steady_clock::now();
     volume::SyntheticRadarSummary s;

@@ -107,6 +107,7 @@ Result<std::unique_ptr<GridSourceGL>> GridSourceGL::open(const VolumeLayerDescri
   source->description_ = d;
   source->step_ = grid->timeIndex;
   source->synthetic_ = volume::fileSaysSynthetic(d.path);
+  source->mosaicRule_ = volume::mosaicOverlapRule(d.path);
   source->firstRange_ = range;
   context.cache.put(stepKey(context.layer, source->step_, true), source->volume_, budgetBytes(*source->volume_));
   return source;
@@ -251,8 +252,10 @@ Status GridSourceGL::applyExaggeration(SourceContext context) {
 LegendPart GridSourceGL::legendPart() const {
   const volume::GridVolume& v = volume_->grid();
   const std::string variable = displayName(v.variable);
-  return LegendPart{variable + " (forecast grid)",
-                    variable + " valid " + utcLabel(v.validTime) +
+  // A mosaic written by `atmoglobe mosaic` is a radar product at the radars' latest time.
+  const std::string kind = mosaicRule_.empty() ? " (forecast grid)" : " (radar mosaic, " + mosaicRule_ + ")";
+  return LegendPart{variable + kind,
+                    variable + (mosaicRule_.empty() ? " valid " : " at ") + utcLabel(v.validTime) +
                         (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
                         (volume::extraIndexText(v).empty() ? std::string() : "  " + volume::extraIndexText(v)) +
                         (v.approximateHeights ? "  (heights approximate)" : ""),

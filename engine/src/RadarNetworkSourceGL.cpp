@@ -46,14 +46,22 @@ class NoPreparer final : public StepPreparer {
   std::optional<Prepared> prepare(std::size_t) const override { return std::nullopt; }
 };
 
-// The values of every cluster.
-volume::ValueRange unionRange(const std::vector<std::shared_ptr<RadarNetworkGL>>& clusters) {
-  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const auto& c : clusters) {
-    range.minValue = std::min(range.minValue, c->valueRange().minValue);
-    range.maxValue = std::max(range.maxValue, c->valueRange().maxValue);
-  }
-  return range;
+// What a volume of the step costs the budget per gate before it is read: its float on the CPU and
+// its RGBA16F texel (value, echo, measured) on the GPU. An upper bound: a crop keeps fewer gates.
+constexpr std::uint64_t kBudgetBytesPerGate = sizeof(float) + 4 * 2;
+
+// The cache key of a volume read for the network layer `layer` (by its files: steps share them).
+std::string volumeKey(std::size_t layer, const std::string& files) { return stepKeyPrefix(layer) + "volume:" + files; }
+
+std::string mib(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / 1048576.0);
+  return text;
+}
+
+// Values of different sites that cannot be combined: drawn per radar unless a rule is asked for.
+bool perRadarQuantity(volume::FieldKind kind) {
+  return kind == volume::FieldKind::Velocity || kind == volume::FieldKind::DifferentialPhase;
 }
 
 }  // namespace
@@ -86,6 +94,7 @@ Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::openIfNetwor
     for (const std::string& f : g.sourceFiles) v.files += (v.files.empty() ? "" : ",") + f;
     if (v.files.empty()) v.files = g.sourcePath;
     v.timeIso8601 = g.timeIso8601;
+    for (const volume::Sweep& sweep : g.sweeps) v.gates += std::uint64_t{sweep.rayCount()} * sweep.gateCount;
     v.epochSeconds = volume::iso8601ToEpochSeconds(g.timeIso8601);
     if (!std::isfinite(v.epochSeconds))
       return makeError(v.files + ": a radar network needs each volume's time, and this one has none");
@@ -110,102 +119,158 @@ Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::openIfNetwor
     s->times_.push_back(volume::normalizeIso8601(label));
   }
   s->description_ = d;
-  if (auto st = s->load(d, s->stepEpochs_.size() - 1, context.exaggeration); !st) return st.forwardError();
+  if (auto st = s->load(d, s->stepEpochs_.size() - 1, context); !st) return st.forwardError();
   s->step_ = s->stepEpochs_.size() - 1;
   return s;
 }
 
-Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, double exaggeration) {
-  if (exaggeration != 1.0)
-    return makeError(d.path + ": a radar network is drawn at true scale only (no vertical exaggeration yet)");
+std::uint64_t RadarNetworkSourceGL::StepGL::gpuBytes() const {
+  std::uint64_t bytes = 0;
+  for (const auto& c : clusters) bytes += c->gpuBytes();
+  for (const auto& r : apart) bytes += r->gpuBytes() + volume::polarVolumeBytes(r->polar());  // with its own copy
+  return bytes;
+}
+
+Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, SourceContext context) {
   const double t = stepEpochs_[step], window = d.windowMinutes * 60.0;
   // Each site's latest volume at or before the step's time, at most the window old.
   std::vector<std::pair<std::size_t, const SiteVolume*>> chosen;
   std::vector<std::string> missing;
+  std::uint64_t estimate = 0;
   for (std::size_t i = 0; i < sites_.size(); ++i) {
     const SiteVolume* best = nullptr;
     for (const SiteVolume& v : sites_[i].volumes)
       if (v.epochSeconds <= t && v.epochSeconds >= t - window) best = &v;
-    if (best) chosen.emplace_back(i, best);
-    else missing.push_back(sites_[i].name);
+    if (best) {
+      chosen.emplace_back(i, best);
+      estimate += best->gates * kBudgetBytesPerGate;
+    } else {
+      missing.push_back(sites_[i].name);
+    }
   }
   if (chosen.empty())
     return makeError(d.path + ": no site has a volume within " + std::to_string(d.windowMinutes) + " minutes before " +
                      times_[step]);
-  // Read what is not read yet, on worker threads (the readers hold io's netCDF lock around netCDF-C).
-  std::vector<std::string> toRead;
-  for (const auto& [i, v] : chosen)
-    if (!read_.count(v->files)) toRead.push_back(v->files);
-  std::map<std::string, std::shared_ptr<const volume::PolarVolume>> fresh;
-  std::vector<volume::FieldInfo> fieldOf(toRead.size());
-  std::vector<double> nyquistOf(toRead.size(), std::nan(""));
-  std::vector<std::string> datumOf(toRead.size());
-  std::string firstError;
-  std::mutex mutex;
-  std::atomic<std::size_t> next{0};
-  std::vector<std::shared_ptr<const volume::PolarVolume>> layouts(toRead.size());
-  std::vector<std::vector<std::string>> fieldNames(toRead.size());
-  auto work = [&] {
-    for (std::size_t k = next++; k < toRead.size(); k = next++) {
-      auto r = readCroppedRadar(d, toRead[k]);
-      if (!r) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (firstError.empty()) firstError = r.error();
-        continue;
+  // A step must fit the budget by itself (the volumes shown cannot be dropped): refused before
+  // anything is read, rather than read past the budget.
+  if (estimate > context.cache.budget())
+    return makeError(d.path + ": the network at " + times_[step] + " needs about " + mib(estimate) + " for its " +
+                     std::to_string(chosen.size()) + " volumes, more than the memory budget of " +
+                     mib(context.cache.budget()) +
+                     "; raise it (--memory-budget, scene memory_budget_mb), crop the layer or shorten the window");
+  const std::string gpuKey = stepKey(context.layer, step, true);
+  if (auto cached = context.cache.get<StepGL>(gpuKey)) {  // shown before, still held: no read, no upload
+    shown_ = std::move(cached);
+  } else {
+    // The volumes of the step: from the cache, else read on worker threads (the readers hold io's
+    // netCDF lock around netCDF-C).
+    std::map<std::string, std::shared_ptr<const volume::PolarVolume>> volumes;
+    std::vector<std::string> toRead;
+    for (const auto& [i, v] : chosen) {
+      if (auto held = context.cache.get<volume::PolarVolume>(volumeKey(context.layer, v->files)))
+        volumes[v->files] = std::move(held);
+      else if (std::find(toRead.begin(), toRead.end(), v->files) == toRead.end()) toRead.push_back(v->files);
+    }
+    std::vector<volume::FieldInfo> fieldOf(toRead.size());
+    std::vector<double> nyquistOf(toRead.size(), std::nan(""));
+    std::vector<std::string> datumOf(toRead.size());
+    std::string firstError;
+    std::mutex mutex;
+    std::atomic<std::size_t> next{0};
+    std::vector<std::shared_ptr<const volume::PolarVolume>> layouts(toRead.size());
+    std::vector<std::vector<std::string>> fieldNames(toRead.size());
+    auto work = [&] {
+      for (std::size_t k = next++; k < toRead.size(); k = next++) {
+        auto r = readCroppedRadar(d, toRead[k]);
+        if (!r) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (firstError.empty()) firstError = r.error();
+          continue;
+        }
+        layouts[k] = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
+        fieldOf[k] = r->volume.loadedField;
+        nyquistOf[k] = r->volume.nyquistVelocityMps;
+        datumOf[k] = r->site.datumNote;
+        for (const auto& f : r->volume.fields) fieldNames[k].push_back(f.name);
       }
-      layouts[k] = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
-      fieldOf[k] = r->volume.loadedField;
-      nyquistOf[k] = r->volume.nyquistVelocityMps;
-      datumOf[k] = r->site.datumNote;
-      for (const auto& f : r->volume.fields) fieldNames[k].push_back(f.name);
+    };
+    const unsigned threads =
+        std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(toRead.size())));
+    std::vector<std::thread> pool;
+    for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
+    work();
+    for (auto& th : pool) th.join();
+    if (!firstError.empty()) return makeError(firstError);
+    for (std::size_t k = 0; k < toRead.size(); ++k) {
+      volumes[toRead[k]] = layouts[k];
+      if (k == 0) {  // the field as read (the same in every file)
+        field_ = fieldOf[k];
+        nyquistMps_ = nyquistOf[k];
+        fields_ = fieldNames[k];
+        datumNote_ = datumOf[k];
+      }
     }
-  };
-  const unsigned threads =
-      std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(toRead.size())));
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
-  work();
-  for (auto& th : pool) th.join();
-  if (!firstError.empty()) return makeError(firstError);
-  for (std::size_t k = 0; k < toRead.size(); ++k) {
-    fresh[toRead[k]] = layouts[k];
-    if (k == 0) {  // the field as read (the same in every file; the kinds are checked by the network)
-      field_ = fieldOf[k];
-      nyquistMps_ = nyquistOf[k];
-      fields_ = fieldNames[k];
-      datumNote_ = datumOf[k];
+    std::vector<std::shared_ptr<const volume::PolarVolume>> radars;
+    for (const auto& [i, v] : chosen) radars.push_back(volumes.at(v->files));
+    const volume::FieldKind kind = volume::classifyField(field_).kind;
+    const volume::OverlapRule rule =
+        d.overlap.value_or(perRadarQuantity(kind) ? volume::OverlapRule::Integrate : volume::OverlapRule::WeightedMean);
+    auto built = std::make_shared<StepGL>();
+    if (rule == volume::OverlapRule::Integrate) {
+      // Each radar apart, as separate radar layers (with their vertical exaggeration).
+      for (const auto& r : radars) {
+        auto gl = RadarVolumeGL::create(*r, context.exaggeration);
+        if (!gl) return makeError(r->sourcePath + ": " + gl.error());
+        (*gl)->setBeamApproximation(d.beam);
+        built->apart.push_back(std::move(*gl));
+      }
+    } else {
+      if (context.exaggeration != 1.0)
+        return makeError(d.path + ": a radar network under the " + std::string(volume::toString(rule)) +
+                         " rule is drawn at true scale only (no vertical exaggeration yet; the integrate rule "
+                         "draws each radar apart and can be exaggerated)");
+      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind);
+      if (!gl) {
+        std::string why = d.path + ": " + gl.error();
+        if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";
+        return makeError(why);
+      }
+      built->clusters.assign(std::make_move_iterator(gl->begin()), std::make_move_iterator(gl->end()));
     }
+    // Every volume and the step's GPU part under the budget: a volume read once serves every step
+    // that shows it while it is held; the GPU part serves a loop played again.
+    for (const auto& [files, v] : volumes) {
+      context.cache.put(volumeKey(context.layer, files), v, volume::polarVolumeBytes(*v));
+      built->read[files] = v;
+    }
+    context.cache.put(gpuKey, built, built->gpuBytes());
+    shown_ = std::move(built);
+    rule_ = rule;
   }
-  for (auto& [files, v] : read_)
-    if (!fresh.count(files)) fresh[files] = v;
-  std::vector<std::shared_ptr<const volume::PolarVolume>> radars;
+  // The step shown before is no longer in use: what of it no longer fits goes, released on this
+  // (the GL) thread.
+  // Twice: a dropped GPU step still holds its volumes until it is released.
+  for (int pass = 0; pass < 2; ++pass) {
+    context.cache.enforceBudget();
+    context.cache.releaseDropped();
+  }
+  auto options = layerRenderOptions(d, field_, nyquistMps_, colourRange());
+  if (!options) return options.forwardError();
+  options_ = std::move(*options);
   std::vector<std::string> shown;
   std::vector<Marker> markers;
   for (const auto& [i, v] : chosen) {
-    radars.push_back(fresh.at(v->files));
+    const volume::PolarVolume& r = *shown_->read.at(v->files);
     shown.push_back(sites_[i].name);
     Marker m;
-    m.latDeg = radars.back()->site.latDeg;
-    m.lonDeg = radars.back()->site.lonDeg;
-    m.heightMeters = radars.back()->site.antennaHeightEllipsoidMeters;
+    m.latDeg = r.site.latDeg;
+    m.lonDeg = r.site.lonDeg;
+    m.heightMeters = r.site.antennaHeightEllipsoidMeters;
     m.color = glm::vec3(1.0f);
     m.sizePx = 10.0f;
     m.label = sites_[i].name;
     markers.push_back(std::move(m));
   }
-  const volume::FieldKind kind = volume::classifyField(field_).kind;
-  const volume::OverlapRule rule = d.overlap.value_or(volume::OverlapRule::WeightedMean);
-  auto gl = RadarNetworkGL::createByCluster(radars, rule, kind);
-  if (!gl) return makeError(d.path + ": " + gl.error());
-  std::vector<std::shared_ptr<RadarNetworkGL>> clusters(std::make_move_iterator(gl->begin()),
-                                                        std::make_move_iterator(gl->end()));
-  auto options = layerRenderOptions(d, field_, nyquistMps_, unionRange(clusters));
-  if (!options) return options.forwardError();
-  clusters_ = std::move(clusters);
-  rule_ = rule;
-  options_ = std::move(*options);
-  read_.clear();
-  for (const auto& [i, v] : chosen) read_[v->files] = fresh.at(v->files);
   shownSites_ = std::move(shown);
   missingSites_ = std::move(missing);
   markers_ = std::move(markers);
@@ -223,7 +288,7 @@ volume::ValueHistogram RadarNetworkSourceGL::histogram(int bins) const {
   // Every radar's gates over the network's value range, added bin by bin.
   const volume::ValueRange range = colourRange();
   volume::ValueHistogram out = volume::valueHistogram(std::span<const float>(), range.minValue, range.maxValue, bins);
-  for (const auto& [files, radar] : read_) {
+  for (const auto& [files, radar] : shown_->read) {
     const volume::ValueHistogram h = volume::valueHistogram(radar->values, range.minValue, range.maxValue, bins);
     for (std::size_t b = 0; b < out.counts.size() && b < h.counts.size(); ++b) out.counts[b] += h.counts[b];
     out.below += h.below;
@@ -237,7 +302,7 @@ volume::ValueHistogram RadarNetworkSourceGL::histogram(int bins) const {
 Status RadarNetworkSourceGL::showStep(std::size_t step, double /*fraction*/, SourceContext context) {
   if (step >= stepEpochs_.size()) return makeError(description_.path + ": no network step " + std::to_string(step));
   if (step == step_) return Ok{};
-  if (auto st = load(description_, step, context.exaggeration); !st) return st;
+  if (auto st = load(description_, step, context); !st) return st;
   step_ = step;
   return Ok{};
 }
@@ -250,8 +315,14 @@ Status RadarNetworkSourceGL::setDescription(const VolumeLayerDescription& d, Sou
     case LayerChange::Reload: {
       if (d.path != description_.path)
         return makeError(d.path + ": a network layer's files cannot be changed in place");
-      read_.clear();  // another field, crop, datum, rule or window: every site read again
-      if (auto st = load(d, step_, context.exaggeration); !st) return st;
+      // Another field, crop, datum, rule or window: every site read again. The step shown stays
+      // until the new one is loaded (an error leaves it drawn).
+      auto keep = shown_;
+      context.cache.erasePrefix(stepKeyPrefix(context.layer));
+      if (auto st = load(d, step_, context); !st) {
+        shown_ = std::move(keep);
+        return st;
+      }
       description_ = d;
       return Ok{};
     }
@@ -265,12 +336,29 @@ Status RadarNetworkSourceGL::setDescription(const VolumeLayerDescription& d, Sou
 }
 
 Status RadarNetworkSourceGL::applyExaggeration(SourceContext context) {
-  return load(description_, step_, context.exaggeration);
+  auto keep = shown_;
+  context.cache.erasePrefix(stepKeyPrefix(context.layer));  // steps uploaded at the old exaggeration
+  if (auto st = load(description_, step_, context); !st) {
+    shown_ = std::move(keep);
+    return st;
+  }
+  return Ok{};
+}
+
+bool RadarNetworkSourceGL::valuesCombine() const { return !perRadarQuantity(volume::classifyField(field_).kind); }
+
+const VolumeGL& RadarNetworkSourceGL::volume() const {
+  if (!shown_->clusters.empty()) return *shown_->clusters.front();
+  return *shown_->apart.front();
 }
 
 LegendPart RadarNetworkSourceGL::legendPart() const {
-  std::string subtitle = std::to_string(shownSites_.size()) + " radars, latest volumes at " + utcLabel(times_[step_]) +
-                         " (" + volume::toString(rule_) + " where they overlap)";
+  std::string subtitle = std::to_string(shownSites_.size()) + " radars, latest volumes at " + utcLabel(times_[step_]);
+  if (rule_ != volume::OverlapRule::Integrate)
+    subtitle += " (" + std::string(volume::toString(rule_)) + " where they overlap)";
+  else if (perRadarQuantity(volume::classifyField(field_).kind))
+    subtitle += " (each radar apart: values of different sites are not combined)";
+  else subtitle += " (each radar apart, integrated where they overlap)";
   if (!missingSites_.empty()) subtitle += "; " + std::to_string(missingSites_.size()) + " sites missing";
   const std::string name = "network " + field_.name;
   return LegendPart{name, subtitle, LegendKey{name, field_.units, options_.render.transfer.colors}, synthetic_};
@@ -278,18 +366,42 @@ LegendPart RadarNetworkSourceGL::legendPart() const {
 
 LayerMemory RadarNetworkSourceGL::memory() const {
   std::uint64_t cpu = 0;
-  for (const auto& [files, v] : read_) cpu += v->byteSize();
+  for (const auto& [files, v] : shown_->read) cpu += v->byteSize();
   std::uint64_t gpu = 0;
-  for (const auto& c : clusters_) gpu += c->gpuBytes();
+  for (const auto& c : shown_->clusters) gpu += c->gpuBytes();
+  for (const auto& r : shown_->apart) {
+    gpu += r->gpuBytes();
+    cpu += volume::polarVolumeBytes(r->polar());
+  }
   return LayerMemory{title(), cpu, gpu};
 }
 
 std::optional<std::string> RadarNetworkSourceGL::readoutAt(const glm::dvec3& eye, const glm::dvec3& dir,
                                                            double tMaxMeters, double stepMeters) const {
-  // The nearest first value over the clusters (apart: at most one holds a point).
   std::optional<RayValue> best;
+  if (!shown_->apart.empty()) {
+    // Each radar apart: the nearest first echo of any radar, read as stored (as a radar layer's
+    // readout), named by its site; other radars' values there are their own (not combined).
+    std::size_t which = 0;
+    for (std::size_t i = 0; i < shown_->apart.size(); ++i) {
+      const auto hit = firstValueAlong(shown_->apart[i]->referenceSampler(), eye, dir, tMaxMeters, stepMeters,
+                                       volume::Interpolation::Nearest);
+      if (hit && (!best || hit->tMeters < best->tMeters)) {
+        best = hit;
+        which = i;
+      }
+    }
+    if (!best) return std::nullopt;
+    globe::Geodetic g = globe::ecefToGeodetic(best->ecef);
+    g.heightMeters /= shown_->apart[which]->exaggeration();
+    char text[320];
+    std::snprintf(text, sizeof text, "%.1f %s  (radar %s, each radar apart; height %.0f m above sea level)",
+                  best->value, field_.units.c_str(), markers_[which].label.c_str(), seaLevelHeightMeters(g));
+    return "network " + field_.name + ": " + text;
+  }
+  // The nearest first value over the clusters (apart: at most one holds a point).
   const volume::RadarNetworkSampler* where = nullptr;
-  for (const auto& c : clusters_) {
+  for (const auto& c : shown_->clusters) {
     const auto hit = firstValueAlong(c->network(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
     if (hit && (!best || hit->tMeters < best->tMeters)) {
       best = hit;
@@ -317,16 +429,29 @@ std::optional<std::string> RadarNetworkSourceGL::readoutAt(const glm::dvec3& eye
 
 std::vector<const VolumeGL*> RadarNetworkSourceGL::volumes() const {
   std::vector<const VolumeGL*> out;
-  for (const auto& c : clusters_) out.push_back(c.get());
+  for (const auto& c : shown_->clusters) out.push_back(c.get());
+  for (const auto& r : shown_->apart) out.push_back(r.get());
   return out;
 }
 
-volume::ValueRange RadarNetworkSourceGL::colourRange() const { return unionRange(clusters_); }
+volume::ValueRange RadarNetworkSourceGL::colourRange() const {
+  // The values of every volume shown.
+  volume::ValueRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const auto& [files, v] : shown_->read) {
+    range.minValue = std::min(range.minValue, static_cast<double>(v->minValue));
+    range.maxValue = std::max(range.maxValue, static_cast<double>(v->maxValue));
+  }
+  return range;
+}
 
 std::string RadarNetworkSourceGL::loadNote() const {
   std::string note = description_.path + ": network of " + std::to_string(sites_.size()) + " sites, " +
                      std::to_string(times_.size()) + " times; at " + times_[step_] + " " +
-                     std::to_string(shownSites_.size()) + " shown";
+                     std::to_string(shownSites_.size()) + " shown" +
+                     (rule_ == volume::OverlapRule::Integrate
+                          ? std::string(" each apart (integrate")
+                          : " as one volume (" + std::string(volume::toString(rule_)) + " where they overlap") +
+                     (!valuesCombine() ? ": values of different sites are not combined)" : ")");
   if (!missingSites_.empty()) {
     note += ", no volume within " + std::to_string(static_cast<int>(description_.windowMinutes)) + " min: ";
     for (std::size_t i = 0; i < missingSites_.size(); ++i) note += (i ? ", " : "") + missingSites_[i];

@@ -60,6 +60,21 @@ Result<SceneTimeAxis> sceneTimeAxis(const SceneRendererGL& renderer) {
   return axis;
 }
 
+std::size_t seriesFrameCount(std::size_t steps, int substeps) {
+  if (steps == 0) return 0;
+  return (steps - 1) * static_cast<std::size_t>(std::max(1, substeps)) + 1;
+}
+
+Result<FrameRange> seriesShard(std::size_t frames, std::size_t index, std::size_t count) {
+  if (count == 0) return makeError("shard: the number of shards must be at least 1");
+  if (index >= count)
+    return makeError("shard " + std::to_string(index) + " of " + std::to_string(count) + ": shards are numbered 0 to " +
+                     std::to_string(count - 1));
+  // floor(frames * k / count) without forming frames * k: (frames % count) * k < count^2.
+  const auto at = [&](std::size_t k) { return frames / count * k + frames % count * k / count; };
+  return FrameRange{at(index), at(index + 1)};
+}
+
 Result<std::string> showSceneTime(SceneRendererGL& renderer, const SceneTimeAxis& axis, std::size_t step,
                                   double fraction) {
   if (step >= axis.times.size()) return makeError("time step " + std::to_string(step) + " is beyond the axis");

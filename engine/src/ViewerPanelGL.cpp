@@ -423,12 +423,18 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
       }
       edited = enumCombo("interpolation", d.interpolation) || edited;
       if (d.kind == VolumeKind::Radar) edited = enumCombo("beam", d.beam) || edited;  // the beam model is a radar's
-      if (dynamic_cast<const RadarNetworkSourceGL*>(&layer)) {
-        // A network's overlap rule (docs/networks.md): one value where radars overlap.
-        const volume::OverlapRule rule = d.overlap.value_or(volume::OverlapRule::WeightedMean);
+      if (const auto* network = dynamic_cast<const RadarNetworkSourceGL*>(&layer)) {
+        // A network's overlap rule (docs/networks.md): one value where radars overlap, or each
+        // radar apart (integrate; the only rule for velocity, whose sites cannot be combined).
+        const volume::OverlapRule rule = d.overlap.value_or(network->rule());
+        const bool combinable = network->valuesCombine();
+        std::vector<volume::OverlapRule> choices{volume::OverlapRule::Integrate};
+        if (combinable)
+          choices.insert(choices.begin(), {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam,
+                                           volume::OverlapRule::Maximum});
+        if (!combinable) ImGui::TextDisabled("values of different sites are not combined: each radar apart");
         if (ImGui::BeginCombo("overlap", volume::toString(rule))) {
-          for (volume::OverlapRule c :
-               {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
+          for (volume::OverlapRule c : choices) {
             if (ImGui::Selectable(volume::toString(c), rule == c) && c != rule) {
               d.overlap = c;
               edited = true;

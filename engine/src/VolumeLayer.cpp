@@ -92,10 +92,6 @@ Status validateVolumeLayer(const VolumeLayerDescription& d, const std::string& w
     return makeError(where + ": a radar has no time to choose (a loop's steps are its files)");
   if (d.kind == VolumeKind::Grid && !d.label.empty()) return makeError(where + ": a grid has no site label");
   if (d.kind == VolumeKind::Grid && d.overlap) return makeError(where + ": an overlap rule is for radar networks");
-  if (d.overlap == volume::OverlapRule::Integrate)
-    return makeError(where +
-                     ": overlap 'integrate' (extinctions add) is how separate radar layers meet; a network "
-                     "drawn as one layer takes mean, lowest or max");
   if (!(d.windowMinutes > 0.0 && d.windowMinutes <= 1440.0))
     return makeError(where + ": window_minutes must be in (0, 1440]");
   return validateVolumeLayerSettings(d.settings, where);

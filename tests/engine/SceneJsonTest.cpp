@@ -207,11 +207,13 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.slices[1].request.path.size(), 2u);
   EXPECT_EQ(back.overlays.at(0).widthPx, 2.5f);
   EXPECT_FALSE(back.mapContext);
-  // The overlap rule: the spellings, and integrate refused for a network layer.
+  // The overlap rule: the spellings; integrate (each radar of a network apart) is one of them.
   EXPECT_NE(errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})").find("\"mean\""), std::string::npos)
       << errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})");
-  EXPECT_NE(errorOf(R"({"radars": [{"path": "k.nc", "overlap": "integrate"}]})").find("overlap 'integrate'"),
-            std::string::npos);
+  auto integrate = engine::parseSceneJson(R"({"radars": [{"path": "k.nc", "overlap": "integrate"}]})", "scene.json",
+                                          "/base", "/data");
+  ASSERT_TRUE(integrate) << integrate.error();
+  EXPECT_EQ(integrate->volumes.at(0).overlap, volume::OverlapRule::Integrate);
   EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "overlap": "mean"}]})").find("overlap"), std::string::npos);
   // An edited curve must increase and stay in 0..1.
   EXPECT_NE(

@@ -5,6 +5,7 @@
 #include <atmoglobe/volume/Mosaic.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarNetwork.h>
+#include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
 #include <gtest/gtest.h>
@@ -283,6 +284,9 @@ TEST(RadarNetwork, AMosaicOfOneAnalyticFieldIsThatFieldWithinTheRadarsSamplingEr
   std::vector<float> back(spec.sampleCount());
   ASSERT_EQ(nc_get_var_float(ncid, varid, back.data()), NC_NOERR);
   nc_close(ncid);
+  // Drawn back as a grid layer, the file is labelled a mosaic of its rule, not a forecast.
+  EXPECT_EQ(mosaicOverlapRule(out), toString(meta.rule));
+  EXPECT_EQ(mosaicOverlapRule(meta.radars.front().path), "") << "a radar volume is no mosaic";
 
   std::size_t nodes = 0, both = 0, edges = 0;
   double worstExcess = 0.0;

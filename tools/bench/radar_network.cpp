@@ -2,7 +2,7 @@
 // as it grows from one radar to every WSR-88D site.
 //
 //   build/tools/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160] [--sizes 320x180,1280x720]
-//                                   [--gate M] [--separate-max N] [--skip 0|1] [--out DIR]
+//                                   [--gate M] [--separate-max N] [--skip 0|1] [--out DIR] [--data DIR]
 //
 // The radars: SYNTHETIC volumes of one storm field (volume::syntheticNetworkStorms, seed 1; VCP 212
 // angles, 360 rays, gates of --gate m to 230 km) at the NEXRAD sites of the built-in table nearest
@@ -17,6 +17,11 @@
 // same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
 // --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
 // volumes: one cluster of up to 8 volumes per pass), for comparison.
+//
+// Then the rules on real data, when --data DIR (default ../shared/data) holds the overlapping
+// Belgian pair (radar_odim/bewid.pvol.hdf and behel_loop/20200207130000...dbzh.scanz.hdf, DBZH):
+// the frame time of each overlap rule (mean, lowest, max as one network; integrate as the two
+// radars apart) above the pair, against Wideumont alone, at each size.
 #include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
@@ -113,6 +118,7 @@ int main(int argc, char** argv) {
   std::vector<int> counts = {1, 10, 40, 160};
   std::vector<std::pair<int, int>> sizes = {{320, 180}, {1280, 720}};
   fs::path out = "out/bench";
+  fs::path data = "../shared/data";
   for (int i = 1; i + 1 < argc; i += 2) {
     const char* a = argv[i];
     if (!std::strcmp(a, "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
@@ -122,6 +128,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(a, "--gate")) gateMeters = std::max(50.0, std::atof(argv[i + 1]));
     else if (!std::strcmp(a, "--separate-max")) separateMax = std::atoi(argv[i + 1]);
     else if (!std::strcmp(a, "--out")) out = argv[i + 1];
+    else if (!std::strcmp(a, "--data")) data = argv[i + 1];
     else if (!std::strcmp(a, "--sizes")) {
       sizes.clear();
       std::stringstream s(argv[i + 1]);
@@ -310,6 +317,63 @@ int main(int argc, char** argv) {
                     samples.c_str(), visits.c_str(), static_cast<double>(gpuBytes) / 1e6, readSeconds + uploadSeconds);
         std::fflush(stdout);
       }
+  }
+
+  // The rules on the real Belgian pair.
+  const fs::path wid = data / "radar_odim/bewid.pvol.hdf";
+  const fs::path hel = data / "radar_odim/behel_loop/20200207130000.rad.behel.pvol.dbzh.scanz.hdf";
+  if (!fs::exists(wid) || !fs::exists(hel)) {
+    std::printf("\n(the Belgian pair is not under %s: its rules are not timed)\n", data.string().c_str());
+    return 0;
+  }
+  std::vector<std::shared_ptr<const volume::PolarVolume>> pair;
+  for (const fs::path& path : {wid, hel}) {
+    volume::RadarLoadOptions load;
+    load.buildRenderLayout = true;
+    auto r = volume::loadRadar(path.string(), load);
+    if (!r) {
+      std::cerr << "bench_radar_network: " << r.error() << "\n";
+      return 1;
+    }
+    pair.push_back(std::make_shared<const volume::PolarVolume>(std::move(*r->layout)));
+  }
+  std::vector<std::unique_ptr<engine::RadarVolumeGL>> apart;
+  for (const auto& r : pair) {
+    auto gl = engine::RadarVolumeGL::create(*r);
+    if (!gl) {
+      std::cerr << "bench_radar_network: " << gl.error() << "\n";
+      return 1;
+    }
+    apart.push_back(std::move(*gl));
+  }
+  std::printf(
+      "\nBelgian pair (bewid DBZH 2019-06-06 00:00Z, behel DBZH 2020-02-07 13:00Z; 128 km apart), 300 km above "
+      "the middle looking down\n\n| rule | size | frame (ms) | / Wideumont alone |\n|---|---|---|---|\n");
+  for (const auto& [w, h] : sizes) {
+    const engine::Camera camera(engine::CameraPose{50.5, 5.45, 3e5, 0.0, -90.0, 0.0}, 60.0, w, h);
+    auto target = engine::FramebufferGL::create(w, h);
+    if (!target) {
+      std::cerr << "bench_radar_network: " << target.error() << "\n";
+      return 1;
+    }
+    const double alone = timeFrames(**renderer, camera, {{apart[0].get(), options}}, **target, frames, runs);
+    for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum,
+                      volume::OverlapRule::Integrate}) {
+      double ms = 0.0;
+      if (rule == volume::OverlapRule::Integrate) {
+        ms = timeFrames(**renderer, camera, {{apart[0].get(), options}, {apart[1].get(), options}}, **target, frames,
+                        runs);
+      } else {
+        auto network = engine::RadarNetworkGL::create(pair, rule, volume::FieldKind::Reflectivity);
+        if (!network) {
+          std::cerr << "bench_radar_network: " << network.error() << "\n";
+          return 1;
+        }
+        ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs);
+      }
+      std::printf("| %s | %dx%d | %.1f | %.2f |\n", volume::toString(rule), w, h, ms, ms / alone);
+      std::fflush(stdout);
+    }
   }
   return 0;
 }

@@ -59,6 +59,11 @@ void StepCache::setBudget(std::uint64_t bytes) {
   enforceLocked();
 }
 
+void StepCache::enforceBudget() {
+  std::lock_guard lock(mutex_);
+  enforceLocked();
+}
+
 std::uint64_t StepCache::budget() const {
   std::lock_guard lock(mutex_);
   return budget_;

@@ -37,6 +37,15 @@ bool fileSaysSynthetic(const std::string& path) {
   return false;
 }
 
+std::string mosaicOverlapRule(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return {};
+  auto file = io::NetcdfFile::open(path);
+  if (!file || !file->hasAttribute(file->root(), NC_GLOBAL, "overlap_rule")) return {};
+  auto text = file->attributeString(file->root(), NC_GLOBAL, "overlap_rule");
+  return text ? *text : std::string();
+}
+
 Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions& o) {
   std::unique_ptr<SliceSource> s(new SliceSource());
   s->path_ = o.path;

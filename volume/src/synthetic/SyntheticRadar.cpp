@@ -30,6 +30,7 @@ namespace {
 
 constexpr double kDbzScale = 0.01;  // DBZ scale_factor (dB per count)
 constexpr short kDbzFill = -32768;  // DBZ _FillValue
+constexpr double kVelScale = 0.01;  // VEL scale_factor (m/s per count); fill as DBZ's
 constexpr int kMaxGates = 4096;
 constexpr int kMaxRays = 3600;
 
@@ -246,7 +247,7 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
   w.text(NC_GLOBAL, "platform_is_mobile", "false");
   w.text(NC_GLOBAL, "n_gates_vary", "false");
   w.text(NC_GLOBAL, "ray_times_increase", "true");
-  w.text(NC_GLOBAL, "field_names", "DBZ");
+  w.text(NC_GLOBAL, "field_names", o.radialVelocity ? "DBZ,VEL" : "DBZ");
   w.text(NC_GLOBAL, "time_coverage_start", o.startTimeIso8601);
   w.text(NC_GLOBAL, "time_coverage_end", endTime);
 
@@ -353,6 +354,26 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
             "DBZ chunking");
     w.check(nc_def_var_deflate(nc, vDbz, 1, 1, o.deflateLevel), "DBZ deflate");
   }
+  int vVel = -1;
+  if (o.radialVelocity) {
+    vVel = w.var("VEL", NC_SHORT, {dTime, dRange});
+    w.text(vVel, "long_name", "radial_velocity_of_scatterers_away_from_instrument");
+    w.text(vVel, "standard_name", "radial_velocity_of_scatterers_away_from_instrument");
+    w.text(vVel, "units", "m/s");
+    const float velScale = static_cast<float>(kVelScale);
+    w.check(nc_put_att_float(nc, vVel, "scale_factor", NC_FLOAT, 1, &velScale), "VEL scale_factor");
+    w.check(nc_put_att_float(nc, vVel, "add_offset", NC_FLOAT, 1, &offset), "VEL add_offset");
+    w.check(nc_def_var_fill(nc, vVel, 0, &fill), "VEL _FillValue");
+    w.text(vVel, "coordinates", "elevation azimuth range");
+    w.text(vVel, "comment",
+           "SYNTHETIC: the radial component of a uniform wind (the storms' motion) at gates with echo; "
+           "_FillValue elsewhere.");
+    if (o.deflateLevel > 0) {
+      w.check(nc_def_var_chunking(nc, vVel, NC_CHUNKED, std::vector<std::size_t>{g.nRay, g.nGate}.data()),
+              "VEL chunking");
+      w.check(nc_def_var_deflate(nc, vVel, 1, 1, o.deflateLevel), "VEL deflate");
+    }
+  }
   w.check(nc_enddef(nc), "end of definitions");
   if (!w.ok()) return w.error();
 
@@ -402,6 +423,20 @@ std::string writeContents(NcWriter& w, const SyntheticRadarOptions& o, const Geo
   w.check(nc_put_var_float(nc, vBwH, &bw), "radar_beam_width_h");
   w.check(nc_put_var_float(nc, vBwV, &bw), "radar_beam_width_v");
   w.check(nc_put_var_short(nc, vDbz, dbz.data()), "DBZ");
+  if (o.radialVelocity) {
+    // The wind's radial component where there is echo (a velocity needs scatterers).
+    const double u = o.networkMotionEastKmPerHour / 3.6, v = o.networkMotionNorthKmPerHour / 3.6;
+    std::vector<short> vel(dbz.size(), kDbzFill);
+    for (std::size_t ray = 0; ray < nTime; ++ray) {
+      const double a = degreesToRadians(static_cast<double>(az[ray]));
+      const double e = degreesToRadians(static_cast<double>(el[ray]));
+      const double radial = (u * std::sin(a) + v * std::cos(a)) * std::cos(e);
+      const short stored = static_cast<short>(std::clamp(std::round(radial / kVelScale), -32767.0, 32767.0));
+      for (std::size_t k = 0; k < g.nGate; ++k)
+        if (dbz[ray * g.nGate + k] != kDbzFill) vel[ray * g.nGate + k] = stored;
+    }
+    w.check(nc_put_var_short(nc, vVel, vel.data()), "VEL");
+  }
   return w.ok() ? std::string() : w.error();
 }
 

@@ -64,6 +64,7 @@ class GridSourceGL final : public VolumeSourceGL {
   std::size_t step_ = 0;                  ///< time step shown (index on the file's axis)
   double stepFraction_ = 0.0;             ///< > 0: that far (0..1) towards step_ + 1, interpolated
   bool synthetic_ = false;                ///< the file says SYNTHETIC
+  std::string mosaicRule_;                ///< a radar mosaic's overlap rule (atmoglobe mosaic), else empty
   volume::ValueRange firstRange_{};       ///< the values of the step first loaded (its colours' range)
   mutable std::optional<std::vector<std::string>> variables_;  ///< the file's variables on a grid, once asked
 };

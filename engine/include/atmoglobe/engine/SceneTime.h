@@ -46,6 +46,23 @@ Result<SceneTimeAxis> sceneTimeAxis(const SceneRendererGL& renderer);
 Result<std::string> showSceneTime(SceneRendererGL& renderer, const SceneTimeAxis& axis, std::size_t step,
                                   double fraction = 0.0);
 
+/// The frames of a series: `steps` time steps with `substeps` frames each between consecutive
+/// steps (the last step one frame): (steps - 1) * substeps + 1.
+std::size_t seriesFrameCount(std::size_t steps, int substeps);
+
+/// Frames [begin, end) of a series.
+struct FrameRange {
+  std::size_t begin = 0, end = 0;
+  bool contains(std::size_t frame) const { return frame >= begin && frame < end; }
+  std::size_t size() const { return end - begin; }
+};
+/// Shard `index` (0 to count - 1) of `count` of a series of `frames` frames, as Slurm array tasks
+/// render it (docs/scale-out.md): frames [frames * index / count, frames * (index + 1) / count),
+/// contiguous so that a shard's steps share what they read. The shards are disjoint and together
+/// hold every frame once; a shard may be empty when there are more shards than frames. Errors:
+/// count 0, index >= count (the message says which).
+Result<FrameRange> seriesShard(std::size_t frames, std::size_t index, std::size_t count);
+
 // --- Loading steps within a memory budget (docs/memory.md) ---
 //
 // Every step a layer shows goes through the renderer's volume::StepCache: its GPU volume (with

@@ -113,5 +113,8 @@ Result<LatLonBox> parseBoxText(const std::string& text);
 /// True when a netCDF file's global title, source or comment attribute contains "SYNTHETIC".
 /// False for anything else (other formats, unreadable files).
 bool fileSaysSynthetic(const std::string& path);
+/// The overlap rule of a 3-D radar mosaic written by `atmoglobe mosaic` (its global attribute
+/// overlap_rule, Mosaic.h), empty for any other file: a grid layer of it is labelled a mosaic.
+std::string mosaicOverlapRule(const std::string& path);
 
 }  // namespace atmoglobe::volume

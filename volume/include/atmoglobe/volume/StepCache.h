@@ -67,6 +67,9 @@ class StepCache {
   /// Whether `bytes` more would fit after dropping every entry not in use: a background loader
   /// asks before loading ahead, so what it loads does not push out what is shown.
   bool fitsBesidesInUse(std::uint64_t bytes) const;
+  /// Drops entries not in use until the budget holds: for an owner that has just let go of data
+  /// it put (the step it showed before), whose entries put() could not drop while held.
+  void enforceBudget();
   /// Destroys the dropped data on the calling thread (the GL thread, for GPU volumes).
   void releaseDropped();
   /// A background loader says it is loading `key` (so the thread that shows it waits for it

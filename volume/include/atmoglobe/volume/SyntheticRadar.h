@@ -86,6 +86,13 @@ struct SyntheticRadarOptions {
   std::string networkStartIso8601 = "2020-05-01T21:00:00Z";
   double networkMotionEastKmPerHour = 36.0;  ///< ENE at 40 km/h, as the synthetic grid's storms
   double networkMotionNorthKmPerHour = 18.0;
+  // --- velocity (`synth --velocity`) ---
+  /// Also write VEL: at every gate with echo, the radial velocity (m/s, positive away from the
+  /// radar) of a uniform wind equal to the network motion above (10 m/s east, 5 m/s north by
+  /// default): (u sin(azimuth) + v cos(azimuth)) cos(elevation) in the site's local frame. Radars
+  /// at different sites see the same wind along different beams, so their values differ where
+  /// they overlap: what a network must not average.
+  bool radialVelocity = false;
   // --- encoding ---
   int deflateLevel = 4;  ///< netCDF-4 zlib level 0..9 (0: none)
 };

@@ -1,0 +1,201 @@
+// A radar network layer from files (engine::RadarNetworkSourceGL, docs/networks.md): the integrate
+// rule draws each radar as separate radar layers do, velocity is drawn per radar, and the
+// network's steps stay within the memory budget (docs/memory.md).
+#include "GLTestUtil.h"
+
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/RadarNetworkSourceGL.h>
+#include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
+#include <atmoglobe/engine/SceneTime.h>
+#include <atmoglobe/volume/SyntheticRadar.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+namespace {
+using namespace atmoglobe;
+
+// Two overlapping SYNTHETIC radars (KTLX, KVNX: 175 km apart, 150 km range) of one storm field at
+// two times 5 minutes apart: DIR/KTLX_0.nc, DIR/KVNX_0.nc, DIR/KTLX_1.nc, DIR/KVNX_1.nc.
+std::string writePair(const std::string& name, bool velocity = false) {
+  const std::string dir = testutil::testOutputDir() + "/" + name;
+  std::filesystem::create_directories(dir);
+  struct Site {
+    const char* id;
+    double latDeg, lonDeg, altitudeMeters;
+  };
+  const Site sites[] = {{"KTLX", 35.3331, -97.2778, 384.7}, {"KVNX", 36.7408, -98.1278, 378.6}};
+  volume::SyntheticRadarOptions o;
+  o.elevationsDeg = {0.5, 1.5, 3.0, 6.0};
+  o.raysPerSweep = 180;
+  o.gateSpacingMeters = 1000.0;
+  o.maxRangeMeters = 150000.0;
+  o.radialVelocity = velocity;
+  o.networkStorms = volume::syntheticNetworkStorms(
+      {{sites[0].latDeg, sites[0].lonDeg}, {sites[1].latDeg, sites[1].lonDeg}}, 400.0, 1);
+  for (int t = 0; t < 2; ++t)
+    for (const Site& s : sites) {
+      volume::SyntheticRadarOptions r = o;
+      r.siteId = s.id;
+      r.siteLatDeg = s.latDeg;
+      r.siteLonDeg = s.lonDeg;
+      r.antennaAltitudeMslMeters = s.altitudeMeters;
+      r.startTimeIso8601 = t == 0 ? "2020-05-01T21:00:00Z" : "2020-05-01T21:05:00Z";
+      EXPECT_TRUE(volume::writeSyntheticCfRadial(dir + "/" + s.id + "_" + std::to_string(t) + ".nc", r));
+    }
+  return dir;
+}
+
+const engine::Camera& camera() {
+  // Above the middle of the pair, 600 km up, looking down at both.
+  static const engine::Camera c(engine::CameraPose{36.0, -97.7, 6e5, 0.0, -90.0, 0.0}, 60.0, 160, 90);
+  return c;
+}
+
+globe::ImageRGBA8 draw(engine::SceneRendererGL& renderer) {
+  auto fb = engine::FramebufferGL::create(camera().widthPx(), camera().heightPx());
+  EXPECT_TRUE(fb) << fb.error();
+  auto image = renderer.renderToImage(camera(), {}, **fb);
+  EXPECT_TRUE(image) << image.error();
+  return *image;
+}
+
+std::unique_ptr<engine::SceneRendererGL> emptyRenderer() {
+  testutil::glContext();
+  auto loader = engine::openImagery({}, {});
+  auto renderer = engine::SceneRendererGL::create(*loader);
+  EXPECT_TRUE(renderer) << renderer.error();
+  return std::move(*renderer);
+}
+
+engine::VolumeLayerDescription radarLayer(const std::string& path) {
+  engine::VolumeLayerDescription d;
+  d.kind = engine::VolumeKind::Radar;
+  d.path = path;
+  d.stepMeters = 1000.0;
+  return d;
+}
+
+int maxChannelDifference(const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+  int worst = 0;
+  for (std::size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
+  return worst;
+}
+
+TEST(RadarNetworkSource, IntegrateDrawsEachRadarAsSeparateRadarLayersDo) {
+  const std::string dir = writePair("network_integrate");
+  auto network = emptyRenderer();
+  engine::VolumeLayerDescription d = radarLayer(dir);
+  d.overlap = volume::OverlapRule::Integrate;
+  auto added = network->addVolume(d);
+  ASSERT_TRUE(added) << added.error();
+  const auto* source = network->layerAs<engine::RadarNetworkSourceGL>(0);
+  ASSERT_NE(source, nullptr);
+  EXPECT_EQ(source->rule(), volume::OverlapRule::Integrate);
+  EXPECT_TRUE(source->clusters().empty());
+  ASSERT_EQ(source->radarsApart().size(), 2u);
+
+  auto separate = emptyRenderer();
+  for (const char* file : {"/KTLX_1.nc", "/KVNX_1.nc"}) {
+    auto layer = separate->addVolume(radarLayer(dir + file));
+    ASSERT_TRUE(layer) << layer.error();
+  }
+  // The volumes alone (the scenes' site markers differ: the network labels each site its own
+  // way), through the same marcher.
+  std::vector<engine::VolumeLayerGL> apart, layers;
+  for (const engine::VolumeGL* v : source->volumes()) apart.push_back({v, source->options()});
+  for (std::size_t i = 0; i < separate->volumeLayerCount(); ++i)
+    for (const engine::VolumeGL* v : separate->layer(i).volumes()) layers.push_back({v, separate->layer(i).options()});
+  const volume::VolumeImage a = testutil::renderVolumesGpu(network->volumeRenderer(), camera(), apart);
+  const volume::VolumeImage b = testutil::renderVolumesGpu(separate->volumeRenderer(), camera(), layers);
+  int drawn = 0;
+  for (int y = 0; y < camera().heightPx(); ++y)
+    for (int x = 0; x < camera().widthPx(); ++x) drawn += b.at(x, y).a > 0.05;
+  ASSERT_GT(drawn, 30) << "the storm is in view";
+  // The same volumes integrated by the same march; only the order in which the two radars'
+  // extinctions are summed may differ (float addition): at most 1 of 255.
+  const volume::ImageError e = volume::compareImages(a, b);
+  std::cout << "network under integrate vs two radar layers: " << drawn << " pixels drawn, max " << e.maxAbs
+            << ", mean " << e.meanAbs << " of 255\n";
+  EXPECT_LE(e.maxAbs, 1.0);
+}
+
+TEST(RadarNetworkSource, VelocityIsDrawnPerRadarAndACombiningRuleIsRefused) {
+  // The mean of radial velocities from two sites is meaningless: without a rule the network draws
+  // each radar apart; a combining rule asked for is refused, saying why and what to do.
+  const std::string dir = writePair("network_velocity", true);
+  auto renderer = emptyRenderer();
+  engine::VolumeLayerDescription d = radarLayer(dir);
+  d.field = "VEL";
+  auto added = renderer->addVolume(d);
+  ASSERT_TRUE(added) << added.error();
+  const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+  ASSERT_NE(source, nullptr);
+  EXPECT_EQ(source->rule(), volume::OverlapRule::Integrate);
+  EXPECT_FALSE(source->valuesCombine());
+  EXPECT_NE(source->legendPart().subtitle.find("not combined"), std::string::npos) << source->legendPart().subtitle;
+
+  auto refused = emptyRenderer();
+  d.overlap = volume::OverlapRule::WeightedMean;
+  auto mean = refused->addVolume(d);
+  ASSERT_FALSE(mean);
+  EXPECT_NE(mean.error().find("cannot be combined"), std::string::npos) << mean.error();
+  EXPECT_NE(mean.error().find("draw each radar apart"), std::string::npos) << mean.error();
+}
+
+TEST(RadarNetworkSource, AStepLargerThanTheBudgetIsRefusedBeforeAnyRead) {
+  const std::string dir = writePair("network_budget_refused");
+  auto renderer = emptyRenderer();
+  renderer->setMemoryBudget(1 << 20);  // 1 MiB; one volume holds 4 x 180 x 148 gates (1.2 MiB at 12 bytes)
+  auto added = renderer->addVolume(radarLayer(dir));
+  ASSERT_FALSE(added);
+  EXPECT_NE(added.error().find("more than the memory budget of 1.0 MiB"), std::string::npos) << added.error();
+  EXPECT_EQ(renderer->stepCache().stats().entries, 0u) << "nothing was read";
+}
+
+TEST(RadarNetworkSource, StepsStayWithinTheBudgetAndDrawTheSameWhenReadAgain) {
+  const std::string dir = writePair("network_budget_steps");
+  auto renderer = emptyRenderer();
+  auto added = renderer->addVolume(radarLayer(dir));  // mean rule, latest step (1)
+  ASSERT_TRUE(added) << added.error();
+  auto axis = engine::sceneTimeAxis(*renderer);
+  ASSERT_TRUE(axis) << axis.error();
+  ASSERT_EQ(axis->times.size(), 2u);
+  const globe::ImageRGBA8 latest = draw(*renderer);
+  // Two volumes and the step's GPU network are held, each once.
+  const auto oneStep = renderer->stepCache().stats();
+  EXPECT_EQ(oneStep.entries, 3u);
+  EXPECT_TRUE(renderer->stepCache().contains(engine::stepKey(0, 1, true)));
+
+  // Room for one step only: showing the other drops the first one's GPU network (the largest
+  // part: textures), and coming back uploads it again and draws the same picture.
+  renderer->setMemoryBudget(oneStep.heldBytes + oneStep.heldBytes / 4);
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+  const globe::ImageRGBA8 earlier = draw(*renderer);
+  EXPECT_NE(earlier.pixels, latest.pixels) << "the storms move in 5 minutes";
+  auto stats = renderer->stepCache().stats();
+  EXPECT_LE(stats.heldBytes, stats.budgetBytes);
+  EXPECT_GE(stats.drops, 1u);
+  EXPECT_FALSE(renderer->stepCache().contains(engine::stepKey(0, 1, true)));
+  EXPECT_TRUE(renderer->stepCache().contains(engine::stepKey(0, 0, true)));
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
+  EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+  stats = renderer->stepCache().stats();
+  EXPECT_LE(stats.heldBytes, stats.budgetBytes);
+
+  // With room for both, a step shown before is found in the cache: no read, no upload.
+  renderer->setMemoryBudget(oneStep.heldBytes * 4);
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+  const auto hits = renderer->stepCache().stats().hits;
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
+  EXPECT_EQ(renderer->stepCache().stats().hits, hits + 1);
+  EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+}
+
+}  // namespace
