@@ -24,6 +24,7 @@ Command addConvertCommand(CLI::App& root) {
     std::string grid = "geographic", datum = "msl", interpolation = "linear";
     bool raw = false, noGeoid = false;
     long member = -1;
+    std::string ensemble;
     std::map<std::string, std::size_t> gridIndex;
   };
   auto opts = std::make_shared<Options>();
@@ -39,6 +40,9 @@ Command addConvertCommand(CLI::App& root) {
       ->add_option("--member", opts->member,
                    "Grids: the ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  c.app->add_option("--ensemble", opts->ensemble,
+                    "Grids: a statistic over every ensemble member instead of one: mean, spread (standard deviation), "
+                    "min, max, or prob:>=VALUE (also >, <=, <; the percentage of members passing)");
   addGridIndexOption(c.app, opts->gridIndex);
   c.app->add_option("--crop", opts->crop,
                     "Box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); grids read only it");
@@ -62,6 +66,11 @@ Command addConvertCommand(CLI::App& root) {
     o.time = opts->time;
     o.member = opts->member;
     o.gridIndex = opts->gridIndex;
+    if (!opts->ensemble.empty()) {
+      auto stat = volume::parseEnsembleStatistic(opts->ensemble);
+      if (!stat) return fail("convert", "--ensemble: " + stat.error());
+      o.ensemble = *stat;
+    }
     if (!opts->crop.empty()) {
       auto v = parseNumbers(opts->crop, 4, 4, "--crop");
       if (!v) return fail("convert", v.error());

@@ -124,6 +124,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   gg->add_option("--member", o.members,
                  "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  gg->add_option("--ensemble", o.ensembles,
+                 "Grid: a statistic over every ensemble member instead of one member: mean, spread (standard "
+                 "deviation), min, max, or prob:>=VALUE (also >, <=, <; the percentage of members passing)");
   addGridIndexOption(gg, o.gridIndex);
   gg->add_option(
       "--grid-colors", o.gridColors,
@@ -548,10 +551,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
-  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.gridIndex.empty() ||
-                  !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
+  if (ng == 0 &&
+      (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.ensembles.empty() || !o.gridIndex.empty() ||
+       !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
     return makeError(
-        "--var/--time/--member/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -568,6 +572,14 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters),
           pickGrid(o.gridSamplesPerCell, "--grid-samples-per-cell", i, d.samplesPerCell)}) {
       if (!st) return st.forwardError();
+    }
+    std::string ensemble;
+    if (auto st = pickGrid(o.ensembles, "--ensemble", i, ensemble); !st) return st.forwardError();
+    if (!ensemble.empty()) {
+      auto stat = volume::parseEnsembleStatistic(ensemble);
+      if (!stat) return makeError("--ensemble: " + stat.error());
+      if (d.member >= 0) return makeError("--ensemble combines every member: not with --member");
+      d.ensemble = *stat;
     }
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--grid"); !st) return st.forwardError();
@@ -589,6 +601,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
                      first->useGeoid,
                      first->member,
                      first->gridIndex};
+      base.source.ensemble = first->ensemble;
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

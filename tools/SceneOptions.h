@@ -36,6 +36,7 @@ struct SceneOptions {
   // once (every grid) or once per grid.
   std::vector<std::string> grids, variables, times, gridColors, gridModes;
   std::vector<int> members;
+  std::vector<std::string> ensembles;            ///< --ensemble per grid: mean, spread, min, max, prob:>=V
   std::map<std::string, std::size_t> gridIndex;  ///< --grid-index NAME=I: every grid and slice
   std::vector<double> gridSteps;
   std::vector<double> gridSamplesPerCell;

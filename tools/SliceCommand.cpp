@@ -33,6 +33,7 @@ struct SliceOptions {
   std::vector<std::string> overlays;  ///< --overlay FILE: vector files drawn on a CAPPI
   int threads = 0;
   long member = -1;
+  std::string ensemble;
   std::map<std::string, std::size_t> gridIndex;
 };
 
@@ -61,6 +62,7 @@ int runSlice(const SliceOptions& o) {
   if (o.heightMeters.has_value() == !o.path.empty()) return usage("give exactly one of --height-m H or --path POINTS");
   if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
   if (o.member >= 0 && o.grid.empty()) return usage("--member is for --grid");
+  if (!o.ensemble.empty() && o.grid.empty()) return usage("--ensemble is for --grid");
   if (!o.gridIndex.empty() && o.grid.empty()) return usage("--grid-index is for --grid");
   if (!o.box.empty() && !o.heightMeters) return usage("--box is for a CAPPI (--height-m)");
   if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
@@ -107,6 +109,11 @@ int runSlice(const SliceOptions& o) {
   load.time = o.time;
   load.member = o.member;
   load.gridIndex = o.gridIndex;
+  if (!o.ensemble.empty()) {
+    auto stat = volume::parseEnsembleStatistic(o.ensemble);
+    if (!stat) return usage("--ensemble: " + stat.error());
+    load.ensemble = *stat;
+  }
   load.useGeoid = !o.noGeoid;
   auto source = volume::SliceSource::load(load);
   if (!source) return fail(cmd, source.error());
@@ -185,6 +192,9 @@ Command addSliceCommand(CLI::App& root) {
   c->add_option("--member", opts->member,
                 "Grid ensemble member (GRIB `number`, listed by `atmoglobe info`; default: the first)")
       ->check(CLI::NonNegativeNumber);
+  c->add_option("--ensemble", opts->ensemble,
+                "Grid: a statistic over every ensemble member instead of one: mean, spread (standard deviation), min, "
+                "max, or prob:>=VALUE (also >, <=, <; the percentage of members passing)");
   addGridIndexOption(c, opts->gridIndex);
   c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
   c->add_option("--box", opts->box,

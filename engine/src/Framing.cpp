@@ -183,6 +183,7 @@ Result<FramingTarget> framingTargetOfVolumes(const SceneDescription& scene) {
     volume::GridReadOptions read;
     read.variable = d.field;
     read.member = d.member;
+    read.ensemble = d.ensemble;
     read.extraIndex = d.gridIndex;
     // The step shown first: a moving nest's latitudes and longitudes change with time.
     if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());

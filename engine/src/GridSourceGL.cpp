@@ -34,6 +34,7 @@ volume::GridReadOptions gridReadOptions(const VolumeLayerDescription& d) {
   read.variable = d.field;
   read.useGeoid = d.useGeoid;
   read.member = d.member;
+  read.ensemble = d.ensemble;
   read.extraIndex = d.gridIndex;
   read.crop.southDeg = d.settings.crop.southDeg;
   read.crop.northDeg = d.settings.crop.northDeg;
@@ -256,7 +257,7 @@ LegendPart GridSourceGL::legendPart() const {
   const std::string kind = mosaicRule_.empty() ? " (forecast grid)" : " (radar mosaic, " + mosaicRule_ + ")";
   return LegendPart{variable + kind,
                     variable + (mosaicRule_.empty() ? " valid " : " at ") + utcLabel(v.validTime) +
-                        (v.member >= 0 ? "  member " + std::to_string(v.member) : std::string()) +
+                        (volume::memberText(v).empty() ? std::string() : "  " + volume::memberText(v)) +
                         (volume::extraIndexText(v).empty() ? std::string() : "  " + volume::extraIndexText(v)) +
                         (v.approximateHeights ? "  (heights approximate)" : ""),
                     LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
@@ -288,7 +289,7 @@ std::string GridSourceGL::loadNote() const {
   std::ostringstream text;
   text << description_.path << ": " << g.variable << (g.units.empty() ? "" : " [" + g.units + "]") << " at "
        << (g.validTime.empty() ? std::string("(no time axis)") : g.validTime)
-       << (g.member >= 0 ? ", member " + std::to_string(g.member) : std::string())
+       << (volume::memberText(g).empty() ? std::string() : ", " + volume::memberText(g))
        << (volume::extraIndexText(g).empty() ? std::string() : ", " + volume::extraIndexText(g)) << ", " << g.nx
        << " x " << g.ny << " x " << g.nz << ", " << static_cast<double>(g.bytesRead) / 1048576.0
        << " MiB read; heights: " << g.heightNote << (g.approximateHeights ? " (APPROXIMATE)" : "");

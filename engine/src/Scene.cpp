@@ -138,7 +138,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   if (radar) {
     keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes"});
   } else {
-    keys.insert(keys.end(), {"time", "member", "index"});
+    keys.insert(keys.end(), {"time", "member", "ensemble", "index"});
   }
   if (auto st = r.checkObject(keys); !st) return st;
   double iso = 0.0;
@@ -167,6 +167,16 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       },
       [&] { return radar ? r.number("window_minutes", d.windowMinutes, 0.01, 1440.0, "min") : Status(Ok{}); },
       [&] { return radar ? Status(Ok{}) : r.integer("member", d.member, 0, 1000000); },
+      [&] {
+        if (radar || !r.has("ensemble")) return Status(Ok{});
+        std::string text;
+        if (Status s = r.string("ensemble", text); !s) return s;
+        auto stat = volume::parseEnsembleStatistic(text);
+        if (!stat) return r.error("ensemble", stat.error());
+        if (d.member >= 0) return r.error("ensemble", "combines every member: not with \"member\"");
+        d.ensemble = *stat;
+        return Status(Ok{});
+      },
       [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
       [&] {

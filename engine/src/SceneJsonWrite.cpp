@@ -63,6 +63,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   } else {
     if (!d.time.empty()) j["time"] = d.time;
     if (d.member >= 0) j["member"] = d.member;
+    if (d.ensemble) j["ensemble"] = volume::toString(*d.ensemble);
     if (!d.gridIndex.empty()) {
       json index = json::object();
       for (const auto& [name, i] : d.gridIndex) index[name] = i;
@@ -81,6 +82,7 @@ json sliceJson(const SliceLayerDescription& d) {
   if (!radar) {
     if (!d.source.time.empty()) j["time"] = d.source.time;
     if (d.source.member >= 0) j["member"] = d.source.member;
+    if (d.source.ensemble) j["ensemble"] = volume::toString(*d.source.ensemble);
     if (!d.source.gridIndex.empty()) {
       json index = json::object();
       for (const auto& [name, i] : d.source.gridIndex) index[name] = i;

@@ -35,8 +35,9 @@ Status validateSliceLayer(const SliceLayerDescription& s, const std::string& whe
 
 Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, const std::string& dataDir,
                        SliceLayerDescription& d) {
-  if (auto st = r.checkObject({"radar", "grid", "field", "variable", "time", "member", "index", "height_m", "path",
-                               "box", "heights_m", "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
+  if (auto st =
+          r.checkObject({"radar", "grid", "field", "variable", "time", "member", "ensemble", "index", "height_m",
+                         "path", "box", "heights_m", "datum", "colors", "range", "opacity", "resolution_px", "geoid"});
       !st)
     return st;
   for (auto [key, kind] : {std::pair{"radar", volume::SliceSourceOptions::Kind::Radar},
@@ -61,6 +62,15 @@ Status parseSliceLayer(const scenejson::Object& r, const std::string& baseDir, c
     int member = -1;
     if (auto st = r.integer("member", member, 0, 1000000); !st) return st;
     d.source.member = member;
+  }
+  if (r.has("ensemble")) {
+    if (d.source.kind != volume::SliceSourceOptions::Kind::Grid) return r.error("ensemble", "is for a \"grid\"");
+    std::string text;
+    if (auto st = r.string("ensemble", text); !st) return st;
+    auto stat = volume::parseEnsembleStatistic(text);
+    if (!stat) return r.error("ensemble", stat.error());
+    if (d.source.member >= 0) return r.error("ensemble", "combines every member: not with \"member\"");
+    d.source.ensemble = *stat;
   }
   if (r.has("index")) {
     if (d.source.kind != volume::SliceSourceOptions::Kind::Grid) return r.error("index", "is for a \"grid\"");

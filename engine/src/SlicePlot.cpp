@@ -323,8 +323,8 @@ SlicePlotOptions slicePlotOptionsFor(const volume::SliceSource& source, const vo
   if (!source.field().units.empty()) field += " (" + source.field().units + ")";
   std::string time = source.isRadar() ? "volume start " : "valid ";
   time += utcLabel(source.validTime());
-  if (const volume::GridVolume* grid = source.grid(); grid && grid->member >= 0)
-    time += ", ensemble member " + std::to_string(grid->member);
+  if (const volume::GridVolume* grid = source.grid(); grid && !volume::memberText(*grid).empty())
+    time += ", ensemble " + volume::memberText(*grid);
   if (const volume::GridVolume* grid = source.grid(); grid && !volume::extraIndexText(*grid).empty())
     time += ", " + volume::extraIndexText(*grid);
   if (g.kind() == volume::SliceGeometry::Kind::Cappi) {

@@ -109,7 +109,9 @@ bool sameLook(const VolumeLayerSettings& a, const VolumeLayerSettings& b) {
 
 LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescription& b) {
   if (a.kind != b.kind || a.path != b.path || a.field != b.field || a.time != b.time || a.useGeoid != b.useGeoid ||
-      !sameCrop(a.settings.crop, b.settings.crop) || a.overlap != b.overlap || a.windowMinutes != b.windowMinutes)
+      !sameCrop(a.settings.crop, b.settings.crop) || a.overlap != b.overlap || a.windowMinutes != b.windowMinutes ||
+      a.member != b.member || a.gridIndex != b.gridIndex ||
+      (a.ensemble ? volume::toString(*a.ensemble) : "") != (b.ensemble ? volume::toString(*b.ensemble) : ""))
     return LayerChange::Reload;
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
       a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.isoValue != b.isoValue ||

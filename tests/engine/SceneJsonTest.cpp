@@ -207,6 +207,21 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.slices[1].request.path.size(), 2u);
   EXPECT_EQ(back.overlays.at(0).widthPx, 2.5f);
   EXPECT_FALSE(back.mapContext);
+  // An ensemble statistic on a grid and on a grid slice (not with a member).
+  auto stats = engine::parseSceneJson(
+      R"({"grids": [{"path": "t.nc", "ensemble": "prob:>=273.15"}],
+          "slices": [{"grid": "t.nc", "ensemble": "spread", "height_m": 5000}]})",
+      "stats.json", "/base", "/data");
+  ASSERT_TRUE(stats) << stats.error();
+  const engine::SceneDescription statsBack = roundTrip(*stats, "ensemble statistics");
+  ASSERT_TRUE(statsBack.volumes.at(0).ensemble);
+  EXPECT_EQ(volume::toString(*statsBack.volumes[0].ensemble), "prob:>=273.15");
+  ASSERT_TRUE(statsBack.slices.at(0).source.ensemble);
+  EXPECT_EQ(volume::toString(*statsBack.slices[0].source.ensemble), "spread");
+  EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "member": 2, "ensemble": "mean"}]})").find("not with \"member\""),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"grids": [{"path": "t.nc", "ensemble": "median"}]})").find("expected mean, spread"),
+            std::string::npos);
   // The overlap rule: the spellings; integrate (each radar of a network apart) is one of them.
   EXPECT_NE(errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})").find("\"mean\""), std::string::npos)
       << errorOf(R"({"radars": [{"path": "k.nc", "overlap": "median"}]})");

@@ -211,6 +211,53 @@ TEST(GribReader, PressureLevelValuesAndPositionsMatchGribGetData) {
   EXPECT_NE(g4->values, g->values);
 }
 
+// The ERA5 ensemble's statistics over its 10 members (GridReadOptions::ensemble) against the
+// members read one by one and reduced here, value for value.
+TEST(GribReader, Era5EnsembleStatisticsEqualTheMembersReducedByHand) {
+  SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"));
+  useTestCache();
+  const std::string file = gribPath("era5-levels-members.grib");
+  GridReadOptions o;
+  o.variable = "t";
+  o.timeIso8601 = "2017-01-02T12:00:00Z";
+  std::vector<GridVolume> members;
+  for (long m = 0; m < 10; ++m) {
+    GridReadOptions one = o;
+    one.member = m;
+    auto g = readGridVolume(file, one);
+    ASSERT_TRUE(g.ok()) << g.error();
+    members.push_back(std::move(*g));
+  }
+  const std::size_t n = members[0].values.size();
+  ASSERT_EQ(n, 2u * 61u * 120u);
+  for (const char* text : {"mean", "max", "prob:>=250"}) {
+    GridReadOptions s = o;
+    s.ensemble = *parseEnsembleStatistic(text);
+    auto g = readGridVolume(file, s);
+    ASSERT_TRUE(g.ok()) << g.error();
+    EXPECT_EQ(g->ensembleMembers, (std::vector<long>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+    EXPECT_EQ(g->heightAboveEllipsoidMeters, members[0].heightAboveEllipsoidMeters);
+    std::size_t between = 0;  // points where the probability is neither 0 nor 100 %
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = 0.0, hi = -1e300;
+      int passing = 0;
+      for (const GridVolume& m : members) {
+        sum += m.values[i];
+        hi = std::max(hi, static_cast<double>(m.values[i]));
+        passing += m.values[i] >= 250.0;
+      }
+      const std::string t = text;
+      if (t == "mean") ASSERT_EQ(g->values[i], static_cast<float>(sum / 10.0)) << i;
+      if (t == "max") ASSERT_EQ(g->values[i], static_cast<float>(hi)) << i;
+      if (t == "prob:>=250") {
+        ASSERT_EQ(g->values[i], static_cast<float>(10.0 * passing)) << i;
+        between += passing > 0 && passing < 10;
+      }
+    }
+    if (std::string(text) == "prob:>=250") EXPECT_GT(between, 50u) << "the members disagree somewhere";
+  }
+}
+
 TEST(GribReader, CropAcrossTheAntimeridianKeepsTheWholeGridsValues) {
   SKIP_WITHOUT_TEST_DATA(gribPath("era5-levels-members.grib"));
   useTestCache();

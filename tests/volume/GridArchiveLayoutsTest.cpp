@@ -354,6 +354,101 @@ TEST(GridArchiveLayouts, ExtraDimensionErrorsSayWhatThereIs) {
   EXPECT_TRUE(mentions(r.error(), {era, "'/t'", "no ensemble dimension", "member 1"})) << r.error();
 }
 
+// Ensemble statistics (GridReadOptions::ensemble) against the members read one by one and
+// reduced in the test, value for value.
+TEST(GridArchiveLayouts, EnsembleStatisticsEqualTheMembersReducedByHand) {
+  const std::string path = testDir() + "/ensemble_stats.nc";
+  writeEnsemble(path);
+  GridReadOptions o;
+  o.variable = "t";
+  o.useGeoid = false;
+  o.timeIndex = 1;
+  std::vector<GridVolume> members;
+  for (std::size_t m = 0; m < Ensemble::kMembers; ++m) {
+    GridReadOptions one = o;
+    one.extraIndex["number"] = m;
+    auto g = readGridVolume(path, one);
+    ASSERT_TRUE(g.ok()) << g.error();
+    members.push_back(std::move(*g));
+  }
+  const std::size_t n = members[0].values.size();
+  for (const char* text : {"mean", "spread", "min", "max", "prob:>=11500", "prob:<11500", "prob:>12000"}) {
+    auto stat = parseEnsembleStatistic(text);
+    ASSERT_TRUE(stat.ok()) << stat.error();
+    EXPECT_EQ(toString(*stat), text);
+    GridReadOptions s = o;
+    s.ensemble = *stat;
+    auto g = readGridVolume(path, s);
+    ASSERT_TRUE(g.ok()) << g.error();
+    EXPECT_EQ(g->ensembleStatistic, text);
+    EXPECT_EQ(g->ensembleMembers, (std::vector<long>{10, 11, 12}));
+    EXPECT_EQ(g->member, -1);
+    EXPECT_EQ(memberText(*g), std::string(text) + " of 3 members");
+    ASSERT_EQ(g->values.size(), n);
+    // Heights: the first member's.
+    EXPECT_EQ(g->heightAboveEllipsoidMeters, members[0].heightAboveEllipsoidMeters);
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = 0.0, lo = 1e300, hi = -1e300;
+      int passing = 0;
+      for (const GridVolume& m : members) {
+        const double x = m.values[i];
+        sum += x;
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+        const std::string t = text;
+        passing += t == "prob:>=11500" ? x >= 11500 : t == "prob:<11500" ? x < 11500 : x > 12000;
+      }
+      const double mean = sum / 3.0;
+      double squares = 0.0;  // two passes, as written in the docs: sqrt(sum (x - mean)^2 / N)
+      for (const GridVolume& m : members) squares += (m.values[i] - mean) * (m.values[i] - mean);
+      const std::string t = text;
+      if (t == "mean") {
+        ASSERT_EQ(g->values[i], static_cast<float>(mean)) << i;
+      } else if (t == "spread") {
+        // The reader sums x and x^2 in one pass; against two passes in double the difference is
+        // ~1e-12 relative before the cast to float: within one float step of the value.
+        const float expected = static_cast<float>(std::sqrt(squares / 3.0));
+        const float ulp = std::nextafter(expected, 1e30f) - expected;
+        ASSERT_NEAR(g->values[i], expected, 2.0f * ulp) << i;
+        ASSERT_GT(expected, 800.0f);  // the members differ by 1000 (a real spread, not 0)
+      } else if (t == "min") {
+        ASSERT_EQ(g->values[i], static_cast<float>(lo)) << i;
+      } else if (t == "max") {
+        ASSERT_EQ(g->values[i], static_cast<float>(hi)) << i;
+      } else {
+        ASSERT_EQ(g->values[i], static_cast<float>(100.0 * passing / 3.0)) << i;
+        EXPECT_EQ(g->units, "%");
+      }
+    }
+  }
+  // What cannot be asked together, and a file without members.
+  GridReadOptions both = o;
+  both.ensemble = *parseEnsembleStatistic("mean");
+  both.member = 11;
+  auto r = readGridVolume(path, both);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "mean", "member 11", "one or the other"})) << r.error();
+  both.member = -1;
+  both.extraIndex["number"] = 1;
+  r = readGridVolume(path, both);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {path, "index 1 along 'number'"})) << r.error();
+  Era5Like e;
+  const std::string era = testDir() + "/era5_no_members.nc";
+  writeEra5Like(era, e);
+  GridReadOptions none;
+  none.variable = "t";
+  none.ensemble = *parseEnsembleStatistic("spread");
+  r = readGridVolume(era, none);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(mentions(r.error(), {era, "no ensemble members", "spread"})) << r.error();
+  for (const char* bad : {"median", "prob:", "prob:>=", "prob:=5", "prob:>=abc", "prob:>=1e999", "MEAN"}) {
+    auto p = parseEnsembleStatistic(bad);
+    ASSERT_FALSE(p.ok()) << bad;
+    EXPECT_NE(p.error().find("expected mean, spread, min, max or prob:"), std::string::npos) << p.error();
+  }
+}
+
 TEST(GridArchiveLayouts, LeadingMonthDimensionOfAClimatologyAndWhatInfoSays) {
   // A monthly climatology: t(month, level, lat, lon), month an int coordinate 1..12 without
   // units; level heights above sea level. The month is never the vertical dimension.

@@ -439,6 +439,7 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
     read.variable = o.variable;
     read.useGeoid = o.useGeoid;
     read.member = o.member;
+    read.ensemble = o.ensemble;
     read.extraIndex = o.gridIndex;
     if (auto st = selectGridTime(o.time, read); !st) return makeError(in + ": " + st.error());
     if (o.cropSouthNorthWestEastDeg) {

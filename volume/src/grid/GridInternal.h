@@ -343,4 +343,7 @@ void setHeightFields(const GridLayout& l, const Heights& h, Out& out) {
   out.levelUnits = h.levelUnits;
 }
 
+/// readGridVolume with GridReadOptions::ensemble set (GridEnsemble.cpp).
+Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const GridReadOptions& options);
+
 }  // namespace atmoglobe::volume::grid

@@ -44,6 +44,7 @@ Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout&
 }  // namespace grid
 
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options) {
+  if (options.ensemble) return grid::readGridEnsembleStatistic(path, options);
   if (grib::hasGribSignature(path) || grib::isGribSet(path)) {
     if (!options.extraIndex.empty())
       return makeError(path + ": an index along dimension '" + options.extraIndex.begin()->first +

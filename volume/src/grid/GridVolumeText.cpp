@@ -7,6 +7,13 @@
 
 namespace atmoglobe::volume {
 
+std::string memberText(const GridVolume& grid) {
+  if (!grid.ensembleStatistic.empty())
+    return grid.ensembleStatistic + " of " + std::to_string(grid.ensembleMembers.size()) + " members";
+  if (grid.member >= 0) return "member " + std::to_string(grid.member);
+  return {};
+}
+
 std::string extraIndexText(const GridVolume& grid) {
   std::string out;
   for (const GridExtraDimension& e : grid.extraDimensions) {

@@ -80,6 +80,7 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
     read.variable = o.field;
     read.useGeoid = o.useGeoid;
     read.member = o.member;
+    read.ensemble = o.ensemble;
     read.extraIndex = o.gridIndex;
     if (auto st = selectGridTime(o.time, read); !st) return makeError(o.path + ": " + st.error());
     auto grid = readGridVolume(o.path, read);
@@ -107,8 +108,8 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
 
 std::string SliceSource::description() const {
   if (polar_) return name_ + " (radar, " + field_.name + ")";
-  std::string d = name_ + " (grid, " + field_.name +
-                  (grid_->member >= 0 ? ", member " + std::to_string(grid_->member) : std::string()) + ")";
+  std::string d =
+      name_ + " (grid, " + field_.name + (memberText(*grid_).empty() ? std::string() : ", " + memberText(*grid_)) + ")";
   if (grid_->approximateHeights) d += ", APPROXIMATE heights";
   return d;
 }

@@ -8,6 +8,7 @@
 // CLI and the panel use ("dvr", "4/3", ...), from one table per enum.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarNetwork.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 
@@ -119,6 +120,9 @@ struct VolumeLayerDescription {
   std::string time;
   /// Grids: the ensemble member (GRIB `number`, as `atmoglobe info` lists them); -1: the first.
   int member = -1;
+  /// Grids: a statistic over every ensemble member instead of one (volume::EnsembleStatistic;
+  /// scene "ensemble", CLI --ensemble: mean, spread, min, max, prob:>=VALUE).
+  std::optional<volume::EnsembleStatistic> ensemble;
   /// Grids: the index read along each dimension that is neither horizontal, vertical nor time
   /// (netCDF; volume::GridReadOptions::extraIndex); unnamed dimensions: 0.
   std::map<std::string, std::size_t> gridIndex;

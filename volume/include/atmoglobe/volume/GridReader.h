@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,27 @@ struct GridCrop {
   std::size_t firstLevel = 0;
   std::size_t levelCount = std::numeric_limits<std::size_t>::max();  ///< max(): up to the top
 };
+
+/// A statistic over the members of an ensemble, computed value by value (GridEnsemble.cpp,
+/// docs/grids.md "Ensembles"): each value of the result is that of the members' values at the
+/// same grid point; a point missing (NaN) in any member is missing in the result.
+struct EnsembleStatistic {
+  enum class Kind {
+    Mean,         ///< sum / N
+    Spread,       ///< standard deviation about the mean, sqrt(sum (x - mean)^2 / N)
+    Minimum,      ///< smallest member value
+    Maximum,      ///< largest member value
+    Probability,  ///< percentage of the members whose value passes `comparison threshold`
+  };
+  Kind kind = Kind::Mean;
+  std::string comparison;  ///< Probability: ">=", ">", "<=" or "<"
+  double threshold = 0.0;  ///< Probability: in the variable's units
+};
+/// Parses "mean", "spread", "min", "max" or "prob:OPVALUE" (OP one of >=, >, <=, <; e.g.
+/// "prob:>=273.15"). Errors name the text and list the forms.
+Result<EnsembleStatistic> parseEnsembleStatistic(const std::string& text);
+/// "mean", "spread", "min", "max", "prob:>=273.15": as parsed (scenes write it back).
+std::string toString(const EnsembleStatistic& statistic);
 
 struct GridReadOptions {
   /// Variable to read: its name ("QCLOUD") or full path ("/forecast/t"); GRIB: the shortName
@@ -72,6 +94,12 @@ struct GridReadOptions {
   /// that is set). A name that is not such a dimension of the variable, or an index beyond it,
   /// is an error. GRIB files accept only an empty map.
   std::map<std::string, std::size_t> extraIndex;
+  /// Set: not one member but this statistic over every member of the variable (GRIB `number`s;
+  /// netCDF: every index of the ensemble dimension), read one member at a time (memory: one
+  /// member plus the statistic's sums, in double). The grid's coordinates and heights are those
+  /// of the first member. Errors: with `member` or an index along the ensemble dimension also
+  /// set; a variable without members (fewer than two).
+  std::optional<EnsembleStatistic> ensemble;
   GridCrop crop;
   /// Heights above mean sea level -> above the ellipsoid with the EGM96 undulation (Geoid.h).
   /// false: they are used as heights above the ellipsoid (errors of -106..+85 m; the note says so).

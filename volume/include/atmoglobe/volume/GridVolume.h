@@ -131,6 +131,11 @@ struct GridVolume {
   std::size_t timeIndex = 0;       ///< which one was read
   std::string validTime;           ///< times[timeIndex] ("" when the variable has no time dimension)
   long member = -1;                ///< ensemble member read (GRIB `number`, see GridReadOptions::member); -1: none
+  /// A statistic over members (GridReadOptions::ensemble): what it is, as written by
+  /// toString(EnsembleStatistic) ("mean", "prob:>=273.15"), and the members it combined (GRIB
+  /// `number`s, netCDF the ensemble coordinate's values or indices). Empty: one member or none.
+  std::string ensembleStatistic;
+  std::vector<long> ensembleMembers;
   /// The variable's dimensions that are neither horizontal, vertical nor time, and the index read.
   std::vector<GridExtraDimension> extraDimensions;
 
@@ -183,6 +188,10 @@ Status finishReducedGrid(GridVolume& g);
 /// `member`), for titles: "month 3 (index 2)", "month index 2" without a coordinate value, joined
 /// by ", "; empty when there is none.
 std::string extraIndexText(const GridVolume& grid);
+
+/// What of an ensemble the grid holds, for titles and legends: "member 3", "mean of 10 members",
+/// "prob:>=273.15 of 10 members"; empty for a grid without members.
+std::string memberText(const GridVolume& grid);
 
 /// A grid between two time steps of one variable and region: values and heights linear in time,
 /// value = (1 - fraction) a + fraction b (NaN where either is NaN: no value is invented where a

@@ -18,6 +18,7 @@
 // frame). Key/value pairs: the value units, the source file, the field, the valid time, the
 // datum and the frame's centre. Written atomically (AtomicFile.h).
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarVolume.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
@@ -100,6 +101,7 @@ struct NrrdExportOptions {
   std::string variable;    ///< grid variable or radar field; empty: the default one
   std::string time;        ///< grids: an index or an ISO 8601 time (selectGridTime); empty: the first
   long member = -1;        ///< grids: the ensemble member (GRIB `number`); -1: the first
+  std::optional<EnsembleStatistic> ensemble;  ///< grids: a statistic over every member instead
   /// Grids: the index along each dimension that is neither horizontal, vertical nor time.
   std::map<std::string, std::size_t> gridIndex;
   /// Box SOUTH, NORTH, WEST, EAST (deg; west > east crosses the antimeridian): grids read only

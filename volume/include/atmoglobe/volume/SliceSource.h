@@ -4,6 +4,7 @@
 // sampler and what a slice plot says about it (name, field, units, valid time, SYNTHETIC).
 // GL-free; `atmoglobe slice` and the scene's slices (engine) both start here.
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
@@ -29,6 +30,8 @@ struct SliceSourceOptions {
   long member = -1;      ///< grids: the ensemble member (GRIB `number`); -1: the first
   /// Grids: the index along each dimension that is neither horizontal, vertical nor time.
   std::map<std::string, std::size_t> gridIndex;
+  /// Grids: a statistic over every member instead of one (GridReadOptions::ensemble).
+  std::optional<EnsembleStatistic> ensemble;
 };
 
 class SliceSource {
