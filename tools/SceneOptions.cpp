@@ -600,8 +600,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
                      first->time,
                      first->useGeoid,
                      first->member,
-                     first->gridIndex};
-      base.source.ensemble = first->ensemble;
+                     first->gridIndex,
+                     first->ensemble};
     } else {
       return makeError("--slice-height-m/--slice-path need a radar or a grid in the scene");
     }

@@ -7,13 +7,16 @@
 #include "SceneOptions.h"
 
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/map/Contours.h>
 #include <atmoglobe/map/Gshhg.h>
 #include <atmoglobe/volume/SliceSource.h>
+#include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -27,6 +30,7 @@ namespace {
 struct SliceOptions {
   std::string radar, grid, field, time;
   std::optional<double> heightMeters;
+  std::optional<double> pressureHpa;  ///< --pressure-hpa: an isobaric section of a pressure-level grid
   std::string path, box, heights, datum = "msl", colors = "auto", range, interpolation = "linear", size, output;
   bool noGeoid = false;
   bool noMap = false;                 ///< --no-map: no coastlines or borders on a CAPPI
@@ -35,6 +39,7 @@ struct SliceOptions {
   long member = -1;
   std::string ensemble;
   std::map<std::string, std::size_t> gridIndex;
+  std::string contourVar, contourInterval, contourValues;  ///< --contour-*: lines over a horizontal section
 };
 
 Result<std::pair<double, double>> parsePair(const std::string& text, const std::string& what) {
@@ -59,22 +64,42 @@ int runSlice(const SliceOptions& o) {
   const char* cmd = "slice";
   const auto start = std::chrono::steady_clock::now();
   if (o.radar.empty() == o.grid.empty()) return usage("give exactly one of --radar FILE or --grid FILE");
-  if (o.heightMeters.has_value() == !o.path.empty()) return usage("give exactly one of --height-m H or --path POINTS");
+  if (int(o.heightMeters.has_value()) + int(o.pressureHpa.has_value()) + int(!o.path.empty()) != 1)
+    return usage("give exactly one of --height-m H, --pressure-hpa P or --path POINTS");
+  if (o.pressureHpa && o.grid.empty()) return usage("--pressure-hpa is for --grid (a grid on pressure levels)");
   if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
   if (o.member >= 0 && o.grid.empty()) return usage("--member is for --grid");
   if (!o.ensemble.empty() && o.grid.empty()) return usage("--ensemble is for --grid");
   if (!o.gridIndex.empty() && o.grid.empty()) return usage("--grid-index is for --grid");
-  if (!o.box.empty() && !o.heightMeters) return usage("--box is for a CAPPI (--height-m)");
+  if (!o.box.empty() && !o.heightMeters && !o.pressureHpa)
+    return usage("--box is for a horizontal section (--height-m or --pressure-hpa)");
   if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
+  const bool contours = !o.contourVar.empty() || !o.contourInterval.empty() || !o.contourValues.empty();
+  if (contours && o.path.size())
+    return usage("contours are drawn on a horizontal section (--height-m, --pressure-hpa)");
+  if (!o.contourVar.empty() && o.grid.empty()) return usage("--contour-var is for --grid");
+  if (contours && o.contourInterval.empty() && o.contourValues.empty())
+    return usage("--contour-var needs --contour-interval X or --contour-values A,B,...");
+  std::optional<map::ContourLevels> contourLevels;
+  if (contours) {
+    auto levels = map::parseContourLevels(o.contourInterval, o.contourValues);
+    if (!levels) return usage(levels.error());
+    contourLevels = *levels;
+  }
   if (o.datum != "msl" && o.datum != "ellipsoid") return usage("--datum: msl or ellipsoid, got \"" + o.datum + "\"");
   if (o.interpolation != "linear" && o.interpolation != "nearest") {
     return usage("--interpolation: linear or nearest, got \"" + o.interpolation + "\"");
   }
   volume::SliceRequest request;
-  request.cappi = o.heightMeters.has_value();
+  request.cappi = o.heightMeters.has_value() || o.pressureHpa.has_value();
   request.datum = o.datum == "msl" ? volume::SliceHeightDatum::SeaLevel : volume::SliceHeightDatum::Ellipsoid;
   if (request.cappi) {
-    request.heightMeters = *o.heightMeters;
+    if (o.heightMeters) request.heightMeters = *o.heightMeters;
+    if (o.pressureHpa) {
+      if (!(*o.pressureHpa > 0.0 && *o.pressureHpa < 2000.0))
+        return usage("--pressure-hpa: a pressure in (0, 2000) hPa, got " + std::to_string(*o.pressureHpa));
+      request.pressurePa = *o.pressureHpa * 100.0;
+    }
     if (!o.box.empty()) {
       auto box = volume::parseBoxText(o.box);
       if (!box) return usage("--" + box.error());
@@ -157,6 +182,58 @@ int runSlice(const SliceOptions& o) {
   }
   if (request.cappi)  // the user's own overlays: one that cannot be read is an error
     if (auto st = engine::addSliceOverlays(plot, o.overlays); !st) return fail(cmd, st.error());
+  std::size_t contourCount = 0;
+  if (contourLevels) {
+    // Contours of the field shown, or of another variable of the same grid on the same section
+    // (same time, member or statistic, indices).
+    std::unique_ptr<volume::SliceSource> other;
+    const volume::SliceSource* contoured = source->get();
+    if (!o.contourVar.empty()) {
+      volume::SliceSourceOptions second = load;
+      second.field = o.contourVar;
+      auto loaded = volume::SliceSource::load(second);
+      if (!loaded) return fail(cmd, "--contour-var: " + loaded.error());
+      other = std::move(*loaded);
+      contoured = other.get();
+    }
+    auto values = contoured == source->get()
+                      ? Result<volume::SliceRaster>(*raster)
+                      : volume::sampleSource(*contoured, *geometry,
+                                             o.interpolation == "nearest" ? volume::Interpolation::Nearest
+                                                                          : volume::Interpolation::Linear,
+                                             o.threads);
+    if (!values) return fail(cmd, "--contour-var: " + values.error());
+    // Geopotential is drawn as forecasters read it: geopotential height in decametres (the
+    // interval and values are then in dam: 500 hPa every 6 dam).
+    std::string what = contoured->field().name;
+    const auto toSi = volume::geopotentialUnitToSi(contoured->field().units);
+    if (toSi) {
+      for (float& v : values->values) v = static_cast<float>(v * *toSi / volume::kStandardGravity / 10.0);
+      what += " as geopotential height (dam)";
+    } else if (!contoured->field().units.empty()) {
+      what += " (" + contoured->field().units + ")";
+    }
+    map::ContourRaster cr;
+    cr.values = values->values.data();
+    cr.columns = values->columns;
+    cr.rows = values->rows;
+    cr.westDeg = geometry->xFirst();
+    cr.northDeg = geometry->yTop();
+    cr.dxDeg = (geometry->xLast() - geometry->xFirst()) / values->columns;
+    cr.dyDeg = (geometry->yTop() - geometry->yBottom()) / values->rows;
+    auto lines = map::contourLines(cr, *contourLevels);
+    if (!lines) return fail(cmd, lines.error());
+    contourCount = lines->size();
+    plot.contours.push_back({std::move(*lines), {0, 0, 0, 255}, 1.4});
+    std::string at;
+    if (contourLevels->interval) {
+      at = "every " + map::contourLabel(*contourLevels->interval);
+    } else {
+      for (std::size_t i = 0; i < contourLevels->values.size(); ++i)
+        at += (i ? ", " : "at ") + map::contourLabel(contourLevels->values[i]);
+    }
+    plot.subtitle += "; contours: " + what + " " + at;
+  }
   auto image = engine::drawSlicePlot(*raster, *geometry, plot);
   if (!image) return fail(cmd, image.error());
   if (auto st = globe::writePng(o.output, *image); !st) return fail(cmd, st.error());
@@ -164,6 +241,9 @@ int runSlice(const SliceOptions& o) {
   char figures[256];
   std::snprintf(figures, sizeof figures, "%d x %d px; %zu echo, %zu no-echo, %zu no-data pixels", image->width,
                 image->height, raster->echoCount, raster->noEchoCount, raster->noDataCount);
+  if (contourLevels)
+    std::snprintf(figures + std::strlen(figures), sizeof figures - std::strlen(figures), "; %zu contour lines",
+                  contourCount);
   std::cout << "wrote " << o.output << ": " << plot.title << "; " << plot.subtitle << "; " << figures;
   if (raster->echoCount) {
     char values[128];
@@ -197,6 +277,9 @@ Command addSliceCommand(CLI::App& root) {
                 "max, or prob:>=VALUE (also >, <=, <; the percentage of members passing)");
   addGridIndexOption(c, opts->gridIndex);
   c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
+  c->add_option("--pressure-hpa", opts->pressureHpa,
+                "Grids on pressure levels: a horizontal section on this isobaric surface (hPa; between levels "
+                "interpolated linearly in ln p), e.g. 500");
   c->add_option("--box", opts->box,
                 "CAPPI box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); default: the volume's "
                 "extent");
@@ -216,6 +299,12 @@ Command addSliceCommand(CLI::App& root) {
   c->add_flag("--no-map", opts->noMap, "No GSHHG coastlines or borders on a CAPPI (drawn by default, as on the globe)");
   c->add_option("--overlay", opts->overlays,
                 "A vector file (GeoJSON, shapefile, KML, GeoPackage ... through GDAL) drawn on a CAPPI; repeatable");
+  c->add_option("--contour-var", opts->contourVar,
+                "Grids: contour lines of this variable of the same file over the section (default: the field shown), "
+                "e.g. z over t at 500 hPa");
+  c->add_option("--contour-interval", opts->contourInterval,
+                "Contour lines at every multiple of this value (the contoured variable's units), labelled");
+  c->add_option("--contour-values", opts->contourValues, "Contour lines at these values A,B,... instead, labelled");
   c->add_option("--threads", opts->threads, "Sampling threads (default: all cores)")->check(CLI::Range(0, 256));
   c->add_option("-o,--output", opts->output, "Output PNG (written atomically)")->required();
   return Command{c, [opts] { return runSlice(*opts); }};

@@ -1,5 +1,6 @@
 // Slice plots (SlicePlot.h).
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/map/MapLod.h>
 #include <atmoglobe/map/VectorFile.h>
 
@@ -151,23 +152,59 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
   const int xDecimals = xTicks.size() > 1 ? decimalsFor(xTicks[1] - xTicks[0]) : 0;
   const int yDecimals = yTicks.size() > 1 ? decimalsFor(yTicks[1] - yTicks[0]) : 0;
 
-  // --- map lines over the raster (CAPPI), clipped to the plot area ---
+  // --- map lines and contours over the raster (CAPPI), clipped to the plot area ---
   if (cappi) {
     const double midLon = mid(g.xFirst(), g.xLast());
-    for (const SlicePlotLines& set : o.mapLines)
-      for (const map::GeoPolyline& line : set.lines) {
-        double previous = midLon;
-        glm::dvec2 last{0.0};
-        for (std::size_t k = 0; k < line.lonLatDeg.size(); ++k) {
-          // Longitudes continuous along the line, and near the box's middle.
-          double lon = line.lonLatDeg[k].x;
-          lon += 360.0 * std::round((previous - lon) / 360.0);
-          previous = lon;
-          const glm::dvec2 p{xPixel(lon), yPixel(line.lonLatDeg[k].y)};
-          if (k > 0) drawClippedSegment(img, last, p, set.color, set.widthPx, L);
-          last = p;
-        }
+    // A line's points on the plot: longitudes continuous along it, and near the box's middle.
+    auto plotPoints = [&](const map::GeoPolyline& line) {
+      std::vector<glm::dvec2> points;
+      double previous = midLon;
+      for (const glm::dvec2& p : line.lonLatDeg) {
+        double lon = p.x;
+        lon += 360.0 * std::round((previous - lon) / 360.0);
+        previous = lon;
+        points.emplace_back(xPixel(lon), yPixel(p.y));
       }
+      return points;
+    };
+    auto drawLine = [&](const std::vector<glm::dvec2>& points, glm::u8vec4 color, double widthPx) {
+      for (std::size_t k = 1; k < points.size(); ++k)
+        drawClippedSegment(img, points[k - 1], points[k], color, widthPx, L);
+    };
+    for (const SlicePlotLines& set : o.mapLines)
+      for (const map::GeoPolyline& line : set.lines) drawLine(plotPoints(line), set.color, set.widthPx);
+    // Contours: the lines, then one label per long line at its middle, where no label is yet.
+    std::vector<glm::dvec4> placed;  // label boxes: x0, y0, x1, y1
+    for (const SlicePlotContours& set : o.contours) {
+      for (const map::ContourLine& c : set.lines) drawLine(plotPoints(c.line), set.color, set.widthPx);
+      const TextStyle style{kTickPx, set.color, kWhite, 2.5};
+      for (const map::ContourLine& c : set.lines) {
+        const std::vector<glm::dvec2> points = plotPoints(c.line);
+        double length = 0.0;
+        for (std::size_t k = 1; k < points.size(); ++k) length += glm::distance(points[k - 1], points[k]);
+        if (length < 100.0) continue;
+        double walked = 0.0;
+        glm::dvec2 at = points.front();
+        for (std::size_t k = 1; k < points.size(); ++k) {
+          const double step = glm::distance(points[k - 1], points[k]);
+          if (walked + step >= 0.5 * length) {
+            at = points[k - 1] + (points[k] - points[k - 1]) * ((0.5 * length - walked) / std::max(step, 1e-9));
+            break;
+          }
+          walked += step;
+        }
+        const std::string text = map::contourLabel(c.value);
+        const double halfWidth = 0.32 * kTickPx * static_cast<double>(text.size()) + 3.0, halfHeight = 0.6 * kTickPx;
+        const glm::dvec4 box{at.x - halfWidth, at.y - halfHeight, at.x + halfWidth, at.y + halfHeight};
+        if (box.x < L.left || box.z > L.right || box.y < L.top || box.w > L.bottom) continue;
+        const bool overlaps = std::any_of(placed.begin(), placed.end(), [&](const glm::dvec4& b) {
+          return box.x < b.z + 20.0 && b.x < box.z + 20.0 && box.y < b.w + 20.0 && b.y < box.w + 20.0;
+        });
+        if (overlaps) continue;
+        placed.push_back(box);
+        drawText(img, font, text, at.x, at.y, style, HAlign::Center, VAlign::Middle);
+      }
+    }
   }
 
   // --- grid lines, then the frame and ticks ---
@@ -333,7 +370,9 @@ SlicePlotOptions slicePlotOptionsFor(const volume::SliceSource& source, const vo
     std::string height = h;
     while (height.back() == '0') height.pop_back();
     if (height.back() == '.') height += '0';
-    o.title = source.name() + "   " + field + "   CAPPI at " + height + " km " + volume::toString(g.datum());
+    o.title = source.name() + "   " + field + "   " +
+              (g.pressurePa() ? numberText(*g.pressurePa() / 100.0) + " hPa"
+                              : "CAPPI at " + height + " km " + volume::toString(g.datum()));
     o.subtitle = time;
     if (const volume::PolarVolume* p = source.polar()) {
       o.markers.push_back({p->site.latDeg, p->site.lonDeg, source.name()});

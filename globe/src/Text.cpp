@@ -1,6 +1,14 @@
 #include <atmoglobe/globe/Text.h>
 
+#include <cstdio>
+
 namespace atmoglobe {
+
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", value);
+  return text;
+}
 
 std::string toLowerAscii(std::string_view text) {
   std::string out(text);

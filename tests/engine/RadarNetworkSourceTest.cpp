@@ -81,13 +81,6 @@ engine::VolumeLayerDescription radarLayer(const std::string& path) {
   return d;
 }
 
-int maxChannelDifference(const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
-  int worst = 0;
-  for (std::size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i)
-    worst = std::max(worst, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
-  return worst;
-}
-
 TEST(RadarNetworkSource, IntegrateDrawsEachRadarAsSeparateRadarLayersDo) {
   const std::string dir = writePair("network_integrate");
   auto network = emptyRenderer();

@@ -6,6 +6,7 @@
 #include "NcTestFile.h"
 
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/SliceSource.h>
 
 #include <gtest/gtest.h>
 
@@ -447,6 +448,49 @@ TEST(GridArchiveLayouts, EnsembleStatisticsEqualTheMembersReducedByHand) {
     ASSERT_FALSE(p.ok()) << bad;
     EXPECT_NE(p.error().find("expected mean, spread, min, max or prob:"), std::string::npos) << p.error();
   }
+}
+
+// An isobaric section (samplePressureSection): on a level, that level's values; between levels,
+// the two interpolated in ln(p); horizontally the grid's bilinear weights. The ensemble's t codes
+// are linear in the row and column (10 j + i) and in the level (100 k), so every pixel's value is
+// known exactly.
+TEST(GridArchiveLayouts, PressureSectionsInterpolateInLogPressure) {
+  const std::string path = testDir() + "/ensemble_pressure.nc";
+  writeEnsemble(path);
+  SliceSourceOptions so;
+  so.kind = SliceSourceOptions::Kind::Grid;
+  so.path = path;
+  so.field = "t";
+  so.useGeoid = false;
+  auto source = SliceSource::load(so);
+  ASSERT_TRUE(source.ok()) << source.error();
+  for (double hPa : {850.0, 700.0, 500.0}) {
+    SliceRequest request;
+    request.pressurePa = hPa * 100.0;
+    request.box = LatLonBox{40.5, 44.5, 10.5, 17.0};
+    request.columns = 26;
+    request.rows = 16;
+    auto geometry = sliceGeometryFor(**source, request);
+    ASSERT_TRUE(geometry.ok()) << geometry.error();
+    ASSERT_TRUE(geometry->pressurePa());
+    auto raster = sampleSource(**source, *geometry);
+    ASSERT_TRUE(raster.ok()) << raster.error();
+    ASSERT_EQ(raster->echoCount, 26u * 16u);
+    const double f = std::log(850.0 / hPa) / std::log(850.0 / 500.0);  // 0 at 850, 1 at 500
+    for (int j = 0; j < raster->rows; ++j)
+      for (int i = 0; i < raster->columns; ++i) {
+        const atmoglobe::globe::Geodetic g = geometry->geodeticAt(i + 0.5, j + 0.5);
+        const double expected = 100.0 * f + 10.0 * (g.latDeg - 40.0) / 2.5 + (g.lonDeg - 10.0) / 2.5;
+        // Float values of codes below 200, a float weight: 1e-4.
+        ASSERT_NEAR(raster->at(i, j), expected, 1e-4) << hPa << " hPa, pixel " << i << " " << j;
+      }
+  }
+  // Outside the levels, and a grid not on pressure levels.
+  SliceRequest low;
+  low.pressurePa = 100000.0;
+  auto outside = sliceGeometryFor(**source, low);
+  ASSERT_FALSE(outside.ok());
+  EXPECT_TRUE(mentions(outside.error(), {path, "1000 hPa is outside the levels", "850 to 500 hPa"})) << outside.error();
 }
 
 TEST(GridArchiveLayouts, LeadingMonthDimensionOfAClimatologyAndWhatInfoSays) {

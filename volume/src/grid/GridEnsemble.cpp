@@ -2,6 +2,7 @@
 // "Ensembles"): every member read in turn with readGridVolume, reduced value by value in double.
 #include "GridInternal.h"
 
+#include <atmoglobe/globe/Text.h>
 #include <atmoglobe/volume/GridReader.h>
 
 #include <algorithm>
@@ -15,12 +16,6 @@ namespace atmoglobe::volume {
 
 namespace {
 constexpr const char* kForms = "mean, spread, min, max or prob:OPVALUE (OP one of >=, >, <=, <; e.g. prob:>=273.15)";
-
-std::string numberText(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
 
 bool passes(double v, const EnsembleStatistic& s) {
   if (s.comparison == ">=") return v >= s.threshold;

@@ -107,6 +107,12 @@ Result<SliceGeometry> SliceGeometry::cappi(const CappiSpec& spec, const GeoidGri
   g.y0_ = spec.box.northDeg;
   g.y1_ = spec.box.southDeg;
   g.cappiHeight_ = spec.heightMeters;
+  if (spec.pressurePa) {
+    if (!(*spec.pressurePa > 0.0 && *spec.pressurePa < 2e5))
+      return makeError("an isobaric section's pressure must be in (0, 2000) hPa, got " + numberText(*spec.pressurePa) +
+                       " Pa");
+    g.pressurePa_ = spec.pressurePa;
+  }
   return g;
 }
 
@@ -188,6 +194,13 @@ SliceRaster sampleSlice(const std::vector<const VolumeSampler*>& samplers, const
   for (int t = 1; t < n; ++t) pool.emplace_back(rowsFrom, t, n);
   rowsFrom(0, n);
   for (std::thread& t : pool) t.join();
+  summarizeSliceRaster(r);
+  return r;
+}
+
+void summarizeSliceRaster(SliceRaster& r) {
+  r.echoCount = r.noEchoCount = r.noDataCount = 0;
+  r.minEcho = r.maxEcho = std::numeric_limits<float>::quiet_NaN();
   for (float v : r.values) {
     if (std::isnan(v)) {
       ++r.noDataCount;
@@ -199,7 +212,6 @@ SliceRaster sampleSlice(const std::vector<const VolumeSampler*>& samplers, const
       r.maxEcho = r.echoCount == 1 ? v : std::max(r.maxEcho, v);
     }
   }
-  return r;
 }
 
 // --- extents ---

@@ -11,6 +11,7 @@
 #include <netcdf.h>
 
 #include <atmoglobe/volume/Geoid.h>
+#include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <algorithm>
 #include <cctype>
@@ -214,6 +215,26 @@ Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceReq
                          : 0.0;
   const double lo = source.minHeightMeters() - n, hi = source.maxHeightMeters() - n;
   const std::string datum = toString(r.datum);
+  if (r.cappi && r.pressurePa) {
+    // An isobaric section: the grid's pressure levels must span the pressure.
+    const GridVolume* grid = source.grid();
+    if (!grid) return makeError(source.path() + ": an isobaric section (--pressure-hpa) is for grids, not radars");
+    auto levels = pressureLevelsPa(*grid);
+    if (!levels) return levels.forwardError();
+    const auto [lowest, highest] = std::minmax_element(levels->begin(), levels->end());
+    if (!(*r.pressurePa >= *lowest && *r.pressurePa <= *highest))
+      return makeError(source.path() + ": " + numberText(*r.pressurePa / 100.0) + " hPa is outside the levels of '" +
+                       grid->variable + "', " + numberText(*highest / 100.0) + " to " + numberText(*lowest / 100.0) +
+                       " hPa");
+    CappiSpec spec;
+    spec.pressurePa = r.pressurePa;
+    spec.heightMeters = 0.0;
+    spec.datum = SliceHeightDatum::Ellipsoid;  // unused: the surface's heights are the grid's
+    spec.box = r.box.value_or(extent);
+    spec.columns = r.columns;
+    spec.rows = r.rows;
+    return SliceGeometry::cappi(spec, nullptr);
+  }
   if (r.cappi) {
     if (!std::isfinite(r.heightMeters)) return makeError("the CAPPI height must be a finite number");
     if (r.heightMeters < lo || r.heightMeters > hi) {
@@ -238,8 +259,90 @@ Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceReq
   return SliceGeometry::crossSection(spec, geoid);
 }
 
+Result<std::vector<double>> pressureLevelsPa(const GridVolume& grid) {
+  if (grid.verticalKind != VerticalKind::Pressure)
+    return makeError(grid.path + ": '" + grid.variable + "' is on " + toString(grid.verticalKind) +
+                     " levels, not pressure levels: an isobaric section needs a grid on pressure levels (other "
+                     "levels are not interpolated to pressure yet)");
+  const auto toPa = pressureUnitToPascal(grid.levelUnits);
+  if (!toPa)
+    return makeError(grid.path + ": '" + grid.variable + "': pressure levels in '" + grid.levelUnits +
+                     "', not a pressure unit");
+  std::vector<double> out;
+  for (double v : grid.levelValues) out.push_back(v * *toPa);
+  if (out.size() != grid.nz || out.size() < 2)
+    return makeError(grid.path + ": '" + grid.variable + "' has " + std::to_string(out.size()) +
+                     " pressure levels for " + std::to_string(grid.nz) + " grid levels (two or more needed)");
+  return out;
+}
+
+Result<SliceRaster> samplePressureSection(const SliceSource& source, const SliceGeometry& geometry,
+                                          Interpolation interpolation, int /*threads*/) {
+  const GridVolume* grid = source.grid();
+  const auto* sampler = dynamic_cast<const GridSampler*>(&source.sampler());
+  if (!grid || !sampler) return makeError(source.path() + ": an isobaric section is for grids, not radars");
+  if (geometry.kind() != SliceGeometry::Kind::Cappi || !geometry.pressurePa())
+    return makeError(source.path() + ": not an isobaric section's geometry");
+  auto levels = pressureLevelsPa(*grid);
+  if (!levels) return levels.forwardError();
+  const double p = *geometry.pressurePa();
+  // The two levels around p (levels bottom first: pressure falls upwards, or rises in a file
+  // stored otherwise) and the weight of the upper one in ln(p).
+  std::size_t k = levels->size();
+  double f = 0.0;
+  for (std::size_t i = 0; i + 1 < levels->size(); ++i) {
+    const double a = (*levels)[i], b = (*levels)[i + 1];
+    if ((p <= a && p >= b) || (p >= a && p <= b)) {
+      k = i;
+      f = a == b ? 0.0 : (std::log(a) - std::log(p)) / (std::log(a) - std::log(b));
+      break;
+    }
+  }
+  if (k == levels->size())
+    return makeError(source.path() + ": " + numberText(p / 100.0) + " hPa is outside the levels of '" + grid->variable +
+                     "'");
+  const bool nearest = interpolation == Interpolation::Nearest;
+  if (nearest) f = f < 0.5 ? 0.0 : 1.0;
+  SliceRaster r;
+  r.columns = geometry.columns();
+  r.rows = geometry.rows();
+  r.values.assign(static_cast<std::size_t>(r.columns) * static_cast<std::size_t>(r.rows),
+                  std::numeric_limits<float>::quiet_NaN());
+  for (int j = 0; j < r.rows; ++j)
+    for (int i = 0; i < r.columns; ++i) {
+      const globe::Geodetic g = geometry.geodeticAt(i + 0.5, j + 0.5);
+      const auto ij = sampler->horizontalIndex(g.latDeg, g.lonDeg);
+      if (!ij) continue;
+      GridColumns columns = sampler->columnsAt(nearest ? glm::round(*ij) : *ij);
+      if (nearest && columns.count > 0) {  // the one column of largest weight
+        int best = 0;
+        for (int c = 1; c < columns.count; ++c)
+          if (columns.weight[c] > columns.weight[best]) best = c;
+        columns.column[0] = columns.column[best];
+        columns.weight[0] = 1.0;
+        columns.count = 1;
+      }
+      double sum = 0.0;
+      bool missing = columns.count == 0;
+      for (int c = 0; c < columns.count && !missing; ++c) {
+        if (columns.weight[c] == 0.0) continue;
+        const double lower = sampler->columnValue(columns.column[c], k);
+        const double upper = f > 0.0 ? static_cast<double>(sampler->columnValue(columns.column[c], k + 1)) : lower;
+        if (!std::isfinite(lower) || !std::isfinite(upper)) missing = true;
+        sum += columns.weight[c] * ((1.0 - f) * lower + f * upper);
+      }
+      if (!missing) r.values[static_cast<std::size_t>(j) * r.columns + i] = static_cast<float>(sum);
+    }
+  summarizeSliceRaster(r);
+  if (r.echoCount == 0)
+    return makeError(source.path() + ": no data on the " + numberText(p / 100.0) +
+                     " hPa surface in that box (is the box over the grid?)");
+  return r;
+}
+
 Result<SliceRaster> sampleSource(const SliceSource& source, const SliceGeometry& geometry, Interpolation interpolation,
                                  int threads) {
+  if (geometry.pressurePa()) return samplePressureSection(source, geometry, interpolation, threads);
   SliceRaster raster = sampleSlice({&source.sampler()}, geometry, interpolation, threads);
   if (raster.echoCount + raster.noEchoCount == 0) {
     if (geometry.kind() == SliceGeometry::Kind::Cappi) {

@@ -12,6 +12,7 @@
 #include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/engine/TextRaster.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/map/Contours.h>
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/volume/ColorTable.h>
 #include <atmoglobe/volume/Slice.h>
@@ -38,6 +39,14 @@ struct SlicePlotLines {
   double widthPx = 1.0;
 };
 
+/// Contour lines over a CAPPI's raster (map/Contours.h), drawn after the map lines; each line
+/// long enough on the plot (100 px) carries its value at its middle, labels kept apart.
+struct SlicePlotContours {
+  std::vector<map::ContourLine> lines;
+  glm::u8vec4 color{0, 0, 0, 255};
+  double widthPx = 1.4;
+};
+
 struct SlicePlotOptions {
   int widthPx = 1000, heightPx = 640;  ///< the whole image
   std::string title;                   ///< line 1 (what and where)
@@ -45,8 +54,9 @@ struct SlicePlotOptions {
   std::string units;                   ///< the field's units (colour key)
   bool synthetic = false;              ///< draws the SYNTHETIC DATA mark
   volume::ColorTable colors;
-  std::vector<SlicePlotMarker> markers;  ///< CAPPI only
-  std::vector<SlicePlotLines> mapLines;  ///< CAPPI only (addSliceMapLines); drawn in order
+  std::vector<SlicePlotMarker> markers;     ///< CAPPI only
+  std::vector<SlicePlotLines> mapLines;     ///< CAPPI only (addSliceMapLines); drawn in order
+  std::vector<SlicePlotContours> contours;  ///< CAPPI only; drawn after the map lines
   glm::u8vec4 noEchoColor{255, 255, 255, 255};
   glm::u8vec4 noDataColor{218, 218, 218, 255};
   glm::u8vec4 noDataHatchColor{182, 182, 182, 255};

@@ -18,6 +18,10 @@ constexpr char toLowerAscii(char c) { return c >= 'A' && c <= 'Z' ? static_cast<
 /// `text` with A-Z mapped to a-z; any other byte unchanged.
 std::string toLowerAscii(std::string_view text);
 
+/// A number for messages and titles: at most 10 significant digits, no trailing zeros ("%.10g":
+/// 273.15, 500, 1e-05).
+std::string numberText(double value);
+
 /// True for the six ASCII blanks: space, \t, \n, \v, \f, \r.
 constexpr bool isSpaceAscii(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 

@@ -29,6 +29,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,9 @@ class GeodesicPath {
 /// A CAPPI: a horizontal slice at a constant height over a box.
 struct CappiSpec {
   double heightMeters = 3000.0;  ///< above the datum (m)
+  /// Set: an isobaric section instead (Pa): the surface where a pressure-level grid's pressure is
+  /// this, sampled by samplePressureSection (SliceSource.h); heightMeters is then unused.
+  std::optional<double> pressurePa;
   SliceHeightDatum datum = SliceHeightDatum::SeaLevel;
   LatLonBox box;
   int columns = 512, rows = 512;
@@ -130,6 +134,9 @@ class SliceGeometry {
 
   /// CAPPI: the slice height above its datum (m).
   double cappiHeightMeters() const { return cappiHeight_; }
+  /// CAPPI: the pressure of an isobaric section (Pa; CappiSpec::pressurePa), else empty. Its
+  /// geodeticAt heights are then not the surface's (the grid gives those per column).
+  std::optional<double> pressurePa() const { return pressurePa_; }
   /// Cross-section: the path.
   const GeodesicPath& path() const { return path_; }
 
@@ -144,6 +151,7 @@ class SliceGeometry {
   const GeoidGrid* geoid_;
   double x0_ = 0.0, x1_ = 1.0, y0_ = 0.0, y1_ = 1.0;
   double cappiHeight_ = 0.0;
+  std::optional<double> pressurePa_;
   GeodesicPath path_;
 };
 
@@ -159,6 +167,10 @@ struct SliceRaster {
     return values[static_cast<std::size_t>(row) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(column)];
   }
 };
+
+/// Counts a raster's echo, no-echo and no-data values and sets its echo range (the samplers of
+/// this file and SliceSource.h fill the values, this summarises them).
+void summarizeSliceRaster(SliceRaster& raster);
 
 /// The one rule combining several samplers at a point (file comment): the largest Echo; else
 /// NoEcho if any sampler says NoEcho; else NoData. Samplers whose provablyEmpty(ecef) holds are

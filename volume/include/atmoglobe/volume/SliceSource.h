@@ -89,7 +89,10 @@ class SliceSource {
 /// (path), the datum and the raster size. Defaults come from the source (sliceGeometryFor).
 struct SliceRequest {
   bool cappi = true;
-  double heightMeters = 3000.0;                   ///< CAPPI height above the datum (m)
+  double heightMeters = 3000.0;  ///< CAPPI height above the datum (m)
+  /// Set: an isobaric section at this pressure (Pa) instead of a CAPPI at a height (grids on
+  /// pressure levels; samplePressureSection).
+  std::optional<double> pressurePa;
   std::optional<LatLonBox> box;                   ///< CAPPI box; default: the source's extent
   std::vector<LatLon> path;                       ///< cross-section points (two or more)
   std::optional<double> bottomMeters, topMeters;  ///< cross-section heights; default 0 .. min(volume top, 20 km)
@@ -101,6 +104,18 @@ struct SliceRequest {
 /// (bad box or path...), the EGM96 grid missing for heights above sea level, a CAPPI height
 /// outside the heights where the volume can have data (message gives them, above the datum).
 Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceRequest& request);
+
+/// The values of a grid on pressure levels on the isobaric surface of a geometry made with
+/// CappiSpec::pressurePa, at each pixel centre: in each grid column the two levels that bracket
+/// the pressure, interpolated linearly in ln(p) (a level's own values where the pressure is a
+/// level), then the grid's horizontal interpolation at the pixel (GridSampler::columnsAt, the
+/// weights a sample takes). Nearest: the level nearest in ln(p) and the nearest column. A value
+/// missing in any column or level used is no data. Errors: a radar, a grid whose levels are not
+/// pressure levels, a pressure outside the grid's levels (the message gives them in hPa).
+Result<SliceRaster> samplePressureSection(const SliceSource& source, const SliceGeometry& geometry,
+                                          Interpolation interpolation = Interpolation::Linear, int threads = 0);
+/// The grid's pressure levels in Pa (bottom first), or an error saying why there are none.
+Result<std::vector<double>> pressureLevelsPa(const GridVolume& grid);
 
 /// Samples `geometry` through the source's sampler (sampleSlice). Error when no pixel has data:
 /// "FILE: no data on the CAPPI at 25 km above sea level (...)" / "... the path does not cross".
