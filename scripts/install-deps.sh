@@ -22,6 +22,7 @@ PKGS=(
   ffmpeg   # its MP4 (engine/AnimationWriter runs ffmpeg); ffprobe checks the MP4 in the tests
   ccache   # the sanitized and fuzz builds of scripts/test-sanitized.sh (CI)
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest   # the Python module (python/)
 )
 
 missing=()

@@ -2,6 +2,7 @@
 // Options shared by `render` and `view`: a scene file (or the embedded default scene)
 // and command-line overrides of its camera, field of view, size and imagery.
 #include <atmoglobe/engine/Scene.h>
+#include <atmoglobe/engine/ScenePopulate.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/globe/Result.h>
 
@@ -77,14 +78,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& options);
 /// to `markers`). Prints the vertical datum used for each radar to stderr, and progress when there
 /// are several inputs (globe/Progress.h).
 ///
-/// An input that cannot be loaded (file not found, unreadable, bad content) is one message naming
-/// where it was given and the file: "scene.json: /radars/2/path: file not found: /data/x.nc". With
-/// `errors` null the first such message is returned (the caller stops); otherwise each is appended
-/// to `errors`, that layer is left out of `scene` (so that `scene` describes what the renderer
-/// holds, e.g. for SceneTime) and the others still load. scene.inputErrors (found by
-/// resolveScene) are reported the same way.
-Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription& scene,
-                     std::vector<engine::Marker>* markers, std::vector<std::string>* errors = nullptr);
+/// engine::populateScene (engine/ScenePopulate.h), as render and view call it.
+using engine::populateScene;
 
 Result<engine::CameraPose> parseCameraPose(const std::string& text);
 Status parseSize(const std::string& text, int* widthPx, int* heightPx);

@@ -247,14 +247,19 @@ TEST(GribReader, Era5EnsembleStatisticsEqualTheMembersReducedByHand) {
         passing += m.values[i] >= 250.0;
       }
       const std::string t = text;
-      if (t == "mean") ASSERT_EQ(g->values[i], static_cast<float>(sum / 10.0)) << i;
-      if (t == "max") ASSERT_EQ(g->values[i], static_cast<float>(hi)) << i;
+      if (t == "mean") {
+        ASSERT_EQ(g->values[i], static_cast<float>(sum / 10.0)) << i;
+      } else if (t == "max") {
+        ASSERT_EQ(g->values[i], static_cast<float>(hi)) << i;
+      }
       if (t == "prob:>=250") {
         ASSERT_EQ(g->values[i], static_cast<float>(10.0 * passing)) << i;
         between += passing > 0 && passing < 10;
       }
     }
-    if (std::string(text) == "prob:>=250") EXPECT_GT(between, 50u) << "the members disagree somewhere";
+    if (std::string(text) == "prob:>=250") {
+      EXPECT_GT(between, 50u) << "the members disagree somewhere";
+    }
   }
 }
 

@@ -613,6 +613,17 @@ std::optional<double> GridSampler::fractionalLevel(const GridColumns& cols, doub
   return static_cast<double>(lo) + f;
 }
 
+GridColumns heaviestColumn(GridColumns columns) {
+  if (columns.count == 0) return columns;
+  int best = 0;
+  for (int c = 1; c < columns.count; ++c)
+    if (columns.weight[c] > columns.weight[best]) best = c;
+  columns.column[0] = columns.column[best];
+  columns.weight[0] = 1.0;
+  columns.count = 1;
+  return columns;
+}
+
 VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double heightMeters,
                                          Interpolation interpolation) const {
   const GridVolume& g = grid_;
@@ -620,14 +631,7 @@ VolumeSample GridSampler::sampleGeodetic(double latDeg, double lonDeg, double he
   const std::optional<glm::dvec2> ij = horizontalIndex(latDeg, lonDeg);
   if (!ij) return {};
   GridColumns cols = columnsAt(*ij);
-  if (interpolation == Interpolation::Nearest) {
-    int best = 0;
-    for (int c = 1; c < cols.count; ++c)
-      if (cols.weight[c] > cols.weight[best]) best = c;
-    cols.column[0] = cols.column[best];
-    cols.weight[0] = 1.0;
-    cols.count = 1;
-  }
+  if (interpolation == Interpolation::Nearest) cols = heaviestColumn(cols);
   const std::optional<double> level = fractionalLevel(cols, heightMeters);
   if (!level) return {};
   auto valueAt = [&](std::size_t k) {

@@ -313,15 +313,8 @@ Result<SliceRaster> samplePressureSection(const SliceSource& source, const Slice
       const globe::Geodetic g = geometry.geodeticAt(i + 0.5, j + 0.5);
       const auto ij = sampler->horizontalIndex(g.latDeg, g.lonDeg);
       if (!ij) continue;
-      GridColumns columns = sampler->columnsAt(nearest ? glm::round(*ij) : *ij);
-      if (nearest && columns.count > 0) {  // the one column of largest weight
-        int best = 0;
-        for (int c = 1; c < columns.count; ++c)
-          if (columns.weight[c] > columns.weight[best]) best = c;
-        columns.column[0] = columns.column[best];
-        columns.weight[0] = 1.0;
-        columns.count = 1;
-      }
+      GridColumns columns = sampler->columnsAt(*ij);
+      if (nearest) columns = heaviestColumn(columns);
       double sum = 0.0;
       bool missing = columns.count == 0;
       for (int c = 0; c < columns.count && !missing; ++c) {

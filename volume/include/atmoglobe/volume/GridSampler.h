@@ -64,6 +64,10 @@ struct GridColumns {
   int count = 0;
 };
 
+/// Nearest-neighbour sampling's column: the one of largest weight, with weight 1 (unchanged when
+/// there is none).
+GridColumns heaviestColumn(GridColumns columns);
+
 class GridSampler final : public VolumeSampler {
  public:
   /// Keeps a reference to `grid` (must outlive the sampler). Builds the curvilinear cell index
