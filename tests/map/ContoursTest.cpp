@@ -34,8 +34,9 @@ ContourRaster box() {
 }
 
 TEST(Contours, ALinearFieldGivesStraightLinesWhereItTakesTheValue) {
-  // v = 3 (lon - 10): the line of value c is the meridian lon = 10 + c / 3. Marching squares interpolate linearly between pixel centres, so on a
-  // linear field a line is exact up to float rounding of the values (1e-6 relative of 60).
+  // v = 3 (lon - 10): the line of value c is the meridian lon = 10 + c / 3. Marching squares
+  // interpolate linearly between pixel centres, so on a linear field a line is exact up to float
+  // rounding of the values (1e-6 relative of 60).
   ContourRaster r = box();
   const std::vector<float> v = fill(r, [](double lon, double) { return 3.0 * (lon - 10.0); });
   r.values = v.data();
