@@ -12,9 +12,10 @@ import os as _os
 
 from ._atmoglobe import Error, data_directory, gates, read_grid, read_png, read_radar, write_png
 from . import _atmoglobe
+from .archive import frame_name, render_archive, write_animation
 
-__all__ = ["Error", "Image", "data_directory", "gates", "read_grid", "read_png", "read_radar", "render",
-           "to_xarray", "write_png"]
+__all__ = ["Error", "Image", "data_directory", "frame_name", "gates", "read_grid", "read_png", "read_radar",
+           "render", "render_archive", "to_xarray", "write_animation", "write_png"]
 
 
 class Image:

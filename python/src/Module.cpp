@@ -3,6 +3,7 @@
 // to RGBA arrays, PNG files read and written. A thin front end over the libraries, as the CLI is:
 // every message is the library's, raised as atmoglobe.Error; the GIL is released while files are
 // read and frames drawn.
+#include <atmoglobe/engine/AnimationWriter.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
@@ -20,6 +21,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -274,6 +279,51 @@ void writePng(const std::string& path, py::array_t<std::uint8_t, py::array::c_st
   if (auto st = globe::writePng(path, image); !st) throw ModuleError(st.error());
 }
 
+// Frames (PNG paths, in order) into an animated GIF or an MP4, as `render --animation` does.
+void writeAnimation(const std::vector<std::string>& frames, const std::string& path, double fps) {
+  if (!(fps > 0.0 && fps <= 60.0)) throw ModuleError(path + ": frames per second must be in (0, 60]");
+  const std::string ext = std::filesystem::path(path).extension().string();
+  std::string error;
+  {
+    py::gil_scoped_release release;
+    [&] {
+      if (ext == ".gif" || ext == ".GIF") {
+        std::unique_ptr<engine::GifAnimationWriter> gif;
+        for (const std::string& f : frames) {
+          auto image = globe::decodeImageFile(f);
+          if (!image) return void(error = image.error());
+          if (!gif) {
+            auto created = engine::GifAnimationWriter::create(path, image->width, image->height,
+                                                              static_cast<int>(std::lround(1000.0 / fps)));
+            if (!created) return void(error = created.error());
+            gif = std::move(*created);
+          }
+          if (auto st = gif->addFrame(*image); !st) return void(error = st.error());
+        }
+        if (gif)
+          if (auto st = gif->finish(); !st) error = st.error();
+        return;
+      }
+      if (ext != ".mp4" && ext != ".MP4") return void(error = path + ": the name must end in .gif or .mp4");
+      // ffmpeg takes a numbered pattern: the frames linked as 00000.png ... in a directory of ours.
+      std::error_code ec;
+      std::string pattern = (std::filesystem::temp_directory_path(ec) / "atmoglobe-mp4-XXXXXX").string();
+      if (!::mkdtemp(pattern.data())) return void(error = path + ": cannot make a directory for the frames");
+      const std::filesystem::path dir = pattern;
+      for (std::size_t i = 0; i < frames.size() && error.empty(); ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%05zu.png", i);
+        std::filesystem::create_symlink(std::filesystem::absolute(frames[i]), dir / name, ec);
+        if (ec) error = frames[i] + ": " + ec.message();
+      }
+      if (error.empty())
+        if (auto st = engine::encodeMp4((dir / "%05d.png").string(), fps, path); !st) error = st.error();
+      std::filesystem::remove_all(dir, ec);
+    }();
+  }
+  if (!error.empty()) throw ModuleError(error);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_atmoglobe, m) {
@@ -298,5 +348,6 @@ PYBIND11_MODULE(_atmoglobe, m) {
   m.def("_render", &renderScene, py::arg("json"), py::arg("file"), py::arg("legend") = true, py::arg("strict") = true);
   m.def("read_png", &readPng, py::arg("path"), "A PNG (or JPEG) file as an H x W x 4 uint8 array.");
   m.def("write_png", &writePng, py::arg("path"), py::arg("rgba"), "Writes an H x W x 4 uint8 array as a PNG.");
+  m.def("_write_animation", &writeAnimation, py::arg("frames"), py::arg("path"), py::arg("fps"));
   m.attr("data_directory") = dataDirectory();
 }
