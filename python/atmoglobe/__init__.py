@@ -19,10 +19,15 @@ __all__ = ["Error", "Image", "data_directory", "frame_name", "gates", "read_grid
 
 
 class Image:
-    """An RGBA frame (``pixels``: H x W x 4 uint8 numpy array) that shows itself in Jupyter."""
+    """An RGBA frame (``pixels``: H x W x 4 uint8 numpy array) that shows itself in Jupyter.
+
+    ``timings`` (from ``render``): milliseconds spent on the GL context, loading the scene's files
+    (read, placed, uploaded), drawing the frame and its legend.
+    """
 
     def __init__(self, pixels):
         self.pixels = pixels
+        self.timings = {}
 
     @property
     def shape(self):
@@ -53,8 +58,12 @@ def render(scene, legend=True, strict=True):
     ``--strict`` does. The GIL is released while the frame is drawn.
     """
     if isinstance(scene, dict):
-        return Image(_atmoglobe._render(_json.dumps(scene), "", legend, strict))
-    return Image(_atmoglobe._render("", _os.fspath(scene), legend, strict))
+        pixels, timings = _atmoglobe._render(_json.dumps(scene), "", legend, strict)
+    else:
+        pixels, timings = _atmoglobe._render("", _os.fspath(scene), legend, strict)
+    image = Image(pixels)
+    image.timings = timings
+    return image
 
 
 def to_xarray(grid):

@@ -58,7 +58,7 @@ def render_frame(scene, out_path):
     if os.path.exists(out_path):
         return out_path
     import json
-    pixels = _atmoglobe._render(json.dumps(scene), "", True, True)
+    pixels, _ = _atmoglobe._render(json.dumps(scene), "", True, True)
     _atmoglobe.write_png(out_path, pixels)
     return out_path
 

@@ -23,6 +23,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -229,12 +230,18 @@ py::array_t<std::uint8_t> imageArray(const globe::ImageRGBA8& image) {
 }
 
 // Renders a scene (JSON text or a file) headless: an H x W x 4 array, the legend drawn unless
-// `legend` is false.
-py::array_t<std::uint8_t> renderScene(const std::string& jsonText, const std::string& file, bool legend, bool strict) {
+// `legend` is false, and where the time went (ms): the GL context, loading the scene (reading,
+// placing and uploading its files), drawing the frame (to the pixels read back), the legend.
+py::tuple renderScene(const std::string& jsonText, const std::string& file, bool legend, bool strict) {
   globe::ImageRGBA8 image;
   std::string error;
+  double contextMs = 0.0, loadMs = 0.0, drawMs = 0.0, legendMs = 0.0;
   {
     py::gil_scoped_release release;
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point t0) {
+      return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    };
     [&] {
       auto scene = file.empty() ? engine::parseSceneJson(jsonText, "scene", std::filesystem::current_path().string(),
                                                          dataDirectory())
@@ -242,8 +249,11 @@ py::array_t<std::uint8_t> renderScene(const std::string& jsonText, const std::st
       if (!scene) return void(error = scene.error());
       // A context for this call, current on this thread (the caller's thread may change between
       // calls: a Dask worker's).
+      auto t0 = Clock::now();
       auto context = engine::HeadlessContextGL::create();
       if (!context) return void(error = context.error());
+      contextMs = since(t0);
+      t0 = Clock::now();
       auto loader = engine::openImagery(scene->imagery, {});
       if (!loader) return void(error = loader.error());
       auto renderer = engine::SceneRendererGL::create(*loader);
@@ -253,19 +263,29 @@ py::array_t<std::uint8_t> renderScene(const std::string& jsonText, const std::st
       if (auto st = engine::populateScene(**renderer, *scene, &markers, strict ? nullptr : &inputErrors); !st)
         return void(error = st.error());
       if (!inputErrors.empty()) return void(error = inputErrors.front());
+      loadMs = since(t0);
+      t0 = Clock::now();
       auto target = engine::FramebufferGL::create(scene->widthPx, scene->heightPx);
       if (!target) return void(error = target.error());
       const engine::Camera camera(scene->camera, scene->fovYDeg, scene->widthPx, scene->heightPx);
       auto drawn = (*renderer)->renderToImage(camera, markers, **target);
       if (!drawn) return void(error = drawn.error());
+      drawMs = since(t0);
+      t0 = Clock::now();
       if (legend)
         if (auto st = engine::drawFrameLegend(*drawn, (*renderer)->legendFor(camera)); !st)
           return void(error = st.error());
+      legendMs = since(t0);
       image = std::move(*drawn);
     }();
   }
   if (!error.empty()) throw ModuleError(error);
-  return imageArray(image);
+  py::dict timings;
+  timings["context_ms"] = contextMs;
+  timings["load_ms"] = loadMs;
+  timings["draw_ms"] = drawMs;
+  timings["legend_ms"] = legendMs;
+  return py::make_tuple(imageArray(image), timings);
 }
 
 py::array_t<std::uint8_t> readPng(const std::string& path) { return imageArray(check(globe::decodeImageFile(path))); }

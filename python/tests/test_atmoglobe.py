@@ -118,6 +118,9 @@ def test_render_equals_the_cli(radar, tmp_path):
     assert np.abs(image.pixels.astype(int) - cli.astype(int)).max() <= 1
     coloured = (image.pixels[..., :3].max(axis=2).astype(int) - image.pixels[..., :3].min(axis=2)) > 60
     assert coloured.sum() > 50  # the storm is drawn
+    # Where the time went, in ms: every part measured, the frame's drawing included.
+    assert set(image.timings) == {"context_ms", "load_ms", "draw_ms", "legend_ms"}
+    assert image.timings["draw_ms"] > 0 and image.timings["load_ms"] > 0
     # A path renders the same.
     assert np.array_equal(atmoglobe.render(str(scene_path)).pixels, image.pixels)
     # Jupyter: the image shows itself as a PNG.
