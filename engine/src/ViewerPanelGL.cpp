@@ -1,5 +1,6 @@
 #include <atmoglobe/engine/ViewerPanelGL.h>
 
+#include <atmoglobe/engine/GridSourceGL.h>
 #include <atmoglobe/engine/LayerEdit.h>
 #include <atmoglobe/engine/RadarNetworkSourceGL.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
@@ -32,6 +33,7 @@ constexpr float kEditorMaxWidth = 300.0f, kEditorHeight = 110.0f;
 struct ViewerPanelGL::Editing {
   /// Crop boxes being typed (applied with "Apply crop"), per layer in the single index.
   std::map<std::size_t, volume::CropBox> crops;
+  std::map<std::size_t, double> probabilityThresholds;  ///< a grid's "prob:>=" value being edited
   std::map<std::size_t, bool> cropHeights;
   /// Histograms per layer, kept while the layer's GPU volume is the same object.
   struct Histogram {
@@ -441,6 +443,36 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
             }
           }
           ImGui::EndCombo();
+        }
+      }
+      if (const auto* grid = dynamic_cast<const GridSourceGL*>(&layer)) {
+        // An ensemble's members (docs/grids.md, "Ensembles"): one member, or a statistic over all.
+        const volume::GridVolume& g = grid->gridVolume().grid();
+        const bool ensemble = !g.ensembleStatistic.empty() || g.member >= 0 ||
+                              std::any_of(g.extraDimensions.begin(), g.extraDimensions.end(),
+                                          [](const volume::GridExtraDimension& x) { return x.ensemble; });
+        if (ensemble) {
+          const std::string current = d.ensemble ? volume::toString(*d.ensemble) : std::string("one member");
+          if (ImGui::BeginCombo("members", current.c_str())) {
+            for (const char* c : {"one member", "mean", "spread", "min", "max"}) {
+              if (ImGui::Selectable(c, current == c) && current != c) {
+                if (std::string(c) == "one member") d.ensemble.reset();
+                else d.ensemble = *volume::parseEnsembleStatistic(c);
+                edited = true;
+              }
+            }
+            ImGui::EndCombo();
+          }
+          if (!e.probabilityThresholds.count(i)) e.probabilityThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
+          ImGui::InputDouble("threshold", &e.probabilityThresholds[i], 0.0, 0.0, "%.6g");
+          if (ImGui::Button("probability of >= threshold")) {
+            volume::EnsembleStatistic p;
+            p.kind = volume::EnsembleStatistic::Kind::Probability;
+            p.comparison = ">=";
+            p.threshold = e.probabilityThresholds[i];
+            d.ensemble = p;
+            edited = true;
+          }
         }
       }
       edited = enumCombo("classification", d.classification) || edited;

@@ -62,6 +62,16 @@ TEST(LayerEdit, OptionsOrReload) {
   h = g;
   h.time = "3";
   EXPECT_EQ(engine::layerChange(g, h), LayerChange::Reload);
+  h = g;  // another member or a statistic over the members: read again
+  h.member = 2;
+  EXPECT_EQ(engine::layerChange(g, h), LayerChange::Reload);
+  h = g;
+  h.ensemble = *volume::parseEnsembleStatistic("spread");
+  EXPECT_EQ(engine::layerChange(g, h), LayerChange::Reload);
+  engine::VolumeLayerDescription k = h;
+  k.ensemble = *volume::parseEnsembleStatistic("prob:>=5");
+  EXPECT_EQ(engine::layerChange(h, k), LayerChange::Reload);
+  EXPECT_EQ(engine::layerChange(k, k), LayerChange::None);
 }
 
 // The one validation: the same limits for both kinds, each kind's own keys refused on the other.
