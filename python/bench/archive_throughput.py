@@ -13,7 +13,6 @@ DVR at the default step. Prints Markdown tables (docs/scale-out.md).
 import argparse
 import glob
 import os
-import resource
 import shutil
 import statistics
 import subprocess
@@ -76,11 +75,11 @@ def main():
     print("| encode: PNG, atomic write | %.0f |" % med["encode"])
     print("| whole frame | %.0f |" % med["total"])
 
-    # One frame's memory: a fresh process renders one frame; peak RSS against the import alone.
-    probe = ("import atmoglobe, resource, sys, json; s=json.loads(sys.argv[1]); "
-             "base=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss; "
-             "atmoglobe.render(s); "
-             "print(base, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)")
+    # One frame's memory: a fresh process renders one frame; its peak RSS (VmHWM: ru_maxrss would
+    # carry this process' peak across fork and exec) against the import alone.
+    probe = ("import atmoglobe, sys, json; s=json.loads(sys.argv[1]); "
+             "hwm=lambda: int([l for l in open('/proc/self/status') if l.startswith('VmHWM')][0].split()[1]); "
+             "base=hwm(); atmoglobe.render(s); print(base, hwm())")
     import json
     out = subprocess.run([sys.executable, "-c", probe, json.dumps(atmoglobe.archive.frame_scene(scene, volumes[0]))],
                          check=True, capture_output=True, text=True).stdout.split()
