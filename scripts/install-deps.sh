@@ -24,6 +24,7 @@ PKGS=(
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
   python3 python3-dev pybind11-dev python3-numpy python3-pytest   # the Python module (python/)
   python3-distributed   # its archive rendering on Dask (python/atmoglobe/archive.py)
+  slurm-wlm munge   # a one-node Slurm cluster for the job-array test (tests/tools/SlurmShards.sh)
 )
 
 missing=()
