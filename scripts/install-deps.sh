@@ -23,7 +23,7 @@ PKGS=(
   ccache   # the sanitized and fuzz builds of scripts/test-sanitized.sh (CI)
   clang libclang-rt-14-dev   # libFuzzer for the fuzz targets (fuzz/, scripts/test-sanitized.sh)
   python3 python3-dev pybind11-dev python3-numpy python3-pytest   # the Python module (python/)
-  python3-distributed   # its archive rendering on Dask (python/atmoglobe/archive.py)
+  python3-distributed python3-xarray   # its archives on Dask (python/atmoglobe/archive.py), to_xarray
   slurm-wlm munge   # a one-node Slurm cluster for the job-array test (tests/tools/SlurmShards.sh)
 )
 

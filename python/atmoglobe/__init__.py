@@ -10,11 +10,11 @@ Every error is ``atmoglobe.Error`` (a RuntimeError) carrying the CLI's message.
 import json as _json
 import os as _os
 
-from ._atmoglobe import Error, data_directory, gates, read_grid, read_png, read_radar, write_png
+from ._atmoglobe import Error, convert, data_directory, gates, read_grid, read_png, read_radar, write_png
 from . import _atmoglobe
 from .archive import frame_name, render_archive, write_animation
 
-__all__ = ["Error", "Image", "data_directory", "frame_name", "gates", "read_grid", "read_png", "read_radar",
+__all__ = ["Error", "Image", "convert", "data_directory", "frame_name", "gates", "read_grid", "read_png", "read_radar",
            "render", "render_archive", "to_xarray", "write_animation", "write_png"]
 
 

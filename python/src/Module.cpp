@@ -15,6 +15,7 @@
 #include <atmoglobe/volume/GateCsv.h>
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/GridReader.h>
+#include <atmoglobe/volume/NrrdExport.h>
 #include <atmoglobe/volume/RadarLoad.h>
 
 #include <pybind11/numpy.h>
@@ -23,6 +24,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -222,6 +224,70 @@ py::dict readGrid(const std::string& path, const std::string& variable, const st
   return out;
 }
 
+// A variable or field resampled onto a regular grid, as `atmoglobe convert` writes it (the same
+// options; nothing written): values NZ x NY x NX (NaN: no data or no echo) and the grid's axes.
+py::dict convert(const std::string& path, const std::string& variable, const std::string& time,
+                 std::optional<long> member, const std::string& ensemble, std::optional<std::vector<double>> crop,
+                 std::optional<std::vector<double>> heights, std::optional<std::vector<std::size_t>> size,
+                 const std::string& grid, const std::string& datum, const std::string& interpolation, bool geoid) {
+  volume::NrrdExportOptions o;
+  o.inputPath = path;
+  o.variable = variable;
+  o.time = time;
+  if (member) o.member = *member;
+  if (!ensemble.empty()) o.ensemble = check(volume::parseEnsembleStatistic(ensemble));
+  if (crop) {
+    if (crop->size() != 4) throw ModuleError("crop: (south, north, west, east) in degrees");
+    o.cropSouthNorthWestEastDeg = std::array<double, 4>{(*crop)[0], (*crop)[1], (*crop)[2], (*crop)[3]};
+  }
+  if (heights) {
+    if (heights->size() != 2) throw ModuleError("heights: (bottom, top) in metres");
+    o.heightRangeMeters = std::array<double, 2>{(*heights)[0], (*heights)[1]};
+  }
+  if (size) {
+    if (size->size() != 3) throw ModuleError("size: (nx, ny, nz)");
+    o.size = std::array<std::size_t, 3>{(*size)[0], (*size)[1], (*size)[2]};
+  }
+  if (grid != "geographic" && grid != "cartesian") throw ModuleError("grid: geographic or cartesian, got " + grid);
+  if (datum != "msl" && datum != "ellipsoid") throw ModuleError("datum: msl or ellipsoid, got " + datum);
+  if (interpolation != "linear" && interpolation != "nearest")
+    throw ModuleError("interpolation: linear or nearest, got " + interpolation);
+  o.kind = grid == "geographic" ? volume::RegularGridKind::Geographic : volume::RegularGridKind::LocalCartesian;
+  o.datum = datum == "msl" ? volume::HeightDatum::MeanSeaLevel : volume::HeightDatum::Ellipsoid;
+  o.interpolation = interpolation == "linear" ? volume::Interpolation::Linear : volume::Interpolation::Nearest;
+  o.useGeoid = geoid;
+  std::optional<Result<volume::NrrdExportReport>> done;
+  {
+    py::gil_scoped_release release;
+    done.emplace(volume::exportNrrd(o));
+  }
+  volume::NrrdExportReport r = check(std::move(*done));
+  const volume::RegularGridSpec& s = r.spec;
+  py::dict out;
+  out["values"] =
+      array(r.values, {static_cast<py::ssize_t>(s.nz), static_cast<py::ssize_t>(s.ny), static_cast<py::ssize_t>(s.nx)});
+  out["field"] = r.field;
+  out["units"] = r.units;
+  out["valid_time"] = r.validTime;
+  out["grid"] = grid;
+  if (s.kind == volume::RegularGridKind::Geographic) {
+    out["west_deg"] = s.westDeg;
+    out["east_deg"] = s.eastDeg;
+    out["south_deg"] = s.southDeg;
+    out["north_deg"] = s.northDeg;
+    out["bottom_m"] = s.bottomMeters;
+    out["top_m"] = s.topMeters;
+  } else {
+    out["center_lat_deg"] = s.centerLatDeg;
+    out["center_lon_deg"] = s.centerLonDeg;
+    out["x_m"] = std::vector<double>{s.xMinMeters, s.xMaxMeters};
+    out["y_m"] = std::vector<double>{s.yMinMeters, s.yMaxMeters};
+    out["z_m"] = std::vector<double>{s.zMinMeters, s.zMaxMeters};
+  }
+  out["datum"] = datum;
+  return out;
+}
+
 py::array_t<std::uint8_t> imageArray(const globe::ImageRGBA8& image) {
   py::array_t<std::uint8_t> a(
       {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), static_cast<py::ssize_t>(4)});
@@ -365,6 +431,12 @@ PYBIND11_MODULE(_atmoglobe, m) {
         py::arg("member") = py::none(), py::arg("ensemble") = "", py::arg("geoid") = true,
         "A forecast-grid variable at one time: values (levels bottom first x rows south to north x columns west to "
         "east), heights above the WGS84 ellipsoid, coordinates and metadata.");
+  m.def("convert", &convert, py::arg("path"), py::arg("variable") = "", py::arg("time") = "",
+        py::arg("member") = py::none(), py::arg("ensemble") = "", py::arg("crop") = py::none(),
+        py::arg("heights") = py::none(), py::arg("size") = py::none(), py::arg("grid") = "geographic",
+        py::arg("datum") = "msl", py::arg("interpolation") = "linear", py::arg("geoid") = true,
+        "A grid variable or radar field resampled onto a regular grid as `atmoglobe convert` writes it (values "
+        "NZ x NY x NX, NaN for no data or no echo, and the grid's extent); nothing is written.");
   m.def("_render", &renderScene, py::arg("json"), py::arg("file"), py::arg("legend") = true, py::arg("strict") = true);
   m.def("read_png", &readPng, py::arg("path"), "A PNG (or JPEG) file as an H x W x 4 uint8 array.");
   m.def("write_png", &writePng, py::arg("path"), py::arg("rgba"), "Writes an H x W x 4 uint8 array as a PNG.");

@@ -517,9 +517,10 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
       spec.zMaxMeters = (*o.heightRangeMeters)[1];
     }
   }
-  if (auto st = validateRegularGridSpec(spec, o.maxSamples); !st) return makeError(o.outputPath + ": " + st.error());
+  const std::string where = o.outputPath.empty() ? in : o.outputPath;
+  if (auto st = validateRegularGridSpec(spec, o.maxSamples); !st) return makeError(where + ": " + st.error());
   auto values = resampleRegular(*sampler, spec, o.interpolation, geoid, o.threads, o.progress);
-  if (!values) return makeError(o.outputPath + ": " + values.error());
+  if (!values) return makeError(where + ": " + values.error());
   for (float v : *values) report.finiteValues += std::isfinite(v) ? 1u : 0u;
   meta.content = report.field + (report.units.empty() ? "" : " (" + report.units + ")") + " from " + in;
   meta.valueUnits = report.units;
@@ -527,8 +528,12 @@ Result<NrrdExportReport> exportNrrd(const NrrdExportOptions& o) {
   meta.keyValues.emplace_back("field", report.field);
   if (!report.validTime.empty()) meta.keyValues.emplace_back("valid_time", report.validTime);
   meta.keyValues.emplace_back("interpolation", o.interpolation == Interpolation::Linear ? "linear" : "nearest");
-  if (auto st = writeNrrd(o.outputPath, spec, *values, meta, o.gzip); !st) return st.forwardError();
   report.spec = spec;
+  if (o.outputPath.empty()) {
+    report.values = std::move(*values);
+    return report;
+  }
+  if (auto st = writeNrrd(o.outputPath, spec, *values, meta, o.gzip); !st) return st.forwardError();
   return report;
 }
 

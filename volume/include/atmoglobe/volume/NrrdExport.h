@@ -97,7 +97,7 @@ Status writeNrrd(const std::string& path, const RegularGridSpec& spec, const std
 /// `atmoglobe convert`: one radar field or grid variable at one time, resampled and written.
 struct NrrdExportOptions {
   std::string inputPath;   ///< radar file or forecast grid (decided from the content)
-  std::string outputPath;  ///< .nrrd
+  std::string outputPath;  ///< .nrrd; empty: nothing written, the values returned (NrrdExportReport::values)
   std::string variable;    ///< grid variable or radar field; empty: the default one
   std::string time;        ///< grids: an index or an ISO 8601 time (selectGridTime); empty: the first
   long member = -1;        ///< grids: the ensemble member (GRIB `number`); -1: the first
@@ -133,6 +133,8 @@ struct NrrdExportReport {
   std::size_t finiteValues = 0;     ///< samples with a value (not NaN)
   bool approximateHeights = false;  ///< grids: heights estimated (standard atmosphere...)
   std::string heightNote;           ///< grids: how heights were derived
+  /// The resampled values (x fastest, then y, then z) when no output path was given.
+  std::vector<float> values;
 };
 
 /// Reads, resamples and writes. Errors name the file and the problem (bad spec, unreadable
