@@ -9,6 +9,7 @@
 #include <atmoglobe/engine/SlicePlot.h>
 #include <atmoglobe/map/Contours.h>
 #include <atmoglobe/map/Gshhg.h>
+#include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/VerticalCoordinate.h>
 
@@ -40,6 +41,7 @@ struct SliceOptions {
   std::string ensemble;
   std::map<std::string, std::size_t> gridIndex;
   std::string contourVar, contourInterval, contourValues;  ///< --contour-*: lines over a horizontal section
+  bool spaghetti = false;                                  ///< --spaghetti: the contours of every ensemble member
 };
 
 Result<std::pair<double, double>> parsePair(const std::string& text, const std::string& what) {
@@ -75,6 +77,8 @@ int runSlice(const SliceOptions& o) {
     return usage("--box is for a horizontal section (--height-m or --pressure-hpa)");
   if (!o.heights.empty() && o.path.empty()) return usage("--heights-m is for a cross-section (--path)");
   const bool contours = !o.contourVar.empty() || !o.contourInterval.empty() || !o.contourValues.empty();
+  if (o.spaghetti && o.contourValues.empty()) return usage("--spaghetti needs --contour-values (e.g. 552)");
+  if (o.spaghetti && o.grid.empty()) return usage("--spaghetti is for --grid (an ensemble)");
   if (contours && o.path.size())
     return usage("contours are drawn on a horizontal section (--height-m, --pressure-hpa)");
   if (!o.contourVar.empty() && o.grid.empty()) return usage("--contour-var is for --grid");
@@ -185,46 +189,44 @@ int runSlice(const SliceOptions& o) {
   std::size_t contourCount = 0;
   if (contourLevels) {
     // Contours of the field shown, or of another variable of the same grid on the same section
-    // (same time, member or statistic, indices).
-    std::unique_ptr<volume::SliceSource> other;
-    const volume::SliceSource* contoured = source->get();
-    if (!o.contourVar.empty()) {
-      volume::SliceSourceOptions second = load;
-      second.field = o.contourVar;
-      auto loaded = volume::SliceSource::load(second);
-      if (!loaded) return fail(cmd, "--contour-var: " + loaded.error());
-      other = std::move(*loaded);
-      contoured = other.get();
-    }
-    auto values = contoured == source->get()
-                      ? Result<volume::SliceRaster>(*raster)
-                      : volume::sampleSource(*contoured, *geometry,
-                                             o.interpolation == "nearest" ? volume::Interpolation::Nearest
-                                                                          : volume::Interpolation::Linear,
-                                             o.threads);
-    if (!values) return fail(cmd, "--contour-var: " + values.error());
-    // Geopotential is drawn as forecasters read it: geopotential height in decametres (the
-    // interval and values are then in dam: 500 hPa every 6 dam).
-    std::string what = contoured->field().name;
-    const auto toSi = volume::geopotentialUnitToSi(contoured->field().units);
-    if (toSi) {
-      for (float& v : values->values) v = static_cast<float>(v * *toSi / volume::kStandardGravity / 10.0);
-      what += " as geopotential height (dam)";
-    } else if (!contoured->field().units.empty()) {
-      what += " (" + contoured->field().units + ")";
-    }
-    map::ContourRaster cr;
-    cr.values = values->values.data();
-    cr.columns = values->columns;
-    cr.rows = values->rows;
-    cr.westDeg = geometry->xFirst();
-    cr.northDeg = geometry->yTop();
-    cr.dxDeg = (geometry->xLast() - geometry->xFirst()) / values->columns;
-    cr.dyDeg = (geometry->yTop() - geometry->yBottom()) / values->rows;
-    auto lines = map::contourLines(cr, *contourLevels);
-    if (!lines) return fail(cmd, lines.error());
-    contourCount = lines->size();
-    plot.contours.push_back({std::move(*lines), {0, 0, 0, 255}, 1.4});
+    // (same time, member or statistic, indices); with --spaghetti, of every ensemble member.
+    const auto interpolation = o.interpolation == "nearest" ? volume::Interpolation::Nearest
+                                                            : volume::Interpolation::Linear;
+    std::string what;
+    // The contour lines of `options`' variable on the section (the raster shown when it is that).
+    auto linesOf = [&](const volume::SliceSourceOptions& options, bool shown) -> Result<std::vector<map::ContourLine>> {
+      std::unique_ptr<volume::SliceSource> loaded;
+      const volume::SliceSource* contoured = source->get();
+      if (!shown) {
+        auto l = volume::SliceSource::load(options);
+        if (!l) return l.forwardError();
+        loaded = std::move(*l);
+        contoured = loaded.get();
+      }
+      auto values = shown ? Result<volume::SliceRaster>(*raster)
+                          : volume::sampleSource(*contoured, *geometry, interpolation, o.threads);
+      if (!values) return values.forwardError();
+      // Geopotential is drawn as forecasters read it: geopotential height in decametres (the
+      // interval and values are then in dam: 500 hPa every 6 dam).
+      what = contoured->field().name;
+      if (const auto toSi = volume::geopotentialUnitToSi(contoured->field().units)) {
+        for (float& v : values->values) v = static_cast<float>(v * *toSi / volume::kStandardGravity / 10.0);
+        what += " as geopotential height (dam)";
+      } else if (!contoured->field().units.empty()) {
+        what += " (" + contoured->field().units + ")";
+      }
+      map::ContourRaster cr;
+      cr.values = values->values.data();
+      cr.columns = values->columns;
+      cr.rows = values->rows;
+      cr.westDeg = geometry->xFirst();
+      cr.northDeg = geometry->yTop();
+      cr.dxDeg = (geometry->xLast() - geometry->xFirst()) / values->columns;
+      cr.dyDeg = (geometry->yTop() - geometry->yBottom()) / values->rows;
+      return map::contourLines(cr, *contourLevels);
+    };
+    volume::SliceSourceOptions contourOptions = load;
+    if (!o.contourVar.empty()) contourOptions.field = o.contourVar;
     std::string at;
     if (contourLevels->interval) {
       at = "every " + map::contourLabel(*contourLevels->interval);
@@ -232,7 +234,40 @@ int runSlice(const SliceOptions& o) {
       for (std::size_t i = 0; i < contourLevels->values.size(); ++i)
         at += (i ? ", " : "at ") + map::contourLabel(contourLevels->values[i]);
     }
-    plot.subtitle += "; contours: " + what + " " + at;
+    if (!o.spaghetti) {
+      auto lines = linesOf(contourOptions, o.contourVar.empty());
+      if (!lines) return fail(cmd, (o.contourVar.empty() ? "" : "--contour-var: ") + lines.error());
+      contourCount = lines->size();
+      plot.contours.push_back({std::move(*lines), {0, 0, 0, 255}, 1.4, true});
+      plot.subtitle += "; contours: " + what + " " + at;
+    } else {
+      // One set of lines per member, in colours of their own (member k: a hue k/N of the wheel).
+      volume::GridReadOptions which;
+      which.variable = contourOptions.field;
+      which.useGeoid = load.useGeoid;
+      which.extraIndex = load.gridIndex;
+      if (auto st = volume::selectGridTime(load.time, which); !st) return fail(cmd, st.error());
+      auto members = volume::ensembleMemberSelections(load.path, which);
+      if (!members) return fail(cmd, "--spaghetti: " + members.error());
+      const std::size_t n = members->size();
+      for (std::size_t k = 0; k < n; ++k) {
+        volume::SliceSourceOptions m = contourOptions;
+        m.member = (*members)[k].member;
+        for (const auto& [dimension, index] : (*members)[k].extraIndex) m.gridIndex[dimension] = index;
+        m.ensemble.reset();
+        auto lines = linesOf(m, false);
+        if (!lines) return fail(cmd, "--spaghetti: member " + std::to_string(k) + ": " + lines.error());
+        contourCount += lines->size();
+        const double hue = 6.0 * static_cast<double>(k) / static_cast<double>(n);
+        auto channel = [&](double offset) {
+          const double x = std::fmod(hue + offset, 6.0);
+          const double v = x < 1.0 ? x : x < 3.0 ? 1.0 : x < 4.0 ? 4.0 - x : 0.0;
+          return static_cast<std::uint8_t>(std::lround(30.0 + 190.0 * v));
+        };
+        plot.contours.push_back({std::move(*lines), {channel(2.0), channel(0.0), channel(4.0), 255}, 1.3, false});
+      }
+      plot.subtitle += "; spaghetti: " + what + " " + at + ", " + std::to_string(n) + " members";
+    }
   }
   auto image = engine::drawSlicePlot(*raster, *geometry, plot);
   if (!image) return fail(cmd, image.error());
@@ -305,6 +340,8 @@ Command addSliceCommand(CLI::App& root) {
   c->add_option("--contour-interval", opts->contourInterval,
                 "Contour lines at every multiple of this value (the contoured variable's units), labelled");
   c->add_option("--contour-values", opts->contourValues, "Contour lines at these values A,B,... instead, labelled");
+  c->add_flag("--spaghetti", opts->spaghetti,
+              "With --contour-values: those contours of every ensemble member in one picture, a colour per member");
   c->add_option("--threads", opts->threads, "Sampling threads (default: all cores)")->check(CLI::Range(0, 256));
   c->add_option("-o,--output", opts->output, "Output PNG (written atomically)")->required();
   return Command{c, [opts] { return runSlice(*opts); }};

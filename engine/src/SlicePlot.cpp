@@ -177,6 +177,7 @@ Result<globe::ImageRGBA8> drawSlicePlot(const volume::SliceRaster& raster, const
     std::vector<glm::dvec4> placed;  // label boxes: x0, y0, x1, y1
     for (const SlicePlotContours& set : o.contours) {
       for (const map::ContourLine& c : set.lines) drawLine(plotPoints(c.line), set.color, set.widthPx);
+      if (!set.labelled) continue;
       const TextStyle style{kTickPx, set.color, kWhite, 2.5};
       for (const map::ContourLine& c : set.lines) {
         const std::vector<glm::dvec2> points = plotPoints(c.line);

@@ -72,26 +72,20 @@ std::string toString(const EnsembleStatistic& s) {
   return "mean";
 }
 
-namespace grid {
+namespace {
 
-Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const GridReadOptions& options) {
-  const EnsembleStatistic stat = *options.ensemble;
-  GridReadOptions one = options;
-  one.ensemble.reset();
-  if (options.member >= 0)
-    return makeError(path + ": an ensemble statistic (" + toString(stat) + ") combines every member; member " +
-                     std::to_string(options.member) + " asked for too: give one or the other");
-  // The first member fixes the grid, the heights and which dimension holds the members.
-  auto first = readGridVolume(path, one);
-  if (!first) return first.forwardError();
-  const auto dimension = std::find_if(first->extraDimensions.begin(), first->extraDimensions.end(),
-                                      [](const GridExtraDimension& d) { return d.ensemble; });
-  // The members to read, as options for readGridVolume, and how each is named.
+// The reads of every member of `one`'s variable (netCDF: an index along the ensemble dimension of
+// `extraDimensions`; GRIB: each `number` the file has); `what` names the caller in messages.
+Result<std::vector<GridReadOptions>> memberReads(const std::string& path, const GridReadOptions& one,
+                                                 const std::vector<GridExtraDimension>& extraDimensions,
+                                                 const std::string& variable, const std::string& what) {
   std::vector<GridReadOptions> reads;
-  if (dimension != first->extraDimensions.end()) {
-    if (options.extraIndex.count(dimension->name))
-      return makeError(path + ": an ensemble statistic (" + toString(stat) + ") combines every member; index " +
-                       std::to_string(options.extraIndex.at(dimension->name)) + " along '" + dimension->name +
+  const auto dimension = std::find_if(extraDimensions.begin(), extraDimensions.end(),
+                                      [](const GridExtraDimension& d) { return d.ensemble; });
+  if (dimension != extraDimensions.end()) {
+    if (one.extraIndex.count(dimension->name))
+      return makeError(path + ": " + what + " combines every member; index " +
+                       std::to_string(one.extraIndex.at(dimension->name)) + " along '" + dimension->name +
                        "' asked for too: give one or the other");
     for (std::size_t i = 0; i < dimension->length; ++i) {
       GridReadOptions r = one;
@@ -109,9 +103,45 @@ Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const Grid
     }
   }
   if (reads.size() < 2)
-    return makeError(path + ": '" + first->variable + "' has no ensemble members to combine (" + toString(stat) +
+    return makeError(path + ": '" + variable + "' has no ensemble members to combine (" + what +
                      " needs two or more: an ensemble dimension such as number or realization, or GRIB messages "
                      "with several `number`s)");
+  return reads;
+}
+
+}  // namespace
+
+Result<std::vector<EnsembleMemberSelection>> ensembleMemberSelections(const std::string& path,
+                                                                      const GridReadOptions& read) {
+  GridReadOptions one = read;
+  one.ensemble.reset();
+  one.member = -1;
+  auto info = describeGridFile(path, one);
+  if (!info) return info.forwardError();
+  auto reads = memberReads(path, one, info->extraDimensions, info->variable, "drawing every member");
+  if (!reads) return reads.forwardError();
+  std::vector<EnsembleMemberSelection> out;
+  for (const GridReadOptions& r : *reads) out.push_back({r.member, r.extraIndex});
+  return out;
+}
+
+namespace grid {
+
+Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const GridReadOptions& options) {
+  const EnsembleStatistic stat = *options.ensemble;
+  GridReadOptions one = options;
+  one.ensemble.reset();
+  if (options.member >= 0)
+    return makeError(path + ": an ensemble statistic (" + toString(stat) + ") combines every member; member " +
+                     std::to_string(options.member) + " asked for too: give one or the other");
+  // The first member fixes the grid, the heights and which dimension holds the members.
+  auto first = readGridVolume(path, one);
+  if (!first) return first.forwardError();
+  const auto dimension = std::find_if(first->extraDimensions.begin(), first->extraDimensions.end(),
+                                      [](const GridExtraDimension& d) { return d.ensemble; });
+  auto reads =
+      memberReads(path, one, first->extraDimensions, first->variable, "an ensemble statistic (" + toString(stat) + ")");
+  if (!reads) return reads.forwardError();
 
   const std::size_t n = first->values.size();
   std::vector<double> sum(n, 0.0), sumSquares(stat.kind == EnsembleStatistic::Kind::Spread ? n : 0, 0.0);
@@ -127,11 +157,11 @@ Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const Grid
   // and x^2 loses nothing that matters for float output: x^2 of 1e5-scale values keeps 11
   // significant digits after the subtraction for a spread 1e-3 of the mean.
   const bool netcdfMembers = dimension != first->extraDimensions.end();
-  for (std::size_t m = 0; m < reads.size(); ++m) {
+  for (std::size_t m = 0; m < reads->size(); ++m) {
     // The first member's read is the one above (index 0, or the first `number`): not read twice.
     std::optional<GridVolume> other;
     if (m > 0) {
-      auto read = readGridVolume(path, reads[m]);
+      auto read = readGridVolume(path, (*reads)[m]);
       if (!read) return read.forwardError();
       if (read->nx != first->nx || read->ny != first->ny || read->nz != first->nz || read->values.size() != n)
         return makeError(path + ": ensemble member " + std::to_string(m) + " of '" + read->variable +
@@ -173,7 +203,7 @@ Result<GridVolume> readGridEnsembleStatistic(const std::string& path, const Grid
     }
   }
   GridVolume out = std::move(*first);
-  const double members_ = static_cast<double>(reads.size());
+  const double members_ = static_cast<double>(reads->size());
   out.valueMin = std::numeric_limits<float>::quiet_NaN();
   out.valueMax = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t i = 0; i < n; ++i) {

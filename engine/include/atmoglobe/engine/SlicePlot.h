@@ -45,6 +45,7 @@ struct SlicePlotContours {
   std::vector<map::ContourLine> lines;
   glm::u8vec4 color{0, 0, 0, 255};
   double widthPx = 1.4;
+  bool labelled = true;  ///< false: lines only (spaghetti: one set per ensemble member)
 };
 
 struct SlicePlotOptions {

@@ -213,6 +213,17 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
 /// Reads one variable at one time over a region (see GridReadOptions).
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options = {});
 
+/// One member of an ensemble as GridReadOptions select it: netCDF an index along the ensemble
+/// dimension (extraIndex), GRIB a `number` (member).
+struct EnsembleMemberSelection {
+  long member = -1;
+  std::map<std::string, std::size_t> extraIndex;
+};
+/// Every member of `read.variable` (metadata only: describeGridFile), in file order. Errors: the
+/// reader's, fewer than two members, an index along the ensemble dimension already chosen.
+Result<std::vector<EnsembleMemberSelection>> ensembleMemberSelections(const std::string& path,
+                                                                      const GridReadOptions& read);
+
 /// The variable read when none is named: among the variables readGridVolume can read, the first
 /// of (by name) REFL_10CM, dbz, DBZ, reflectivity, QCLOUD, QRAIN, clw, cloud_water, or (by
 /// standard_name) equivalent_reflectivity_factor, mass_fraction_of_cloud_liquid_water_in_air,
