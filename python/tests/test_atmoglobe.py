@@ -143,7 +143,7 @@ def test_render_equals_the_cli(radar, tmp_path):
     cli = atmoglobe.read_png(str(png))
     image = atmoglobe.render(scene)
     assert image.shape == (90, 160, 4)
-    # The same program on the same machine: within 1 of 255 per channel (the bound).
+    # The same program on the same machine: within 1 of 255 per channel (rounding of the blend).
     assert np.abs(image.pixels.astype(int) - cli.astype(int)).max() <= 1
     coloured = (image.pixels[..., :3].max(axis=2).astype(int) - image.pixels[..., :3].min(axis=2)) > 60
     assert coloured.sum() > 50  # the storm is drawn
