@@ -578,3 +578,22 @@ TEST(GribProjection, AnAbsurdForecastStepIsSkippedBeforeTheValidityTimeIsCompute
   EXPECT_NE(both->warnings[0].find("a forecast step of 1936943470 units; skipped"), std::string::npos)
       << both->warnings[0];
 }
+
+// A 107-byte GRIB1 message from fuzz_grib whose step ecCodes cannot represent in its units
+// ("unable to represent the step"): endStep reads as nothing, and the validity time computed
+// next never ended (over 120 s). The index skips it, saying the step cannot be read.
+TEST(GribProjection, AStepEcCodesCannotReadIsSkippedBeforeTheValidityTimeIsComputed) {
+  useTestCache();
+  const std::string dir = atmoglobe_test::freshTestDir("grib_projection");
+  const std::string hex =
+      "4752494200006b01006b0100003480627fff80816401f40603100c0001000000000000150000000000000000000000000000"
+      "0001010204013030303100000000002000ff00016800b5015f9000000080815f90057a5803e803e8000000000000000b0080"
+      "026e0037373737";
+  const std::string file = writeFuzzInput(dir, "unreadable_step.grib", hex, 107);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto info = describeGridFile(file);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.error().find("its forecast step cannot be read"), std::string::npos) << info.error();
+  EXPECT_LT(seconds, 5.0);  // over 120 s before; 5 s: a loaded machine under ASan
+}

@@ -235,7 +235,17 @@ Status scan(FILE* f, const std::string& label, GribIndex& idx) {
     m.dataTime = getLong(h.get(), "dataTime", 0);
     // Before the validity time: ecCodes computes it in steps of a day, so a damaged step of 1.9e9
     // hours (fuzz_grib) takes minutes. 1e7 step units: 1141 years in hours, 116 days in seconds.
-    m.endStep = getLong(h.get(), "endStep", 0);
+    // A step ecCodes cannot represent in its units ("unable to represent the step") reads as
+    // nothing, and the validity time computed from it then never ends (fuzz_grib): skipped too.
+    long step = 0;
+    const int stepError = codes_get_long(h.get(), "endStep", &step);
+    if (stepError != CODES_SUCCESS && codes_is_defined(h.get(), "endStep")) {
+      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                             std::to_string(offset) + "): its forecast step cannot be read (" +
+                             codes_get_error_message(stepError) + "); skipped");
+      continue;
+    }
+    m.endStep = stepError == CODES_SUCCESS && step != CODES_MISSING_LONG ? step : 0;
     if (m.endStep > kMaxStepUnits || m.endStep < -kMaxStepUnits) {
       idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
                              std::to_string(offset) + "): a forecast step of " + std::to_string(m.endStep) +
