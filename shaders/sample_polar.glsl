@@ -32,6 +32,7 @@ uniform float VOL_meridionalRadius;         // M at the site (m)
 uniform float VOL_primeVerticalRadius;      // N at the site (m)
 uniform float VOL_effectiveRadius;          // Re = ke * R (m)
 uniform float VOL_exaggeration;             // vertical exaggeration (1: none)
+uniform vec2 VOL_cellScale;                 // the step rule's (volume::PolarCellScale): gate (m; 0: no rule), angle across the beam (rad)
 
 // --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
 // The float32 twin of volume::LocalSphereBeam::antennaCoordinates (polar_beam.glsl).
@@ -98,10 +99,18 @@ ivec2 VOL_bracket(float el, out float t) {
   return ivec2(k, k + 1);
 }
 
+// The length of ray that crosses one cell here (volume::polarCellCrossingMeters, the same formula
+// in float): the gate along the line from the antenna, the beam's width r x angle across it. An
+// exaggerated volume's point is taken as it is drawn (its cells are as tall or taller there).
+float VOL_cellCrossing(vec3 p, vec3 dir) {
+  float r = length(p);
+  if (VOL_cellScale.x <= 0.0 || r <= 0.0) return 0.0;
+  float cosBeam = min(1.0, abs(dot(p, dir)) / r);
+  float sinBeam = sqrt(max(0.0, 1.0 - cosBeam * cosBeam));
+  return min(VOL_cellScale.x / max(cosBeam, 1e-6), r * VOL_cellScale.y / max(sinBeam, 1e-6));
+}
+
 // STATE_ECHO with its value, or STATE_NOT_ECHO (no echo or no data: the image treats both alike).
-// The step rule (volume/StepRule.h): this kind has no cell crossing yet, its samples take the
-// fixed step.
-float VOL_cellCrossing(vec3 p, vec3 dir) { return 0.0; }
 
 int VOL_sample(vec3 p, out float value) {
   value = 0.0;

@@ -154,6 +154,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       "Colour table: auto (by the field's kind: NWS for reflectivity, a diverging table over +-Nyquist for velocity, ...), NWS, cividis, velocity or a GR/WCT .pal file");
   g->add_option("--mode", o.modes, "dvr (volume rendering), mip (maximum intensity) or iso (isosurface)");
   g->add_option("--step", o.steps, "Ray-march step (m); default 250");
+  g->add_option("--samples-per-cell", o.samplesPerCell,
+                "Radar step that follows the gates and the beam's width: about this many samples per cell crossed, "
+                "never shorter than --step (default 0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
   g->add_option("--interpolation", o.interpolations, "nearest or linear (default)");
   g->add_option("--image-scale", o.imageScales, "Volume image resolution relative to the frame, 0.05..1 (default 1)");
   g->add_option("--iso", o.isoValues, "Isosurface value (field units; default 40)");
@@ -371,9 +374,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   if (nr == 0 &&
       (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
        !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() || !o.windowMinutes.empty() ||
-       !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty())) {
+       !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty() || !o.samplesPerCell.empty())) {
     return makeError(
-        "--field/--colors/--mode/--step/--interpolation/--beam/--classification/--overlap/--window-minutes/"
+        "--field/--colors/--mode/--step/--samples-per-cell/--interpolation/--beam/--classification/--overlap/--window-minutes/"
         "--image-scale/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
@@ -390,8 +393,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickEnum(o.interpolations, "--interpolation", "--radar", nr, i, d.interpolation),
           pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
           pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
-          pick(o.steps, "--step", i, d.stepMeters), pick(o.imageScales, "--image-scale", i, d.imageScale),
-          pick(o.isoValues, "--iso", i, iso), pick(o.windowMinutes, "--window-minutes", i, d.windowMinutes)}) {
+          pick(o.steps, "--step", i, d.stepMeters), pick(o.samplesPerCell, "--samples-per-cell", i, d.samplesPerCell),
+          pick(o.imageScales, "--image-scale", i, d.imageScale), pick(o.isoValues, "--iso", i, iso),
+          pick(o.windowMinutes, "--window-minutes", i, d.windowMinutes)}) {
       if (!st) return st.forwardError();
     }
     if (!o.overlaps.empty()) {

@@ -41,6 +41,7 @@ struct SceneOptions {
   std::map<std::string, std::size_t> gridIndex;  ///< --grid-index NAME=I: every grid and slice
   std::vector<double> gridSteps;
   std::vector<double> gridSamplesPerCell;
+  std::vector<double> samplesPerCell;  ///< radars' step rule
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
   /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".
   struct LayerSettingTexts {

@@ -200,6 +200,8 @@ void RadarVolumeGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform1iv(u(p + "sweepRays"), n, rays.data());
   glUniform1i(u(p + "sweepCount"), n);
   glUniform1f(u(p + "halfBeamDeg"), static_cast<float>(0.5 * v.beamWidthDeg));
+  const volume::PolarCellScale cells = volume::polarCellScale(v);  // the step rule's (StepRule.h)
+  glUniform2f(u(p + "cellScale"), static_cast<float>(cells.gateMeters), static_cast<float>(cells.acrossRad));
   // Clip sphere: holds every point within maxRange along the bent beams (PolarVolume.h).
   const double clipRadius = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
   // Exaggerated: the clip sphere grows by |e - 1| times the highest point the beams reach (the

@@ -410,8 +410,8 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         d.stepMeters = step;
         edited = true;
       }
-      if (d.kind == VolumeKind::Grid) {
-        // The step rule (docs/grids.md): 0 = the fixed step above everywhere.
+      {
+        // The step rule (docs/volume-rendering.md): 0 = the fixed step above everywhere.
         float perCell = static_cast<float>(samplesPerCellOf(d));
         if (ImGui::SliderFloat("samples per cell", &perCell, 0.0f, 8.0f, "%.1f")) {
           d.samplesPerCell = perCell;

@@ -85,8 +85,6 @@ Status validateVolumeLayer(const VolumeLayerDescription& d, const std::string& w
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
   if (d.samplesPerCell && !(*d.samplesPerCell >= 0.0 && *d.samplesPerCell <= 64.0))
     return makeError(where + ": samples per cell must be in 0..64 (0: the fixed step)");
-  if (d.kind == VolumeKind::Radar && d.samplesPerCell && *d.samplesPerCell > 0.0)
-    return makeError(where + ": samples per cell is for grids (a radar's samples take the fixed step)");
   if (d.isoValue && !std::isfinite(*d.isoValue)) return makeError(where + ": iso value must be finite");
   if (d.kind == VolumeKind::Radar && !d.time.empty())
     return makeError(where + ": a radar has no time to choose (a loop's steps are its files)");

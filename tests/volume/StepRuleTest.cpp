@@ -1,9 +1,11 @@
 // The step rule (volume/StepRule.h): levels from a crossing, alignment, a grid's cell scale, and
 // the walk the reference renderer takes.
 #include "SyntheticGridVolume.h"
+#include "SyntheticPolarVolume.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/GridSampler.h>
+#include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/StepRule.h>
 
 #include <gtest/gtest.h>
@@ -81,6 +83,38 @@ TEST(StepRule, GridSamplerHasTheCellScaleOfItsGrid) {
   EXPECT_NEAR(c.columnSpacingMeters, 27643.6, 1.0);
   EXPECT_DOUBLE_EQ(c.levelSpacingMeters.front(), 150.0);
   EXPECT_DOUBLE_EQ(c.levelSpacingMeters.back(), 3000.0);
+}
+
+TEST(StepRule, RadarCellsAreTheGateAlongTheBeamAndTheBeamWidthAcrossIt) {
+  // 720 rays (0.5 deg apart), sweeps 1 deg apart, a 1 deg beam, 250 m gates: the finest angle
+  // across the beam is the rays' 0.5 deg.
+  testutil::SyntheticPolarGeometry g;
+  g.rays = 720;
+  const volume::PolarVolume pv =
+      testutil::polarOf(testutil::syntheticRadarVolume(g, [](double, double, double) { return 20.0f; }));
+  const volume::PolarCellScale c = volume::polarCellScale(pv);
+  EXPECT_DOUBLE_EQ(c.gateMeters, 250.0);
+  EXPECT_NEAR(c.acrossRad, 0.5 * M_PI / 180.0, 1e-9);
+  // Along the beam: one gate. Across it at 60 km: 60 km x 0.5 deg = 523.6 m. At 60 degrees
+  // from the beam: min(250 / 0.5, 523.6 / 0.866) = 500 m. At the antenna: no rule.
+  const glm::dvec3 at60km(60000.0, 0.0, 0.0);
+  EXPECT_NEAR(volume::polarCellCrossingMeters(c, at60km, glm::dvec3(-1.0, 0.0, 0.0)), 250.0, 1e-9);
+  EXPECT_NEAR(volume::polarCellCrossingMeters(c, at60km, glm::dvec3(0.0, 0.0, 1.0)), 60000.0 * c.acrossRad, 1e-6);
+  EXPECT_NEAR(volume::polarCellCrossingMeters(c, at60km, glm::dvec3(0.5, std::sqrt(0.75), 0.0)), 500.0, 1e-6);
+  EXPECT_EQ(volume::polarCellCrossingMeters(c, glm::dvec3(0.0), glm::dvec3(1.0, 0.0, 0.0)), 0.0);
+  EXPECT_EQ(volume::polarCellCrossingMeters(volume::PolarCellScale{}, at60km, glm::dvec3(0.0, 0.0, 1.0)), 0.0);
+  // The sampler measures from its antenna.
+  const volume::PolarSampler sampler(pv);
+  const glm::dvec3 up = globe::enuAxes(g.latDeg, g.lonDeg)[2];
+  const glm::dvec3 east = globe::enuAxes(g.latDeg, g.lonDeg)[0];
+  EXPECT_NEAR(sampler.cellCrossingMeters(sampler.antennaEcef() + 60000.0 * east, up), 60000.0 * c.acrossRad, 1e-3);
+  EXPECT_NEAR(sampler.cellCrossingMeters(sampler.antennaEcef() + 60000.0 * east, east), 250.0, 1e-3);
+  // Sweeps closer than the rays: their gap decides.
+  g.sweeps = 3;
+  volume::RadarVolume close = testutil::syntheticRadarVolume(g, [](double, double, double) { return 20.0f; });
+  close.sweeps[1].fixedAngleDeg = 0.7;
+  for (auto& a : close.sweeps[1].elevationDeg) a = 0.7f;
+  EXPECT_NEAR(volume::polarCellScale(testutil::polarOf(close)).acrossRad, 0.2 * M_PI / 180.0, 1e-7);
 }
 
 }  // namespace

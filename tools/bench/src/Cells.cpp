@@ -96,7 +96,8 @@ std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis, const std::vect
             c.classification = engine::Classification::Preintegrated;
             cells.push_back(c);
           }
-          if (interp == volume::Interpolation::Linear && scale == 1.0 && !beamAxis)
+          if (interp == volume::Interpolation::Linear && scale == 1.0 &&
+              beam == engine::BeamApproximation::EffectiveEarthLocalSphere)
             for (double n : samplesPerCell)
               for (auto cl : {engine::Classification::Point, engine::Classification::Preintegrated}) {
                 Cell a = c;

@@ -125,7 +125,8 @@ Result<BenchPlan> planRadars(const VolumeBenchOptions& o, const WantedView& want
   }
   plan.views = standardViews(plan.volumes, o.quick);
   std::erase_if(plan.views, [&](const BenchView& v) { return !wanted(v.name); });
-  plan.cells = gridCells(standardAxes(o.quick, o.stepsMeters));
+  // The step rule at 1 and 2 samples per cell beside every fixed step (scale 1, linear, 4/3 beam).
+  plan.cells = gridCells(standardAxes(o.quick, o.stepsMeters), true, {1.0, 2.0});
   return plan;
 }
 

@@ -9,6 +9,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <sstream>
 
@@ -353,7 +354,30 @@ PolarSampler::PolarSampler(const PolarVolume& volume, bool rejectOutsideShell)
     : volume_(volume), antennaEcef_(globe::geodeticToEcef(globe::Geodetic{volume.site.latDeg, volume.site.lonDeg,
                                                                           volume.site.antennaHeightEllipsoidMeters})),
       upEcef_(globe::enuAxes(volume.site.latDeg, volume.site.lonDeg)[2]), band_(straightElevationBand(volume)),
+      cellScale_(polarCellScale(volume)),
       reject_(rejectOutsideShell && !volume.sweeps.empty() && volume.beam.ke > 0.0) {}
+
+double PolarSampler::cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const {
+  return polarCellCrossingMeters(cellScale_, ecef - antennaEcef_, unitDirEcef);
+}
+
+PolarCellScale polarCellScale(const PolarVolume& v) {
+  PolarCellScale c;
+  if (v.sweeps.empty()) return c;
+  double gate = std::numeric_limits<double>::infinity();
+  double acrossDeg = v.beamWidthDeg > 0.0 ? v.beamWidthDeg : std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < v.sweeps.size(); ++k) {
+    const PolarSweepLayout& s = v.sweeps[k];
+    if (s.gateSpacingMeters > 0.0) gate = std::min(gate, s.gateSpacingMeters);
+    if (s.rayCount > 0) acrossDeg = std::min(acrossDeg, 360.0 / s.rayCount);
+    if (k > 0 && s.elevationDeg > v.sweeps[k - 1].elevationDeg)
+      acrossDeg = std::min(acrossDeg, s.elevationDeg - v.sweeps[k - 1].elevationDeg);
+  }
+  if (!std::isfinite(gate) || !std::isfinite(acrossDeg)) return c;
+  c.gateMeters = static_cast<double>(static_cast<float>(gate));
+  c.acrossRad = static_cast<double>(static_cast<float>(acrossDeg * std::numbers::pi / 180.0));
+  return c;
+}
 
 BoundingSphere PolarSampler::boundingSphere() const {
   return {antennaEcef_, volume_.clipRadiusMeters > 0.0 ? volume_.clipRadiusMeters : volume_.maxRangeMeters};

@@ -31,6 +31,15 @@ double cellCrossingMeters(const CellScale& c, const glm::dvec3& ecef, const glm:
   return std::min(dz / std::max(cosUp, 1e-6), c.columnSpacingMeters / std::max(sinUp, 1e-6));
 }
 
+double polarCellCrossingMeters(const PolarCellScale& c, const glm::dvec3& p, const glm::dvec3& dir) {
+  if (!(c.gateMeters > 0.0) || !(c.acrossRad > 0.0)) return 0.0;
+  const double r = glm::length(p);
+  if (!(r > 0.0)) return 0.0;
+  const double cosBeam = std::min(1.0, std::abs(glm::dot(p, dir)) / r);
+  const double sinBeam = std::sqrt(std::max(0.0, 1.0 - cosBeam * cosBeam));
+  return std::min(c.gateMeters / std::max(cosBeam, 1e-6), r * c.acrossRad / std::max(sinBeam, 1e-6));
+}
+
 int stepLevel(double crossingMeters, double stepMeters, double samplesPerCell) {
   if (!(samplesPerCell > 0.0) || !(crossingMeters > 0.0) || !(stepMeters > 0.0)) return 0;
   const double q = crossingMeters / (samplesPerCell * stepMeters);

@@ -44,6 +44,7 @@
 #include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/RadarVolume.h>
+#include <atmoglobe/volume/StepRule.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
 #include <cstdint>
@@ -146,6 +147,11 @@ struct StraightElevationBand {
 };
 StraightElevationBand straightElevationBand(const PolarVolume& v, bool straightBeam = false);
 
+/// The step rule's cell size of a volume (StepRule.h): the shortest gate spacing, and the finest
+/// angle across the beam of the beam width, the sweeps' ray spacing (360 deg / rays) and the gaps
+/// between neighbouring sweeps. No sweeps: no rule.
+PolarCellScale polarCellScale(const PolarVolume& v);
+
 /// The PolarVolume as a VolumeSampler: exact inverse geolocation (antennaCoordinatesExact) and
 /// samplePolar at each point; the ray interval is the clip sphere (clipRadiusMeters around the
 /// antenna); provablyEmpty rejects points outside straightElevationBand at their range (points
@@ -157,6 +163,8 @@ class PolarSampler final : public VolumeSampler {
   RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override;
   VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
   bool provablyEmpty(const glm::dvec3& ecef) const override;
+  /// The step rule: polarCellCrossingMeters with polarCellScale(polar()).
+  double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const override;
   ValueRange valueRange() const override;
   BoundingSphere boundingSphere() const override;  ///< the clip sphere around the antenna
   std::string description() const override;
@@ -168,6 +176,7 @@ class PolarSampler final : public VolumeSampler {
   glm::dvec3 antennaEcef_{0.0};
   glm::dvec3 upEcef_{0.0};
   StraightElevationBand band_;
+  PolarCellScale cellScale_;
   bool reject_ = false;
 };
 

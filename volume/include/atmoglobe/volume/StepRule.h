@@ -40,6 +40,23 @@ struct CellScale {
   static constexpr int kEntries = 32;
 };
 
+/// A radar volume's cell size as the step rule reads it (polarCellScale in PolarVolume.h builds
+/// it). Rounded to float, as the GPU holds them.
+struct PolarCellScale {
+  double gateMeters = 0.0;  ///< the shortest gate spacing of the sweeps (m); 0: no rule
+  /// The finest angle across the beam (rad): the smallest of the beam width, the sweeps' ray
+  /// spacing (360 deg / rays) and the gaps between neighbouring sweep elevations.
+  double acrossRad = 0.0;
+};
+
+/// The length of ray that crosses one radar cell at `fromAntenna` (ECEF offset of the point from
+/// the antenna, m) going along `unitDir`: with r = |fromAntenna| and cos the angle between the ray
+/// and the line from the antenna (the beam taken straight: the 4/3 beam's tangent leaves that
+/// line by at most r / (2R) |1 - 1/ke|, 0.56 deg at 500 km, where a level is a power of two), the smaller of the gate
+/// spacing over |cos| and the beam's width there, r x acrossRad, over sin. 0 when the scale has no rule or the point is
+/// at the antenna.
+double polarCellCrossingMeters(const PolarCellScale& scale, const glm::dvec3& fromAntenna, const glm::dvec3& unitDir);
+
 /// Height above the WGS84 ellipsoid of an ECEF point, approximated as its distance from the
 /// centre less the ellipse's radius at its geocentric latitude (within metres of the geodetic
 /// height in the atmosphere; a rule for the step, not a geolocation).

@@ -36,6 +36,10 @@ class ExaggeratedSampler final : public VolumeSampler {
   RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override;
   VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
   bool provablyEmpty(const glm::dvec3& ecef) const override;
+  /// The inner rule at the point as drawn (the GPU's too): its cells are as tall or taller there.
+  double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const override {
+    return inner_.cellCrossingMeters(ecef, unitDirEcef);
+  }
   ValueRange valueRange() const override { return inner_.valueRange(); }
   BoundingSphere boundingSphere() const override { return sphere_; }
   std::string description() const override;

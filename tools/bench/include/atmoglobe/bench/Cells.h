@@ -56,8 +56,8 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride);
 /// DVR: every step x scale x {nearest, linear} x {4/3-Earth, straight} with point
 /// classification, each linear cell again pre-integrated (pre-integration assumes the field
 /// linear between samples); then MIP and iso at the default. `beamAxis` false (forecast grids:
-/// no beam model): the straight-beam cells are left out and every cell has beamApplies false,
-/// and each linear cell at scale 1 is repeated with the step rule at `samplesPerCell` each.
+/// no beam model): the straight-beam cells are left out and every cell has beamApplies false.
+/// Each linear 4/3-Earth cell at scale 1 is repeated with the step rule at `samplesPerCell` each.
 std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis = true, const std::vector<double>& samplesPerCell = {});
 
 }  // namespace atmoglobe::bench
