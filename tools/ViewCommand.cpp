@@ -30,6 +30,7 @@
 #include <atmoglobe/engine/CameraController.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FlyToWindowGL.h>
+#include <atmoglobe/engine/FramePacing.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/Gazetteer.h>
 #include <atmoglobe/engine/Readout.h>
@@ -38,6 +39,7 @@
 #include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/engine/ViewerPanelGL.h>
 #include <atmoglobe/engine/ViewerScript.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/AtomicFile.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
@@ -77,8 +79,9 @@ struct ViewOptions {
   bool noPrefetch = false;   ///< time steps read when shown, not ahead on a worker (docs/memory.md)
   std::string saveScene = "atmoglobe-scene.json";  ///< where Ctrl+S / "Save scene" writes
   std::string frameLog;                            ///< --frame-log FILE: a CSV line per scene drawn
-  double refineMs = -1.0;  ///< --refine-ms: at-rest marching per frame; < 0: kRefineBudgetMs, whole frames in scripts
-  bool loadAll = false;    ///< --load-all: radars outside the first view loaded at start, not when they come into view
+  double refineMs = -1.0;    ///< --refine-ms: at-rest marching per frame; < 0: kRefineBudgetMs, whole frames in scripts
+  double movingScale = 0.0;  ///< --moving-scale: volumes' image scale while moving; 0: paced (engine/FramePacing.h)
+  bool loadAll = false;  ///< --load-all: radars outside the first view loaded at start, not when they come into view
 };
 
 struct Flight {
@@ -113,12 +116,12 @@ struct Interaction {
   double scriptSeconds = 0.0;  ///< a script's clock: kScriptFrameSeconds per frame
 };
 
-/// While the camera moves (input in the last kSettleSeconds) volumes are marched at
-/// kMovingImageScale of their resolution; once it rests, the full-quality volumes are refined
+/// While the camera moves (input in the last kSettleSeconds) volumes are marched at a reduced
+/// image scale that follows the frame times (engine::MovingImageScale: at most a quarter, less
+/// where a quarter would take longer than 40 ms a frame); once it rests, the full-quality volumes are refined
 /// over frames of at most kRefineBudgetMs of marching, and nothing more is drawn until something
 /// changes.
 constexpr double kSettleSeconds = 0.3;
-constexpr double kMovingImageScale = 0.25;
 /// At rest the full-quality volumes are marched in tiles, at most this long a frame
 /// (SceneRendererGL::setProgressiveBudget), input handled between frames; scripts and --frames
 /// runs draw each frame whole (deterministic).
@@ -694,6 +697,9 @@ int runView(const ViewOptions& o) {
     }
   };
   double frameMs = 0.0;
+  engine::MovingImageScale pacing;
+  double lastMovingScale = engine::VolumeRendererGL::kPreviewScale;
+  engine::FrameTimeSummary frameTimes;
   // A line per scene drawn: how long it took, and whether the camera was moving (volumes at the
   // moving image scale) - the viewer's frame times, measured where it runs.
   std::ofstream frameLog;
@@ -855,21 +861,27 @@ int runView(const ViewOptions& o) {
     const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
                              !(*renderer)->globe().lastFrameComplete() || !(*renderer)->volumesComplete();
     if (sceneNeeded) {
+      const double movingScale = o.movingScale > 0.0 ? o.movingScale : pacing.scale();
+      if (moving) lastMovingScale = movingScale;
       for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {
         engine::VolumeSourceGL& layer = (*renderer)->layer(i);
         const double full = layer.description().imageScale;  // the panel may change it
-        layer.options().imageScale = moving ? std::min(full, kMovingImageScale) : full;
+        layer.options().imageScale = moving ? std::min(full, movingScale) : full;
       }
       wasMoving = moving;
       state.dirty = false;
       // A screenshot shows the finished picture: that frame is drawn whole.
       const double refineMs = o.refineMs >= 0.0 ? o.refineMs : (batch ? 0.0 : kRefineBudgetMs);
       (*renderer)->setProgressiveBudget(moving || state.screenshotRequested ? 0.0 : refineMs);
+      // The first frame at rest takes the last moving frame's volume image as its preview.
+      (*renderer)->volumeRenderer().setPreviewScale(lastMovingScale);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.
       const double t0 = glfwGetTime();
       (*renderer)->renderFrame(camera, markers, *target);
       glFinish();
       frameMs = 1000.0 * (glfwGetTime() - t0);
+      if (moving) pacing.reportMovingFrame(frameMs);
+      if (frame > 0) frameTimes.add(moving, frameMs);  // the first frame compiles shaders and loads
       if (frameLog.is_open()) {
         const double scale = (*renderer)->volumeLayerCount() > 0 ? (*renderer)->layer(0).options().imageScale : 1.0;
         frameLog << frame << "," << (moving ? 1 : 0) << "," << scale << "," << fbw << "," << fbh << "," << frameMs
@@ -946,6 +958,9 @@ int runView(const ViewOptions& o) {
     if (batch) (*loader)->waitIdle();  // scripted runs: let imagery arrive between frames
   }
   if (!time.stallMs.empty()) std::cerr << engine::stallSummary(time.stallMs, time.prefetch != nullptr) << "\n";
+  // A scripted or logged run reports its frame times (the scene's draw, up to glFinish).
+  if ((state.scripted || frameLog.is_open()) && !frameTimes.text().empty())
+    std::cout << "frame times (scene draw, first frame left out): " << frameTimes.text() << std::endl;
   return 0;
 }
 }  // namespace
@@ -978,12 +993,16 @@ Command addViewCommand(CLI::App& root) {
       "Start above this radar, marker, NEXRAD site (built in, or $ATMOGLOBE_NEXRAD_SITES), place (tzdata's cities) or "
       "LAT,LON[,HEIGHT]");
   c->add_option("--frame-log", options->frameLog,
-                "Write a CSV line per frame drawn: frame, moving (volumes at a quarter of the resolution), volume "
+                "Write a CSV line per frame drawn: frame, moving (volumes at the moving image scale), volume "
                 "image scale, size, milliseconds");
   c->add_option("--refine-ms", options->refineMs,
                 "At rest, march the full-quality volumes in tiles for at most this long a frame, refining over "
-                "frames (default 30; 0: whole frames; scripts and --frames runs draw whole frames unless given)")
+                "frames (default 20; 0: whole frames; scripts and --frames runs draw whole frames unless given)")
       ->check(CLI::Range(0.0, 10000.0));
+  c->add_option("--moving-scale", options->movingScale,
+                "While the camera moves, march the volumes at this image scale (0.05..1; default: paced, at most 0.25 "
+                "and less where frames would take over 40 ms)")
+      ->check(CLI::Range(0.05, 1.0));
   c->add_flag("--no-prefetch", options->noPrefetch,
               "Read each time step when it is shown instead of ahead on a worker thread (for comparison)");
   c->footer(

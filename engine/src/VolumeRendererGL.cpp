@@ -562,11 +562,11 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
       const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
       auto image = FramebufferGL::create(size.x, size.y, GL_RGBA16F);
       if (!image) return false;
-      // The preview: the pass marched at kPreviewScale (as draw() would), stretched over the box.
+      // The preview: the pass marched at previewScale_ (as draw() would), stretched over the box.
       // The frame just drawn by draw() at that scale (the viewer's last moving frame, the camera
       // now at rest) already holds it.
       std::vector<VolumeLayerGL> preview = pass.layers;
-      for (VolumeLayerGL& l : preview) l.options.imageScale = std::min(l.options.imageScale, kPreviewScale);
+      for (VolumeLayerGL& l : preview) l.options.imageScale = std::min(l.options.imageScale, previewScale_);
       const glm::ivec2 small = volumeImageSize(target, preview[0].options.imageScale);
       bool ok = true;
       if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&

@@ -12,6 +12,7 @@
 #include <atmoglobe/volume/RenderCamera.h>
 #include <atmoglobe/volume/VolumeImage.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <utility>
@@ -75,7 +76,7 @@ class VolumeRendererGL {
   /// marching tiles until `budgetMs` has passed (at least one), then compositing the volume
   /// image as draw() does. The first call after a change of the camera, the image size, the
   /// layers (their volumes, uniform versions, image scales) or restartProgressive() fills the
-  /// image from a march at kPreviewScale, so tiles not refined yet show that. Once every tile is
+  /// image from a march at previewScale(), so tiles not refined yet show that. Once every tile is
   /// marched the frame is draw()'s, pixel for pixel (the same program at the same pixels; tests).
   /// Returns whether every tile is marched.
   bool drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
@@ -87,6 +88,10 @@ class VolumeRendererGL {
   /// Refinements whose preview was the last draw()'s image (no march of its own).
   std::size_t previewsReused() const { return previewsReused_; }
   static constexpr double kPreviewScale = 0.25;
+  /// The preview's image scale (kPreviewScale by default; the viewer sets its last moving scale,
+  /// so that the last moving frame is the preview: 0.02..1).
+  void setPreviewScale(double scale) { previewScale_ = std::clamp(scale, 0.02, 1.0); }
+  double previewScale() const { return previewScale_; }
   /// The last group's reference image from drawReference (row 0 = top).
   const volume::VolumeImage& lastReferenceImage() const { return lastReference_; }
 
@@ -177,6 +182,7 @@ class VolumeRendererGL {
   bool lastDrawValid_ = false;       ///< draw()'s last call was one pass: volumeTarget_ holds its image
   std::vector<double> lastDrawKey_;  ///< of that call (progressKey)
   std::size_t previewsReused_ = 0;
+  double previewScale_ = kPreviewScale;
   unsigned int volumeFormat_ = 0;
   unsigned int emptyDepth_ = 0;
   /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
