@@ -5,6 +5,7 @@
 #include "Commands.h"
 
 #include <atmoglobe/engine/Framing.h>
+#include <atmoglobe/map/Contours.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/StationList.h>
 
@@ -138,6 +139,28 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   gg->add_option("--grid-samples-per-cell", o.gridSamplesPerCell,
                  "Grid step that follows the cells: about this many samples per cell crossed, never shorter than "
                  "--grid-step (0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
+  auto* sf = c.add_option_group(
+      "Surface fields (maps)",
+      "A grid's 2-D field draped on the globe, filled and/or contoured; each option below is given once (all) or "
+      "once per --surface, in order");
+  sf->add_option("--surface", o.surfaces,
+                 "Grid file (CF or WRF netCDF, GRIB 1 or 2) whose 2-D field to drape on the globe (repeatable; "
+                 "replaces the scene's surfaces)");
+  sf->add_option("--surface-var", o.surfaceVars, "Its variable (a 2-D one, or a 3-D one with --surface-pressure-hpa)");
+  sf->add_option("--surface-time", o.surfaceTimes, "Its time step: an index (0 = first) or an ISO 8601 UTC time");
+  sf->add_option("--surface-member", o.surfaceMembers, "Its ensemble member (GRIB `number`)");
+  sf->add_option("--surface-ensemble", o.surfaceEnsembles,
+                 "A statistic over every member: mean, spread, min, max or prob:>=V (as --ensemble)");
+  sf->add_option("--surface-pressure-hpa", o.surfacePressuresHpa,
+                 "A 3-D variable's isobaric surface at this pressure (hPa; grids on pressure levels)");
+  sf->add_option("--surface-colors", o.surfaceColors, "Colour table (as --grid-colors; default auto)");
+  sf->add_option("--surface-range", o.surfaceRanges, "Colour table span MIN,MAX (field units)");
+  sf->add_option("--surface-opacity", o.surfaceOpacities, "Opacity of the fill, 0..1 (default 0.75; 0: contours only)");
+  sf->add_option("--surface-contour-interval", o.surfaceContourIntervals,
+                 "Contour lines every this many field units, labelled (e.g. 400 for geopotential in m2 s-2; 0: none)");
+  sf->add_option("--surface-contour-values", o.surfaceContourValues,
+                 "Contour lines at these values, e.g. 5400,5700 (one value: \"5400,\")");
+  sf->add_flag("--surface-no-fill", o.surfaceNoFill, "Contours only, no colour fill (every --surface)");
   auto* sl = c.add_option_group("Slices", "Drawn on the globe, of the scene's first radar (else its first grid)");
   sl->add_option("--slice-height-m", o.sliceHeights, "A CAPPI at this height above sea level (m; repeatable)");
   sl->add_option("--slice-path", o.slicePaths,
@@ -331,10 +354,59 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     origins.overlays.push_back("--overlay");
   }
   for (const std::string& m : o.models) scene->models.push_back(m);
+  // --surface replaces the scene's surfaces; each setting once (all) or once per --surface.
+  const std::size_t ns = o.surfaces.size();
+  if (ns == 0 && (!o.surfaceVars.empty() || !o.surfaceTimes.empty() || !o.surfaceMembers.empty() ||
+                  !o.surfaceEnsembles.empty() || !o.surfacePressuresHpa.empty() || !o.surfaceColors.empty() ||
+                  !o.surfaceRanges.empty() || !o.surfaceOpacities.empty() || !o.surfaceContourIntervals.empty() ||
+                  !o.surfaceContourValues.empty() || o.surfaceNoFill))
+    return makeError("--surface-* options need a --surface");
+  if (ns > 0) {
+    scene->surfaces.clear();
+    origins.surfaces.clear();
+  }
+  for (std::size_t i = 0; i < ns; ++i) {
+    engine::SurfaceLayerDescription d;
+    d.path = o.surfaces[i];
+    d.useGeoid = !o.noGeoid;
+    d.fill = !o.surfaceNoFill;
+    std::string range, values;
+    double pressure = 0.0, interval = 0.0;
+    auto pickS = [&](const auto& v, const char* name, auto& out) {
+      return pickPerLayer(v, name, "--surface", ns, i, out);
+    };
+    for (const Status& st :
+         {pickS(o.surfaceVars, "--surface-var", d.variable), pickS(o.surfaceTimes, "--surface-time", d.time),
+          pickS(o.surfaceMembers, "--surface-member", d.member),
+          pickS(o.surfaceEnsembles, "--surface-ensemble", d.ensemble),
+          pickS(o.surfacePressuresHpa, "--surface-pressure-hpa", pressure),
+          pickS(o.surfaceColors, "--surface-colors", d.colors), pickS(o.surfaceRanges, "--surface-range", range),
+          pickS(o.surfaceOpacities, "--surface-opacity", d.opacity),
+          pickS(o.surfaceContourIntervals, "--surface-contour-interval", interval),
+          pickS(o.surfaceContourValues, "--surface-contour-values", values)}) {
+      if (!st) return st.forwardError();
+    }
+    if (!o.surfacePressuresHpa.empty()) d.pressureHpa = pressure;
+    if (!o.surfaceContourIntervals.empty() && interval != 0.0) d.contourInterval = interval;  // 0: none
+    if (!o.surfaceOpacities.empty() && d.opacity == 0.0) d.fill = false;
+    if (!range.empty()) {
+      auto r = parseNumbers(range, 2, 2, "--surface-range");
+      if (!r) return r.forwardError();
+      d.valueRange = glm::dvec2((*r)[0], (*r)[1]);
+    }
+    if (!values.empty()) {
+      auto levels = map::parseContourLevels("", values);
+      if (!levels) return makeError("--surface-contour-values: " + levels.error());
+      d.contourValues = levels->values;
+    }
+    if (auto st = engine::validateSurfaceLayer(d, "--surface " + d.path); !st) return st.forwardError();
+    scene->surfaces.push_back(std::move(d));
+    origins.surfaces.push_back("--surface");
+  }
   // Data named on the command line is what the user wants to see: over the embedded default scene
   // (no scene file) it replaces the default's SYNTHETIC radar whatever its kind, so a grid named
   // alone is drawn alone.
-  if (o.sceneFile.empty() && (!o.radars.empty() || !o.grids.empty())) {
+  if (o.sceneFile.empty() && (!o.radars.empty() || !o.grids.empty() || !o.surfaces.empty())) {
     scene->volumes.clear();
     origins.volumes.clear();
   }
@@ -486,7 +558,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   // Data named over the default scene without --camera: the camera frames that data
   // (engine/Framing.h), not the default scene's place. A file whose metadata cannot be read
   // leaves the camera as it is (loading it reports the error).
-  if (o.sceneFile.empty() && o.camera.empty() && (!o.radars.empty() || !o.grids.empty())) {
+  if (o.sceneFile.empty() && o.camera.empty() && (!o.radars.empty() || !o.grids.empty() || !o.surfaces.empty())) {
     if (auto target = engine::framingTargetOfVolumes(*scene)) {
       scene->camera = engine::poseFraming(*target, scene->fovYDeg, scene->widthPx, scene->heightPx);
       char line[200];

@@ -42,6 +42,12 @@ struct SceneOptions {
   std::vector<double> gridSteps;
   std::vector<double> gridSamplesPerCell;
   std::vector<double> samplesPerCell;  ///< radars' step rule
+  /// --surface FILE and its settings, each once (all) or once per --surface.
+  std::vector<std::string> surfaces, surfaceVars, surfaceTimes, surfaceEnsembles, surfaceColors, surfaceRanges,
+      surfaceContourValues;
+  std::vector<int> surfaceMembers;
+  std::vector<double> surfacePressuresHpa, surfaceOpacities, surfaceContourIntervals;
+  bool surfaceNoFill = false;
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:
   /// "MIN,MAX", "ZERO,FULL[,MAX[,PER_M]]", "SOUTH,NORTH,WEST,EAST", "BOTTOM,TOP".
   struct LayerSettingTexts {

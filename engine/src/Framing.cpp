@@ -192,6 +192,15 @@ Result<FramingTarget> framingTargetOfVolumes(const SceneDescription& scene) {
     const double east = info->wrapsLongitude ? info->westDeg + 360.0 : info->eastDeg;
     targets.push_back(framingTargetOfBox(info->southDeg, info->northDeg, info->westDeg, east));
   }
+  for (const SurfaceLayerDescription& d : scene.surfaces) {
+    volume::GridReadOptions read;
+    read.variable = d.variable;
+    if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
+    auto info = volume::describeGridFile(d.path, read);
+    if (!info) return info.forwardError();
+    const double east = info->wrapsLongitude ? info->westDeg + 360.0 : info->eastDeg;
+    targets.push_back(framingTargetOfBox(info->southDeg, info->northDeg, info->westDeg, east));
+  }
   return framingTargetOfTargets(targets);
 }
 

@@ -225,6 +225,45 @@ Status checkInputFile(const std::string& path, const std::string& where) {
   return Ok{};
 }
 
+// One element of "surfaces": a grid's 2-D field on the globe (SurfaceLayer.h).
+Status parseSurfaceLayer(const Object& o, const std::string& baseDir, const std::string& dataDir,
+                         SurfaceLayerDescription& d) {
+  std::vector<double> range;
+  double pressure = 0.0, interval = 0.0;
+  Status st = all(
+      [&] {
+        return o.checkObject({"path", "variable", "time", "member", "ensemble", "pressure_hpa", "colors", "range",
+                              "opacity", "fill", "contour_interval", "contour_values", "contour_color",
+                              "contour_width_px", "contour_labels", "geoid"});
+      },
+      [&] { return parsePath(o, "path", d.path, "a CF or WRF netCDF or a GRIB file", baseDir, dataDir); },
+      [&] { return o.string("variable", d.variable); }, [&] { return o.string("time", d.time); },
+      [&] { return o.integer("member", d.member, 0, 1000000); }, [&] { return o.string("ensemble", d.ensemble); },
+      [&] {
+        Status s = o.number("pressure_hpa", pressure, 0.001, 1100.0, "hPa");
+        if (s && o.has("pressure_hpa")) d.pressureHpa = pressure;
+        return s;
+      },
+      [&] { return o.string("colors", d.colors); },
+      [&] {
+        Status s = o.numbers("range", range, 2, 2, "[min, max] (field units)");
+        if (s && o.has("range")) d.valueRange = glm::dvec2(range[0], range[1]);
+        return s;
+      },
+      [&] { return o.number("opacity", d.opacity, 0.0, 1.0); }, [&] { return o.boolean("fill", d.fill); },
+      [&] {
+        Status s = o.number("contour_interval", interval, 1e-30, 1e30, "(field units)");
+        if (s && o.has("contour_interval")) d.contourInterval = interval;
+        return s;
+      },
+      [&] { return o.numbers("contour_values", d.contourValues, 1, 1000, "[value, ...] (field units)"); },
+      [&] { return o.color("contour_color", d.contourColor); },
+      [&] { return o.number("contour_width_px", d.contourWidthPx, 0.5, 16.0, "px"); },
+      [&] { return o.boolean("contour_labels", d.contourLabels); }, [&] { return o.boolean("geoid", d.useGeoid); });
+  if (!st) return st;
+  return validateSurfaceLayer(d, o.where());
+}
+
 Result<SceneDescription> parseSceneJson(std::string_view text, const std::string& sourceName,
                                         const std::string& baseDir, const std::string& dataDir) {
   json root;
@@ -234,9 +273,9 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     return makeError(sourceName + ": not valid JSON: " + e.what());
   }
   const Object top(root, sourceName, "");
-  if (auto s =
-          top.checkObject({"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations", "slices",
-                           "vertical_exaggeration", "map_context", "overlays", "range_rings", "memory_budget_mb"});
+  if (auto s = top.checkObject({"camera", "fov_deg", "size", "imagery", "markers", "radars", "grids", "stations",
+                                "slices", "vertical_exaggeration", "map_context", "overlays", "range_rings",
+                                "memory_budget_mb", "surfaces"});
       !s) {
     return s.forwardError();
   }
@@ -278,7 +317,7 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
     scene.widthPx = static_cast<int>(v[0]);
     scene.heightPx = static_cast<int>(v[1]);
   }
-  for (const char* key : {"imagery", "markers", "radars", "grids", "overlays", "slices"})
+  for (const char* key : {"imagery", "markers", "radars", "grids", "overlays", "slices", "surfaces"})
     if (auto st = top.array(key); !st) return st.forwardError();
   if (top.has("imagery")) {
     for (std::size_t i = 0; i < root["imagery"].size(); ++i) {
@@ -342,6 +381,15 @@ Result<SceneDescription> parseSceneJson(std::string_view text, const std::string
         return st.forwardError();
       scene.overlays.push_back(d);
       scene.origins.overlays.push_back(o.where());
+    }
+  }
+  if (top.has("surfaces")) {
+    for (std::size_t i = 0; i < root["surfaces"].size(); ++i) {
+      const Object o = top.element("surfaces", i);
+      SurfaceLayerDescription d;
+      if (auto st = parseSurfaceLayer(o, baseDir, dataDir, d); !st) return st.forwardError();
+      scene.surfaces.push_back(std::move(d));
+      scene.origins.surfaces.push_back(o.where());
     }
   }
   if (top.has("slices")) {

@@ -25,6 +25,28 @@ std::string absolute(const std::string& path) {
 
 json colorOf(const glm::vec3& c) { return json::array({c.r, c.g, c.b}); }
 
+json surfaceJson(const SurfaceLayerDescription& s) {
+  const SurfaceLayerDescription d;
+  json j;
+  j["path"] = absolute(s.path);
+  if (!s.variable.empty()) j["variable"] = s.variable;
+  if (!s.time.empty()) j["time"] = s.time;
+  if (s.member >= 0) j["member"] = s.member;
+  if (!s.ensemble.empty()) j["ensemble"] = s.ensemble;
+  if (s.pressureHpa) j["pressure_hpa"] = *s.pressureHpa;
+  if (s.colors != d.colors) j["colors"] = s.colors;
+  if (s.valueRange) j["range"] = {s.valueRange->x, s.valueRange->y};
+  if (s.opacity != d.opacity) j["opacity"] = s.opacity;
+  if (s.fill != d.fill) j["fill"] = s.fill;
+  if (s.contourInterval) j["contour_interval"] = *s.contourInterval;
+  if (!s.contourValues.empty()) j["contour_values"] = s.contourValues;
+  if (s.contourColor != d.contourColor) j["contour_color"] = colorOf(s.contourColor);
+  if (s.contourWidthPx != d.contourWidthPx) j["contour_width_px"] = s.contourWidthPx;
+  if (s.contourLabels != d.contourLabels) j["contour_labels"] = s.contourLabels;
+  if (s.useGeoid != d.useGeoid) j["geoid"] = s.useGeoid;
+  return j;
+}
+
 void writeSettings(json& j, const VolumeLayerSettings& s) {
   if (s.valueRange) j["range"] = {s.valueRange->x, s.valueRange->y};
   if (!s.opacity.empty()) j["opacity"] = s.opacity;
@@ -153,6 +175,9 @@ std::string sceneToJson(const SceneDescription& scene) {
   json slices = json::array();
   for (const SliceLayerDescription& s : scene.slices) slices.push_back(sliceJson(s));
   if (!slices.empty()) j["slices"] = slices;
+  json surfaces = json::array();
+  for (const SurfaceLayerDescription& s : scene.surfaces) surfaces.push_back(surfaceJson(s));
+  if (!surfaces.empty()) j["surfaces"] = surfaces;
   return j.dump(2) + "\n";
 }
 

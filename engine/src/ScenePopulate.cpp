@@ -33,7 +33,7 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
   for (const std::string& e : scene.inputErrors)
     if (auto st = problem(e); !st) return st;
   const auto& origins = scene.origins;
-  const std::size_t inputs = scene.volumes.size() + scene.slices.size() + scene.overlays.size();
+  const std::size_t inputs = scene.volumes.size() + scene.slices.size() + scene.overlays.size() + scene.surfaces.size();
   // Several inputs: progress (a bar on a terminal, lines in logs); one is quick enough alone.
   std::optional<globe::Progress> progress;
   if (inputs > 1) progress.emplace("loading", inputs);
@@ -94,6 +94,29 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
       kept.slices.push_back(origin);
     }
     scene.slices = std::move(loaded);
+  }
+  {
+    std::vector<engine::SurfaceLayerDescription> loaded;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const engine::SurfaceLayerDescription& d = scene.surfaces[i];
+      const std::string origin = engine::layerOrigin(origins.surfaces, i, "--surface");
+      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
+      std::string line;
+      if (st) {
+        auto added = renderer.addSurface(d);
+        if (added) line = *added;
+        else st = makeError(origin + ": " + added.error());
+      }
+      step(d.path);
+      if (!st) {
+        if (auto f = problem(st.error()); !f) return f;
+        continue;
+      }
+      say(line);
+      loaded.push_back(d);
+      kept.surfaces.push_back(origin);
+    }
+    scene.surfaces = std::move(loaded);
   }
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st)

@@ -81,6 +81,20 @@ Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
   return slices_->add(d);
 }
 
+Result<std::string> SceneRendererGL::addSurface(const SurfaceLayerDescription& d) {
+  auto field = readSurfaceField(d);
+  if (!field) return field.forwardError();
+  auto surface = SurfaceFieldGL::create(std::move(*field), d);
+  if (!surface) return surface.forwardError();
+  const SurfaceFieldGL& s = **surface;
+  const volume::GridVolume& g = s.field().grid;
+  std::string line = g.path + ": " + s.field().name + " [" + g.units + "] valid " + g.validTime + ", " +
+                     std::to_string(g.nx) + " x " + std::to_string(g.ny) + " grid points, " +
+                     std::to_string(s.contours().size()) + " contour lines";
+  surfaces_.push_back(std::move(*surface));
+  return line;
+}
+
 Result<VolumeSourceGL*> SceneRendererGL::addVolume(const VolumeLayerDescription& d) {
   auto source = openVolumeSource(d, contextFor(layers_.size()));
   if (!source) return source.forwardError();
@@ -115,13 +129,17 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   stats.globe = globe_->draw(camera);
   for (const auto& model : models_) model->draw(camera);
   if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
+  for (const auto& surface : surfaces_) surface->drawFill(camera);  // no depth written: under the volumes
   for (; rangeRings_ && layersWithRings_ < layers_.size(); ++layersWithRings_) {
     if (auto rings = layers_[layersWithRings_]->rangeRings(); !rings.empty())
       map_->addLines(rings, MapLineStyle{glm::vec3(0.95f, 0.9f, 0.55f), 1.0f, 0.7f});
   }
   stats.map = map_->draw(camera);  // writes no depth: the march sees the globe's
+  for (const auto& surface : surfaces_) surface->drawContours(camera);
   // Every volume in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
+  for (const auto& surface : surfaces_)
+    all.insert(all.end(), surface->contourLabels().begin(), surface->contourLabels().end());
   std::vector<VolumeLayerGL> layers;
   for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
     const VolumeSourceGL& source = *layers_[i];
@@ -179,6 +197,11 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
     legend.subtitles.push_back(std::move(part.subtitle));
     legend.keys.push_back(std::move(part.key));
     legend.synthetic = legend.synthetic || part.synthetic;
+  }
+  for (const auto& surface : surfaces_) {
+    add(surface->title());
+    legend.subtitles.push_back(surface->subtitle());
+    if (auto key = surface->key()) legend.keys.push_back(std::move(*key));
   }
   legend.title = what;
   if (exaggeration_ != 1.0) legend.subtitles.push_back("vertical exaggeration x" + fixed(exaggeration_, 1));

@@ -152,4 +152,22 @@ Result<std::vector<ContourLine>> contourLines(const ContourRaster& r, const Cont
   return out;
 }
 
+Result<std::vector<ContourLine>> contourLinesOnGrid(const float* values, int columns, int rows,
+                                                    const ContourLevels& levels,
+                                                    const std::function<glm::dvec2(double i, double j)>& lonLatAt) {
+  // The index space as a raster of unit pixels whose centres are (i, -j): longitude i, latitude -j.
+  ContourRaster r;
+  r.values = values;
+  r.columns = columns;
+  r.rows = rows;
+  r.westDeg = -0.5;
+  r.northDeg = 0.5;
+  r.dxDeg = r.dyDeg = 1.0;
+  auto lines = contourLines(r, levels);
+  if (!lines) return lines.forwardError();
+  for (ContourLine& line : *lines)
+    for (glm::dvec2& p : line.line.lonLatDeg) p = lonLatAt(p.x, -p.y);
+  return lines;
+}
+
 }  // namespace atmoglobe::map

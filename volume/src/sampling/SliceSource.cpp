@@ -276,6 +276,22 @@ Result<std::vector<double>> pressureLevelsPa(const GridVolume& grid) {
   return out;
 }
 
+Result<std::pair<std::size_t, double>> pressureBracket(const GridVolume& grid, double pressurePa) {
+  auto levels = pressureLevelsPa(grid);
+  if (!levels) return levels.forwardError();
+  const double p = pressurePa;
+  // The two levels around p (levels bottom first: pressure falls upwards, or rises in a file
+  // stored otherwise) and the weight of the upper one in ln(p).
+  for (std::size_t i = 0; i + 1 < levels->size(); ++i) {
+    const double a = (*levels)[i], b = (*levels)[i + 1];
+    if ((p <= a && p >= b) || (p >= a && p <= b))
+      return std::pair{i, a == b ? 0.0 : (std::log(a) - std::log(p)) / (std::log(a) - std::log(b))};
+  }
+  const auto [lowest, highest] = std::minmax_element(levels->begin(), levels->end());
+  return makeError(grid.path + ": " + numberText(p / 100.0) + " hPa is outside the levels of '" + grid.variable +
+                   "', " + numberText(*highest / 100.0) + " to " + numberText(*lowest / 100.0) + " hPa");
+}
+
 Result<SliceRaster> samplePressureSection(const SliceSource& source, const SliceGeometry& geometry,
                                           Interpolation interpolation, int /*threads*/) {
   const GridVolume* grid = source.grid();
@@ -283,24 +299,11 @@ Result<SliceRaster> samplePressureSection(const SliceSource& source, const Slice
   if (!grid || !sampler) return makeError(source.path() + ": an isobaric section is for grids, not radars");
   if (geometry.kind() != SliceGeometry::Kind::Cappi || !geometry.pressurePa())
     return makeError(source.path() + ": not an isobaric section's geometry");
-  auto levels = pressureLevelsPa(*grid);
-  if (!levels) return levels.forwardError();
   const double p = *geometry.pressurePa();
-  // The two levels around p (levels bottom first: pressure falls upwards, or rises in a file
-  // stored otherwise) and the weight of the upper one in ln(p).
-  std::size_t k = levels->size();
-  double f = 0.0;
-  for (std::size_t i = 0; i + 1 < levels->size(); ++i) {
-    const double a = (*levels)[i], b = (*levels)[i + 1];
-    if ((p <= a && p >= b) || (p >= a && p <= b)) {
-      k = i;
-      f = a == b ? 0.0 : (std::log(a) - std::log(p)) / (std::log(a) - std::log(b));
-      break;
-    }
-  }
-  if (k == levels->size())
-    return makeError(source.path() + ": " + numberText(p / 100.0) + " hPa is outside the levels of '" + grid->variable +
-                     "'");
+  auto bracket = pressureBracket(*grid, p);
+  if (!bracket) return bracket.forwardError();
+  const std::size_t k = bracket->first;
+  double f = bracket->second;
   const bool nearest = interpolation == Interpolation::Nearest;
   if (nearest) f = f < 0.5 ? 0.0 : 1.0;
   SliceRaster r;

@@ -12,6 +12,7 @@
 // does not stop the others.
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/SliceLayer.h>
+#include <atmoglobe/engine/SurfaceLayer.h>
 #include <atmoglobe/engine/VolumeLayer.h>
 #include <atmoglobe/globe/Result.h>
 
@@ -61,8 +62,10 @@ struct SceneDescription {
   /// order volume layers are added and, by default, handed to the marcher.
   std::vector<VolumeLayerDescription> volumes;
   std::vector<SliceLayerDescription> slices;  ///< CAPPIs and cross-sections on the globe (SliceLayer.h)
-  std::string stationsPath;                   ///< station list drawn as markers (empty: none)
-  std::vector<std::string> models;            ///< georeferenced .glb files (cone exports) to draw
+  /// Grids' 2-D fields draped on the globe with contours (JSON "surfaces", CLI --surface; SurfaceLayer.h).
+  std::vector<SurfaceLayerDescription> surfaces;
+  std::string stationsPath;         ///< station list drawn as markers (empty: none)
+  std::vector<std::string> models;  ///< georeferenced .glb files (cone exports) to draw
   /// Heights above the ellipsoid drawn this many times higher, for every volume, slice and
   /// marker alike (JSON "vertical_exaggeration", CLI --exaggeration; 0.1..100, 1 = true scale).
   double verticalExaggeration = 1.0;
@@ -74,7 +77,7 @@ struct SceneDescription {
   /// Where each layer was given, for messages: "scene.json: /radars/2" (a JSON pointer) or a CLI
   /// option ("--radar"); parallel to the vectors above (layerOrigin() tolerates missing entries).
   struct Origins {
-    std::vector<std::string> imagery, volumes, slices, overlays;
+    std::vector<std::string> imagery, volumes, slices, overlays, surfaces;
     std::string stations;
   } origins;
   /// Input problems found before loading (a missing imagery directory): the layer is left out

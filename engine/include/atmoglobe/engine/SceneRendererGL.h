@@ -14,6 +14,7 @@
 #include <atmoglobe/engine/RadarSourceGL.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/SliceRendererGL.h>
+#include <atmoglobe/engine/SurfaceFieldGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/engine/VolumeSourceGL.h>
 #include <atmoglobe/globe/Image.h>
@@ -69,6 +70,10 @@ class SceneRendererGL {
   /// Samples a slice (CAPPI or cross-section) of the volume it names and draws it on the globe
   /// (SliceRendererGL.h); returns a line for the user.
   Result<std::string> addSlice(const SliceLayerDescription& description);
+  /// Reads a grid's 2-D field and drapes it on the globe with its contours (SurfaceFieldGL.h);
+  /// returns a line for the user.
+  Result<std::string> addSurface(const SurfaceLayerDescription& description);
+  const std::vector<std::unique_ptr<SurfaceFieldGL>>& surfaces() const { return surfaces_; }
   /// The scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none): radars, grids,
   /// slices and markers are drawn at that many times their height above the ellipsoid, so they
   /// stay aligned. Call before adding layers (it applies to layers added afterwards; an error
@@ -139,6 +144,7 @@ class SceneRendererGL {
   std::vector<std::unique_ptr<VolumeSourceGL>> layers_;
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   std::unique_ptr<SliceRendererGL> slices_;
+  std::vector<std::unique_ptr<SurfaceFieldGL>> surfaces_;
   std::unique_ptr<MapRendererGL> map_;
   bool rangeRings_ = false;
   std::size_t layersWithRings_ = 0;

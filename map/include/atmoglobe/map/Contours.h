@@ -10,6 +10,7 @@
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/map/GeoLines.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,6 +44,16 @@ struct ContourLine {
 /// The contour lines of `raster` at `levels`. Errors: a bad raster or levels (interval not > 0
 /// and finite), more than 1000 levels within the range, GDAL's error.
 Result<std::vector<ContourLine>> contourLines(const ContourRaster& raster, const ContourLevels& levels);
+
+/// Contour lines of values on any structured grid (`columns` x `rows`, row-major, NaN missing),
+/// found in the grid's index space (GDAL's generator over the values as they lie) and placed by
+/// `lonLatAt(i, j)`: the longitude and latitude (deg) of the fractional column i and row j (an
+/// integer is a grid point). A line point between two grid points is where the value crosses
+/// the level linearly between them, mapped through the grid's geometry, so lines of a projected
+/// or curvilinear grid follow its cells. Errors: as contourLines.
+Result<std::vector<ContourLine>> contourLinesOnGrid(const float* values, int columns, int rows,
+                                                    const ContourLevels& levels,
+                                                    const std::function<glm::dvec2(double i, double j)>& lonLatAt);
 
 /// A contour value as a label: up to 6 significant digits, no trailing zeros ("5640", "-2.5").
 std::string contourLabel(double value);

@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atmoglobe::volume {
@@ -116,6 +117,10 @@ Result<SliceRaster> samplePressureSection(const SliceSource& source, const Slice
                                           Interpolation interpolation = Interpolation::Linear, int threads = 0);
 /// The grid's pressure levels in Pa (bottom first), or an error saying why there are none.
 Result<std::vector<double>> pressureLevelsPa(const GridVolume& grid);
+/// The levels k, k + 1 around a pressure and the weight f of level k + 1, linear in ln(p) (a
+/// level's own pressure: f 0 or 1). Errors: pressureLevelsPa's, a pressure outside the levels
+/// (the message gives them in hPa).
+Result<std::pair<std::size_t, double>> pressureBracket(const GridVolume& grid, double pressurePa);
 
 /// Samples `geometry` through the source's sampler (sampleSlice). Error when no pixel has data:
 /// "FILE: no data on the CAPPI at 25 km above sea level (...)" / "... the path does not cross".

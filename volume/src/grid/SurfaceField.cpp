@@ -1,0 +1,112 @@
+// A grid's 2-D field on the globe (SurfaceField.h).
+#include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/volume/SliceSource.h>
+#include <atmoglobe/volume/SurfaceField.h>
+
+#include <cmath>
+#include <limits>
+
+namespace atmoglobe::volume {
+
+Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double pressurePa) {
+  auto bracket = pressureBracket(grid, pressurePa);
+  if (!bracket) return bracket.forwardError();
+  const auto [k, f] = *bracket;
+  const std::size_t columns = grid.nx * grid.ny;
+  std::vector<float> out(columns, std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t c = 0; c < columns; ++c) {
+    const double lower = grid.values[k * columns + c];
+    const double upper = f > 0.0 ? static_cast<double>(grid.values[(k + 1) * columns + c]) : lower;
+    if (std::isfinite(lower) && std::isfinite(upper)) out[c] = static_cast<float>((1.0 - f) * lower + f * upper);
+  }
+  return out;
+}
+
+Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa) {
+  const std::string what = grid.path + ": '" + grid.variable + "'";
+  if (grid.reduced()) return makeError(what + " is on a reduced grid: not drawn as a surface field yet");
+  if (grid.nx < 2 || grid.ny < 2) return makeError(what + ": a surface field needs at least 2 x 2 grid points");
+  SurfaceField s;
+  s.pressurePa = pressurePa;
+  std::string name = grid.variable;
+  if (const auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
+  // A GRIB variable's level type says nothing once the surface is named by its pressure.
+  if (const auto colon = name.find(':'); pressurePa && colon != std::string::npos) name = name.substr(0, colon);
+  const std::size_t columns = grid.nx * grid.ny;
+  if (pressurePa) {
+    auto values = isobaricColumnValues(grid, *pressurePa);
+    if (!values) return values.forwardError();
+    grid.values = std::move(*values);
+    char at[64];
+    std::snprintf(at, sizeof at, " at %g hPa", *pressurePa / 100.0);
+    name += at;
+  } else if (grid.nz != 1) {
+    return makeError(
+        what + " has " + std::to_string(grid.nz) +
+        " levels: give a pressure level (--surface-pressure-hpa, scene \"pressure_hpa\") or a 2-D variable");
+  } else {
+    grid.values.resize(columns);
+  }
+  grid.nz = 1;
+  grid.heightAboveEllipsoidMeters.assign(columns, 0.0f);
+  grid.levelValues.clear();
+  grid.valueMin = grid.valueMax = std::numeric_limits<float>::quiet_NaN();
+  for (float v : grid.values)
+    if (std::isfinite(v)) {
+      grid.valueMin = std::isnan(grid.valueMin) ? v : std::min(grid.valueMin, v);
+      grid.valueMax = std::isnan(grid.valueMax) ? v : std::max(grid.valueMax, v);
+    }
+  if (std::isnan(grid.valueMin))
+    return makeError(what + (pressurePa ? " has no value on that surface" : " has no value"));
+  s.name = std::move(name);
+  s.grid = std::move(grid);
+  return s;
+}
+
+SurfaceSampler::SurfaceSampler(const SurfaceField& field)
+    : field_(field), sampler_(std::make_unique<GridSampler>(field.grid)) {}
+
+double SurfaceSampler::valueAt(double latDeg, double lonDeg) const {
+  const auto ij = sampler_->horizontalIndex(latDeg, lonDeg);
+  if (!ij) return std::numeric_limits<double>::quiet_NaN();
+  const GridColumns c = sampler_->columnsAt(*ij);
+  if (c.count == 0) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (int n = 0; n < c.count; ++n) {
+    if (c.weight[n] == 0.0) continue;
+    const double v = sampler_->columnValue(c.column[n], 0);
+    if (!std::isfinite(v)) return std::numeric_limits<double>::quiet_NaN();
+    sum += c.weight[n] * v;
+  }
+  return sum;
+}
+
+bool surfaceValueShows(const ColorTable& table, double value) {
+  return std::isfinite(value) && !table.empty() &&
+         value * table.scale() + table.offset() >= table.stops().front().value;
+}
+
+VolumeImage renderSurfaceReference(const SurfaceSampler& sampler, const ColorTable& table, double opacity,
+                                   const RenderCamera& camera) {
+  VolumeImage image;
+  image.widthPx = camera.widthPx;
+  image.heightPx = camera.heightPx;
+  image.rgbaPremultiplied.assign(static_cast<std::size_t>(camera.widthPx) * static_cast<std::size_t>(camera.heightPx),
+                                 glm::dvec4(0.0));
+  for (int y = 0; y < camera.heightPx; ++y)
+    for (int x = 0; x < camera.widthPx; ++x) {
+      const glm::dvec3 dir = pixelRayDirection(camera, x + 0.5, y + 0.5);
+      const auto hit = globe::intersectRayEllipsoid(camera.eyeEcef, dir);
+      if (!hit) continue;
+      const globe::Geodetic g = globe::ecefToGeodetic(*hit);
+      const double v = sampler.valueAt(g.latDeg, g.lonDeg);
+      if (!surfaceValueShows(table, v)) continue;
+      const Rgba8 c = table.map(static_cast<float>(v));
+      image.rgbaPremultiplied[static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.widthPx) +
+                              static_cast<std::size_t>(x)] =
+          glm::dvec4(c.r / 255.0 * opacity, c.g / 255.0 * opacity, c.b / 255.0 * opacity, opacity);
+    }
+  return image;
+}
+
+}  // namespace atmoglobe::volume
