@@ -195,6 +195,7 @@ Result<FramingTarget> framingTargetOfVolumes(const SceneDescription& scene) {
   for (const SurfaceLayerDescription& d : scene.surfaces) {
     volume::GridReadOptions read;
     read.variable = d.variable;
+    read.allowSingleLevel = true;
     if (auto st = volume::selectGridTime(d.time, read); !st) return makeError(d.path + ": " + st.error());
     auto info = volume::describeGridFile(d.path, read);
     if (!info) return info.forwardError();

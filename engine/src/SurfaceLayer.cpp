@@ -36,6 +36,7 @@ Result<volume::SurfaceField> readSurfaceField(const SurfaceLayerDescription& d) 
   read.variable = d.variable;
   read.member = d.member;
   read.useGeoid = d.useGeoid;
+  read.allowSingleLevel = true;  // surface and single-level fields are what a map shows
   if (!d.ensemble.empty()) {
     auto e = volume::parseEnsembleStatistic(d.ensemble);
     if (!e) return makeError(d.path + ": " + e.error());

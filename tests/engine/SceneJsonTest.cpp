@@ -182,7 +182,11 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
     "slices": [{"grid": "t.nc", "variable": "t", "time": "1", "member": 3, "index": {"month": 2}, "height_m": 5000,
                 "box": [30, 40, 170, -170], "datum": "ellipsoid", "colors": "turbo", "range": [200, 300],
                 "opacity": 0.5, "resolution_px": 256, "geoid": false},
-               {"radar": "ktlx.nc", "field": "DBZH", "path": [[35, -98], [35.5, -97]], "heights_m": [0, 15000]}]
+               {"radar": "ktlx.nc", "field": "DBZH", "path": [[35, -98], [35.5, -97]], "heights_m": [0, 15000]}],
+    "surfaces": [{"path": "era5.grib", "variable": "z", "time": "2", "ensemble": "mean", "pressure_hpa": 500,
+                  "colors": "turbo", "range": [48000, 58000], "opacity": 0.6, "fill": false, "contour_interval": 400,
+                  "contour_color": [1, 1, 0], "contour_width_px": 2, "contour_labels": false, "geoid": false},
+                 {"path": "msl.grib", "member": 4, "contour_values": [98000, 101300]}]
   })",
                                       "every.json", "/base", "/data");
   ASSERT_TRUE(every) << every.error();
@@ -207,6 +211,23 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.slices[1].request.path.size(), 2u);
   EXPECT_EQ(back.overlays.at(0).widthPx, 2.5f);
   EXPECT_FALSE(back.mapContext);
+  ASSERT_EQ(back.surfaces.size(), 2u);
+  EXPECT_EQ(back.surfaces[0].path, "/base/era5.grib");
+  EXPECT_EQ(back.surfaces[0].pressureHpa, 500.0);
+  EXPECT_EQ(back.surfaces[0].contourInterval, 400.0);
+  EXPECT_FALSE(back.surfaces[0].fill);
+  EXPECT_EQ(back.surfaces[0].ensemble, "mean");
+  EXPECT_EQ(back.surfaces[1].member, 4);
+  EXPECT_EQ(back.surfaces[1].contourValues, (std::vector<double>{98000.0, 101300.0}));
+  // A surface with a typo, and one with nothing to draw, are named.
+  auto typo = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "contour_intervall": 4}]})", "s.json",
+                                     "/base", "/data");
+  ASSERT_FALSE(typo);
+  EXPECT_NE(typo.error().find("s.json: /surfaces/0/contour_intervall: unknown key"), std::string::npos) << typo.error();
+  auto nothing = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "fill": false}]})", "s.json", "/base",
+                                        "/data");
+  ASSERT_FALSE(nothing);
+  EXPECT_NE(nothing.error().find("s.json: /surfaces/0: nothing to draw"), std::string::npos) << nothing.error();
   // An ensemble statistic on a grid and on a grid slice (not with a member).
   auto stats = engine::parseSceneJson(
       R"({"grids": [{"path": "t.nc", "ensemble": "prob:>=273.15"}],

@@ -560,15 +560,15 @@ TEST(GribReader, ChoicesAndRefusalsNameTheFileAndWhatThereIs) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("no time step at 2017-01-03T00:00:00Z"), std::string::npos) << r.error();
 
-  // A level type not read (a single layer of the whole atmosphere): refused, saying so.
+  // A level type without heights (a single layer of the whole atmosphere) with one level: read
+  // as a single-level field at mean sea level, saying so.
   GridReadOptions pwat;
   pwat.variable = "pwat";
   auto single = readGridVolume(gribPath("safrica.grib2"), pwat);
-  ASSERT_FALSE(single.ok());
-  EXPECT_NE(single.error().find("safrica.grib2: variable pwat:atmosphereSingleLayer: GRIB level type "
-                                "atmosphereSingleLayer is not read yet"),
-            std::string::npos)
-      << single.error();
+  ASSERT_TRUE(single.ok()) << single.error();
+  EXPECT_EQ(single->nz, 1u);
+  EXPECT_NE(single->heightNote.find("a single-level field (GRIB atmosphereSingleLayer, no height)"), std::string::npos)
+      << single->heightNote;
 
   // "t" on two level types, one level each: the first in the file.
   GridReadOptions t;

@@ -149,7 +149,11 @@ std::vector<Variable> groupVariables(const GribIndex& idx) {
     if (v.gridType != "regular_ll" && v.gridType != "regular_gg" && !isProjectedGrid(v.gridType) &&
         !isReduced(v.gridType))
       v.notReadable = "GRIB grid type " + v.gridType + " is not read yet";
-    else if (levelToSi(v.typeOfLevel) == 0.0) v.notReadable = "GRIB level type " + v.typeOfLevel + " is not read yet";
+    // A level type without heights is read when it has one level (a single-level field: cloud top,
+    // the whole atmosphere's column ...), placed at mean sea level: a map, not a volume.
+    else if (levelToSi(v.typeOfLevel) == 0.0 && v.levels.size() != 1)
+      v.notReadable =
+          "GRIB level type " + v.typeOfLevel + " with " + std::to_string(v.levels.size()) + " levels is not read yet";
     // IFS gives two surface fields on model level 1: they make the heights of hybrid levels, they
     // are no 3-D fields (z on model level 1 only: a file with z on several model levels holds the
     // geopotential of each).
@@ -776,8 +780,15 @@ Status heightsOf(Context& c, const Variable& v, std::size_t t, long member, bool
   const std::vector<double>& lon = s.colLon;
   grid::Heights& out = s.heights;
   const double toSi = levelToSi(v.typeOfLevel);
-  for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
   out.fromVariable = v.key();
+  if (toSi == 0.0) {  // a single-level field of a level type without heights
+    for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k]);
+    out.levelUnits = v.typeOfLevel;
+    out.h.assign(nz * nc, 0.0);
+    out.note = "a single-level field (GRIB " + v.typeOfLevel + ", no height): placed at mean sea level";
+    return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
+  }
+  for (std::size_t k : s.levels) out.levelValues.push_back(v.levels[k] * toSi);
   if (isModelLevelType(v.typeOfLevel)) {
     out.levelUnits = kModelLevelUnits;
     if (v.typeOfLevel == "hybrid") return hybridHeights(c, v, t, member, useGeoid, lat, lon, s);

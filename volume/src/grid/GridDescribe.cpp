@@ -72,7 +72,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   }
   info.variables = grid::listVariables(f, kind);
   std::string name;
-  auto layout = grid::layoutFor(f, kind, variable, &name);
+  auto layout = grid::layoutFor(f, kind, variable, &name, read.allowSingleLevel);
   if (!layout) return layout.forwardError();
   const grid::GridLayout& l = *layout;
   info.variable = name;
@@ -82,7 +82,7 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   info.nz = l.vertical.fileLevels;
   info.xDimension = grid::dimensionName(l.var.groupId, l.xDim);
   info.yDimension = grid::dimensionName(l.var.groupId, l.yDim);
-  info.zDimension = grid::dimensionName(l.var.groupId, l.zDim);
+  info.zDimension = l.zDim >= 0 ? grid::dimensionName(l.var.groupId, l.zDim) : "";
   info.timeDimension = l.time.dimId >= 0 ? grid::dimensionName(l.var.groupId, l.time.dimId) : "";
   std::map<int, std::size_t> extraIndex;
   auto extras = grid::resolveExtraDimensions(f, l, read, &extraIndex);

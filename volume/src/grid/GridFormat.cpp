@@ -34,12 +34,12 @@ FileKind fileKind(const io::NetcdfFile& f) {
 }
 
 Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, const std::string& variable,
-                             std::string* chosen) {
+                             std::string* chosen, bool allowSingleLevel) {
   if (!variable.empty()) {
     auto v = findGridVariable(f, variable);
     if (!v) return v.forwardError();
     *chosen = v->name;
-    return analyse(f, kind, *v);
+    return analyse(f, kind, *v, allowSingleLevel);
   }
   const std::vector<GridVariableInfo> vars = listVariables(f, kind);
   const std::string name = chooseDefaultGridVariable(vars);

@@ -456,6 +456,12 @@ Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, con
 
   Status st = Ok{};
   bool seaLevel = true;  // the kind's heights are above sea level (the geoid); else above the ellipsoid
+  if (l.singleLevel) {
+    out.h.assign(in.nz * in.nc, 0.0);
+    out.note = "a single-level field (no vertical dimension): placed at mean sea level";
+    if (auto g = seaLevelToEllipsoid(in, useGeoid, out); !g) return g.forwardError();
+    return out;
+  }
   switch (vs.kind) {
     case VerticalKind::HeightAboveEllipsoid:
     case VerticalKind::HeightAboveSeaLevel:
@@ -482,6 +488,11 @@ Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, con
 Result<Levels> levelsOf(const io::NetcdfFile& f, const GridLayout& l) {
   const VerticalSpec& vs = l.vertical;
   Levels lv;
+  if (l.singleLevel) {  // a 2-D field: one level at mean sea level
+    lv.valuesSi = {0.0};
+    lv.units = "m";
+    return lv;
+  }
   const std::size_t n = vs.fileLevels;
   if (l.wrf) {
     lv.upward = true;

@@ -134,6 +134,8 @@ struct GridLayout {
   bool stagX = false, stagY = false, stagZ = false;
   std::size_t nx = 0, ny = 0;  ///< mass columns / rows in the file
   bool curvilinear = false;
+  /// No vertical dimension (GridReadOptions::allowSingleLevel): one level at mean sea level.
+  bool singleLevel = false;
   io::NcVar lat, lon;  ///< 1-D (rectilinear) or 2-D/3-D (curvilinear)
   VerticalSpec vertical;
   TimeSpec time;
@@ -150,11 +152,12 @@ FileKind fileKind(const io::NetcdfFile& f);
 /// The variable's layout; for an empty name, the default variable (chooseDefaultGridVariable), or
 /// why there is none. `chosen`: the variable's name (GridFormat.cpp).
 Result<GridLayout> layoutFor(const io::NetcdfFile& f, const FileKind& kind, const std::string& variable,
-                             std::string* chosen);
+                             std::string* chosen, bool allowSingleLevel = false);
 
 /// The layout of variable `v`, or an error saying why it is not a grid variable this reader
 /// can read (naming the file and the variable).
-Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v);
+Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v,
+                           bool allowSingleLevel = false);
 
 /// The variable named `name` (name or full path), or an error listing what there is.
 Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& name);

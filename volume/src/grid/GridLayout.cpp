@@ -609,11 +609,11 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   return l;
 }
 
-Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
+Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v, bool allowSingleLevel) {
   GridLayout l;
   l.var = v;
   if (v.type == NC_CHAR || v.type == NC_STRING) return varError(f, v, "holds text, not numbers");
-  if (v.dimIds.size() < 3)
+  if (v.dimIds.size() < (allowSingleLevel ? 2u : 3u))
     return varError(f, v,
                     "has " + std::to_string(v.dimIds.size()) +
                         " dimensions; a grid volume needs a vertical and two horizontal ones");
@@ -735,7 +735,9 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
                           " is not a vertical coordinate this reader knows (a pressure, a length, "
                           "geopotential metres, or a parametric coordinate with formula_terms)" +
                           (unitDatabaseProblem().empty() ? std::string() : " (" + unitDatabaseProblem() + ")"));
-    return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
+    if (!allowSingleLevel)
+      return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
+    l.singleLevel = true;
   }
   for (const Other& o : others) {
     if (o.length == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
@@ -750,6 +752,28 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
     l.extras.push_back(std::move(e));
   }
   const int yPos = positionOf(v, l.yDim), xPos = positionOf(v, l.xDim);
+  if (l.singleLevel) {
+    if (!(tPos < yPos && yPos < xPos))
+      return varError(
+          f, v, "dimension order (" + dimList(f, v) + ") is not supported: expected (time,) latitude/y, longitude/x");
+    if (l.nx == 0 || l.ny == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
+    for (const io::NcVar* c : {&l.lat, &l.lon})
+      if (auto st = checkWhole(f, *c); !st) return st.forwardError();
+    if (l.time.coordinate) {
+      if (auto st = checkWhole(f, *l.time.coordinate); !st) return st.forwardError();
+    } else if (l.time.dimId >= 0) {
+      if (auto st = f.checkReadable(v, l.time.count, 1); !st) return st.forwardError();
+    }
+    if (l.curvilinear)
+      if (auto st = checkSupportDims(f, l.lat, v, {l.time.dimId, l.yDim, l.xDim}, "latitude"); !st)
+        return st.forwardError();
+    l.vertical.kind = VerticalKind::HeightAboveSeaLevel;
+    l.vertical.fileLevels = 1;
+    l.units = attrText(f, v, "units");
+    l.standardName = attrText(f, v, "standard_name");
+    l.longName = attrText(f, v, "long_name");
+    return l;
+  }
   if (!(tPos < zPos && zPos < yPos && yPos < xPos))
     return varError(
         f, v,
@@ -780,8 +804,8 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v) {
 
 }  // namespace
 
-Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v) {
-  return kind.wrf ? analyseWrf(f, v) : analyseCf(f, v);
+Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v, bool allowSingleLevel) {
+  return kind.wrf ? analyseWrf(f, v) : analyseCf(f, v, allowSingleLevel);
 }
 
 Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& name) {

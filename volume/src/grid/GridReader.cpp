@@ -57,7 +57,7 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   if (auto st = grid::checkCrop(f, options.crop); !st) return st.forwardError();
   const grid::FileKind kind = grid::fileKind(f);
   std::string name;
-  auto layout = grid::layoutFor(f, kind, options.variable, &name);
+  auto layout = grid::layoutFor(f, kind, options.variable, &name, options.allowSingleLevel);
   if (!layout) return layout.forwardError();
   const grid::GridLayout& l = *layout;
 

@@ -104,6 +104,10 @@ struct GridReadOptions {
   /// Heights above mean sea level -> above the ellipsoid with the EGM96 undulation (Geoid.h).
   /// false: they are used as heights above the ellipsoid (errors of -106..+85 m; the note says so).
   bool useGeoid = true;
+  /// netCDF: a variable without a vertical dimension ((time,) latitude/y, longitude/x: a surface
+  /// or single-level field) is read as one level at mean sea level instead of refused (the maps
+  /// on the globe, engine/SurfaceLayer.h). GRIB reads single-level fields always.
+  bool allowSingleLevel = false;
 };
 
 /// Sets the time step of `read` from a user's text: an index ("3": timeIndex) or an ISO 8601
