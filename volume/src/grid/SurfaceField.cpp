@@ -2,6 +2,7 @@
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/SurfaceField.h>
+#include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <cmath>
 #include <limits>
@@ -46,6 +47,13 @@ Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> press
         " levels: give a pressure level (--surface-pressure-hpa, scene \"pressure_hpa\") or a 2-D variable");
   } else {
     grid.values.resize(columns);
+  }
+  // Geopotential is shown as forecasters read it, as `slice` does: geopotential height in
+  // decametres (500 hPa contours every 6 dam).
+  if (const auto toSi = geopotentialUnitToSi(grid.units)) {
+    for (float& v : grid.values) v = static_cast<float>(v * *toSi / kStandardGravity / 10.0);
+    grid.units = "dam";
+    name += " (geopotential height)";
   }
   grid.nz = 1;
   grid.heightAboveEllipsoidMeters.assign(columns, 0.0f);

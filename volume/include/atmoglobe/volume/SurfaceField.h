@@ -33,7 +33,8 @@ struct SurfaceField {
 };
 
 /// The field of `grid`: its only level (a 2-D variable), or with `pressurePa` its isobaric
-/// surface. Errors: several levels and no pressure ("... has 4 levels: give a pressure level"),
+/// surface. A geopotential (m2 s-2, or other geopotential units) becomes geopotential height in
+/// decametres ("dam"), as `slice` draws it. Errors: several levels and no pressure ("... has 4 levels: give a pressure level"),
 /// a pressure on a grid not on pressure levels or outside them, a reduced grid (not drawn as a
 /// surface yet), no finite value.
 Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa = std::nullopt);
