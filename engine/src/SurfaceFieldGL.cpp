@@ -47,6 +47,32 @@ glm::dvec2 lonLatAt(const volume::GridVolume& g, bool wraps, double i, double j)
     }
   return sum;
 }
+/// Where a line's labels go: every kLabelSpacingMeters along it from half that, or its middle when
+/// it is shorter (the scene's label placement drops those that would overlap or are not in view).
+constexpr double kLabelSpacingMeters = 1.2e6;
+std::vector<glm::dvec2> labelPoints(const map::GeoPolyline& line) {
+  const std::vector<glm::dvec2>& p = line.lonLatDeg;
+  if (p.empty()) return {};
+  std::vector<double> along(p.size(), 0.0);  // great-circle distance on the mean sphere (m)
+  for (std::size_t k = 1; k < p.size(); ++k) {
+    const glm::dvec3 a = globe::geodeticToEcef({p[k - 1].y, p[k - 1].x, 0.0});
+    const glm::dvec3 b = globe::geodeticToEcef({p[k].y, p[k].x, 0.0});
+    along[k] = along[k - 1] + glm::distance(a, b);
+  }
+  std::vector<double> at;
+  if (along.back() < kLabelSpacingMeters) at.push_back(0.5 * along.back());
+  for (double t = 0.5 * kLabelSpacingMeters; t < along.back(); t += kLabelSpacingMeters) at.push_back(t);
+  std::vector<glm::dvec2> out;
+  std::size_t k = 1;
+  for (double t : at) {
+    while (k + 1 < p.size() && along[k] < t) ++k;
+    if (p.size() == 1) return {p[0]};
+    const double span = along[k] - along[k - 1];
+    const double f = span > 0.0 ? std::clamp((t - along[k - 1]) / span, 0.0, 1.0) : 0.0;
+    out.push_back(p[k - 1] + f * (p[k] - p[k - 1]));
+  }
+  return out;
+}
 }  // namespace
 
 Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(volume::SurfaceField field,
@@ -166,15 +192,15 @@ Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(volume::SurfaceFi
     std::vector<map::GeoPolyline> polylines;
     for (const map::ContourLine& c : s->contours_) {
       polylines.push_back(c.line);
-      if (d.contourLabels && !c.line.lonLatDeg.empty()) {
-        const glm::dvec2 p = c.line.lonLatDeg[c.line.lonLatDeg.size() / 2];
-        Marker m;
-        m.latDeg = p.y;
-        m.lonDeg = p.x;
-        m.sizePx = 0.0f;
-        m.label = map::contourLabel(c.value);
-        s->labels_.push_back(m);
-      }
+      if (d.contourLabels)
+        for (const glm::dvec2& p : labelPoints(c.line)) {
+          Marker m;
+          m.latDeg = p.y;
+          m.lonDeg = p.x;
+          m.sizePx = 0.0f;
+          m.label = map::contourLabel(c.value);
+          s->labels_.push_back(m);
+        }
     }
     s->lines_->addLines(polylines, MapLineStyle{d.contourColor, d.contourWidthPx, 1.0f});
   }

@@ -38,8 +38,9 @@ class SurfaceFieldGL {
   void drawFill(const Camera& camera);
   /// The contour lines.
   void drawContours(const Camera& camera);
-  /// One label per contour line (its value, at the line's middle point) as markers without a
-  /// sprite, for the scene's label placement.
+  /// The contour lines' labels (each line's value every 1200 km along it, or at its middle when
+  /// shorter) as markers without a sprite, for the scene's label placement (which drops those that
+  /// would overlap).
   const std::vector<Marker>& contourLabels() const { return labels_; }
   const std::vector<map::ContourLine>& contours() const { return contours_; }
   /// Title, subtitle (what, when, which levels) and the fill's colour key (none without a fill).
