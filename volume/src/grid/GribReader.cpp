@@ -222,9 +222,10 @@ struct Decoded {
   // (message order).
   std::vector<long> pl;
   std::vector<double> pointLat, pointLon;
-  std::vector<double> values;  ///< file order; NaN at missing points
-  VerticalGrid vertical;       ///< when asked
-  long bottomLevel = -1;       ///< key bottomLevel (when asked): a layer's lower surface
+  std::vector<double> values;     ///< file order; NaN at missing points
+  VerticalGrid vertical;          ///< when asked
+  long bottomLevel = -1;          ///< key bottomLevel (when asked): a layer's lower surface
+  bool uvRelativeToGrid = false;  ///< key uvRelativeToGrid: vector components along the grid's axes
   std::size_t at(std::size_t row, std::size_t col) const {
     return jConsecutive ? col * static_cast<std::size_t>(nj) + row : row * static_cast<std::size_t>(ni) + col;
   }
@@ -252,6 +253,8 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
   codes_get_long(h.get(), "Nj", &d.nj);
   codes_get_long(h.get(), "jPointsAreConsecutive", &jc);
   codes_get_long(h.get(), "alternativeRowScanning", &alt);
+  long uvRelative = 0;
+  if (codes_get_long(h.get(), "uvRelativeToGrid", &uvRelative) == CODES_SUCCESS) d.uvRelativeToGrid = uvRelative != 0;
   d.jConsecutive = jc != 0;
   if (alt != 0) return varError(c, v, where + ": alternative row scanning is not read yet");
   std::size_t n = 0;
@@ -439,6 +442,7 @@ struct Selected {
   VerticalGrid vertical;            ///< model levels: the vertical grid of the first message read
   long bottomLevel = -1;            ///< model levels: bottomLevel of that message
   std::uint64_t firstOffset = 0;    ///< that message's byte offset, for errors
+  bool uvRelativeToGrid = false;    ///< the axes message's key uvRelativeToGrid
   grid::Heights heights;
   std::vector<float> values;  ///< nz x columns (empty unless asked)
   std::size_t columns() const { return colLat.size(); }
@@ -982,6 +986,7 @@ Result<Selected> readSelection(Context& c, const Variable& v, std::size_t t, lon
     s.latRows = std::move(axes->latRows);
     s.lonCols = std::move(axes->lonCols);
     s.projected = std::move(axes->projected);
+    s.uvRelativeToGrid = axes->uvRelativeToGrid;
     auto hz = horizontalOf(c, v, s, crop, sample);
     if (!hz) return hz.forwardError();
     s.hz = std::move(*hz);
@@ -1064,6 +1069,7 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
   g.wrapsLongitude = s->hz.wrapsLongitude;
   g.curvilinear = s->projected.has_value();
   if (s->projected) g.projection = s->projected->definition;
+  g.vectorsRelativeToGrid = s->uvRelativeToGrid && s->projected.has_value();
   g.fileFirstRow = s->hz.rows.front();
   g.fileFirstColumn = s->hz.cols.empty() ? 0 : s->hz.cols.front();  // reduced: 0 (set below)
   g.fileFirstLevel = s->levels.front();

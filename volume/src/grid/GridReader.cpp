@@ -110,6 +110,11 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   GridVolume g;
   g.path = path;
   g.format = kind.format;
+  // Components along the grid's axes: a WRF model's U and V, CF's x_wind, grid_eastward_wind ...
+  g.vectorsRelativeToGrid = (kind.wrf && (name == "/U" || name == "/V" || name == "/U10" || name == "/V10")) ||
+                            l.standardName == "x_wind" || l.standardName == "y_wind" ||
+                            l.standardName.rfind("grid_eastward", 0) == 0 ||
+                            l.standardName.rfind("grid_northward", 0) == 0;
   g.variable = name;
   g.units = l.units;
   g.standardName = l.standardName;

@@ -88,6 +88,10 @@ struct GridVolume {
   bool wrapsLongitude = false;
   /// A GRIB projected grid (curvilinear): the PROJ definition its points were placed by; "" else.
   std::string projection;
+  /// A vector component (wind u or v) given along the grid's axes rather than east and north:
+  /// GRIB uvRelativeToGrid on a projected grid, WRF's U and V, CF x_wind / grid_eastward_wind.
+  /// volume/Wind.h turns such components east and north.
+  bool vectorsRelativeToGrid = false;
   /// Reduced grids only (empty otherwise, see the file comment): per row (ny values) the number
   /// of its points (>= 1, <= nx), the longitude of its first point (degrees, continuous with the
   /// other rows: a crop's rows start within one of their spacings west of its west edge) and the
