@@ -220,12 +220,12 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_EQ(back.surfaces[1].member, 4);
   EXPECT_EQ(back.surfaces[1].contourValues, (std::vector<double>{98000.0, 101300.0}));
   // A surface with a typo, and one with nothing to draw, are named.
-  auto typo = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "contour_intervall": 4}]})", "s.json",
-                                     "/base", "/data");
+  auto typo = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "contour_intervall": 4}]})", "s.json", "/base",
+                                     "/data");
   ASSERT_FALSE(typo);
   EXPECT_NE(typo.error().find("s.json: /surfaces/0/contour_intervall: unknown key"), std::string::npos) << typo.error();
-  auto nothing = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "fill": false}]})", "s.json", "/base",
-                                        "/data");
+  auto nothing =
+      engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "fill": false}]})", "s.json", "/base", "/data");
   ASSERT_FALSE(nothing);
   EXPECT_NE(nothing.error().find("s.json: /surfaces/0: nothing to draw"), std::string::npos) << nothing.error();
   // An ensemble statistic on a grid and on a grid slice (not with a member).

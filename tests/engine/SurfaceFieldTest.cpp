@@ -61,12 +61,13 @@ TEST(SurfaceField, ContourLinesLieWithinHalfAPixelOfTheirTruePlaceAtThreeHeights
   for (const auto& [heightMeters, spacingDeg] : {std::pair{5e6, 0.5}, std::pair{5e5, 0.1}, std::pair{5e4, 0.05}}) {
     const double halfSpanDeg = std::max(3.0, heightMeters / 111e3 * 1.5);
     const int n = static_cast<int>(2.0 * halfSpanDeg / spacingDeg) + 1;
-    auto field = volume::surfaceFieldOf(
-        flatGrid(testutil::evenlySpaced(-97.0 - halfSpanDeg, spacingDeg, n),
-                 testutil::evenlySpaced(std::max(-89.0, 35.0 - halfSpanDeg), spacingDeg,
-                                        static_cast<int>((std::min(89.0, 35.0 + halfSpanDeg) -
-                                                          std::max(-89.0, 35.0 - halfSpanDeg)) / spacingDeg) + 1),
-                 [](double lat, double) { return lat; }));
+    auto field = volume::surfaceFieldOf(flatGrid(
+        testutil::evenlySpaced(-97.0 - halfSpanDeg, spacingDeg, n),
+        testutil::evenlySpaced(
+            std::max(-89.0, 35.0 - halfSpanDeg), spacingDeg,
+            static_cast<int>((std::min(89.0, 35.0 + halfSpanDeg) - std::max(-89.0, 35.0 - halfSpanDeg)) / spacingDeg) +
+                1),
+        [](double lat, double) { return lat; }));
     ASSERT_TRUE(field) << field.error();
     engine::SurfaceLayerDescription d;
     d.path = "test.nc";
@@ -125,8 +126,8 @@ TEST(SurfaceField, GpuFillMatchesTheCpuReference) {
     return 280.0 + 12.0 * std::sin(lat * 0.35) * std::cos(lon * 0.27) + 0.3 * (lat - 35.0);
   };
   // Rectilinear, 0.25 deg.
-  volume::GridVolume rect = flatGrid(testutil::evenlySpaced(-110.0, 0.25, 121), testutil::evenlySpaced(25.0, 0.25, 81),
-                                     smooth);
+  volume::GridVolume rect =
+      flatGrid(testutil::evenlySpaced(-110.0, 0.25, 121), testutil::evenlySpaced(25.0, 0.25, 81), smooth);
   // Curvilinear: a sheared, rotated grid (lat/lon of each point given).
   volume::GridVolume curv = rect;
   curv.curvilinear = true;
@@ -172,13 +173,13 @@ TEST(SurfaceField, GpuFillMatchesTheCpuReference) {
         gpu.rgbaPremultiplied.push_back(glm::dvec4(p.r, p.g, p.b, p.a) / 255.0);
         drawn += p.a > 0;
       }
-    const volume::VolumeImage ref = volume::renderSurfaceReference((*gl)->sampler(), (*gl)->table(), d.opacity,
-                                                                   engine::referenceCameraFor(camera));
+    const volume::VolumeImage ref =
+        volume::renderSurfaceReference((*gl)->sampler(), (*gl)->table(), d.opacity, engine::referenceCameraFor(camera));
     int refDrawn = 0;
     for (const glm::dvec4& p : ref.rgbaPremultiplied) refDrawn += p.a > 0.0;
     const volume::ImageError e = volume::compareImages(gpu, ref);
-    std::cout << "surface fill, " << c.name << ": " << drawn << " pixels drawn (reference " << refDrawn
-              << "), mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
+    std::cout << "surface fill, " << c.name << ": " << drawn << " pixels drawn (reference " << refDrawn << "), mean "
+              << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB\n";
     EXPECT_GT(refDrawn, 2000) << c.name;
     EXPECT_LT(e.meanAbs, 1.0) << c.name;
     EXPECT_GT(e.psnrDb, 35.0) << c.name;
