@@ -32,7 +32,8 @@ uniform float VOL_meridionalRadius;         // M at the site (m)
 uniform float VOL_primeVerticalRadius;      // N at the site (m)
 uniform float VOL_effectiveRadius;          // Re = ke * R (m)
 uniform float VOL_exaggeration;             // vertical exaggeration (1: none)
-uniform vec2 VOL_cellScale;                 // the step rule's (volume::PolarCellScale): gate (m; 0: no rule), angle across the beam (rad)
+uniform vec2 VOL_cellScale;                 // the step rule's (volume::PolarCellScale): gate (m; 0: no rule),
+                                            // angle across the beam (rad)
 
 // --- geometry: site-relative ECEF -> (range m, azimuth deg, elevation deg) ---------------
 // The float32 twin of volume::LocalSphereBeam::antennaCoordinates (polar_beam.glsl).
