@@ -153,6 +153,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                  "A statistic over every member: mean, spread, min, max or prob:>=V (as --ensemble)");
   sf->add_option("--surface-pressure-hpa", o.surfacePressuresHpa,
                  "A 3-D variable's isobaric surface at this pressure (hPa; grids on pressure levels)");
+  sf->add_option("--surface-level", o.surfaceLevels, "A 3-D variable's level (0 = the lowest; model levels too)");
   sf->add_option("--surface-colors", o.surfaceColors, "Colour table (as --grid-colors; default auto)");
   sf->add_option("--surface-range", o.surfaceRanges, "Colour table span MIN,MAX (field units)");
   sf->add_option("--surface-opacity", o.surfaceOpacities, "Opacity of the fill, 0..1 (default 0.75; 0: contours only)");
@@ -161,6 +162,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   sf->add_option("--surface-contour-values", o.surfaceContourValues,
                  "Contour lines at these values, e.g. 5400,5700 (one value: \"5400,\")");
   sf->add_flag("--surface-no-fill", o.surfaceNoFill, "Contours only, no colour fill (every --surface)");
+  sf->add_option("--surface-wind", o.surfaceWinds,
+                 "Wind barbs from the file's u and v: auto (by standard name or name: u/v, 10u/10v, U/V ...) or "
+                 "U,V; with no --surface-var the fill is the wind speed; none: no barbs");
   auto* sl = c.add_option_group("Slices", "Drawn on the globe, of the scene's first radar (else its first grid)");
   sl->add_option("--slice-height-m", o.sliceHeights, "A CAPPI at this height above sea level (m; repeatable)");
   sl->add_option("--slice-path", o.slicePaths,
@@ -356,10 +360,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   for (const std::string& m : o.models) scene->models.push_back(m);
   // --surface replaces the scene's surfaces; each setting once (all) or once per --surface.
   const std::size_t ns = o.surfaces.size();
-  if (ns == 0 && (!o.surfaceVars.empty() || !o.surfaceTimes.empty() || !o.surfaceMembers.empty() ||
-                  !o.surfaceEnsembles.empty() || !o.surfacePressuresHpa.empty() || !o.surfaceColors.empty() ||
-                  !o.surfaceRanges.empty() || !o.surfaceOpacities.empty() || !o.surfaceContourIntervals.empty() ||
-                  !o.surfaceContourValues.empty() || o.surfaceNoFill))
+  if (ns == 0 &&
+      (!o.surfaceVars.empty() || !o.surfaceTimes.empty() || !o.surfaceMembers.empty() || !o.surfaceEnsembles.empty() ||
+       !o.surfacePressuresHpa.empty() || !o.surfaceColors.empty() || !o.surfaceRanges.empty() ||
+       !o.surfaceOpacities.empty() || !o.surfaceContourIntervals.empty() || !o.surfaceContourValues.empty() ||
+       o.surfaceNoFill || !o.surfaceWinds.empty() || !o.surfaceLevels.empty()))
     return makeError("--surface-* options need a --surface");
   if (ns > 0) {
     scene->surfaces.clear();
@@ -372,6 +377,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     d.fill = !o.surfaceNoFill;
     std::string range, values;
     double pressure = 0.0, interval = 0.0;
+    int level = 0;
     auto pickS = [&](const auto& v, const char* name, auto& out) {
       return pickPerLayer(v, name, "--surface", ns, i, out);
     };
@@ -383,10 +389,13 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickS(o.surfaceColors, "--surface-colors", d.colors), pickS(o.surfaceRanges, "--surface-range", range),
           pickS(o.surfaceOpacities, "--surface-opacity", d.opacity),
           pickS(o.surfaceContourIntervals, "--surface-contour-interval", interval),
-          pickS(o.surfaceContourValues, "--surface-contour-values", values)}) {
+          pickS(o.surfaceContourValues, "--surface-contour-values", values),
+          pickS(o.surfaceWinds, "--surface-wind", d.wind), pickS(o.surfaceLevels, "--surface-level", level)}) {
       if (!st) return st.forwardError();
     }
     if (!o.surfacePressuresHpa.empty()) d.pressureHpa = pressure;
+    if (d.wind == "none") d.wind.clear();
+    if (!o.surfaceLevels.empty()) d.level = level;
     if (!o.surfaceContourIntervals.empty() && interval != 0.0) d.contourInterval = interval;  // 0: none
     if (!o.surfaceOpacities.empty() && d.opacity == 0.0) d.fill = false;
     if (!range.empty()) {

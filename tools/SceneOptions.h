@@ -44,8 +44,8 @@ struct SceneOptions {
   std::vector<double> samplesPerCell;  ///< radars' step rule
   /// --surface FILE and its settings, each once (all) or once per --surface.
   std::vector<std::string> surfaces, surfaceVars, surfaceTimes, surfaceEnsembles, surfaceColors, surfaceRanges,
-      surfaceContourValues;
-  std::vector<int> surfaceMembers;
+      surfaceContourValues, surfaceWinds;
+  std::vector<int> surfaceMembers, surfaceLevels;
   std::vector<double> surfacePressuresHpa, surfaceOpacities, surfaceContourIntervals;
   bool surfaceNoFill = false;
   /// Range, opacity ramp and crop of every volume layer (VolumeLayerSettings), as text:

@@ -142,6 +142,18 @@ void MapRendererGL::addLines(const std::vector<map::GeoPolyline>& lines, const M
   overlays_.push_back(std::move(o));
 }
 
+void MapRendererGL::clearLines() {
+  overlays_.clear();
+  for (auto it = chunks_.begin(); it != chunks_.end();) {
+    if (std::get<0>(it->first) >= 3) {  // overlay chunks (0..2 are the built-in layers)
+      chunkBytes_ -= it->second->bytes;
+      it = chunks_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
 Result<std::string> MapRendererGL::addOverlay(const std::string& path, const MapLineStyle& style) {
   auto contents = map::readVectorFile(path);
   if (!contents) return contents.forwardError();

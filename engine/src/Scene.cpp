@@ -232,9 +232,9 @@ Status parseSurfaceLayer(const Object& o, const std::string& baseDir, const std:
   double pressure = 0.0, interval = 0.0;
   Status st = all(
       [&] {
-        return o.checkObject({"path", "variable", "time", "member", "ensemble", "pressure_hpa", "colors", "range",
-                              "opacity", "fill", "contour_interval", "contour_values", "contour_color",
-                              "contour_width_px", "contour_labels", "geoid"});
+        return o.checkObject({"path", "variable", "time", "member", "ensemble", "pressure_hpa", "level", "colors",
+                              "range", "opacity", "fill", "contour_interval", "contour_values", "contour_color",
+                              "contour_width_px", "contour_labels", "wind", "wind_color", "geoid"});
       },
       [&] { return parsePath(o, "path", d.path, "a CF or WRF netCDF or a GRIB file", baseDir, dataDir); },
       [&] { return o.string("variable", d.variable); }, [&] { return o.string("time", d.time); },
@@ -242,6 +242,12 @@ Status parseSurfaceLayer(const Object& o, const std::string& baseDir, const std:
       [&] {
         Status s = o.number("pressure_hpa", pressure, 0.001, 1100.0, "hPa");
         if (s && o.has("pressure_hpa")) d.pressureHpa = pressure;
+        return s;
+      },
+      [&] {
+        int level = 0;
+        Status s = o.integer("level", level, 0, 100000);
+        if (s && o.has("level")) d.level = level;
         return s;
       },
       [&] { return o.string("colors", d.colors); },
@@ -259,7 +265,8 @@ Status parseSurfaceLayer(const Object& o, const std::string& baseDir, const std:
       [&] { return o.numbers("contour_values", d.contourValues, 1, 1000, "[value, ...] (field units)"); },
       [&] { return o.color("contour_color", d.contourColor); },
       [&] { return o.number("contour_width_px", d.contourWidthPx, 0.5, 16.0, "px"); },
-      [&] { return o.boolean("contour_labels", d.contourLabels); }, [&] { return o.boolean("geoid", d.useGeoid); });
+      [&] { return o.boolean("contour_labels", d.contourLabels); }, [&] { return o.string("wind", d.wind); },
+      [&] { return o.color("wind_color", d.windColor); }, [&] { return o.boolean("geoid", d.useGeoid); });
   if (!st) return st;
   return validateSurfaceLayer(d, o.where());
 }

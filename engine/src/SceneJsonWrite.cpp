@@ -34,6 +34,7 @@ json surfaceJson(const SurfaceLayerDescription& s) {
   if (s.member >= 0) j["member"] = s.member;
   if (!s.ensemble.empty()) j["ensemble"] = s.ensemble;
   if (s.pressureHpa) j["pressure_hpa"] = *s.pressureHpa;
+  if (s.level) j["level"] = *s.level;
   if (s.colors != d.colors) j["colors"] = s.colors;
   if (s.valueRange) j["range"] = {s.valueRange->x, s.valueRange->y};
   if (s.opacity != d.opacity) j["opacity"] = s.opacity;
@@ -43,6 +44,8 @@ json surfaceJson(const SurfaceLayerDescription& s) {
   if (s.contourColor != d.contourColor) j["contour_color"] = colorOf(s.contourColor);
   if (s.contourWidthPx != d.contourWidthPx) j["contour_width_px"] = s.contourWidthPx;
   if (s.contourLabels != d.contourLabels) j["contour_labels"] = s.contourLabels;
+  if (!s.wind.empty()) j["wind"] = s.wind;
+  if (s.windColor != d.windColor) j["wind_color"] = colorOf(s.windColor);
   if (s.useGeoid != d.useGeoid) j["geoid"] = s.useGeoid;
   return j;
 }

@@ -82,9 +82,9 @@ Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
 }
 
 Result<std::string> SceneRendererGL::addSurface(const SurfaceLayerDescription& d) {
-  auto field = readSurfaceField(d);
-  if (!field) return field.forwardError();
-  auto surface = SurfaceFieldGL::create(std::move(*field), d);
+  auto data = readSurfaceData(d);
+  if (!data) return data.forwardError();
+  auto surface = SurfaceFieldGL::create(std::move(*data), d);
   if (!surface) return surface.forwardError();
   const SurfaceFieldGL& s = **surface;
   const volume::GridVolume& g = s.field().grid;

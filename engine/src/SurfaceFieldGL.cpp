@@ -10,6 +10,7 @@
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/TransferFunction.h>
+#include <atmoglobe/volume/Wind.h>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -75,8 +76,8 @@ std::vector<glm::dvec2> labelPoints(const map::GeoPolyline& line) {
 }
 }  // namespace
 
-Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(volume::SurfaceField field,
-                                                               const SurfaceLayerDescription& d) {
+Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(SurfaceData data, const SurfaceLayerDescription& d) {
+  volume::SurfaceField& field = data.field;
   const volume::GridVolume& g = field.grid;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
@@ -99,6 +100,9 @@ Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(volume::SurfaceFi
   s->table_ = tf.colors;
   s->field_ = std::move(field);
   s->sampler_ = std::make_unique<volume::SurfaceSampler>(s->field_);
+  s->windGrid_ = std::move(data.windGrid);
+  s->wind_ = std::move(data.wind);
+  s->windNote_ = std::move(data.windNote);
   const volume::GridVolume& grid = s->field_.grid;
   const bool wraps = grid.wrapsLongitude && !grid.curvilinear;
   const std::size_t nx = grid.nx, ny = grid.ny, columns = nx + (wraps ? 1 : 0);
@@ -252,6 +256,77 @@ void SurfaceFieldGL::drawFill(const Camera& camera) {
 
 void SurfaceFieldGL::drawContours(const Camera& camera) {
   if (lines_) lines_->draw(camera);
+  if (!windGrid_) return;
+  buildBarbs(camera);
+  if (barbs_) barbs_->draw(camera);
+}
+
+void SurfaceFieldGL::buildBarbs(const Camera& camera) {
+  const volume::GridVolume& g = *windGrid_;
+  // The view's scale (metres per pixel at the centre, else at the nearest point of the Earth) and
+  // place decide which points carry barbs and how long they are.
+  const glm::dvec3 eye = camera.eyeEcef();
+  const glm::dvec3 centreDir = camera.pixelRayDirection(0.5 * camera.widthPx(), 0.5 * camera.heightPx());
+  const auto centreHit = globe::intersectRayEllipsoid(eye, centreDir);
+  const double distance = centreHit ? glm::length(*centreHit - eye)
+                                    : std::max(1.0, globe::ecefToGeodetic(eye).heightMeters);
+  const double metersPerPx = distance / camera.focalLengthPx();
+  // Grid spacing near the grid's middle (m).
+  const std::size_t mi = g.nx / 2, mj = g.ny / 2;
+  const glm::dvec3 a = globe::geodeticToEcef({g.latDegAt(mj, mi), g.lonDegAt(mj, mi), 0.0});
+  const glm::dvec3 b = globe::geodeticToEcef(
+      {g.latDegAt(mj, std::min(mi + 1, g.nx - 1)), g.lonDegAt(mj, std::min(mi + 1, g.nx - 1)), 0.0});
+  const glm::dvec3 c = globe::geodeticToEcef(
+      {g.latDegAt(std::min(mj + 1, g.ny - 1), mi), g.lonDegAt(std::min(mj + 1, g.ny - 1), mi), 0.0});
+  const double cellMeters = std::max(1.0, std::min(glm::distance(a, b) > 0.0 ? glm::distance(a, b) : 1e30,
+                                                   glm::distance(a, c) > 0.0 ? glm::distance(a, c) : 1e30));
+  const std::size_t stride =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(kBarbSpacingPx * metersPerPx / cellMeters)));
+  const double lengthMeters = kBarbLengthPx * metersPerPx;
+  // Built again when the stride or the barb length changes by a quarter, or the view's centre
+  // moves by more than a tenth of the view.
+  const glm::dvec3 centre = centreHit ? *centreHit : eye;
+  const std::vector<double> key{static_cast<double>(stride), std::round(std::log2(lengthMeters) * 3.0),
+                                std::round(centre.x / (metersPerPx * camera.widthPx() * 0.1)),
+                                std::round(centre.y / (metersPerPx * camera.widthPx() * 0.1)),
+                                std::round(centre.z / (metersPerPx * camera.widthPx() * 0.1))};
+  if (key == barbKey_ && barbs_) return;
+  barbKey_ = key;
+  barbPoints_.clear();
+  barbLines_.clear();
+  const globe::ViewState view = camera.viewState();
+  for (std::size_t j = 0; j < g.ny; j += stride)
+    for (std::size_t i = 0; i < g.nx; i += stride) {
+      const std::size_t k = j * g.nx + i;
+      const double east = wind_.eastMps[k], north = wind_.northMps[k];
+      if (!std::isfinite(east) || !std::isfinite(north)) continue;
+      const double lat = g.latDegAt(j, i), lon = g.lonDegAt(j, i);
+      const glm::dvec3 p = globe::geodeticToEcef({lat, lon, 0.0});
+      // In view: in front of the camera, inside the frustum (with a barb's margin) and on the
+      // near side of the Earth.
+      bool inside = true;
+      for (const glm::dvec4& plane : view.frustumPlanesEcef)
+        inside = inside && glm::dot(glm::dvec3(plane), p) + plane.w > -lengthMeters;
+      if (!inside || glm::dot(eye - p, globe::enuAxes(lat, lon)[2]) < 0.0) continue;
+      barbPoints_.push_back(k);
+      const auto axes = globe::enuAxes(lat, lon);
+      for (const std::vector<glm::dvec2>& piece : volume::barbPolylines(east, north, lat < 0.0)) {
+        map::GeoPolyline line;
+        for (const glm::dvec2& q : piece) {
+          const globe::Geodetic gq =
+              globe::ecefToGeodetic(p + lengthMeters * (q.x * glm::dvec3(axes[0]) + q.y * glm::dvec3(axes[1])));
+          line.lonLatDeg.emplace_back(gq.lonDeg, gq.latDeg);
+        }
+        barbLines_.push_back(std::move(line));
+      }
+    }
+  if (!barbs_) {
+    auto r = MapRendererGL::create("");
+    if (!r) return;
+    barbs_ = std::move(*r);
+  }
+  barbs_->clearLines();
+  barbs_->addLines(barbLines_, MapLineStyle{description_.windColor, 1.5f, 1.0f});
 }
 
 std::string SurfaceFieldGL::title() const { return displayName(field_.name) + " (map)"; }
@@ -259,6 +334,7 @@ std::string SurfaceFieldGL::title() const { return displayName(field_.name) + " 
 std::string SurfaceFieldGL::subtitle() const {
   const volume::GridVolume& g = field_.grid;
   std::string s = displayName(field_.name) + " valid " + utcLabel(g.validTime);
+  if (windGrid_) s += "  " + windNote_ + ", barbs in knots (pennant 50, barb 10, half 5)";
   if (!volume::memberText(g).empty()) s += "  " + volume::memberText(g);
   if (description_.contourInterval)
     s += "  contours every " + map::contourLabel(*description_.contourInterval) + " " + g.units;

@@ -186,7 +186,8 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
     "surfaces": [{"path": "era5.grib", "variable": "z", "time": "2", "ensemble": "mean", "pressure_hpa": 500,
                   "colors": "turbo", "range": [48000, 58000], "opacity": 0.6, "fill": false, "contour_interval": 400,
                   "contour_color": [1, 1, 0], "contour_width_px": 2, "contour_labels": false, "geoid": false},
-                 {"path": "msl.grib", "member": 4, "contour_values": [98000, 101300]}]
+                 {"path": "msl.grib", "member": 4, "level": 2, "contour_values": [98000, 101300], "wind": "10u,10v",
+                  "wind_color": [1, 1, 1]}]
   })",
                                       "every.json", "/base", "/data");
   ASSERT_TRUE(every) << every.error();
@@ -218,6 +219,8 @@ TEST(SceneJson, WrittenScenesReadBackTheSame) {
   EXPECT_FALSE(back.surfaces[0].fill);
   EXPECT_EQ(back.surfaces[0].ensemble, "mean");
   EXPECT_EQ(back.surfaces[1].member, 4);
+  EXPECT_EQ(back.surfaces[1].wind, "10u,10v");
+  EXPECT_EQ(back.surfaces[1].level, 2);
   EXPECT_EQ(back.surfaces[1].contourValues, (std::vector<double>{98000.0, 101300.0}));
   // A surface with a typo, and one with nothing to draw, are named.
   auto typo = engine::parseSceneJson(R"({"surfaces": [{"path": "a.grib", "contour_intervall": 4}]})", "s.json", "/base",

@@ -75,7 +75,7 @@ TEST(SurfaceField, ContourLinesLieWithinHalfAPixelOfTheirTruePlaceAtThreeHeights
     d.contourValues = {35.1};
     d.contourColor = glm::vec3(1.0f);
     d.contourLabels = false;
-    auto gl = engine::SurfaceFieldGL::create(std::move(*field), d);
+    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}}, d);
     ASSERT_TRUE(gl) << gl.error();
     ASSERT_EQ((*gl)->contours().size(), 1u);
     const engine::Camera camera(engine::CameraPose{35.1, -97.0, heightMeters, 0.0, -90.0, 0.0}, 45.0, 320, 180);
@@ -159,7 +159,7 @@ TEST(SurfaceField, GpuFillMatchesTheCpuReference) {
     engine::SurfaceLayerDescription d;
     d.path = "test.nc";
     d.opacity = 0.8;
-    auto gl = engine::SurfaceFieldGL::create(std::move(*field), d);
+    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}}, d);
     ASSERT_TRUE(gl) << gl.error();
     const engine::Camera camera(c.pose, 45.0, 160, 90);
     const globe::ImageRGBA8 frame = drawAlone(camera, **gl, true, false);
@@ -216,6 +216,16 @@ TEST(SurfaceField, IsobaricSurfaceIsTheLevelsInterpolatedInLogPressure) {
   auto noPressure = volume::surfaceFieldOf(g);
   ASSERT_FALSE(noPressure);
   EXPECT_NE(noPressure.error().find("has 2 levels: give a pressure level"), std::string::npos) << noPressure.error();
+  // A level by its index, on any grid: the upper one, 20; beyond the levels, or with a pressure:
+  // refused.
+  auto upper = volume::surfaceFieldOf(g, std::nullopt, 1);
+  ASSERT_TRUE(upper) << upper.error();
+  EXPECT_EQ(upper->grid.values[4], 20.0f);
+  EXPECT_EQ(upper->name, "t:isobaricInhPa at level 1");
+  auto beyond = volume::surfaceFieldOf(g, std::nullopt, 2);
+  ASSERT_FALSE(beyond);
+  EXPECT_NE(beyond.error().find("level 2 asked, it has 2 (0 = the lowest)"), std::string::npos) << beyond.error();
+  EXPECT_FALSE(volume::surfaceFieldOf(g, 70000.0, 0));
   g.verticalKind = volume::VerticalKind::HeightAboveSeaLevel;
   auto heights = volume::surfaceFieldOf(g, 70000.0);
   ASSERT_FALSE(heights);
@@ -234,6 +244,7 @@ TEST(SurfaceField, DescriptionsAreValidated) {
     EXPECT_NE(st.error().find(message), std::string::npos) << st.error();
   };
   bad([](auto& e) { e.fill = false; }, "nothing to draw");
+  bad([](auto& e) { e.wind = "u"; }, "expected auto or two variables U,V");
   bad([](auto& e) { e.opacity = 1.5; }, "opacity must be in 0..1");
   bad([](auto& e) { e.pressureHpa = -5.0; }, "pressure level must be in (0, 1100] hPa");
   bad([](auto& e) { e.contourInterval = 0.0; }, "contour interval must be a finite number > 0");

@@ -107,4 +107,28 @@ TEST(Wind, BarbPartsRoundToFiveKnots) {
   EXPECT_EQ(parts(103.0), (std::vector<int>{2, 0, 1, 0}));
 }
 
+TEST(Wind, BarbPointsWhereTheWindComesFromWithItsPartsOnTheLowPressureSide) {
+  // A westerly of 65 kt (33.4 m/s): the shaft to the west, a pennant, a barb and a half barb,
+  // all north of the shaft in the northern hemisphere and south of it in the southern.
+  const double mps = 65.0 / volume::kKnotsPerMps;
+  for (bool south : {false, true}) {
+    const auto lines = volume::barbPolylines(mps, 0.0, south);
+    ASSERT_EQ(lines.size(), 4u);  // shaft, pennant, barb, half barb
+    EXPECT_NEAR(lines[0][1].x, -1.0, 1e-12);
+    EXPECT_NEAR(lines[0][1].y, 0.0, 1e-12);
+    EXPECT_EQ(lines[1].size(), 4u);  // the pennant, closed
+    for (std::size_t k = 1; k < lines.size(); ++k) {
+      double far = 0.0;
+      for (const glm::dvec2& p : lines[k]) far = std::abs(p.y) > std::abs(far) ? p.y : far;
+      EXPECT_GT(south ? -far : far, 0.15) << "part " << k << (south ? " (south)" : " (north)");
+    }
+  }
+  // A southerly of 10 kt: the shaft to the south, one full barb; calm: a circle.
+  const auto southerly = volume::barbPolylines(0.0, 10.0 / volume::kKnotsPerMps, false);
+  ASSERT_EQ(southerly.size(), 2u);
+  EXPECT_NEAR(southerly[0][1].y, -1.0, 1e-12);
+  EXPECT_LT(southerly[1][1].x, -0.3);  // right of the shaft seen from the station looking south: west
+  EXPECT_EQ(volume::barbPolylines(0.5, 0.5, false).size(), 1u);
+}
+
 }  // namespace

@@ -23,7 +23,8 @@ Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double p
   return out;
 }
 
-Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa) {
+Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa,
+                                    std::optional<std::size_t> level) {
   const std::string what = grid.path + ": '" + grid.variable + "'";
   if (grid.reduced()) return makeError(what + " is on a reduced grid: not drawn as a surface field yet");
   if (grid.nx < 2 || grid.ny < 2) return makeError(what + ": a surface field needs at least 2 x 2 grid points");
@@ -34,7 +35,15 @@ Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> press
   // A GRIB variable's level type says nothing once the surface is named by its pressure.
   if (const auto colon = name.find(':'); pressurePa && colon != std::string::npos) name = name.substr(0, colon);
   const std::size_t columns = grid.nx * grid.ny;
-  if (pressurePa) {
+  if (pressurePa && level) return makeError(what + ": give a pressure or a level, not both");
+  if (level) {
+    if (*level >= grid.nz)
+      return makeError(what + ": level " + std::to_string(*level) + " asked, it has " + std::to_string(grid.nz) +
+                       " (0 = the lowest)");
+    grid.values = std::vector<float>(grid.values.begin() + static_cast<std::ptrdiff_t>(*level * columns),
+                                     grid.values.begin() + static_cast<std::ptrdiff_t>((*level + 1) * columns));
+    name += " at level " + std::to_string(*level);
+  } else if (pressurePa) {
     auto values = isobaricColumnValues(grid, *pressurePa);
     if (!values) return values.forwardError();
     grid.values = std::move(*values);
@@ -42,9 +51,9 @@ Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> press
     std::snprintf(at, sizeof at, " at %g hPa", *pressurePa / 100.0);
     name += at;
   } else if (grid.nz != 1) {
-    return makeError(
-        what + " has " + std::to_string(grid.nz) +
-        " levels: give a pressure level (--surface-pressure-hpa, scene \"pressure_hpa\") or a 2-D variable");
+    return makeError(what + " has " + std::to_string(grid.nz) +
+                     " levels: give a pressure level (--surface-pressure-hpa, scene \"pressure_hpa\"), a level "
+                     "(--surface-level) or a 2-D variable");
   } else {
     grid.values.resize(columns);
   }

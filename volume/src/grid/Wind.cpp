@@ -59,4 +59,33 @@ BarbParts barbParts(double speedKnots) {
   return p;
 }
 
+std::vector<std::vector<glm::dvec2>> barbPolylines(double eastMps, double northMps, bool southernHemisphere) {
+  std::vector<std::vector<glm::dvec2>> out;
+  const double speed = std::hypot(eastMps, northMps);
+  const BarbParts parts = barbParts(speed * kKnotsPerMps);
+  if (parts.calm) {
+    std::vector<glm::dvec2> circle;
+    for (int k = 0; k <= 16; ++k) {
+      const double a = 2.0 * 3.14159265358979323846 * k / 16.0;
+      circle.emplace_back(0.15 * std::cos(a), 0.15 * std::sin(a));
+    }
+    out.push_back(std::move(circle));
+    return out;
+  }
+  const glm::dvec2 w = -glm::dvec2(eastMps, northMps) / speed;  // toward where the wind comes from
+  const glm::dvec2 side = southernHemisphere ? glm::dvec2(-w.y, w.x) : glm::dvec2(w.y, -w.x);
+  constexpr double kStep = 0.14, kBarb = 0.4;
+  out.push_back({glm::dvec2(0.0), w});
+  double t = 1.0;  // along the shaft, from its outer end inward
+  for (int k = 0; k < parts.pennants; ++k, t -= kStep)
+    out.push_back({t * w, t * w + kBarb * side, (t - kStep) * w, t * w});
+  if (parts.pennants > 0) t -= 0.04;  // a gap after the pennants
+  for (int k = 0; k < parts.full; ++k, t -= kStep) out.push_back({t * w, t * w + kBarb * side + 0.1 * w});
+  if (parts.half) {
+    if (parts.pennants == 0 && parts.full == 0) t -= kStep;  // alone: not at the end, not a full barb
+    out.push_back({t * w, t * w + 0.5 * kBarb * side + 0.05 * w});
+  }
+  return out;
+}
+
 }  // namespace atmoglobe::volume

@@ -65,6 +65,8 @@ class MapRendererGL {
   Result<std::string> addOverlay(const std::string& path, const MapLineStyle& style);
   /// Adds lines (range rings, tests) as a layer.
   void addLines(const std::vector<map::GeoPolyline>& lines, const MapLineStyle& style);
+  /// Removes every layer added by addLines or addOverlay (lines rebuilt for a new view: wind barbs).
+  void clearLines();
 
   /// Draws into the bound framebuffer (after the globe: depth test on, writes off, blending).
   MapFrameStats draw(const Camera& camera);

@@ -28,16 +28,21 @@ class SurfaceFieldGL {
  public:
   /// Uploads the field and finds its contour lines. Errors: the colour table's, GDAL's, a field
   /// too large for one texture.
-  static Result<std::unique_ptr<SurfaceFieldGL>> create(volume::SurfaceField field,
-                                                        const SurfaceLayerDescription& description);
+  static Result<std::unique_ptr<SurfaceFieldGL>> create(SurfaceData data, const SurfaceLayerDescription& description);
   ~SurfaceFieldGL();
   SurfaceFieldGL(const SurfaceFieldGL&) = delete;
   SurfaceFieldGL& operator=(const SurfaceFieldGL&) = delete;
 
   /// The fill (when the description asks for it), into the bound framebuffer.
   void drawFill(const Camera& camera);
-  /// The contour lines.
+  /// The contour lines and the wind barbs. Barbs sit at grid points about kBarbSpacingPx apart
+  /// on the screen (every k-th row and column, k from the pixel footprint at the view's centre),
+  /// each kBarbLengthPx long there; they are built again when the view's scale or place changes.
   void drawContours(const Camera& camera);
+  static constexpr double kBarbSpacingPx = 42.0, kBarbLengthPx = 26.0;
+  /// The barbs built for the last frame: their grid points (row-major indices) and lines.
+  const std::vector<std::size_t>& barbPoints() const { return barbPoints_; }
+  const std::vector<map::GeoPolyline>& barbLines() const { return barbLines_; }
   /// The contour lines' labels (each line's value every 1200 km along it, or at its middle when
   /// shorter) as markers without a sprite, for the scene's label placement (which drops those that
   /// would overlap).
@@ -70,6 +75,15 @@ class SurfaceFieldGL {
   std::vector<map::ContourLine> contours_;
   std::vector<Marker> labels_;
   std::size_t gpuBytes_ = 0;
+  // Wind barbs.
+  std::optional<volume::GridVolume> windGrid_;
+  volume::WindComponents wind_;
+  std::string windNote_;
+  std::unique_ptr<MapRendererGL> barbs_;
+  std::vector<double> barbKey_;
+  std::vector<std::size_t> barbPoints_;
+  std::vector<map::GeoPolyline> barbLines_;
+  void buildBarbs(const Camera& camera);
 };
 
 }  // namespace atmoglobe::engine

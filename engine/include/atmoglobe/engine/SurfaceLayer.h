@@ -6,10 +6,12 @@
 // reference.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/SurfaceField.h>
+#include <atmoglobe/volume/Wind.h>
 #include <glm/glm.hpp>
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atmoglobe::engine {
@@ -21,6 +23,7 @@ struct SurfaceLayerDescription {
   int member = -1;                    ///< GRIB `number` (-1: the first)
   std::string ensemble;               ///< "" or mean|spread|min|max|prob:OPV (volume::parseEnsembleStatistic)
   std::optional<double> pressureHpa;  ///< a 3-D variable's isobaric surface
+  std::optional<int> level;           ///< or one of its levels (0 = the lowest)
   std::string colors = "auto";        ///< as a grid layer's (volume::transferForField)
   std::optional<glm::dvec2> valueRange;
   double opacity = 0.75;  ///< of the fill, 0..1
@@ -30,7 +33,21 @@ struct SurfaceLayerDescription {
   glm::vec3 contourColor{0.05f, 0.05f, 0.05f};
   float contourWidthPx = 1.5f;
   bool contourLabels = true;
+  /// Wind barbs: "" none, "auto" (the file's u and v: by standard name, eastward_wind / x_wind /
+  /// grid_eastward_wind ..., else by name, u/v, 10u/10v, U/V, U10/V10, ua/va ...) or "U,V" (the
+  /// two variables). Without a variable, the fill is the wind speed.
+  std::string wind;
+  glm::vec3 windColor{0.05f, 0.05f, 0.05f};
   bool useGeoid = true;
+};
+
+/// What a surface layer draws: its field and, when asked, the wind east and north on the wind's
+/// grid (the u component's geometry).
+struct SurfaceData {
+  volume::SurfaceField field;
+  std::optional<volume::GridVolume> windGrid;  ///< nz = 1; values unused
+  volume::WindComponents wind;
+  std::string windNote;  ///< "wind: u, v (grid-relative, turned east and north)"
 };
 
 /// Checks the description (ranges, a fill or contours to draw, not both a member and an
@@ -38,7 +55,12 @@ struct SurfaceLayerDescription {
 Status validateSurfaceLayer(const SurfaceLayerDescription& d, const std::string& where);
 
 /// Reads the variable (the time, member or statistic asked) and makes its field
-/// (volume::surfaceFieldOf). Errors name the file.
-Result<volume::SurfaceField> readSurfaceField(const SurfaceLayerDescription& d);
+/// (volume::surfaceFieldOf), and the wind when asked. Errors name the file.
+Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d);
+
+/// The u and v variables of `wind` ("auto" or "U,V") in `path`. Errors: none found (naming what
+/// to give), a malformed pair.
+Result<std::pair<std::string, std::string>> windVariables(const std::string& path, const std::string& wind,
+                                                          bool isobaric);
 
 }  // namespace atmoglobe::engine

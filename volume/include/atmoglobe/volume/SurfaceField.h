@@ -33,11 +33,12 @@ struct SurfaceField {
 };
 
 /// The field of `grid`: its only level (a 2-D variable), or with `pressurePa` its isobaric
-/// surface. A geopotential (m2 s-2, or other geopotential units) becomes geopotential height in
-/// decametres ("dam"), as `slice` draws it. Errors: several levels and no pressure ("... has 4 levels: give a pressure
-/// level"), a pressure on a grid not on pressure levels or outside them, a reduced grid (not drawn as a surface yet),
-/// no finite value.
-Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa = std::nullopt);
+/// surface, or with `level` that level (0 = the lowest; a model level of any grid). A geopotential (m2 s-2, or other
+/// geopotential units) becomes geopotential height in decametres ("dam"), as `slice` draws it. Errors: several levels
+/// and no pressure ("... has 4 levels: give a pressure level"), a pressure on a grid not on pressure levels or outside
+/// them, a reduced grid (not drawn as a surface yet), no finite value.
+Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> pressurePa = std::nullopt,
+                                    std::optional<std::size_t> level = std::nullopt);
 
 /// Each column's value on the isobaric surface at `pressurePa` (ny x nx, NaN where a level used
 /// is missing). Errors: as pressureLevelsPa (SliceSource.h), a pressure outside the levels.

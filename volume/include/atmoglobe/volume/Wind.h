@@ -19,6 +19,7 @@
 // southern).
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/GridVolume.h>
+#include <glm/glm.hpp>
 
 #include <vector>
 
@@ -41,6 +42,13 @@ struct BarbParts {
   bool calm = false;
 };
 BarbParts barbParts(double speedKnots);
+
+/// A barb as lines in the east-north plane in units of its shaft's length, the station at (0, 0):
+/// the shaft to (the unit vector toward where the wind comes from), then from its outer end
+/// inward the pennants (closed triangles on the shaft, apex 0.4 out), full barbs (0.4 out,
+/// leaning 0.1 outward) and the half barb (half as long; alone, one step in from the end), on the
+/// right of the shaft (its left in the southern hemisphere). Calm: a circle of radius 0.15.
+std::vector<std::vector<glm::dvec2>> barbPolylines(double eastMps, double northMps, bool southernHemisphere);
 
 inline constexpr double kKnotsPerMps = 3600.0 / 1852.0;
 
