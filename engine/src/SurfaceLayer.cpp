@@ -74,15 +74,19 @@ Result<std::pair<std::string, std::string>> windVariables(const std::string& pat
       if (suits(v) && match(v)) return &v;
     return nullptr;
   };
-  for (const auto& [us, vs] : {std::pair{"eastward_wind", "northward_wind"},
-                               std::pair{"grid_eastward_wind", "grid_northward_wind"}, std::pair{"x_wind", "y_wind"}}) {
+  // (Plain pairs, not structured bindings: clang cannot capture those in the lambdas below.)
+  for (const auto& byStandardName :
+       {std::pair{"eastward_wind", "northward_wind"}, std::pair{"grid_eastward_wind", "grid_northward_wind"},
+        std::pair{"x_wind", "y_wind"}}) {
+    const std::string us = byStandardName.first, vs = byStandardName.second;
     const auto* u = find([&](const auto& v) { return v.standardName == us; });
     const auto* v = find([&](const auto& x) { return x.standardName == vs; });
     if (u && v) return std::pair{u->name, v->name};
   }
-  for (const auto& [un, vn] : {std::pair{"u", "v"}, std::pair{"10u", "10v"}, std::pair{"100u", "100v"},
-                               std::pair{"U", "V"}, std::pair{"U10", "V10"}, std::pair{"u10", "v10"},
-                               std::pair{"ua", "va"}, std::pair{"uwnd", "vwnd"}, std::pair{"UGRD", "VGRD"}}) {
+  for (const auto& byName : {std::pair{"u", "v"}, std::pair{"10u", "10v"}, std::pair{"100u", "100v"},
+                             std::pair{"U", "V"}, std::pair{"U10", "V10"}, std::pair{"u10", "v10"},
+                             std::pair{"ua", "va"}, std::pair{"uwnd", "vwnd"}, std::pair{"UGRD", "VGRD"}}) {
+    const std::string un = byName.first, vn = byName.second;
     const auto* u = find([&](const auto& v) { return lastPart(v.name) == un; });
     const auto* v = find([&](const auto& x) { return lastPart(x.name) == vn; });
     if (u && v) return std::pair{u->name, v->name};
