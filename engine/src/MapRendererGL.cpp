@@ -190,17 +190,21 @@ bool MapRendererGL::binVisible(const Camera& camera, const globe::ViewState& vie
   return false;
 }
 
-void MapRendererGL::drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style) {
-  if (chunk.segments == 0) return;
-  const glm::dvec3 eyeRel = camera.eyeEcef() - chunk.originEcef;
+void setEyeRelativeUniformsGL(const ShaderProgramGL& program, const glm::dvec3& eyeEcef, const glm::dvec3& originEcef) {
+  const glm::dvec3 eyeRel = eyeEcef - originEcef;
   const glm::vec3 eyeHi(eyeRel);
   glm::vec3 eyeLo;
   for (int k = 0; k < 3; ++k) eyeLo[k] = lowPartOf(eyeRel[k], eyeHi[k]);
-  glUniform3fv(program_.uniform("u_eyeHi"), 1, glm::value_ptr(eyeHi));
-  glUniform3fv(program_.uniform("u_eyeLo"), 1, glm::value_ptr(eyeLo));
+  glUniform3fv(program.uniform("u_eyeHi"), 1, glm::value_ptr(eyeHi));
+  glUniform3fv(program.uniform("u_eyeLo"), 1, glm::value_ptr(eyeLo));
   const glm::dvec3 invRadii(1.0 / globe::kWgs84A, 1.0 / globe::kWgs84A, 1.0 / globe::kWgs84B);
-  const glm::vec3 originScaled(chunk.originEcef * invRadii);
-  glUniform3fv(program_.uniform("u_originScaled"), 1, glm::value_ptr(originScaled));
+  glUniform3fv(program.uniform("u_invRadii"), 1, glm::value_ptr(glm::vec3(invRadii)));
+  glUniform3fv(program.uniform("u_originScaled"), 1, glm::value_ptr(glm::vec3(originEcef * invRadii)));
+}
+
+void MapRendererGL::drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style) {
+  if (chunk.segments == 0) return;
+  setEyeRelativeUniformsGL(program_, camera.eyeEcef(), chunk.originEcef);
   glUniform1f(program_.uniform("u_halfWidthPx"), 0.5f * style.widthPx);
   glUniform4f(program_.uniform("u_color"), style.color.r, style.color.g, style.color.b, style.opacity);
   glVertexArrayVertexBuffer(vao_, 0, chunk.vbo, 0, 12 * sizeof(float));
@@ -220,8 +224,6 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   program_.use();
   const glm::mat4 viewProjection(camera.modelViewProjectionRelativeTo(camera.eyeEcef()));
   glUniformMatrix4fv(program_.uniform("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
-  const glm::vec3 invRadii(1.0 / globe::kWgs84A, 1.0 / globe::kWgs84A, 1.0 / globe::kWgs84B);
-  glUniform3fv(program_.uniform("u_invRadii"), 1, glm::value_ptr(invRadii));
   glUniform2f(program_.uniform("u_viewportPx"), static_cast<float>(camera.widthPx()),
               static_cast<float>(camera.heightPx()));
   glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);

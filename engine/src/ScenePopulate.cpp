@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <type_traits>
+#include <utility>
 
 namespace atmoglobe::engine {
 
@@ -71,53 +73,55 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
     }
     scene.volumes = std::move(loaded);
   }
-  {
-    std::vector<engine::SliceLayerDescription> loaded;
-    for (std::size_t i = 0; i < scene.slices.size(); ++i) {
-      const engine::SliceLayerDescription& d = scene.slices[i];
-      const bool isRadar = d.source.kind == volume::SliceSourceOptions::Kind::Radar;
-      const std::string origin = engine::layerOrigin(origins.slices, i, "--slice-height-m/--slice-path");
-      Status st = engine::checkInputFile(d.source.path, keyAt(origin, isRadar ? "radar" : "grid", origin));
+  // Slices and maps: each input checked, added, reported in a line; a failure is one problem.
+  // `input(d)`: its file and the key naming it; `add(d)`: the renderer's line for the user.
+  auto loadEach = [&](auto& layers, const std::vector<std::string>& layerOrigins, const char* fallback,
+                      std::vector<std::string>& keptOrigins, auto input, auto add) -> Status {
+    std::remove_reference_t<decltype(layers)> loaded;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      const auto& d = layers[i];
+      const std::string origin = engine::layerOrigin(layerOrigins, i, fallback);
+      const auto [path, key] = input(d);
+      Status st = engine::checkInputFile(path, keyAt(origin, key, origin));
       std::string line;
       if (st) {
-        auto added = renderer.addSlice(d);
+        Result<std::string> added = add(d);
         if (added) line = *added;
         else st = makeError(origin + ": " + added.error());
       }
-      step(d.source.path);
-      if (!st) {
-        if (auto f = problem(st.error()); !f) return f;
-        continue;
-      }
-      say(d.source.path + ": slice " + line);
-      loaded.push_back(d);
-      kept.slices.push_back(origin);
-    }
-    scene.slices = std::move(loaded);
-  }
-  {
-    std::vector<engine::SurfaceLayerDescription> loaded;
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      const engine::SurfaceLayerDescription& d = scene.surfaces[i];
-      const std::string origin = engine::layerOrigin(origins.surfaces, i, "--surface");
-      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
-      std::string line;
-      if (st) {
-        auto added = renderer.addSurface(d);
-        if (added) line = *added;
-        else st = makeError(origin + ": " + added.error());
-      }
-      step(d.path);
+      step(path);
       if (!st) {
         if (auto f = problem(st.error()); !f) return f;
         continue;
       }
       say(line);
       loaded.push_back(d);
-      kept.surfaces.push_back(origin);
+      keptOrigins.push_back(origin);
     }
-    scene.surfaces = std::move(loaded);
-  }
+    layers = std::move(loaded);
+    return Ok{};
+  };
+  if (Status st = loadEach(
+          scene.slices, origins.slices, "--slice-height-m/--slice-path", kept.slices,
+          [](const engine::SliceLayerDescription& d) {
+            const bool radar = d.source.kind == volume::SliceSourceOptions::Kind::Radar;
+            return std::pair{d.source.path, radar ? "radar" : "grid"};
+          },
+          [&](const engine::SliceLayerDescription& d) -> Result<std::string> {
+            auto added = renderer.addSlice(d);
+            if (!added) return added;
+            return d.source.path + ": slice " + *added;
+          });
+      !st)
+    return st;
+  if (Status st = loadEach(
+          scene.surfaces, origins.surfaces, "--surface", kept.surfaces,
+          [](const engine::SurfaceLayerDescription& d) {
+            return std::pair{d.path, "path"};
+          },
+          [&](const engine::SurfaceLayerDescription& d) { return renderer.addSurface(d); });
+      !st)
+    return st;
   for (const std::string& m : scene.models) {
     if (auto st = renderer.addModel(m); !st)
       if (auto f = problem("--cones: " + st.error()); !f) return f;
@@ -125,29 +129,18 @@ Status populateScene(engine::SceneRendererGL& renderer, engine::SceneDescription
   // Map context on by default; missing GSHHG files only warn (the picture still renders).
   if (auto st = renderer.setMapContext(scene.mapContext); !st)
     std::cerr << "warning: " << st.error() << " (drawn without coastlines and borders; --no-map silences this)\n";
-  {
-    std::vector<engine::MapOverlayDescription> loaded;
-    for (std::size_t i = 0; i < scene.overlays.size(); ++i) {
-      const engine::MapOverlayDescription& d = scene.overlays[i];
-      const std::string origin = engine::layerOrigin(origins.overlays, i, "--overlay");
-      Status st = engine::checkInputFile(d.path, keyAt(origin, "path", origin));
-      std::string line;
-      if (st) {
-        auto added = renderer.addOverlay(d);
-        if (added) line = *added;
-        else st = makeError(origin + ": " + added.error());
-      }
-      step(d.path);
-      if (!st) {
-        if (auto f = problem(st.error()); !f) return f;
-        continue;
-      }
-      say(d.path + ": overlay: " + line);
-      loaded.push_back(d);
-      kept.overlays.push_back(origin);
-    }
-    scene.overlays = std::move(loaded);
-  }
+  if (Status st = loadEach(
+          scene.overlays, origins.overlays, "--overlay", kept.overlays,
+          [](const engine::MapOverlayDescription& d) {
+            return std::pair{d.path, "path"};
+          },
+          [&](const engine::MapOverlayDescription& d) -> Result<std::string> {
+            auto added = renderer.addOverlay(d);
+            if (!added) return added;
+            return d.path + ": overlay: " + *added;
+          });
+      !st)
+    return st;
   if (progress) progress->finish();
   renderer.setRangeRings(scene.rangeRings);
   if (!scene.stationsPath.empty()) {

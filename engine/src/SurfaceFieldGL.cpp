@@ -224,15 +224,7 @@ void SurfaceFieldGL::drawFill(const Camera& camera) {
   program_.use();
   const glm::mat4 viewProjection(camera.modelViewProjectionRelativeTo(camera.eyeEcef()));
   glUniformMatrix4fv(program_.uniform("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
-  const glm::dvec3 eyeRel = camera.eyeEcef() - originEcef_;
-  const glm::vec3 eyeHi(eyeRel);
-  glm::vec3 eyeLo;
-  for (int k = 0; k < 3; ++k) eyeLo[k] = lowPartOf(eyeRel[k], eyeHi[k]);
-  glUniform3fv(program_.uniform("u_eyeHi"), 1, glm::value_ptr(eyeHi));
-  glUniform3fv(program_.uniform("u_eyeLo"), 1, glm::value_ptr(eyeLo));
-  const glm::dvec3 invRadii(1.0 / globe::kWgs84A, 1.0 / globe::kWgs84A, 1.0 / globe::kWgs84B);
-  glUniform3fv(program_.uniform("u_invRadii"), 1, glm::value_ptr(glm::vec3(invRadii)));
-  glUniform3fv(program_.uniform("u_originScaled"), 1, glm::value_ptr(glm::vec3(originEcef_ * invRadii)));
+  setEyeRelativeUniformsGL(program_, camera.eyeEcef(), originEcef_);
   glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
   glUniform2f(program_.uniform("u_tableRange"), static_cast<float>(tableLo_), static_cast<float>(tableHi_));
   glUniform1f(program_.uniform("u_firstStop"), static_cast<float>(tableLo_));

@@ -33,6 +33,12 @@ namespace atmoglobe::engine {
 /// The relative depth lift of map lines (see above).
 inline constexpr float kMapDepthLift = 0.01f;
 
+/// The uniforms of the precision scheme above for geometry relative to `originEcef` (map lines,
+/// draped fields): u_eyeHi and u_eyeLo (the eye's offset from the origin split into a float and
+/// its remainder), u_invRadii (1/a, 1/a, 1/b) and u_originScaled (the origin times it) for the
+/// horizon test, on the program in use.
+void setEyeRelativeUniformsGL(const ShaderProgramGL& program, const glm::dvec3& eyeEcef, const glm::dvec3& originEcef);
+
 struct MapLineStyle {
   glm::vec3 color{1.0f};
   float widthPx = 1.5f;
