@@ -202,6 +202,19 @@ void setEyeRelativeUniformsGL(const ShaderProgramGL& program, const glm::dvec3& 
   glUniform3fv(program.uniform("u_originScaled"), 1, glm::value_ptr(glm::vec3(originEcef * invRadii)));
 }
 
+void beginOverGlobeGL() {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+}
+
+void endOverGlobeGL() {
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+}
+
 void MapRendererGL::drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style) {
   if (chunk.segments == 0) return;
   setEyeRelativeUniformsGL(program_, camera.eyeEcef(), chunk.originEcef);
@@ -227,11 +240,7 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   glUniform2f(program_.uniform("u_viewportPx"), static_cast<float>(camera.widthPx()),
               static_cast<float>(camera.heightPx()));
   glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  beginOverGlobeGL();
   glBindVertexArray(vao_);
 
   auto use = [&](std::tuple<int, int, int> key, auto build) -> ChunkGL* {
@@ -307,8 +316,7 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
     }
   }
   glBindVertexArray(0);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
+  endOverGlobeGL();
   // Over budget: drop what this frame did not use.
   if (chunkBytes_ > kChunkBudgetBytes) {
     for (auto it = chunks_.begin(); it != chunks_.end();) {

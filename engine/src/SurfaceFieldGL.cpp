@@ -234,16 +234,11 @@ void SurfaceFieldGL::drawFill(const Camera& camera) {
   glBindTextureUnit(1, tableTexture_);
   glUniform1i(program_.uniform("u_values"), 0);
   glUniform1i(program_.uniform("u_table"), 1);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  beginOverGlobeGL();
   glBindVertexArray(vao_);
   glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
+  endOverGlobeGL();
 }
 
 void SurfaceFieldGL::drawContours(const Camera& camera) {

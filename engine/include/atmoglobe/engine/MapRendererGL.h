@@ -39,6 +39,11 @@ inline constexpr float kMapDepthLift = 0.01f;
 /// horizon test, on the program in use.
 void setEyeRelativeUniformsGL(const ShaderProgramGL& program, const glm::dvec3& eyeEcef, const glm::dvec3& originEcef);
 
+/// The state of what is drawn over the globe without hiding the volumes (map lines, draped
+/// fields): reverse-Z depth test on, depth writes off, straight-alpha blending; and back.
+void beginOverGlobeGL();
+void endOverGlobeGL();
+
 struct MapLineStyle {
   glm::vec3 color{1.0f};
   float widthPx = 1.5f;
