@@ -46,6 +46,16 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
     if (!layer.visible) continue;  // switched off in the panel
     if (auto line = layer.readoutAt(eye, dir, tGround, stepMeters)) out.lines.push_back(std::move(*line));
   }
+  // Each map's value where the ray meets the ground (the field's own interpolation, as drawn).
+  if (out.groundLatLonHeight)
+    for (const auto& surface : scene.surfaces()) {
+      const double v = surface->sampler().valueAt(out.groundLatLonHeight->x, out.groundLatLonHeight->y);
+      if (!std::isfinite(v)) continue;
+      char line[200];
+      std::snprintf(line, sizeof line, "%s: %.4g %s", surface->field().name.c_str(), v,
+                    surface->field().grid.units.c_str());
+      out.lines.push_back(line);
+    }
   if (out.groundLatLonHeight) {
     char line[160];
     std::snprintf(line, sizeof line, "ground %.4f, %.4f  (ellipsoid 0 m = %.1f m above sea level)",
