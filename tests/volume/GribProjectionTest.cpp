@@ -319,6 +319,25 @@ std::string makeFile(const std::string& dir, const std::string& name, const char
   return message.empty() ? std::string() : file;
 }
 
+// A 300-byte GRIB1 message cut down from a fuzz_grib finding: a reduced Gaussian sub-area whose
+// pl has rows of no points. ecCodes asserted ("bottom != 0") and aborted the process when it
+// worked out the grid's points. The index skips it, saying why, before that key is asked for.
+TEST(GribProjection, AReducedGaussianGridWithARowOfNoPointsIsSkippedBeforeEcCodesAborts) {
+  useTestCache();
+  const std::string dir = atmoglobe_test::freshTestDir("grib_projection");
+  const std::string hex =
+      "4752494200012c01000034806294ff80a5010000110a120c0001000000000000150000000000000000000000000000000101"
+      "020401303030310000000000e0002104ffff00600159fc000000008159fc0576edffff003000000000000014001900240028"
+      "002d003247524942ffff000200000000000000bf00000015010062000004000107d703170c00000002000000540300000001"
+      "f00000000106ffffffffffffffffffffffffffffff000000100000001f00000000ffffffff03938700000000003000000000"
+      "01c9c380001e8480001e848000000000000000000000000000000000220400000000000000ff80000000010000000064ffff"
+      "ffffffffffffffff00000000000000000000d900000000000000000000000000000000000c00000000000000000037373737";
+  const std::string file = writeFuzzInput(dir, "row_of_no_points.grib", hex, 300);
+  auto info = describeGridFile(file);
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.error().find("a reduced Gaussian grid with a row of no points"), std::string::npos) << info.error();
+}
+
 }  // namespace
 
 // The first grid point is the first in scanning order, as the GRIB definition says (and wgrib2
