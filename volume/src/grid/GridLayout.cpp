@@ -511,7 +511,9 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   }
   if (yPos < 0 || xPos < 0) return varError(f, v, "not on the horizontal grid (dimensions: " + dimList(f, v) + ")");
   if (zPos < 0)
-    return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
+    return varError(f, v,
+                    "has no vertical dimension (dimensions: " + dimList(f, v) +
+                        "): a 2-D field, not a volume (draw it as a map: --surface FILE --surface-var NAME)");
   if (!(tPos < zPos && zPos < yPos && yPos < xPos))
     return varError(f, v, "dimension order (" + dimList(f, v) + ") is not (Time, bottom_top, south_north, west_east)");
   if (!nz) return makeError(f.message("WRF file without the dimension bottom_top"));
@@ -614,9 +616,11 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v, bool a
   l.var = v;
   if (v.type == NC_CHAR || v.type == NC_STRING) return varError(f, v, "holds text, not numbers");
   if (v.dimIds.size() < (allowSingleLevel ? 2u : 3u))
-    return varError(f, v,
-                    "has " + std::to_string(v.dimIds.size()) +
-                        " dimensions; a grid volume needs a vertical and two horizontal ones");
+    return varError(
+        f, v,
+        "has " + std::to_string(v.dimIds.size()) +
+            " dimensions; a grid volume needs a vertical and two horizontal ones" +
+            (v.dimIds.size() == 2 ? " (a 2-D field: draw it as a map, --surface FILE --surface-var NAME)" : ""));
   // 1. Curvilinear: 2-D latitude/longitude named in `coordinates`. Every variable it names must
   // be in the file.
   std::optional<io::NcVar> lat2, lon2;
@@ -736,7 +740,9 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v, bool a
                           "geopotential metres, or a parametric coordinate with formula_terms)" +
                           (unitDatabaseProblem().empty() ? std::string() : " (" + unitDatabaseProblem() + ")"));
     if (!allowSingleLevel)
-      return varError(f, v, "has no vertical dimension (dimensions: " + dimList(f, v) + "): a 2-D field, not a volume");
+      return varError(f, v,
+                      "has no vertical dimension (dimensions: " + dimList(f, v) +
+                          "): a 2-D field, not a volume (draw it as a map: --surface FILE --surface-var NAME)");
     l.singleLevel = true;
   }
   for (const Other& o : others) {
