@@ -314,6 +314,7 @@ TEST(ReducedGrib, InconsistentPlIsAnErrorNamingTheFile) {
     const char* name;
     std::function<void(codes_handle*)> tweak;
     const char* expect;
+    const char* prefix;  ///< what the read's error starts with after the path
   };
   auto editPl = [](std::function<void(std::vector<long>&)> edit) {
     return [edit](codes_handle* h) {
@@ -327,12 +328,16 @@ TEST(ReducedGrib, InconsistentPlIsAnErrorNamingTheFile) {
   };
   const std::vector<Case> cases = {
       {"pl_sum.grib2", editPl([](std::vector<long>& pl) { pl[10] += 4; }),
-       "the reduced grid's pl counts 6118 points in its 64 rows, the message has 6114"},
+       "the reduced grid's pl counts 6118 points in its 64 rows, the message has 6114",
+       ": variable t:heightAboveSea: "},
       {"pl_zero.grib2", editPl([](std::vector<long>& pl) {
          pl[11] += pl[10];
          pl[10] = 0;
        }),
-       "row 10 of the reduced grid has no points (pl 0) between rows that have"},
+       // A Gaussian row of no points is damage (ecCodes asserted on such a sub-area, fuzz_grib): the
+       // index skips the message, and the read says why.
+       "damaged GRIB message 1 (at byte 0): a reduced Gaussian grid with a row of no points; skipped",
+       ": no readable GRIB message ("},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -344,7 +349,7 @@ TEST(ReducedGrib, InconsistentPlIsAnErrorNamingTheFile) {
     ASSERT_EQ(testutil::writeReducedGrib(path, spec), "");
     auto g = volume::readGridVolume(path);
     ASSERT_FALSE(g.ok());
-    EXPECT_EQ(g.error().rfind(path + ": variable t:heightAboveSea: ", 0), 0u) << g.error();
+    EXPECT_EQ(g.error().rfind(path + c.prefix, 0), 0u) << g.error();
     EXPECT_NE(g.error().find(c.expect), std::string::npos) << g.error();
     auto info = volume::describeGridFile(path);
     ASSERT_FALSE(info.ok());
