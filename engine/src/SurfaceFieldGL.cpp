@@ -175,9 +175,6 @@ Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(SurfaceData data,
     glVertexArrayAttribFormat(s->vao_, k, static_cast<GLint>(sizes[k]), GL_FLOAT, GL_FALSE, offset * sizeof(float));
     glVertexArrayAttribBinding(s->vao_, k, 0);
   }
-  s->gpuBytes_ = vertices.size() * sizeof(float) + indices.size() * sizeof(std::uint32_t) +
-                 texels.size() * sizeof(float) + table.size();
-
   // Contour lines in the grid's index space (a wrap column closes them across the seam).
   if (d.contourInterval || !d.contourValues.empty()) {
     std::vector<float> raster(columns * ny);
@@ -279,8 +276,7 @@ void SurfaceFieldGL::buildBarbs(const Camera& camera) {
                                 std::round(centre.z / (metersPerPx * camera.widthPx() * 0.1))};
   if (key == barbKey_ && barbs_) return;
   barbKey_ = key;
-  barbPoints_.clear();
-  barbLines_.clear();
+  std::vector<map::GeoPolyline> lines;
   const globe::ViewState view = camera.viewState();
   for (std::size_t j = 0; j < g.ny; j += stride)
     for (std::size_t i = 0; i < g.nx; i += stride) {
@@ -294,9 +290,8 @@ void SurfaceFieldGL::buildBarbs(const Camera& camera) {
       bool inside = true;
       for (const glm::dvec4& plane : view.frustumPlanesEcef)
         inside = inside && glm::dot(glm::dvec3(plane), p) + plane.w > -lengthMeters;
-      if (!inside || glm::dot(eye - p, globe::enuAxes(lat, lon)[2]) < 0.0) continue;
-      barbPoints_.push_back(k);
       const auto axes = globe::enuAxes(lat, lon);
+      if (!inside || glm::dot(eye - p, axes[2]) < 0.0) continue;
       for (const std::vector<glm::dvec2>& piece : volume::barbPolylines(east, north, lat < 0.0)) {
         map::GeoPolyline line;
         for (const glm::dvec2& q : piece) {
@@ -304,7 +299,7 @@ void SurfaceFieldGL::buildBarbs(const Camera& camera) {
               globe::ecefToGeodetic(p + lengthMeters * (q.x * glm::dvec3(axes[0]) + q.y * glm::dvec3(axes[1])));
           line.lonLatDeg.emplace_back(gq.lonDeg, gq.latDeg);
         }
-        barbLines_.push_back(std::move(line));
+        lines.push_back(std::move(line));
       }
     }
   if (!barbs_) {
@@ -313,7 +308,7 @@ void SurfaceFieldGL::buildBarbs(const Camera& camera) {
     barbs_ = std::move(*r);
   }
   barbs_->clearLines();
-  barbs_->addLines(barbLines_, MapLineStyle{description_.windColor, 1.5f, 1.0f});
+  barbs_->addLines(lines, MapLineStyle{description_.windColor, 1.5f, 1.0f});
 }
 
 std::string SurfaceFieldGL::title() const { return displayName(field_.name) + " (map)"; }

@@ -142,12 +142,7 @@ Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d) {
     volume::SurfaceField speed = std::move(*u);
     for (std::size_t c = 0; c < speed.grid.values.size(); ++c)
       speed.grid.values[c] = std::hypot(out.wind.eastMps[c], out.wind.northMps[c]);
-    speed.grid.valueMin = speed.grid.valueMax = std::numeric_limits<float>::quiet_NaN();
-    for (float v : speed.grid.values)
-      if (std::isfinite(v)) {
-        speed.grid.valueMin = std::isnan(speed.grid.valueMin) ? v : std::min(speed.grid.valueMin, v);
-        speed.grid.valueMax = std::isnan(speed.grid.valueMax) ? v : std::max(speed.grid.valueMax, v);
-      }
+    volume::setValueRange(speed.grid);
     speed.name = "wind speed" + (pressurePa ? " at " + map::contourLabel(*pressurePa / 100.0) + " hPa"
                                  : d.level  ? " at level " + std::to_string(*d.level)
                                             : std::string());

@@ -18,7 +18,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 // east by alpha = -n (lon - lon0): the map's north there is the direction toward the cone's apex,
 // (-sin theta, cos theta) with theta = n (lon - lon0), so east is (cos theta, sin theta) and the
 // x axis (1, 0) has east component cos theta and north component -sin theta.
-volume::GridVolume lambertGrid(double uGrid, double vGrid, bool gridRelative) {
+volume::GridVolume lambertGrid(double uGrid, bool gridRelative) {
   const double R = 6371000.0, phi0 = 40.0 * kDeg, lon0 = -100.0;
   const double n = std::sin(phi0);
   const double F = std::cos(phi0) * std::pow(std::tan(std::numbers::pi / 4 + phi0 / 2), n) / n;
@@ -41,7 +41,6 @@ volume::GridVolume lambertGrid(double uGrid, double vGrid, bool gridRelative) {
       g.lonDeg.push_back(lon0 + theta / n / kDeg);
     }
   g.values.assign(g.nx * g.ny, static_cast<float>(uGrid));
-  (void)vGrid;
   return g;
 }
 
@@ -49,7 +48,7 @@ TEST(Wind, GridRelativeLambertWindIsTurnedByTheConeAngle) {
   const double n = std::sin(40.0 * kDeg);
   // A grid-relative wind of 10 m/s along the grid's x axis, and one of 10 m/s along its y axis.
   for (const auto& [uGrid, vGrid] : {std::pair{10.0, 0.0}, std::pair{0.0, 10.0}, std::pair{6.0, -8.0}}) {
-    volume::GridVolume u = lambertGrid(uGrid, vGrid, true);
+    volume::GridVolume u = lambertGrid(uGrid, true);
     volume::GridVolume v = u;
     v.variable.assign(1, 'v');
     v.values.assign(v.nx * v.ny, static_cast<float>(vGrid));
@@ -78,11 +77,11 @@ TEST(Wind, GridRelativeLambertWindIsTurnedByTheConeAngle) {
     EXPECT_LT(worstSpeed, 1e-4);
   }
   // The angle at the central meridian is 0, and at 20 degrees east of it -n x 20 degrees.
-  const volume::GridVolume g = lambertGrid(1.0, 0.0, true);
+  const volume::GridVolume g = lambertGrid(1.0, true);
   const std::vector<double> alpha = volume::gridColumnAngles(g);
   EXPECT_NEAR(alpha[30 * g.nx + 40], 0.0, 1e-9);
   // Earth-relative components stay as they are.
-  volume::GridVolume u = lambertGrid(10.0, 0.0, false), v = u;
+  volume::GridVolume u = lambertGrid(10.0, false), v = u;
   v.values.assign(v.nx * v.ny, 0.0f);
   auto w = volume::earthRelativeWind(u, v);
   ASSERT_TRUE(w);

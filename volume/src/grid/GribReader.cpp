@@ -1101,11 +1101,7 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
     for (std::size_t i = 0; i < h.h.size(); ++i)
       g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
   }
-  for (float x : g.values) {
-    if (!std::isfinite(x)) continue;
-    if (!(x >= g.valueMin)) g.valueMin = x;
-    if (!(x <= g.valueMax)) g.valueMax = x;
-  }
+  setValueRange(g);
   g.verticalKind = verticalKindOf(v.typeOfLevel);
   g.heightSource = h.source;
   g.verticalVariable = v.typeOfLevel;

@@ -133,11 +133,7 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   g.fileColumnStep = hz->colStep;
   g.fileLevelStep = lv->upward ? 1 : -1;
   g.values = std::move(*values);
-  for (float v : g.values) {
-    if (!std::isfinite(v)) continue;
-    if (!(v >= g.valueMin)) g.valueMin = v;  // NaN start: the first finite value
-    if (!(v <= g.valueMax)) g.valueMax = v;
-  }
+  setValueRange(g);
   g.heightAboveEllipsoidMeters.resize(heights->h.size());
   for (std::size_t i = 0; i < heights->h.size(); ++i)
     g.heightAboveEllipsoidMeters[i] = static_cast<float>(heights->h[i]);  // float: see GridVolume.h

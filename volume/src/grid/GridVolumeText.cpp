@@ -1,11 +1,21 @@
-// What a grid volume says about itself in titles (GridVolume.h).
+// What a grid volume says about itself in titles, and its value range (GridVolume.h).
 #include "GridInternal.h"
 
 #include <atmoglobe/volume/GridVolume.h>
 
 #include <cmath>
+#include <limits>
 
 namespace atmoglobe::volume {
+
+void setValueRange(GridVolume& grid) {
+  grid.valueMin = grid.valueMax = std::numeric_limits<float>::quiet_NaN();
+  for (float v : grid.values) {
+    if (!std::isfinite(v)) continue;
+    if (!(v >= grid.valueMin)) grid.valueMin = v;  // NaN start: the first finite value
+    if (!(v <= grid.valueMax)) grid.valueMax = v;
+  }
+}
 
 std::string memberText(const GridVolume& grid) {
   if (!grid.ensembleStatistic.empty())

@@ -67,12 +67,7 @@ Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> press
   grid.nz = 1;
   grid.heightAboveEllipsoidMeters.assign(columns, 0.0f);
   grid.levelValues.clear();
-  grid.valueMin = grid.valueMax = std::numeric_limits<float>::quiet_NaN();
-  for (float v : grid.values)
-    if (std::isfinite(v)) {
-      grid.valueMin = std::isnan(grid.valueMin) ? v : std::min(grid.valueMin, v);
-      grid.valueMax = std::isnan(grid.valueMax) ? v : std::max(grid.valueMax, v);
-    }
+  setValueRange(grid);
   if (std::isnan(grid.valueMin))
     return makeError(what + (pressurePa ? " has no value on that surface" : " has no value"));
   s.name = std::move(name);

@@ -40,9 +40,6 @@ class SurfaceFieldGL {
   /// each kBarbLengthPx long there; they are built again when the view's scale or place changes.
   void drawContours(const Camera& camera);
   static constexpr double kBarbSpacingPx = 42.0, kBarbLengthPx = 26.0;
-  /// The barbs built for the last frame: their grid points (row-major indices) and lines.
-  const std::vector<std::size_t>& barbPoints() const { return barbPoints_; }
-  const std::vector<map::GeoPolyline>& barbLines() const { return barbLines_; }
   /// The contour lines' labels (each line's value every 1200 km along it, or at its middle when
   /// shorter) as markers without a sprite, for the scene's label placement (which drops those that
   /// would overlap).
@@ -57,8 +54,6 @@ class SurfaceFieldGL {
   const volume::SurfaceSampler& sampler() const { return *sampler_; }
   /// The fill's colours (the description's table over its range, else the field's values).
   const volume::ColorTable& table() const { return table_; }
-  const SurfaceLayerDescription& description() const { return description_; }
-  std::size_t gpuBytes() const { return gpuBytes_; }
 
  private:
   SurfaceFieldGL() = default;
@@ -74,15 +69,12 @@ class SurfaceFieldGL {
   std::unique_ptr<MapRendererGL> lines_;
   std::vector<map::ContourLine> contours_;
   std::vector<Marker> labels_;
-  std::size_t gpuBytes_ = 0;
   // Wind barbs.
   std::optional<volume::GridVolume> windGrid_;
   volume::WindComponents wind_;
   std::string windNote_;
   std::unique_ptr<MapRendererGL> barbs_;
   std::vector<double> barbKey_;
-  std::vector<std::size_t> barbPoints_;
-  std::vector<map::GeoPolyline> barbLines_;
   void buildBarbs(const Camera& camera);
 };
 

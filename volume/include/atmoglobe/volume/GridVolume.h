@@ -197,6 +197,9 @@ std::string extraIndexText(const GridVolume& grid);
 /// "prob:>=273.15 of 10 members"; empty for a grid without members.
 std::string memberText(const GridVolume& grid);
 
+/// Sets valueMin and valueMax to the smallest and largest finite value (NaN when there is none).
+void setValueRange(GridVolume& grid);
+
 /// A grid between two time steps of one variable and region: values and heights linear in time,
 /// value = (1 - fraction) a + fraction b (NaN where either is NaN: no value is invented where a
 /// step has none), heights the same way (they stay strictly increasing per column: a convex
