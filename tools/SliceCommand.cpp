@@ -68,7 +68,8 @@ int runSlice(const SliceOptions& o) {
   if (o.radar.empty() == o.grid.empty()) return usage("give exactly one of --radar FILE or --grid FILE");
   if (int(o.heightMeters.has_value()) + int(o.pressureHpa.has_value()) + int(!o.path.empty()) != 1)
     return usage("give exactly one of --height-m H, --pressure-hpa P or --path POINTS");
-  if (o.pressureHpa && o.grid.empty()) return usage("--pressure-hpa is for --grid (a grid on pressure levels)");
+  if (o.pressureHpa && o.grid.empty())
+    return usage("--pressure-hpa is for --grid (a grid on pressure, hybrid, sigma or WRF eta levels)");
   if (!o.time.empty() && o.grid.empty()) return usage("--time is for --grid");
   if (o.member >= 0 && o.grid.empty()) return usage("--member is for --grid");
   if (!o.ensemble.empty() && o.grid.empty()) return usage("--ensemble is for --grid");
@@ -144,6 +145,7 @@ int runSlice(const SliceOptions& o) {
     load.ensemble = *stat;
   }
   load.useGeoid = !o.noGeoid;
+  load.keepPressure = o.pressureHpa.has_value();
   auto source = volume::SliceSource::load(load);
   if (!source) return fail(cmd, source.error());
   auto transfer = (*source)->transfer(o.colors, range);

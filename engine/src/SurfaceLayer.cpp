@@ -102,6 +102,7 @@ Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d) {
   read.member = d.member;
   read.useGeoid = d.useGeoid;
   read.allowSingleLevel = true;  // surface and single-level fields are what a map shows
+  read.keepPressure = d.pressureHpa.has_value();
   if (!d.ensemble.empty()) {
     auto e = volume::parseEnsembleStatistic(d.ensemble);
     if (!e) return makeError(d.path + ": " + e.error());

@@ -232,6 +232,57 @@ TEST(SurfaceField, IsobaricSurfaceIsTheLevelsInterpolatedInLogPressure) {
   EXPECT_NE(heights.error().find("not pressure levels"), std::string::npos) << heights.error();
 }
 
+TEST(SurfaceField, IsobaricSurfaceOfTerrainFollowingLevelsTakesEachColumnsPressures) {
+  // Three model levels whose pressures differ per column (a WRF, hybrid or sigma grid): column c
+  // has p = (1000, 800, 600) hPa - 10 c hPa and values 10, 20, 30. The 700 hPa surface lies in
+  // each column's own level pair, linear in ln(p); a column whose levels do not reach it has none.
+  volume::GridVolume g = testutil::rectilinearGrid(
+      testutil::evenlySpaced(0.0, 1.0, 3), testutil::evenlySpaced(0.0, 1.0, 3), {500.0, 2000.0, 4000.0},
+      [](double, double) { return 0.0; },
+      [](double, double, double h) { return h < 1000.0   ? 10.0
+                                            : h < 3000.0 ? 20.0
+                                                         : 30.0; });
+  g.path = "wrf.nc";
+  g.variable = "/tk";
+  g.verticalKind = volume::VerticalKind::WrfEta;
+  const std::size_t columns = g.nx * g.ny;
+  g.pressurePa.resize(g.values.size());
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t c = 0; c < columns; ++c)
+      g.pressurePa[k * columns + c] =
+          static_cast<float>((100000.0 - 20000.0 * static_cast<double>(k)) - 1000.0 * static_cast<double>(c));
+  // Column 8's top is at 520 hPa, column 7's at 530: the 525 hPa surface is in column 8 only.
+  auto values = volume::isobaricColumnValues(g, 70000.0);
+  ASSERT_TRUE(values) << values.error();
+  for (std::size_t c = 0; c < columns; ++c) {
+    const double pLow = 80000.0 - 1000.0 * static_cast<double>(c), pHigh = pLow - 20000.0;
+    const double f = std::log(pLow / 70000.0) / std::log(pLow / pHigh);
+    EXPECT_NEAR((*values)[c], 20.0 + 10.0 * f, 2e-5) << c;
+  }
+  auto top = volume::isobaricColumnValues(g, 52500.0);
+  ASSERT_TRUE(top) << top.error();
+  for (std::size_t c = 0; c < columns; ++c) EXPECT_EQ(std::isnan((*top)[c]), c < 8) << c;
+  // Nearest level: the level nearer in ln(p).
+  auto nearest = volume::isobaricColumnValues(g, 79000.0, true);
+  ASSERT_TRUE(nearest);
+  EXPECT_EQ((*nearest)[0], 20.0f);  // 800 hPa is nearer to 790 than 600
+  EXPECT_EQ((*nearest)[8], 20.0f);  // its 720 hPa level
+  // Above every column: an error that gives the pressures.
+  auto above = volume::isobaricColumnValues(g, 40000.0);
+  ASSERT_FALSE(above);
+  EXPECT_NE(above.error().find("400 hPa is outside the levels of every column: their pressures run from 1000 hPa"),
+            std::string::npos)
+      << above.error();
+  // The surface field takes the same values.
+  auto s = volume::surfaceFieldOf(g, 70000.0);
+  ASSERT_TRUE(s) << s.error();
+  EXPECT_EQ(s->grid.values, *values);
+  EXPECT_EQ(s->name, "tk at 700 hPa");
+  // Pressures that do not match the values: an error, not a read past the end.
+  g.pressurePa.pop_back();
+  EXPECT_FALSE(volume::isobaricColumnValues(g, 70000.0));
+}
+
 TEST(SurfaceField, DescriptionsAreValidated) {
   engine::SurfaceLayerDescription d;
   d.path = "x.grib";

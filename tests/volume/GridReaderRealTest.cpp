@@ -383,3 +383,68 @@ TEST(GridReaderReal, TruncatedRealFiles) {
     }
   }
 }
+
+TEST(GridReaderReal, WrfTemperatureAndGeopotentialAreMadeFromTheModelsPerturbations) {
+  SKIP_WITHOUT_TEST_DATA(wrfPath());
+  GridReadOptions o;
+  o.timeIndex = 1;
+  o.variable = "tk";
+  auto tk = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(tk.ok()) << tk.error();
+  o.variable = "z";
+  auto z = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(z.ok()) << z.error();
+  EXPECT_EQ(tk->units, "K");
+  EXPECT_EQ(tk->standardName, "air_temperature");
+  EXPECT_EQ(z->units, "m2 s-2");
+  EXPECT_EQ(z->standardName, "geopotential");
+  EXPECT_FALSE(tk->vectorsRelativeToGrid);
+  const std::vector<float> t = ncRead(wrfPath(), "T", {1, 0, 0, 0}, {1, 14, 48, 48});
+  const std::vector<float> p = ncRead(wrfPath(), "P", {1, 0, 0, 0}, {1, 14, 48, 48});
+  const std::vector<float> pb = ncRead(wrfPath(), "PB", {1, 0, 0, 0}, {1, 14, 48, 48});
+  const std::vector<float> ph = ncRead(wrfPath(), "PH", {1, 0, 0, 0}, {1, 15, 48, 48});
+  const std::vector<float> phb = ncRead(wrfPath(), "PHB", {1, 0, 0, 0}, {1, 15, 48, 48});
+  double tMax = 0, zMax = 0;
+  for (std::size_t k = 0; k < 14; ++k)
+    for (std::size_t c = 0; c < 2304; ++c) {
+      const std::size_t n = k * 2304 + c;
+      // Potential temperature T + 300 K times the Exner function (p / 1000 hPa)^(Rd/cp), Rd/cp = 287/1004.5.
+      const double expectedT =
+          (static_cast<double>(t[n]) + 300.0) * std::pow((static_cast<double>(p[n]) + pb[n]) / 1.0e5, 287.0 / 1004.5);
+      // Geopotential at a mass level: the mean of the W levels below and above.
+      const double expectedZ =
+          0.5 * ((static_cast<double>(ph[n]) + phb[n]) + (static_cast<double>(ph[n + 2304]) + phb[n + 2304]));
+      tMax = std::max(tMax, std::fabs(tk->values[n] - expectedT));
+      zMax = std::max(zMax, std::fabs(z->values[n] - expectedZ));
+    }
+  // Stored as float: 300 K has a spacing of 3e-5 K, 1e5 m2 s-2 one of 0.008.
+  EXPECT_LT(tMax, 1e-4);
+  EXPECT_LT(zMax, 0.02);
+  // Plausible air: over the Gulf in late August the lowest level is 293-305 K; the top level
+  // (about 520 hPa) a few degrees either side of 0 C.
+  for (std::size_t c = 0; c < 2304; ++c) {
+    ASSERT_GT(tk->values[c], 293.0f) << c;
+    ASSERT_LT(tk->values[c], 305.0f) << c;
+    ASSERT_GT(tk->values[13 * 2304 + c], 263.0f) << c;
+    ASSERT_LT(tk->values[13 * 2304 + c], 283.0f) << c;
+  }
+}
+
+TEST(GridReaderReal, WrfPressuresAreKeptForIsobaricSurfaces) {
+  SKIP_WITHOUT_TEST_DATA(wrfPath());
+  GridReadOptions o;
+  o.variable = "QVAPOR";
+  o.timeIndex = 3;
+  auto plain = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(plain.ok()) << plain.error();
+  EXPECT_TRUE(plain->pressurePa.empty()) << "kept only when asked";
+  o.keepPressure = true;
+  auto r = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(r.ok()) << r.error();
+  ASSERT_EQ(r->pressurePa.size(), r->values.size());
+  const std::vector<float> p = ncRead(wrfPath(), "P", {3, 0, 0, 0}, {1, 14, 48, 48});
+  const std::vector<float> pb = ncRead(wrfPath(), "PB", {3, 0, 0, 0}, {1, 14, 48, 48});
+  for (std::size_t n = 0; n < p.size(); ++n)
+    ASSERT_EQ(r->pressurePa[n], static_cast<float>(static_cast<double>(p[n]) + pb[n])) << n;
+  EXPECT_EQ(r->heightAboveEllipsoidMeters, plain->heightAboveEllipsoidMeters) << "heights still from PH and PHB";
+}

@@ -421,6 +421,20 @@ TEST(GridReaderCf, HybridSigmaPressureHeightsMatchAnIndependentComputation) {
       }
   expectMonotonic(v);
   EXPECT_NE(v.heightNote.find("'/aps'"), std::string::npos) << v.heightNote;
+  // Kept when asked, for isobaric surfaces: each value's p = ap + b ps (float: 1e5 Pa has a
+  // spacing of 0.008 Pa).
+  EXPECT_TRUE(v.pressurePa.empty());
+  o.keepPressure = true;
+  auto kept = readGridVolume(path, o);
+  ASSERT_TRUE(kept.ok()) << kept.error();
+  ASSERT_EQ(kept->pressurePa.size(), kept->values.size());
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t j = 0; j < v.ny; ++j)
+      for (std::size_t i = 0; i < v.nx; ++i) {
+        const std::size_t kf = 3 - k;
+        const double p = kAp[kf] + kB[kf] * static_cast<double>(static_cast<float>(surfacePressure(1, j, i)));
+        ASSERT_NEAR(kept->pressurePa[kept->index(k, j, i)], p, 0.01) << k << " " << j << " " << i;
+      }
 }
 
 TEST(GridReaderCf, HybridWithP0AndSurfacePressureInHectopascals) {

@@ -632,6 +632,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
                "; heights: the standard-atmosphere height of each pressure (APPROXIMATE: not integrated "
                "hydrostatically, the file lacks " +
                joinText(missing, " and ") + ") -> geometric height above mean sea level";
+    if (havePs) out.pressurePa = p;
     return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
   }
 
@@ -708,6 +709,7 @@ Status hybridHeights(Context& c, const Variable& v, std::size_t t, long member, 
       "; geopotential by hydrostatic integration (IFS: Rd = 287.06 J kg-1 K-1) upward from the surface geopotential " +
       zText + " with " + tvText + " on model levels " + std::to_string(nlev) + " .. " + std::to_string(top) +
       ", / 9.80665 -> geometric height above mean sea level (WGS84 normal gravity)";
+  if (havePs) out.pressurePa = p;
   return grid::addGeoidUndulation(c.label, lat, lon, useGeoid, out);
 }
 
@@ -1094,12 +1096,20 @@ Result<GridVolume> readGribVolume(const std::string& path, const GridReadOptions
           g.values[g.index(k, j, i)] = s->values[k * points + p];
           g.heightAboveEllipsoidMeters[g.index(k, j, i)] = static_cast<float>(h.h[k * points + p]);
         }
+    if (options.keepPressure && !h.pressurePa.empty()) {
+      g.pressurePa.assign(g.nz * plane, std::numeric_limits<float>::quiet_NaN());
+      for (std::size_t k = 0; k < g.nz; ++k)
+        for (std::size_t p = 0, j = 0; j < g.ny; ++j)
+          for (std::size_t i = 0; i < red.rowLength[j]; ++i, ++p)
+            g.pressurePa[g.index(k, j, i)] = static_cast<float>(h.pressurePa[k * points + p]);
+    }
     if (auto st = finishReducedGrid(g); !st) return varError(c, v, "reduced grid: " + st.error());
   } else {
     g.values = std::move(s->values);
     g.heightAboveEllipsoidMeters.resize(h.h.size());
     for (std::size_t i = 0; i < h.h.size(); ++i)
       g.heightAboveEllipsoidMeters[i] = static_cast<float>(h.h[i]);  // float: see GridVolume.h
+    if (options.keepPressure) g.pressurePa.assign(h.pressurePa.begin(), h.pressurePa.end());
   }
   setValueRange(g);
   g.verticalKind = verticalKindOf(v.typeOfLevel);

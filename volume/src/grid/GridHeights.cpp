@@ -258,7 +258,9 @@ Status columnPressureToHeights(const HeightInput& in, const SurfacePressure& ps,
     if (!std::isfinite(ps.values[c]) || !(ps.values[c] > 0))
       return varError(in.f, psVar, "surface pressure missing or not positive at " + in.rowColumn(c));
   out.fromVariable = psVar.name;
-  return pressureToHeights(in, p, true, what, out);
+  auto st = pressureToHeights(in, p, true, what, out);
+  out.pressurePa = std::move(p);
+  return st;
 }
 
 /// Hybrid sigma-pressure levels (CF atmosphere_hybrid_sigma_pressure_coordinate):
@@ -358,7 +360,9 @@ Status wrfEtaHeights(const HeightInput& in, Heights& out) {
     if (auto st = in.readField(*vs.pb, &pb); !st) return st.forwardError();
     for (std::size_t i = 0; i < p.size(); ++i) p[i] += pb[i];
     out.fromVariable = vs.p->name + "+" + vs.pb->name;
-    return pressureToHeights(in, p, true, "WRF eta levels without PH/PHB: pressure P+PB", out);
+    auto st = pressureToHeights(in, p, true, "WRF eta levels without PH/PHB: pressure P+PB", out);
+    out.pressurePa = std::move(p);
+    return st;
   }
   std::vector<double> ph, phb;
   if (auto st = in.readField(*vs.ph, &ph); !st) return st.forwardError();
@@ -440,6 +444,19 @@ Status addGeoidUndulation(const std::string& label, const std::vector<double>& l
   for (std::size_t k = 0; nc > 0 && k < out.h.size() / nc; ++k)
     for (std::size_t c = 0; c < nc; ++c) out.h[k * nc + c] += n[c];
   out.note += "; + EGM96 geoid undulation -> above the WGS84 ellipsoid";
+  return Ok{};
+}
+
+Status wrfPressure(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s, Heights& out) {
+  if (!out.pressurePa.empty() || l.vertical.kind != VerticalKind::WrfEta) return Ok{};
+  const VerticalSpec& vs = l.vertical;
+  if (!vs.p || !vs.pb) return makeError(f.path() + ": a WRF file without P and PB: no pressure on its eta levels");
+  const HeightInput in(f, l, lv, s);
+  std::vector<double> p, pb;
+  if (auto st = in.readField(*vs.p, &p); !st) return st.forwardError();
+  if (auto st = in.readField(*vs.pb, &pb); !st) return st.forwardError();
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] += pb[i];
+  out.pressurePa = std::move(p);
   return Ok{};
 }
 

@@ -301,12 +301,19 @@ struct Heights {
   std::string fromVariable;  ///< named in errors about the heights
   std::vector<double> levelValues;
   std::string levelUnits;
+  /// Terrain-following pressure coordinates: the pressure (Pa) of each level and column, as the
+  /// heights were made from (empty for other coordinates).
+  std::vector<double> pressurePa;
 };
 
 /// The heights of the selection from the variable's vertical coordinate, one function per kind
 /// (`useGeoid` false: heights above sea level taken as above the ellipsoid).
 Result<Heights> computeHeights(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s,
                                bool useGeoid);
+
+/// WRF eta levels: the pressure P + PB of each level and column into out.pressurePa, when the
+/// heights came from PH/PHB (without them it is there already); other coordinates: nothing.
+Status wrfPressure(const io::NetcdfFile& f, const GridLayout& l, const Levels& lv, const Selection& s, Heights& out);
 
 /// Heights must be finite and increase strictly upwards in every column (after float rounding).
 Status checkHeights(const io::NetcdfFile& f, const Heights& h, const Selection& s, std::size_t nc);

@@ -574,16 +574,19 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   if (!vs.ph || !vs.phb) {
     vs.ph.reset();
     vs.phb.reset();
-    auto p = onGrid("P", l.zDim);
-    if (!p) return p.forwardError();
-    auto pb = onGrid("PB", l.zDim);
-    if (!pb) return pb.forwardError();
-    if (!*p || !*pb)
-      return makeError(f.message("variable '" + v.name +
-                                 "': unknown vertical coordinate: the WRF file has neither PH and PHB "
-                                 "(geopotential) nor P and PB (pressure)"));
+  }
+  // The pressure P + PB: the heights when there is no PH/PHB, else the isobaric surfaces' pressure.
+  auto p = onGrid("P", l.zDim);
+  if (!p) return p.forwardError();
+  auto pb = onGrid("PB", l.zDim);
+  if (!pb) return pb.forwardError();
+  if (*p && *pb) {
     vs.p = *p;
     vs.pb = *pb;
+  } else if (!vs.ph) {
+    return makeError(f.message("variable '" + v.name +
+                               "': unknown vertical coordinate: the WRF file has neither PH and PHB "
+                               "(geopotential) nor P and PB (pressure)"));
   }
   for (const auto* c : {&vs.ph, &vs.phb, &vs.p, &vs.pb})
     if (*c)

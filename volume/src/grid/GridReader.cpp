@@ -41,6 +41,51 @@ Result<std::size_t> resolveTime(const io::NetcdfFile& f, const grid::GridLayout&
   return o.timeIndex;
 }
 
+/// WRF's diagnostics that forecasters read, named as wrf-python names them, from the fields
+/// the model writes as perturbations about a base state (docs/grids.md, "WRF"): "z", the
+/// geopotential PH + PHB at mass levels (m2 s-2, as GRIB's z), and "tk", the temperature
+/// (T + 300) ((P + PB) / 1000 hPa)^(Rd/cp) with WRF's Rd/cp = 2/7 (K).
+Result<GridVolume> readWrfDiagnostic(const std::string& path, const GridReadOptions& options) {
+  const std::vector<std::string> parts = options.variable == "z" ? std::vector<std::string>{"PH", "PHB"}
+                                                                 : std::vector<std::string>{"T", "P", "PB"};
+  std::vector<GridVolume> read;
+  for (std::size_t n = 0; n < parts.size(); ++n) {
+    GridReadOptions o = options;
+    o.variable = parts[n];
+    o.keepPressure = n == 0 && options.keepPressure;
+    auto g = readGridVolume(path, o);
+    if (!g)
+      return makeError(g.error() + " (WRF's '" + options.variable + "' is made from " +
+                       (parts.size() == 2 ? "PH and PHB" : "T, P and PB") + ")");
+    read.push_back(std::move(*g));
+  }
+  GridVolume out = std::move(read[0]);
+  for (std::size_t n = 1; n < read.size(); ++n) {
+    if (read[n].values.size() != out.values.size())
+      return makeError(path + ": '" + parts[n] + "' and '" + parts[0] + "' differ in shape");
+    out.bytesRead += read[n].bytesRead;
+  }
+  if (options.variable == "z") {
+    for (std::size_t i = 0; i < out.values.size(); ++i) out.values[i] += read[1].values[i];
+    out.units = "m2 s-2";
+    out.standardName = "geopotential";
+    out.longName = "geopotential (WRF's PH + PHB at mass levels)";
+  } else {
+    constexpr double kRdOverCp = 2.0 / 7.0;  // WRF's Rd / cp: 287 / 1004.5
+    for (std::size_t i = 0; i < out.values.size(); ++i) {
+      const double p = static_cast<double>(read[1].values[i]) + static_cast<double>(read[2].values[i]);
+      out.values[i] = static_cast<float>((static_cast<double>(out.values[i]) + 300.0) * std::pow(p / 1.0e5, kRdOverCp));
+    }
+    out.units = "K";
+    out.standardName = "air_temperature";
+    out.longName = "temperature (from WRF's T + 300 K, P and PB)";
+  }
+  out.variable = "/" + options.variable;
+  out.vectorsRelativeToGrid = false;
+  setValueRange(out);
+  return out;
+}
+
 }  // namespace grid
 
 Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions& options) {
@@ -56,6 +101,8 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   const io::NetcdfFile& f = *opened;
   if (auto st = grid::checkCrop(f, options.crop); !st) return st.forwardError();
   const grid::FileKind kind = grid::fileKind(f);
+  if (kind.wrf && (options.variable == "z" || options.variable == "tk") && !f.findVariable(f.root(), options.variable))
+    return grid::readWrfDiagnostic(path, options);
   std::string name;
   auto layout = grid::layoutFor(f, kind, options.variable, &name, options.allowSingleLevel);
   if (!layout) return layout.forwardError();
@@ -106,6 +153,8 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   auto heights = grid::computeHeights(f, l, *lv, sel, options.useGeoid);
   if (!heights) return heights.forwardError();
   if (auto st = grid::checkHeights(f, *heights, sel, ny * nx); !st) return st.forwardError();
+  if (options.keepPressure)
+    if (auto st = grid::wrfPressure(f, l, *lv, sel, *heights); !st) return st.forwardError();
 
   GridVolume g;
   g.path = path;
@@ -138,6 +187,8 @@ Result<GridVolume> readGridVolume(const std::string& path, const GridReadOptions
   for (std::size_t i = 0; i < heights->h.size(); ++i)
     g.heightAboveEllipsoidMeters[i] = static_cast<float>(heights->h[i]);  // float: see GridVolume.h
   grid::setHeightFields(l, *heights, g);
+  if (options.keepPressure && l.vertical.kind != VerticalKind::Pressure)
+    g.pressurePa.assign(heights->pressurePa.begin(), heights->pressurePa.end());
   g.times = std::move(*times);
   g.timeIndex = *t;
   g.validTime = l.time.dimId >= 0 && *t < g.times.size() ? g.times[*t] : std::string();

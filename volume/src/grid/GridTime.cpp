@@ -39,6 +39,13 @@ Result<GridVolume> interpolateGridSteps(const GridVolume& a, const GridVolume& b
         static_cast<float>(wa * static_cast<double>(a.heightAboveEllipsoidMeters[n]) +
                            fraction * static_cast<double>(b.heightAboveEllipsoidMeters[n]));
   }
+  if (a.pressurePa.size() == a.values.size() && b.pressurePa.size() == a.values.size()) {
+    for (std::size_t n = 0; n < out.pressurePa.size(); ++n)
+      out.pressurePa[n] = static_cast<float>(wa * static_cast<double>(a.pressurePa[n]) +
+                                             fraction * static_cast<double>(b.pressurePa[n]));
+  } else {
+    out.pressurePa.clear();
+  }
   out.bytesRead = a.bytesRead + b.bytesRead;
   if (!a.validTime.empty() && !b.validTime.empty())
     out.validTime = interpolateIsoTime(a.validTime, b.validTime, fraction);

@@ -5,20 +5,60 @@
 #include <atmoglobe/volume/VerticalCoordinate.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace atmoglobe::volume {
 
-Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double pressurePa) {
-  auto bracket = pressureBracket(grid, pressurePa);
-  if (!bracket) return bracket.forwardError();
-  const auto [k, f] = *bracket;
+Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double pressurePa, bool nearestLevel) {
   const std::size_t columns = grid.nx * grid.ny;
   std::vector<float> out(columns, std::numeric_limits<float>::quiet_NaN());
+  if (!grid.pressurePa.empty()) {
+    // Terrain-following levels: each column's own pressures. Where the surface lies below the
+    // column's lowest level (under ground) or above its top, the column has no value there.
+    if (grid.pressurePa.size() != grid.values.size())
+      return makeError(grid.path + ": '" + grid.variable + "': " + std::to_string(grid.pressurePa.size()) +
+                       " pressures for " + std::to_string(grid.values.size()) + " values");
+    if (!(pressurePa > 0.0) || !std::isfinite(pressurePa))
+      return makeError(grid.path + ": the pressure of an isobaric surface must be positive");
+    const double lnP = std::log(pressurePa);
+    bool any = false;
+    double lowest = std::numeric_limits<double>::infinity(), highest = 0.0;
+    for (std::size_t c = 0; c < columns; ++c) {
+      for (std::size_t k = 0; k + 1 < grid.nz; ++k) {
+        const double a = grid.pressurePa[k * columns + c], b = grid.pressurePa[(k + 1) * columns + c];
+        if (k == 0 && a > highest) highest = a;
+        if (k + 2 == grid.nz && b < lowest) lowest = b;
+        if (!(a > 0.0 && b > 0.0) || !((pressurePa <= a && pressurePa >= b) || (pressurePa >= a && pressurePa <= b)))
+          continue;
+        double f = a == b ? 0.0 : (std::log(a) - lnP) / (std::log(a) - std::log(b));
+        if (nearestLevel) f = f < 0.5 ? 0.0 : 1.0;
+        const double lower = grid.values[k * columns + c], upper = grid.values[(k + 1) * columns + c];
+        const double v = f <= 0.0 ? lower : f >= 1.0 ? upper : (1.0 - f) * lower + f * upper;
+        if (std::isfinite(v)) out[c] = static_cast<float>(v);
+        any = true;
+        break;
+      }
+    }
+    if (!any) {
+      char text[256];
+      std::snprintf(text, sizeof text,
+                    "%g hPa is outside the levels of every column: their pressures run from %g hPa "
+                    "(the highest at the bottom) to %g hPa (the lowest at the top)",
+                    pressurePa / 100.0, highest / 100.0, lowest / 100.0);
+      return makeError(grid.path + ": '" + grid.variable + "': " + text);
+    }
+    return out;
+  }
+  auto bracket = pressureBracket(grid, pressurePa);
+  if (!bracket) return bracket.forwardError();
+  auto [k, f] = *bracket;
+  if (nearestLevel) f = f < 0.5 ? 0.0 : 1.0;
   for (std::size_t c = 0; c < columns; ++c) {
     const double lower = grid.values[k * columns + c];
     const double upper = f > 0.0 ? static_cast<double>(grid.values[(k + 1) * columns + c]) : lower;
-    if (std::isfinite(lower) && std::isfinite(upper)) out[c] = static_cast<float>((1.0 - f) * lower + f * upper);
+    const double v = f >= 1.0 ? upper : (1.0 - f) * lower + f * upper;
+    if (std::isfinite(v)) out[c] = static_cast<float>(v);
   }
   return out;
 }

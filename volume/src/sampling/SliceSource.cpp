@@ -7,6 +7,7 @@
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/RadarLoad.h>
+#include <atmoglobe/volume/SurfaceField.h>
 
 #include <netcdf.h>
 
@@ -83,6 +84,7 @@ Result<std::unique_ptr<SliceSource>> SliceSource::load(const SliceSourceOptions&
     read.member = o.member;
     read.ensemble = o.ensemble;
     read.extraIndex = o.gridIndex;
+    read.keepPressure = o.keepPressure;
     if (auto st = selectGridTime(o.time, read); !st) return makeError(o.path + ": " + st.error());
     auto grid = readGridVolume(o.path, read);
     if (!grid) return grid.forwardError();
@@ -219,7 +221,11 @@ Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceReq
     // An isobaric section: the grid's pressure levels must span the pressure.
     const GridVolume* grid = source.grid();
     if (!grid) return makeError(source.path() + ": an isobaric section (--pressure-hpa) is for grids, not radars");
-    auto levels = pressureLevelsPa(*grid);
+    // A grid with each value's pressure (terrain-following levels) is checked column by column
+    // when sampled (isobaricColumnValues); pressure levels here.
+    auto levels = grid->pressurePa.empty()
+                      ? pressureLevelsPa(*grid)
+                      : Result<std::vector<double>>(std::vector<double>{*r.pressurePa, *r.pressurePa});
     if (!levels) return levels.forwardError();
     const auto [lowest, highest] = std::minmax_element(levels->begin(), levels->end());
     if (!(*r.pressurePa >= *lowest && *r.pressurePa <= *highest))
@@ -262,8 +268,8 @@ Result<SliceGeometry> sliceGeometryFor(const SliceSource& source, const SliceReq
 Result<std::vector<double>> pressureLevelsPa(const GridVolume& grid) {
   if (grid.verticalKind != VerticalKind::Pressure)
     return makeError(grid.path + ": '" + grid.variable + "' is on " + toString(grid.verticalKind) +
-                     " levels, not pressure levels: an isobaric section needs a grid on pressure levels (other "
-                     "levels are not interpolated to pressure yet)");
+                     " levels, not pressure levels: an isobaric section needs a grid on pressure levels or on "
+                     "terrain-following pressure levels (hybrid, sigma, WRF eta); height levels carry no pressure");
   const auto toPa = pressureUnitToPascal(grid.levelUnits);
   if (!toPa)
     return makeError(grid.path + ": '" + grid.variable + "': pressure levels in '" + grid.levelUnits +
@@ -295,17 +301,35 @@ Result<std::pair<std::size_t, double>> pressureBracket(const GridVolume& grid, d
 Result<SliceRaster> samplePressureSection(const SliceSource& source, const SliceGeometry& geometry,
                                           Interpolation interpolation, int /*threads*/) {
   const GridVolume* grid = source.grid();
-  const auto* sampler = dynamic_cast<const GridSampler*>(&source.sampler());
-  if (!grid || !sampler) return makeError(source.path() + ": an isobaric section is for grids, not radars");
+  if (!grid || !dynamic_cast<const GridSampler*>(&source.sampler()))
+    return makeError(source.path() + ": an isobaric section is for grids, not radars");
   if (geometry.kind() != SliceGeometry::Kind::Cappi || !geometry.pressurePa())
     return makeError(source.path() + ": not an isobaric section's geometry");
   const double p = *geometry.pressurePa();
-  auto bracket = pressureBracket(*grid, p);
-  if (!bracket) return bracket.forwardError();
-  const std::size_t k = bracket->first;
-  double f = bracket->second;
   const bool nearest = interpolation == Interpolation::Nearest;
-  if (nearest) f = f < 0.5 ? 0.0 : 1.0;
+  // Each column's value on the surface (pressure levels or the column's own pressures), then
+  // the grid's horizontal interpolation of those values: a one-level grid of the same geometry,
+  // so the polar caps and the seam are taken as a sample takes them.
+  auto onSurface = isobaricColumnValues(*grid, p, nearest);
+  if (!onSurface) return onSurface.forwardError();
+  GridVolume surface;
+  surface.path = grid->path;
+  surface.variable = grid->variable;
+  surface.curvilinear = grid->curvilinear;
+  surface.nx = grid->nx;
+  surface.ny = grid->ny;
+  surface.nz = 1;
+  surface.lonDeg = grid->lonDeg;
+  surface.latDeg = grid->latDeg;
+  surface.wrapsLongitude = grid->wrapsLongitude;
+  surface.projection = grid->projection;
+  surface.rowLengthPoints = grid->rowLengthPoints;
+  surface.rowFirstLonDeg = grid->rowFirstLonDeg;
+  surface.rowSpacingDeg = grid->rowSpacingDeg;
+  surface.values = std::move(*onSurface);
+  surface.heightAboveEllipsoidMeters.assign(surface.values.size(), 0.0f);
+  setValueRange(surface);
+  const GridSampler sampler(surface);
   SliceRaster r;
   r.columns = geometry.columns();
   r.rows = geometry.rows();
@@ -314,25 +338,26 @@ Result<SliceRaster> samplePressureSection(const SliceSource& source, const Slice
   for (int j = 0; j < r.rows; ++j)
     for (int i = 0; i < r.columns; ++i) {
       const globe::Geodetic g = geometry.geodeticAt(i + 0.5, j + 0.5);
-      const auto ij = sampler->horizontalIndex(g.latDeg, g.lonDeg);
+      const auto ij = sampler.horizontalIndex(g.latDeg, g.lonDeg);
       if (!ij) continue;
-      GridColumns columns = sampler->columnsAt(*ij);
+      GridColumns columns = sampler.columnsAt(*ij);
       if (nearest) columns = heaviestColumn(columns);
       double sum = 0.0;
       bool missing = columns.count == 0;
       for (int c = 0; c < columns.count && !missing; ++c) {
         if (columns.weight[c] == 0.0) continue;
-        const double lower = sampler->columnValue(columns.column[c], k);
-        const double upper = f > 0.0 ? static_cast<double>(sampler->columnValue(columns.column[c], k + 1)) : lower;
-        if (!std::isfinite(lower) || !std::isfinite(upper)) missing = true;
-        sum += columns.weight[c] * ((1.0 - f) * lower + f * upper);
+        const double value = sampler.columnValue(columns.column[c], 0);
+        if (!std::isfinite(value)) missing = true;
+        sum += columns.weight[c] * value;
       }
       if (!missing) r.values[static_cast<std::size_t>(j) * r.columns + i] = static_cast<float>(sum);
     }
   summarizeSliceRaster(r);
   if (r.echoCount == 0)
-    return makeError(source.path() + ": no data on the " + numberText(p / 100.0) +
-                     " hPa surface in that box (is the box over the grid?)");
+    return makeError(
+        source.path() + ": no data on the " + numberText(p / 100.0) +
+        " hPa surface in that box (is the box over the grid?" +
+        (grid->pressurePa.empty() ? std::string(")") : std::string(" Is the surface above ground there?)")));
   return r;
 }
 

@@ -108,6 +108,11 @@ struct GridReadOptions {
   /// or single-level field) is read as one level at mean sea level instead of refused (the maps
   /// on the globe, engine/SurfaceLayer.h). GRIB reads single-level fields always.
   bool allowSingleLevel = false;
+  /// Keep the pressure of every value of a grid on terrain-following pressure levels
+  /// (GridVolume::pressurePa: hybrid sigma-pressure and sigma levels from their surface pressure,
+  /// GRIB hybrid levels from `pv` and sp/lnsp, WRF eta levels as P + PB), for isobaric surfaces
+  /// and sections. Costs one float per value; pressure levels and height levels ignore it.
+  bool keepPressure = false;
 };
 
 /// Sets the time step of `read` from a user's text: an index ("3": timeIndex) or an ISO 8601

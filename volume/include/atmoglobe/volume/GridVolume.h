@@ -129,6 +129,11 @@ struct GridVolume {
   /// the file has no 1-D coordinate values, e.g. WRF without ZNU) and its units.
   std::vector<double> levelValues;
   std::string levelUnits;
+  /// Terrain-following pressure levels (hybrid sigma-pressure, sigma, WRF eta, GRIB hybrid) read
+  /// with GridReadOptions::keepPressure: the pressure of each value (Pa), same layout as values,
+  /// so that an isobaric surface can be cut through them (isobaricColumnValues). Empty otherwise
+  /// (pressure levels give theirs in levelValues).
+  std::vector<float> pressurePa;
 
   // --- time ---
   std::vector<std::string> times;  ///< the file's time axis, ISO 8601 UTC (empty strings if it has none)

@@ -33,6 +33,9 @@ struct SliceSourceOptions {
   std::map<std::string, std::size_t> gridIndex;
   /// Grids: a statistic over every member instead of one (GridReadOptions::ensemble).
   std::optional<EnsembleStatistic> ensemble;
+  /// Grids: keep each value's pressure on terrain-following levels (GridReadOptions::keepPressure),
+  /// for isobaric sections of hybrid, sigma and WRF grids.
+  bool keepPressure = false;
 };
 
 class SliceSource {

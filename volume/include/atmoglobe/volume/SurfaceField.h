@@ -41,8 +41,12 @@ Result<SurfaceField> surfaceFieldOf(GridVolume grid, std::optional<double> press
                                     std::optional<std::size_t> level = std::nullopt);
 
 /// Each column's value on the isobaric surface at `pressurePa` (ny x nx, NaN where a level used
-/// is missing). Errors: as pressureLevelsPa (SliceSource.h), a pressure outside the levels.
-Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double pressurePa);
+/// is missing): the two levels around the pressure, linear in ln(p) (`nearestLevel`: the nearer
+/// in ln(p)). Pressure levels take the grid's levels (pressureBracket); a grid with per-value
+/// pressures (GridVolume::pressurePa: hybrid, sigma, WRF eta) takes each column's own, and a
+/// column whose levels do not reach the pressure (the surface under ground) has none.
+/// Errors: as pressureLevelsPa (SliceSource.h), a pressure outside every column's levels.
+Result<std::vector<float>> isobaricColumnValues(const GridVolume& grid, double pressurePa, bool nearestLevel = false);
 
 /// The field's value at a point by the grid's horizontal interpolation (file comment); NaN
 /// outside the grid or where a column used is missing. Keeps a reference to the field.
