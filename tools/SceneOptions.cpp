@@ -151,8 +151,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   sf->add_option("--surface-member", o.surfaceMembers, "Its ensemble member (GRIB `number`)");
   sf->add_option("--surface-ensemble", o.surfaceEnsembles,
                  "A statistic over every member: mean, spread, min, max or prob:>=V (as --ensemble)");
-  sf->add_option("--surface-pressure-hpa", o.surfacePressuresHpa,
-                 "A 3-D variable's isobaric surface at this pressure (hPa; grids on pressure levels)");
+  sf->add_option(
+      "--surface-pressure-hpa", o.surfacePressuresHpa,
+      "A 3-D variable's isobaric surface at this pressure (hPa; grids on pressure, hybrid, sigma or WRF eta levels)");
   sf->add_option("--surface-level", o.surfaceLevels, "A 3-D variable's level (0 = the lowest; model levels too)");
   sf->add_option("--surface-colors", o.surfaceColors, "Colour table (as --grid-colors; default auto)");
   sf->add_option("--surface-range", o.surfaceRanges, "Colour table span MIN,MAX (field units)");

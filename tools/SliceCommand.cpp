@@ -314,9 +314,10 @@ Command addSliceCommand(CLI::App& root) {
                 "max, or prob:>=VALUE (also >, <=, <; the percentage of members passing)");
   addGridIndexOption(c, opts->gridIndex);
   c->add_option("--height-m", opts->heightMeters, "CAPPI height (m above the datum)");
-  c->add_option("--pressure-hpa", opts->pressureHpa,
-                "Grids on pressure levels: a horizontal section on this isobaric surface (hPa; between levels "
-                "interpolated linearly in ln p), e.g. 500");
+  c->add_option(
+      "--pressure-hpa", opts->pressureHpa,
+      "Grids on pressure, hybrid, sigma or WRF eta levels: a horizontal section on this isobaric surface (hPa; between levels "
+      "interpolated linearly in ln p), e.g. 500");
   c->add_option("--box", opts->box,
                 "CAPPI box SOUTH,NORTH,WEST,EAST (deg; west > east crosses the antimeridian); default: the volume's "
                 "extent");
