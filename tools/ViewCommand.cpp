@@ -946,6 +946,8 @@ int runView(const ViewOptions& o) {
         saved.volumes.push_back(std::move(d));
       }
       for (const engine::DeferredRadar& d : deferred) saved.volumes.push_back(d.description);  // not seen yet
+      saved.surfaces.clear();  // the maps as edited in the panel
+      for (const auto& surface : (*renderer)->surfaces()) saved.surfaces.push_back(surface->description());
       if (auto st = globe::writeFileAtomic(o.saveScene, engine::sceneToJson(saved)); !st) {
         std::cerr << "atmoglobe view: error: " << st.error() << std::endl;
         if (state.scripted) return fail("view", st.error());

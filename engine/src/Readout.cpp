@@ -30,6 +30,20 @@ double seaLevelHeightMeters(const globe::Geodetic& g) {
   return geoid ? g.heightMeters - geoid->undulationMeters(g.latDeg, g.lonDeg) : g.heightMeters;
 }
 
+std::string memberValuesLine(const std::vector<std::pair<long, double>>& members) {
+  std::string line = "  members (" + std::to_string(members.size()) + "):";
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    if (m == kReadoutMembers) {
+      line += " ...";
+      break;
+    }
+    char value[48];
+    std::snprintf(value, sizeof value, " %ld: %.4g", members[m].first, members[m].second);
+    line += value;
+  }
+  return line;
+}
+
 CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, double xPx, double yPx, double stepMeters) {
   CursorReadout out;
   const glm::dvec3 eye = camera.eyeEcef();
@@ -49,12 +63,18 @@ CursorReadout readoutAt(const SceneRendererGL& scene, const Camera& camera, doub
   // Each map's value where the ray meets the ground (the field's own interpolation, as drawn).
   if (out.groundLatLonHeight)
     for (const auto& surface : scene.surfaces()) {
-      const double v = surface->sampler().valueAt(out.groundLatLonHeight->x, out.groundLatLonHeight->y);
+      if (!surface->visible) continue;
+      const double latDeg = out.groundLatLonHeight->x, lonDeg = out.groundLatLonHeight->y;
+      const double v = surface->sampler().valueAt(latDeg, lonDeg);
       if (!std::isfinite(v)) continue;
-      char line[200];
-      std::snprintf(line, sizeof line, "%s: %.4g %s", surface->field().name.c_str(), v,
-                    surface->field().grid.units.c_str());
+      const volume::GridVolume& g = surface->field().grid;
+      char line[240];
+      std::snprintf(line, sizeof line, "%s: %.4g %s%s", surface->field().name.c_str(), v, g.units.c_str(),
+                    g.ensembleStatistic.empty() ? "" : (" (" + g.ensembleStatistic + ")").c_str());
       out.lines.push_back(line);
+      // An ensemble statistic: every member's value there too.
+      if (const auto members = surface->memberValuesAt(latDeg, lonDeg); !members.empty())
+        out.lines.push_back(memberValuesLine(members));
     }
   if (out.groundLatLonHeight) {
     char line[160];

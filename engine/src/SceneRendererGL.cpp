@@ -129,17 +129,19 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   stats.globe = globe_->draw(camera);
   for (const auto& model : models_) model->draw(camera);
   if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
-  for (const auto& surface : surfaces_) surface->drawFill(camera);  // no depth written: under the volumes
+  for (const auto& surface : surfaces_)
+    if (surface->visible) surface->drawFill(camera);  // no depth written: under the volumes
   for (; rangeRings_ && layersWithRings_ < layers_.size(); ++layersWithRings_) {
     if (auto rings = layers_[layersWithRings_]->rangeRings(); !rings.empty())
       map_->addLines(rings, MapLineStyle{glm::vec3(0.95f, 0.9f, 0.55f), 1.0f, 0.7f});
   }
   stats.map = map_->draw(camera);  // writes no depth: the march sees the globe's
-  for (const auto& surface : surfaces_) surface->drawContours(camera);
+  for (const auto& surface : surfaces_)
+    if (surface->visible) surface->drawContours(camera);
   // Every volume in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
   for (const auto& surface : surfaces_)
-    all.insert(all.end(), surface->contourLabels().begin(), surface->contourLabels().end());
+    if (surface->visible) all.insert(all.end(), surface->contourLabels().begin(), surface->contourLabels().end());
   std::vector<VolumeLayerGL> layers;
   for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
     const VolumeSourceGL& source = *layers_[i];
@@ -199,6 +201,7 @@ FrameLegend SceneRendererGL::legendFor(const Camera& camera) const {
     legend.synthetic = legend.synthetic || part.synthetic;
   }
   for (const auto& surface : surfaces_) {
+    if (!surface->visible) continue;
     add(surface->title());
     legend.subtitles.push_back(surface->subtitle());
     if (auto key = surface->key()) legend.keys.push_back(std::move(*key));
@@ -226,6 +229,24 @@ Status SceneRendererGL::setVolumeDescription(std::size_t index, const VolumeLaye
                      nameOf(d.kind));
   if (auto st = validateVolumeLayer(d, d.path); !st) return st;
   return layers_[index]->setDescription(d, contextFor(index));
+}
+
+Status SceneRendererGL::setSurfaceDescription(std::size_t index, const SurfaceLayerDescription& d) {
+  if (index >= surfaces_.size()) return makeError("no surface layer " + std::to_string(index));
+  if (auto st = validateSurfaceLayer(d, d.path); !st) return st;
+  const SurfaceFieldGL& now = *surfaces_[index];
+  Result<SurfaceData> data = sameSurfaceData(now.description(), d) ? Result<SurfaceData>(now.data())
+                                                                   : readSurfaceData(d);
+  if (!data) return data.forwardError();
+  auto surface = SurfaceFieldGL::create(std::move(*data), d);
+  if (!surface) return surface.forwardError();
+  (*surface)->visible = now.visible;
+  surfaces_[index] = std::move(*surface);
+  return Ok{};
+}
+
+void SceneRendererGL::setSurfaceVisible(std::size_t index, bool visible) {
+  if (index < surfaces_.size()) surfaces_[index]->visible = visible;
 }
 
 Status SceneRendererGL::changeVerticalExaggeration(double factor) {

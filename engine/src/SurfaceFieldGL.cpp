@@ -103,6 +103,9 @@ Result<std::unique_ptr<SurfaceFieldGL>> SurfaceFieldGL::create(SurfaceData data,
   s->windGrid_ = std::move(data.windGrid);
   s->wind_ = std::move(data.wind);
   s->windNote_ = std::move(data.windNote);
+  s->members_ = std::move(data.members);  // moved whole: the samplers below keep references into it
+  for (const auto& member : s->members_)
+    s->memberSamplers_.push_back(std::make_unique<volume::SurfaceSampler>(member.second));
   const volume::GridVolume& grid = s->field_.grid;
   const bool wraps = grid.wrapsLongitude && !grid.curvilinear;
   const std::size_t nx = grid.nx, ny = grid.ny, columns = nx + (wraps ? 1 : 0);
@@ -328,6 +331,23 @@ std::string SurfaceFieldGL::subtitle() const {
 std::optional<LegendKey> SurfaceFieldGL::key() const {
   if (!description_.fill) return std::nullopt;
   return LegendKey{displayName(field_.name), field_.grid.units, table_};
+}
+
+SurfaceData SurfaceFieldGL::data() const {
+  SurfaceData d;
+  d.field = field_;
+  d.windGrid = windGrid_;
+  d.wind = wind_;
+  d.windNote = windNote_;
+  d.members = members_;
+  return d;
+}
+
+std::vector<std::pair<long, double>> SurfaceFieldGL::memberValuesAt(double latDeg, double lonDeg) const {
+  std::vector<std::pair<long, double>> out;
+  for (std::size_t m = 0; m < members_.size(); ++m)
+    out.emplace_back(members_[m].first, memberSamplers_[m]->valueAt(latDeg, lonDeg));
+  return out;
 }
 
 }  // namespace atmoglobe::engine

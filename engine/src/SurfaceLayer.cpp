@@ -154,7 +154,39 @@ Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d) {
   auto field = fieldOf(d.variable);
   if (!field) return field.forwardError();
   out.field = std::move(*field);
+  if (read.ensemble) {
+    // Each member on the same surface, for the readout (the statistic's own values are the
+    // reader's, computed value by value before the surface is cut).
+    volume::GridReadOptions which = read;
+    which.ensemble.reset();
+    which.variable = d.variable;
+    auto members = volume::ensembleMemberSelections(d.path, which);
+    if (!members) return members.forwardError();
+    for (const volume::EnsembleMemberSelection& m : *members) {
+      volume::GridReadOptions r = which;
+      r.member = m.member;
+      for (const auto& [dimension, index] : m.extraIndex) r.extraIndex[dimension] = index;
+      auto grid = volume::readGridVolume(d.path, r);
+      if (!grid) return grid.forwardError();
+      // The member as the statistic lists it: GRIB's number, else the ensemble coordinate's value
+      // (its index where it has none).
+      long label = grid->member >= 0 ? grid->member : static_cast<long>(out.members.size());
+      for (const volume::GridExtraDimension& e : grid->extraDimensions)
+        if (e.ensemble) label = std::isfinite(e.value) ? std::lround(e.value) : static_cast<long>(e.index);
+      std::optional<std::size_t> level;
+      if (d.level) level = static_cast<std::size_t>(*d.level);
+      auto one = volume::surfaceFieldOf(std::move(*grid), pressurePa, level);
+      if (!one) return one.forwardError();
+      out.members.emplace_back(label, std::move(*one));
+    }
+  }
   return out;
+}
+
+bool sameSurfaceData(const SurfaceLayerDescription& a, const SurfaceLayerDescription& b) {
+  return a.path == b.path && a.variable == b.variable && a.time == b.time && a.member == b.member &&
+         a.ensemble == b.ensemble && a.pressureHpa == b.pressureHpa && a.level == b.level && a.wind == b.wind &&
+         a.useGeoid == b.useGeoid;
 }
 
 }  // namespace atmoglobe::engine

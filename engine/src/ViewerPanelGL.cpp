@@ -44,7 +44,10 @@ struct ViewerPanelGL::Editing {
   /// The control point being dragged: layer and index.
   std::optional<std::pair<std::size_t, std::size_t>> dragging;
   float exaggeration = 1.0f;
-  std::string error;  ///< the last edit's error, shown until the next edit succeeds
+  /// A map layer's description being edited, per surface index (applied when a field is left).
+  std::map<std::size_t, SurfaceLayerDescription> surfaces;
+  std::map<std::size_t, double> surfaceThresholds;  ///< a map's "prob:>=" value being edited
+  std::string error;                                ///< the last edit's error, shown until the next edit succeeds
 };
 
 ViewerPanelGL::ViewerPanelGL() : editing_(std::make_unique<Editing>()) {}
@@ -517,6 +520,7 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     ImGui::TreePop();
     ImGui::PopID();
   }
+  changed = drawSurfaces(scene) || changed;
   // Scene-wide: vertical exaggeration (volumes re-uploaded or read again when released).
   if (e.exaggeration != static_cast<float>(scene.verticalExaggeration()) && !ImGui::IsAnyItemActive())
     e.exaggeration = static_cast<float>(scene.verticalExaggeration());
@@ -554,6 +558,110 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(formatBytes(gpu).c_str());
     ImGui::EndTable();
+  }
+  return changed;
+}
+
+bool ViewerPanelGL::drawSurfaces(SceneRendererGL& scene) {
+  Editing& e = *editing_;
+  bool changed = false;
+  const auto& surfaces = scene.surfaces();
+  if (!surfaces.empty()) {
+    ImGui::Separator();
+    ImGui::TextUnformatted("Maps");
+  }
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    const SurfaceFieldGL& layer = *surfaces[i];
+    ImGui::PushID(static_cast<int>(1000000 + i));
+    bool visible = layer.visible;
+    if (ImGui::Checkbox("##on", &visible)) {
+      scene.setSurfaceVisible(i, visible);
+      changed = true;
+    }
+    ImGui::SameLine();
+    static const bool openFirst = std::getenv("ATMOGLOBE_PANEL_OPEN") != nullptr;  // as the volume layers
+    if (!ImGui::TreeNodeEx("##map", openFirst && i == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s",
+                           layer.field().name.c_str())) {
+      ImGui::PopID();
+      continue;
+    }
+    // The pending description follows the layer's except while a field is being typed in.
+    if (!e.surfaces.count(i) || !ImGui::IsAnyItemActive()) e.surfaces[i] = layer.description();
+    SurfaceLayerDescription& d = e.surfaces[i];
+    bool apply = false;
+    if (d.pressureHpa) {
+      ImGui::InputDouble("pressure (hPa)", &*d.pressureHpa, 50.0, 100.0, "%.0f");
+      apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
+    } else if (d.level) {
+      ImGui::InputInt("level (0 = lowest)", &*d.level);
+      apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
+    }
+    apply = comboOf("colours", d.colors, colorTableChoices()) || apply;
+    float opacity = static_cast<float>(d.fill ? d.opacity : 0.0);
+    if (ImGui::SliderFloat("fill opacity", &opacity, 0.0f, 1.0f, "%.2f")) {
+      d.opacity = opacity;
+      d.fill = opacity > 0.0f;
+    }
+    apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
+    if (d.contourValues.empty()) {
+      double interval = d.contourInterval.value_or(0.0);
+      if (ImGui::InputDouble("contour interval (0: none)", &interval, 0.0, 0.0, "%.6g")) {
+        if (interval > 0.0) {
+          d.contourInterval = interval;
+        } else {
+          d.contourInterval.reset();
+        }
+      }
+      apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
+    }
+    bool wind = !d.wind.empty();
+    if (ImGui::Checkbox("wind barbs", &wind)) {
+      d.wind = wind ? std::string("auto") : std::string();
+      apply = true;
+    }
+    // An ensemble: one member (by number) or a statistic over all of them.
+    const volume::GridVolume& g = layer.field().grid;
+    const bool ensemble = !g.ensembleStatistic.empty() || g.member >= 0 ||
+                          std::any_of(g.extraDimensions.begin(), g.extraDimensions.end(),
+                                      [](const volume::GridExtraDimension& x) { return x.ensemble; });
+    if (ensemble) {
+      const std::string current = d.ensemble.empty() ? std::string("one member") : d.ensemble;
+      if (ImGui::BeginCombo("members", current.c_str())) {
+        for (const char* c : {"one member", "mean", "spread", "min", "max"}) {
+          if (ImGui::Selectable(c, current == c) && current != c) {
+            d.ensemble = std::string(c) == "one member" ? std::string() : std::string(c);
+            apply = true;
+          }
+        }
+        ImGui::EndCombo();
+      }
+      if (d.ensemble.empty()) {
+        ImGui::InputInt("member", &d.member);
+        apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
+      } else {
+        d.member = -1;
+      }
+      if (!e.surfaceThresholds.count(i)) e.surfaceThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
+      ImGui::InputDouble("threshold", &e.surfaceThresholds[i], 0.0, 0.0, "%.6g");
+      if (ImGui::Button("probability of >= threshold")) {
+        volume::EnsembleStatistic p;
+        p.kind = volume::EnsembleStatistic::Kind::Probability;
+        p.comparison = ">=";
+        p.threshold = e.surfaceThresholds[i];
+        d.ensemble = volume::toString(p);
+        d.member = -1;
+        d.valueRange.reset();  // the old variable's units
+        apply = true;
+      }
+    }
+    if (apply) {
+      const Status st = scene.setSurfaceDescription(i, d);
+      e.error = st ? std::string() : st.error();
+      e.surfaces.erase(i);
+      changed = true;
+    }
+    ImGui::TreePop();
+    ImGui::PopID();
   }
   return changed;
 }

@@ -6,6 +6,8 @@
 
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/Readout.h>
+#include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SurfaceFieldGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -15,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 namespace {
@@ -75,7 +78,7 @@ TEST(SurfaceField, ContourLinesLieWithinHalfAPixelOfTheirTruePlaceAtThreeHeights
     d.contourValues = {35.1};
     d.contourColor = glm::vec3(1.0f);
     d.contourLabels = false;
-    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}}, d);
+    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}, {}}, d);
     ASSERT_TRUE(gl) << gl.error();
     ASSERT_EQ((*gl)->contours().size(), 1u);
     const engine::Camera camera(engine::CameraPose{35.1, -97.0, heightMeters, 0.0, -90.0, 0.0}, 45.0, 320, 180);
@@ -159,7 +162,7 @@ TEST(SurfaceField, GpuFillMatchesTheCpuReference) {
     engine::SurfaceLayerDescription d;
     d.path = "test.nc";
     d.opacity = 0.8;
-    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}}, d);
+    auto gl = engine::SurfaceFieldGL::create(engine::SurfaceData{std::move(*field), {}, {}, {}, {}}, d);
     ASSERT_TRUE(gl) << gl.error();
     const engine::Camera camera(c.pose, 45.0, 160, 90);
     const globe::ImageRGBA8 frame = drawAlone(camera, **gl, true, false);
@@ -305,3 +308,81 @@ TEST(SurfaceField, DescriptionsAreValidated) {
 }
 
 }  // namespace
+
+// The viewer's map layers on the real ERA5 ensemble (10 members, z and t on 500 and 850 hPa):
+// a statistic's layer keeps every member's field, whose values at a point are each member's map
+// read alone, and whose mean is the statistic's value there; edits of the drawing keep the data,
+// edits of the data read it again, a bad edit leaves the layer as it was; a map switched off is
+// neither drawn nor read out.
+TEST(SurfaceField, EnsembleMembersAndPanelEditsInTheScene) {
+  const std::string era5 = atmoglobe_test::testDataPath("grids_grib/era5-levels-members.grib");
+  SKIP_WITHOUT_TEST_DATA(era5);
+  testutil::glContext();
+  setenv("ATMOGLOBE_CACHE_DIR", atmoglobe_test::freshTestDir("surface_grib_cache").c_str(), 1);
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader) << loader.error();
+  auto scene = engine::SceneRendererGL::create(*loader);
+  ASSERT_TRUE(scene) << scene.error();
+  engine::SurfaceLayerDescription d;
+  d.path = era5;
+  d.variable = "t";
+  d.pressureHpa = 500.0;
+  d.ensemble = "mean";
+  auto added = (*scene)->addSurface(d);
+  ASSERT_TRUE(added) << added.error();
+  const engine::SurfaceFieldGL& mean = *(*scene)->surfaces().at(0);
+  const double lat = 51.3, lon = 2.7;  // between grid points
+  const auto members = mean.memberValuesAt(lat, lon);
+  ASSERT_EQ(members.size(), 10u);
+  double sum = 0.0;
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    EXPECT_EQ(members[m].first, static_cast<long>(m));  // GRIB numbers 0 .. 9
+    engine::SurfaceLayerDescription one = d;
+    one.ensemble.clear();
+    one.member = static_cast<int>(m);
+    auto alone = engine::readSurfaceData(one);
+    ASSERT_TRUE(alone) << alone.error();
+    const volume::SurfaceSampler sampler(alone->field);
+    EXPECT_EQ(members[m].second, sampler.valueAt(lat, lon)) << m;
+    sum += members[m].second;
+  }
+  // The mean of the members' maps is the map of the mean (the mean commutes with the linear
+  // interpolations; float storage of ~250 K: 3e-5 K, summed over 10 members).
+  EXPECT_NEAR(mean.sampler().valueAt(lat, lon), sum / 10.0, 2e-4);
+  // The readout: the statistic's value, then each member's.
+  const engine::Camera camera(engine::CameraPose{lat, lon, 2.0e6, 0.0, -90.0, 0.0}, 30.0, 64, 48);
+  const engine::CursorReadout r = engine::readoutAt(**scene, camera, 32.0, 24.0);
+  std::string all;
+  for (const std::string& line : r.lines) all += line + "\n";
+  EXPECT_NE(all.find("t at 500 hPa: "), std::string::npos) << all;
+  EXPECT_NE(all.find(" K (mean)"), std::string::npos) << all;
+  EXPECT_NE(all.find("  members (10): 0: "), std::string::npos) << all;
+
+  // A drawing edit (opacity, contours) keeps the data: the same member values.
+  engine::SurfaceLayerDescription drawn = d;
+  drawn.opacity = 0.3;
+  drawn.contourInterval = 2.0;
+  ASSERT_TRUE((*scene)->setSurfaceDescription(0, drawn));
+  EXPECT_EQ((*scene)->surfaces()[0]->memberValuesAt(lat, lon), members);
+  EXPECT_FALSE((*scene)->surfaces()[0]->contours().empty());
+  // A data edit reads again: 850 hPa, one member, no member fields.
+  engine::SurfaceLayerDescription lower = drawn;
+  lower.pressureHpa = 850.0;
+  lower.ensemble.clear();
+  lower.member = 3;
+  ASSERT_TRUE((*scene)->setSurfaceDescription(0, lower));
+  EXPECT_EQ((*scene)->surfaces()[0]->field().name, "t at 850 hPa");
+  EXPECT_TRUE((*scene)->surfaces()[0]->memberValuesAt(lat, lon).empty());
+  // A pressure outside the levels: an error, the layer unchanged.
+  engine::SurfaceLayerDescription bad = lower;
+  bad.pressureHpa = 1000.0;
+  const Status st = (*scene)->setSurfaceDescription(0, bad);
+  ASSERT_FALSE(st);
+  EXPECT_NE(st.error().find("1000 hPa is outside the levels"), std::string::npos) << st.error();
+  EXPECT_EQ((*scene)->surfaces()[0]->field().name, "t at 850 hPa");
+  // Switched off: no readout line, no legend entry.
+  (*scene)->setSurfaceVisible(0, false);
+  const engine::CursorReadout off = engine::readoutAt(**scene, camera, 32.0, 24.0);
+  for (const std::string& line : off.lines) EXPECT_EQ(line.find("t at 850 hPa"), std::string::npos) << line;
+  EXPECT_TRUE((*scene)->legendFor(camera).keys.empty());
+}

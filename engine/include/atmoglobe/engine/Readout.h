@@ -12,6 +12,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atmoglobe::engine {
@@ -40,6 +41,11 @@ struct RayValue {
 std::optional<RayValue> firstValueAlong(const volume::VolumeSampler& sampler, const glm::dvec3& eyeEcef,
                                         const glm::dvec3& dir, double tMaxMeters, double stepMeters,
                                         volume::Interpolation interpolation);
+
+/// An ensemble's members and their values at the cursor as one readout line, "  members (10):
+/// 0: 251.3 1: 251.6 ...", the first kReadoutMembers of them (then "...").
+constexpr std::size_t kReadoutMembers = 16;
+std::string memberValuesLine(const std::vector<std::pair<long, double>>& members);
 
 /// Height above mean sea level (EGM96) of a geodetic point; the ellipsoidal height without the grid.
 double seaLevelHeightMeters(const globe::Geodetic& point);

@@ -74,6 +74,13 @@ class SceneRendererGL {
   /// returns a line for the user.
   Result<std::string> addSurface(const SurfaceLayerDescription& description);
   const std::vector<std::unique_ptr<SurfaceFieldGL>>& surfaces() const { return surfaces_; }
+  /// Applies an edited description to surface layer `index` (the viewer's panel): the data read
+  /// again when it asks for other data (sameSurfaceData: variable, time, member or statistic,
+  /// pressure or level, wind), else the loaded data drawn under the new colours, range, opacity
+  /// and contours. The layer's visibility is kept. On error the layer is unchanged.
+  Status setSurfaceDescription(std::size_t index, const SurfaceLayerDescription& description);
+  /// Switches surface layer `index` on or off.
+  void setSurfaceVisible(std::size_t index, bool visible);
   /// The scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none): radars, grids,
   /// slices and markers are drawn at that many times their height above the ellipsoid, so they
   /// stay aligned. Call before adding layers (it applies to layers added afterwards; an error

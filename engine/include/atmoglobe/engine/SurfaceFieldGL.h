@@ -52,6 +52,15 @@ class SurfaceFieldGL {
 
   const volume::SurfaceField& field() const { return field_; }
   const volume::SurfaceSampler& sampler() const { return *sampler_; }
+  const SurfaceLayerDescription& description() const { return description_; }
+  /// What it was made from, for drawing it again under another description of the same data
+  /// (sameSurfaceData) without reading the file again.
+  SurfaceData data() const;
+  /// An ensemble statistic's members and each one's value at a point (the field's horizontal
+  /// interpolation; NaN outside or missing); empty without a statistic.
+  std::vector<std::pair<long, double>> memberValuesAt(double latDeg, double lonDeg) const;
+  /// Drawn (fill, contours, labels, barbs, legend); the viewer's panel switches it.
+  bool visible = true;
   /// The fill's colours (the description's table over its range, else the field's values).
   const volume::ColorTable& table() const { return table_; }
 
@@ -74,6 +83,9 @@ class SurfaceFieldGL {
   volume::WindComponents wind_;
   std::string windNote_;
   std::unique_ptr<MapRendererGL> barbs_;
+  // An ensemble statistic's members (SurfaceData::members) and their samplers.
+  std::vector<std::pair<long, volume::SurfaceField>> members_;
+  std::vector<std::unique_ptr<volume::SurfaceSampler>> memberSamplers_;
   std::vector<double> barbKey_;
   void buildBarbs(const Camera& camera);
 };

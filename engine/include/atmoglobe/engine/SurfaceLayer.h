@@ -48,14 +48,24 @@ struct SurfaceData {
   std::optional<volume::GridVolume> windGrid;  ///< nz = 1; values unused
   volume::WindComponents wind;
   std::string windNote;  ///< "wind: u, v (grid-relative, turned east and north)"
+  /// An ensemble statistic's members, each read alone on the same surface (the readout gives
+  /// every member's value under the cursor): the member (GRIB `number`, netCDF the ensemble
+  /// coordinate's value or index) and its field. Empty without a statistic.
+  std::vector<std::pair<long, volume::SurfaceField>> members;
 };
 
 /// Checks the description (ranges, a fill or contours to draw, not both a member and an
 /// ensemble statistic); errors start with `where`.
 Status validateSurfaceLayer(const SurfaceLayerDescription& d, const std::string& where);
 
+/// Whether two descriptions read the same data (file, variable, time, member or statistic,
+/// pressure or level, wind, datum): a change of anything else (colours, range, opacity,
+/// contours) redraws what is loaded without reading again.
+bool sameSurfaceData(const SurfaceLayerDescription& a, const SurfaceLayerDescription& b);
+
 /// Reads the variable (the time, member or statistic asked) and makes its field
-/// (volume::surfaceFieldOf), and the wind when asked. Errors name the file.
+/// (volume::surfaceFieldOf), the wind when asked, and with a statistic each member's field.
+/// Errors name the file.
 Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d);
 
 /// The u and v variables of `wind` ("auto" or "U,V") in `path`. Errors: none found (naming what

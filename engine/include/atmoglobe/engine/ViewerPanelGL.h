@@ -66,6 +66,7 @@ class ViewerPanelGL {
   struct Editing;  ///< what the panel remembers between frames (pending crop boxes, histograms, drags)
   std::unique_ptr<Editing> editing_;
   bool drawLayers(SceneRendererGL& scene);
+  bool drawSurfaces(SceneRendererGL& scene);  ///< the maps on the globe (SurfaceFieldGL): settings, member, statistic
 };
 
 }  // namespace atmoglobe::engine
