@@ -6,8 +6,10 @@
 #include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/SliceSource.h>
+#include <atmoglobe/volume/StepCache.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -281,7 +283,72 @@ std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const 
   std::snprintf(text, sizeof text,
                 "%.4g %s  (at %.3f, %.3f, drawn height %.0f m above the ellipsoid, %.0f m above sea level)", hit->value,
                 v.units.c_str(), g.latDeg, g.lonDeg, g.heightMeters, seaLevelHeightMeters(g));
-  return displayName(v.variable) + ": " + text;
+  std::string line = displayName(v.variable) + ": " + text;
+  if (!v.ensembleStatistic.empty()) {
+    line += " (" + v.ensembleStatistic + ")";
+    const MemberGrids& m = memberGrids();
+    if (!m.note.empty()) {
+      line.append("\n  members: ");
+      line.append(m.note);
+      return line;
+    }
+    std::vector<std::pair<long, double>> values;
+    for (std::size_t k = 0; k < m.grids.size(); ++k) {
+      const volume::VolumeSample s = m.samplers[k]->sample(hit->ecef, volume::Interpolation::Linear);
+      values.emplace_back(m.grids[k].first, s.state == volume::VolumeSample::State::Echo
+                                                ? s.value
+                                                : std::numeric_limits<double>::quiet_NaN());
+    }
+    line.push_back('\n');
+    line.append(memberValuesLine(values));
+  }
+  return line;
+}
+
+const GridSourceGL::MemberGrids& GridSourceGL::memberGrids() const {
+  if (members_ && members_->volume == volume_.get()) return *members_;
+  auto m = std::make_shared<MemberGrids>();
+  m->volume = volume_.get();
+  const volume::GridVolume& v = volume_->grid();
+  volume::GridReadOptions read = gridReadOptions(description_);
+  read.ensemble.reset();
+  read.timeIndex = step_;
+  read.timeIso8601.clear();
+  auto selections = volume::ensembleMemberSelections(description_.path, read);
+  // Kept only within a quarter of the memory budget: each member is the statistic's size.
+  const std::uint64_t each = volume::gridVolumeBytes(v);
+  if (!selections) {
+    m->note = selections.error();
+  } else if (each * selections->size() > volume::defaultMemoryBudgetBytes() / 4) {
+    m->note = std::to_string(selections->size()) + " members of " + std::to_string(each >> 20) +
+              " MiB each: more than a quarter of the memory budget, not kept for the readout";
+  } else {
+    for (const volume::EnsembleMemberSelection& sel : *selections) {
+      volume::GridReadOptions r = read;
+      r.member = sel.member;
+      for (const auto& [dimension, index] : sel.extraIndex) r.extraIndex[dimension] = index;
+      auto one = volume::readGridVolume(description_.path, r);
+      Status cut = one ? cropGridLayer(description_, *one) : Status(one.forwardError());  // as the statistic's
+      if (cut && one->values.size() != v.values.size()) cut = makeError("a member's grid differs from the statistic's");
+      if (!cut) {
+        m->note = cut.error();
+        m->grids.clear();
+        break;
+      }
+      long label = one->member >= 0 ? one->member : static_cast<long>(m->grids.size());
+      for (const volume::GridExtraDimension& e : one->extraDimensions)
+        if (e.ensemble) label = std::isfinite(e.value) ? std::lround(e.value) : static_cast<long>(e.index);
+      // The statistic's geometry and drawn (exaggerated) heights with this member's values: a
+      // point is then sampled at the same place in every member.
+      volume::GridVolume member = v;
+      member.values = std::move(one->values);
+      volume::setValueRange(member);
+      m->grids.emplace_back(label, std::move(member));
+    }
+  }
+  for (const auto& grid : m->grids) m->samplers.push_back(std::make_unique<volume::GridSampler>(grid.second));
+  members_ = std::move(m);
+  return *members_;
 }
 
 std::string GridSourceGL::loadNote() const {

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 
 namespace {
 using namespace atmoglobe;
@@ -385,4 +386,37 @@ TEST(SurfaceField, EnsembleMembersAndPanelEditsInTheScene) {
   const engine::CursorReadout off = engine::readoutAt(**scene, camera, 32.0, 24.0);
   for (const std::string& line : off.lines) EXPECT_EQ(line.find("t at 850 hPa"), std::string::npos) << line;
   EXPECT_TRUE((*scene)->legendFor(camera).keys.empty());
+
+  // A volume of the same statistic: its readout line gives each member's value at the first
+  // value along the ray, and their mean is the statistic's value there (as printed: 4 digits).
+  engine::VolumeLayerDescription grid;
+  grid.kind = engine::VolumeKind::Grid;
+  grid.path = era5;
+  grid.field = "t";
+  grid.ensemble = *volume::parseEnsembleStatistic("mean");
+  auto layer = (*scene)->addVolume(grid);
+  ASSERT_TRUE(layer) << layer.error();
+  const engine::Camera oblique(engine::CameraPose{40.0, -20.0, 3.0e5, 0.0, -30.0, 0.0}, 30.0, 64, 48);
+  const engine::CursorReadout v = engine::readoutAt(**scene, oblique, 32.0, 24.0);
+  std::string text;
+  for (const std::string& line : v.lines) text += line + "\n";
+  const auto at = text.find("t:isobaricInhPa: ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const double statistic = std::stod(text.substr(at + 17));
+  const auto list = text.find("  members (10): ", at);
+  ASSERT_NE(list, std::string::npos) << text;
+  std::istringstream values(text.substr(list + 16, text.find('\n', list) - list - 16));
+  double total = 0.0;
+  int count = 0;
+  for (std::string label; values >> label;) {
+    double value = 0.0;
+    values >> value;
+    EXPECT_EQ(label, std::to_string(count) + ":");
+    total += value;
+    ++count;
+  }
+  ASSERT_EQ(count, 10) << text;
+  // Both sides printed to 4 significant digits (0.05 K at 250 K): the mean of ten rounded values
+  // and a rounded mean differ by at most 0.1 K.
+  EXPECT_NEAR(total / count, statistic, 0.1) << text;
 }

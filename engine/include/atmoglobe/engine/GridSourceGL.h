@@ -5,6 +5,7 @@
 // description's range), so the frames of a series compare.
 #include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/VolumeSourceGL.h>
+#include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 
 #include <map>
@@ -67,6 +68,16 @@ class GridSourceGL final : public VolumeSourceGL {
   std::string mosaicRule_;                ///< a radar mosaic's overlap rule (atmoglobe mosaic), else empty
   volume::ValueRange firstRange_{};       ///< the values of the step first loaded (its colours' range)
   mutable std::optional<std::vector<std::string>> variables_;  ///< the file's variables on a grid, once asked
+  /// An ensemble statistic's members for the readout, read at its first use for the volume shown
+  /// (each member's values on the statistic's geometry and drawn heights), or why not.
+  struct MemberGrids {
+    const void* volume = nullptr;  ///< the GridVolumeGL they were read for
+    std::vector<std::pair<long, volume::GridVolume>> grids;
+    std::vector<std::unique_ptr<volume::GridSampler>> samplers;
+    std::string note;  ///< set when the members are not kept (too large, not readable)
+  };
+  mutable std::shared_ptr<MemberGrids> members_;
+  const MemberGrids& memberGrids() const;
 };
 
 }  // namespace atmoglobe::engine
