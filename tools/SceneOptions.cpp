@@ -139,6 +139,10 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   gg->add_option("--grid-samples-per-cell", o.gridSamplesPerCell,
                  "Grid step that follows the cells: about this many samples per cell crossed, never shorter than "
                  "--grid-step (0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
+  gg->add_option("--grid-lod", o.gridLod,
+                 "Grid level of detail: on (default: a coarser copy of the grid where a pixel spans several of its "
+                 "columns, docs/grids.md \"Level of detail\") or off (always the grid itself)")
+      ->check(CLI::IsMember({"on", "off"}));
   auto* sf = c.add_option_group(
       "Surface fields (maps)",
       "A grid's 2-D field draped on the globe, filled and/or contoured; each option below is given once (all) or "
@@ -497,11 +501,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pickGrid = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--grid", ng, i, out);
   };
-  if (ng == 0 &&
-      (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.ensembles.empty() || !o.gridIndex.empty() ||
-       !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() || !o.gridSettings.empty())) {
+  if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.ensembles.empty() ||
+                  !o.gridIndex.empty() || !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() ||
+                  !o.gridSettings.empty() || !o.gridLod.empty())) {
     return makeError(
-        "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-lod/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -527,6 +531,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       if (d.member >= 0) return makeError("--ensemble combines every member: not with --member");
       d.ensemble = *stat;
     }
+    std::string lod;
+    if (auto st = pickGrid(o.gridLod, "--grid-lod", i, lod); !st) return st.forwardError();
+    if (!lod.empty()) d.levelOfDetail = lod == "on";
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--grid"); !st) return st.forwardError();
     grids.push_back(d);

@@ -4,6 +4,7 @@
 #include <atmoglobe/engine/SlicePlot.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/GridDetail.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/SliceSource.h>
 #include <atmoglobe/volume/StepCache.h>
@@ -261,15 +262,71 @@ LegendPart GridSourceGL::legendPart() const {
                     variable + (mosaicRule_.empty() ? " valid " : " at ") + utcLabel(v.validTime) +
                         (volume::memberText(v).empty() ? std::string() : "  " + volume::memberText(v)) +
                         (volume::extraIndexText(v).empty() ? std::string() : "  " + volume::extraIndexText(v)) +
-                        (v.approximateHeights ? "  (heights approximate)" : ""),
+                        (v.approximateHeights ? "  (heights approximate)" : "") +
+                        (detailLevel_ > 0 ? "  level of detail " + std::to_string(detailLevel_) + " (columns x" +
+                                                std::to_string(volume::detailHorizontalFactor(detailLevel_)) + ")"
+                                          : std::string()),
                     LegendKey{variable, v.units, options_.render.transfer.colors}, synthetic_};
 }
 
 LayerMemory GridSourceGL::memory() const {
   const volume::GridVolume& v = volume_->grid();
-  const std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
-                            (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
-  return LayerMemory{"grid " + v.variable, cpu, volume_->gpuBytes()};
+  std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
+                      (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
+  std::uint64_t gpu = volume_->gpuBytes();
+  if (detailOf_ == volume_.get())
+    for (const auto& d : detail_)
+      if (d) {
+        cpu += volume::gridVolumeBytes(d->grid());
+        gpu += d->gpuBytes();
+      }
+  return LayerMemory{"grid " + v.variable, cpu, gpu};
+}
+
+std::vector<const VolumeGL*> GridSourceGL::volumes() const {
+  if (detailLevel_ > 0 && detailOf_ == volume_.get() && static_cast<std::size_t>(detailLevel_) <= detail_.size() &&
+      detail_[static_cast<std::size_t>(detailLevel_) - 1])
+    return {detail_[static_cast<std::size_t>(detailLevel_) - 1].get()};
+  return {volume_.get()};
+}
+
+void GridSourceGL::chooseDetail(const Camera& camera) {
+  if (detailOf_ != volume_.get()) {  // another step or a reload: the copies were of the old grid
+    detail_.assign(static_cast<std::size_t>(volume::maxDetailLevel(volume_->grid())), nullptr);
+    detailOf_ = volume_.get();
+  }
+  detailLevel_ = 0;
+  if (!description_.levelOfDetail || detail_.empty()) return;
+  const int level =
+      std::min(gridDetailLevelFor(*volume_, camera, options_.imageScale), static_cast<int>(detail_.size()));
+  for (int l = level; l > 0; --l) {  // the level wanted, or the finest coarser one that can be made
+    std::shared_ptr<GridVolumeGL>& slot = detail_[static_cast<std::size_t>(l) - 1];
+    if (!slot) {
+      auto gl = createGridDetail(volume_->grid(), l);
+      if (!gl) continue;
+      slot = std::move(*gl);
+    }
+    detailLevel_ = l;
+    return;
+  }
+}
+
+int gridDetailLevelFor(const GridVolumeGL& grid, const Camera& camera, double imageScale) {
+  const auto* sampler = dynamic_cast<const volume::GridSampler*>(&grid.referenceSampler());
+  if (!sampler) return 0;
+  // The footprint of a pixel where the grid is nearest the eye: the finest any of its pixels needs.
+  const volume::BoundingSphere sphere = sampler->boundingSphere();
+  const double distance = glm::length(camera.eyeEcef() - sphere.centreEcef) - sphere.radiusMeters;
+  const double footprint = volume::pixelFootprintMeters(distance, camera.fovYDeg(), camera.heightPx(), imageScale);
+  return volume::gridDetailLevel(sampler->cellScale().columnSpacingMeters, footprint,
+                                 volume::maxDetailLevel(grid.grid()));
+}
+
+Result<std::unique_ptr<GridVolumeGL>> createGridDetail(const volume::GridVolume& grid, int level) {
+  auto coarse =
+      volume::coarsenGrid(grid, volume::detailHorizontalFactor(level), volume::detailVerticalFactor(grid, level));
+  if (!coarse) return coarse.forwardError();
+  return GridVolumeGL::create(*coarse);
 }
 
 std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const glm::dvec3& dir, double tMaxMeters,

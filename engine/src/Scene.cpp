@@ -138,7 +138,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   if (radar) {
     keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes"});
   } else {
-    keys.insert(keys.end(), {"time", "member", "ensemble", "index"});
+    keys.insert(keys.end(), {"time", "member", "ensemble", "index", "level_of_detail"});
   }
   if (auto st = r.checkObject(keys); !st) return st;
   double iso = 0.0;
@@ -178,6 +178,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
         return Status(Ok{});
       },
       [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
+      [&] { return radar ? Status(Ok{}) : r.boolean("level_of_detail", d.levelOfDetail); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
       [&] {
         double n = 0.0;

@@ -77,6 +77,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   j["classification"] = nameOf(d.classification);
   j["step_m"] = d.stepMeters;
   if (d.samplesPerCell) j["samples_per_cell"] = *d.samplesPerCell;
+  if (d.kind == VolumeKind::Grid && !d.levelOfDetail) j["level_of_detail"] = false;
   j["image_scale"] = d.imageScale;
   if (d.isoValue) j[radar ? "iso_dbz" : "iso_value"] = *d.isoValue;
   j["geoid"] = d.useGeoid;

@@ -144,8 +144,9 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     if (surface->visible) all.insert(all.end(), surface->contourLabels().begin(), surface->contourLabels().end());
   std::vector<VolumeLayerGL> layers;
   for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
-    const VolumeSourceGL& source = *layers_[i];
+    VolumeSourceGL& source = *layers_[i];
     if (!source.visible) continue;
+    source.chooseDetail(camera);  // a grid's level of detail for this camera
     for (const VolumeGL* v : source.volumes()) layers.push_back(VolumeLayerGL{v, source.options()});
     for (const Marker& site : source.siteMarkers()) all.push_back(site);
   }

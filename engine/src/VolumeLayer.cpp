@@ -114,7 +114,7 @@ LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescri
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
       a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.isoValue != b.isoValue ||
       a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
-      !sameLook(a.settings, b.settings))
+      a.levelOfDetail != b.levelOfDetail || !sameLook(a.settings, b.settings))
     return LayerChange::Options;
   return LayerChange::None;
 }

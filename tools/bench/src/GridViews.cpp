@@ -39,8 +39,11 @@ std::vector<ViewSpec> viewSpecs(const BenchVolume& v) {
   }
   if (v.key == "global") {
     // The north Atlantic cyclone of volume::writeSyntheticGlobalGrid at its first step.
+    // "far": the whole disc small in the picture, where a pixel spans several columns (the level
+    // of detail's case).
     return {{"space", 15.0, -40.0, 0.0, 0.0, 12000e3, 45.0, true},
-            {"cyclone", 19.0, -62.0, 200.0, 900e3, 450e3, 50.0, false}};
+            {"cyclone", 19.0, -62.0, 200.0, 900e3, 450e3, 50.0, false},
+            {"far", 15.0, -40.0, 0.0, 0.0, 35000e3, 45.0, true}};
   }
   // A file: around its centre, distances from its size.
   double latMin = 90, latMax = -90, lonMin = 1e9, lonMax = -1e9;
@@ -115,7 +118,7 @@ Result<BenchVolume> loadGridBenchVolume(const GridBenchFile& file) {
 std::vector<std::string> gridViewNames(const GridBenchFile& file, bool quick) {
   std::vector<std::string> names;
   if (file.key == "regional") names = {"regional-oblique", "regional-down"};
-  else if (file.key == "global") names = {"global-space", "global-cyclone"};
+  else if (file.key == "global") names = {"global-space", "global-cyclone", "global-far"};
   else names = {file.key + "-oblique", file.key + "-down"};
   if (quick) names.resize(1);
   return names;

@@ -12,6 +12,8 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
+#include <atmoglobe/engine/GridSourceGL.h>
+#include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Image.h>
@@ -213,6 +215,38 @@ Status measureView(const VolumeBenchOptions& o, engine::VolumeRendererGL& render
   return Ok{};
 }
 
+/// Grids: the engine default setting on the level of detail the engine picks for this view and
+/// size (GridSourceGL::chooseDetail), when it is not the grid itself, against `ref`.
+Status measureDetail(engine::VolumeRendererGL& renderer, const BenchView& view, const std::vector<Cell>& cells,
+                     engine::FramebufferGL& target, int frames, const volume::VolumeImage& ref,
+                     std::vector<Row>& rows) {
+  const auto* grid = dynamic_cast<const engine::GridVolumeGL*>(view.glVolume());
+  const auto def = std::find_if(cells.begin(), cells.end(), [](const Cell& c) {
+    return c.mode == volume::VolumeRenderMode::Dvr && isEngineDefault(c);
+  });
+  if (!grid || def == cells.end()) return Ok{};
+  const int w = target.widthPx(), h = target.heightPx();
+  const engine::Camera camera(view.pose, view.fovYDeg, w, h);
+  const int level = engine::gridDetailLevelFor(*grid, camera, def->imageScale);
+  if (level == 0) return Ok{};
+  auto coarse = engine::createGridDetail(grid->grid(), level);
+  if (!coarse) return coarse.forwardError();
+  const std::vector<float> depth = view.occludeByEllipsoid ? ellipsoidDepth(camera) : std::vector<float>{};
+  std::vector<GpuRun> runs = timeCellsRoundRobinGL(renderer, camera, **coarse, {*def}, target, frames,
+                                                   depth.empty() ? nullptr : &depth, &view.volume->transfer);
+  Row r;
+  r.view = view.name;
+  r.volume = view.volume->key;
+  r.cell = *def;
+  r.widthPx = w, r.heightPx = h;
+  r.medianMs = runs[0].medianMs;
+  r.error = volume::compareImages(fromRgba8(runs[0].image), ref);
+  r.gpuBytes = (*coarse)->gpuBytes();
+  r.detailLevel = level;
+  rows.push_back(r);
+  return Ok{};
+}
+
 }  // namespace
 
 Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostream& log) {
@@ -299,6 +333,11 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
             [&](const Cell& c) { return view.name + "-gpu-" + modeName(c.mode) + ".png"; }, report.rows);
         !s)
       return s.forwardError();
+    if (plan.kind == "grid")
+      if (Status s = measureDetail(renderer, view, plan.cells, **target, o.frames, ref[volume::VolumeRenderMode::Dvr],
+                                   report.detailRows);
+          !s)
+        return s.forwardError();
     progress.advance(1, view.name);
   }
 
@@ -327,6 +366,11 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
           !s)
         return s.forwardError();
       if (Status s = writePngTo(o, view.name + "-1280-reference-dvr.png", toRgba8(ref)); !s) return s.forwardError();
+      if (plan.kind == "grid")
+        if (Status s = measureDetail(renderer, view, plan.bigCells, **bigTarget, std::min(o.frames, 3), ref,
+                                     report.detailRows);
+            !s)
+          return s.forwardError();
     }
   }
 

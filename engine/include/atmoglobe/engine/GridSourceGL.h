@@ -29,6 +29,13 @@ class GridSourceGL final : public VolumeSourceGL {
 
   const VolumeGL& volume() const override { return *volume_; }
   const GridVolumeGL& gridVolume() const { return *volume_; }
+  /// The level of detail marched (volume/GridDetail.h): the coarser copy chosen for the last
+  /// camera, built on first use and kept while the step is shown; volume() stays the grid itself
+  /// (the readout and the memory budget's data).
+  std::vector<const VolumeGL*> volumes() const override;
+  void chooseDetail(const Camera& camera) override;
+  /// The level chosen for the last camera (0: the grid itself).
+  int detailLevel() const { return detailLevel_; }
   std::string title() const override { return "grid " + volume_->grid().variable; }
   std::vector<std::string> fieldChoices() const override;
   std::string fieldShown() const override { return volume_->grid().variable; }
@@ -77,7 +84,19 @@ class GridSourceGL final : public VolumeSourceGL {
     std::string note;  ///< set when the members are not kept (too large, not readable)
   };
   mutable std::shared_ptr<MemberGrids> members_;
+  // Level of detail: the coarser copies of volume_ (index L - 1 for level L, null until built),
+  // the volume they were made from, the level chosen for the last camera.
+  std::vector<std::shared_ptr<GridVolumeGL>> detail_;
+  const void* detailOf_ = nullptr;
+  int detailLevel_ = 0;
   const MemberGrids& memberGrids() const;
 };
+
+/// The level of detail a grid marches for `camera` at `imageScale` (volume/GridDetail.h): by the
+/// footprint of a pixel where the grid's bounding sphere is nearest the eye, at most
+/// volume::maxDetailLevel. What GridSourceGL::chooseDetail takes and the bench measures.
+int gridDetailLevelFor(const GridVolumeGL& grid, const Camera& camera, double imageScale);
+/// Level `level`'s copy of `grid` (volume::coarsenGrid with that level's factors) on the GPU.
+Result<std::unique_ptr<GridVolumeGL>> createGridDetail(const volume::GridVolume& grid, int level);
 
 }  // namespace atmoglobe::engine

@@ -137,6 +137,9 @@ struct VolumeLayerDescription {
   /// (samplesPerCellOf).
   std::optional<double> samplesPerCell;
   double imageScale = 1.0;  ///< volume image resolution relative to the frame (0.05..1)
+  /// Grids: march a coarser copy where a pixel spans several grid columns (volume/GridDetail.h;
+  /// scene "level_of_detail", CLI --grid-lod on|off). Off: always the grid itself.
+  bool levelOfDetail = true;
   /// The isosurface value (field units). Empty: the kind's default (defaultIsoValue).
   std::optional<double> isoValue;
   Classification classification = Classification::Point;                  ///< DVR only

@@ -9,6 +9,7 @@
 // through a SourceContext. Every step a source shows goes through the cache under the keys of
 // stepKey(), so steps not shown are dropped beyond the budget and read again when needed
 // (docs/memory.md).
+#include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/Legend.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/VolumeGL.h>
@@ -100,6 +101,10 @@ class VolumeSourceGL {
   /// Every GPU volume the layer draws: volume() alone, except for a radar network split into
   /// clusters apart (RadarNetworkSourceGL).
   virtual std::vector<const VolumeGL*> volumes() const { return {&volume()}; }
+  /// Picks what volumes() gives for a frame of `camera` at options().imageScale (grids: a coarser
+  /// copy where a pixel spans several grid columns, GridSourceGL). Called by the scene before it
+  /// marches; the default keeps volume().
+  virtual void chooseDetail(const Camera& camera) { (void)camera; }
   /// "radar KTLX  DBZH", "grid QRAIN": the panel's and the memory table's name.
   virtual std::string title() const = 0;
   /// The fields (radar) or variables (grid) the file holds, for the panel's choice; the one

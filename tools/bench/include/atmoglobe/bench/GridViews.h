@@ -11,6 +11,7 @@
 //  - global-space: 12,000 km above 15N 40W, fovY 45 deg (the Atlantic half of the globe: the
 //    cyclone, the storm tracks, the ITCZ);
 //  - global-cyclone: the north Atlantic cyclone from 900 km south-south-west, 450 km up, fovY 50.
+//  - global-far: 35,000 km above 15N 40W, fovY 45: the disc small in the picture (level of detail).
 // A grid given as a file gets FILE-oblique and FILE-down views of the same kind around its centre.
 #include <atmoglobe/bench/Views.h>
 #include <atmoglobe/engine/Camera.h>

@@ -26,6 +26,9 @@ struct Row {
   double medianMs = 0.0;
   volume::ImageError error;
   std::size_t gpuBytes = 0;  ///< the GPU volume drawn (a grid view: its crop)
+  /// Grids: the level of detail marched (volume/GridDetail.h; 0: the grid itself). Rows of a
+  /// level > 0 are BenchReport::detailRows, never among the settings' rows.
+  int detailLevel = 0;
 };
 
 /// One cell over the views.
@@ -77,7 +80,10 @@ struct BenchReport {
   std::vector<Row> rows;
   std::vector<Aggregate> aggregates;
   std::vector<BigTiming> big;
-  std::vector<Row> bigRows;     ///< grids: 1280x720 cells with their error
+  std::vector<Row> bigRows;  ///< grids: 1280x720 cells with their error
+  /// Grids: the default setting at the level of detail the engine picks for the view and size,
+  /// where that is not the grid itself (error against the same reference as the other rows).
+  std::vector<Row> detailRows;
   std::vector<LoadCase> loads;  ///< grids: the load cases
   PeerSection peer;
   double totalSeconds = 0.0;
