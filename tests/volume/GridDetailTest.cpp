@@ -121,12 +121,13 @@ TEST(GridDetail, TheLevelFollowsThePixelFootprint) {
   // 45 deg over 180 px: 2 tan(22.5 deg) / 180 = 4.60e-3 rad a pixel.
   EXPECT_NEAR(pixelFootprintMeters(12.0e6, 45.0, 180, 1.0), 12.0e6 * 2.0 * std::tan(M_PI / 8.0) / 180.0, 1e-6);
   EXPECT_NEAR(pixelFootprintMeters(12.0e6, 45.0, 720, 0.25), pixelFootprintMeters(12.0e6, 45.0, 180, 1.0), 1e-6);
-  // Columns 27.7 km apart: a footprint under 27.7 km keeps the grid; 27.7 km allows cells of two
-  // pixels (level 1), 55.4 km: level 2 ... up to the coarsest built.
-  EXPECT_EQ(gridDetailLevel(27.7e3, 13.0e3, 4), 0);
-  EXPECT_EQ(gridDetailLevel(27.7e3, 27.7e3, 4), 1);
-  EXPECT_EQ(gridDetailLevel(27.7e3, 55.3e3, 4), 1);
-  EXPECT_EQ(gridDetailLevel(27.7e3, 55.5e3, 4), 2);
+  // Columns 27.7 km apart: a footprint under 55.4 km keeps the grid; 55.4 km: level 1 (cells of
+  // one pixel); 110.8 km: level 2 ... up to the coarsest built.
+  EXPECT_EQ(gridDetailLevel(27.7e3, 27.7e3, 4), 0);
+  EXPECT_EQ(gridDetailLevel(27.7e3, 55.3e3, 4), 0);
+  EXPECT_EQ(gridDetailLevel(27.7e3, 55.5e3, 4), 1);
+  EXPECT_EQ(gridDetailLevel(27.7e3, 110.7e3, 4), 1);
+  EXPECT_EQ(gridDetailLevel(27.7e3, 111.0e3, 4), 2);
   EXPECT_EQ(gridDetailLevel(27.7e3, 1.0e7, 3), 3);
   EXPECT_EQ(gridDetailLevel(27.7e3, 1.0e7, 0), 0);
   EXPECT_EQ(gridDetailLevel(0.0, 1.0e7, 3), 0);

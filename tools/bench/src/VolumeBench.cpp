@@ -215,12 +215,31 @@ Status measureView(const VolumeBenchOptions& o, engine::VolumeRendererGL& render
   return Ok{};
 }
 
+/// The reference of `big` (4 x 4 rays a pixel) averaged down to a quarter of its size.
+volume::VolumeImage averageDown4(const volume::VolumeImage& big) {
+  volume::VolumeImage out;
+  out.widthPx = big.widthPx / 4;
+  out.heightPx = big.heightPx / 4;
+  out.rgbaPremultiplied.assign(static_cast<std::size_t>(out.widthPx) * static_cast<std::size_t>(out.heightPx),
+                               glm::dvec4(0.0));
+  for (int y = 0; y < out.heightPx; ++y)
+    for (int x = 0; x < out.widthPx; ++x) {
+      glm::dvec4 sum(0.0);
+      for (int dy = 0; dy < 4; ++dy)
+        for (int dx = 0; dx < 4; ++dx) sum += big.at(4 * x + dx, 4 * y + dy);
+      out.rgbaPremultiplied[static_cast<std::size_t>(y) * static_cast<std::size_t>(out.widthPx) +
+                            static_cast<std::size_t>(x)] = sum / 16.0;
+    }
+  return out;
+}
+
 /// Grids: the engine default setting on the level of detail the engine picks for this view and
-/// size (GridSourceGL::chooseDetail), when it is not the grid itself, against `ref`.
+/// size (GridSourceGL::chooseDetail), when it is not the grid itself, and on the grid itself
+/// beside it, against `ref` and against what `average` gives (the 4 x 4 reference), if anything.
 Status measureDetail(engine::VolumeRendererGL& renderer, const BenchView& view, const std::vector<Cell>& cells,
                      engine::FramebufferGL& target, int frames, const volume::VolumeImage& ref,
-                     std::vector<Row>& rows) {
-  const auto* grid = dynamic_cast<const engine::GridVolumeGL*>(view.glVolume());
+                     const std::function<std::optional<volume::VolumeImage>()>& average, std::vector<Row>& rows) {
+  auto* grid = dynamic_cast<engine::GridVolumeGL*>(view.glVolume());
   const auto def = std::find_if(cells.begin(), cells.end(), [](const Cell& c) {
     return c.mode == volume::VolumeRenderMode::Dvr && isEngineDefault(c);
   });
@@ -231,19 +250,24 @@ Status measureDetail(engine::VolumeRendererGL& renderer, const BenchView& view, 
   if (level == 0) return Ok{};
   auto coarse = engine::createGridDetail(grid->grid(), level);
   if (!coarse) return coarse.forwardError();
+  const std::optional<volume::VolumeImage> averaged = average();
   const std::vector<float> depth = view.occludeByEllipsoid ? ellipsoidDepth(camera) : std::vector<float>{};
-  std::vector<GpuRun> runs = timeCellsRoundRobinGL(renderer, camera, **coarse, {*def}, target, frames,
-                                                   depth.empty() ? nullptr : &depth, &view.volume->transfer);
-  Row r;
-  r.view = view.name;
-  r.volume = view.volume->key;
-  r.cell = *def;
-  r.widthPx = w, r.heightPx = h;
-  r.medianMs = runs[0].medianMs;
-  r.error = volume::compareImages(fromRgba8(runs[0].image), ref);
-  r.gpuBytes = (*coarse)->gpuBytes();
-  r.detailLevel = level;
-  rows.push_back(r);
+  for (engine::VolumeGL* volume :
+       {static_cast<engine::VolumeGL*>(grid), static_cast<engine::VolumeGL*>(coarse->get())}) {
+    std::vector<GpuRun> runs = timeCellsRoundRobinGL(renderer, camera, *volume, {*def}, target, frames,
+                                                     depth.empty() ? nullptr : &depth, &view.volume->transfer);
+    Row r;
+    r.view = view.name;
+    r.volume = view.volume->key;
+    r.cell = *def;
+    r.widthPx = w, r.heightPx = h;
+    r.medianMs = runs[0].medianMs;
+    r.error = volume::compareImages(fromRgba8(runs[0].image), ref);
+    if (averaged) r.pixelAverageError = volume::compareImages(fromRgba8(runs[0].image), *averaged);
+    r.gpuBytes = volume->gpuBytes();
+    r.detailLevel = volume == grid ? 0 : level;
+    rows.push_back(r);
+  }
   return Ok{};
 }
 
@@ -334,8 +358,14 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
         !s)
       return s.forwardError();
     if (plan.kind == "grid")
-      if (Status s = measureDetail(renderer, view, plan.cells, **target, o.frames, ref[volume::VolumeRenderMode::Dvr],
-                                   report.detailRows);
+      if (Status s = measureDetail(
+              renderer, view, plan.cells, **target, o.frames, ref[volume::VolumeRenderMode::Dvr],
+              [&]() -> std::optional<volume::VolumeImage> {
+                if (4 * w > kBigWidthPx || 4 * h > kBigHeightPx) return std::nullopt;
+                return averageDown4(refs.get(view, 4 * w, 4 * h,
+                                             settingsFor(view, volume::VolumeRenderMode::Dvr, o.referenceStepMeters)));
+              },
+              report.detailRows);
           !s)
         return s.forwardError();
     progress.advance(1, view.name);
@@ -367,8 +397,9 @@ Result<VolumeBenchOutcome> runVolumeBench(const VolumeBenchOptions& o, std::ostr
         return s.forwardError();
       if (Status s = writePngTo(o, view.name + "-1280-reference-dvr.png", toRgba8(ref)); !s) return s.forwardError();
       if (plan.kind == "grid")
-        if (Status s = measureDetail(renderer, view, plan.bigCells, **bigTarget, std::min(o.frames, 3), ref,
-                                     report.detailRows);
+        if (Status s = measureDetail(
+                renderer, view, plan.bigCells, **bigTarget, std::min(o.frames, 3), ref,
+                [] { return std::optional<volume::VolumeImage>(); }, report.detailRows);
             !s)
           return s.forwardError();
     }

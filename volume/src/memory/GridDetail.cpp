@@ -164,7 +164,7 @@ double pixelFootprintMeters(double distanceMeters, double fovYDeg, int heightPx,
 
 int gridDetailLevel(double columnSpacingMeters, double footprintMeters, int maxLevel) {
   if (!(columnSpacingMeters > 0.0) || !(footprintMeters > 0.0) || maxLevel <= 0) return 0;
-  const double ratio = 2.0 * footprintMeters / columnSpacingMeters;
+  const double ratio = footprintMeters / columnSpacingMeters;
   if (!(ratio >= 2.0)) return 0;
   return std::min(maxLevel, static_cast<int>(std::floor(std::log2(ratio))));
 }

@@ -39,8 +39,9 @@ int maxDetailLevel(const GridVolume& grid);
 /// pixels, drawn at `imageScale` of the frame's resolution).
 double pixelFootprintMeters(double distanceMeters, double fovYDeg, int heightPx, double imageScale);
 /// The detail level for a pixel footprint: the coarsest whose column spacing (columnSpacingMeters
-/// x 2^L) is at most two footprints (two pixels per cell at least, the step rule's two samples per
-/// cell across the picture), clamped to [0, maxLevel].
+/// x 2^L) is at most one footprint (no cell wider than a pixel), clamped to [0, maxLevel]. Cells
+/// of up to two pixels were measured and rejected: 2.3 dB further from the 4 x 4-ray reference
+/// than the grid itself on the bench's global view (docs/grids.md, "Level of detail").
 int gridDetailLevel(double columnSpacingMeters, double footprintMeters, int maxLevel);
 
 }  // namespace atmoglobe::volume

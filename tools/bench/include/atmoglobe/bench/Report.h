@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ struct Row {
   /// Grids: the level of detail marched (volume/GridDetail.h; 0: the grid itself). Rows of a
   /// level > 0 are BenchReport::detailRows, never among the settings' rows.
   int detailLevel = 0;
+  /// Detail rows at a size of a quarter of 1280x720 or less: the error against the reference
+  /// rendered with 4 x 4 rays a pixel and averaged (what the pixel covers, not one ray through
+  /// it), where a coarser copy may be closer than the grid itself.
+  std::optional<volume::ImageError> pixelAverageError;
 };
 
 /// One cell over the views.
