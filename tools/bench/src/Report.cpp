@@ -301,7 +301,7 @@ void writeGridMarkdown(std::ostream& md, const BenchReport& r) {
     md << "\n## Level of detail: the default setting on the coarser copy the engine marches there\n\n"
        << "Where a pixel spans two or more of the grid's columns the engine marches a block-mean copy "
           "(volume/GridDetail.h); each row against the same reference as the grid's own rows above.\n\n"
-       << "Level 0 is the grid itself (the default setting, timed again beside the copy). The last columns: "
+       << "Level 0 is the grid itself (the default setting, timed frame by frame in turn with the copy). The last columns: "
           "against the reference of 4 x 4 rays a pixel averaged, what the pixel covers.\n\n"
        << "| view | size | level | frame (ms) | mean abs | max abs | PSNR (dB) | 4x4 reference: mean abs | "
           "max abs | PSNR (dB) |\n|---|---|---|---|---|---|---|---|---|---|\n";
