@@ -873,6 +873,9 @@ int runView(const ViewOptions& o) {
       // A screenshot shows the finished picture: that frame is drawn whole.
       const double refineMs = o.refineMs >= 0.0 ? o.refineMs : (batch ? 0.0 : kRefineBudgetMs);
       (*renderer)->setProgressiveBudget(moving || state.screenshotRequested ? 0.0 : refineMs);
+      // Grids' coarser copies are made on a worker while frames go on, except for a screenshot
+      // (the same picture as `render`) and --frames runs.
+      (*renderer)->setDetailInBackground(!state.screenshotRequested && o.frames <= 0);
       // The first frame at rest takes the last moving frame's volume image as its preview.
       (*renderer)->volumeRenderer().setPreviewScale(lastMovingScale);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.

@@ -146,7 +146,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   for (std::size_t i : volumeOrder()) {  // the panel's order; layers switched off are left out
     VolumeSourceGL& source = *layers_[i];
     if (!source.visible) continue;
-    source.chooseDetail(camera);  // a grid's level of detail for this camera
+    source.chooseDetail(camera, detailInBackground_);  // a grid's level of detail for this camera
     for (const VolumeGL* v : source.volumes()) layers.push_back(VolumeLayerGL{v, source.options()});
     for (const Marker& site : source.siteMarkers()) all.push_back(site);
   }

@@ -26,9 +26,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 
 namespace {
 
@@ -946,6 +948,25 @@ TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   ASSERT_TRUE((*renderer)->renderToImage(far, {}, **fb));
   EXPECT_EQ(grid.detailLevel(), 0);
   EXPECT_EQ(grid.volumes()[0], &grid.volume());
+  // In the background (the viewer): the first frame goes on with the grid itself while the copy
+  // is made on a worker, a later one takes the copy, and that frame is the synchronous one's.
+  auto second = (*renderer)->addVolume(d);
+  ASSERT_TRUE(second) << second.error();
+  auto& fresh = dynamic_cast<engine::GridSourceGL&>(**second);
+  grid.visible = false;
+  (*renderer)->setDetailInBackground(true);
+  ASSERT_TRUE((*renderer)->renderToImage(far, {}, **fb));
+  EXPECT_EQ(fresh.detailLevel(), 0);
+  EXPECT_EQ(fresh.volumes()[0], &fresh.volume());
+  Result<globe::ImageRGBA8> later = makeError("not drawn");
+  for (int frame = 0; frame < 600 && fresh.detailLevel() == 0; ++frame) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    later = (*renderer)->renderToImage(far, {}, **fb);
+    ASSERT_TRUE(later) << later.error();
+  }
+  ASSERT_EQ(fresh.detailLevel(), 1) << "the copy made on the worker within 6 s";
+  EXPECT_EQ(later->pixels, gpu->pixels) << "the same picture as the copy made before the frame";
+  (*renderer)->setDetailInBackground(false);
   // The scene key.
   auto scene = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "level_of_detail": false}]})", "s.json", dir, dir);
   ASSERT_TRUE(scene) << scene.error();

@@ -8,8 +8,10 @@
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 
+#include <future>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +35,7 @@ class GridSourceGL final : public VolumeSourceGL {
   /// camera, built on first use and kept while the step is shown; volume() stays the grid itself
   /// (the readout and the memory budget's data).
   std::vector<const VolumeGL*> volumes() const override;
-  void chooseDetail(const Camera& camera) override;
+  void chooseDetail(const Camera& camera, bool background) override;
   /// The level chosen for the last camera (0: the grid itself).
   int detailLevel() const { return detailLevel_; }
   std::string title() const override { return "grid " + volume_->grid().variable; }
@@ -89,6 +91,14 @@ class GridSourceGL final : public VolumeSourceGL {
   std::vector<std::shared_ptr<GridVolumeGL>> detail_;
   const void* detailOf_ = nullptr;
   int detailLevel_ = 0;
+  /// A copy being made on a worker thread (chooseDetail in the background): its level, the
+  /// volume it is of, and its CPU part when done.
+  struct DetailBuild {
+    int level = 0;
+    const void* of = nullptr;
+    std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
+  };
+  std::optional<DetailBuild> building_;
   const MemberGrids& memberGrids() const;
 };
 

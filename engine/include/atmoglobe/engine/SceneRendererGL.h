@@ -79,6 +79,10 @@ class SceneRendererGL {
   /// pressure or level, wind), else the loaded data drawn under the new colours, range, opacity
   /// and contours. The layer's visibility is kept. On error the layer is unchanged.
   Status setSurfaceDescription(std::size_t index, const SurfaceLayerDescription& description);
+  /// Grids' coarser copies (level of detail) made on a worker thread while frames go on with
+  /// what is ready (the interactive viewer), instead of before the frame that needs them (the
+  /// default: render, scripts and tests draw the same picture every time).
+  void setDetailInBackground(bool background) { detailInBackground_ = background; }
   /// Switches surface layer `index` on or off.
   void setSurfaceVisible(std::size_t index, bool visible);
   /// The scene's vertical exaggeration (volume/VerticalExaggeration.h; 1 = none): radars, grids,
@@ -152,6 +156,7 @@ class SceneRendererGL {
   std::vector<std::unique_ptr<GltfModelRendererGL>> models_;
   std::unique_ptr<SliceRendererGL> slices_;
   std::vector<std::unique_ptr<SurfaceFieldGL>> surfaces_;
+  bool detailInBackground_ = false;
   std::unique_ptr<MapRendererGL> map_;
   bool rangeRings_ = false;
   std::size_t layersWithRings_ = 0;

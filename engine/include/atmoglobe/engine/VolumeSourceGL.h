@@ -101,10 +101,14 @@ class VolumeSourceGL {
   /// Every GPU volume the layer draws: volume() alone, except for a radar network split into
   /// clusters apart (RadarNetworkSourceGL).
   virtual std::vector<const VolumeGL*> volumes() const { return {&volume()}; }
-  /// Picks what volumes() gives for a frame of `camera` at options().imageScale (grids: a coarser
-  /// copy where a pixel spans several grid columns, GridSourceGL). Called by the scene before it
-  /// marches; the default keeps volume().
-  virtual void chooseDetail(const Camera& camera) { (void)camera; }
+  /// Picks what volumes() gives for a frame of `camera` (grids: a coarser copy where a pixel spans
+  /// several grid columns at the layer's own image scale, GridSourceGL). Called by the scene before it
+  /// marches; the default keeps volume(). `background`: what is not ready yet is made on a worker
+  /// thread meanwhile (the viewer: frames never wait for it) instead of now (render, scripts).
+  virtual void chooseDetail(const Camera& camera, bool background) {
+    (void)camera;
+    (void)background;
+  }
   /// "radar KTLX  DBZH", "grid QRAIN": the panel's and the memory table's name.
   virtual std::string title() const = 0;
   /// The fields (radar) or variables (grid) the file holds, for the panel's choice; the one
