@@ -236,6 +236,41 @@ bool comboOf(const char* label, std::string& value, const std::vector<std::strin
   return changed;
 }
 
+// An ensemble's members (docs/grids.md, "Ensembles"): one member, or a statistic over all of
+// them (mean, spread, min, max, or the probability of >= a threshold typed in). Shown for grids
+// read with members only; returns whether `statistic` changed.
+bool hasMembers(const volume::GridVolume& g) {
+  return !g.ensembleStatistic.empty() || g.member >= 0 ||
+         std::any_of(g.extraDimensions.begin(), g.extraDimensions.end(),
+                     [](const volume::GridExtraDimension& x) { return x.ensemble; });
+}
+bool ensembleControls(const volume::GridVolume& g, std::optional<volume::EnsembleStatistic>& statistic,
+                      double& threshold) {
+  if (!hasMembers(g)) return false;
+  bool changed = false;
+  const std::string current = statistic ? volume::toString(*statistic) : std::string("one member");
+  if (ImGui::BeginCombo("members", current.c_str())) {
+    for (const char* c : {"one member", "mean", "spread", "min", "max"}) {
+      if (ImGui::Selectable(c, current == c) && current != c) {
+        if (std::string(c) == "one member") statistic.reset();
+        else statistic = *volume::parseEnsembleStatistic(c);
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::InputDouble("threshold", &threshold, 0.0, 0.0, "%.6g");
+  if (ImGui::Button("probability of >= threshold")) {
+    volume::EnsembleStatistic p;
+    p.kind = volume::EnsembleStatistic::Kind::Probability;
+    p.comparison = ">=";
+    p.threshold = threshold;
+    statistic = p;
+    changed = true;
+  }
+  return changed;
+}
+
 // A combo box over an enumerated setting, spelled as in scenes (VolumeLayer.h).
 template <class E>
 bool enumCombo(const char* label, E& value) {
@@ -449,34 +484,9 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         }
       }
       if (const auto* grid = dynamic_cast<const GridSourceGL*>(&layer)) {
-        // An ensemble's members (docs/grids.md, "Ensembles"): one member, or a statistic over all.
         const volume::GridVolume& g = grid->gridVolume().grid();
-        const bool ensemble = !g.ensembleStatistic.empty() || g.member >= 0 ||
-                              std::any_of(g.extraDimensions.begin(), g.extraDimensions.end(),
-                                          [](const volume::GridExtraDimension& x) { return x.ensemble; });
-        if (ensemble) {
-          const std::string current = d.ensemble ? volume::toString(*d.ensemble) : std::string("one member");
-          if (ImGui::BeginCombo("members", current.c_str())) {
-            for (const char* c : {"one member", "mean", "spread", "min", "max"}) {
-              if (ImGui::Selectable(c, current == c) && current != c) {
-                if (std::string(c) == "one member") d.ensemble.reset();
-                else d.ensemble = *volume::parseEnsembleStatistic(c);
-                edited = true;
-              }
-            }
-            ImGui::EndCombo();
-          }
-          if (!e.probabilityThresholds.count(i)) e.probabilityThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
-          ImGui::InputDouble("threshold", &e.probabilityThresholds[i], 0.0, 0.0, "%.6g");
-          if (ImGui::Button("probability of >= threshold")) {
-            volume::EnsembleStatistic p;
-            p.kind = volume::EnsembleStatistic::Kind::Probability;
-            p.comparison = ">=";
-            p.threshold = e.probabilityThresholds[i];
-            d.ensemble = p;
-            edited = true;
-          }
-        }
+        if (!e.probabilityThresholds.count(i)) e.probabilityThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
+        edited = ensembleControls(g, d.ensemble, e.probabilityThresholds[i]) || edited;
       }
       edited = enumCombo("classification", d.classification) || edited;
       ImGui::TreePop();
@@ -621,38 +631,17 @@ bool ViewerPanelGL::drawSurfaces(SceneRendererGL& scene) {
     }
     // An ensemble: one member (by number) or a statistic over all of them.
     const volume::GridVolume& g = layer.field().grid;
-    const bool ensemble = !g.ensembleStatistic.empty() || g.member >= 0 ||
-                          std::any_of(g.extraDimensions.begin(), g.extraDimensions.end(),
-                                      [](const volume::GridExtraDimension& x) { return x.ensemble; });
-    if (ensemble) {
-      const std::string current = d.ensemble.empty() ? std::string("one member") : d.ensemble;
-      if (ImGui::BeginCombo("members", current.c_str())) {
-        for (const char* c : {"one member", "mean", "spread", "min", "max"}) {
-          if (ImGui::Selectable(c, current == c) && current != c) {
-            d.ensemble = std::string(c) == "one member" ? std::string() : std::string(c);
-            apply = true;
-          }
-        }
-        ImGui::EndCombo();
-      }
-      if (d.ensemble.empty()) {
-        ImGui::InputInt("member", &d.member);
-        apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
-      } else {
-        d.member = -1;
-      }
-      if (!e.surfaceThresholds.count(i)) e.surfaceThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
-      ImGui::InputDouble("threshold", &e.surfaceThresholds[i], 0.0, 0.0, "%.6g");
-      if (ImGui::Button("probability of >= threshold")) {
-        volume::EnsembleStatistic p;
-        p.kind = volume::EnsembleStatistic::Kind::Probability;
-        p.comparison = ">=";
-        p.threshold = e.surfaceThresholds[i];
-        d.ensemble = volume::toString(p);
-        d.member = -1;
-        d.valueRange.reset();  // the old variable's units
-        apply = true;
-      }
+    std::optional<volume::EnsembleStatistic> statistic;
+    if (auto parsed = volume::parseEnsembleStatistic(d.ensemble); !d.ensemble.empty() && parsed) statistic = *parsed;
+    if (!e.surfaceThresholds.count(i)) e.surfaceThresholds[i] = 0.5 * (g.valueMin + g.valueMax);
+    if (ensembleControls(g, statistic, e.surfaceThresholds[i])) {
+      d.ensemble = statistic ? volume::toString(*statistic) : std::string();
+      if (statistic) d.member = -1;
+      apply = true;
+    }
+    if (hasMembers(g) && d.ensemble.empty()) {
+      ImGui::InputInt("member", &d.member);
+      apply = ImGui::IsItemDeactivatedAfterEdit() || apply;
     }
     if (apply) {
       const Status st = scene.setSurfaceDescription(i, d);
