@@ -448,3 +448,32 @@ TEST(GridReaderReal, WrfPressuresAreKeptForIsobaricSurfaces) {
     ASSERT_EQ(r->pressurePa[n], static_cast<float>(static_cast<double>(p[n]) + pb[n])) << n;
   EXPECT_EQ(r->heightAboveEllipsoidMeters, plain->heightAboveEllipsoidMeters) << "heights still from PH and PHB";
 }
+
+TEST(GridReaderReal, WrfTwoDimensionalFieldsAreReadAsMapsOnly) {
+  SKIP_WITHOUT_TEST_DATA(wrfPath());
+  GridReadOptions o;
+  o.variable = "T2";
+  o.timeIndex = 2;
+  auto volume = readGridVolume(wrfPath(), o);
+  ASSERT_FALSE(volume.ok());
+  EXPECT_NE(volume.error().find("a 2-D field, not a volume (draw it as a map"), std::string::npos) << volume.error();
+  o.allowSingleLevel = true;
+  auto map = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(map.ok()) << map.error();
+  EXPECT_EQ(map->nz, 1u);
+  EXPECT_TRUE(map->curvilinear);
+  EXPECT_EQ(map->validTime, "2005-08-28T18:00:00Z");
+  EXPECT_EQ(map->units, "K");
+  const std::vector<float> t2 = ncRead(wrfPath(), "T2", {2, 0, 0}, {1, 48, 48});
+  const std::vector<float> lat = ncRead(wrfPath(), "XLAT", {2, 0, 0}, {1, 48, 48});
+  ASSERT_EQ(map->values.size(), t2.size());
+  for (std::size_t n = 0; n < t2.size(); ++n) {
+    ASSERT_EQ(map->values[n], t2[n]) << n;
+    ASSERT_DOUBLE_EQ(map->latDeg[n], lat[n]) << n;
+  }
+  // U10 and V10 are along the model grid's axes (turned east and north for barbs, Wind.h).
+  o.variable = "U10";
+  auto u10 = readGridVolume(wrfPath(), o);
+  ASSERT_TRUE(u10.ok()) << u10.error();
+  EXPECT_TRUE(u10->vectorsRelativeToGrid);
+}

@@ -473,7 +473,26 @@ Status timeSpecFromCoordinate(const io::NetcdfFile& f, TimeSpec& t, const io::Nc
   return Ok{};
 }
 
-Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
+/// A WRF variable's time axis: the Times strings, else XTIME; and the variable must hold a byte
+/// per step.
+Status wrfTimeSpec(const io::NetcdfFile& f, GridLayout& l, int tDim) {
+  const int root = f.root();
+  if (l.time.dimId >= 0) {
+    if (auto times = f.findVariable(root, "Times");
+        times && times->type == NC_CHAR && times->dimIds.size() == 2 && times->dimIds[0] == tDim) {
+      if (auto st = checkWhole(f, *times); !st) return st;
+      l.time.wrfTimes = *times;
+    } else if (auto xtime = f.findVariable(root, "XTIME");
+               xtime && xtime->dimIds.size() == 1 && xtime->dimIds[0] == tDim) {
+      if (auto st = timeSpecFromCoordinate(f, l.time, *xtime); !st) return st;
+    }
+  }
+  if (l.time.dimId >= 0)
+    if (auto st = f.checkReadable(l.var, l.time.count, 1); !st) return st;
+  return Ok{};
+}
+
+Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v, bool allowSingleLevel) {
   GridLayout l;
   l.var = v;
   l.wrf = true;
@@ -510,15 +529,20 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
                           "south_north[_stag], west_east[_stag])");
   }
   if (yPos < 0 || xPos < 0) return varError(f, v, "not on the horizontal grid (dimensions: " + dimList(f, v) + ")");
-  if (zPos < 0)
+  if (zPos < 0 && !allowSingleLevel)
     return varError(f, v,
                     "has no vertical dimension (dimensions: " + dimList(f, v) +
                         "): a 2-D field, not a volume (draw it as a map: --surface FILE --surface-var NAME)");
-  if (!(tPos < zPos && zPos < yPos && yPos < xPos))
-    return varError(f, v, "dimension order (" + dimList(f, v) + ") is not (Time, bottom_top, south_north, west_east)");
-  if (!nz) return makeError(f.message("WRF file without the dimension bottom_top"));
-  if (*nx == 0 || *ny == 0 || *nz == 0) return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
-  if ((l.stagZ || nzs) && nzs && *nzs != *nz + 1)
+  // A 2-D field (T2, PSFC, U10 ...): one level at mean sea level, for the maps on the globe.
+  l.singleLevel = zPos < 0;
+  if (l.singleLevel ? !(tPos < yPos && yPos < xPos) : !(tPos < zPos && zPos < yPos && yPos < xPos))
+    return varError(f, v,
+                    "dimension order (" + dimList(f, v) + ") is not (Time, " + (l.singleLevel ? "" : "bottom_top, ") +
+                        "south_north, west_east)");
+  if (!nz && !l.singleLevel) return makeError(f.message("WRF file without the dimension bottom_top"));
+  if (*nx == 0 || *ny == 0 || (!l.singleLevel && *nz == 0))
+    return varError(f, v, "has an empty dimension (" + dimList(f, v) + ")");
+  if (!l.singleLevel && (l.stagZ || nzs) && nzs && *nzs != *nz + 1)
     return makeError(f.message("dimension bottom_top_stag has length " + std::to_string(*nzs) +
                                ", expected bottom_top + 1 = " + std::to_string(*nz + 1) + ": inconsistent sizes"));
   if (l.stagY && *nys != *ny + 1)
@@ -547,6 +571,16 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   l.lon = *lon;
   for (const io::NcVar* c : {&l.lat, &l.lon})
     if (auto st = checkWhole(f, *c); !st) return st.forwardError();
+  if (l.singleLevel) {
+    l.vertical.kind = VerticalKind::HeightAboveSeaLevel;
+    l.vertical.fileLevels = 1;
+    if (auto st = wrfTimeSpec(f, l, tDim); !st) return st.forwardError();
+    l.units = attrText(f, v, "units");
+    l.standardName = attrText(f, v, "standard_name");
+    l.longName = attrText(f, v, "long_name");
+    if (l.longName.empty()) l.longName = attrText(f, v, "description");
+    return l;
+  }
   // Vertical: geopotential on the W levels, else pressure.
   VerticalSpec& vs = l.vertical;
   vs.kind = VerticalKind::WrfEta;
@@ -575,10 +609,15 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
     vs.ph.reset();
     vs.phb.reset();
   }
-  // The pressure P + PB: the heights when there is no PH/PHB, else the isobaric surfaces' pressure.
+  // The pressure P + PB: the heights when there is no PH/PHB, else the isobaric surfaces' pressure
+  // (then a P or PB on other dimensions only leaves the file without isobaric surfaces).
   auto p = onGrid("P", l.zDim);
-  if (!p) return p.forwardError();
   auto pb = onGrid("PB", l.zDim);
+  if (vs.ph && (!p || !pb)) {
+    p = std::optional<io::NcVar>();
+    pb = std::optional<io::NcVar>();
+  }
+  if (!p) return p.forwardError();
   if (!pb) return pb.forwardError();
   if (*p && *pb) {
     vs.p = *p;
@@ -594,19 +633,7 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v) {
   if (auto znu = f.findVariable(root, "ZNU")) {
     if (znu->shape.size() >= 1 && znu->dimIds.back() == l.zDim) vs.znu = *znu;
   }
-  // Time: Times strings, else XTIME.
-  if (l.time.dimId >= 0) {
-    if (auto times = f.findVariable(root, "Times");
-        times && times->type == NC_CHAR && times->dimIds.size() == 2 && times->dimIds[0] == tDim) {
-      if (auto st = checkWhole(f, *times); !st) return st.forwardError();
-      l.time.wrfTimes = *times;
-    } else if (auto xtime = f.findVariable(root, "XTIME");
-               xtime && xtime->dimIds.size() == 1 && xtime->dimIds[0] == tDim) {
-      if (auto st = timeSpecFromCoordinate(f, l.time, *xtime); !st) return st.forwardError();
-    }
-  }
-  if (l.time.dimId >= 0)
-    if (auto st = f.checkReadable(v, l.time.count, 1); !st) return st.forwardError();
+  if (auto st = wrfTimeSpec(f, l, tDim); !st) return st.forwardError();
   l.units = attrText(f, v, "units");
   l.standardName = attrText(f, v, "standard_name");
   l.longName = attrText(f, v, "long_name");
@@ -814,7 +841,7 @@ Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v, bool a
 }  // namespace
 
 Result<GridLayout> analyse(const io::NetcdfFile& f, const FileKind& kind, const io::NcVar& v, bool allowSingleLevel) {
-  return kind.wrf ? analyseWrf(f, v) : analyseCf(f, v, allowSingleLevel);
+  return kind.wrf ? analyseWrf(f, v, allowSingleLevel) : analyseCf(f, v, allowSingleLevel);
 }
 
 Result<io::NcVar> findGridVariable(const io::NetcdfFile& f, const std::string& name) {
