@@ -399,6 +399,14 @@ TEST(GridReaderReal, WrfTemperatureAndGeopotentialAreMadeFromTheModelsPerturbati
   EXPECT_EQ(z->units, "m2 s-2");
   EXPECT_EQ(z->standardName, "geopotential");
   EXPECT_FALSE(tk->vectorsRelativeToGrid);
+  // `info` lists them and describes them on the fields they are made from.
+  auto described = describeGridFile(wrfPath(), "tk");
+  ASSERT_TRUE(described.ok()) << described.error();
+  EXPECT_EQ(described->variable, "/tk");
+  EXPECT_EQ(described->nz, 14u);
+  const std::string text = describeGridText(*described);
+  EXPECT_NE(text.find("* tk  (made from T, P, PB) [K]"), std::string::npos) << text;
+  EXPECT_NE(text.find("* z  (made from PH, PHB) [m2 s-2]"), std::string::npos) << text;
   const std::vector<float> t = ncRead(wrfPath(), "T", {1, 0, 0, 0}, {1, 14, 48, 48});
   const std::vector<float> p = ncRead(wrfPath(), "P", {1, 0, 0, 0}, {1, 14, 48, 48});
   const std::vector<float> pb = ncRead(wrfPath(), "PB", {1, 0, 0, 0}, {1, 14, 48, 48});

@@ -47,6 +47,15 @@ Result<GridFileInfo> describeGridFile(const std::string& path, const GridReadOpt
   if (!opened) return opened.forwardError();
   const io::NetcdfFile& f = *opened;
   const grid::FileKind kind = grid::fileKind(f);
+  // WRF's diagnostics (readGridVolume): described on the field they are made from, by their name.
+  if (kind.wrf && (variable == "tk" || variable == "z") && !f.findVariable(f.root(), variable)) {
+    GridReadOptions base = read;
+    base.variable = variable == "tk" ? "T" : "PH";
+    auto info = describeGridFile(path, base);
+    if (!info) return info.forwardError();
+    info->variable = "/" + variable;
+    return info;
+  }
   GridFileInfo info;
   info.path = path;
   info.format = kind.format;
@@ -265,6 +274,16 @@ std::string describeGridText(const GridFileInfo& g) {
     if (v.packed) os << " packed";
     if (!v.longName.empty()) os << "  " << v.longName;
     os << "\n";
+  }
+  // WRF's diagnostics made from its perturbation fields (readGridVolume), where the file has none.
+  if (g.format.rfind("WRF", 0) == 0) {
+    auto has = [&](const std::string& name) {
+      return std::any_of(g.variables.begin(), g.variables.end(),
+                         [&](const GridVariableInfo& v) { return v.name == "/" + name; });
+    };
+    if (!has("tk") && has("T") && has("P") && has("PB")) os << "  * tk  (made from T, P, PB) [K]  temperature\n";
+    if (!has("z") && has("PH") && has("PHB"))
+      os << "  * z  (made from PH, PHB) [m2 s-2]  geopotential at mass levels\n";
   }
   os << "read:       " << g.bytesRead << " bytes of variable data\n";
   return os.str();
