@@ -571,15 +571,19 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v, bool 
   l.lon = *lon;
   for (const io::NcVar* c : {&l.lat, &l.lon})
     if (auto st = checkWhole(f, *c); !st) return st.forwardError();
-  if (l.singleLevel) {
-    l.vertical.kind = VerticalKind::HeightAboveSeaLevel;
-    l.vertical.fileLevels = 1;
+  // The time axis and the variable's own attributes: the end of either kind of layout.
+  auto finish = [&]() -> Result<GridLayout> {
     if (auto st = wrfTimeSpec(f, l, tDim); !st) return st.forwardError();
     l.units = attrText(f, v, "units");
     l.standardName = attrText(f, v, "standard_name");
     l.longName = attrText(f, v, "long_name");
     if (l.longName.empty()) l.longName = attrText(f, v, "description");
     return l;
+  };
+  if (l.singleLevel) {
+    l.vertical.kind = VerticalKind::HeightAboveSeaLevel;
+    l.vertical.fileLevels = 1;
+    return finish();
   }
   // Vertical: geopotential on the W levels, else pressure.
   VerticalSpec& vs = l.vertical;
@@ -633,12 +637,7 @@ Result<GridLayout> analyseWrf(const io::NetcdfFile& f, const io::NcVar& v, bool 
   if (auto znu = f.findVariable(root, "ZNU")) {
     if (znu->shape.size() >= 1 && znu->dimIds.back() == l.zDim) vs.znu = *znu;
   }
-  if (auto st = wrfTimeSpec(f, l, tDim); !st) return st.forwardError();
-  l.units = attrText(f, v, "units");
-  l.standardName = attrText(f, v, "standard_name");
-  l.longName = attrText(f, v, "long_name");
-  if (l.longName.empty()) l.longName = attrText(f, v, "description");
-  return l;
+  return finish();
 }
 
 Result<GridLayout> analyseCf(const io::NetcdfFile& f, const io::NcVar& v, bool allowSingleLevel) {
