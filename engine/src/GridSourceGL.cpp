@@ -428,9 +428,7 @@ const GridSourceGL::MemberGrids& GridSourceGL::memberGrids() const {
         m->grids.clear();
         break;
       }
-      long label = one->member >= 0 ? one->member : static_cast<long>(m->grids.size());
-      for (const volume::GridExtraDimension& e : one->extraDimensions)
-        if (e.ensemble) label = std::isfinite(e.value) ? std::lround(e.value) : static_cast<long>(e.index);
+      const long label = volume::memberLabel(*one, static_cast<long>(m->grids.size()));
       // The statistic's geometry and drawn (exaggerated) heights with this member's values: a
       // point is then sampled at the same place in every member.
       volume::GridVolume member = v;

@@ -170,9 +170,7 @@ Result<SurfaceData> readSurfaceData(const SurfaceLayerDescription& d) {
       if (!grid) return grid.forwardError();
       // The member as the statistic lists it: GRIB's number, else the ensemble coordinate's value
       // (its index where it has none).
-      long label = grid->member >= 0 ? grid->member : static_cast<long>(out.members.size());
-      for (const volume::GridExtraDimension& e : grid->extraDimensions)
-        if (e.ensemble) label = std::isfinite(e.value) ? std::lround(e.value) : static_cast<long>(e.index);
+      const long label = volume::memberLabel(*grid, static_cast<long>(out.members.size()));
       std::optional<std::size_t> level;
       if (d.level) level = static_cast<std::size_t>(*d.level);
       auto one = volume::surfaceFieldOf(std::move(*grid), pressurePa, level);

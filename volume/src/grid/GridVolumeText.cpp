@@ -17,6 +17,13 @@ void setValueRange(GridVolume& grid) {
   }
 }
 
+long memberLabel(const GridVolume& grid, long fallback) {
+  long label = grid.member >= 0 ? grid.member : fallback;
+  for (const GridExtraDimension& e : grid.extraDimensions)
+    if (e.ensemble) label = std::isfinite(e.value) ? std::lround(e.value) : static_cast<long>(e.index);
+  return label;
+}
+
 std::string memberText(const GridVolume& grid) {
   if (!grid.ensembleStatistic.empty())
     return grid.ensembleStatistic + " of " + std::to_string(grid.ensembleMembers.size()) + " members";

@@ -201,6 +201,10 @@ std::string extraIndexText(const GridVolume& grid);
 /// What of an ensemble the grid holds, for titles and legends: "member 3", "mean of 10 members",
 /// "prob:>=273.15 of 10 members"; empty for a grid without members.
 std::string memberText(const GridVolume& grid);
+/// The member a grid read as one member is, as a statistic lists its members (ensembleMembers):
+/// GRIB's `number`, else the netCDF ensemble coordinate's value (its index where it has none);
+/// `fallback` for a grid without members.
+long memberLabel(const GridVolume& grid, long fallback);
 
 /// Sets valueMin and valueMax to the smallest and largest finite value (NaN when there is none).
 void setValueRange(GridVolume& grid);
