@@ -8,22 +8,30 @@
 # 2. with the bundle's compare-shaders (another revision's shaders, the same binary through
 #    ATMOGLOBE_SHADER_DIR): the grid bench's default cells with those shaders and with ours,
 #    alternately, 2 runs each, so that a change is measured side by side on one machine;
-# 3. the radar bench (KLBB, AU40; DVR step 250 m; 320x180 and 1280x720 frames);
+# 3. the radar bench (KLBB, AU40; DVR steps 250 and 1000 m and the step rule) at 320x180, all four
+#    views, and at 1280x720, the two oblique views (their references at that size are in the
+#    bundle; the down views' are not rendered yet);
 # 4. several volumes (bench_volume_overlap);
 # 5. the scene-load bench (1/4/16 synthetic radars, 1/10 steps).
+# Every bench writes into one directory whose reference-cache/ starts as the bundle's, and runs
+# from the bundle's run/ so that the radar files are ../shared/data/... as the cache keys say.
 # Each stage is bounded by `timeout` so the rest still run; OUT_DIR gets the reports (at most 8
 # files) and the log. The GPU is whatever the EGL device is (the line "GL:" in each report).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${1:?usage: gpu-bench.sh OUT_DIR}
 mkdir -p "$out"
+out=$(cd "$out" && pwd)
 log=$out/gpu-bench.log
 work=$(mktemp -d)
 start=$(date +%s)
 say() { echo "[$(($(date +%s) - start)) s] $*" | tee -a "$log"; }
 # The GL dispatch packages, then our programs and their libraries.
-for f in "$here"/*.deb; do dpkg -x "$f" /; done
-ldconfig
+# (GPU_BENCH_NO_DPKG=1 skips this, for a trial run on a machine that has them.)
+if [[ -z ${GPU_BENCH_NO_DPKG:-} ]]; then
+  for f in "$here"/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+fi
 export __EGL_VENDOR_LIBRARY_FILENAMES=${__EGL_VENDOR_LIBRARY_FILENAMES:-/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json}
 [[ -f $__EGL_VENDOR_LIBRARY_FILENAMES ]] || unset __EGL_VENDOR_LIBRARY_FILENAMES
 if command -v xz > /dev/null; then
@@ -37,7 +45,11 @@ for f in proj/egm96_15.gtx xml/udunits; do
   [[ -e /usr/share/$f ]] || { mkdir -p "$(dirname "/usr/share/$f")" && cp -r "$work/share/$f" "/usr/share/$f"; }
 done
 ag=$work/bin/atmoglobe
-say "atmoglobe $(cat "$work/REVISION"); $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
+bench=$work/bench
+mkdir -p "$bench/reference-cache"
+cp "$work"/reference-cache/*.ref "$bench/reference-cache/" 2>/dev/null
+cd "$work/run" || exit 1
+say "atmoglobe $(cat "$work/REVISION"), $(ls "$bench/reference-cache" | wc -l) cached references; $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
 "$ag" --version >> "$log" 2>&1 || { say "the binary does not start"; ldd "$ag" | grep "not found" | tee -a "$log"; exit 1; }
 stage() {  # stage NAME SECONDS COMMAND...
   local name=$1 limit=$2
@@ -47,8 +59,8 @@ stage() {  # stage NAME SECONDS COMMAND...
   local rc=$?
   say "$name: rc $rc"
 }
-stage grids 150 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 1000 --frames 7 -q
-cp "$work/grids/grid_bench.md" "$out/" 2>/dev/null
+stage grids 180 "$ag" bench --grids --no-peer --no-load --out "$bench" --steps 250 1000 --frames 7 -q
+cp "$bench/grid_bench.md" "$out/" 2>/dev/null
 if [[ -d $work/compare-shaders ]]; then
   old=$(cat "$work/compare-shaders/REVISION")
   {
@@ -60,19 +72,22 @@ if [[ -d $work/compare-shaders ]]; then
   for run in 1 2; do
     for which in old new; do
       if [[ $which == old ]]; then export ATMOGLOBE_SHADER_DIR=$work/compare-shaders; else unset ATMOGLOBE_SHADER_DIR; fi
-      stage "compare $which $run" 45 "$ag" bench --grids --no-peer --no-load --out "$work/grids" --steps 250 \
+      stage "compare $which $run" 45 "$ag" bench --grids --no-peer --no-load --out "$bench" --steps 250 \
         --view global-space --view global-cyclone --view regional-oblique --frames 7 -q
-      grep -E "\| (320x180|1280x720) \| dvr step 250 m, scale 1, linear( \(default\))? \|" "$work/grids/grid_bench.md" |
+      grep -E "\| (320x180|1280x720) \| dvr step 250 m, scale 1, linear( \(default\))? \|" "$bench/grid_bench.md" |
         sed "s/^|/| $run | $which ($([[ $which == old ]] && echo "$old" || cat "$work/REVISION")) |/" >> "$out/compare.md"
     done
   done
   unset ATMOGLOBE_SHADER_DIR
 fi
-stage radar 170 "$ag" bench --no-peer --data "$work/data" --out "$work/radar" --steps 250 --frames 7 -q
-cp "$work/radar/volume_bench.md" "$out/" 2>/dev/null
+stage radar 80 "$ag" bench --no-peer --no-big --out "$bench" --steps 250 1000 --frames 7 -q
+cp "$bench/volume_bench.md" "$out/volume_bench_320.md" 2>/dev/null
+stage radar-1280 80 "$ag" bench --no-peer --no-big --size 1280x720 --view KLBB-oblique --view AU40-oblique \
+  --out "$bench" --steps 250 1000 --frames 7 -q
+cp "$bench/volume_bench.md" "$out/volume_bench_1280.md" 2>/dev/null
 say "overlap"
 timeout 60 "$work/bin/bench_volume_overlap" --runs 3 > "$out/overlap.md" 2>> "$log"
 say "overlap: rc $?"
-stage scenes 130 "$ag" bench --scenes --out "$work/scenes" -q
-cp "$work/scenes/scenes/scene-load.md" "$out/" 2>/dev/null
+stage scenes 90 "$ag" bench --scenes --out "$bench" -q
+cp "$bench/scenes/scene-load.md" "$out/" 2>/dev/null
 say "done"
