@@ -12,7 +12,11 @@
 #    views, and at 1280x720, the two oblique views (their references at that size are in the
 #    bundle; the down views' are not rendered yet);
 # 4. several volumes (bench_volume_overlap);
-# 5. the scene-load bench (1/4/16 synthetic radars, 1/10 steps).
+# 5. networks of 1, 10, 40 and 160 SYNTHETIC radars and the rules on the Belgian pair
+#    (bench_radar_network);
+# 6. the scene-load bench (1/4/16 synthetic radars, 1/10 steps).
+# GPU_BENCH_STAGES="grids radar ..." runs only those stages (grids compare radar overlap networks
+# scenes), e.g. to finish a run that a machine's time cut short.
 # Every bench writes into one directory whose reference-cache/ starts as the bundle's, and runs
 # from the bundle's run/ so that the radar files are ../shared/data/... as the cache keys say.
 # Each stage is bounded by `timeout` so the rest still run; OUT_DIR gets the reports (at most 8
@@ -51,9 +55,12 @@ cp "$work"/reference-cache/*.ref "$bench/reference-cache/" 2>/dev/null
 cd "$work/run" || exit 1
 say "atmoglobe $(cat "$work/REVISION"), $(ls "$bench/reference-cache" | wc -l) cached references; $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
 "$ag" --version >> "$log" 2>&1 || { say "the binary does not start"; ldd "$ag" | grep "not found" | tee -a "$log"; exit 1; }
+stages=" ${GPU_BENCH_STAGES:-grids compare radar overlap networks scenes} "
+want() { [[ $stages == *" $1 "* ]]; }
 stage() {  # stage NAME SECONDS COMMAND...
   local name=$1 limit=$2
   shift 2
+  want "${name%% *}" || want "${name%%-*}" || return 0
   say "$name: $*"
   timeout "$limit" "$@" >> "$log" 2>&1
   local rc=$?
@@ -61,7 +68,7 @@ stage() {  # stage NAME SECONDS COMMAND...
 }
 stage grids 180 "$ag" bench --grids --no-peer --no-load --out "$bench" --steps 250 1000 --frames 7 -q
 cp "$bench/grid_bench.md" "$out/" 2>/dev/null
-if [[ -d $work/compare-shaders ]]; then
+if [[ -d $work/compare-shaders ]] && want compare; then
   old=$(cat "$work/compare-shaders/REVISION")
   {
     echo "# Grid bench, shaders of $old against $(cat "$work/REVISION"), one binary, alternating"
@@ -85,9 +92,17 @@ cp "$bench/volume_bench.md" "$out/volume_bench_320.md" 2>/dev/null
 stage radar-1280 80 "$ag" bench --no-peer --no-big --size 1280x720 --view KLBB-oblique --view AU40-oblique \
   --out "$bench" --steps 250 1000 --frames 7 -q
 cp "$bench/volume_bench.md" "$out/volume_bench_1280.md" 2>/dev/null
-say "overlap"
-timeout 60 "$work/bin/bench_volume_overlap" --runs 3 > "$out/overlap.md" 2>> "$log"
-say "overlap: rc $?"
-stage scenes 90 "$ag" bench --scenes --out "$bench" -q
+if want overlap; then
+  say "overlap"
+  timeout 60 "$work/bin/bench_volume_overlap" --runs 3 > "$out/overlap.md" 2>> "$log"
+  say "overlap: rc $?"
+fi
+if want networks; then
+  say "networks"
+  timeout 200 "$work/bin/bench_radar_network" --counts 1,10,40,160 --sizes 320x180,1280x720 --runs 3 --frames 5 \
+    --separate-max 10 --out "$bench/network" --data ../shared/data > "$out/network.md" 2>> "$log"
+  say "networks: rc $?"
+fi
+stage scenes 200 "$ag" bench --scenes --out "$bench" -q
 cp "$bench/scenes/scene-load.md" "$out/" 2>/dev/null
 say "done"

@@ -33,11 +33,12 @@ while [[ $# -gt 0 ]]; do
     *) echo "gpu-bundle.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-programs=("$build/tools/atmoglobe" "$build/tools/bench/bench_volume_overlap")
+programs=("$build/tools/atmoglobe" "$build/tools/bench/bench_volume_overlap" "$build/tools/bench/bench_radar_network")
 for p in "${programs[@]}"; do
   [[ -x $p ]] || { echo "gpu-bundle.sh: $p: not built (./scripts/build.sh)" >&2; exit 1; }
 done
-files=(radar_nexrad/KLBB20160601_150025_V06 radar_odim/40_20181220_060630.pvol.h5)
+files=(radar_nexrad/KLBB20160601_150025_V06 radar_odim/40_20181220_060630.pvol.h5 radar_odim/bewid.pvol.hdf
+  radar_odim/behel_loop/20200207130000.rad.behel.pvol.dbzh.scanz.hdf)
 for f in "${files[@]}"; do
   [[ -f $data/$f ]] || { echo "gpu-bundle.sh: $data/$f: missing (the radar bench's files)" >&2; exit 1; }
 done
@@ -45,7 +46,7 @@ stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 # The radar files under shared/data, beside a working directory run/: the bench is run from run/
 # with its default --data ../shared/data, the path the cached references are keyed by.
-mkdir -p "$stage/bin" "$stage/lib" "$stage/shared/data/radar_nexrad" "$stage/shared/data/radar_odim" \
+mkdir -p "$stage/bin" "$stage/lib" "$stage/shared/data/radar_nexrad" "$stage/shared/data/radar_odim/behel_loop" \
   "$stage/run" "$stage/reference-cache"
 cp "${programs[@]}" "$stage/bin/"
 for f in "${files[@]}"; do cp "$data/$f" "$stage/shared/data/$f"; done

@@ -293,7 +293,7 @@ int main(int argc, char** argv) {
           std::vector<engine::VolumeLayerGL> layers;
           for (const auto& g : separate) layers.push_back({g.get(), options});
           char b[32];
-          std::snprintf(b, sizeof b, "%.1f", timeFrames(**renderer, camera, layers, **target, frames, runs));
+          std::snprintf(b, sizeof b, "%.2f", timeFrames(**renderer, camera, layers, **target, frames, runs));
           separateMs = b;
         }
         // The visits at the smaller size only (the CPU walks every sample).
@@ -312,7 +312,7 @@ int main(int argc, char** argv) {
           std::snprintf(b, sizeof b, "%.2f", c.samples / 1e6);
           samples = b;
         }
-        std::printf("| %zu | %s | %dx%d | %.1f | %.2f | %s | %s | %s | %.0f | %.1f |\n", n, views[v].name,
+        std::printf("| %zu | %s | %dx%d | %.2f | %.2f | %s | %s | %s | %.0f | %.1f |\n", n, views[v].name,
                     sizes[s].first, sizes[s].second, ms, ms / oneRadar[v * sizes.size() + s], separateMs.c_str(),
                     samples.c_str(), visits.c_str(), static_cast<double>(gpuBytes) / 1e6, readSeconds + uploadSeconds);
         std::fflush(stdout);
@@ -371,7 +371,7 @@ int main(int argc, char** argv) {
         }
         ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs);
       }
-      std::printf("| %s | %dx%d | %.1f | %.2f |\n", volume::toString(rule), w, h, ms, ms / alone);
+      std::printf("| %s | %dx%d | %.2f | %.2f |\n", volume::toString(rule), w, h, ms, ms / alone);
       std::fflush(stdout);
     }
   }
