@@ -103,6 +103,6 @@ if want networks; then
     --separate-max 10 --out "$bench/network" --data ../shared/data > "$out/network.md" 2>> "$log"
   say "networks: rc $?"
 fi
-stage scenes 200 "$ag" bench --scenes --out "$bench" -q
+stage scenes 150 "$ag" bench --scenes --load-runs 1 --out "$bench" -q
 cp "$bench/scenes/scene-load.md" "$out/" 2>/dev/null
 say "done"
