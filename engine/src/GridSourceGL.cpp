@@ -2,6 +2,7 @@
 
 #include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SlicePlot.h>
+#include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/GridDetail.h>
@@ -254,8 +255,26 @@ Status GridSourceGL::applyExaggeration(SourceContext context) {
   return reload(description_, step_, stepFraction_, context);
 }
 
+namespace {
+
+// "" for a grid drawn at its resolution, else "  at 1/2 resolution (GPU memory)" and so on.
+std::string reducedNote(const GridVolumeGL& gl, const std::string& what) {
+  const auto& whole = gl.unreducedGrid();
+  if (!whole || gl.grid().nx == 0) return {};
+  const long halvings = std::lround(std::log2(static_cast<double>(whole->nx) / static_cast<double>(gl.grid().nx)));
+  return "  " + what + "at 1/" + std::to_string(1L << std::max(1L, halvings)) + " resolution (GPU memory)";
+}
+
+}  // namespace
+
 LegendPart GridSourceGL::legendPart() const {
   const volume::GridVolume& v = volume_->grid();
+  std::string resolution;
+  if (volume_->unreducedGrid()) {
+    const bool windowed = !viewWindow().empty();
+    resolution = windowed ? reducedNote(*window_->volume, "the columns in view ") : reducedNote(*volume_, "");
+    if (windowed && resolution.empty()) resolution = "  the columns in view at full resolution";
+  }
   const std::string variable = displayName(v.variable);
   // A mosaic written by `atmoglobe mosaic` is a radar product at the radars' latest time.
   const std::string kind = mosaicRule_.empty() ? " (forecast grid)" : " (radar mosaic, " + mosaicRule_ + ")";
@@ -263,7 +282,7 @@ LegendPart GridSourceGL::legendPart() const {
                     variable + (mosaicRule_.empty() ? " valid " : " at ") + utcLabel(v.validTime) +
                         (volume::memberText(v).empty() ? std::string() : "  " + volume::memberText(v)) +
                         (volume::extraIndexText(v).empty() ? std::string() : "  " + volume::extraIndexText(v)) +
-                        (v.approximateHeights ? "  (heights approximate)" : "") +
+                        (v.approximateHeights ? "  (heights approximate)" : "") + resolution +
                         (detailLevel_ > 0 ? "  level of detail " + std::to_string(detailLevel_) + " (columns x" +
                                                 std::to_string(volume::detailHorizontalFactor(detailLevel_)) + ")"
                                           : std::string()),
@@ -275,6 +294,11 @@ LayerMemory GridSourceGL::memory() const {
   std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
                       (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
   std::uint64_t gpu = volume_->gpuBytes();
+  if (window_ && window_->of == volume_.get()) {
+    cpu += volume::gridVolumeBytes(window_->volume->grid());
+    gpu += window_->volume->gpuBytes();
+  }
+  if (const auto& whole = volume_->unreducedGrid()) cpu += volume::gridVolumeBytes(*whole);
   if (detailOf_ == volume_.get())
     for (const auto& d : detail_)
       if (d) {
@@ -288,10 +312,87 @@ std::vector<const VolumeGL*> GridSourceGL::volumes() const {
   if (detailLevel_ > 0 && detailOf_ == volume_.get() && static_cast<std::size_t>(detailLevel_) <= detail_.size() &&
       detail_[static_cast<std::size_t>(detailLevel_) - 1])
     return {detail_[static_cast<std::size_t>(detailLevel_) - 1].get()};
+  if (windowUsed_ && window_ && window_->of == volume_.get()) return {window_->volume.get()};
   return {volume_.get()};
 }
 
+volume::GridWindow GridSourceGL::viewWindow() const {
+  if (volumes().front() == (window_ ? window_->volume.get() : nullptr)) return window_->window;
+  return {};
+}
+
 void GridSourceGL::chooseDetail(const Camera& camera, bool background) {
+  chooseCoarserCopy(camera, background);
+  chooseViewWindow(camera, background);
+}
+
+namespace {
+
+// True when `inner` lies inside `outer` (columns modulo nx: windows may cross a wrapping grid's seam).
+bool windowContains(const volume::GridWindow& outer, const volume::GridWindow& inner, std::size_t nx) {
+  if (inner.firstRow < outer.firstRow || inner.firstRow + inner.rowCount > outer.firstRow + outer.rowCount)
+    return false;
+  const std::size_t offset = (inner.firstColumn + nx - outer.firstColumn % nx) % nx;
+  return offset + inner.columnCount <= outer.columnCount;
+}
+
+// `w` widened by an eighth of its size (at least 2 points) on each side, within the grid.
+volume::GridWindow widenWindow(const volume::GridWindow& w, const volume::GridVolume& g) {
+  volume::GridWindow out;
+  const std::size_t mr = std::max<std::size_t>(2, w.rowCount / 8), mc = std::max<std::size_t>(2, w.columnCount / 8);
+  out.firstRow = w.firstRow >= mr ? w.firstRow - mr : 0;
+  out.rowCount = std::min(g.ny, w.firstRow + w.rowCount + mr) - out.firstRow;
+  if (g.wrapsLongitude) {
+    out.columnCount = std::min(g.nx, w.columnCount + 2 * mc);
+    out.firstColumn = out.columnCount == g.nx ? 0 : (w.firstColumn + g.nx - mc % g.nx) % g.nx;
+  } else {
+    out.firstColumn = w.firstColumn >= mc ? w.firstColumn - mc : 0;
+    out.columnCount = std::min(g.nx, w.firstColumn + w.columnCount + mc) - out.firstColumn;
+  }
+  return out;
+}
+
+}  // namespace
+
+void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
+  windowUsed_ = false;
+  if (window_ && window_->of != volume_.get()) window_.reset();  // another step or a reload
+  if (windowBuilding_ && windowBuilding_->prepared.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    std::shared_ptr<const GridVolumeGL::Prepared> prepared = windowBuilding_->prepared.get();
+    if (prepared && windowBuilding_->of == volume_.get())
+      if (auto gl = GridVolumeGL::create(std::move(prepared)))
+        window_ = ViewWindow{windowBuilding_->of, windowBuilding_->window, std::move(*gl)};
+    windowBuilding_.reset();
+  }
+  const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
+  if (!whole || whole->reduced() || !description_.levelOfDetail || detailLevel_ > 0) return;
+  const volume::GridWindow view = visibleGridWindow(camera, *whole);
+  if (view.empty()) return;
+  if (window_ && windowContains(window_->window, view, whole->nx)) {
+    windowUsed_ = true;
+    return;
+  }
+  // A window of more than half the grid would be drawn at lower resolution as well.
+  if (2 * view.columnCount * view.rowCount > whole->nx * whole->ny) return;
+  const volume::GridWindow window = widenWindow(view, *whole);
+  auto make = [whole, window]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
+    auto part = volume::gridWindow(*whole, window);
+    if (!part || !GridVolumeGL::checkDrawable(*part)) return nullptr;
+    return GridVolumeGL::prepare(*part);
+  };
+  if (background) {  // until it is made, the grid as uploaded
+    if (!windowBuilding_) windowBuilding_ = WindowBuild{volume_.get(), window, std::async(std::launch::async, make)};
+    return;
+  }
+  std::shared_ptr<const GridVolumeGL::Prepared> prepared = make();
+  if (!prepared) return;
+  auto gl = GridVolumeGL::create(std::move(prepared));
+  if (!gl) return;
+  window_ = ViewWindow{volume_.get(), window, std::move(*gl)};
+  windowUsed_ = true;
+}
+
+void GridSourceGL::chooseCoarserCopy(const Camera& camera, bool background) {
   if (detailOf_ != volume_.get()) {  // another step or a reload: the copies were of the old grid
     detail_.assign(static_cast<std::size_t>(volume::maxDetailLevel(volume_->grid())), nullptr);
     detailOf_ = volume_.get();

@@ -43,9 +43,11 @@ Result<std::unique_ptr<GridVolumeGL>> GridVolumeGL::create(std::shared_ptr<const
   // $ATMOGLOBE_MAX_TEXTURE_BYTES) is drawn at half the resolution, and so on, with a warning.
   GLint max3d = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  const std::shared_ptr<const volume::GridVolume> whole = prepared->grid;
   for (int halvings = 0;; ++halvings) {
     std::string tooLarge;
     auto gl = upload(prepared, name, &tooLarge);
+    if (gl && halvings > 0) (*gl)->unreduced_ = whole;
     if (gl || tooLarge.empty()) return gl;
     const volume::GridVolume& g = *prepared->grid;
     if (halvings == kMaxHalvings || g.nx < 4 || g.ny < 4)

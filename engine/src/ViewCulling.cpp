@@ -95,4 +95,67 @@ CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera)
   return out;
 }
 
+volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& g) {
+  const std::size_t nx = g.nx, ny = g.ny, nz = g.nz;
+  volume::GridWindow window;
+  if (nx == 0 || ny == 0 || nz == 0) return window;
+  const std::size_t stride = std::max<std::size_t>(1, std::max(nx, ny) / 256);
+  const double w = camera.widthPx(), h = camera.heightPx(), mx = 0.04 * w, my = 0.04 * h;
+  const glm::dvec3 eye = camera.eyeEcef();
+  auto visible = [&](double lat, double lon, double height) {
+    const glm::dvec3 p = globe::geodeticToEcef({lat, lon, height});
+    const auto px = camera.projectToPixel(p);
+    if (!px || px->x < -mx || px->x > w + mx || px->y < -my || px->y > h + my) return false;
+    // Behind the ellipsoid: the segment from the eye meets it (1 m short of the point itself).
+    const glm::dvec3 d = p - eye;
+    const auto hit = globe::intersectRayEllipsoid(eye, d);
+    return !hit || glm::length(*hit - eye) >= glm::length(d) - 1.0;
+  };
+  std::vector<char> column(nx, 0);
+  std::size_t rowMin = ny, rowMax = 0;
+  for (std::size_t j = 0; j < ny; j += stride) {
+    for (std::size_t i = 0; i < g.rowLength(j); i += stride) {
+      const double lat = g.latDegAt(j, i), lon = g.lonDegAt(j, i);
+      if (!visible(lat, lon, g.heightMeters(0, j, i)) && !visible(lat, lon, g.heightMeters(nz - 1, j, i))) continue;
+      std::size_t c = i;
+      if (g.reduced()) {
+        const double x = std::fmod(std::fmod(lon - g.reducedWestDeg(), 360.0) + 360.0, 360.0) / g.reducedSpacingDeg();
+        c = std::min(nx - 1, static_cast<std::size_t>(std::llround(x)) % nx);
+        c -= c % stride;
+      }
+      column[c] = 1;
+      rowMin = std::min(rowMin, j), rowMax = std::max(rowMax, j);
+    }
+  }
+  if (rowMin > rowMax) return window;
+  // Rows: a stride of margin (the untested rows between).
+  const std::size_t j0 = rowMin >= stride ? rowMin - stride : 0, j1 = std::min(ny - 1, rowMax + stride);
+  window.firstRow = j0;
+  window.rowCount = j1 - j0 + 1;
+  std::vector<std::size_t> on;
+  for (std::size_t i = 0; i < nx; i += stride)
+    if (column[i]) on.push_back(i);
+  window.firstColumn = 0;
+  window.columnCount = nx;
+  // A wrapping grid seen to a pole's row (a stride from it) takes every longitude.
+  const bool poleRow = g.wrapsLongitude && (j0 == 0 || j1 >= ny - 1 - std::min(ny - 1, stride));
+  if (g.wrapsLongitude && !poleRow) {
+    // The shortest arc holding the visible columns: the complement of the largest gap.
+    std::size_t gapStart = on.back(), gapLen = nx - on.back() + on.front();  // the gap across the seam
+    for (std::size_t k = 1; k < on.size(); ++k)
+      if (on[k] - on[k - 1] > gapLen) gapLen = on[k] - on[k - 1], gapStart = on[k - 1];
+    const std::size_t first = (gapStart + gapLen) % nx, span = nx - gapLen;
+    const std::size_t count = span + 2 * stride + 1;
+    if (static_cast<double>(count - 1) * 360.0 / static_cast<double>(nx) <= 300.0) {
+      window.firstColumn = (first + nx - stride % nx) % nx;
+      window.columnCount = count;
+    }
+  } else if (!g.wrapsLongitude) {
+    const std::size_t i0 = on.front() >= stride ? on.front() - stride : 0, i1 = std::min(nx - 1, on.back() + stride);
+    window.firstColumn = i0;
+    window.columnCount = i1 - i0 + 1;
+  }
+  return window;
+}
+
 }  // namespace atmoglobe::engine

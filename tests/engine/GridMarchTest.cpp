@@ -18,6 +18,7 @@
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
+#include <atmoglobe/volume/Decimate.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/ReferenceRenderer.h>
@@ -30,6 +31,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 namespace {
@@ -972,4 +974,138 @@ TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   ASSERT_TRUE(scene) << scene.error();
   EXPECT_FALSE(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0].levelOfDetail);
   EXPECT_NE(engine::sceneToJson(*scene).find("\"level_of_detail\": false"), std::string::npos);
+}
+
+// A grid too large for the GPU ($ATMOGLOBE_MAX_TEXTURE_BYTES below its texture): uploaded at half
+// the resolution, and drawn from the columns and rows in view at full resolution where the view
+// sees a small part of it, as the grid drawn whole without a limit.
+TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGlobalGridOptions go;
+  go.nx = 144;  // 2.5 deg
+  go.ny = 73;
+  ASSERT_TRUE(volume::writeSyntheticGlobalGrid(dir + "/window_global.nc", go));
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  engine::VolumeLayerDescription d;
+  d.kind = engine::VolumeKind::Grid;
+  d.path = dir + "/window_global.nc";
+  d.field = "dbz";
+  d.settings.valueRange = glm::dvec2(-31.0, 60.0);
+  d.settings.opacity = {-31.0, 40.0, 0.5, 20000.0};
+  // 3,000 km above 15 N 40 W looking down: about 2,500 km of the globe across, 10 of 144 columns.
+  const Camera close(CameraPose{15.0, -40.0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+  auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());
+  ASSERT_TRUE(fb);
+  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend,
+                  engine::GridSourceGL** kept = nullptr) -> std::optional<globe::ImageRGBA8> {
+    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "1500000", 1);  // the whole grid's texels are 3.1 MB
+    auto renderer = engine::SceneRendererGL::create(*loader);
+    engine::VolumeLayerDescription e = d;
+    e.levelOfDetail = levelOfDetail;
+    auto layer = (*renderer)->addVolume(e);
+    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
+    if (!layer) {
+      ADD_FAILURE() << layer.error();
+      return std::nullopt;
+    }
+    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 72u : 144u);  // every 2nd column of a wrapping grid
+    auto image = (*renderer)->renderToImage(close, {}, **fb);
+    if (!image) {
+      ADD_FAILURE() << image.error();
+      return std::nullopt;
+    }
+    if (legend) *legend = grid.legendPart().subtitle;
+    if (limited && levelOfDetail) {
+      const volume::GridWindow w = grid.viewWindow();
+      EXPECT_FALSE(w.empty());
+      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      EXPECT_NE(drawn, &grid.gridVolume());
+      if (drawn) {
+        EXPECT_EQ(drawn->grid().nx, w.columnCount);
+        EXPECT_EQ(drawn->grid().ny, w.rowCount);
+        EXPECT_LT(w.columnCount * w.rowCount * 4, 144u * 73u);
+        EXPECT_NEAR(drawn->grid().lonDeg[1] - drawn->grid().lonDeg[0], 2.5, 1e-9);  // full resolution
+      }
+      // Moved a little (50 km): the same window, not made again.
+      const Camera moved(CameraPose{15.0, -39.5, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+      EXPECT_TRUE((*renderer)->renderToImage(moved, {}, **fb));
+      EXPECT_EQ(grid.volumes()[0], drawn);
+      // From 35,000 km the view holds half the globe: no window (the coarser copies instead).
+      const Camera far(CameraPose{15.0, -40.0, 35.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+      EXPECT_TRUE((*renderer)->renderToImage(far, {}, **fb));
+      EXPECT_TRUE(grid.viewWindow().empty());
+    }
+    if (kept) *kept = &grid;
+    return std::move(*image);
+  };
+  std::string wholeLegend, windowLegend, reducedLegend;
+  const auto whole = draw(false, true, &wholeLegend);
+  const auto windowed = draw(true, true, &windowLegend);
+  const auto reduced = draw(true, false, &reducedLegend);
+  ASSERT_TRUE(whole && windowed && reduced);
+  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b, int* drawn) {
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < close.heightPx(); ++y)
+      for (int x = 0; x < close.widthPx(); ++x) {
+        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
+        sum += e.r + e.g + e.b;
+        if (e != glm::ivec4(0)) ++n;
+      }
+    if (drawn) *drawn = n;
+    return sum / (3.0 * close.widthPx() * close.heightPx());
+  };
+  int differWindow = 0, differReduced = 0;
+  const double window = meanDiff(*windowed, *whole, &differWindow);
+  const double half = meanDiff(*reduced, *whole, &differReduced);
+  std::cout << "against the whole grid without a limit: the window in view " << window << " of 255 (" << differWindow
+            << " pixels differ), the grid at half resolution " << half << " (" << differReduced << ")\n";
+  // The same points marched from another origin and tables: float rounding only, well under an
+  // 8-bit step on average; the half-resolution grid misses a quarter of the points.
+  EXPECT_LT(window, 0.05);
+  EXPECT_GT(half, 10.0 * window);
+  EXPECT_GT(half, 0.2);
+  EXPECT_EQ(wholeLegend.find("resolution"), std::string::npos) << wholeLegend;
+  EXPECT_NE(windowLegend.find("the columns in view at full resolution"), std::string::npos) << windowLegend;
+  EXPECT_NE(reducedLegend.find("at 1/2 resolution (GPU memory)"), std::string::npos) << reducedLegend;
+}
+
+TEST(GridVolumeWindow, WindowsAcrossTheSeamKeepThePointsAndIncreasingLongitudes) {
+  volume::SyntheticGlobalGridOptions go;
+  go.nx = 36;  // 10 deg
+  go.ny = 19;
+  const std::string path = testutil::testOutputDir() + "/window_seam.nc";
+  ASSERT_TRUE(volume::writeSyntheticGlobalGrid(path, go));
+  volume::GridReadOptions read;
+  read.variable = "dbz";
+  auto g = volume::readGridVolume(path, read);
+  ASSERT_TRUE(g) << g.error();
+  ASSERT_TRUE(g->wrapsLongitude);
+  const volume::GridWindow w{34, 5, 3, 6};  // columns 34, 35, 0, 1, 2; rows 3..8
+  auto part = volume::gridWindow(*g, w);
+  ASSERT_TRUE(part) << part.error();
+  EXPECT_EQ(part->nx, 5u);
+  EXPECT_EQ(part->ny, 6u);
+  EXPECT_EQ(part->nz, g->nz);
+  EXPECT_FALSE(part->wrapsLongitude);
+  for (std::size_t i = 1; i < part->nx; ++i) EXPECT_NEAR(part->lonDeg[i] - part->lonDeg[i - 1], 10.0, 1e-9);
+  for (std::size_t k = 0; k < g->nz; ++k)
+    for (std::size_t j = 0; j < 6; ++j)
+      for (std::size_t i = 0; i < 5; ++i) {
+        const std::size_t gi = (34 + i) % 36;
+        EXPECT_EQ(part->latDegAt(j, i), g->latDegAt(3 + j, gi));
+        const float a = part->value(k, j, i), b = g->value(k, 3 + j, gi);
+        EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b)));
+        EXPECT_EQ(part->heightMeters(k, j, i), g->heightMeters(k, 3 + j, gi));
+      }
+  // The whole grid as a window wraps; windows outside the grid are errors that say so.
+  auto all = volume::gridWindow(*g, volume::GridWindow{0, 36, 0, 19});
+  ASSERT_TRUE(all);
+  EXPECT_TRUE(all->wrapsLongitude);
+  auto outside = volume::gridWindow(*g, volume::GridWindow{0, 4, 17, 4});
+  ASSERT_FALSE(outside);
+  EXPECT_NE(outside.error().find("not inside the 36 x 19 grid"), std::string::npos) << outside.error();
 }

@@ -1,6 +1,7 @@
 #include <atmoglobe/bench/GridViews.h>
 
 #include <atmoglobe/engine/GridVolumeGL.h>
+#include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -151,65 +152,28 @@ std::vector<BenchView> gridViews(const BenchVolume& v, bool quick) {
 }
 
 volume::GridCrop visibleCrop(const engine::Camera& camera, const volume::GridVolume& g) {
-  const std::size_t nx = g.nx, ny = g.ny, nz = g.nz;
-  const std::size_t stride = std::max<std::size_t>(1, std::max(nx, ny) / 256);
-  const double w = camera.widthPx(), h = camera.heightPx(), mx = 0.04 * w, my = 0.04 * h;
-  const glm::dvec3 eye = camera.eyeEcef();
-  auto visible = [&](double lat, double lon, double height) {
-    const glm::dvec3 p = globe::geodeticToEcef({lat, lon, height});
-    const auto px = camera.projectToPixel(p);
-    if (!px || px->x < -mx || px->x > w + mx || px->y < -my || px->y > h + my) return false;
-    // Behind the ellipsoid: the segment from the eye meets it (1 m short of the point itself).
-    const glm::dvec3 d = p - eye;
-    const auto hit = globe::intersectRayEllipsoid(eye, d);
-    return !hit || glm::length(*hit - eye) >= glm::length(d) - 1.0;
-  };
-  // Visible columns: a reduced grid's points marked on its reference axis (g.lonDeg), the column
-  // of their longitude, so that the columns below mean longitudes for every row.
-  std::vector<char> column(nx, 0);
-  std::size_t rowMin = ny, rowMax = 0;
-  for (std::size_t j = 0; j < ny; j += stride) {
-    for (std::size_t i = 0; i < g.rowLength(j); i += stride) {
-      const double lat = g.latDegAt(j, i), lon = g.lonDegAt(j, i);
-      if (!visible(lat, lon, g.heightMeters(0, j, i)) && !visible(lat, lon, g.heightMeters(nz - 1, j, i))) continue;
-      std::size_t c = i;
-      if (g.reduced()) {
-        const double x = std::fmod(std::fmod(lon - g.reducedWestDeg(), 360.0) + 360.0, 360.0) / g.reducedSpacingDeg();
-        c = std::min(nx - 1, static_cast<std::size_t>(std::llround(x)) % nx);
-        c -= c % stride;
-      }
-      column[c] = 1;
-      rowMin = std::min(rowMin, j), rowMax = std::max(rowMax, j);
-    }
-  }
+  const volume::GridWindow window = engine::visibleGridWindow(camera, g);
   volume::GridCrop crop;
-  if (rowMin > rowMax) {
+  if (window.empty()) {
     crop.southDeg = 1.0, crop.northDeg = -1.0;
     return crop;
   }
-  // Rows: a stride of margin (the untested rows between); a global grid's end row reaches the pole.
-  const std::size_t j0 = rowMin >= stride ? rowMin - stride : 0, j1 = std::min(ny - 1, rowMax + stride);
+  const std::size_t nx = g.nx, ny = g.ny;
+  const std::size_t stride = std::max<std::size_t>(1, std::max(nx, ny) / 256);
+  const std::size_t j0 = window.firstRow, j1 = window.firstRow + window.rowCount - 1;
   double south = 90.0, north = -90.0, west = 0.0, east = 0.0;
   for (std::size_t i = 0; i < nx; i += stride)
     for (std::size_t j : {j0, j1}) south = std::min(south, g.latDegAt(j, i)), north = std::max(north, g.latDegAt(j, i));
+  // A global grid's end row reaches the pole.
   if (g.wrapsLongitude && j0 == 0) south = -90.0;
-  if (g.wrapsLongitude && j1 >= ny - 1 - stride) north = 90.0;
-  // Columns: the shortest arc holding the visible ones (the complement of the largest gap).
-  std::vector<std::size_t> on;
-  for (std::size_t i = 0; i < nx; i += stride)
-    if (column[i]) on.push_back(i);
-  bool allLongitudes = south <= -90.0 || north >= 90.0;
-  if (g.wrapsLongitude && !allLongitudes) {
-    std::size_t gapStart = on.back(), gapLen = nx - on.back() + on.front();  // the gap across the seam
-    for (std::size_t k = 1; k < on.size(); ++k)
-      if (on[k] - on[k - 1] > gapLen) gapLen = on[k] - on[k - 1], gapStart = on[k - 1];
-    const std::size_t first = (gapStart + gapLen) % nx, span = nx - gapLen;
+  if (g.wrapsLongitude && j1 >= ny - 1 - std::min(ny - 1, stride)) north = 90.0;
+  const bool allLongitudes = window.columnCount >= nx && g.wrapsLongitude;
+  if (g.wrapsLongitude) {
     const double stepDeg = 360.0 / static_cast<double>(nx);
-    west = g.lonDeg[first] - static_cast<double>(stride) * stepDeg;
-    east = west + (static_cast<double>(span) + 2.0 * static_cast<double>(stride)) * stepDeg;
-    allLongitudes = east - west > 300.0;
-  } else if (!g.wrapsLongitude) {
-    const std::size_t i0 = on.front() >= stride ? on.front() - stride : 0, i1 = std::min(nx - 1, on.back() + stride);
+    west = g.lonDeg[window.firstColumn];  // a reduced grid: its reference axis
+    east = west + static_cast<double>(window.columnCount - 1) * stepDeg;
+  } else {
+    const std::size_t i0 = window.firstColumn, i1 = window.firstColumn + window.columnCount - 1;
     west = 1e9, east = -1e9;
     for (std::size_t j = j0; j <= j1; j += stride)
       for (std::size_t i : {i0, i1}) {
@@ -219,7 +183,7 @@ volume::GridCrop visibleCrop(const engine::Camera& camera, const volume::GridVol
   }
   crop.southDeg = south;
   crop.northDeg = north;
-  if (allLongitudes) {
+  if (allLongitudes || south <= -90.0 || north >= 90.0) {
     crop.westDeg = -180.0, crop.eastDeg = 180.0;
   } else {
     // The reader takes longitudes in any turn; east < west means across the antimeridian.

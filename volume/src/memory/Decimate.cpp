@@ -18,6 +18,50 @@ std::vector<std::size_t> keptIndices(std::size_t n, std::size_t f, bool periodic
   return kept;
 }
 
+// The points at columns `cols`, rows `rows` and levels `lev` of a grid that is not reduced, with
+// their positions, heights and pressures; the value range recomputed.
+GridVolume pickPoints(const GridVolume& g, const std::vector<std::size_t>& cols, const std::vector<std::size_t>& rows,
+                      const std::vector<std::size_t>& lev) {
+  GridVolume out = g;
+  out.nx = cols.size();
+  out.ny = rows.size();
+  out.nz = lev.size();
+  out.lonDeg.clear();
+  out.latDeg.clear();
+  if (g.curvilinear) {
+    for (std::size_t j : rows)
+      for (std::size_t i : cols) {
+        out.lonDeg.push_back(g.lonDeg[j * g.nx + i]);
+        out.latDeg.push_back(g.latDeg[j * g.nx + i]);
+      }
+  } else {
+    for (std::size_t i : cols) out.lonDeg.push_back(g.lonDeg[i]);
+    for (std::size_t j : rows) out.latDeg.push_back(g.latDeg[j]);
+  }
+  if (!g.levelValues.empty()) {
+    out.levelValues.clear();
+    for (std::size_t k : lev) out.levelValues.push_back(g.levelValues[k]);
+  }
+  const bool pressures = g.pressurePa.size() == g.values.size();
+  out.values.assign(out.nx * out.ny * out.nz, 0.0f);
+  out.heightAboveEllipsoidMeters.assign(out.values.size(), 0.0f);
+  out.pressurePa.assign(pressures ? out.values.size() : 0, 0.0f);
+  out.valueMin = out.valueMax = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < lev.size(); ++k)
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      for (std::size_t i = 0; i < cols.size(); ++i) {
+        const float v = g.value(lev[k], rows[j], cols[i]);
+        out.values[out.index(k, j, i)] = v;
+        out.heightAboveEllipsoidMeters[out.index(k, j, i)] = g.heightMeters(lev[k], rows[j], cols[i]);
+        if (pressures) out.pressurePa[out.index(k, j, i)] = g.pressurePa[g.index(lev[k], rows[j], cols[i])];
+        if (std::isfinite(v)) {
+          if (!(out.valueMin <= v)) out.valueMin = v;
+          if (!(out.valueMax >= v)) out.valueMax = v;
+        }
+      }
+  return out;
+}
+
 }  // namespace
 
 namespace {
@@ -106,46 +150,34 @@ GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
   } else {
     for (std::size_t k = 0; k < g.nz; ++k) lev.push_back(k);
   }
-  GridVolume out = g;
-  out.nx = cols.size();
-  out.ny = rows.size();
-  out.nz = lev.size();
+  GridVolume out = pickPoints(g, cols, rows, lev);
   out.wrapsLongitude = periodic;
   out.fileColumnStep = g.fileColumnStep * static_cast<int>(factor);
   out.fileRowStep = g.fileRowStep * static_cast<int>(factor);
   if (levels) out.fileLevelStep = g.fileLevelStep * static_cast<int>(factor);
-  if (g.curvilinear) {
-    out.lonDeg.clear();
-    out.latDeg.clear();
-    for (std::size_t j : rows)
-      for (std::size_t i : cols) {
-        out.lonDeg.push_back(g.lonDeg[j * g.nx + i]);
-        out.latDeg.push_back(g.latDeg[j * g.nx + i]);
-      }
-  } else {
-    out.lonDeg.clear();
-    out.latDeg.clear();
-    for (std::size_t i : cols) out.lonDeg.push_back(g.lonDeg[i]);
-    for (std::size_t j : rows) out.latDeg.push_back(g.latDeg[j]);
+  return out;
+}
+
+Result<GridVolume> gridWindow(const GridVolume& g, const GridWindow& w) {
+  if (g.reduced()) return makeError(g.variable + ": a reduced grid has no rectangular windows");
+  if (w.columnCount < 2 || w.rowCount < 2 || w.firstRow + w.rowCount > g.ny || w.columnCount > g.nx ||
+      w.firstColumn >= g.nx || (!g.wrapsLongitude && w.firstColumn + w.columnCount > g.nx))
+    return makeError(g.variable + ": window of " + std::to_string(w.columnCount) + " x " + std::to_string(w.rowCount) +
+                     " points at column " + std::to_string(w.firstColumn) + ", row " + std::to_string(w.firstRow) +
+                     " is not inside the " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " grid");
+  std::vector<std::size_t> cols, rows, lev;
+  for (std::size_t i = 0; i < w.columnCount; ++i) cols.push_back((w.firstColumn + i) % g.nx);
+  for (std::size_t j = 0; j < w.rowCount; ++j) rows.push_back(w.firstRow + j);
+  for (std::size_t k = 0; k < g.nz; ++k) lev.push_back(k);
+  GridVolume out = pickPoints(g, cols, rows, lev);
+  out.wrapsLongitude = g.wrapsLongitude && w.columnCount == g.nx && w.firstColumn == 0;
+  // The file's indices of the first point; a window across the seam keeps its first column's.
+  out.fileFirstColumn = g.fileFirstColumn + w.firstColumn * static_cast<std::size_t>(std::max(1, g.fileColumnStep));
+  out.fileFirstRow = g.fileFirstRow + w.firstRow * static_cast<std::size_t>(std::max(1, std::abs(g.fileRowStep)));
+  if (!g.curvilinear) {  // longitudes increase along the window, across the seam too
+    for (std::size_t i = 1; i < out.lonDeg.size(); ++i)
+      while (out.lonDeg[i] < out.lonDeg[i - 1]) out.lonDeg[i] += 360.0;
   }
-  if (!g.levelValues.empty() && levels) {
-    out.levelValues.clear();
-    for (std::size_t k : lev) out.levelValues.push_back(g.levelValues[k]);
-  }
-  out.values.assign(out.nx * out.ny * out.nz, 0.0f);
-  out.heightAboveEllipsoidMeters.assign(out.values.size(), 0.0f);
-  out.valueMin = out.valueMax = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t k = 0; k < lev.size(); ++k)
-    for (std::size_t j = 0; j < rows.size(); ++j)
-      for (std::size_t i = 0; i < cols.size(); ++i) {
-        const float v = g.value(lev[k], rows[j], cols[i]);
-        out.values[out.index(k, j, i)] = v;
-        out.heightAboveEllipsoidMeters[out.index(k, j, i)] = g.heightMeters(lev[k], rows[j], cols[i]);
-        if (std::isfinite(v)) {
-          if (!(out.valueMin <= v)) out.valueMin = v;
-          if (!(out.valueMax >= v)) out.valueMax = v;
-        }
-      }
   return out;
 }
 

@@ -5,6 +5,7 @@
 // description's range), so the frames of a series compare.
 #include <atmoglobe/engine/GridVolumeGL.h>
 #include <atmoglobe/engine/VolumeSourceGL.h>
+#include <atmoglobe/volume/Decimate.h>
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 
@@ -34,10 +35,18 @@ class GridSourceGL final : public VolumeSourceGL {
   /// The level of detail marched (volume/GridDetail.h): the coarser copy chosen for the last
   /// camera, built on first use and kept while the step is shown; volume() stays the grid itself
   /// (the readout and the memory budget's data).
+  ///
+  /// A grid too large for the GPU (drawn at lower resolution: GridVolumeGL::unreducedGrid) is
+  /// drawn, where the camera sees at most half of its columns x rows, from the window of columns
+  /// and rows in view (engine::visibleGridWindow, widened by an eighth on each side so that small
+  /// moves keep it) at full resolution, or at the finest the GPU holds; the window is made again
+  /// when the view leaves it. Both follow `level_of_detail` (off: the grid as uploaded).
   std::vector<const VolumeGL*> volumes() const override;
   void chooseDetail(const Camera& camera, bool background) override;
   /// The level chosen for the last camera (0: the grid itself).
   int detailLevel() const { return detailLevel_; }
+  /// The window of the grid drawn for the last camera (empty: the grid as uploaded, or a coarser copy).
+  volume::GridWindow viewWindow() const;
   std::string title() const override { return "grid " + volume_->grid().variable; }
   std::vector<std::string> fieldChoices() const override;
   std::string fieldShown() const override { return volume_->grid().variable; }
@@ -99,6 +108,23 @@ class GridSourceGL final : public VolumeSourceGL {
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
   };
   std::optional<DetailBuild> building_;
+  /// The view's window of a grid too large for the GPU (volumes()): the volume it is of, the
+  /// window, the GPU copy; and one being made on a worker thread.
+  struct ViewWindow {
+    const void* of = nullptr;
+    volume::GridWindow window;
+    std::shared_ptr<GridVolumeGL> volume;
+  };
+  std::optional<ViewWindow> window_;
+  bool windowUsed_ = false;  ///< window_ covers the last camera's view
+  struct WindowBuild {
+    const void* of = nullptr;
+    volume::GridWindow window;
+    std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
+  };
+  std::optional<WindowBuild> windowBuilding_;
+  void chooseCoarserCopy(const Camera& camera, bool background);
+  void chooseViewWindow(const Camera& camera, bool background);
   const MemberGrids& memberGrids() const;
 };
 

@@ -42,6 +42,9 @@ class GridVolumeGL final : public VolumeGL {
   /// even then.
   static Result<std::unique_ptr<GridVolumeGL>> create(const volume::GridVolume& grid);
   static constexpr int kMaxHalvings = 4;
+  /// The grid as given to create() when it had to be drawn at lower resolution (the view's
+  /// window of it can be drawn at full resolution: GridSourceGL::chooseDetail); null otherwise.
+  const std::shared_ptr<const volume::GridVolume>& unreducedGrid() const { return unreduced_; }
 
   /// What an upload needs, computed on the CPU (no GL call: a worker thread may make it,
   /// engine::ScenePrefetcher): the grid's copy and sampler, the texels, lookup tables and
@@ -87,6 +90,7 @@ class GridVolumeGL final : public VolumeGL {
   static Result<std::unique_ptr<GridVolumeGL>> upload(const std::shared_ptr<const Prepared>& prepared,
                                                       const std::string& name, std::string* tooLarge);
   std::shared_ptr<const volume::GridVolume> grid_;
+  std::shared_ptr<const volume::GridVolume> unreduced_;  ///< see unreducedGrid()
   std::shared_ptr<const volume::GridSampler> sampler_;
   glm::dvec3 origin_{0.0};
   unsigned int values_ = 0, heights_ = 0, lookup_ = 0;  ///< lookup_: 2-D; rectilinear: row 0 longitude, row 1 latitude

@@ -15,6 +15,8 @@
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/globe/Result.h>
+#include <atmoglobe/volume/Decimate.h>
+#include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/VolumeSampler.h>
 
 #include <glm/glm.hpp>
@@ -28,6 +30,14 @@ namespace atmoglobe::engine {
 /// hidden behind the ellipsoid). Conservative: true when unsure (an eye inside the ellipsoid, a
 /// sphere too large for a horizon point).
 bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& sphere);
+
+/// The columns and rows of `grid` a camera can see: points (every stride-th column and row, stride
+/// = max(nx, ny) / 256) whose bottom or top level projects into the frame (4 % margin) and is not
+/// hidden by the ellipsoid, widened by one stride on each side. On a grid that wraps in longitude
+/// the columns are the shortest arc holding the visible ones (the window may cross the seam); a
+/// view that reaches a pole's row, or an arc over 300 degrees, takes every column. A reduced grid's
+/// points mark the column of their longitude on its reference axis. Empty: no point visible.
+volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& grid);
 
 /// Where a radar is and how far its volume reaches, from a metadata read (radarFootprint).
 struct RadarFootprint {

@@ -3,6 +3,7 @@
 // (engine: GridVolumeGL / RadarVolumeGL fall back to them with a warning). Every `factor`-th
 // sample is kept (no averaging: values stay values the file holds), so the copy samples like the
 // original at its kept points. GL-free.
+#include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
@@ -17,6 +18,20 @@ namespace atmoglobe::volume {
 /// whose length is not a multiple of `factor` is resampled linearly along the row to
 /// ceil(n / factor) points evenly round the circle (the grid keeps wrapping). factor >= 2.
 GridVolume decimateGrid(const GridVolume& grid, std::size_t factor, bool levels = false);
+
+/// A rectangle of a grid's columns and rows (all levels): columns firstColumn .. firstColumn +
+/// columnCount - 1, taken modulo nx on a grid that wraps in longitude (a window across the seam).
+struct GridWindow {
+  std::size_t firstColumn = 0, columnCount = 0;
+  std::size_t firstRow = 0, rowCount = 0;
+  bool empty() const { return columnCount == 0 || rowCount == 0; }
+};
+
+/// The points of `window` as a grid of their own, at the grid's resolution (values, positions,
+/// heights, pressures as they are; longitudes made increasing across the seam). It wraps only
+/// when the window is the whole grid. Errors: a reduced grid, a window of fewer than 2 x 2
+/// points or outside the grid.
+Result<GridVolume> gridWindow(const GridVolume& grid, const GridWindow& window);
 
 /// Every `factor`-th gate of every sweep (gate spacing times factor, the first gate kept), and,
 /// when `rays` is true, every `factor`-th ray. Value range recomputed. factor >= 2.
