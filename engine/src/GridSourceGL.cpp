@@ -468,8 +468,11 @@ Result<std::unique_ptr<GridVolumeGL>> createGridDetail(const volume::GridVolume&
 
 std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const glm::dvec3& dir, double tMaxMeters,
                                                    double stepMeters) const {
+  // The grid itself, or its window in view at full resolution where it is drawn from one (not the
+  // coarser copies of the level of detail: the readout gives the data's values).
+  const GridVolumeGL& shown = windowUsed_ && window_ && window_->of == volume_.get() ? *window_->volume : *volume_;
   const auto hit =
-      firstValueAlong(volume_->referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+      firstValueAlong(shown.referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
   if (!hit) return std::nullopt;
   const volume::GridVolume& v = volume_->grid();
   const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);
