@@ -126,6 +126,8 @@ constexpr double kSettleSeconds = 0.3;
 /// (SceneRendererGL::setProgressiveBudget), input handled between frames; scripts and --frames
 /// runs draw each frame whole (deterministic).
 constexpr double kRefineBudgetMs = 20.0;
+/// Milliseconds a frame may spend reading and building map lines (MapRendererGL::setBuildBudgetMs).
+constexpr double kMapBuildBudgetMs = 8.0;
 /// A script's clock runs at this many seconds per frame (flights take a fixed number of frames).
 constexpr double kScriptFrameSeconds = 0.25;
 constexpr double kPanFraction = 0.1;      ///< arrows/WASD: a tenth of the view
@@ -859,7 +861,8 @@ int runView(const ViewOptions& o) {
     // A script redraws the scene only when something changed (else the last picture with the
     // panel over it); everything else draws every frame it gets here.
     const bool sceneNeeded = !state.scripted || resized || state.dirty || moving || wasMoving || state.playing ||
-                             !(*renderer)->globe().lastFrameComplete() || !(*renderer)->volumesComplete();
+                             !(*renderer)->globe().lastFrameComplete() || !(*renderer)->map().lastFrameComplete() ||
+                             !(*renderer)->volumesComplete();
     if (sceneNeeded) {
       const double movingScale = o.movingScale > 0.0 ? o.movingScale : pacing.scale();
       if (moving) lastMovingScale = movingScale;
@@ -876,6 +879,10 @@ int runView(const ViewOptions& o) {
       // Grids' coarser copies are made on a worker while frames go on, except for a screenshot
       // (the same picture as `render`) and --frames runs.
       (*renderer)->setDetailInBackground(!state.screenshotRequested && o.frames <= 0);
+      // Coastlines and borders of a new level or newly in view: read and built within a few
+      // milliseconds a frame, the level before drawn meanwhile (a flight across a level took
+      // 84 ms in one frame without it); whole for a screenshot and --frames runs.
+      (*renderer)->map().setBuildBudgetMs(!state.screenshotRequested && o.frames <= 0 ? kMapBuildBudgetMs : 0.0);
       // The first frame at rest takes the last moving frame's volume image as its preview.
       (*renderer)->volumeRenderer().setPreviewScale(lastMovingScale);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.

@@ -11,8 +11,10 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 namespace atmoglobe::engine {
 
@@ -224,38 +226,17 @@ void MapRendererGL::drawChunk(const Camera& camera, const ChunkGL& chunk, const 
   glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, chunk.segments);
 }
 
-MapFrameStats MapRendererGL::draw(const Camera& camera) {
-  MapFrameStats stats;
-  ++frame_;
-  if (!builtin_ && overlays_.empty()) return stats;
-  const double heightMeters = globe::ecefToGeodetic(camera.eyeEcef()).heightMeters;
-  const map::GshhgResolution res = map::gshhgResolutionForHeight(heightMeters);
+// One chunk a frame wants at a resolution: its cache key, how to make it and its style.
+struct MapRendererGL::Wanted {
+  std::tuple<int, int, int> key;
+  std::function<std::unique_ptr<ChunkGL>()> build;
+  const MapLineStyle* style = nullptr;
+};
+
+std::vector<MapRendererGL::Wanted> MapRendererGL::wantedChunks(const Camera& camera, const globe::ViewState& view,
+                                                               map::GshhgResolution res, int* binsInView) {
+  std::vector<Wanted> wanted;
   const double maxSegment = map::maxSegmentMetersFor(res);
-  stats.resolution = res;
-  const globe::ViewState view = camera.viewState();
-
-  program_.use();
-  const glm::mat4 viewProjection(camera.modelViewProjectionRelativeTo(camera.eyeEcef()));
-  glUniformMatrix4fv(program_.uniform("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
-  glUniform2f(program_.uniform("u_viewportPx"), static_cast<float>(camera.widthPx()),
-              static_cast<float>(camera.heightPx()));
-  glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
-  beginOverGlobeGL();
-  glBindVertexArray(vao_);
-
-  auto use = [&](std::tuple<int, int, int> key, auto build) -> ChunkGL* {
-    auto it = chunks_.find(key);
-    if (it == chunks_.end()) {
-      std::unique_ptr<ChunkGL> c = build();
-      if (!c) return nullptr;
-      chunkBytes_ += c->bytes;
-      ++stats.chunksBuilt;
-      it = chunks_.emplace(key, std::move(c)).first;
-    }
-    it->second->lastFrame = frame_;
-    return it->second.get();
-  };
-
   if (builtin_) {
     // Bins of the chosen resolution inside the crude (20-degree) bins in view.
     const map::GshhgFile* coarse = file(map::GshhgKind::Shoreline, map::GshhgResolution::Crude);
@@ -272,7 +253,7 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
           if (res == map::GshhgResolution::Crude || binVisible(camera, view, fine.binBox(b))) bins.push_back(b);
       }
     }
-    stats.binsInView = static_cast<int>(bins.size());
+    if (binsInView) *binsInView = static_cast<int>(bins.size());
     const struct {
       const map::GshhgFile* file;
       unsigned levels;
@@ -281,38 +262,93 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
       if (!layers[layer].file) continue;
       // State/province borders clutter whole-hemisphere views: shown from the low level down.
       if (layer == 2 && res == map::GshhgResolution::Crude) continue;
-      for (int b : bins) {
-        ChunkGL* c = use({layer, static_cast<int>(res), b}, [&]() -> std::unique_ptr<ChunkGL> {
-          auto lines = layers[layer].file->readBin(b, layers[layer].levels);
-          if (!lines) {
-            std::fprintf(stderr, "map context: %s\n", lines.error().c_str());
-            return std::make_unique<ChunkGL>();  // empty: not retried every frame
-          }
-          return uploadChunk(map::buildLineChunk(*lines, maxSegment));
-        });
-        if (c && c->segments > 0) {
-          drawChunk(camera, *c, builtinStyle_[layer]);
-          ++stats.chunksDrawn;
-          stats.segmentsDrawn += static_cast<std::size_t>(c->segments);
-        }
-      }
+      const map::GshhgFile* f = layers[layer].file;
+      const unsigned levels = layers[layer].levels;
+      for (int b : bins)
+        wanted.push_back({{layer, static_cast<int>(res), b},
+                          [f, b, levels, maxSegment]() -> std::unique_ptr<ChunkGL> {
+                            auto lines = f->readBin(b, levels);
+                            if (!lines) {
+                              std::fprintf(stderr, "map context: %s\n", lines.error().c_str());
+                              return std::make_unique<ChunkGL>();  // empty: not retried every frame
+                            }
+                            return uploadChunk(map::buildLineChunk(*lines, maxSegment));
+                          },
+                          &builtinStyle_[layer]});
     }
   }
   for (std::size_t o = 0; o < overlays_.size(); ++o) {
     const Overlay& overlay = overlays_[o];
     for (std::size_t g = 0; g < overlay.pieces.size(); ++g) {
-      const glm::dvec4& s = overlay.spheres[g];
+      const glm::dvec4& sphere = overlay.spheres[g];
       bool outside = false;
       for (const glm::dvec4& plane : view.frustumPlanesEcef)
-        outside = outside || glm::dot(glm::dvec3(plane), glm::dvec3(s)) + plane.w < -s.w;
+        outside = outside || glm::dot(glm::dvec3(plane), glm::dvec3(sphere)) + plane.w < -sphere.w;
       if (outside) continue;
-      ChunkGL* c = use({3 + static_cast<int>(o), static_cast<int>(res), static_cast<int>(g)},
-                       [&] { return uploadChunk(map::buildLineChunk(overlay.pieces[g], maxSegment)); });
-      if (c && c->segments > 0) {
-        drawChunk(camera, *c, overlay.style);
-        ++stats.chunksDrawn;
-        stats.segmentsDrawn += static_cast<std::size_t>(c->segments);
-      }
+      const std::vector<map::GeoPolyline>* piece = &overlay.pieces[g];
+      wanted.push_back({{3 + static_cast<int>(o), static_cast<int>(res), static_cast<int>(g)},
+                        [piece, maxSegment] { return uploadChunk(map::buildLineChunk(*piece, maxSegment)); },
+                        &overlay.style});
+    }
+  }
+  return wanted;
+}
+
+MapFrameStats MapRendererGL::draw(const Camera& camera) {
+  MapFrameStats stats;
+  ++frame_;
+  lastFrameComplete_ = true;
+  if (!builtin_ && overlays_.empty()) return stats;
+  const double heightMeters = globe::ecefToGeodetic(camera.eyeEcef()).heightMeters;
+  const map::GshhgResolution res = map::gshhgResolutionForHeight(heightMeters);
+  stats.resolution = res;
+  const globe::ViewState view = camera.viewState();
+  std::vector<Wanted> wanted = wantedChunks(camera, view, res, &stats.binsInView);
+
+  // Missing chunks are read and built (GSHHG bins, geodesic densification, upload): all of them
+  // without a budget (render, the first frame), else while the budget lasts. Until every chunk of
+  // the view's resolution is made, the resolution drawn before stays (its chunks as cached), so a
+  // flight that crosses a level does not stall on the new level's reads.
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool unbounded = buildBudgetMs_ <= 0.0 || shownResolution_ < 0;
+  bool missing = false;
+  for (const Wanted& w : wanted) {
+    if (chunks_.count(w.key)) continue;
+    if (!unbounded &&
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() >= buildBudgetMs_) {
+      missing = true;
+      continue;
+    }
+    std::unique_ptr<ChunkGL> c = w.build();
+    if (!c) continue;
+    chunkBytes_ += c->bytes;
+    ++stats.chunksBuilt;
+    chunks_.emplace(w.key, std::move(c));
+  }
+  if (missing) {
+    lastFrameComplete_ = false;
+    if (shownResolution_ != static_cast<int>(res))
+      wanted = wantedChunks(camera, view, static_cast<map::GshhgResolution>(shownResolution_), nullptr);
+  } else {
+    shownResolution_ = static_cast<int>(res);
+  }
+
+  program_.use();
+  const glm::mat4 viewProjection(camera.modelViewProjectionRelativeTo(camera.eyeEcef()));
+  glUniformMatrix4fv(program_.uniform("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
+  glUniform2f(program_.uniform("u_viewportPx"), static_cast<float>(camera.widthPx()),
+              static_cast<float>(camera.heightPx()));
+  glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
+  beginOverGlobeGL();
+  glBindVertexArray(vao_);
+  for (const Wanted& w : wanted) {
+    auto it = chunks_.find(w.key);
+    if (it == chunks_.end()) continue;  // not made yet (a bin just come into view): next frame
+    it->second->lastFrame = frame_;
+    if (it->second->segments > 0) {
+      drawChunk(camera, *it->second, *w.style);
+      ++stats.chunksDrawn;
+      stats.segmentsDrawn += static_cast<std::size_t>(it->second->segments);
     }
   }
   glBindVertexArray(0);

@@ -5,6 +5,7 @@
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/map/Gshhg.h>
+#include <atmoglobe/map/MapLod.h>
 
 #include "GLTestUtil.h"
 
@@ -117,4 +118,46 @@ TEST_F(MapRender, LinesBehindTheEarthAreHidden) {
   const engine::Camera camera({38.0, -9.0, 1e7, 0.0, -90.0, 0.0}, 60.0, 320, 240);
   EXPECT_EQ(countLinePixels(render(camera, true)), 0);
   EXPECT_EQ(countLinePixels(render(camera, false)), 0);  // the analytic horizon cut, not the depth
+}
+
+// With a build budget (the viewer's) a view of a new level draws the level before until every
+// chunk of the new one is made, a few each frame, and then draws what an unbounded frame does.
+TEST_F(MapRender, ABuildBudgetKeepsTheLevelBeforeUntilTheNewOneIsMade) {
+  const std::string coast =
+      map::gshhgPath(map::defaultGshhgDirectory(), map::GshhgKind::Shoreline, map::GshhgResolution::Crude);
+  if (!std::filesystem::exists(coast)) GTEST_SKIP() << coast << " missing (apt-get install gmt-gshhg)";
+  ASSERT_TRUE(renderer_->setMapContext(true));
+  const engine::MapLineStyle magenta{glm::vec3(1.0f, 0.0f, 1.0f), 2.0f, 1.0f};
+  for (int layer = 0; layer < 3; ++layer) renderer_->map().setBuiltinStyle(layer, magenta);
+  engine::MapRendererGL& map = renderer_->map();
+  // 1 microsecond: at most the chunk under way when the budget is found spent each frame.
+  map.setBuildBudgetMs(0.001);
+  const engine::Camera far({38.0, -9.0, 1e7, 0.0, -90.0, 0.0}, 60.0, 240, 180);
+  const engine::Camera near({38.7, -9.3, 3.0e5, 0.0, -90.0, 0.0}, 60.0, 240, 180);
+  ASSERT_NE(atmoglobe::map::gshhgResolutionForHeight(1e7), atmoglobe::map::gshhgResolutionForHeight(3.0e5));
+  // The first frame has no level to keep: made whole.
+  const globe::ImageRGBA8 farImage = render(far, false);
+  EXPECT_TRUE(map.lastFrameComplete());
+  EXPECT_GT(countLinePixels(farImage), 500);
+  // The near view's first frame: the far level's lines (cached), not complete.
+  const globe::ImageRGBA8 first = render(near, false);
+  EXPECT_FALSE(map.lastFrameComplete());
+  EXPECT_GT(countLinePixels(first), 100) << "the level before is drawn meanwhile";
+  int frames = 1;
+  globe::ImageRGBA8 last = first;
+  while (!map.lastFrameComplete() && frames < 2000) {
+    last = render(near, false);
+    ++frames;
+  }
+  ASSERT_TRUE(map.lastFrameComplete()) << "not complete after " << frames << " frames";
+  EXPECT_GT(frames, 2) << "a budget of 1 us builds about one chunk a frame";
+  // Complete: the same pixels as a frame without a budget.
+  map.setBuildBudgetMs(0.0);
+  const globe::ImageRGBA8 unbounded = render(near, false);
+  EXPECT_TRUE(map.lastFrameComplete());
+  int differ = 0;
+  for (int y = 0; y < last.height; ++y)
+    for (int x = 0; x < last.width; ++x) differ += last.at(x, y) != unbounded.at(x, y);
+  EXPECT_EQ(differ, 0);
+  std::cout << "the near level made over " << frames << " frames\n";
 }

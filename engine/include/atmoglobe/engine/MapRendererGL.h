@@ -81,6 +81,12 @@ class MapRendererGL {
 
   /// Draws into the bound framebuffer (after the globe: depth test on, writes off, blending).
   MapFrameStats draw(const Camera& camera);
+  /// Milliseconds a frame may spend reading and building chunks (0, the default: no limit, every
+  /// frame complete, as `render` needs). With a budget, chunks not made in time are made in later
+  /// frames, the resolution drawn before is drawn meanwhile, and lastFrameComplete() is false.
+  void setBuildBudgetMs(double ms) { buildBudgetMs_ = ms; }
+  /// False when the last frame left chunks of its view to make (draw again to finish).
+  bool lastFrameComplete() const { return lastFrameComplete_; }
 
   struct ChunkGL;
 
@@ -96,6 +102,10 @@ class MapRendererGL {
     double radius = 0.0;
     std::vector<glm::dvec3> samples;
   };
+  struct Wanted;
+  /// The chunks a view wants at resolution `res` (built-in bins in view, overlay groups in the frustum).
+  std::vector<Wanted> wantedChunks(const Camera& camera, const globe::ViewState& view, map::GshhgResolution res,
+                                   int* binsInView);
   bool binVisible(const Camera& camera, const globe::ViewState& view, const map::GshhgBinBox& box) const;
   const map::GshhgFile* file(map::GshhgKind kind, map::GshhgResolution r);
   void drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style);
@@ -112,6 +122,9 @@ class MapRendererGL {
   std::size_t chunkBytes_ = 0;
   std::vector<Overlay> overlays_;
   std::uint64_t frame_ = 0;
+  double buildBudgetMs_ = 0.0;
+  int shownResolution_ = -1;  ///< the resolution drawn when every chunk of it was made (-1: none yet)
+  bool lastFrameComplete_ = true;
 };
 
 }  // namespace atmoglobe::engine
