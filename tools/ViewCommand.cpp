@@ -864,6 +864,8 @@ int runView(const ViewOptions& o) {
                              !(*renderer)->globe().lastFrameComplete() || !(*renderer)->map().lastFrameComplete() ||
                              !(*renderer)->volumesComplete();
     if (sceneNeeded) {
+      // A motion's first frame: the scale the last view's full-quality march says meets the target.
+      if (moving && !wasMoving) pacing.seedFromFullMarch((*renderer)->volumeRenderer().fullMarchEstimateMs());
       const double movingScale = o.movingScale > 0.0 ? o.movingScale : pacing.scale();
       if (moving) lastMovingScale = movingScale;
       for (std::size_t i = 0; i < (*renderer)->volumeLayerCount(); ++i) {

@@ -21,6 +21,14 @@ void MovingImageScale::reportMovingFrame(double sceneMs) {
   }
 }
 
+void MovingImageScale::seedFromFullMarch(double fullMarchMs) {
+  if (!(fullMarchMs > 0.0) || !std::isfinite(fullMarchMs)) return;
+  constexpr double kQuantum = 1.0 / 64.0;
+  const double marchMs = std::max(targetMs_ - kFixedMsEstimate, 0.25 * targetMs_);
+  const double s = std::sqrt(marchMs / fullMarchMs);
+  scale_ = std::clamp(std::floor(s / kQuantum) * kQuantum, kMinScale, kMaxScale);
+}
+
 namespace {
 void part(std::ostringstream& out, const char* name, std::vector<double> v) {
   if (v.empty()) return;

@@ -574,7 +574,14 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
         ++previewsReused_;
       } else {
         ensureTarget(small.x, small.y, GL_RGBA16F);
+        const auto previewStart = std::chrono::steady_clock::now();
         ok = marchBox(camera, preview, *volumeTarget_, volumeImageBox(pass.rectPx, target, small), target);
+        glFinish();
+        const double scale = preview[0].options.imageScale / std::max(1e-6, pass.layers[0].options.imageScale);
+        if (ok && passes.size() == 1 && scale > 0.0)
+          fullMarchEstimateMs_ =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - previewStart).count() /
+              (scale * scale);
       }
       (*image)->bind();
       glClearColor(0, 0, 0, 0);
@@ -597,8 +604,11 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() >= budgetMs)
       break;
     const Progress::Tile& tile = p.tiles[p.next++];
+    const auto tileStart = std::chrono::steady_clock::now();
     marchBox(camera, passes[tile.pass].layers, *p.images[tile.pass], tile.box, target);
     glFinish();  // the time taken, not the time to queue
+    p.marchedMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tileStart).count();
+    if (p.next == p.tiles.size()) fullMarchEstimateMs_ = p.marchedMs;
   }
   for (std::size_t i = 0; i < passes.size(); ++i) compositeOver(p.images[i]->colorTexture(), target, passes[i].rectPx);
   target.bind();

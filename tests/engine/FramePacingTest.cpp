@@ -62,3 +62,25 @@ TEST(FramePacing, SummaryGivesCountMedianP90AndMaxOfEachPart) {
 }
 
 }  // namespace
+
+TEST(FramePacing, AMotionStartsAtTheScaleTheLastFullMarchAsks) {
+  MovingImageScale pacing(40.0);
+  // 1,500 ms for the full-quality march: (40 - 20) ms left for it, sqrt(20 / 1500) = 0.115,
+  // rounded down to 7/64.
+  pacing.seedFromFullMarch(1500.0);
+  EXPECT_DOUBLE_EQ(pacing.scale(), 7.0 / 64.0);
+  // A cheap march keeps the quarter; an unknown one (0) leaves the scale as it is.
+  pacing.seedFromFullMarch(100.0);
+  EXPECT_DOUBLE_EQ(pacing.scale(), MovingImageScale::kMaxScale);
+  pacing.reportMovingFrame(200.0);
+  const double after = pacing.scale();
+  pacing.seedFromFullMarch(0.0);
+  EXPECT_DOUBLE_EQ(pacing.scale(), after);
+  // A very expensive one: the floor.
+  pacing.seedFromFullMarch(1.0e6);
+  EXPECT_DOUBLE_EQ(pacing.scale(), MovingImageScale::kMinScale);
+  // The frame at the seeded scale of the cost model of the tests above is within the target:
+  // 20 ms of globe plus the march at scale^2 of 1,500 ms.
+  pacing.seedFromFullMarch(1500.0);
+  EXPECT_LE(20.0 + 1500.0 * pacing.scale() * pacing.scale(), 40.0);
+}

@@ -27,6 +27,13 @@ class MovingImageScale {
   double scale() const { return scale_; }
   /// A moving frame drawn at scale() took `sceneMs`.
   void reportMovingFrame(double sceneMs);
+  /// Before the first moving frame of a motion: the full-quality march of the view at rest costs
+  /// `fullMarchMs` (VolumeRendererGL::fullMarchEstimateMs, scale 1). The scale becomes sqrt((T - F) / fullMarchMs),
+  /// F = kFixedMsEstimate for the globe and map lines (at least T / 4 left to the march), clamped
+  /// and rounded down to 1/64 as above, so that the first frame is near the target instead of
+  /// being drawn at the scale of the last motion. Ignored when fullMarchMs is not positive.
+  void seedFromFullMarch(double fullMarchMs);
+  static constexpr double kFixedMsEstimate = 20.0;  ///< globe and map lines at 1280x720 on llvmpipe
 
  private:
   double targetMs_;

@@ -82,6 +82,10 @@ class VolumeRendererGL {
   bool drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
                        double budgetMs);
   void restartProgressive() { progress_.valid = false; }
+  /// What the full-quality march of the last view refined costs, in milliseconds: the tiles of the
+  /// last finished refinement in all, or, until one finishes, its preview's march time / the
+  /// preview scale squared (a march's cost goes with its pixels); 0 before either.
+  double fullMarchEstimateMs() const { return fullMarchEstimateMs_; }
   /// Tiles marched and in all, of the refinement under way.
   std::pair<std::size_t, std::size_t> progressiveTiles() const { return {progress_.next, progress_.tiles.size()}; }
   static constexpr int kTilePx = 32;
@@ -177,8 +181,10 @@ class VolumeRendererGL {
     };
     std::vector<Tile> tiles;
     std::size_t next = 0;
+    double marchedMs = 0.0;  ///< the tiles' time so far
   };
   Progress progress_;
+  double fullMarchEstimateMs_ = 0.0;
   bool lastDrawValid_ = false;       ///< draw()'s last call was one pass: volumeTarget_ holds its image
   std::vector<double> lastDrawKey_;  ///< of that call (progressKey)
   std::size_t previewsReused_ = 0;
