@@ -366,15 +366,35 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   }
   const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
   if (!whole || whole->reduced() || !description_.levelOfDetail || detailLevel_ > 0) return;
-  const volume::GridWindow view = visibleGridWindow(camera, *whole);
+  // The window in view is found again only when the camera changed (a 0.25-degree grid: some
+  // 40,000 points projected).
+  const CameraPose& pose = camera.pose();
+  const std::vector<double> key{pose.latDeg,
+                                pose.lonDeg,
+                                pose.heightMeters,
+                                pose.headingDeg,
+                                pose.pitchDeg,
+                                pose.rollDeg,
+                                camera.fovYDeg(),
+                                static_cast<double>(camera.widthPx()),
+                                static_cast<double>(camera.heightPx()),
+                                static_cast<double>(whole->nx),
+                                static_cast<double>(whole->ny)};
+  if (key != viewKey_ || viewOf_ != whole.get()) {
+    viewKey_ = key;
+    viewOf_ = whole.get();
+    viewInSight_ = visibleGridWindow(camera, *whole);
+  }
+  const volume::GridWindow view = viewInSight_;
   if (view.empty()) return;
   if (window_ && windowContains(window_->window, view, whole->nx)) {
     windowUsed_ = true;
     return;
   }
-  // A window of more than half the grid would be drawn at lower resolution as well.
-  if (2 * view.columnCount * view.rowCount > whole->nx * whole->ny) return;
+  // Worth making only where the window (widened) has no more columns x rows than the grid as
+  // uploaded: then it fits where that did, at full resolution; a larger one would be reduced too.
   const volume::GridWindow window = widenWindow(view, *whole);
+  if (window.columnCount * window.rowCount > volume_->grid().nx * volume_->grid().ny) return;
   auto make = [whole, window]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
     auto part = volume::gridWindow(*whole, window);
     if (!part || !GridVolumeGL::checkDrawable(*part)) return nullptr;

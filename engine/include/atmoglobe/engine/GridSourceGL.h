@@ -37,10 +37,10 @@ class GridSourceGL final : public VolumeSourceGL {
   /// (the readout and the memory budget's data).
   ///
   /// A grid too large for the GPU (drawn at lower resolution: GridVolumeGL::unreducedGrid) is
-  /// drawn, where the camera sees at most half of its columns x rows, from the window of columns
-  /// and rows in view (engine::visibleGridWindow, widened by an eighth on each side so that small
-  /// moves keep it) at full resolution, or at the finest the GPU holds; the window is made again
-  /// when the view leaves it. Both follow `level_of_detail` (off: the grid as uploaded).
+  /// drawn from the window of columns and rows in view (engine::visibleGridWindow, widened by an
+  /// eighth on each side so that small moves keep it) at full resolution where that window has no
+  /// more columns x rows than the grid as uploaded (so it fits where that did); the window is made
+  /// again when the view leaves it. Both follow `level_of_detail` (off: the grid as uploaded).
   std::vector<const VolumeGL*> volumes() const override;
   void chooseDetail(const Camera& camera, bool background) override;
   /// The level chosen for the last camera (0: the grid itself).
@@ -123,6 +123,9 @@ class GridSourceGL final : public VolumeSourceGL {
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
   };
   std::optional<WindowBuild> windowBuilding_;
+  std::vector<double> viewKey_;     ///< the camera the window in view was last found for
+  const void* viewOf_ = nullptr;    ///< and the grid
+  volume::GridWindow viewInSight_;  ///< what visibleGridWindow gave then
   void chooseCoarserCopy(const Camera& camera, bool background);
   void chooseViewWindow(const Camera& camera, bool background);
   const MemberGrids& memberGrids() const;
