@@ -311,14 +311,16 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   // flight that crosses a level does not stall on the new level's reads.
   const auto t0 = std::chrono::steady_clock::now();
   const bool unbounded = buildBudgetMs_ <= 0.0 || shownResolution_ < 0;
-  bool missing = false;
+  bool missing = false, builtOne = false;
   for (const Wanted& w : wanted) {
     if (chunks_.count(w.key)) continue;
-    if (!unbounded &&
+    // At least one chunk a frame, so that a view is completed however slow the machine.
+    if (!unbounded && builtOne &&
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() >= buildBudgetMs_) {
       missing = true;
       continue;
     }
+    builtOne = true;
     std::unique_ptr<ChunkGL> c = w.build();
     if (!c) continue;
     chunkBytes_ += c->bytes;

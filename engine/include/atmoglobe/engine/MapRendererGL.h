@@ -82,8 +82,9 @@ class MapRendererGL {
   /// Draws into the bound framebuffer (after the globe: depth test on, writes off, blending).
   MapFrameStats draw(const Camera& camera);
   /// Milliseconds a frame may spend reading and building chunks (0, the default: no limit, every
-  /// frame complete, as `render` needs). With a budget, chunks not made in time are made in later
-  /// frames, the resolution drawn before is drawn meanwhile, and lastFrameComplete() is false.
+  /// frame complete, as `render` needs). With a budget (at least one chunk a frame is made), chunks
+  /// not made in time are made in later frames, the resolution drawn before is drawn meanwhile,
+  /// and lastFrameComplete() is false.
   void setBuildBudgetMs(double ms) { buildBudgetMs_ = ms; }
   /// False when the last frame left chunks of its view to make (draw again to finish).
   bool lastFrameComplete() const { return lastFrameComplete_; }
