@@ -880,11 +880,12 @@ int runView(const ViewOptions& o) {
       (*renderer)->setProgressiveBudget(moving || state.screenshotRequested ? 0.0 : refineMs);
       // Grids' coarser copies are made on a worker while frames go on, except for a screenshot
       // (the same picture as `render`) and --frames runs.
-      (*renderer)->setDetailInBackground(!state.screenshotRequested && o.frames <= 0);
+      const bool interactiveFrame = !state.screenshotRequested && o.frames <= 0;
+      (*renderer)->setDetailInBackground(interactiveFrame);
       // Coastlines and borders of a new level or newly in view: read and built within a few
       // milliseconds a frame, the level before drawn meanwhile (a flight across a level took
       // 84 ms in one frame without it); whole for a screenshot and --frames runs.
-      (*renderer)->map().setBuildBudgetMs(!state.screenshotRequested && o.frames <= 0 ? kMapBuildBudgetMs : 0.0);
+      (*renderer)->map().setBuildBudgetMs(interactiveFrame ? kMapBuildBudgetMs : 0.0);
       // The first frame at rest takes the last moving frame's volume image as its preview.
       (*renderer)->volumeRenderer().setPreviewScale(lastMovingScale);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.

@@ -377,9 +377,7 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
                                 pose.rollDeg,
                                 camera.fovYDeg(),
                                 static_cast<double>(camera.widthPx()),
-                                static_cast<double>(camera.heightPx()),
-                                static_cast<double>(whole->nx),
-                                static_cast<double>(whole->ny)};
+                                static_cast<double>(camera.heightPx())};
   if (key != viewKey_ || viewOf_ != whole.get()) {
     viewKey_ = key;
     viewOf_ = whole.get();

@@ -95,11 +95,15 @@ CullOutcome cullRadarsOutsideView(SceneDescription& scene, const Camera& camera)
   return out;
 }
 
+std::size_t visibleGridStride(const volume::GridVolume& g) {
+  return std::max<std::size_t>(1, std::max(g.nx, g.ny) / 256);
+}
+
 volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& g) {
   const std::size_t nx = g.nx, ny = g.ny, nz = g.nz;
   volume::GridWindow window;
   if (nx == 0 || ny == 0 || nz == 0) return window;
-  const std::size_t stride = std::max<std::size_t>(1, std::max(nx, ny) / 256);
+  const std::size_t stride = visibleGridStride(g);
   const double w = camera.widthPx(), h = camera.heightPx(), mx = 0.04 * w, my = 0.04 * h;
   const glm::dvec3 eye = camera.eyeEcef();
   auto visible = [&](double lat, double lon, double height) {

@@ -876,6 +876,18 @@ TEST(GridMarch, ReducedGribGridRendersInPlace) {
 // copy chosen by the pixel footprint, the GPU frame of that copy agrees with the CPU reference of
 // the same copy, a close view and "level_of_detail": false march the grid itself, and the copy is
 // kept while the step is shown.
+// The SYNTHETIC global grid's dbz with everything above -31 dBZ visible (clear air is -30), so
+// the whole shell is drawn.
+static engine::VolumeLayerDescription wholeShellLayer(const std::string& path) {
+  engine::VolumeLayerDescription d;
+  d.kind = engine::VolumeKind::Grid;
+  d.path = path;
+  d.field = "dbz";
+  d.settings.valueRange = glm::dvec2(-31.0, 60.0);
+  d.settings.opacity = {-31.0, 40.0, 0.5, 20000.0};
+  return d;
+}
+
 TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   testutil::glContext();
   const std::string dir = testutil::testOutputDir();
@@ -887,13 +899,7 @@ TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   ASSERT_TRUE(loader);
   auto renderer = engine::SceneRendererGL::create(*loader);
   ASSERT_TRUE(renderer) << renderer.error();
-  engine::VolumeLayerDescription d;
-  d.kind = engine::VolumeKind::Grid;
-  d.path = dir + "/lod_global.nc";
-  d.field = "dbz";
-  // Everything above -31 dBZ visible (clear air is -30), so the whole shell is drawn.
-  d.settings.valueRange = glm::dvec2(-31.0, 60.0);
-  d.settings.opacity = {-31.0, 40.0, 0.5, 20000.0};
+  const engine::VolumeLayerDescription d = wholeShellLayer(dir + "/lod_global.nc");
   auto layer = (*renderer)->addVolume(d);
   ASSERT_TRUE(layer) << layer.error();
   auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
@@ -988,12 +994,7 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   ASSERT_TRUE(volume::writeSyntheticGlobalGrid(dir + "/window_global.nc", go));
   auto loader = engine::openImagery({}, {});
   ASSERT_TRUE(loader);
-  engine::VolumeLayerDescription d;
-  d.kind = engine::VolumeKind::Grid;
-  d.path = dir + "/window_global.nc";
-  d.field = "dbz";
-  d.settings.valueRange = glm::dvec2(-31.0, 60.0);
-  d.settings.opacity = {-31.0, 40.0, 0.5, 20000.0};
+  const engine::VolumeLayerDescription d = wholeShellLayer(dir + "/window_global.nc");
   // 3,000 km above 15 N 40 W looking down: about 2,500 km of the globe across, 10 of 144 columns.
   const Camera close(CameraPose{15.0, -40.0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());

@@ -159,7 +159,7 @@ volume::GridCrop visibleCrop(const engine::Camera& camera, const volume::GridVol
     return crop;
   }
   const std::size_t nx = g.nx, ny = g.ny;
-  const std::size_t stride = std::max<std::size_t>(1, std::max(nx, ny) / 256);
+  const std::size_t stride = engine::visibleGridStride(g);
   const std::size_t j0 = window.firstRow, j1 = window.firstRow + window.rowCount - 1;
   double south = 90.0, north = -90.0, west = 0.0, east = 0.0;
   for (std::size_t i = 0; i < nx; i += stride)

@@ -38,6 +38,8 @@ bool sphereMayBeVisible(const Camera& camera, const volume::BoundingSphere& sphe
 /// view that reaches a pole's row, or an arc over 300 degrees, takes every column. A reduced grid's
 /// points mark the column of their longitude on its reference axis. Empty: no point visible.
 volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& grid);
+/// The stride visibleGridWindow tests points at (and widens its window by): max(1, max(nx, ny) / 256).
+std::size_t visibleGridStride(const volume::GridVolume& grid);
 
 /// Where a radar is and how far its volume reaches, from a metadata read (radarFootprint).
 struct RadarFootprint {
