@@ -764,3 +764,22 @@ TEST(GribReader, ReducedSamplesMatchGribGetData) {
     }
   }
 }
+
+// fuzz_grib finding (fuzz/corpus/grib/crash-*): a GRIB 1 regular_gg message with N = 1000, 181
+// rows and a first latitude of 90, outside its Gaussian latitudes: ecCodes' iterator wrote out of
+// bounds computing its positions. Now an error that names the message.
+TEST(GribReader, AGaussianGridOutsideItsGaussianLatitudesIsAnErrorNotACrash) {
+  const std::string path =
+      std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/grib/crash-gaussian-first-latitude-90.grib";
+  auto info = describeGridFile(path);
+  std::string error;
+  if (!info) {
+    error = info.error();
+  } else {
+    auto grid = readGridVolume(path, {});
+    ASSERT_FALSE(grid);
+    error = grid.error();
+  }
+  EXPECT_NE(error.find("outside its Gaussian latitudes"), std::string::npos) << error;
+  EXPECT_NE(error.find("N = 1000"), std::string::npos) << error;
+}

@@ -310,6 +310,23 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
     return varError(c, v,
                     where + ": a grid of " + std::to_string(n) + " points (" + gridText + ") is beyond the " +
                         std::to_string(kMaxGridPoints) + " points one message may have here");
+  // Gaussian grids: ecCodes' iterator (latitudes, longitudes) writes out of bounds when the first
+  // or last latitude lies outside the N Gaussian latitudes (a damaged message: found by fuzz_grib
+  // with N = 1000 and a first latitude of 90). The outermost Gaussian latitude is about
+  // 90 - 0.069 * 1000 / N deg; half an N-th of 45 deg lies between it and the pole.
+  if (v.gridType == "regular_gg" || v.gridType == "reduced_gg") {
+    long gaussN = 0;
+    double latFirst = 0.0, latLast = 0.0;
+    codes_get_long(h.get(), "N", &gaussN);
+    codes_get_double(h.get(), "latitudeOfFirstGridPointInDegrees", &latFirst);
+    codes_get_double(h.get(), "latitudeOfLastGridPointInDegrees", &latLast);
+    const double limit = gaussN > 0 ? 90.0 - 22.5 / static_cast<double>(gaussN) : 0.0;
+    if (gaussN < 1 || d.nj > 2 * gaussN || !(std::abs(latFirst) <= limit) || !(std::abs(latLast) <= limit))
+      return varError(c, v,
+                      where + ": a Gaussian grid of N = " + std::to_string(gaussN) + " with " + std::to_string(d.nj) +
+                          " rows from latitude " + std::to_string(latFirst) + " to " + std::to_string(latLast) +
+                          ": outside its Gaussian latitudes (a damaged message)");
+  }
   auto array = [&](const char* key, std::vector<double>& out) -> Status {
     std::size_t size = 0;
     int err = codes_get_size(h.get(), key, &size);
