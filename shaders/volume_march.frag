@@ -20,7 +20,8 @@
 // u_debugT), MARCH_SKIP_EMPTY (1: jump over grid cells that cannot contribute),
 // MARCH_PREINTEGRATED (DVR: 0 each sample classified alone; 1 neighbouring samples of a volume
 // as a linear segment, u_tfIntegral), MARCH_STEP_RULE (1: some volume follows the step rule; 0:
-// every level is 0 at compile time, the fixed-step march), VOLUME_COUNT.
+// every level is 0 at compile time, the fixed-step march), MARCH_ADAPTIVE (1: the refinement
+// pass of adaptive refinement, below), VOLUME_COUNT.
 
 in vec2 v_uv;
 
@@ -35,6 +36,11 @@ uniform float u_near;
 uniform float u_step;
 uniform float u_earlyTermination;
 uniform float u_debugT;
+// Adaptive refinement (MARCH_ADAPTIVE; docs/volume-rendering.md, "Adaptive refinement"): the same
+// march at u_coarseSizePx (premultiplied, the volume image of a pass at an image scale < 1).
+uniform sampler2D u_coarse;
+uniform vec2 u_coarseSizePx;
+uniform float u_refineThreshold;  // in units of 1 (255 8-bit steps)
 
 layout(location = 0) out vec4 o_color;
 
@@ -42,6 +48,7 @@ const int kMode = MARCH_MODE;
 const int kSkipEmpty = MARCH_SKIP_EMPTY;
 const int kPreintegrated = MARCH_PREINTEGRATED;
 const int kStepRule = MARCH_STEP_RULE;
+const int kAdaptive = MARCH_ADAPTIVE;
 
 vec2 sphereInterval(vec3 o, vec3 d, float radius) {
   float b = dot(o, d);
@@ -131,6 +138,31 @@ void main() {
 
   // The globe hides what is behind it: reverse-Z depth = near / view distance.
   float depth = textureLod(u_globeDepth, v_uv, 0.0).r;
+
+  if (kAdaptive == 1) {
+    // The four small-image pixels around this one (their centres at (j + 0.5) / size, the
+    // bilinear lookup of the composite pass); where they agree within the threshold in every
+    // channel and the globe covers all or none of them and of this pixel, their bilinear
+    // value; else this pixel is marched below.
+    vec2 cp = v_uv * u_coarseSizePx - 0.5;
+    ivec2 j0 = ivec2(floor(cp));
+    vec2 f = cp - vec2(j0);
+    ivec2 hiJ = ivec2(u_coarseSizePx) - 1;
+    ivec2 a0 = clamp(j0, ivec2(0), hiJ), a1 = clamp(j0 + 1, ivec2(0), hiJ);
+    vec4 c00 = texelFetch(u_coarse, a0, 0), c10 = texelFetch(u_coarse, ivec2(a1.x, a0.y), 0);
+    vec4 c01 = texelFetch(u_coarse, ivec2(a0.x, a1.y), 0), c11 = texelFetch(u_coarse, a1, 0);
+    vec4 spread = max(max(c00, c10), max(c01, c11)) - min(min(c00, c10), min(c01, c11));
+    float ground = 0.0;
+    ground += textureLod(u_globeDepth, (vec2(a0) + 0.5) / u_coarseSizePx, 0.0).r > 0.0 ? 1.0 : 0.0;
+    ground += textureLod(u_globeDepth, (vec2(a1.x, a0.y) + 0.5) / u_coarseSizePx, 0.0).r > 0.0 ? 1.0 : 0.0;
+    ground += textureLod(u_globeDepth, (vec2(a0.x, a1.y) + 0.5) / u_coarseSizePx, 0.0).r > 0.0 ? 1.0 : 0.0;
+    ground += textureLod(u_globeDepth, (vec2(a1) + 0.5) / u_coarseSizePx, 0.0).r > 0.0 ? 1.0 : 0.0;
+    bool sameCover = depth > 0.0 ? ground == 4.0 : ground == 0.0;
+    if (sameCover && max(max(spread.r, spread.g), max(spread.b, spread.a)) <= u_refineThreshold) {
+      o_color = mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+      return;
+    }
+  }
   float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
   o_color = vec4(0.0);
 

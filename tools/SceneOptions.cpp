@@ -191,6 +191,10 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                 "never shorter than --step (default 0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
   g->add_option("--interpolation", o.interpolations, "nearest or linear (default)");
   g->add_option("--image-scale", o.imageScales, "Volume image resolution relative to the frame, 0.05..1 (default 1)");
+  g->add_option("--refine-threshold", o.refineThresholds,
+                "With --image-scale < 1: march again at full resolution every pixel whose neighbourhood in the small "
+                "image varies by more than this many 8-bit steps (0..255; default -1: off; docs/volume-rendering.md, "
+                "\"Adaptive refinement\")");
   g->add_option("--iso", o.isoValues, "Isosurface value (field units; default 40)");
   g->add_option("--beam", o.beams, "Beam model: 4/3 (default) or straight");
   g->add_option("--overlap", o.overlaps,
@@ -457,13 +461,13 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--radar", nr, i, out);
   };
-  if (nr == 0 &&
-      (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
-       !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() || !o.windowMinutes.empty() ||
-       !o.imageScales.empty() || !o.isoValues.empty() || !o.radarSettings.empty() || !o.samplesPerCell.empty())) {
+  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() ||
+                  !o.interpolations.empty() || !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() ||
+                  !o.windowMinutes.empty() || !o.imageScales.empty() || !o.refineThresholds.empty() ||
+                  !o.isoValues.empty() || !o.radarSettings.empty() || !o.samplesPerCell.empty())) {
     return makeError(
         "--field/--colors/--mode/--step/--samples-per-cell/--interpolation/--beam/--classification/--overlap/--window-minutes/"
-        "--image-scale/--iso/--range/--opacity/"
+        "--image-scale/--refine-threshold/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
   std::vector<engine::VolumeLayerDescription> radars;
@@ -480,7 +484,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
           pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
           pick(o.steps, "--step", i, d.stepMeters), pick(o.samplesPerCell, "--samples-per-cell", i, d.samplesPerCell),
-          pick(o.imageScales, "--image-scale", i, d.imageScale), pick(o.isoValues, "--iso", i, iso),
+          pick(o.imageScales, "--image-scale", i, d.imageScale),
+          pick(o.refineThresholds, "--refine-threshold", i, d.refineThreshold), pick(o.isoValues, "--iso", i, iso),
           pick(o.windowMinutes, "--window-minutes", i, d.windowMinutes)}) {
       if (!st) return st.forwardError();
     }

@@ -31,7 +31,7 @@ struct SceneOptions {
   std::vector<std::string> radars;
   std::vector<std::string> fields, colors, modes, interpolations, beams, classifications, overlaps;
   std::vector<double> windowMinutes;
-  std::vector<double> steps, imageScales, isoValues;
+  std::vector<double> steps, imageScales, refineThresholds, isoValues;
   bool noGeoid = false;
   // Forecast grids: one entry per --grid; --var/--time/--grid-colors/--grid-mode/--grid-step
   // once (every grid) or once per grid.

@@ -872,6 +872,9 @@ int runView(const ViewOptions& o) {
         engine::VolumeSourceGL& layer = (*renderer)->layer(i);
         const double full = layer.description().imageScale;  // the panel may change it
         layer.options().imageScale = moving ? std::min(full, movingScale) : full;
+        // A moving frame is the small image alone (its cost is what the pacing measures);
+        // adaptive refinement, if the layer asks for it, refines the picture at rest.
+        layer.options().refineThreshold = moving ? -1.0 : layer.description().refineThreshold;
       }
       wasMoving = moving;
       state.dirty = false;

@@ -129,9 +129,21 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
                         VolumeLayerDescription& d) {
   d.kind = kind;
   const bool radar = kind == VolumeKind::Radar;
-  std::vector<std::string> keys{
-      "path",           "colors", "mode",  "interpolation", "step_m",         "samples_per_cell", "image_scale",
-      "classification", "geoid",  "range", "opacity",       "opacity_points", "crop_heights_m",   "crop"};
+  std::vector<std::string> keys{"path",
+                                "colors",
+                                "mode",
+                                "interpolation",
+                                "step_m",
+                                "samples_per_cell",
+                                "image_scale",
+                                "refine_threshold",
+                                "classification",
+                                "geoid",
+                                "range",
+                                "opacity",
+                                "opacity_points",
+                                "crop_heights_m",
+                                "crop"};
   const char* fieldKey = radar ? "field" : "variable";
   const char* isoKey = radar ? "iso_dbz" : "iso_value";
   keys.insert(keys.end(), {fieldKey, isoKey});
@@ -188,6 +200,10 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
         return s;
       },
       [&] { return r.number("image_scale", d.imageScale, 0.05, 1.0); },
+      [&] {
+        if (!r.has("refine_threshold")) return Status(Ok{});
+        return r.number("refine_threshold", d.refineThreshold, -1.0, 255.0, "(8-bit steps; -1: off)");
+      },
       [&] { return r.number(isoKey, iso, -1e30, 1e30, radar ? "(field units)" : "(variable units)"); },
       [&] { return r.boolean("geoid", d.useGeoid); }, [&] { return parseLayerSettings(r, d.settings); });
   if (!st) return st;

@@ -79,6 +79,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   if (d.samplesPerCell) j["samples_per_cell"] = *d.samplesPerCell;
   if (d.kind == VolumeKind::Grid && !d.levelOfDetail) j["level_of_detail"] = false;
   j["image_scale"] = d.imageScale;
+  if (d.refineThreshold >= 0.0) j["refine_threshold"] = d.refineThreshold;
   if (d.isoValue) j[radar ? "iso_dbz" : "iso_value"] = *d.isoValue;
   j["geoid"] = d.useGeoid;
   if (radar) {

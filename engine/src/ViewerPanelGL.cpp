@@ -461,6 +461,14 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
         d.imageScale = scale;
         edited = true;
       }
+      if (d.imageScale < 1.0) {
+        // Adaptive refinement (docs/volume-rendering.md): -1 = off, the small image upsampled.
+        float threshold = static_cast<float>(d.refineThreshold);
+        if (ImGui::SliderFloat("refine threshold", &threshold, -1.0f, 16.0f, "%.0f /255")) {
+          d.refineThreshold = threshold < 0.0f ? -1.0 : std::round(threshold);
+          edited = true;
+        }
+      }
       edited = enumCombo("interpolation", d.interpolation) || edited;
       if (d.kind == VolumeKind::Radar) edited = enumCombo("beam", d.beam) || edited;  // the beam model is a radar's
       if (const auto* network = dynamic_cast<const RadarNetworkSourceGL*>(&layer)) {

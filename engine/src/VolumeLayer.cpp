@@ -83,6 +83,8 @@ Status validateVolumeLayer(const VolumeLayerDescription& d, const std::string& w
   if (d.path.empty()) return makeError(where + ": empty path");
   if (!(d.stepMeters >= 1.0 && d.stepMeters <= 1e6)) return makeError(where + ": step must be in 1..1000000 m");
   if (!(d.imageScale >= 0.05 && d.imageScale <= 1.0)) return makeError(where + ": image scale must be in 0.05..1");
+  if (!(d.refineThreshold == -1.0 || (d.refineThreshold >= 0.0 && d.refineThreshold <= 255.0)))
+    return makeError(where + ": refine threshold must be in 0..255 (8-bit steps), or -1 for off");
   if (d.samplesPerCell && !(*d.samplesPerCell >= 0.0 && *d.samplesPerCell <= 64.0))
     return makeError(where + ": samples per cell must be in 0..64 (0: the fixed step)");
   if (d.isoValue && !std::isfinite(*d.isoValue)) return makeError(where + ": iso value must be finite");
@@ -112,8 +114,8 @@ LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescri
       (a.ensemble ? volume::toString(*a.ensemble) : "") != (b.ensemble ? volume::toString(*b.ensemble) : ""))
     return LayerChange::Reload;
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
-      a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.isoValue != b.isoValue ||
-      a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
+      a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.refineThreshold != b.refineThreshold ||
+      a.isoValue != b.isoValue || a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
       a.levelOfDetail != b.levelOfDetail || !sameLook(a.settings, b.settings))
     return LayerChange::Options;
   return LayerChange::None;

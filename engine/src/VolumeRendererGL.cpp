@@ -23,6 +23,8 @@ constexpr int kDepthUnit = 0, kTransferUnit = 1, kIntegralUnit = 2, kFirstVolume
 // Volume k's units: its empty-space grid, then its sampler's kSamplerUnits.
 constexpr int gridUnit(int k) { return kFirstVolumeUnit + k * (1 + VolumeGL::kSamplerUnits); }
 constexpr int samplerFirstUnit(int k) { return gridUnit(k) + 1; }
+// Adaptive refinement's small image: after every volume's units.
+constexpr int kCoarseUnit = gridUnit(MarchConstants::kMaxVolumes);
 
 std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
   for (std::size_t pos = text.find(from); pos != std::string::npos; pos = text.find(from, pos + to.size()))
@@ -104,9 +106,9 @@ Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
   r->composite_ = std::move(*composite);
   GLint units = 0;
   glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
-  if (units < kFirstVolumeUnit + C::kMaxVolumes * (1 + VolumeGL::kSamplerUnits)) {
+  if (units < kCoarseUnit + 1) {
     return makeError("the GPU has " + std::to_string(units) + " fragment texture units; the volume marcher needs " +
-                     std::to_string(kFirstVolumeUnit + C::kMaxVolumes * (1 + VolumeGL::kSamplerUnits)));
+                     std::to_string(kCoarseUnit + 1));
   }
   // The default radar variant now, so that a broken shader is an error here, not a missing volume.
   MarchVariant v;
@@ -188,6 +190,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   defines.push_back(std::string("MARCH_SKIP_EMPTY ") + (variant.skipEmpty ? "1" : "0"));
   defines.push_back(std::string("MARCH_PREINTEGRATED ") + (variant.preintegrated ? "1" : "0"));
   defines.push_back(std::string("MARCH_STEP_RULE ") + (variant.stepRule ? "1" : "0"));
+  defines.push_back(std::string("MARCH_ADAPTIVE ") + (variant.adaptive ? "1" : "0"));
   defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
   auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
   if (!program) return fail(program.error());
@@ -203,10 +206,13 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   l.step = location("u_step");
   l.earlyTermination = location("u_earlyTermination");
   l.debugT = location("u_debugT");
+  l.coarseSizePx = location("u_coarseSizePx");
+  l.refineThreshold = location("u_refineThreshold");
   // Texture units are fixed per program: set once.
   glProgramUniform1i(id, location("u_globeDepth"), kDepthUnit);
   glProgramUniform1i(id, location("u_transfer"), kTransferUnit);
   glProgramUniform1i(id, location("u_tfIntegral"), kIntegralUnit);
+  if (variant.adaptive) glProgramUniform1i(id, location("u_coarse"), kCoarseUnit);
   for (std::size_t k = 0; k < variant.volumes.size(); ++k) {
     const std::string p = volumePrefix(k);
     auto v = [&](const char* name) { return location(std::string(p).append(name)); };
@@ -226,12 +232,13 @@ void VolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
   }
   auto t = FramebufferGL::create(widthPx, heightPx, format);
   assert(t);
+  if (lastImage_ == volumeTarget_.get()) lastImage_ = nullptr;
   volumeTarget_ = std::move(*t);
   volumeFormat_ = format;
 }
 
 bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture,
-                             int debugMode, double debugT) {
+                             int debugMode, double debugT, const CoarseGL* coarse) {
   using C = MarchConstants;
   const VolumeRenderOptions& first = layers[0].options;
   const volume::VolumeRenderSettings& rs = first.render;
@@ -241,6 +248,7 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   variant.mode = debugMode ? 3 : mode;
   variant.skipEmpty = first.skipEmptySpace;
   variant.preintegrated = preintegrated;
+  variant.adaptive = coarse != nullptr && !debugMode;
   for (int k = 0; k < count; ++k) {
     variant.volumes.emplace_back(std::string(layers[k].volume->samplerShaderFile()),
                                  layers[k].volume->samplerDefines(layers[k].options));
@@ -269,6 +277,9 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
                                static_cast<float>(camera.heightPx()), static_cast<float>(camera.nearMeters()),
                                static_cast<float>(rs.stepMeters), static_cast<float>(rs.earlyTerminationAlpha),
                                static_cast<float>(debugT)});
+  if (variant.adaptive)
+    shared.insert(shared.end(), {static_cast<float>(coarse->sizePx.x), static_cast<float>(coarse->sizePx.y),
+                                 static_cast<float>(coarse->thresholdSteps / 255.0)});
   if (shared != entry.shared) {
     glUniformMatrix3fv(loc.cameraToEcef, 1, GL_FALSE, shared.data());
     glUniform1f(loc.focalPx, shared[9]);
@@ -278,8 +289,14 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     glUniform1f(loc.earlyTermination, shared[14]);
     glUniform1f(loc.debugT, shared[15]);
     uniformUploads_ += 7;
+    if (variant.adaptive) {
+      glUniform2f(loc.coarseSizePx, shared[16], shared[17]);
+      glUniform1f(loc.refineThreshold, shared[18]);
+      uniformUploads_ += 2;
+    }
     entry.shared = std::move(shared);
   }
+  if (variant.adaptive) glBindTextureUnit(kCoarseUnit, coarse->texture);
   glBindTextureUnit(kDepthUnit, depthTexture);
   glBindTextureUnit(kTransferUnit, transfer_);
   glBindTextureUnit(kIntegralUnit, transferIntegral_);
@@ -403,7 +420,7 @@ std::size_t VolumeRendererGL::groupEnd(const std::vector<VolumeLayerGL>& layers,
     const VolumeRenderOptions& b = layers[end].options;
     if (b.render.mode != a.render.mode || b.render.stepMeters != a.render.stepMeters ||
         b.render.earlyTerminationAlpha != a.render.earlyTerminationAlpha || b.classification != a.classification ||
-        b.skipEmptySpace != a.skipEmptySpace || b.imageScale != a.imageScale)
+        b.skipEmptySpace != a.skipEmptySpace || b.imageScale != a.imageScale || b.refineThreshold != a.refineThreshold)
       break;
     ++end;
   }
@@ -488,9 +505,10 @@ std::vector<double> progressKey(const Camera& camera, const std::vector<VolumeLa
     const volume::VolumeRenderSettings& r = l.options.render;
     key.insert(key.end(),
                {double(l.volume->id()), double(l.volume->uniformVersion()), withScale ? l.options.imageScale : 0.0,
-                double(l.options.skipEmptySpace), double(l.options.classification), double(r.mode),
-                double(r.interpolation), r.stepMeters, r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue,
-                r.transfer.opacityFullValue, r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
+                withScale ? l.options.refineThreshold : -1.0, double(l.options.skipEmptySpace),
+                double(l.options.classification), double(r.mode), double(r.interpolation), r.stepMeters,
+                r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue, r.transfer.opacityFullValue,
+                r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
     for (const glm::dvec2& q : r.transfer.opacityPoints) key.insert(key.end(), {q.x, q.y});
   }
   return key;
@@ -515,7 +533,8 @@ glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target,
 }  // namespace
 
 bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
-                                const FramebufferGL& image, const glm::ivec4& box, const FramebufferGL& target) {
+                                const FramebufferGL& image, const glm::ivec4& box, const FramebufferGL& target,
+                                const CoarseGL* coarse) {
   image.bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
@@ -523,7 +542,7 @@ bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLa
   glScissor(box.x, box.y, box.z - box.x, box.w - box.y);
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
-  const bool ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0);
+  const bool ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0, coarse);
   glDisable(GL_SCISSOR_TEST);
   return ok;
 }
@@ -535,10 +554,26 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
   lastDrawValid_ = passes.size() == 1;
   if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true);
   for (const PassGL& pass : passes) {
-    const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
+    const VolumeRenderOptions& o = pass.layers[0].options;
+    const glm::ivec2 size = volumeImageSize(target, o.imageScale);
     ensureTarget(size.x, size.y, GL_RGBA16F);
-    if (marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target)) {
-      compositeOver(volumeTarget_->colorTexture(), target, pass.rectPx);
+    bool ok = marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target);
+    lastImage_ = volumeTarget_.get();
+    if (ok && refines(o)) {
+      // Adaptive refinement: the small image just marched, then the frame-sized pass over it.
+      const glm::ivec2 full = volumeImageSize(target, 1.0);
+      if (!refineTarget_ || refineTarget_->widthPx() != full.x || refineTarget_->heightPx() != full.y) {
+        auto t = FramebufferGL::create(full.x, full.y, GL_RGBA16F);
+        assert(t);
+        if (lastImage_ == refineTarget_.get()) lastImage_ = nullptr;
+        refineTarget_ = std::move(*t);
+      }
+      const CoarseGL coarse{volumeTarget_->colorTexture(), size, o.refineThreshold};
+      ok = marchBox(camera, pass.layers, *refineTarget_, volumeImageBox(pass.rectPx, target, full), target, &coarse);
+      lastImage_ = refineTarget_.get();
+    }
+    if (ok) {
+      compositeOver(lastImage_->colorTexture(), target, pass.rectPx);
     } else {
       target.bind();
       glEnable(GL_DEPTH_TEST);
@@ -559,14 +594,44 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
     p.key = key;
     for (std::size_t i = 0; i < passes.size(); ++i) {
       const PassGL& pass = passes[i];
-      const glm::ivec2 size = volumeImageSize(target, pass.layers[0].options.imageScale);
+      const VolumeRenderOptions& o = pass.layers[0].options;
+      const bool adaptive = refines(o);
+      const glm::ivec2 size = volumeImageSize(target, adaptive ? 1.0 : o.imageScale);
       auto image = FramebufferGL::create(size.x, size.y, GL_RGBA16F);
       if (!image) return false;
+      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
+      if (adaptive) {
+        // Adaptive refinement: its small image, marched whole as draw() marches it, is the
+        // preview; the tiles are the refinement pass's.
+        const glm::ivec2 small = volumeImageSize(target, o.imageScale);
+        auto coarse = FramebufferGL::create(small.x, small.y, GL_RGBA16F);
+        if (!coarse) return false;
+        const auto start = std::chrono::steady_clock::now();
+        const bool ok = marchBox(camera, pass.layers, **coarse, volumeImageBox(pass.rectPx, target, small), target);
+        glFinish();
+        p.marchedMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        (*image)->bind();
+        glClearColor(0, 0, 0, 0);
+        glClear(GL_COLOR_BUFFER_BIT);
+        if (ok)
+          glBlitNamedFramebuffer((*coarse)->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
+                                 GL_COLOR_BUFFER_BIT, GL_LINEAR);
+        for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
+          for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
+            p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
+        p.images.push_back(std::move(*image));
+        p.coarse.push_back(std::move(*coarse));
+        continue;
+      }
+      p.coarse.emplace_back();
       // The preview: the pass marched at previewScale_ (as draw() would), stretched over the box.
       // The frame just drawn by draw() at that scale (the viewer's last moving frame, the camera
       // now at rest) already holds it.
       std::vector<VolumeLayerGL> preview = pass.layers;
-      for (VolumeLayerGL& l : preview) l.options.imageScale = std::min(l.options.imageScale, previewScale_);
+      for (VolumeLayerGL& l : preview) {
+        l.options.imageScale = std::min(l.options.imageScale, previewScale_);
+        l.options.refineThreshold = -1.0;  // as the viewer's moving frames
+      }
       const glm::ivec2 small = volumeImageSize(target, preview[0].options.imageScale);
       bool ok = true;
       if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&
@@ -590,7 +655,6 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
         glBlitNamedFramebuffer(volumeTarget_->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
                                GL_COLOR_BUFFER_BIT, GL_LINEAR);
       // The tiles of the box draw() marches, row by row from the top of the picture.
-      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
       for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
         for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
           p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
@@ -605,7 +669,11 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
       break;
     const Progress::Tile& tile = p.tiles[p.next++];
     const auto tileStart = std::chrono::steady_clock::now();
-    marchBox(camera, passes[tile.pass].layers, *p.images[tile.pass], tile.box, target);
+    const FramebufferGL* small = p.coarse[tile.pass].get();
+    const CoarseGL coarse{small ? small->colorTexture() : 0u,
+                          small ? glm::ivec2(small->widthPx(), small->heightPx()) : glm::ivec2(0),
+                          passes[tile.pass].layers[0].options.refineThreshold};
+    marchBox(camera, passes[tile.pass].layers, *p.images[tile.pass], tile.box, target, small ? &coarse : nullptr);
     glFinish();  // the time taken, not the time to queue
     p.marchedMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tileStart).count();
     if (p.next == p.tiles.size()) fullMarchEstimateMs_ = p.marchedMs;
@@ -670,11 +738,12 @@ void VolumeRendererGL::drawReference(const Camera& camera, const std::vector<Vol
 
 std::vector<glm::vec4> VolumeRendererGL::readVolumeImage() const {
   std::vector<glm::vec4> out;
-  if (!volumeTarget_) return out;
-  const int w = volumeTarget_->widthPx(), h = volumeTarget_->heightPx();
+  const FramebufferGL* image = lastImage_ ? lastImage_ : volumeTarget_.get();
+  if (!image) return out;
+  const int w = image->widthPx(), h = image->heightPx();
   std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
-  glGetTextureImage(volumeTarget_->colorTexture(), 0, GL_RGBA, GL_FLOAT,
-                    static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)), raw.data());
+  glGetTextureImage(image->colorTexture(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
+                    raw.data());
   out.resize(raw.size());
   for (int y = 0; y < h; ++y) {
     std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w, w,
@@ -687,6 +756,7 @@ std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera
                                                             double tMeters) {
   lastDrawValid_ = false;  // volumeTarget_ is taken
   ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);
+  lastImage_ = volumeTarget_.get();
   volumeTarget_->bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);

@@ -68,6 +68,7 @@ Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& d, 
   if (!transfer) return transfer.forwardError();
   o.render.transfer = std::move(*transfer);
   o.imageScale = d.imageScale;
+  o.refineThreshold = d.refineThreshold;
   o.classification = d.classification;
   return o;
 }

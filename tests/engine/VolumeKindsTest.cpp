@@ -453,3 +453,94 @@ TEST(VolumeKinds, ProgressiveRefinementEndsInTheOneShotFrame) {
   const Camera moved(CameraPose{eye.latDeg, eye.lonDeg, 26e3, 0.0, -6.0, 0.0}, 40.0, 300, 150);
   EXPECT_FALSE((*renderer)->drawProgressive(moved, one, **fb, 0.0));
 }
+
+// Adaptive refinement (VolumeRenderOptions::refineThreshold): marched at a quarter of the
+// resolution, then again at full resolution where the small image varies. At a threshold of 0
+// only pixels between four identical small-image pixels are interpolated, so the frame is the
+// full-resolution one but for features narrower than the small image's pixels; at 255 every
+// pixel is interpolated, which is the quarter-scale frame; progressive refinement of an adaptive
+// layer ends in draw()'s frame, pixel for pixel.
+TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  auto gl = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
+  ASSERT_TRUE(gl);
+  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 400, 200);
+  engine::VolumeRenderOptions full;
+  full.render.transfer = volume::defaultReflectivityTransfer();
+  full.render.stepMeters = 500.0;
+  auto frameOf = [&](const engine::VolumeRenderOptions& o, bool progressive) {
+    auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+    EXPECT_TRUE(fb);
+    (*renderer)->restartProgressive();
+    for (int n = 0; n < 10000; ++n) {
+      (*fb)->bind();
+      glClearDepth(0.0);
+      glClearColor(0, 0, 0, 0);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      if (!progressive) {
+        (*renderer)->draw(camera, {{gl->get(), o}}, **fb);
+        break;
+      }
+      if ((*renderer)->drawProgressive(camera, {{gl->get(), o}}, **fb, 0.0)) break;
+    }
+    return (*fb)->readColor();
+  };
+  struct Diff {
+    int pixels = 0;
+    double meanSteps = 0.0;
+    int maxSteps = 0;
+  };
+  auto compare = [](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+    Diff d;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        d.pixels += a.at(x, y) != b.at(x, y);
+        for (int c = 0; c < 3; ++c) {
+          const int e = std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+          d.meanSteps += e;
+          d.maxSteps = std::max(d.maxSteps, e);
+        }
+      }
+    d.meanSteps /= 3.0 * a.width * a.height;
+    return d;
+  };
+  const globe::ImageRGBA8 reference = frameOf(full, false);
+  engine::VolumeRenderOptions quarter = full;
+  quarter.imageScale = 0.25;
+  const globe::ImageRGBA8 small = frameOf(quarter, false);
+  engine::VolumeRenderOptions exact = quarter, loose = quarter, everything = quarter;
+  exact.refineThreshold = 0.0;
+  loose.refineThreshold = 8.0;
+  everything.refineThreshold = 255.0;
+  const globe::ImageRGBA8 adaptiveExact = frameOf(exact, false);
+  const std::vector<glm::vec4> image = (*renderer)->readVolumeImage();
+  EXPECT_EQ(image.size(), std::size_t(camera.widthPx()) * std::size_t(camera.heightPx()));  // the full-size image
+  const globe::ImageRGBA8 adaptiveLoose = frameOf(loose, false);
+  const globe::ImageRGBA8 adaptiveAll = frameOf(everything, false);
+  const Diff dSmall = compare(small, reference), dExact = compare(adaptiveExact, reference),
+             dLoose = compare(adaptiveLoose, reference), dAll = compare(adaptiveAll, small);
+  std::cout << "against full resolution (8-bit steps): quarter scale mean " << dSmall.meanSteps << " max "
+            << dSmall.maxSteps << " (" << dSmall.pixels << " px); adaptive 0: mean " << dExact.meanSteps << " max "
+            << dExact.maxSteps << " (" << dExact.pixels << " px); adaptive 8: mean " << dLoose.meanSteps << " max "
+            << dLoose.maxSteps << "; adaptive 255 against quarter scale: mean " << dAll.meanSteps << " max "
+            << dAll.maxSteps << "\n";
+  // The quarter-scale frame differs visibly (the storms' edges are blurred over 4 pixels).
+  ASSERT_GT(dSmall.pixels, 300);
+  // Threshold 0: the synthetic storms are kilometres wide, far wider than a small-image pixel
+  // (about 4 pixels, ~1 km here), so every pixel the storms touch is marched again: the frame is
+  // the full-resolution one.
+  EXPECT_EQ(dExact.pixels, 0);
+  // Threshold 8: an interpolated pixel lies between four values within 8 steps of each other; on
+  // these smooth storms (Gaussian cells kilometres wide, a small-image pixel ~1 km) the field
+  // between them stays within about that band, and the composite adds at most 1 step of rounding.
+  EXPECT_LE(dLoose.maxSteps, 9);
+  EXPECT_LT(dLoose.meanSteps, dSmall.meanSteps);
+  // Threshold 255: every pixel interpolated, as the composite pass upsamples the small image
+  // (the shader's bilinear weights are exact, the texture unit's have 8 bits: 1 step).
+  EXPECT_LE(dAll.maxSteps, 1);
+  // Progressive refinement of an adaptive layer: draw()'s frame.
+  EXPECT_EQ(compare(frameOf(loose, true), adaptiveLoose).pixels, 0);
+}

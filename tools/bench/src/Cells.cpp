@@ -28,11 +28,15 @@ std::string stepName(const Cell& c) {
   return formatG(c.stepMeters) + (c.samplesPerCell > 0.0 ? ", " + formatG(c.samplesPerCell) + "/cell" : "");
 }
 
+std::string scaleName(const Cell& c) {
+  return formatG(c.imageScale) + (c.refineThreshold >= 0.0 ? ", refine " + formatG(c.refineThreshold) : "");
+}
+
 std::string cellLabel(const Cell& c) {
   std::ostringstream s;
   s << modeName(c.mode) << " step " << formatG(c.stepMeters) << " m";
   if (c.samplesPerCell > 0.0) s << ", " << formatG(c.samplesPerCell) << " samples/cell";
-  s << ", scale " << formatG(c.imageScale) << ", " << interpName(c.interpolation);
+  s << ", scale " << scaleName(c) << ", " << interpName(c.interpolation);
   if (c.beamApplies) s << ", " << beamName(c.beam);
   if (c.classification == engine::Classification::Preintegrated) s << ", pre-integrated";
   return s.str();
@@ -40,8 +44,8 @@ std::string cellLabel(const Cell& c) {
 
 bool sameCell(const Cell& a, const Cell& b) {
   return a.mode == b.mode && a.stepMeters == b.stepMeters && a.samplesPerCell == b.samplesPerCell &&
-         a.imageScale == b.imageScale && a.interpolation == b.interpolation && a.beam == b.beam &&
-         a.classification == b.classification && a.beamApplies == b.beamApplies;
+         a.imageScale == b.imageScale && a.refineThreshold == b.refineThreshold && a.interpolation == b.interpolation &&
+         a.beam == b.beam && a.classification == b.classification && a.beamApplies == b.beamApplies;
 }
 
 bool isEngineDefault(const Cell& c) {
@@ -49,8 +53,8 @@ bool isEngineDefault(const Cell& c) {
   // Grids (no beam axis) take the step rule by default (engine::kDefaultGridSamplesPerCell).
   const double samplesPerCell = c.beamApplies ? 0.0 : engine::kDefaultGridSamplesPerCell;
   return c.stepMeters == d.render.stepMeters && c.samplesPerCell == samplesPerCell && c.imageScale == d.imageScale &&
-         c.interpolation == d.render.interpolation && c.beam == engine::BeamApproximation::EffectiveEarthLocalSphere &&
-         c.classification == d.classification;
+         c.refineThreshold == d.refineThreshold && c.interpolation == d.render.interpolation &&
+         c.beam == engine::BeamApproximation::EffectiveEarthLocalSphere && c.classification == d.classification;
 }
 
 engine::VolumeRenderOptions optionsFor(const Cell& c) {
@@ -61,6 +65,7 @@ engine::VolumeRenderOptions optionsFor(const Cell& c) {
   o.render.interpolation = c.interpolation;
   o.render.transfer = volume::defaultReflectivityTransfer();
   o.imageScale = c.imageScale;
+  o.refineThreshold = c.refineThreshold;
   o.classification = c.classification;
   o.skipEmptySpace = true;
   return o;
@@ -70,7 +75,8 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride) {
   GridAxes a;
   a.stepsMeters = {125.0, 250.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0};
   a.imageScales = {1.0, 0.5, 0.25};
-  if (quick) a.stepsMeters = {250.0, 1000.0}, a.imageScales = {1.0, 0.5};
+  a.refineThresholds = {4.0, 32.0};
+  if (quick) a.stepsMeters = {250.0, 1000.0}, a.imageScales = {1.0, 0.5}, a.refineThresholds = {4.0};
   if (!stepsOverride.empty()) {
     a.stepsMeters = stepsOverride;
     std::sort(a.stepsMeters.begin(), a.stepsMeters.end());
@@ -96,6 +102,16 @@ std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis, const std::vect
             c.classification = engine::Classification::Preintegrated;
             cells.push_back(c);
           }
+          // Adaptive refinement of the small image (linear, 4/3-Earth, point and pre-integrated).
+          if (interp == volume::Interpolation::Linear && scale < 1.0 &&
+              beam == engine::BeamApproximation::EffectiveEarthLocalSphere)
+            for (double threshold : axes.refineThresholds)
+              for (auto cl : {engine::Classification::Point, engine::Classification::Preintegrated}) {
+                Cell a = c;
+                a.refineThreshold = threshold;
+                a.classification = cl;
+                cells.push_back(a);
+              }
           if (interp == volume::Interpolation::Linear && scale == 1.0 &&
               beam == engine::BeamApproximation::EffectiveEarthLocalSphere)
             for (double n : samplesPerCell)

@@ -68,13 +68,13 @@ std::string machineLine(const std::string& gl) {
 
 void writeCsv(std::ostream& csv, const std::vector<Row>& rows) {
   csv << "view,volume,mode,step_m,image_scale,interpolation,beam,classification,width_px,height_px,median_ms,mean_abs,"
-         "max_abs,psnr_db,engine_default,samples_per_cell\n";
+         "max_abs,psnr_db,engine_default,samples_per_cell,refine_threshold\n";
   for (const Row& r : rows) {
     csv << r.view << "," << r.volume << "," << modeName(r.cell.mode) << "," << r.cell.stepMeters << ","
         << r.cell.imageScale << "," << interpName(r.cell.interpolation) << "," << beamName(r.cell) << ","
         << classificationName(r.cell) << "," << r.widthPx << "," << r.heightPx << "," << formatG(r.medianMs, 5) << ","
         << formatG(r.error.meanAbs, 5) << "," << formatG(r.error.maxAbs, 5) << "," << formatG(r.error.psnrDb, 5) << ","
-        << (isEngineDefault(r.cell) ? 1 : 0) << "," << r.cell.samplesPerCell << "\n";
+        << (isEngineDefault(r.cell) ? 1 : 0) << "," << r.cell.samplesPerCell << "," << r.cell.refineThreshold << "\n";
   }
 }
 
@@ -160,7 +160,7 @@ void writeMarkdown(std::ostream& md, const BenchReport& r) {
   std::vector<Aggregate> sorted = r.aggregates;
   std::sort(sorted.begin(), sorted.end(), [](const Aggregate& a, const Aggregate& b) { return a.meanMs < b.meanMs; });
   for (const Aggregate& a : sorted) {
-    md << "| " << modeName(a.cell.mode) << " | " << stepName(a.cell) << " | " << formatG(a.cell.imageScale) << " | "
+    md << "| " << modeName(a.cell.mode) << " | " << stepName(a.cell) << " | " << scaleName(a.cell) << " | "
        << interpName(a.cell.interpolation) << " | " << beamName(a.cell) << " | " << classificationName(a.cell) << " | "
        << formatG(a.meanMs, 4) << " | " << formatG(a.meanAbs, 3) << " | " << formatG(a.maxAbs, 3) << " | "
        << formatG(a.meanPsnrDb, 3) << " | " << formatG(a.minPsnrDb, 3) << " | " << (a.pareto ? "yes" : "") << " | "
@@ -300,7 +300,7 @@ void writeGridMarkdown(std::ostream& md, const BenchReport& r) {
   std::vector<Aggregate> sorted = r.aggregates;
   std::sort(sorted.begin(), sorted.end(), [](const Aggregate& a, const Aggregate& b) { return a.meanMs < b.meanMs; });
   for (const Aggregate& a : sorted) {
-    md << "| " << modeName(a.cell.mode) << " | " << stepName(a.cell) << " | " << formatG(a.cell.imageScale) << " | "
+    md << "| " << modeName(a.cell.mode) << " | " << stepName(a.cell) << " | " << scaleName(a.cell) << " | "
        << interpName(a.cell.interpolation) << " | " << classificationName(a.cell) << " | " << formatG(a.meanMs, 4)
        << " | " << formatG(a.meanAbs, 3) << " | " << formatG(a.maxAbs, 3) << " | " << formatG(a.meanPsnrDb, 3) << " | "
        << formatG(a.minPsnrDb, 3) << " | " << (a.pareto ? "yes" : "") << " | "

@@ -51,7 +51,13 @@ std::vector<std::string> marchShaderDefines();
 struct VolumeRenderOptions {
   volume::VolumeRenderSettings render;  ///< mode, interpolation, step, transfer, iso, termination
   double imageScale = 1.0;              ///< volume image resolution relative to the frame (0.05..1)
-  bool skipEmptySpace = true;           ///< jump over cells of the empty-space grid that cannot contribute
+  /// With imageScale < 1, adaptive refinement (docs/volume-rendering.md, "Adaptive refinement"):
+  /// the image is marched at imageScale, then every frame pixel whose four nearest small-image
+  /// pixels differ by more than this many 8-bit steps (1/255 of premultiplied RGBA, any channel),
+  /// or straddle the edge of the globe, is marched again at full resolution; the others take the
+  /// small image's bilinear value. < 0: off (the small image upsampled everywhere).
+  double refineThreshold = -1.0;
+  bool skipEmptySpace = true;  ///< jump over cells of the empty-space grid that cannot contribute
   Classification classification = Classification::Point;  ///< DVR only
 };
 

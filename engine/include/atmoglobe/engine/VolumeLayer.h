@@ -137,6 +137,10 @@ struct VolumeLayerDescription {
   /// (samplesPerCellOf).
   std::optional<double> samplesPerCell;
   double imageScale = 1.0;  ///< volume image resolution relative to the frame (0.05..1)
+  /// With imageScale < 1: pixels whose neighbourhood in the small image varies by more than this
+  /// many 8-bit steps are marched at full resolution (VolumeRenderOptions::refineThreshold);
+  /// < 0: off. Scene "refine_threshold", CLI --refine-threshold.
+  double refineThreshold = -1.0;
   /// Grids: march a coarser copy where a pixel spans several grid columns (volume/GridDetail.h;
   /// scene "level_of_detail", CLI --grid-lod on|off). Off: always the grid itself.
   bool levelOfDetail = true;

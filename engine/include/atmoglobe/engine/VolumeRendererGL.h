@@ -37,6 +37,9 @@ struct MarchVariant {
   /// Some volume follows the step rule (samplesPerCell > 0, volume/StepRule.h); without, the
   /// rule's code folds away and the march is the fixed-step one.
   bool stepRule = false;
+  /// The refinement pass of adaptive refinement (VolumeRenderOptions::refineThreshold): pixels
+  /// whose small-image neighbourhood agrees take its bilinear value, the others are marched.
+  bool adaptive = false;
   /// Per volume: its sampler file and its sampler defines.
   std::vector<std::pair<std::string, std::vector<std::string>>> volumes;
   auto operator<=>(const MarchVariant&) const = default;
@@ -57,6 +60,11 @@ class VolumeRendererGL {
   /// holds it, and in a cluster samples only inside each volume's own interval (but see
   /// docs/volume-rendering.md: on llvmpipe every sample of a cluster's march costs as much as
   /// sampling each of its volumes).
+  ///
+  /// A group whose imageScale < 1 and refineThreshold >= 0 is marched twice: at imageScale, then
+  /// at full resolution where that image's neighbourhood of a pixel varies by more than the
+  /// threshold or straddles the globe's edge (shaders/volume_march.frag, MARCH_ADAPTIVE); the
+  /// rest of the pixels take the small image's bilinear value.
   void draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target);
   void draw(const Camera& camera, const VolumeGL& volume, const VolumeRenderOptions& options,
             const FramebufferGL& target) {
@@ -104,7 +112,8 @@ class VolumeRendererGL {
   /// pixel's ray. RGBA32F read back, row 0 = top.
   std::vector<glm::vec4> debugCoordinatesAt(const Camera& camera, const VolumeGL& volume, double tMeters);
 
-  /// The last volume image (premultiplied RGBA, float), row 0 = top.
+  /// The last volume image composited by draw() (premultiplied RGBA, float; an adaptive pass's
+  /// full-resolution image), row 0 = top.
   std::vector<glm::vec4> readVolumeImage() const;
 
   /// glUniform* calls issued by the marcher so far (its own and its volumes' samplers' uniforms).
@@ -119,7 +128,8 @@ class VolumeRendererGL {
   VolumeRendererGL() = default;
   /// Uniform locations of the march program's own uniforms, resolved once when it is built.
   struct MarchLocationsGL {
-    int cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1;
+    int cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1,
+        coarseSizePx = -1, refineThreshold = -1;
     struct Volume {
       int eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
           opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1, samplesPerCell = -1;
@@ -138,14 +148,23 @@ class VolumeRendererGL {
     };
     std::vector<Slot> slots;
   };
-  /// Marches one group into the volume target (cleared first); false if its program failed.
+  /// The small image an adaptive refinement pass reads (MarchVariant::adaptive).
+  struct CoarseGL {
+    unsigned int texture = 0;
+    glm::ivec2 sizePx{0};
+    double thresholdSteps = 0.0;  ///< 8-bit steps
+  };
+  /// Marches one group into the bound target; false if its program failed. `coarse`: the
+  /// refinement pass of adaptive refinement over that small image.
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
-             double debugT);
+             double debugT, const CoarseGL* coarse = nullptr);
   void ensureTarget(int widthPx, int heightPx, unsigned int format);
   /// Clears `box` (x0, y0, x1, y1) of `image` and marches `layers` there (scissored), against the
   /// depth of `target`: draw()'s work per pass, drawProgressive's per preview and tile.
   bool marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& image,
-                const glm::ivec4& box, const FramebufferGL& target);
+                const glm::ivec4& box, const FramebufferGL& target, const CoarseGL* coarse = nullptr);
+  /// Whether a group is drawn by adaptive refinement (image scale < 1, threshold >= 0).
+  static bool refines(const VolumeRenderOptions& o) { return o.imageScale < 1.0 && o.refineThreshold >= 0.0; }
   /// One past the last layer of the group starting at `begin` (layers one program marches together).
   static std::size_t groupEnd(const std::vector<VolumeLayerGL>& layers, std::size_t begin);
   /// One march and composite: layers marched together, inside a rectangle of the target.
@@ -169,12 +188,16 @@ class VolumeRendererGL {
   unsigned int transferIntegral_ = 0;  ///< (TRANSFER_ENTRIES + 1) x MAX_VOLUMES, linear: volume::transferIntegralTable
   unsigned int nearestSampler_ = 0;
   std::unique_ptr<FramebufferGL> volumeTarget_;
+  std::unique_ptr<FramebufferGL> refineTarget_;  ///< adaptive passes' full-resolution image
+  const FramebufferGL* lastImage_ = nullptr;     ///< the image draw() composited last
   /// The refinement under way (drawProgressive): what it is of, a full-scale image per pass, the
   /// tiles (pass, x0, y0, x1, y1 in that image) and how many are marched.
   struct Progress {
     bool valid = false;
     std::vector<double> key;
     std::vector<std::unique_ptr<FramebufferGL>> images;
+    /// Per pass: an adaptive pass's small image (marched whole first), else null.
+    std::vector<std::unique_ptr<FramebufferGL>> coarse;
     struct Tile {
       std::size_t pass = 0;
       glm::ivec4 box{0};
