@@ -30,7 +30,7 @@ uniform ivec2 VOL_coverageCells;    // columns, rows
 uniform vec4 VOL_enclosing;         // centre (relative to the origin), radius: every radar's clip sphere
 uniform vec4 VOL_top;               // the Earth's centre (relative to the origin), the radius above every beam
 
-const int VOL_RADAR_VEC4S = 6;
+const int VOL_RADAR_VEC4S = 7;
 // The mean rule's weights exp(-(r / L)^2) times exp(64) (they cancel in the mean): float holds
 // them out to 700 km instead of 460 (exp(-86) is float's smallest normal).
 const float VOL_WEIGHT_SHIFT = 64.0;
@@ -153,8 +153,29 @@ vec3 VOL_debugCoordinates(vec3 p) {
   return vec3(float(c), c < 0 ? 0.0 : float(VOL_int(VOL_cellBase + c + 1) - VOL_int(VOL_cellBase + c)), 0.0);
 }
 
-// The step rule (volume/StepRule.h): no cell crossing for radars yet, the fixed step.
-float VOL_cellCrossing(vec3 p, vec3 dir) { return 0.0; }
+// The step rule (volume/StepRule.h; volume::RadarNetworkSampler::cellCrossingMeters): the
+// smallest cell crossing (sample_polar.glsl's VOL_cellCrossing) of the radars the coverage cell
+// lists whose clip sphere holds p; 0 (no rule: the fixed step) where none does.
+float VOL_cellCrossing(vec3 p, vec3 dir) {
+  int c = VOL_cellOf(p);
+  if (c < 0) return 0.0;
+  int first = VOL_int(VOL_cellBase + c), last = VOL_int(VOL_cellBase + c + 1);
+  float best = 3.0e38;
+  for (int j = first; j < last; ++j) {
+    int b = VOL_int(VOL_memberBase + j) * VOL_RADAR_VEC4S;
+    vec3 d = p - VOL_data[b].xyz;
+    float clip = VOL_data[b + 4].x;
+    vec4 scale = VOL_data[b + 6];
+    float rr = dot(d, d);
+    if (rr <= clip * clip && rr > 0.0 && scale.x > 0.0 && scale.y > 0.0) {
+      float r = sqrt(rr);
+      float cosBeam = min(1.0, abs(dot(d, dir)) / r);
+      float sinBeam = sqrt(max(0.0, 1.0 - cosBeam * cosBeam));
+      best = min(best, min(scale.x / max(cosBeam, 1e-6), r * scale.y / max(sinBeam, 1e-6)));
+    }
+  }
+  return best < 1.0e38 ? best : 0.0;
+}
 
 int VOL_sample(vec3 p, out float value) {
   value = 0.0;

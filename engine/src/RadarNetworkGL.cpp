@@ -17,7 +17,7 @@ namespace atmoglobe::engine {
 
 namespace {
 
-constexpr int kRadarVec4s = 6;  // sample_network.glsl: VOL_RADAR_VEC4S
+constexpr int kRadarVec4s = 7;  // sample_network.glsl: VOL_RADAR_VEC4S
 constexpr int kSweepVec4s = 2;  // VOL_sweep, VOL_sweepRays
 
 // The elevation -> last sweep at or below lookup of one radar over [range.x, range.y] (as
@@ -87,8 +87,9 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   const int width = tilesPerLayer * tileW;
   std::vector<std::uint64_t> texels(static_cast<std::size_t>(width) * tileH * layers, 0u);
   const std::uint64_t noEcho = glm::packHalf4x16(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
-  // The buffer: per radar 6 vec4 (site - origin, h0; the rows of ecefToEnu with M, N, Re; clip
-  // radius, half beam width, sweeps, first sweep; the elevation lookup's range and row), per sweep
+  // The buffer: per radar 7 vec4 (site - origin, h0; the rows of ecefToEnu with M, N, Re; clip
+  // radius, half beam width, sweeps, first sweep; the elevation lookup's range and row; the step
+  // rule's cell scale: gate m, angle across the beam rad), per sweep
   // 2 (elevation, first gate, spacing, gates; rays), then the index's cell starts and members,
   // each a float (exact: below 2^24, checked).
   std::vector<glm::vec4> data(static_cast<std::size_t>(radarCount) * kRadarVec4s +
@@ -119,6 +120,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       rec[1 + row] = glm::vec4(glm::vec3(beam.enuToEcef[row]), static_cast<float>(radii[row]));
     rec[4] = glm::vec4(static_cast<float>(clip), static_cast<float>(hb), static_cast<float>(n), static_cast<float>(g));
     rec[5] = glm::vec4(elRange.x, elRange.y, static_cast<float>(sweeps + r), 0.0f);
+    const volume::PolarCellScale cells = volume::polarCellScale(v);  // the step rule's (StepRule.h)
+    rec[6] = glm::vec4(static_cast<float>(cells.gateMeters), static_cast<float>(cells.acrossRad), 0.0f, 0.0f);
     const std::vector<float> lookup = elevationLookup(v, elRange, C::kRayTableBins + 1);
     std::copy(lookup.begin(), lookup.end(),
               table.begin() + static_cast<std::ptrdiff_t>(sweeps + r) * (C::kRayTableBins + 1));

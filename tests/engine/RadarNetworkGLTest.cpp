@@ -97,6 +97,47 @@ TEST(RadarNetworkGL, GpuMatchesTheReferenceForEveryRuleAndMode) {
   }
 }
 
+// The step rule (volume/StepRule.h) on a network: the cell crossing is the smallest of the
+// radars' over the sample (RadarNetworkSampler::cellCrossingMeters, VOL_cellCrossing in
+// sample_network.glsl), and the GPU takes the samples the reference takes, for every rule.
+TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  std::vector<std::shared_ptr<const volume::PolarVolume>> radars = {radarSeeingTheStorm(35.33, -97.95, 0.0),
+                                                                    radarSeeingTheStorm(35.95, -96.9, 6.0),
+                                                                    radarSeeingTheStorm(34.8, -96.9, -4.0)};
+  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  // 250 m: the cells here (gates of 500 m, 1 deg between sweeps: 1-2 km at 60-120 km) and the
+  // pixels (1.5 km at 90 km) leave room for levels 1 and 2.
+  options.render.stepMeters = 250.0;
+  for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
+    auto gl = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity);
+    ASSERT_TRUE(gl) << gl.error();
+    options.render.samplesPerCell = 0.0;
+    const volume::VolumeImage fixedRef =
+        volume::renderReference({{&(*gl)->referenceSampler(), options.render}}, rc, false, 2);
+    options.render.samplesPerCell = 1.0;
+    const volume::VolumeImage ref =
+        volume::renderReference({{&(*gl)->referenceSampler(), options.render}}, rc, false, 2);
+    const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), options}});
+    const volume::ImageError e = volume::compareImages(gpu, ref);
+    const volume::ImageError moved = volume::compareImages(ref, fixedRef);
+    std::cout << "network rule " << volume::toString(rule) << ", 1 sample per cell: GPU vs reference mean " << e.meanAbs
+              << " max " << e.maxAbs << "; the rule's reference against the fixed step's: mean " << moved.meanAbs
+              << " max " << moved.maxAbs << "\n";
+    // The rule took other samples than the fixed step (else this test would not test it) ...
+    EXPECT_GT(moved.maxAbs, 1.0);
+    // ... and the GPU took the same ones: mean under half an 8-bit step (the network's target).
+    EXPECT_LT(e.meanAbs, 0.5);
+    EXPECT_GT(e.psnrDb, 30.0);
+  }
+}
+
 TEST(RadarNetworkGL, TheOrderOfTheRadarsChangesNoPixel) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();

@@ -138,6 +138,36 @@ TEST(RadarNetwork, TheIndexTakesTheSameSamplesAsVisitingEveryRadar) {
   }
 }
 
+// The step rule's cell crossing of a network: the smallest of the radars' that hold the point
+// in their clip sphere, 0 where none does.
+TEST(RadarNetwork, TheCellCrossingIsTheSmallestOfTheRadarsOverThePoint) {
+  const PolarVolume a = constantRadar(35.0, -98.0, 30.0f), b = constantRadar(35.0, -97.0, 30.0f);
+  auto net = makeRadarNetworkSampler({&a, &b}, OverlapRule::WeightedMean, FieldKind::Reflectivity);
+  ASSERT_TRUE(net) << net.error();
+  const PolarSampler sa(a), sb(b);
+  const glm::dvec3 dir = glm::normalize(ecefOf(35.0, -97.5, 0.0));  // straight down, about
+  int both = 0;
+  for (double lon : {-98.3, -97.8, -97.5, -97.2, -96.7}) {
+    const glm::dvec3 p = ecefOf(35.05, lon, 2000.0);
+    const bool inA = glm::length(p - sa.boundingSphere().centreEcef) <= sa.boundingSphere().radiusMeters;
+    const bool inB = glm::length(p - sb.boundingSphere().centreEcef) <= sb.boundingSphere().radiusMeters;
+    double expected = 0.0;
+    if (inA && inB) {
+      expected = std::min(sa.cellCrossingMeters(p, dir), sb.cellCrossingMeters(p, dir));
+      ++both;
+    } else if (inA) {
+      expected = sa.cellCrossingMeters(p, dir);
+    } else if (inB) {
+      expected = sb.cellCrossingMeters(p, dir);
+    }
+    EXPECT_GT(expected, 0.0) << "lon " << lon;  // every point is within 100 km of a radar
+    EXPECT_DOUBLE_EQ((*net)->cellCrossingMeters(p, dir), expected) << "lon " << lon;
+  }
+  EXPECT_GE(both, 1);
+  // 400 km from both: no radar holds it, no rule (the fixed step).
+  EXPECT_EQ((*net)->cellCrossingMeters(ecefOf(39.0, -97.5, 2000.0), dir), 0.0);
+}
+
 TEST(RadarNetwork, EachRuleGivesItsFormulasValue) {
   // Two radars 60 km apart on the equator (A at 0.0 E holds 10 dBZ, B at 0.54 E holds 40).
   const PolarVolume a = constantRadar(0.0, 0.0, 10.0f), b = constantRadar(0.0, 0.54, 40.0f);

@@ -2,7 +2,8 @@
 // as it grows from one radar to every WSR-88D site.
 //
 //   build/tools/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160] [--sizes 320x180,1280x720]
-//                                   [--gate M] [--separate-max N] [--skip 0|1] [--out DIR] [--data DIR]
+//                                   [--gate M] [--separate-max N] [--skip 0|1] [--samples-per-cell N]
+//                                   [--out DIR] [--data DIR]
 //
 // The radars: SYNTHETIC volumes of one storm field (volume::syntheticNetworkStorms, seed 1; VCP 212
 // angles, 360 rays, gates of --gate m to 230 km) at the NEXRAD sites of the built-in table nearest
@@ -16,7 +17,9 @@
 // radars each one visits (the coverage index's list at the sample: computed on the CPU from the
 // same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
 // --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
-// volumes: one cluster of up to 8 volumes per pass), for comparison.
+// volumes: one cluster of up to 8 volumes per pass), for comparison. --samples-per-cell N > 0:
+// every volume follows the step rule (volume/StepRule.h) at N samples per cell; the samples and
+// visits columns count the fixed step's samples, so they are left out then.
 //
 // Then the rules on real data, when --data DIR (default ../shared/data) holds the overlapping
 // Belgian pair (radar_odim/bewid.pvol.hdf and behel_loop/20200207130000...dbzh.scanz.hdf, DBZH):
@@ -114,7 +117,7 @@ Visits countVisits(const engine::Camera& camera, const volume::RadarNetworkSampl
 int main(int argc, char** argv) {
   int runs = 3, frames = 3, separateMax = 10;
   bool skip = true;
-  double gateMeters = 1000.0;
+  double gateMeters = 1000.0, samplesPerCell = 0.0;
   std::vector<int> counts = {1, 10, 40, 160};
   std::vector<std::pair<int, int>> sizes = {{320, 180}, {1280, 720}};
   fs::path out = "out/bench";
@@ -127,6 +130,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(a, "--counts")) counts = parseList(argv[i + 1]);
     else if (!std::strcmp(a, "--gate")) gateMeters = std::max(50.0, std::atof(argv[i + 1]));
     else if (!std::strcmp(a, "--separate-max")) separateMax = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(a, "--samples-per-cell")) samplesPerCell = std::clamp(std::atof(argv[i + 1]), 0.0, 64.0);
     else if (!std::strcmp(a, "--out")) out = argv[i + 1];
     else if (!std::strcmp(a, "--data")) data = argv[i + 1];
     else if (!std::strcmp(a, "--sizes")) {
@@ -217,10 +221,10 @@ int main(int argc, char** argv) {
   }
 
   std::printf(
-      "renderer: %s\ncores: %ld\nstep %.0f m (default), gates %.0f m, empty-space skipping %s, %d runs x %d frames "
-      "(median of run medians)\n\n",
+      "renderer: %s\ncores: %ld\nstep %.0f m (default), samples per cell %g (0: the fixed step), gates %.0f m, "
+      "empty-space skipping %s, %d runs x %d frames (median of run medians)\n\n",
       (*context)->describe().c_str(), sysconf(_SC_NPROCESSORS_ONLN), volume::VolumeRenderSettings{}.stepMeters,
-      gateMeters, skip ? "on" : "off", runs, frames);
+      samplesPerCell, gateMeters, skip ? "on" : "off", runs, frames);
   struct View {
     const char* name;
     engine::CameraPose pose;
@@ -231,6 +235,7 @@ int main(int argc, char** argv) {
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.skipEmptySpace = skip;
+  options.render.samplesPerCell = samplesPerCell;
 
   std::printf(
       "| radars | view | size | network frame (ms) | / 1 radar | separate volumes (ms) | samples (M) | radars "
@@ -298,7 +303,7 @@ int main(int argc, char** argv) {
         }
         // The visits at the smaller size only (the CPU walks every sample).
         std::string visits = "-", samples = "-";
-        if (s == 0) {
+        if (s == 0 && samplesPerCell <= 0.0) {
           Visits c;
           for (const auto& cluster : *network) {
             const Visits one = countVisits(camera, cluster->network(), options.render.stepMeters);

@@ -111,6 +111,13 @@ std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis, const std::vect
                 a.refineThreshold = threshold;
                 a.classification = cl;
                 cells.push_back(a);
+                // Grids: with the step rule too (their default), point classification.
+                if (!beamAxis && cl == engine::Classification::Point)
+                  for (double n : samplesPerCell) {
+                    Cell r = a;
+                    r.samplesPerCell = n;
+                    cells.push_back(r);
+                  }
               }
           if (interp == volume::Interpolation::Linear && scale == 1.0 &&
               beam == engine::BeamApproximation::EffectiveEarthLocalSphere)

@@ -323,6 +323,20 @@ std::optional<std::size_t> RadarNetworkSampler::leadingRadar(const glm::dvec3& e
   return combine(first, last, ecef, interpolation).leader;
 }
 
+double RadarNetworkSampler::cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const {
+  const auto [first, last] = index_.radarsAt(ecef);
+  double best = std::numeric_limits<double>::infinity();
+  for (auto it = first; it != last; ++it) {
+    const PolarSampler& r = *radars_[*it];
+    const BoundingSphere clip = r.boundingSphere();
+    const glm::dvec3 d = ecef - clip.centreEcef;
+    if (glm::dot(d, d) > clip.radiusMeters * clip.radiusMeters) continue;
+    const double c = r.cellCrossingMeters(ecef, unitDirEcef);
+    if (c > 0.0) best = std::min(best, c);
+  }
+  return std::isfinite(best) ? best : 0.0;
+}
+
 bool RadarNetworkSampler::provablyEmpty(const glm::dvec3& ecef) const {
   const auto [first, last] = index_.radarsAt(ecef);
   for (auto it = first; it != last; ++it)

@@ -92,6 +92,9 @@ class RadarNetworkSampler final : public VolumeSampler {
   ValueRange valueRange() const override;
   BoundingSphere boundingSphere() const override;
   std::string description() const override;
+  /// The step rule (StepRule.h): the smallest polarCellCrossingMeters of the radars the coverage
+  /// index lists at `ecef` whose clip sphere holds it; 0 (the fixed step) where none does.
+  double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const override;
 
   /// The same sample taken by visiting every radar, not the index (for tests and the bench).
   VolumeSample sampleEveryRadar(const glm::dvec3& ecef, Interpolation interpolation) const;

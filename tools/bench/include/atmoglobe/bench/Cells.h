@@ -64,7 +64,8 @@ GridAxes standardAxes(bool quick, const std::vector<double>& stepsOverride);
 /// linear between samples); then MIP and iso at the default. `beamAxis` false (forecast grids:
 /// no beam model): the straight-beam cells are left out and every cell has beamApplies false.
 /// Each linear 4/3-Earth cell at a scale < 1 is repeated with adaptive refinement at each of
-/// axes.refineThresholds (point and pre-integrated). Each linear 4/3-Earth cell at scale 1 is repeated with the step
+/// axes.refineThresholds (point and pre-integrated; grids also with the step rule at each
+/// `samplesPerCell`, point). Each linear 4/3-Earth cell at scale 1 is repeated with the step
 /// rule at `samplesPerCell` each.
 std::vector<Cell> gridCells(const GridAxes& axes, bool beamAxis = true, const std::vector<double>& samplesPerCell = {});
 
