@@ -139,6 +139,12 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   gg->add_option("--grid-samples-per-cell", o.gridSamplesPerCell,
                  "Grid step that follows the cells: about this many samples per cell crossed, never shorter than "
                  "--grid-step (0: the fixed step; docs/volume-rendering.md, \"The step rule\")");
+  gg->add_option("--grid-image-scale", o.gridImageScales,
+                 "Grid volume image resolution relative to the frame, 0.05..1 (default 1)");
+  gg->add_option("--grid-refine-threshold", o.gridRefineThresholds,
+                 "With --grid-image-scale < 1: march again at full resolution every pixel whose neighbourhood in the "
+                 "small image varies by more than this many 8-bit steps (0..255; default -1: off; docs/grids.md, "
+                 "\"Adaptive refinement\")");
   gg->add_option("--grid-lod", o.gridLod,
                  "Grid level of detail: on (default: a coarser copy of the grid where a pixel spans several of its "
                  "columns, docs/grids.md \"Level of detail\") or off (always the grid itself)")
@@ -508,9 +514,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   };
   if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.ensembles.empty() ||
                   !o.gridIndex.empty() || !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() ||
-                  !o.gridSettings.empty() || !o.gridLod.empty())) {
+                  !o.gridSettings.empty() || !o.gridLod.empty() || !o.gridSamplesPerCell.empty() ||
+                  !o.gridImageScales.empty() || !o.gridRefineThresholds.empty())) {
     return makeError(
-        "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-lod/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-samples-per-cell/"
+        "--grid-image-scale/--grid-refine-threshold/--grid-lod/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -525,7 +533,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickGrid(o.members, "--member", i, d.member), pickGrid(o.gridColors, "--grid-colors", i, d.colors),
           pickEnum(o.gridModes, "--grid-mode", "--grid", ng, i, d.mode),
           pickGrid(o.gridSteps, "--grid-step", i, d.stepMeters),
-          pickGrid(o.gridSamplesPerCell, "--grid-samples-per-cell", i, d.samplesPerCell)}) {
+          pickGrid(o.gridSamplesPerCell, "--grid-samples-per-cell", i, d.samplesPerCell),
+          pickGrid(o.gridImageScales, "--grid-image-scale", i, d.imageScale),
+          pickGrid(o.gridRefineThresholds, "--grid-refine-threshold", i, d.refineThreshold)}) {
       if (!st) return st.forwardError();
     }
     std::string ensemble;

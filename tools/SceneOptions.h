@@ -41,6 +41,7 @@ struct SceneOptions {
   std::map<std::string, std::size_t> gridIndex;  ///< --grid-index NAME=I: every grid and slice
   std::vector<double> gridSteps;
   std::vector<double> gridSamplesPerCell;
+  std::vector<double> gridImageScales, gridRefineThresholds;  ///< --grid-image-scale, --grid-refine-threshold
   std::vector<std::string> gridLod;    ///< --grid-lod on|off
   std::vector<double> samplesPerCell;  ///< radars' step rule
   /// --surface FILE and its settings, each once (all) or once per --surface.
