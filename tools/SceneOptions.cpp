@@ -505,6 +505,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (!o.isoValues.empty()) d.isoValue = iso;
     if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--radar"); !st) return st.forwardError();
+    if (d.refineThreshold >= 0.0 && d.imageScale >= 1.0)
+      return makeError("--refine-threshold refines an image marched at --image-scale below 1; give one");
     radars.push_back(d);
   }
   if (nr > 0) replaceKind(engine::VolumeKind::Radar, std::move(radars), "--radar");
@@ -551,6 +553,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     if (!lod.empty()) d.levelOfDetail = lod == "on";
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--grid"); !st) return st.forwardError();
+    if (d.refineThreshold >= 0.0 && d.imageScale >= 1.0)
+      return makeError("--grid-refine-threshold refines an image marched at --grid-image-scale below 1; give one");
     grids.push_back(d);
   }
   if (ng > 0) replaceKind(engine::VolumeKind::Grid, std::move(grids), "--grid");

@@ -19,11 +19,22 @@ std::size_t countIf(const std::vector<Cell>& cells, bool (*pred)(const Cell&)) {
 }
 
 // docs/bench-volume.md: 126 DVR cells (7 steps x 3 scales x {nearest, linear} x 2 beams, every
-// linear cell again pre-integrated) + MIP + ISO = 128 rows per view; the quick grid 24 + 2.
+// linear cell again pre-integrated) + 56 of adaptive refinement (7 steps x scales 1/2, 1/4 x
+// thresholds 4, 32 x point, pre-integrated; linear, 4/3-Earth) + MIP + ISO = 184 rows per view;
+// the quick grid 24 + 4 (2 steps x scale 1/2 x threshold 4 x 2) + 2.
 TEST(BenchGrid, CellCountsAndTheEngineDefault) {
   const std::vector<Cell> full = gridCells(standardAxes(false, {}));
-  EXPECT_EQ(full.size(), 128u);
-  EXPECT_EQ(countIf(full, [](const Cell& c) { return c.mode == volume::VolumeRenderMode::Dvr; }), 126u);
+  EXPECT_EQ(full.size(), 184u);
+  EXPECT_EQ(countIf(full, [](const Cell& c) { return c.mode == volume::VolumeRenderMode::Dvr; }), 182u);
+  EXPECT_EQ(countIf(full, [](const Cell& c) { return c.refineThreshold >= 0.0; }), 56u);
+  // Refinement only of a smaller image, linear, with the 4/3-Earth beam.
+  EXPECT_EQ(countIf(full,
+                    [](const Cell& c) {
+                      return c.refineThreshold >= 0.0 &&
+                             (c.imageScale >= 1.0 || c.interpolation != volume::Interpolation::Linear ||
+                              c.beam != engine::BeamApproximation::EffectiveEarthLocalSphere);
+                    }),
+            0u);
   EXPECT_EQ(countIf(full,
                     [](const Cell& c) {
                       return c.classification == engine::Classification::Preintegrated &&
@@ -33,7 +44,7 @@ TEST(BenchGrid, CellCountsAndTheEngineDefault) {
   EXPECT_EQ(countIf(full, [](const Cell& c) { return c.mode == volume::VolumeRenderMode::Dvr && isEngineDefault(c); }),
             1u);
   const std::vector<Cell> quick = gridCells(standardAxes(true, {}));
-  EXPECT_EQ(quick.size(), 26u);
+  EXPECT_EQ(quick.size(), 30u);
   EXPECT_EQ(quick.back().mode, volume::VolumeRenderMode::Iso);
   EXPECT_TRUE(isEngineDefault(quick.back()));
 

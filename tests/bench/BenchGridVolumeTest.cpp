@@ -152,11 +152,17 @@ TEST(BenchGridLoad, CropAcrossTheSeamIsTwoSlabsPerVariable) {
 }
 
 // Grid cells: no beam axis (4/3 only, printed "-"): 7 steps x 3 scales x (nearest, linear, linear
-// pre-integrated) + MIP + ISO = 65; quick 2 x 2 x 3 + 2 = 14; one engine default among the DVR.
+// pre-integrated) + adaptive refinement 7 x 2 scales x 2 thresholds x 2 classifications + MIP + ISO
+// = 121; quick 2 x 2 x 3 + 2 x 1 x 1 x 2 + 2 = 18; one engine default among the DVR. With the step
+// rule at 1 and 2 samples per cell, each point refinement cell again at each: 28 more.
 TEST(BenchGridReport, GridCellsAndThePeerComparison) {
   const std::vector<Cell> cells = gridCells(standardAxes(false, {}), false);
-  EXPECT_EQ(cells.size(), 65u);
-  EXPECT_EQ(gridCells(standardAxes(true, {}), false).size(), 14u);
+  EXPECT_EQ(cells.size(), 121u);
+  EXPECT_EQ(gridCells(standardAxes(true, {}), false).size(), 18u);
+  const std::vector<Cell> ruled = gridCells(standardAxes(false, {}), false, {1.0, 2.0});
+  const auto refinedWithRule = std::count_if(
+      ruled.begin(), ruled.end(), [](const Cell& c) { return c.refineThreshold >= 0.0 && c.samplesPerCell > 0.0; });
+  EXPECT_EQ(refinedWithRule, 7 * 2 * 2 * 2);
   for (const Cell& c : cells) EXPECT_STREQ(beamName(c), "-");
   EXPECT_EQ(cellLabel(cells.front()), "dvr step 125 m, scale 1, nearest");
 

@@ -55,10 +55,10 @@ TEST(BenchReport, CsvHasOneRowPerViewAndCell) {
   writeCsv(csv, threeRows());
   EXPECT_EQ(csv.str(),
             "view,volume,mode,step_m,image_scale,interpolation,beam,classification,width_px,height_px,median_ms,"
-            "mean_abs,max_abs,psnr_db,engine_default,samples_per_cell\n"
-            "KLBB-oblique,KLBB,dvr,250,1,linear,4/3-earth,point,160,90,9.8765,0.19612,20,48.123,1,0\n"
-            "KLBB-oblique,KLBB,dvr,1000,0.5,nearest,straight,point,160,90,1.5,2.83,156,27.2,0,0\n"
-            "KLBB-oblique,KLBB,mip,250,1,linear,4/3-earth,-,160,90,16.5,0.195,113,39,1,0\n");
+            "mean_abs,max_abs,psnr_db,engine_default,samples_per_cell,refine_threshold\n"
+            "KLBB-oblique,KLBB,dvr,250,1,linear,4/3-earth,point,160,90,9.8765,0.19612,20,48.123,1,0,-1\n"
+            "KLBB-oblique,KLBB,dvr,1000,0.5,nearest,straight,point,160,90,1.5,2.83,156,27.2,0,0,-1\n"
+            "KLBB-oblique,KLBB,mip,250,1,linear,4/3-earth,-,160,90,16.5,0.195,113,39,1,0,-1\n");
 }
 
 // Two views, four cells: A (the default), B (faster, worse), C (slower and worse than A:

@@ -50,18 +50,27 @@ std::shared_ptr<const volume::PolarVolume> radarSeeingTheStorm(double latDeg, do
       })));
 }
 
+// Three radars around the storm (60-90 km from it, overlapping) with different biases.
+std::vector<std::shared_ptr<const volume::PolarVolume>> threeRadarsAroundTheStorm() {
+  return {radarSeeingTheStorm(35.33, -97.95, 0.0), radarSeeingTheStorm(35.95, -96.9, 6.0),
+          radarSeeingTheStorm(34.8, -96.9, -4.0)};
+}
+
+// Looking north-east at the storm from 90 km south-west, 25 km up, 96 x 54 pixels.
+Camera cameraOnTheStorm() {
+  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
+  return Camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+}
+
 TEST(RadarNetworkGL, GpuMatchesTheReferenceForEveryRuleAndMode) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  // Three radars around the storm (60-90 km from it, overlapping) with different biases, and a
-  // fourth 700 km away that no coverage cell over the storm lists.
-  std::vector<std::shared_ptr<const volume::PolarVolume>> radars = {
-      radarSeeingTheStorm(35.33, -97.95, 0.0), radarSeeingTheStorm(35.95, -96.9, 6.0),
-      radarSeeingTheStorm(34.8, -96.9, -4.0), radarSeeingTheStorm(35.0, -89.5, 0.0)};
-  // Looking north-east at the storm from 90 km south-west, 25 km up.
-  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  // The three radars around the storm and a fourth 700 km away that no coverage cell over the
+  // storm lists.
+  std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
+  radars.push_back(radarSeeingTheStorm(35.0, -89.5, 0.0));
+  const Camera camera = cameraOnTheStorm();
   const volume::RenderCamera rc = engine::referenceCameraFor(camera);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
@@ -104,11 +113,8 @@ TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  std::vector<std::shared_ptr<const volume::PolarVolume>> radars = {radarSeeingTheStorm(35.33, -97.95, 0.0),
-                                                                    radarSeeingTheStorm(35.95, -96.9, 6.0),
-                                                                    radarSeeingTheStorm(34.8, -96.9, -4.0)};
-  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
+  const Camera camera = cameraOnTheStorm();
   const volume::RenderCamera rc = engine::referenceCameraFor(camera);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
@@ -142,12 +148,9 @@ TEST(RadarNetworkGL, TheOrderOfTheRadarsChangesNoPixel) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
-  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = {radarSeeingTheStorm(35.33, -97.95, 0.0),
-                                                                          radarSeeingTheStorm(35.95, -96.9, 6.0),
-                                                                          radarSeeingTheStorm(34.8, -96.9, -4.0)};
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
   const std::vector<std::shared_ptr<const volume::PolarVolume>> reversed(radars.rbegin(), radars.rend());
-  const globe::GeodesicPoint eye = globe::geodesicDirect(kStormLatDeg, kStormLonDeg, 225.0, 90e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 2.5e4, 45.0, -12.0, 0.0}, 50.0, 96, 54);
+  const Camera camera = cameraOnTheStorm();
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.render.stepMeters = 500.0;
