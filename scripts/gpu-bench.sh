@@ -66,7 +66,7 @@ stage() {  # stage NAME SECONDS COMMAND...
   local rc=$?
   say "$name: rc $rc"
 }
-stage grids 180 "$ag" bench --grids --no-peer --no-load --out "$bench" --steps 250 1000 --frames 7 -q
+stage grids 200 "$ag" bench --grids --no-peer --no-load --out "$bench" --steps 250 1000 --frames 7 -q
 cp "$bench/grid_bench.md" "$out/" 2>/dev/null
 if [[ -d $work/compare-shaders ]] && want compare; then
   old=$(cat "$work/compare-shaders/REVISION")
