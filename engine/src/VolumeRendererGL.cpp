@@ -599,65 +599,60 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
       const glm::ivec2 size = volumeImageSize(target, adaptive ? 1.0 : o.imageScale);
       auto image = FramebufferGL::create(size.x, size.y, GL_RGBA16F);
       if (!image) return false;
-      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
+      // The preview, stretched over the image: `previewImage` (its `small` corner) holds it.
+      std::unique_ptr<FramebufferGL> coarse;
+      const FramebufferGL* previewImage = nullptr;
+      glm::ivec2 small{0};
+      bool ok = true;
       if (adaptive) {
         // Adaptive refinement: its small image, marched whole as draw() marches it, is the
         // preview; the tiles are the refinement pass's.
-        const glm::ivec2 small = volumeImageSize(target, o.imageScale);
-        auto coarse = FramebufferGL::create(small.x, small.y, GL_RGBA16F);
-        if (!coarse) return false;
+        small = volumeImageSize(target, o.imageScale);
+        auto made = FramebufferGL::create(small.x, small.y, GL_RGBA16F);
+        if (!made) return false;
+        coarse = std::move(*made);
         const auto start = std::chrono::steady_clock::now();
-        const bool ok = marchBox(camera, pass.layers, **coarse, volumeImageBox(pass.rectPx, target, small), target);
+        ok = marchBox(camera, pass.layers, *coarse, volumeImageBox(pass.rectPx, target, small), target);
         glFinish();
         p.marchedMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        (*image)->bind();
-        glClearColor(0, 0, 0, 0);
-        glClear(GL_COLOR_BUFFER_BIT);
-        if (ok)
-          glBlitNamedFramebuffer((*coarse)->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
-                                 GL_COLOR_BUFFER_BIT, GL_LINEAR);
-        for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
-          for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
-            p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
-        p.images.push_back(std::move(*image));
-        p.coarse.push_back(std::move(*coarse));
-        continue;
-      }
-      p.coarse.emplace_back();
-      // The preview: the pass marched at previewScale_ (as draw() would), stretched over the box.
-      // The frame just drawn by draw() at that scale (the viewer's last moving frame, the camera
-      // now at rest) already holds it.
-      std::vector<VolumeLayerGL> preview = pass.layers;
-      for (VolumeLayerGL& l : preview) {
-        l.options.imageScale = std::min(l.options.imageScale, previewScale_);
-        l.options.refineThreshold = -1.0;  // as the viewer's moving frames
-      }
-      const glm::ivec2 small = volumeImageSize(target, preview[0].options.imageScale);
-      bool ok = true;
-      if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&
-          lastDrawKey_ == progressKey(camera, preview, target, true)) {
-        ++previewsReused_;
+        previewImage = coarse.get();
       } else {
-        ensureTarget(small.x, small.y, GL_RGBA16F);
-        const auto previewStart = std::chrono::steady_clock::now();
-        ok = marchBox(camera, preview, *volumeTarget_, volumeImageBox(pass.rectPx, target, small), target);
-        glFinish();
-        const double scale = preview[0].options.imageScale / std::max(1e-6, pass.layers[0].options.imageScale);
-        if (ok && passes.size() == 1 && scale > 0.0)
-          fullMarchEstimateMs_ =
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - previewStart).count() /
-              (scale * scale);
+        // The pass marched at previewScale_ (as draw() would). The frame just drawn by draw() at
+        // that scale (the viewer's last moving frame, the camera now at rest) already holds it.
+        std::vector<VolumeLayerGL> preview = pass.layers;
+        for (VolumeLayerGL& l : preview) {
+          l.options.imageScale = std::min(l.options.imageScale, previewScale_);
+          l.options.refineThreshold = -1.0;  // as the viewer's moving frames
+        }
+        small = volumeImageSize(target, preview[0].options.imageScale);
+        if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&
+            lastDrawKey_ == progressKey(camera, preview, target, true)) {
+          ++previewsReused_;
+        } else {
+          ensureTarget(small.x, small.y, GL_RGBA16F);
+          const auto previewStart = std::chrono::steady_clock::now();
+          ok = marchBox(camera, preview, *volumeTarget_, volumeImageBox(pass.rectPx, target, small), target);
+          glFinish();
+          const double scale = preview[0].options.imageScale / std::max(1e-6, o.imageScale);
+          if (ok && passes.size() == 1 && scale > 0.0)
+            fullMarchEstimateMs_ =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - previewStart).count() /
+                (scale * scale);
+        }
+        previewImage = volumeTarget_.get();
       }
       (*image)->bind();
       glClearColor(0, 0, 0, 0);
       glClear(GL_COLOR_BUFFER_BIT);
       if (ok)
-        glBlitNamedFramebuffer(volumeTarget_->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
+        glBlitNamedFramebuffer(previewImage->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
                                GL_COLOR_BUFFER_BIT, GL_LINEAR);
       // The tiles of the box draw() marches, row by row from the top of the picture.
+      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
       for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
         for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
           p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
+      p.coarse.push_back(std::move(coarse));
       p.images.push_back(std::move(*image));
     }
   }
