@@ -10,7 +10,10 @@
 // radars of the network.
 //
 // Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_RULE (0 distance-weighted mean,
-// 1 lowest beam, 2 maximum: volume::OverlapRule).
+// 1 lowest beam, 2 maximum: volume::OverlapRule), VOL_EXAGGERATED (1: drawn at a vertical
+// exaggeration, volume/VerticalExaggeration.h: each radar maps the point back to its true height on
+// its own local sphere, as sample_polar.glsl does; the coverage cell is found at the point moved
+// back along the ellipsoid's normal).
 // @NEEDS polar_beam.glsl
 
 // Per radar and sweep records, then the coverage index (RadarNetworkGL.cpp writes them): vec4s,
@@ -29,6 +32,7 @@ uniform vec4 VOL_coverage;          // latMinDeg, lonOriginDeg, cellDeg, -
 uniform ivec2 VOL_coverageCells;    // columns, rows
 uniform vec4 VOL_enclosing;         // centre (relative to the origin), radius: every radar's clip sphere
 uniform vec4 VOL_top;               // the Earth's centre (relative to the origin), the radius above every beam
+uniform float VOL_exaggeration;     // vertical exaggeration (1: none)
 
 const int VOL_RADAR_VEC4S = 7;
 // The mean rule's weights exp(-(r / L)^2) times exp(64) (they cancel in the mean): float holds
@@ -84,10 +88,16 @@ int VOL_sampleRadar(int r, vec3 p, out float value, out float rangeMeters, out f
   vec4 site = VOL_data[b];  // site - origin, h0
   vec4 limits = VOL_data[b + 4];  // clip radius, half beam width, sweeps, first sweep
   vec3 d = p - site.xyz;
-  if (dot(d, d) > limits.x * limits.x) return 0;
   vec4 east = VOL_data[b + 1], north = VOL_data[b + 2], up = VOL_data[b + 3];  // rows of ecefToEnu; M, N, Re
-  vec3 l = vec3(dot(east.xyz, d), dot(north.xyz, d), dot(up.xyz, d));
   float h0 = site.w, re = up.w;
+#if VOL_EXAGGERATED
+  vec3 l = polarUnexaggerateEnu(vec3(dot(east.xyz, d), dot(north.xyz, d), dot(up.xyz, d)), h0, east.w, north.w,
+                                VOL_exaggeration);
+  if (dot(l, l) > limits.x * limits.x) return 0;
+#else
+  if (dot(d, d) > limits.x * limits.x) return 0;
+  vec3 l = vec3(dot(east.xyz, d), dot(north.xyz, d), dot(up.xyz, d));
+#endif
   vec3 rae = polarAntennaCoordinatesEnu(l, h0, east.w, north.w, re, false);
   float hb = limits.y;
   int n = int(limits.z), g0 = int(limits.w);
@@ -177,9 +187,28 @@ float VOL_cellCrossing(vec3 p, vec3 dir) {
   return best < 1.0e38 ? best : 0.0;
 }
 
+// The point drawn at p (relative to the origin) moved back to its true height along the
+// ellipsoid's normal (volume::ExaggeratedSampler::trueEcef; the height from the geocentric radius,
+// within metres of the geodetic one, which moves the point sideways by under 0.3 % of that):
+// only to find its coverage cell, whose lists carry an 11 m margin.
+vec3 VOL_trueForCell(vec3 p) {
+#if VOL_EXAGGERATED
+  const float a = WGS84_A;
+  const float b = WGS84_A * (1.0 - WGS84_F);
+  vec3 q = VOL_originEcef + p;
+  float r = length(q);
+  float s = q.z / r;
+  float h = r - b / sqrt(1.0 - WGS84_E2 * (1.0 - s * s));
+  vec3 n = normalize(vec3(q.x / a, q.y / a, q.z * a / (b * b)));
+  return p - (1.0 - 1.0 / VOL_exaggeration) * h * n;
+#else
+  return p;
+#endif
+}
+
 int VOL_sample(vec3 p, out float value) {
   value = 0.0;
-  int c = VOL_cellOf(p);
+  int c = VOL_cellOf(VOL_trueForCell(p));
   if (c < 0) return STATE_NOT_ECHO;
   int first = VOL_int(VOL_cellBase + c), last = VOL_int(VOL_cellBase + c + 1);
   float sumW = 0.0, echoW = 0.0, sumWV = 0.0;

@@ -38,8 +38,10 @@ std::vector<float> elevationLookup(const volume::PolarVolume& v, glm::vec2 range
 }  // namespace
 
 Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
-    std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind) {
+    std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
+    double exaggeration) {
   using C = MarchConstants;
+  if (Status s = volume::validateVerticalExaggeration(exaggeration, "radar network"); !s) return s.forwardError();
   std::vector<const volume::PolarVolume*> raw;
   int maxGates = 1, maxRays = 1, sweeps = 0;
   for (const auto& r : radars) {
@@ -76,6 +78,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   std::unique_ptr<RadarNetworkGL> gl(new RadarNetworkGL());
   gl->radars_ = std::move(radars);
   gl->sampler_ = std::move(*sampler);
+  gl->exaggeration_ = exaggeration;
+  if (exaggeration != 1.0) gl->exaggerated_ = std::make_unique<volume::ExaggeratedSampler>(*gl->sampler_, exaggeration);
   const volume::CoverageIndex& index = gl->sampler_->coverage();
   for (const auto& r : gl->radars_) gl->origin_ += volume::localSphereBeam(r->site, r->beam).antennaEcef;
   gl->origin_ /= static_cast<double>(radarCount);
@@ -130,10 +134,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     volume::beamHeightAndGroundDistance(clip, v.sweeps.back().elevationDeg + hb, beam.antennaHeightMeters,
                                         beam.effectiveRadiusMeters, &top, &ground);
     // |x| of a point with data: at most the antenna's distance from the centre plus the height
-    // it rises above the antenna, plus what the ellipsoid's radius grows within the clip range
-    // (under 2 km at 500 km): a 5 km margin.
-    topRadius =
-        std::max(topRadius, glm::length(beam.antennaEcef) + std::max(0.0, top - beam.antennaHeightMeters) + 5000.0);
+    // it rises above the antenna (drawn: heights times the exaggeration), plus what the
+    // ellipsoid's radius grows within the clip range (under 2 km at 500 km): a 5 km margin.
+    topRadius = std::max(topRadius, glm::length(beam.antennaEcef) +
+                                        std::max(0.0, exaggeration * top - beam.antennaHeightMeters) + 5000.0);
     for (int k = 0; k < n; ++k, ++g) {
       const auto& s = v.sweeps[static_cast<std::size_t>(k)];
       glm::vec4* sw = data.data() + gl->sweepBase_ + static_cast<std::size_t>(g) * kSweepVec4s;
@@ -157,7 +161,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     }
     // Empty space: the radar's own grid's cells, as boxes in the network's frame (a run of cells
     // along x with values is one box, of their largest value).
-    const volume::OccupancyGrid og = volume::buildOccupancyGrid(v);
+    const volume::OccupancyGrid og = volume::buildOccupancyGrid(v, exaggeration);
     auto addBox = [&](const glm::dvec3& lo, const glm::dvec3& hi, float m) {
       volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), m};
       for (int c = 0; c < 8; ++c) {
@@ -220,7 +224,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   gl->gpuBytes_ += floats.size() * 4;
   if (outOfMemoryGL()) return makeError("radar network: the GPU is out of memory for its tables");
 
-  const volume::BoundingSphere enclosing = gl->sampler_->boundingSphere();
+  const volume::BoundingSphere enclosing = gl->referenceSampler().boundingSphere();
   gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
   gl->top_ = glm::vec4(glm::vec3(-origin), static_cast<float>(topRadius));
   gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(origin, frame, boxes, glm::ivec3(256, 256, 32)));
@@ -229,7 +233,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 
 Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
     const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
-    volume::FieldKind kind) {
+    volume::FieldKind kind, double exaggeration) {
   std::vector<volume::BoundingSphere> spheres;
   for (const auto& r : radars) spheres.push_back(volume::PolarSampler(*r).boundingSphere());
   std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
@@ -241,7 +245,7 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
   for (const volume::VolumeCluster& c : clusters) {
     std::vector<std::shared_ptr<const volume::PolarVolume>> members;
     for (std::size_t i : c.members) members.push_back(radars[i]);
-    auto gl = create(std::move(members), rule, kind);
+    auto gl = create(std::move(members), rule, kind, exaggeration);
     if (!gl) return gl.forwardError();
     out.push_back(std::move(*gl));
   }
@@ -259,7 +263,7 @@ std::vector<std::string> RadarNetworkGL::samplerDefines(const VolumeRenderOption
                    : sampler_->rule() == volume::OverlapRule::LowestBeam ? 1
                                                                          : 2;
   return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
-          "RULE " + std::to_string(rule)};
+          "RULE " + std::to_string(rule), std::string("EXAGGERATED ") + (exaggeration_ != 1.0 ? "1" : "0")};
 }
 
 void RadarNetworkGL::setSamplerUniforms(const SamplerBindingGL& b) const {
@@ -282,6 +286,7 @@ void RadarNetworkGL::setSamplerUniforms(const SamplerBindingGL& b) const {
   glUniform2i(u(p + "coverageCells"), index.columns, index.rows);
   glUniform4fv(u(p + "enclosing"), 1, glm::value_ptr(enclosing_));
   glUniform4fv(u(p + "top"), 1, glm::value_ptr(top_));
+  glUniform1f(u(p + "exaggeration"), static_cast<float>(exaggeration_));
 }
 
 void RadarNetworkGL::bindSamplerTextures(const SamplerBindingGL& b, const VolumeRenderOptions& options) const {

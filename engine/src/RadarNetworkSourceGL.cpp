@@ -225,11 +225,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
         built->apart.push_back(std::move(*gl));
       }
     } else {
-      if (context.exaggeration != 1.0)
-        return makeError(d.path + ": a radar network under the " + std::string(volume::toString(rule)) +
-                         " rule is drawn at true scale only (no vertical exaggeration yet; the integrate rule "
-                         "draws each radar apart and can be exaggerated)");
-      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind);
+      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration);
       if (!gl) {
         std::string why = d.path + ": " + gl.error();
         if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";
@@ -400,22 +396,26 @@ std::optional<std::string> RadarNetworkSourceGL::readoutAt(const glm::dvec3& eye
     return "network " + field_.name + ": " + text;
   }
   // The nearest first value over the clusters (apart: at most one holds a point).
-  const volume::RadarNetworkSampler* where = nullptr;
+  // Along the ray as drawn (exaggerated or not); the point then at its true height.
+  const RadarNetworkGL* where = nullptr;
   for (const auto& c : shown_->clusters) {
-    const auto hit = firstValueAlong(c->network(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+    const auto hit =
+        firstValueAlong(c->referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
     if (hit && (!best || hit->tMeters < best->tMeters)) {
       best = hit;
-      where = &c->network();
+      where = c.get();
     }
   }
   if (!best) return std::nullopt;
-  const auto lead = where->leadingRadar(best->ecef, volume::Interpolation::Linear);
-  const auto [first, last] = where->coverage().radarsAt(best->ecef);
-  const globe::Geodetic g = globe::ecefToGeodetic(best->ecef);
+  globe::Geodetic g = globe::ecefToGeodetic(best->ecef);
+  g.heightMeters /= where->exaggeration();
+  const glm::dvec3 trueEcef = globe::geodeticToEcef(g);
+  const auto lead = where->network().leadingRadar(trueEcef, volume::Interpolation::Linear);
+  const auto [first, last] = where->network().coverage().radarsAt(trueEcef);
   std::string leader;
   if (lead) {
     // The leading radar's site as the legend names it: the shown site at its position.
-    const volume::PolarVolume& r = where->radar(*lead);
+    const volume::PolarVolume& r = where->network().radar(*lead);
     for (std::size_t i = 0; i < markers_.size(); ++i)
       if (std::abs(markers_[i].latDeg - r.site.latDeg) < 1e-9 && std::abs(markers_[i].lonDeg - r.site.lonDeg) < 1e-9)
         leader = ", led by " + markers_[i].label;

@@ -10,6 +10,7 @@
 #include <atmoglobe/volume/FieldKind.h>
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/RadarNetwork.h>
+#include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <memory>
 #include <vector>
@@ -21,16 +22,20 @@ class RadarNetworkGL final : public VolumeGL {
   /// Uploads `radars` (1 or more, each of 1..MarchConstants::kMaxSweeps sweeps, one field `kind`)
   /// under `rule` (not Integrate: the march's rule for separate volumes). Errors: those of
   /// volume::makeRadarNetworkSampler; a tile or table larger than the GPU's texture limits; out
-  /// of GPU memory.
+  /// of GPU memory. `exaggeration` != 1: drawn at that vertical exaggeration
+  /// (volume/VerticalExaggeration.h): each radar maps a drawn point back to its true height on its
+  /// local sphere, as a radar layer does; the reference is the network sampler seen through
+  /// volume::ExaggeratedSampler (exact).
   static Result<std::unique_ptr<RadarNetworkGL>> create(std::vector<std::shared_ptr<const volume::PolarVolume>> radars,
-                                                        volume::OverlapRule rule, volume::FieldKind kind);
+                                                        volume::OverlapRule rule, volume::FieldKind kind,
+                                                        double exaggeration = 1.0);
   /// The radars split into the clusters whose clip spheres meet (volume::clusterBySphere), one
   /// network each, largest first: the marcher draws clusters apart in passes of their own, each
   /// with its own tight ray interval and empty-space grid (a national network with sites in
   /// Alaska, Hawaii, Guam and Europe would otherwise be one volume spanning the globe).
   static Result<std::vector<std::unique_ptr<RadarNetworkGL>>> createByCluster(
       const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
-      volume::FieldKind kind);
+      volume::FieldKind kind, double exaggeration = 1.0);
   ~RadarNetworkGL() override;
   RadarNetworkGL(const RadarNetworkGL&) = delete;
   RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;
@@ -43,13 +48,19 @@ class RadarNetworkGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return sampler_->valueRange(); }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return sampler_->description(); }
-  const volume::VolumeSampler& referenceSampler() const override { return *sampler_; }
+  const volume::VolumeSampler& referenceSampler() const override {
+    return exaggerated_ ? static_cast<const volume::VolumeSampler&>(*exaggerated_) : *sampler_;
+  }
+  /// The network at true scale (its coverage index and rule).
   const volume::RadarNetworkSampler& network() const { return *sampler_; }
+  double exaggeration() const { return exaggeration_; }
 
  private:
   RadarNetworkGL() = default;
   std::vector<std::shared_ptr<const volume::PolarVolume>> radars_;
   std::unique_ptr<volume::RadarNetworkSampler> sampler_;
+  double exaggeration_ = 1.0;
+  std::unique_ptr<volume::ExaggeratedSampler> exaggerated_;  ///< the reference when exaggerated
   glm::dvec3 origin_{0.0};
   unsigned int values_ = 0, rayTable_ = 0, buffer_ = 0;
   glm::vec2 valuesSize_{1.0f};
