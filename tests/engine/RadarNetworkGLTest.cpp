@@ -106,6 +106,23 @@ TEST(RadarNetworkGL, GpuMatchesTheReferenceForEveryRuleAndMode) {
   }
 }
 
+// A variant of the storm's view (a rule, an exaggeration): the GPU against the reference of the
+// same settings, and that reference against the one of a baseline (so that a test sees the
+// variant change the picture).
+struct VariantCheck {
+  volume::ImageError gpu, changed;
+};
+VariantCheck checkVariant(engine::VolumeRendererGL& renderer, const engine::RadarNetworkGL& gl,
+                          const engine::VolumeRenderOptions& options, const volume::VolumeSampler& baseline,
+                          const volume::VolumeRenderSettings& baselineSettings) {
+  const Camera camera = cameraOnTheStorm();
+  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+  const volume::VolumeImage base = volume::renderReference({{&baseline, baselineSettings}}, rc, false, 2);
+  const volume::VolumeImage ref = volume::renderReference({{&gl.referenceSampler(), options.render}}, rc, false, 2);
+  const volume::VolumeImage gpu = testutil::renderVolumesGpu(renderer, camera, {{&gl, options}});
+  return {volume::compareImages(gpu, ref), volume::compareImages(ref, base)};
+}
+
 // The step rule (volume/StepRule.h) on a network: the cell crossing is the smallest of the
 // radars' over the sample (RadarNetworkSampler::cellCrossingMeters, VOL_cellCrossing in
 // sample_network.glsl), and the GPU takes the samples the reference takes, for every rule.
@@ -114,8 +131,6 @@ TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
   const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  const Camera camera = cameraOnTheStorm();
-  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   // 250 m: the cells here (gates of 500 m, 1 deg between sweeps: 1-2 km at 60-120 km) and the
@@ -124,15 +139,10 @@ TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
   for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
     auto gl = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity);
     ASSERT_TRUE(gl) << gl.error();
-    options.render.samplesPerCell = 0.0;
-    const volume::VolumeImage fixedRef =
-        volume::renderReference({{&(*gl)->referenceSampler(), options.render}}, rc, false, 2);
+    volume::VolumeRenderSettings fixedStep = options.render;
+    fixedStep.samplesPerCell = 0.0;
     options.render.samplesPerCell = 1.0;
-    const volume::VolumeImage ref =
-        volume::renderReference({{&(*gl)->referenceSampler(), options.render}}, rc, false, 2);
-    const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{gl->get(), options}});
-    const volume::ImageError e = volume::compareImages(gpu, ref);
-    const volume::ImageError moved = volume::compareImages(ref, fixedRef);
+    const auto [e, moved] = checkVariant(**renderer, **gl, options, (*gl)->referenceSampler(), fixedStep);
     std::cout << "network rule " << volume::toString(rule) << ", 1 sample per cell: GPU vs reference mean " << e.meanAbs
               << " max " << e.maxAbs << "; the rule's reference against the fixed step's: mean " << moved.meanAbs
               << " max " << moved.maxAbs << "\n";
@@ -153,8 +163,6 @@ TEST(RadarNetworkGL, AnExaggeratedNetworkMatchesTheReference) {
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
   const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  const Camera camera = cameraOnTheStorm();
-  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.render.stepMeters = 500.0;
@@ -163,13 +171,7 @@ TEST(RadarNetworkGL, AnExaggeratedNetworkMatchesTheReference) {
     auto tall = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity, 3.0);
     ASSERT_TRUE(flat && tall) << (flat ? tall.error() : flat.error());
     EXPECT_EQ((*tall)->exaggeration(), 3.0);
-    const volume::VolumeImage flatRef =
-        volume::renderReference({{&(*flat)->referenceSampler(), options.render}}, rc, false, 2);
-    const volume::VolumeImage ref =
-        volume::renderReference({{&(*tall)->referenceSampler(), options.render}}, rc, false, 2);
-    const volume::VolumeImage gpu = testutil::renderVolumesGpu(**renderer, camera, {{tall->get(), options}});
-    const volume::ImageError e = volume::compareImages(gpu, ref);
-    const volume::ImageError changed = volume::compareImages(ref, flatRef);
+    const auto [e, changed] = checkVariant(**renderer, **tall, options, (*flat)->referenceSampler(), options.render);
     std::cout << "network rule " << volume::toString(rule) << ", exaggerated 3x: GPU vs reference mean " << e.meanAbs
               << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB; against true scale: mean " << changed.meanAbs
               << "\n";
