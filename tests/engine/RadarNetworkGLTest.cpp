@@ -109,40 +109,49 @@ TEST(RadarNetworkGL, GpuMatchesTheReferenceForEveryRuleAndMode) {
 // A variant of the storm's view (a rule, an exaggeration): the GPU against the reference of the
 // same settings, and that reference against the one of a baseline (so that a test sees the
 // variant change the picture).
-struct VariantCheck {
-  volume::ImageError gpu, changed;
+// The three radars around the storm, a renderer and the reflectivity transfer, for each rule.
+class RadarNetworkGLVariants : public ::testing::Test {
+ protected:
+  struct Check {
+    volume::ImageError gpu, changed;
+  };
+  void SetUp() override {
+    testutil::glContext();
+    auto r = engine::VolumeRendererGL::create();
+    ASSERT_TRUE(r) << r.error();
+    renderer_ = std::move(*r);
+    options_.render.transfer = volume::defaultReflectivityTransfer();
+  }
+  Check check(const engine::RadarNetworkGL& gl, const volume::VolumeSampler& baseline,
+              const volume::VolumeRenderSettings& baselineSettings) const {
+    const Camera camera = cameraOnTheStorm();
+    const volume::RenderCamera rc = engine::referenceCameraFor(camera);
+    const volume::VolumeImage base = volume::renderReference({{&baseline, baselineSettings}}, rc, false, 2);
+    const volume::VolumeImage ref = volume::renderReference({{&gl.referenceSampler(), options_.render}}, rc, false, 2);
+    const volume::VolumeImage gpu = testutil::renderVolumesGpu(*renderer_, camera, {{&gl, options_}});
+    return {volume::compareImages(gpu, ref), volume::compareImages(ref, base)};
+  }
+  static constexpr volume::OverlapRule kRules[] = {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam,
+                                                   volume::OverlapRule::Maximum};
+  std::unique_ptr<engine::VolumeRendererGL> renderer_;
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars_ = threeRadarsAroundTheStorm();
+  engine::VolumeRenderOptions options_;
 };
-VariantCheck checkVariant(engine::VolumeRendererGL& renderer, const engine::RadarNetworkGL& gl,
-                          const engine::VolumeRenderOptions& options, const volume::VolumeSampler& baseline,
-                          const volume::VolumeRenderSettings& baselineSettings) {
-  const Camera camera = cameraOnTheStorm();
-  const volume::RenderCamera rc = engine::referenceCameraFor(camera);
-  const volume::VolumeImage base = volume::renderReference({{&baseline, baselineSettings}}, rc, false, 2);
-  const volume::VolumeImage ref = volume::renderReference({{&gl.referenceSampler(), options.render}}, rc, false, 2);
-  const volume::VolumeImage gpu = testutil::renderVolumesGpu(renderer, camera, {{&gl, options}});
-  return {volume::compareImages(gpu, ref), volume::compareImages(ref, base)};
-}
 
 // The step rule (volume/StepRule.h) on a network: the cell crossing is the smallest of the
 // radars' over the sample (RadarNetworkSampler::cellCrossingMeters, VOL_cellCrossing in
 // sample_network.glsl), and the GPU takes the samples the reference takes, for every rule.
-TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
-  testutil::glContext();
-  auto renderer = engine::VolumeRendererGL::create();
-  ASSERT_TRUE(renderer) << renderer.error();
-  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  engine::VolumeRenderOptions options;
-  options.render.transfer = volume::defaultReflectivityTransfer();
+TEST_F(RadarNetworkGLVariants, TheStepRuleTakesTheReferencesSamples) {
   // 250 m: the cells here (gates of 500 m, 1 deg between sweeps: 1-2 km at 60-120 km) and the
   // pixels (1.5 km at 90 km) leave room for levels 1 and 2.
-  options.render.stepMeters = 250.0;
-  for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
-    auto gl = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity);
+  options_.render.stepMeters = 250.0;
+  volume::VolumeRenderSettings fixedStep = options_.render;
+  fixedStep.samplesPerCell = 0.0;
+  options_.render.samplesPerCell = 1.0;
+  for (auto rule : kRules) {
+    auto gl = engine::RadarNetworkGL::create(radars_, rule, volume::FieldKind::Reflectivity);
     ASSERT_TRUE(gl) << gl.error();
-    volume::VolumeRenderSettings fixedStep = options.render;
-    fixedStep.samplesPerCell = 0.0;
-    options.render.samplesPerCell = 1.0;
-    const auto [e, moved] = checkVariant(**renderer, **gl, options, (*gl)->referenceSampler(), fixedStep);
+    const auto [e, moved] = check(**gl, (*gl)->referenceSampler(), fixedStep);
     std::cout << "network rule " << volume::toString(rule) << ", 1 sample per cell: GPU vs reference mean " << e.meanAbs
               << " max " << e.maxAbs << "; the rule's reference against the fixed step's: mean " << moved.meanAbs
               << " max " << moved.maxAbs << "\n";
@@ -158,20 +167,14 @@ TEST(RadarNetworkGL, TheStepRuleTakesTheReferencesSamples) {
 // maps the drawn point back on its local sphere (sample_network.glsl), the reference through the
 // exact geodetic mapping (volume::ExaggeratedSampler around the network); the picture changes
 // (the storm is three times as tall) and the GPU follows the reference.
-TEST(RadarNetworkGL, AnExaggeratedNetworkMatchesTheReference) {
-  testutil::glContext();
-  auto renderer = engine::VolumeRendererGL::create();
-  ASSERT_TRUE(renderer) << renderer.error();
-  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  engine::VolumeRenderOptions options;
-  options.render.transfer = volume::defaultReflectivityTransfer();
-  options.render.stepMeters = 500.0;
-  for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum}) {
-    auto flat = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity);
-    auto tall = engine::RadarNetworkGL::create(radars, rule, volume::FieldKind::Reflectivity, 3.0);
+TEST_F(RadarNetworkGLVariants, AnExaggeratedNetworkMatchesTheReference) {
+  options_.render.stepMeters = 500.0;
+  for (auto rule : kRules) {
+    auto flat = engine::RadarNetworkGL::create(radars_, rule, volume::FieldKind::Reflectivity);
+    auto tall = engine::RadarNetworkGL::create(radars_, rule, volume::FieldKind::Reflectivity, 3.0);
     ASSERT_TRUE(flat && tall) << (flat ? tall.error() : flat.error());
     EXPECT_EQ((*tall)->exaggeration(), 3.0);
-    const auto [e, changed] = checkVariant(**renderer, **tall, options, (*flat)->referenceSampler(), options.render);
+    const auto [e, changed] = check(**tall, (*flat)->referenceSampler(), options_.render);
     std::cout << "network rule " << volume::toString(rule) << ", exaggerated 3x: GPU vs reference mean " << e.meanAbs
               << " max " << e.maxAbs << " PSNR " << e.psnrDb << " dB; against true scale: mean " << changed.meanAbs
               << "\n";
@@ -182,7 +185,7 @@ TEST(RadarNetworkGL, AnExaggeratedNetworkMatchesTheReference) {
     EXPECT_GT(e.psnrDb, 30.0);
   }
   EXPECT_FALSE(
-      engine::RadarNetworkGL::create(radars, volume::OverlapRule::WeightedMean, volume::FieldKind::Reflectivity, 0.0));
+      engine::RadarNetworkGL::create(radars_, volume::OverlapRule::WeightedMean, volume::FieldKind::Reflectivity, 0.0));
 }
 
 TEST(RadarNetworkGL, TheOrderOfTheRadarsChangesNoPixel) {
