@@ -66,7 +66,7 @@ class GridStepPreparer final : public StepPreparer {
  public:
   GridStepPreparer(VolumeLayerDescription d, double exaggeration)
       : description_(std::move(d)), exaggeration_(exaggeration) {}
-  std::optional<Prepared> prepare(std::size_t step) const override {
+  std::optional<Prepared> prepare(std::size_t step, const PrepareContext&) const override {
     auto grid = prepareGridStep(description_, step, exaggeration_);
     if (!grid || !GridVolumeGL::checkDrawable(*grid)) return std::nullopt;
     auto prepared = GridVolumeGL::prepare(*grid);  // texels, lookup tables, empty-space grid

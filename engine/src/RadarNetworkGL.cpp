@@ -9,9 +9,11 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <thread>
 
 namespace atmoglobe::engine {
 
@@ -37,9 +39,44 @@ std::vector<float> elevationLookup(const volume::PolarVolume& v, glm::vec2 range
 
 }  // namespace
 
+std::uint64_t NetworkRadarParts::bytes() const {
+  std::uint64_t b = sizeof(*this) + runs.capacity() * sizeof(volume::OccupancyBox);
+  for (const auto& t : rayTables) b += t.capacity() * sizeof(float);
+  return b;
+}
+
+std::shared_ptr<const NetworkRadarParts> RadarNetworkGL::prepareRadar(const volume::PolarVolume& v,
+                                                                      double exaggeration) {
+  using C = MarchConstants;
+  auto parts = std::make_shared<NetworkRadarParts>();
+  parts->exaggeration = exaggeration;
+  for (const auto& s : v.sweeps) parts->rayTables.push_back(volume::rayCoordinateTable(s, C::kRayTableBins));
+  // Empty space: the radar's own grid's cells, a run of cells along x with values one box of
+  // their largest value (create() places them in the network's frame).
+  const volume::OccupancyGrid og = volume::buildOccupancyGrid(v, exaggeration);
+  parts->occupancyOriginEcef = og.originEcef;
+  parts->occupancyToEcef = og.localToEcef;
+  for (int z = 0; z < og.cells.z; ++z)
+    for (int y = 0; y < og.cells.y; ++y)
+      for (int x = 0; x < og.cells.x;) {
+        float m = og.maxValues[og.cellIndex(x, y, z)];
+        if (m <= volume::kOccupancyEmptyValue) {
+          ++x;
+          continue;
+        }
+        const int x0 = x;
+        while (x + 1 < og.cells.x && og.maxValues[og.cellIndex(x + 1, y, z)] > volume::kOccupancyEmptyValue)
+          m = std::max(m, og.maxValues[og.cellIndex(++x, y, z)]);
+        ++x;
+        parts->runs.push_back({og.minLocal + glm::dvec3(x0, y, z) * og.cellSizeMeters,
+                               og.minLocal + glm::dvec3(x, y + 1, z + 1) * og.cellSizeMeters, m});
+      }
+  return parts;
+}
+
 Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
-    double exaggeration) {
+    double exaggeration, std::vector<std::shared_ptr<const NetworkRadarParts>> parts) {
   using C = MarchConstants;
   if (Status s = volume::validateVerticalExaggeration(exaggeration, "radar network"); !s) return s.forwardError();
   std::vector<const volume::PolarVolume*> raw;
@@ -100,23 +137,37 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
                               static_cast<std::size_t>(sweeps) * kSweepVec4s);
   std::vector<float> table(static_cast<std::size_t>(C::kRayTableBins + 1) * (sweeps + radarCount), 0.0f);
   gl->sweepBase_ = radarCount * kRadarVec4s;
-  double topRadius = 0.0;
-  std::vector<volume::OccupancyBox> boxes;
+  if (!parts.empty() && parts.size() != gl->radars_.size())
+    return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
+                     std::to_string(radarCount));
+  parts.resize(gl->radars_.size());
   // The occupancy grid's frame: east, north, up at the origin's direction.
   const glm::dvec3 up = glm::normalize(origin);
   glm::dvec3 east = glm::cross(glm::dvec3(0.0, 0.0, 1.0), up);
   east = glm::length(east) > 1e-6 ? glm::normalize(east) : glm::dvec3(0.0, 1.0, 0.0);
   const glm::dmat3 frame(east, glm::cross(up, east), up);
   const glm::dmat3 toFrame = glm::transpose(frame);
-  int g = 0;
-  for (int r = 0; r < radarCount; ++r) {
+  std::vector<int> firstSweep(static_cast<std::size_t>(radarCount) + 1, 0);
+  for (int r = 0; r < radarCount; ++r)
+    firstSweep[static_cast<std::size_t>(r) + 1] =
+        firstSweep[static_cast<std::size_t>(r)] +
+        static_cast<int>(gl->radars_[static_cast<std::size_t>(r)]->sweeps.size());
+  std::vector<double> tops(static_cast<std::size_t>(radarCount), 0.0);
+  std::vector<std::vector<volume::OccupancyBox>> boxesOf(static_cast<std::size_t>(radarCount));
+  // Radar r's records, tables, tiles and boxes: each radar writes its own parts of the arrays, so
+  // radars are packed on several threads.
+  auto pack = [&](int r) {
     const volume::PolarVolume& v = *gl->radars_[static_cast<std::size_t>(r)];
+    std::shared_ptr<const NetworkRadarParts> p = parts[static_cast<std::size_t>(r)];
+    if (!p || p->exaggeration != exaggeration || p->rayTables.size() != v.sweeps.size())
+      p = prepareRadar(v, exaggeration);
     const volume::LocalSphereBeam beam = volume::localSphereBeam(v.site, v.beam);
     const int n = static_cast<int>(v.sweeps.size());
     const double clip = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
     const double hb = 0.5 * v.beamWidthDeg;
     const glm::vec2 elRange(static_cast<float>(v.sweeps.front().elevationDeg - hb),
                             static_cast<float>(v.sweeps.back().elevationDeg + hb));
+    int g = firstSweep[static_cast<std::size_t>(r)];
     glm::vec4* rec = data.data() + static_cast<std::size_t>(r) * kRadarVec4s;
     rec[0] = glm::vec4(glm::vec3(beam.antennaEcef - origin), static_cast<float>(beam.antennaHeightMeters));
     const double radii[3] = {beam.meridionalRadiusMeters, beam.primeVerticalRadiusMeters, beam.effectiveRadiusMeters};
@@ -136,15 +187,15 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     // |x| of a point with data: at most the antenna's distance from the centre plus the height
     // it rises above the antenna (drawn: heights times the exaggeration), plus what the
     // ellipsoid's radius grows within the clip range (under 2 km at 500 km): a 5 km margin.
-    topRadius = std::max(topRadius, glm::length(beam.antennaEcef) +
-                                        std::max(0.0, exaggeration * top - beam.antennaHeightMeters) + 5000.0);
+    tops[static_cast<std::size_t>(r)] =
+        glm::length(beam.antennaEcef) + std::max(0.0, exaggeration * top - beam.antennaHeightMeters) + 5000.0;
     for (int k = 0; k < n; ++k, ++g) {
       const auto& s = v.sweeps[static_cast<std::size_t>(k)];
       glm::vec4* sw = data.data() + gl->sweepBase_ + static_cast<std::size_t>(g) * kSweepVec4s;
       sw[0] = glm::vec4(static_cast<float>(s.elevationDeg), static_cast<float>(s.firstGateRangeMeters),
                         static_cast<float>(s.gateSpacingMeters), static_cast<float>(s.gateCount));
       sw[1] = glm::vec4(static_cast<float>(s.rayCount), 0.0f, 0.0f, 0.0f);
-      const std::vector<float> rays = volume::rayCoordinateTable(s, C::kRayTableBins);
+      const std::vector<float>& rays = p->rayTables[static_cast<std::size_t>(k)];
       std::copy(rays.begin(), rays.end(), table.begin() + static_cast<std::ptrdiff_t>(g) * (C::kRayTableBins + 1));
       const int layer = g / tilesPerLayer, x0 = (g % tilesPerLayer) * tileW;
       std::uint64_t* base = texels.data() + static_cast<std::size_t>(layer) * width * tileH;
@@ -159,35 +210,36 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         }
       }
     }
-    // Empty space: the radar's own grid's cells, as boxes in the network's frame (a run of cells
-    // along x with values is one box, of their largest value).
-    const volume::OccupancyGrid og = volume::buildOccupancyGrid(v, exaggeration);
-    auto addBox = [&](const glm::dvec3& lo, const glm::dvec3& hi, float m) {
-      volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), m};
+    // Empty space: the radar's runs of occupied cells as boxes in the network's frame.
+    std::vector<volume::OccupancyBox>& boxes = boxesOf[static_cast<std::size_t>(r)];
+    boxes.reserve(p->runs.size());
+    for (const volume::OccupancyBox& run : p->runs) {
+      volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), run.maxValue};
       for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-        const glm::dvec3 local = toFrame * (og.originEcef + og.localToEcef * corner - origin);
+        const glm::dvec3 corner((c & 1) ? run.hi.x : run.lo.x, (c & 2) ? run.hi.y : run.lo.y,
+                                (c & 4) ? run.hi.z : run.lo.z);
+        const glm::dvec3 local = toFrame * (p->occupancyOriginEcef + p->occupancyToEcef * corner - origin);
         box.lo = glm::min(box.lo, local);
         box.hi = glm::max(box.hi, local);
       }
       boxes.push_back(box);
+    }
+  };
+  {
+    std::atomic<int> next{0};
+    auto work = [&] {
+      for (int r = next++; r < radarCount; r = next++) pack(r);
     };
-    for (int z = 0; z < og.cells.z; ++z)
-      for (int y = 0; y < og.cells.y; ++y)
-        for (int x = 0; x < og.cells.x;) {
-          float m = og.maxValues[og.cellIndex(x, y, z)];
-          if (m <= volume::kOccupancyEmptyValue) {
-            ++x;
-            continue;
-          }
-          const int x0 = x;
-          while (x + 1 < og.cells.x && og.maxValues[og.cellIndex(x + 1, y, z)] > volume::kOccupancyEmptyValue)
-            m = std::max(m, og.maxValues[og.cellIndex(++x, y, z)]);
-          ++x;
-          const glm::dvec3 lo = og.minLocal + glm::dvec3(x0, y, z) * og.cellSizeMeters;
-          addBox(lo, og.minLocal + glm::dvec3(x, y + 1, z + 1) * og.cellSizeMeters, m);
-        }
+    const unsigned threads =
+        std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(radarCount)));
+    std::vector<std::thread> pool;
+    for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
   }
+  const double topRadius = *std::max_element(tops.begin(), tops.end());
+  std::vector<volume::OccupancyBox> boxes;
+  for (auto& b : boxesOf) boxes.insert(boxes.end(), b.begin(), b.end());
   std::vector<float> floats(data.size() * 4);
   std::memcpy(floats.data(), data.data(), data.size() * sizeof(glm::vec4));
   if (index.members.size() >= (1u << 24))
@@ -233,7 +285,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 
 Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
     const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
-    volume::FieldKind kind, double exaggeration) {
+    volume::FieldKind kind, double exaggeration, const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts) {
+  if (!parts.empty() && parts.size() != radars.size())
+    return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
+                     std::to_string(radars.size()));
   std::vector<volume::BoundingSphere> spheres;
   for (const auto& r : radars) spheres.push_back(volume::PolarSampler(*r).boundingSphere());
   std::vector<volume::VolumeCluster> clusters = volume::clusterBySphere(spheres);
@@ -244,8 +299,12 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
   std::vector<std::unique_ptr<RadarNetworkGL>> out;
   for (const volume::VolumeCluster& c : clusters) {
     std::vector<std::shared_ptr<const volume::PolarVolume>> members;
-    for (std::size_t i : c.members) members.push_back(radars[i]);
-    auto gl = create(std::move(members), rule, kind, exaggeration);
+    std::vector<std::shared_ptr<const NetworkRadarParts>> memberParts;
+    for (std::size_t i : c.members) {
+      members.push_back(radars[i]);
+      if (!parts.empty()) memberParts.push_back(parts[i]);
+    }
+    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts));
     if (!gl) return gl.forwardError();
     out.push_back(std::move(*gl));
   }

@@ -40,18 +40,29 @@ bool sameSite(const volume::RadarVolume& a, const volume::RadarVolume& b) {
   return std::abs(a.site.latDeg - b.site.latDeg) <= 0.01 && std::abs(a.site.lonDeg - b.site.lonDeg) <= 0.01;
 }
 
-// No steps prepared ahead (the network reads its sites on worker threads itself).
-class NoPreparer final : public StepPreparer {
- public:
-  std::optional<Prepared> prepare(std::size_t) const override { return std::nullopt; }
-};
-
 // What a volume of the step costs the budget per gate before it is read: its float on the CPU and
 // its RGBA16F texel (value, echo, measured) on the GPU. An upper bound: a crop keeps fewer gates.
 constexpr std::uint64_t kBudgetBytesPerGate = sizeof(float) + 4 * 2;
 
 // The cache key of a volume read for the network layer `layer` (by its files: steps share them).
 std::string volumeKey(std::size_t layer, const std::string& files) { return stepKeyPrefix(layer) + "volume:" + files; }
+// The key of its upload parts (RadarNetworkGL::prepareRadar).
+std::string partsKey(std::size_t layer, const std::string& files) { return volumeKey(layer, files) + ":parts"; }
+
+// fn(0) .. fn(n - 1) on up to one thread per core.
+template <class Fn>
+void onThreads(std::size_t n, Fn fn) {
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t k = next++; k < n; k = next++) fn(k);
+  };
+  const unsigned threads =
+      std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(n)));
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
+  work();
+  for (auto& th : pool) th.join();
+}
 
 std::string mib(std::uint64_t bytes) {
   char text[32];
@@ -131,23 +142,89 @@ std::uint64_t RadarNetworkSourceGL::StepGL::gpuBytes() const {
   return bytes;
 }
 
-Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, SourceContext context) {
-  const double t = stepEpochs_[step], window = d.windowMinutes * 60.0;
-  // Each site's latest volume at or before the step's time, at most the window old.
-  std::vector<std::pair<std::size_t, const SiteVolume*>> chosen;
-  std::vector<std::string> missing;
-  std::uint64_t estimate = 0;
-  for (std::size_t i = 0; i < sites_.size(); ++i) {
+RadarNetworkSourceGL::Choice RadarNetworkSourceGL::choose(const std::vector<Site>& sites, double stepEpoch,
+                                                          double windowMinutes) {
+  const double window = windowMinutes * 60.0;
+  Choice c;
+  for (std::size_t i = 0; i < sites.size(); ++i) {
     const SiteVolume* best = nullptr;
-    for (const SiteVolume& v : sites_[i].volumes)
-      if (v.epochSeconds <= t && v.epochSeconds >= t - window) best = &v;
+    for (const SiteVolume& v : sites[i].volumes)
+      if (v.epochSeconds <= stepEpoch && v.epochSeconds >= stepEpoch - window) best = &v;
     if (best) {
-      chosen.emplace_back(i, best);
-      estimate += best->gates * kBudgetBytesPerGate;
+      c.chosen.emplace_back(i, best);
+      c.estimateBytes += best->gates * kBudgetBytesPerGate;
     } else {
-      missing.push_back(sites_[i].name);
+      c.missing.push_back(sites[i].name);
     }
   }
+  return c;
+}
+
+// The steps ahead's volumes not yet in the cache, read one after another on the prefetcher's
+// thread (the foreground read uses every core; the background one leaves them to the frames) and
+// put under the keys load() looks for, so a step shown next reads only what this did not reach.
+// A read that fails is left to the GL thread, which reads it again and says why.
+class RadarNetworkSourceGL::Preparer final : public StepPreparer {
+ public:
+  Preparer(VolumeLayerDescription d, std::vector<Site> sites, std::vector<double> stepEpochs, double exaggeration)
+      : description_(std::move(d)), sites_(std::move(sites)), stepEpochs_(std::move(stepEpochs)),
+        exaggeration_(exaggeration) {}
+
+  std::optional<Prepared> prepare(std::size_t step, const PrepareContext& context) const override {
+    if (step >= stepEpochs_.size()) return std::nullopt;
+    const Choice c = choose(sites_, stepEpochs_[step], description_.windowMinutes);
+    if (c.chosen.empty() || c.estimateBytes > context.cache.budget()) return std::nullopt;  // load() says why
+    std::uint64_t bytes = 0;
+    for (const auto& [site, v] : c.chosen) {
+      const std::string key = volumeKey(context.layer, v->files), parts = partsKey(context.layer, v->files);
+      if (context.cache.contains(key) && context.cache.contains(parts)) continue;
+      if (!context.cache.fitsBesidesInUse(v->gates * kBudgetBytesPerGate)) break;  // the rest when shown
+      context.cache.markLoading(key);
+      context.cache.markLoading(parts);
+      std::shared_ptr<const volume::PolarVolume> volume = context.cache.get<volume::PolarVolume>(key);
+      volume::FieldKind kind = volume::FieldKind::Reflectivity;
+      if (!volume) {
+        auto r = readCroppedRadar(description_, v->files);
+        if (!r) {
+          context.cache.abandonLoading(key);
+          context.cache.abandonLoading(parts);
+          continue;
+        }
+        kind = volume::classifyField(r->volume.loadedField).kind;
+        volume = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
+        bytes += volume::polarVolumeBytes(*volume);
+        context.cache.put(key, volume, volume::polarVolumeBytes(*volume));  // ends the loading mark
+      } else {
+        context.cache.abandonLoading(key);
+        kind = volume::classifyField(volume::FieldInfo{volume->fieldName, volume->fieldUnits, ""}).kind;
+      }
+      // The parts of the upload under a combining rule (load() decides the rule the same way).
+      if (description_.overlap.value_or(perRadarQuantity(kind)
+                                            ? volume::OverlapRule::Integrate
+                                            : volume::OverlapRule::WeightedMean) == volume::OverlapRule::Integrate) {
+        context.cache.abandonLoading(parts);
+        continue;
+      }
+      auto made = RadarNetworkGL::prepareRadar(*volume, exaggeration_);
+      bytes += made->bytes();
+      context.cache.put(parts, made, made->bytes());
+    }
+    return Prepared{nullptr, bytes};
+  }
+
+ private:
+  VolumeLayerDescription description_;
+  std::vector<Site> sites_;
+  std::vector<double> stepEpochs_;
+  double exaggeration_;
+};
+
+Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, SourceContext context) {
+  // Each site's latest volume at or before the step's time, at most the window old.
+  const Choice choice = choose(sites_, stepEpochs_[step], d.windowMinutes);
+  const auto& chosen = choice.chosen;
+  const auto& missing = choice.missing;
+  const std::uint64_t estimate = choice.estimateBytes;
   if (chosen.empty())
     return makeError(d.path + ": no site has a volume within " + std::to_string(d.windowMinutes) + " minutes before " +
                      times_[step]);
@@ -167,8 +244,9 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     std::map<std::string, std::shared_ptr<const volume::PolarVolume>> volumes;
     std::vector<std::string> toRead;
     for (const auto& [i, v] : chosen) {
-      if (auto held = context.cache.get<volume::PolarVolume>(volumeKey(context.layer, v->files)))
-        volumes[v->files] = std::move(held);
+      const std::string key = volumeKey(context.layer, v->files);
+      context.cache.waitWhileLoading(key);  // the prefetcher's read in flight: wait, do not read twice
+      if (auto held = context.cache.get<volume::PolarVolume>(key)) volumes[v->files] = std::move(held);
       else if (std::find(toRead.begin(), toRead.end(), v->files) == toRead.end()) toRead.push_back(v->files);
     }
     std::vector<volume::FieldInfo> fieldOf(toRead.size());
@@ -176,30 +254,21 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     std::vector<std::string> datumOf(toRead.size());
     std::string firstError;
     std::mutex mutex;
-    std::atomic<std::size_t> next{0};
     std::vector<std::shared_ptr<const volume::PolarVolume>> layouts(toRead.size());
     std::vector<std::vector<std::string>> fieldNames(toRead.size());
-    auto work = [&] {
-      for (std::size_t k = next++; k < toRead.size(); k = next++) {
-        auto r = readCroppedRadar(d, toRead[k]);
-        if (!r) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (firstError.empty()) firstError = r.error();
-          continue;
-        }
-        layouts[k] = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
-        fieldOf[k] = r->volume.loadedField;
-        nyquistOf[k] = r->volume.nyquistVelocityMps;
-        datumOf[k] = r->site.datumNote;
-        for (const auto& f : r->volume.fields) fieldNames[k].push_back(f.name);
+    onThreads(toRead.size(), [&](std::size_t k) {
+      auto r = readCroppedRadar(d, toRead[k]);
+      if (!r) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (firstError.empty()) firstError = r.error();
+        return;
       }
-    };
-    const unsigned threads =
-        std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(toRead.size())));
-    std::vector<std::thread> pool;
-    for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
-    work();
-    for (auto& th : pool) th.join();
+      layouts[k] = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
+      fieldOf[k] = r->volume.loadedField;
+      nyquistOf[k] = r->volume.nyquistVelocityMps;
+      datumOf[k] = r->site.datumNote;
+      for (const auto& f : r->volume.fields) fieldNames[k].push_back(f.name);
+    });
     if (!firstError.empty()) return makeError(firstError);
     for (std::size_t k = 0; k < toRead.size(); ++k) {
       volumes[toRead[k]] = layouts[k];
@@ -225,7 +294,23 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
         built->apart.push_back(std::move(*gl));
       }
     } else {
-      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration);
+      // Each radar's upload parts: kept from a step that showed it (or the prefetcher's), else
+      // made now on every core and kept.
+      std::vector<std::shared_ptr<const NetworkRadarParts>> parts(radars.size());
+      std::vector<std::size_t> toMake;
+      for (std::size_t k = 0; k < radars.size(); ++k) {
+        const std::string key = partsKey(context.layer, chosen[k].second->files);
+        context.cache.waitWhileLoading(key);
+        auto held = context.cache.get<NetworkRadarParts>(key);
+        if (held && held->exaggeration == context.exaggeration) parts[k] = std::move(held);
+        else toMake.push_back(k);
+      }
+      onThreads(toMake.size(), [&](std::size_t j) {
+        parts[toMake[j]] = RadarNetworkGL::prepareRadar(*radars[toMake[j]], context.exaggeration);
+      });
+      for (std::size_t k : toMake)
+        context.cache.put(partsKey(context.layer, chosen[k].second->files), parts[k], parts[k]->bytes());
+      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration, parts);
       if (!gl) {
         std::string why = d.path + ": " + gl.error();
         if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";
@@ -268,7 +353,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     markers.push_back(std::move(m));
   }
   shownSites_ = std::move(shown);
-  missingSites_ = std::move(missing);
+  missingSites_ = missing;
   markers_ = std::move(markers);
   synthetic_ =
       volume::fileSaysSynthetic(chosen.front().second->files.substr(0, chosen.front().second->files.find(',')));
@@ -303,7 +388,9 @@ Status RadarNetworkSourceGL::showStep(std::size_t step, double /*fraction*/, Sou
   return Ok{};
 }
 
-std::unique_ptr<StepPreparer> RadarNetworkSourceGL::preparer(double) const { return std::make_unique<NoPreparer>(); }
+std::unique_ptr<StepPreparer> RadarNetworkSourceGL::preparer(double exaggeration) const {
+  return std::make_unique<Preparer>(description_, sites_, stepEpochs_, exaggeration);
+}
 
 Status RadarNetworkSourceGL::setDescription(const VolumeLayerDescription& d, SourceContext context) {
   switch (layerChange(description_, d)) {

@@ -106,7 +106,7 @@ class RadarStepPreparer final : public StepPreparer {
  public:
   RadarStepPreparer(VolumeLayerDescription d, std::vector<std::string> files, double exaggeration)
       : description_(std::move(d)), files_(std::move(files)), exaggeration_(exaggeration) {}
-  std::optional<Prepared> prepare(std::size_t step) const override {
+  std::optional<Prepared> prepare(std::size_t step, const PrepareContext&) const override {
     if (step >= files_.size()) return std::nullopt;
     auto data = prepareRadarStep(description_, files_[step]);
     if (!data || !RadarVolumeGL::checkDrawable(data->layout)) return std::nullopt;

@@ -168,10 +168,11 @@ void ScenePrefetcher::run() {
           full = true;
           break;
         }
-        auto prepared = preparers_[l]->prepare(step);  // read, cropped, exaggerated, texels and tables
-        if (!prepared) continue;                       // the GL thread reads it again, says why
-        lastStepBytes = prepared->bytes;
-        cache_->put(stepKey(l, step, false), std::move(prepared->data), lastStepBytes);
+        // Read, cropped, exaggerated, texels and tables.
+        auto prepared = preparers_[l]->prepare(step, PrepareContext{*cache_, l});
+        if (!prepared) continue;  // the GL thread reads it again, says why
+        if (prepared->bytes > 0) lastStepBytes = prepared->bytes;
+        if (prepared->data) cache_->put(stepKey(l, step, false), std::move(prepared->data), prepared->bytes);
         std::lock_guard lock(mutex_);
         ++prepared_;
       }

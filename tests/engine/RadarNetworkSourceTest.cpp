@@ -161,9 +161,10 @@ TEST(RadarNetworkSource, StepsStayWithinTheBudgetAndDrawTheSameWhenReadAgain) {
   ASSERT_TRUE(axis) << axis.error();
   ASSERT_EQ(axis->times.size(), 2u);
   const globe::ImageRGBA8 latest = draw(*renderer);
-  // Two volumes and the step's GPU network are held, each once.
+  // Two volumes, their upload parts (RadarNetworkGL::prepareRadar) and the step's GPU network are
+  // held, each once.
   const auto oneStep = renderer->stepCache().stats();
-  EXPECT_EQ(oneStep.entries, 3u);
+  EXPECT_EQ(oneStep.entries, 5u);
   EXPECT_TRUE(renderer->stepCache().contains(engine::stepKey(0, 1, true)));
 
   // Room for one step only: showing the other drops the first one's GPU network (the largest
@@ -189,6 +190,39 @@ TEST(RadarNetworkSource, StepsStayWithinTheBudgetAndDrawTheSameWhenReadAgain) {
   ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
   EXPECT_EQ(renderer->stepCache().stats().hits, hits + 1);
   EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+}
+
+TEST(RadarNetworkSource, TheStepAheadIsReadInTheBackgroundAndDrawsTheSame) {
+  // The scene prefetcher reads the next step's volumes on its thread (docs/networks.md); showing
+  // that step then finds them in the cache and only builds and uploads the network.
+  const std::string dir = writePair("network_prefetch");
+  auto renderer = emptyRenderer();
+  ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));  // shows the latest step (1)
+  auto axis = engine::sceneTimeAxis(*renderer);
+  ASSERT_TRUE(axis) << axis.error();
+  ASSERT_EQ(axis->times.size(), 2u);
+  {
+    engine::ScenePrefetcher prefetch(*renderer, *axis, 1);
+    prefetch.request(1);  // step 1 shown: step 0 is next (play wraps)
+    prefetch.waitIdle();
+    EXPECT_EQ(prefetch.stepsPrepared(), 1u);
+  }
+  // Step 0's two volumes (KTLX_0, KVNX_0) and their upload parts come from the cache: four hits;
+  // its network is new: one miss. Without the prefetcher all five would be misses.
+  const auto before = renderer->stepCache().stats();
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+  const auto after = renderer->stepCache().stats();
+  EXPECT_EQ(after.hits - before.hits, 4u);
+  EXPECT_EQ(after.misses - before.misses, 1u);
+  EXPECT_LE(after.heldBytes, after.budgetBytes);
+
+  // The same picture as a renderer that read step 0 itself.
+  auto alone = emptyRenderer();
+  ASSERT_TRUE(alone->addVolume(radarLayer(dir)));
+  ASSERT_TRUE(engine::showSceneTime(*alone, *axis, 0));
+  const auto aloneStats = alone->stepCache().stats();
+  EXPECT_EQ(draw(*renderer).pixels, draw(*alone).pixels);
+  EXPECT_GE(aloneStats.misses, 5u) << "read on the GL thread: volumes, parts and the network missed";
 }
 
 }  // namespace

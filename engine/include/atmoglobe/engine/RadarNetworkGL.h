@@ -8,17 +8,33 @@
 #include <atmoglobe/engine/VolumeGL.h>
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/FieldKind.h>
+#include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/RadarNetwork.h>
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace atmoglobe::engine {
 
+/// What a network's upload needs of one radar beyond its values, made on the CPU alone (GL-free:
+/// a worker thread may make it, and a step that shows the radar again reuses it): its empty-space
+/// grid's occupied runs and its sweeps' azimuth tables. Made at one vertical exaggeration.
+struct NetworkRadarParts {
+  double exaggeration = 1.0;
+  glm::dvec3 occupancyOriginEcef{0.0};
+  glm::dmat3 occupancyToEcef{1.0};            ///< the radar's empty-space frame (east, north, up columns)
+  std::vector<volume::OccupancyBox> runs;     ///< runs of occupied cells along x, in that frame
+  std::vector<std::vector<float>> rayTables;  ///< per sweep: volume::rayCoordinateTable
+  std::uint64_t bytes() const;
+};
+
 class RadarNetworkGL final : public VolumeGL {
  public:
+  /// The parts of `radar` at `exaggeration` (validated by the caller).
+  static std::shared_ptr<const NetworkRadarParts> prepareRadar(const volume::PolarVolume& radar, double exaggeration);
   /// Uploads `radars` (1 or more, each of 1..MarchConstants::kMaxSweeps sweeps, one field `kind`)
   /// under `rule` (not Integrate: the march's rule for separate volumes). Errors: those of
   /// volume::makeRadarNetworkSampler; a tile or table larger than the GPU's texture limits; out
@@ -26,16 +42,18 @@ class RadarNetworkGL final : public VolumeGL {
   /// (volume/VerticalExaggeration.h): each radar maps a drawn point back to its true height on its
   /// local sphere, as a radar layer does; the reference is the network sampler seen through
   /// volume::ExaggeratedSampler (exact).
-  static Result<std::unique_ptr<RadarNetworkGL>> create(std::vector<std::shared_ptr<const volume::PolarVolume>> radars,
-                                                        volume::OverlapRule rule, volume::FieldKind kind,
-                                                        double exaggeration = 1.0);
+  /// `parts`: prepareRadar's of each radar in order, made at `exaggeration`; empty: made here.
+  static Result<std::unique_ptr<RadarNetworkGL>> create(
+      std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
+      double exaggeration = 1.0, std::vector<std::shared_ptr<const NetworkRadarParts>> parts = {});
   /// The radars split into the clusters whose clip spheres meet (volume::clusterBySphere), one
   /// network each, largest first: the marcher draws clusters apart in passes of their own, each
   /// with its own tight ray interval and empty-space grid (a national network with sites in
   /// Alaska, Hawaii, Guam and Europe would otherwise be one volume spanning the globe).
   static Result<std::vector<std::unique_ptr<RadarNetworkGL>>> createByCluster(
       const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
-      volume::FieldKind kind, double exaggeration = 1.0);
+      volume::FieldKind kind, double exaggeration = 1.0,
+      const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts = {});
   ~RadarNetworkGL() override;
   RadarNetworkGL(const RadarNetworkGL&) = delete;
   RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;

@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atmoglobe::engine {
@@ -93,6 +94,15 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
     std::map<std::string, std::shared_ptr<const volume::PolarVolume>> read;
     std::uint64_t gpuBytes() const;
   };
+  /// The volumes a step shows: each site's latest at or before its time, at most the window old.
+  struct Choice {
+    std::vector<std::pair<std::size_t, const SiteVolume*>> chosen;  ///< (site, volume)
+    std::vector<std::string> missing;                               ///< sites with none
+    std::uint64_t estimateBytes = 0;                                ///< of reading them all (metadata)
+  };
+  static Choice choose(const std::vector<Site>& sites, double stepEpoch, double windowMinutes);
+  /// Reads the volumes of steps ahead into the cache on ScenePrefetcher's thread.
+  class Preparer;
   /// Reads the sites' volumes for `step` not in the cache (on worker threads), uploads the network,
   /// colours it.
   Status load(const VolumeLayerDescription& description, std::size_t step, SourceContext context);

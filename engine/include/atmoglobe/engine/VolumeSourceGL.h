@@ -60,18 +60,26 @@ struct LegendPart {
   bool synthetic = false;  ///< the file says SYNTHETIC
 };
 
+/// What ScenePrefetcher lends a preparer: the cache it loads into and the layer's index (its keys).
+struct PrepareContext {
+  volume::StepCache& cache;
+  std::size_t layer;
+};
+
 /// Prepares a source's steps on a worker thread, CPU side only (no GL, no access to the source:
 /// it holds copies of what it needs), for ScenePrefetcher.
 class StepPreparer {
  public:
   virtual ~StepPreparer() = default;
   struct Prepared {
-    std::shared_ptr<const void> data;  ///< what the source's showStep finds under stepKey(.., false)
-    std::uint64_t bytes = 0;
+    /// What the source's showStep finds under stepKey(.., false); null when the preparer put what
+    /// it read under keys of its own (a network's volumes, shared between its steps).
+    std::shared_ptr<const void> data;
+    std::uint64_t bytes = 0;  ///< of data, else of what was put: the estimate of the next step
   };
   /// Step `step` read and made ready for upload; nullopt when it cannot be (the GL thread reads
   /// it again when shown and says why).
-  virtual std::optional<Prepared> prepare(std::size_t step) const = 0;
+  virtual std::optional<Prepared> prepare(std::size_t step, const PrepareContext& context) const = 0;
 };
 
 /// What one volume layer holds in memory (the control panel's "loaded" table).
