@@ -1,6 +1,6 @@
 // Benchmark (a program, not a test): the globe at 1280x720 on this machine.
 //
-//   build/tools/bench_globe_frame [--frames N] [--runs N] [--atmoglobe PATH]
+//   build/tools/bench/bench_globe_frame [--frames N] [--runs N] [--atmoglobe PATH]   (--help: the options)
 //
 // Reports, for a set of views (default view first):
 //  - frame time: median (and 10th/90th percentile) of N frames after the imagery is
@@ -17,6 +17,8 @@
 #include <atmoglobe/globe/ImageryPyramid.h>
 #include <atmoglobe/globe/TileImageLoader.h>
 
+#include "BenchCli.h"
+
 #include <epoxy/gl.h>
 
 #include <fcntl.h>
@@ -28,7 +30,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -59,11 +60,16 @@ struct View {
 int main(int argc, char** argv) {
   int frames = 60, runs = 7;
   std::string atmoglobe = "build/tools/atmoglobe";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--frames")) frames = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--atmoglobe")) atmoglobe = argv[i + 1];
-  }
+  CLI::App app{
+      "Benchmark: the globe at 1280x720 (frame time per view, tiles decoded per second, peak memory, "
+      "time to the first image of `atmoglobe render`)",
+      "bench_globe_frame"};
+  app.add_option("--frames", frames, "Timed frames per view (median, 10th/90th percentile; default 60)")
+      ->check(benchcli::numberIn(1));
+  app.add_option("--runs", runs, "Runs of `atmoglobe render` timed to the first image (median; default 7)")
+      ->check(benchcli::numberIn(1));
+  app.add_option("--atmoglobe", atmoglobe, "The atmoglobe program to time (default build/tools/atmoglobe)");
+  if (const int rc = benchcli::parse(app, argc, argv); rc >= 0) return rc;
   const std::string pyramid = std::string(ATMOGLOBE_DATA_DIR) + "/earth";
   if (!globe::readPyramidInfo(pyramid)) {
     std::cerr << "bench_globe_frame: " << pyramid << " missing: run ./run.sh first\n";

@@ -1,6 +1,6 @@
 // bench_grid_read: what a forecast-grid read costs, whole and cropped.
 //
-//   bench_grid_read [--runs N] [--big] [DATA_DIR]
+//   bench_grid_read [--runs N] [--big] [DATA_DIR]   (--help: the options)
 //
 // Files: the default SYNTHETIC grid (400 x 400 x 35 x 13 shorts, deflated in chunks of
 // 1 x 7 x 100 x 100), written to a temporary directory; with --big also a SYNTHETIC grid of
@@ -15,13 +15,14 @@
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/SyntheticGrid.h>
 
+#include "BenchCli.h"
+
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -143,11 +144,15 @@ int main(int argc, char** argv) {
   int runs = 5;
   bool big = false;
   std::string data = ATMOGLOBE_SHARED_DATA_DIR;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--big")) big = true;
-    else data = argv[i];
-  }
+  CLI::App app{"Benchmark: what a forecast-grid read costs, whole and cropped (a Markdown table, docs/grids.md)",
+               "bench_grid_read"};
+  app.add_option("--runs", runs, "Timed runs per case (median; default 5)")->check(benchcli::numberIn(1));
+  app.add_flag("--big", big,
+               "Also a 1000 x 1000 x 50 x 13 uncompressed SYNTHETIC grid (1.3 GB on disk, removed after)");
+  app.add_option(
+      "DATA_DIR", data,
+      "Directory holding grids/ with the real WRF and ECHAM5 files (default: ../shared/data beside the source tree)");
+  if (const int rc = benchcli::parse(app, argc, argv); rc >= 0) return rc;
   const std::filesystem::path tmp =
       std::filesystem::temp_directory_path() / ("bench_grid_read." + std::to_string(getpid()));
   std::filesystem::create_directories(tmp);

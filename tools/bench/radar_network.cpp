@@ -1,9 +1,9 @@
 // Benchmark (a program, not a test): a radar network drawn as one volume (engine::RadarNetworkGL)
 // as it grows from one radar to every WSR-88D site.
 //
-//   build/tools/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160] [--sizes 320x180,1280x720]
-//                                   [--gate M] [--separate-max N] [--skip 0|1] [--samples-per-cell N]
-//                                   [--out DIR] [--data DIR]
+//   build/tools/bench/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160]
+//       [--sizes 320x180,1280x720] [--gate M] [--separate-max N] [--skip 0|1] [--samples-per-cell N]
+//       [--out DIR] [--data DIR]   (--help: the options, their defaults and bounds)
 //
 // The radars: SYNTHETIC volumes of one storm field (volume::syntheticNetworkStorms, seed 1; VCP 212
 // angles, 360 rays, gates of --gate m to 230 km) at the NEXRAD sites of the built-in table nearest
@@ -39,17 +39,18 @@
 #include <atmoglobe/volume/SyntheticRadar.h>
 #include <atmoglobe/volume/TransferFunction.h>
 
+#include "BenchCli.h"
+
 #include <epoxy/gl.h>
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -65,14 +66,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-std::vector<int> parseList(const char* text) {
-  std::vector<int> out;
-  std::stringstream s(text);
-  std::string item;
-  while (std::getline(s, item, ',')) out.push_back(std::atoi(item.c_str()));
-  return out;
-}
 
 // The median over `runs` runs of the median frame time of each.
 double timeFrames(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
@@ -122,38 +115,60 @@ int main(int argc, char** argv) {
   std::vector<std::pair<int, int>> sizes = {{320, 180}, {1280, 720}};
   fs::path out = "out/bench";
   fs::path data = "../shared/data";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const char* a = argv[i];
-    if (!std::strcmp(a, "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(a, "--skip")) skip = std::atoi(argv[i + 1]) != 0;
-    else if (!std::strcmp(a, "--frames")) frames = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(a, "--counts")) counts = parseList(argv[i + 1]);
-    else if (!std::strcmp(a, "--gate")) gateMeters = std::max(50.0, std::atof(argv[i + 1]));
-    else if (!std::strcmp(a, "--separate-max")) separateMax = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(a, "--samples-per-cell")) samplesPerCell = std::clamp(std::atof(argv[i + 1]), 0.0, 64.0);
-    else if (!std::strcmp(a, "--out")) out = argv[i + 1];
-    else if (!std::strcmp(a, "--data")) data = argv[i + 1];
-    else if (!std::strcmp(a, "--sizes")) {
-      sizes.clear();
-      std::stringstream s(argv[i + 1]);
-      std::string item;
-      while (std::getline(s, item, ',')) {
-        int w = 0, h = 0;
-        if (std::sscanf(item.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16) {
-          std::cerr << "bench_radar_network: --sizes " << item << ": expected WxH, each >= 16\n";
-          return 2;
-        }
-        sizes.emplace_back(w, h);
-      }
-    } else {
-      std::cerr << "bench_radar_network: unknown option " << a << "\n";
-      return 2;
-    }
-  }
-  if (counts.empty() || *std::min_element(counts.begin(), counts.end()) < 1) {
-    std::cerr << "bench_radar_network: --counts: positive numbers\n";
-    return 2;
-  }
+  CLI::App app{
+      "Benchmark: a radar network drawn as one volume as it grows from one radar to every WSR-88D site "
+      "(frame time, samples, radars visited per sample, GPU memory, read time; docs/networks.md)",
+      "bench_radar_network"};
+  app.add_option("--runs", runs, "Runs per case (median of the runs' medians; default 3)")
+      ->check(benchcli::numberIn(1));
+  app.add_option("--frames", frames, "Timed frames per run (median; default 3)")->check(benchcli::numberIn(1));
+  app.add_option_function<std::string>(
+         "--counts",
+         [&counts](const std::string& text) {
+           std::vector<int> list;
+           std::stringstream s(text);
+           std::string item;
+           while (std::getline(s, item, ',')) {
+             int n = 0;
+             const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), n);
+             if (item.empty() || error != std::errc{} || end != item.data() + item.size() || n < 1)
+               throw CLI::ValidationError("--counts " + text + ": expected positive numbers N,N,...");
+             list.push_back(n);
+           }
+           if (list.empty()) throw CLI::ValidationError("--counts " + text + ": expected positive numbers N,N,...");
+           counts = std::move(list);
+         },
+         "Radar counts, comma-separated (the sites nearest KTLX; default 1,10,40,160)")
+      ->type_name("N,N,...");
+  app.add_option_function<std::string>(
+         "--sizes",
+         [&sizes](const std::string& text) {
+           std::vector<std::pair<int, int>> list;
+           std::stringstream s(text);
+           std::string item;
+           while (std::getline(s, item, ',')) {
+             int w = 0, h = 0;
+             if (!benchcli::parseSize(item, w, h))
+               throw CLI::ValidationError("--sizes " + item + ": expected WxH, each >= 16");
+             list.emplace_back(w, h);
+           }
+           if (list.empty()) throw CLI::ValidationError("--sizes " + text + ": expected WxH, each >= 16");
+           sizes = std::move(list);
+         },
+         "Image sizes, comma-separated (default 320x180,1280x720)")
+      ->type_name("WxH,...");
+  app.add_option("--gate", gateMeters, "Gate spacing of the SYNTHETIC radars (m; at least 50, default 1000)")
+      ->check(benchcli::numberIn(50.0));
+  app.add_option("--separate-max", separateMax,
+                 "Counts up to this many radars also drawn as separate volumes (default 10; 0: none)");
+  app.add_option("--skip", skip, "Empty-space skipping, 0 or 1 (default 1)")->type_name("0|1");
+  app.add_option("--samples-per-cell", samplesPerCell,
+                 "> 0: every volume follows the step rule at N samples per cell (0 to 64, default 0: the fixed step)")
+      ->check(benchcli::numberIn(0.0, 64.0));
+  app.add_option("--out", out, "Output directory (the SYNTHETIC volumes under DIR/network_volumes; default out/bench)");
+  app.add_option("--data", data,
+                 "Directory holding the Belgian pair for the overlap rules on real data (default ../shared/data)");
+  if (const int rc = benchcli::parse(app, argc, argv); rc >= 0) return rc;
   auto context = engine::HeadlessContextGL::create();
   if (!context) {
     std::cerr << "bench_radar_network: " << context.error() << "\n";

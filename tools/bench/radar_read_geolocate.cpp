@@ -1,8 +1,9 @@
 // bench_radar_read_geolocate: radar read time against the I/O floor, and gate geolocation speed.
 //
-//   bench_radar_read_geolocate [--runs N] [--read-only] [--guard-only] [DATA_DIR]
+//   bench_radar_read_geolocate [--runs N] [--read-only] [--guard-only] [DATA_DIR]   (--help: the options)
 //
-// --read-only: parts 1 and 3 only (no geolocation). --guard-only: part 3 only.
+// --runs N: at least 5 (default 7). --read-only: parts 1 and 3 only (no geolocation). --guard-only:
+// part 3 only. DATA_DIR: default ../shared/data (beside the checkout).
 //
 // 1. For every radar file under DATA_DIR/radar_{nexrad,odim,cfradial}: median wall time of
 //    readRadarVolume (default field, values decoded) over N runs, next to the "floor": the same
@@ -24,6 +25,8 @@
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RadarReader.h>
 
+#include "BenchCli.h"
+
 #include <bzlib.h>
 #include <dlfcn.h>
 #include <netcdf.h>
@@ -35,7 +38,6 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -322,17 +324,18 @@ int main(int argc, char** argv) {
   bool readOnly = false;
   bool guardOnly = false;
   std::string dataDir = ATMOGLOBE_SHARED_DATA_DIR;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
-      runs = std::max(5, std::atoi(argv[++i]));
-    } else if (std::strcmp(argv[i], "--read-only") == 0) {
-      readOnly = true;
-    } else if (std::strcmp(argv[i], "--guard-only") == 0) {
-      guardOnly = true;
-    } else {
-      dataDir = argv[i];
-    }
-  }
+  CLI::App app{
+      "Benchmark: radar read time against the I/O floor, the HDF5 guard's cost, and gate geolocation "
+      "speed (Markdown tables, docs/bench-radar.md)",
+      "bench_radar_read_geolocate"};
+  app.add_option("--runs", runs, "Timed runs per file and case (median; at least 5, default 7)")
+      ->check(benchcli::numberIn(5));
+  app.add_flag("--read-only", readOnly, "The read and guard tables only (no geolocation)");
+  app.add_flag("--guard-only", guardOnly, "The HDF5 guard's table only");
+  app.add_option(
+      "DATA_DIR", dataDir,
+      "Directory holding radar_nexrad/, radar_odim/, radar_cfradial/ (default: ../shared/data beside the source tree)");
+  if (const int rc = benchcli::parse(app, argc, argv); rc >= 0) return rc;
   if (!guardOnly) readTable(dataDir, runs);
   guardTable(dataDir, runs);
   if (guardOnly) return 0;

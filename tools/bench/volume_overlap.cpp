@@ -1,6 +1,7 @@
 // Benchmark (a program, not a test): the cost of several volumes in one march.
 //
-//   build/tools/bench_volume_overlap [--runs N] [--frames N] [--size WxH] [--step M] [--out DIR]
+//   build/tools/bench/bench_volume_overlap [--runs N] [--frames N] [--size WxH] [--step M] [--out DIR]
+//       (--help: the options, their defaults and bounds)
 //
 // The rule under test (docs/volume-rendering.md, "Several volumes in one march"): a pixel pays
 // only for the volumes its ray crosses, and only along each volume's own interval. N = 1, 2, 4, 8
@@ -27,6 +28,8 @@
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/SyntheticRadar.h>
 
+#include "BenchCli.h"
+
 #include <epoxy/gl.h>
 
 #include <unistd.h>
@@ -36,7 +39,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -127,21 +129,24 @@ int main(int argc, char** argv) {
   int runs = 3, frames = 3, width = 320, height = 180;
   double step = 1000.0;
   fs::path out = "out/bench";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--frames")) frames = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--step")) step = std::max(50.0, std::atof(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--size")) {
-      if (std::sscanf(argv[i + 1], "%dx%d", &width, &height) != 2 || width < 16 || height < 16) {
-        std::cerr << "bench_volume_overlap: --size " << argv[i + 1] << ": expected WxH, each >= 16\n";
-        return 2;
-      }
-    } else {
-      std::cerr << "bench_volume_overlap: unknown option " << argv[i] << "\n";
-      return 2;
-    }
-  }
+  CLI::App app{
+      "Benchmark: the cost of several volumes in one march (1, 2, 4, 8 SYNTHETIC radars stacked and apart; "
+      "docs/volume-rendering.md)",
+      "bench_volume_overlap"};
+  app.add_option("--runs", runs, "Runs per case (median of the runs' medians; default 3)")
+      ->check(benchcli::numberIn(1));
+  app.add_option("--frames", frames, "Timed frames per run (median; default 3)")->check(benchcli::numberIn(1));
+  app.add_option_function<std::string>(
+         "--size",
+         [&width, &height](const std::string& text) {
+           if (!benchcli::parseSize(text, width, height))
+             throw CLI::ValidationError("--size " + text + ": expected WxH, each >= 16");
+         },
+         "Image size (default 320x180)")
+      ->type_name("WxH");
+  app.add_option("--step", step, "Ray-march step (m; at least 50, default 1000)")->check(benchcli::numberIn(50.0));
+  app.add_option("--out", out, "Output directory (the SYNTHETIC radars; default out/bench)");
+  if (const int rc = benchcli::parse(app, argc, argv); rc >= 0) return rc;
   auto context = engine::HeadlessContextGL::create();
   if (!context) {
     std::cerr << "bench_volume_overlap: " << context.error() << "\n";
