@@ -9,7 +9,9 @@
 // their values combined by the overlap rule. So a sample costs the radars over its place, not the
 // radars of the network.
 //
-// Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_RULE (0 distance-weighted mean,
+// Variant constants: VOL_INTERPOLATION (0 nearest, 1 linear), VOL_LISTED_UNROLLED (the most
+// radars a coverage cell lists where that is at most RadarNetworkGL's kUnrolledListed, else 0: a
+// loop of varying length), VOL_RULE (0 distance-weighted mean,
 // 1 lowest beam, 2 maximum: volume::OverlapRule), VOL_EXAGGERATED (1: drawn at a vertical
 // exaggeration, volume/VerticalExaggeration.h: each radar maps the point back to its true height on
 // its own local sphere, as sample_polar.glsl does; the coverage cell is found at the point moved
@@ -171,7 +173,13 @@ float VOL_cellCrossing(vec3 p, vec3 dir) {
   if (c < 0) return 0.0;
   int first = VOL_int(VOL_cellBase + c), last = VOL_int(VOL_cellBase + c + 1);
   float best = 3.0e38;
+#if VOL_LISTED_UNROLLED > 0
+  for (int i = 0; i < VOL_LISTED_UNROLLED; ++i) {  // as in VOL_sample
+    int j = first + i;
+    if (j >= last) break;
+#else
   for (int j = first; j < last; ++j) {
+#endif
     int b = VOL_int(VOL_memberBase + j) * VOL_RADAR_VEC4S;
     vec3 d = p - VOL_data[b].xyz;
     float clip = VOL_data[b + 4].x;
@@ -216,7 +224,15 @@ int VOL_sample(vec3 p, out float value) {
   bool echo = false;
   int lowestState = 0;
   float lowestValue = 0.0;
+#if VOL_LISTED_UNROLLED > 0
+  // Few radars over any cell (a lone radar's cluster): a loop of constant length, which the
+  // compiler unrolls; a loop of varying length cost llvmpipe 1.45x (docs/networks.md).
+  for (int i = 0; i < VOL_LISTED_UNROLLED; ++i) {
+    int j = first + i;
+    if (j >= last) break;
+#else
   for (int j = first; j < last; ++j) {
+#endif
     float v, r, low;
     int st = VOL_sampleRadar(VOL_int(VOL_memberBase + j), p, v, r, low);
     if (st == 0) continue;

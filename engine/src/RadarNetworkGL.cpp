@@ -21,6 +21,10 @@ namespace {
 
 constexpr int kRadarVec4s = 7;  // sample_network.glsl: VOL_RADAR_VEC4S
 constexpr int kSweepVec4s = 2;  // VOL_sweep, VOL_sweepRays
+// Networks whose coverage cells list at most this many radars march them in a loop of constant
+// length (VOL_LISTED_UNROLLED). On llvmpipe a lone radar's cluster gains 1.45x; the Belgian pair
+// (2 listed) gained nothing, so pairs keep the loop of varying length (docs/networks.md).
+constexpr int kUnrolledListed = 1;
 
 // The elevation -> last sweep at or below lookup of one radar over [range.x, range.y] (as
 // RadarVolumeGL's; bins start where the shader computes them, in float).
@@ -245,6 +249,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   if (index.members.size() >= (1u << 24))
     return makeError("radar network: its coverage index lists " + std::to_string(index.members.size()) +
                      " radars in all, over the 2^24 the GPU's float indices hold");
+  for (std::size_t c = 0; c + 1 < index.cellStart.size(); ++c)
+    gl->maxListed_ = std::max(gl->maxListed_, static_cast<int>(index.cellStart[c + 1] - index.cellStart[c]));
   gl->cellBase_ = static_cast<int>(floats.size());
   for (std::uint32_t v : index.cellStart) floats.push_back(static_cast<float>(v));
   gl->memberBase_ = static_cast<int>(floats.size());
@@ -322,7 +328,8 @@ std::vector<std::string> RadarNetworkGL::samplerDefines(const VolumeRenderOption
                    : sampler_->rule() == volume::OverlapRule::LowestBeam ? 1
                                                                          : 2;
   return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
-          "RULE " + std::to_string(rule), std::string("EXAGGERATED ") + (exaggeration_ != 1.0 ? "1" : "0")};
+          "RULE " + std::to_string(rule), std::string("EXAGGERATED ") + (exaggeration_ != 1.0 ? "1" : "0"),
+          "LISTED_UNROLLED " + std::to_string(maxListed_ <= kUnrolledListed ? maxListed_ : 0)};
 }
 
 void RadarNetworkGL::setSamplerUniforms(const SamplerBindingGL& b) const {

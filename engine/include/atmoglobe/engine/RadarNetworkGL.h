@@ -84,6 +84,7 @@ class RadarNetworkGL final : public VolumeGL {
   glm::vec2 valuesSize_{1.0f};
   int tileWidth_ = 1, tilesPerLayer_ = 1, rayTableRows_ = 1;
   int sweepBase_ = 0, cellBase_ = 0, memberBase_ = 0;
+  int maxListed_ = 0;  ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
   std::size_t gpuBytes_ = 0;
 };
