@@ -80,7 +80,7 @@ std::shared_ptr<const NetworkRadarParts> RadarNetworkGL::prepareRadar(const volu
 
 Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
-    double exaggeration, std::vector<std::shared_ptr<const NetworkRadarParts>> parts) {
+    double exaggeration, std::vector<std::shared_ptr<const NetworkRadarParts>> parts, RadarNetworkGL* previous) {
   using C = MarchConstants;
   if (Status s = volume::validateVerticalExaggeration(exaggeration, "radar network"); !s) return s.forwardError();
   std::vector<const volume::PolarVolume*> raw;
@@ -116,6 +116,16 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     return makeError("radar network: " + std::to_string(sweeps) + " sweeps need " + std::to_string(layers) +
                      " texture layers, over the GPU's " + std::to_string(maxLayers));
 
+  // The values texture of `previous` is taken over when its layout is this one's (the same radars'
+  // sweep counts, tile size and tiles per layer): only the tiles of radars whose volume is not
+  // previous's (another shared_ptr) are uploaded again.
+  bool reuse = previous && previous->values_ != 0 && previous->radars_.size() == radars.size() &&
+               previous->tileWidth_ == tileW && previous->tileHeight_ == tileH &&
+               previous->tilesPerLayer_ == tilesPerLayer && previous->layers_ == layers &&
+               previous->exaggeration_ == exaggeration;
+  for (std::size_t r = 0; reuse && r < radars.size(); ++r)
+    reuse = previous->radars_[r]->sweeps.size() == radars[r]->sweeps.size();
+
   std::unique_ptr<RadarNetworkGL> gl(new RadarNetworkGL());
   gl->radars_ = std::move(radars);
   gl->sampler_ = std::move(*sampler);
@@ -130,7 +140,9 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   // tile of (gates + 2) x (rays + 1): column 0 repeats gate 0 and column gates + 1 the last gate
   // (the clamp of the rule, and no filtering across tiles), row rays repeats ray 0 (the wrap).
   const int width = tilesPerLayer * tileW;
-  std::vector<std::uint64_t> texels(static_cast<std::size_t>(width) * tileH * layers, 0u);
+  std::vector<std::uint64_t> texels(reuse ? 0u : static_cast<std::size_t>(width) * tileH * layers, 0u);
+  // Reusing: the tiles of each radar packed anew, in a buffer of its own (empty: unchanged).
+  std::vector<std::vector<std::uint64_t>> tilesOf(reuse ? static_cast<std::size_t>(radarCount) : 0u);
   const std::uint64_t noEcho = glm::packHalf4x16(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
   // The buffer: per radar 7 vec4 (site - origin, h0; the rows of ecefToEnu with M, N, Re; clip
   // radius, half beam width, sweeps, first sweep; the elevation lookup's range and row; the step
@@ -162,6 +174,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   // radars are packed on several threads.
   auto pack = [&](int r) {
     const volume::PolarVolume& v = *gl->radars_[static_cast<std::size_t>(r)];
+    const bool unchanged = reuse &&
+                           previous->radars_[static_cast<std::size_t>(r)] == gl->radars_[static_cast<std::size_t>(r)];
     std::shared_ptr<const NetworkRadarParts> p = parts[static_cast<std::size_t>(r)];
     if (!p || p->exaggeration != exaggeration || p->rayTables.size() != v.sweeps.size())
       p = prepareRadar(v, exaggeration);
@@ -201,8 +215,21 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       sw[1] = glm::vec4(static_cast<float>(s.rayCount), 0.0f, 0.0f, 0.0f);
       const std::vector<float>& rays = p->rayTables[static_cast<std::size_t>(k)];
       std::copy(rays.begin(), rays.end(), table.begin() + static_cast<std::ptrdiff_t>(g) * (C::kRayTableBins + 1));
-      const int layer = g / tilesPerLayer, x0 = (g % tilesPerLayer) * tileW;
-      std::uint64_t* base = texels.data() + static_cast<std::size_t>(layer) * width * tileH;
+      const int layer = g / tilesPerLayer;
+      std::uint64_t* base = nullptr;
+      std::size_t pitch = static_cast<std::size_t>(width);
+      int x0 = (g % tilesPerLayer) * tileW;
+      if (!reuse) {
+        base = texels.data() + static_cast<std::size_t>(layer) * width * tileH;
+      } else if (unchanged) {
+        continue;  // its tiles are in the texture taken over
+      } else {
+        std::vector<std::uint64_t>& own = tilesOf[static_cast<std::size_t>(r)];
+        if (own.empty()) own.assign(static_cast<std::size_t>(n) * tileW * tileH, 0u);
+        base = own.data() + static_cast<std::size_t>(k) * tileW * tileH;
+        pitch = static_cast<std::size_t>(tileW);
+        x0 = 0;
+      }
       for (int row = 0; row <= s.rayCount; ++row) {
         const int ray = row % s.rayCount;
         for (int col = 0; col < s.gateCount + 2; ++col) {
@@ -210,7 +237,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
           std::uint64_t t = 0;
           if (volume::isMeasuredValue(value)) t = glm::packHalf4x16(glm::vec4(value, 1.0f, 1.0f, 0.0f));
           else if (volume::isNoEcho(value)) t = noEcho;
-          base[static_cast<std::size_t>(row) * width + x0 + col] = t;
+          base[static_cast<std::size_t>(row) * pitch + x0 + col] = t;
         }
       }
     }
@@ -262,13 +289,35 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   clearErrorsGL();
-  gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
-  glTextureStorage3D(gl->values_, 1, GL_RGBA16F, width, tileH, layers);
-  if (outOfMemoryGL())
-    return makeError("radar network: the GPU is out of memory for its " + megabytes(texels.size() * 8) +
-                     " texture of " + std::to_string(sweeps) + " sweeps");
-  glTextureSubImage3D(gl->values_, 0, 0, 0, 0, width, tileH, layers, GL_RGBA, GL_HALF_FLOAT, texels.data());
-  gl->gpuBytes_ += texels.size() * 8;
+  const std::size_t valueBytes = static_cast<std::size_t>(width) * tileH * layers * 8;
+  if (reuse) {
+    // Taken over: `previous` no longer draws (its values are 0) and must be dropped.
+    gl->values_ = previous->values_;
+    previous->values_ = 0;
+    previous->gpuBytes_ -= std::min(previous->gpuBytes_, valueBytes);
+    for (int r = 0, g = 0; r < radarCount;
+         g += static_cast<int>(gl->radars_[static_cast<std::size_t>(r)]->sweeps.size()), ++r) {
+      const std::vector<std::uint64_t>& own = tilesOf[static_cast<std::size_t>(r)];
+      if (own.empty()) continue;
+      ++gl->tilesUploaded_;
+      for (std::size_t k = 0; k < gl->radars_[static_cast<std::size_t>(r)]->sweeps.size(); ++k) {
+        const int gk = g + static_cast<int>(k);
+        glTextureSubImage3D(gl->values_, 0, (gk % tilesPerLayer) * tileW, 0, gk / tilesPerLayer, tileW, tileH, 1,
+                            GL_RGBA, GL_HALF_FLOAT, own.data() + k * static_cast<std::size_t>(tileW) * tileH);
+      }
+    }
+  } else {
+    gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+    glTextureStorage3D(gl->values_, 1, GL_RGBA16F, width, tileH, layers);
+    if (outOfMemoryGL())
+      return makeError("radar network: the GPU is out of memory for its " + megabytes(valueBytes) + " texture of " +
+                       std::to_string(sweeps) + " sweeps");
+    glTextureSubImage3D(gl->values_, 0, 0, 0, 0, width, tileH, layers, GL_RGBA, GL_HALF_FLOAT, texels.data());
+    gl->tilesUploaded_ = radarCount;
+  }
+  gl->gpuBytes_ += valueBytes;
+  gl->tileHeight_ = tileH;
+  gl->layers_ = layers;
   gl->valuesSize_ = glm::vec2(static_cast<float>(width), static_cast<float>(tileH));
   gl->tileWidth_ = tileW;
   gl->tilesPerLayer_ = tilesPerLayer;
@@ -291,7 +340,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 
 Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
     const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
-    volume::FieldKind kind, double exaggeration, const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts) {
+    volume::FieldKind kind, double exaggeration, const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts,
+    const std::vector<RadarNetworkGL*>& previous) {
   if (!parts.empty() && parts.size() != radars.size())
     return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
                      std::to_string(radars.size()));
@@ -303,6 +353,17 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
                      return a.members.size() > b.members.size();
                    });
   std::vector<std::unique_ptr<RadarNetworkGL>> out;
+  std::vector<bool> taken(previous.size(), false);
+  auto sameSites = [](const RadarNetworkGL& p, const std::vector<std::shared_ptr<const volume::PolarVolume>>& m) {
+    if (p.radars_.size() != m.size()) return false;
+    for (std::size_t j = 0; j < m.size(); ++j) {
+      const volume::GeolocationSite &a = p.radars_[j]->site, &b = m[j]->site;
+      if (a.latDeg != b.latDeg || a.lonDeg != b.lonDeg ||
+          a.antennaHeightEllipsoidMeters != b.antennaHeightEllipsoidMeters)
+        return false;
+    }
+    return true;
+  };
   for (const volume::VolumeCluster& c : clusters) {
     std::vector<std::shared_ptr<const volume::PolarVolume>> members;
     std::vector<std::shared_ptr<const NetworkRadarParts>> memberParts;
@@ -310,7 +371,14 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
       members.push_back(radars[i]);
       if (!parts.empty()) memberParts.push_back(parts[i]);
     }
-    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts));
+    // A cluster of the same sites in the previous step: its values texture is taken over.
+    RadarNetworkGL* same = nullptr;
+    for (std::size_t k = 0; k < previous.size() && !same; ++k)
+      if (!taken[k] && previous[k] && sameSites(*previous[k], members)) {
+        taken[k] = true;
+        same = previous[k];
+      }
+    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts), same);
     if (!gl) return gl.forwardError();
     out.push_back(std::move(*gl));
   }

@@ -219,7 +219,8 @@ class RadarNetworkSourceGL::Preparer final : public StepPreparer {
   double exaggeration_;
 };
 
-Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, SourceContext context) {
+Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t step, SourceContext context,
+                                  bool stepping) {
   // Each site's latest volume at or before the step's time, at most the window old.
   const Choice choice = choose(sites_, stepEpochs_[step], d.windowMinutes);
   const auto& chosen = choice.chosen;
@@ -310,13 +311,28 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
       });
       for (std::size_t k : toMake)
         context.cache.put(partsKey(context.layer, chosen[k].second->files), parts[k], parts[k]->bytes());
-      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration, parts);
+      // A loop whose steps do not all fit the budget is never replayed from the cache when played
+      // in order (least recently used goes first), so a step takes over the textures of the step
+      // shown before, uploading only the radars whose volume changed; a loop that fits keeps
+      // every step for its replay. Only when stepping: a reload keeps the step shown until the
+      // new one is loaded (an error leaves it drawn).
+      std::vector<RadarNetworkGL*> previous;
+      const bool takeOver = stepping && shown_ && rule_ == rule &&
+                            static_cast<double>(times_.size()) * static_cast<double>(shown_->gpuBytes()) >
+                                static_cast<double>(context.cache.budget());
+      if (takeOver)
+        for (const auto& c : shown_->clusters) previous.push_back(c.get());
+      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration, parts, previous);
       if (!gl) {
         std::string why = d.path + ": " + gl.error();
         if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";
         return makeError(why);
       }
       built->clusters.assign(std::make_move_iterator(gl->begin()), std::make_move_iterator(gl->end()));
+      // The step shown before no longer draws where its textures were taken over: out of the cache.
+      if (std::any_of(previous.begin(), previous.end(), [](const RadarNetworkGL* c) { return !c->drawable(); }))
+        context.cache.erase(stepKey(context.layer, step_, true));
+      for (const auto& c : built->clusters) radarsUploaded_ += static_cast<std::size_t>(c->radarsUploaded());
     }
     // Every volume and the step's GPU part under the budget: a volume read once serves every step
     // that shows it while it is held; the GPU part serves a loop played again.
@@ -383,7 +399,7 @@ volume::ValueHistogram RadarNetworkSourceGL::histogram(int bins) const {
 Status RadarNetworkSourceGL::showStep(std::size_t step, double /*fraction*/, SourceContext context) {
   if (step >= stepEpochs_.size()) return makeError(description_.path + ": no network step " + std::to_string(step));
   if (step == step_) return Ok{};
-  if (auto st = load(description_, step, context); !st) return st;
+  if (auto st = load(description_, step, context, true); !st) return st;
   step_ = step;
   return Ok{};
 }

@@ -225,4 +225,44 @@ TEST(RadarNetworkSource, TheStepAheadIsReadInTheBackgroundAndDrawsTheSame) {
   EXPECT_GE(aloneStats.misses, 5u) << "read on the GL thread: volumes, parts and the network missed";
 }
 
+TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChanged) {
+  // KVNX has one volume (21:00), KTLX two (21:00, 21:05): at 21:05 the network shows KTLX's second
+  // volume beside KVNX's first, so stepping changes one radar of two.
+  const std::string dir = writePair("network_take_over");
+  std::filesystem::remove(dir + "/KVNX_1.nc");
+  auto renderer = emptyRenderer();
+  ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));  // the latest step (1)
+  const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+  ASSERT_NE(source, nullptr);
+  EXPECT_EQ(source->radarsUploaded(), 2u);
+  auto axis = engine::sceneTimeAxis(*renderer);
+  ASSERT_TRUE(axis) << axis.error();
+  ASSERT_EQ(axis->times.size(), 2u);
+  const globe::ImageRGBA8 latest = draw(*renderer);
+
+  // Within a budget that cannot hold both steps' GPU parts, step 0 takes over step 1's textures and
+  // uploads KTLX's tiles only; step 1's GPU part leaves the cache (it no longer draws).
+  const auto oneStep = renderer->stepCache().stats();
+  renderer->setMemoryBudget(oneStep.heldBytes + oneStep.heldBytes / 10);
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+  EXPECT_EQ(source->radarsUploaded(), 3u);
+  EXPECT_FALSE(renderer->stepCache().contains(engine::stepKey(0, 1, true)));
+  const globe::ImageRGBA8 earlier = draw(*renderer);
+  EXPECT_NE(earlier.pixels, latest.pixels) << "KTLX's storms move in 5 minutes";
+
+  // Pixel for pixel the network uploaded whole: a renderer that opens the set and shows step 0.
+  auto whole = emptyRenderer();
+  ASSERT_TRUE(whole->addVolume(radarLayer(dir)));
+  ASSERT_TRUE(engine::showSceneTime(*whole, *axis, 0));
+  EXPECT_EQ(whole->layerAs<engine::RadarNetworkSourceGL>(0)->radarsUploaded(), 4u) << "a budget that holds the loop";
+  EXPECT_EQ(earlier.pixels, draw(*whole).pixels);
+
+  // And back: the first picture again, one radar uploaded.
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
+  EXPECT_EQ(source->radarsUploaded(), 4u);
+  EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+  const auto stats = renderer->stepCache().stats();
+  EXPECT_LE(stats.heldBytes, stats.budgetBytes);
+}
+
 }  // namespace

@@ -73,6 +73,9 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   /// The sites shown at the current step, and those with no volume within the window there.
   const std::vector<std::string>& sitesShown() const { return shownSites_; }
   const std::vector<std::string>& sitesMissing() const { return missingSites_; }
+  /// Radars whose values were uploaded since the layer was opened (a step that takes over the
+  /// previous step's textures uploads only the radars whose volume changed).
+  std::size_t radarsUploaded() const { return radarsUploaded_; }
 
  private:
   RadarNetworkSourceGL() = default;
@@ -105,7 +108,9 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   class Preparer;
   /// Reads the sites' volumes for `step` not in the cache (on worker threads), uploads the network,
   /// colours it.
-  Status load(const VolumeLayerDescription& description, std::size_t step, SourceContext context);
+  /// `stepping`: showStep's load, which may take over the textures of the step shown before.
+  Status load(const VolumeLayerDescription& description, std::size_t step, SourceContext context,
+              bool stepping = false);
 
   std::vector<Site> sites_;
   std::vector<std::string> times_;
@@ -119,6 +124,7 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
   volume::FieldInfo field_;
   double nyquistMps_ = 0.0;
   bool synthetic_ = false;
+  std::size_t radarsUploaded_ = 0;
   std::string datumNote_;
 };
 
