@@ -334,7 +334,12 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   const volume::BoundingSphere enclosing = gl->referenceSampler().boundingSphere();
   gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
   gl->top_ = glm::vec4(glm::vec3(-origin), static_cast<float>(topRadius));
-  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(origin, frame, boxes, glm::ivec3(256, 256, 32)));
+  // Empty-space cells of about 2 km across and 500 m up, at most 2^23 (32 MiB of floats): the
+  // frame is tangent at the origin, so a continental cluster's box is hundreds of km deep with
+  // the Earth's curvature, and 32 fixed layers were 15 km each; a lone radar's are about what
+  // 256 x 256 x 32 gave it (docs/networks.md).
+  const glm::ivec3 cells = volume::occupancyCellsFor(boxes, glm::dvec3(2000.0, 2000.0, 500.0), std::size_t{1} << 23);
+  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(origin, frame, boxes, cells));
   return gl;
 }
 

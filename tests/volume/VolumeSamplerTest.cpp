@@ -110,6 +110,33 @@ TEST(OccupancyGrid, IsConservativeForRandomPointsInsideEchoes) {
   EXPECT_GT(static_cast<double>(empty) / static_cast<double>(grid.maxValues.size()), 0.3);
 }
 
+// The cells of a network's empty-space grid follow the boxes' extent, within a total.
+TEST(OccupancyGrid, CellsFollowTheExtentWithinTheTotal) {
+  const glm::dvec3 target(4000.0, 4000.0, 1000.0);
+  auto box = [](glm::dvec3 size) {
+    return volume::OccupancyBox{glm::dvec3(-1000.0), glm::dvec3(-1000.0) + size, 1.0f};
+  };
+  // One radar's 460 km x 460 km x 20 km: 115 + 2 spare across, 20 + 2 up.
+  EXPECT_EQ(volume::occupancyCellsFor({box({460e3, 460e3, 20e3})}, target, std::size_t{1} << 23),
+            glm::ivec3(117, 117, 22));
+  // Two boxes: their union.
+  EXPECT_EQ(volume::occupancyCellsFor({box({100e3, 8e3, 4e3}), box({8e3, 200e3, 4e3})}, target, 1u << 23),
+            glm::ivec3(27, 52, 8));
+  // A continent, 4500 x 2800 km and 500 km deep (the Earth's curvature in a tangent frame): 1127 x
+  // 702 x 502 cells wanted, 2^23 allowed; every axis scaled alike (a factor 0.27).
+  const glm::ivec3 big = volume::occupancyCellsFor({box({4500e3, 2800e3, 500e3})}, target, std::size_t{1} << 23);
+  EXPECT_LE(static_cast<double>(big.x) * big.y * big.z, static_cast<double>(1u << 23));
+  EXPECT_GT(static_cast<double>(big.x) * big.y * big.z, 0.95 * static_cast<double>(1u << 23));
+  EXPECT_NEAR(static_cast<double>(big.x) / big.y, 1127.0 / 702.0, 0.02);
+  EXPECT_NEAR(static_cast<double>(big.y) / big.z, 702.0 / 502.0, 0.02);
+  // A flat box keeps its 8 minimum up and gives the room to the other axes.
+  const glm::ivec3 flat = volume::occupancyCellsFor({box({4000e3, 4000e3, 1e3})}, target, 80000);
+  EXPECT_EQ(flat.z, 8);
+  EXPECT_LE(flat.x * flat.y * flat.z, 80000);
+  EXPECT_GE(flat.x * flat.y * flat.z, 80000 - 2 * 8 * 100);
+  EXPECT_EQ(volume::occupancyCellsFor({}, target, 1000), glm::ivec3(8));
+}
+
 // The band of straight elevations holds every beam point out to the clip radius.
 TEST(StraightElevationBand, HoldsEveryBeamPoint) {
   const volume::PolarVolume v = radarAt(45.0, 7.0);

@@ -13,6 +13,28 @@ float OccupancyGrid::maxAtLocal(const glm::dvec3& local) const {
   return maxValues[cellIndex(static_cast<int>(c.x), static_cast<int>(c.y), static_cast<int>(c.z))];
 }
 
+glm::ivec3 occupancyCellsFor(const std::vector<OccupancyBox>& boxes, const glm::dvec3& targetCellMeters,
+                             std::size_t maxCells) {
+  constexpr int kMin = 8;
+  if (boxes.empty()) return glm::ivec3(kMin);
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const OccupancyBox& b : boxes) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  const glm::dvec3 want = glm::max(glm::ceil((hi - lo) / targetCellMeters) + 2.0, glm::dvec3(kMin));  // 2 spare
+  const double total = want.x * want.y * want.z;
+  const double scale = total > static_cast<double>(maxCells) ? std::cbrt(static_cast<double>(maxCells) / total) : 1.0;
+  glm::ivec3 cells = glm::max(glm::ivec3(glm::floor(want * scale)), glm::ivec3(kMin));
+  // An axis held at the minimum leaves the others more room: shrink the largest until it fits.
+  while (static_cast<double>(cells.x) * cells.y * cells.z > static_cast<double>(maxCells)) {
+    int& largest = cells.x >= cells.y && cells.x >= cells.z ? cells.x : (cells.y >= cells.z ? cells.y : cells.z);
+    if (largest <= kMin) break;
+    --largest;
+  }
+  return cells;
+}
+
 OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3& localToEcef,
                                  const std::vector<OccupancyBox>& boxes, const glm::ivec3& cells) {
   OccupancyGrid grid;

@@ -43,6 +43,12 @@ struct OccupancyBox {
   float maxValue = kOccupancyEmptyValue;
 };
 
+/// Cells for a grid over the union of `boxes`: about `targetCellMeters` a cell along each axis,
+/// at least 8 per axis, and, where that would be more than `maxCells` in all, every axis scaled
+/// down alike until it fits (the cells then grow alike in proportion). No boxes: 8 per axis.
+glm::ivec3 occupancyCellsFor(const std::vector<OccupancyBox>& boxes, const glm::dvec3& targetCellMeters,
+                             std::size_t maxCells);
+
 /// The grid of `cells` over the union of the boxes (one spare cell on each side), each cell the
 /// largest value of the boxes it touches, and its block level. No boxes: a single empty cell.
 OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3& localToEcef,
