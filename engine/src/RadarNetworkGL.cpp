@@ -1,6 +1,7 @@
 #include <atmoglobe/engine/RadarNetworkGL.h>
 
 #include "LoaderGL.h"
+#include "ParallelFor.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -9,11 +10,9 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <thread>
 
 namespace atmoglobe::engine {
 
@@ -256,18 +255,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       boxes.push_back(box);
     }
   };
-  {
-    std::atomic<int> next{0};
-    auto work = [&] {
-      for (int r = next++; r < radarCount; r = next++) pack(r);
-    };
-    const unsigned threads =
-        std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(radarCount)));
-    std::vector<std::thread> pool;
-    for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
-  }
+  parallelFor(static_cast<std::size_t>(radarCount), [&](std::size_t r) { pack(static_cast<int>(r)); });
   const double topRadius = *std::max_element(tops.begin(), tops.end());
   std::vector<volume::OccupancyBox> boxes;
   for (auto& b : boxesOf) boxes.insert(boxes.end(), b.begin(), b.end());

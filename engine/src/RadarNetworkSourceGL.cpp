@@ -1,5 +1,7 @@
 #include <atmoglobe/engine/RadarNetworkSourceGL.h>
 
+#include "ParallelFor.h"
+
 #include <atmoglobe/engine/RadarSourceGL.h>
 #include <atmoglobe/engine/Readout.h>
 #include <atmoglobe/engine/SlicePlot.h>
@@ -10,13 +12,11 @@
 #include <atmoglobe/volume/SliceSource.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <mutex>
 #include <span>
-#include <thread>
 
 namespace atmoglobe::engine {
 
@@ -48,21 +48,6 @@ constexpr std::uint64_t kBudgetBytesPerGate = sizeof(float) + 4 * 2;
 std::string volumeKey(std::size_t layer, const std::string& files) { return stepKeyPrefix(layer) + "volume:" + files; }
 // The key of its upload parts (RadarNetworkGL::prepareRadar).
 std::string partsKey(std::size_t layer, const std::string& files) { return volumeKey(layer, files) + ":parts"; }
-
-// fn(0) .. fn(n - 1) on up to one thread per core.
-template <class Fn>
-void onThreads(std::size_t n, Fn fn) {
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t k = next++; k < n; k = next++) fn(k);
-  };
-  const unsigned threads =
-      std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(n)));
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < threads; ++w) pool.emplace_back(work);
-  work();
-  for (auto& th : pool) th.join();
-}
 
 std::string mib(std::uint64_t bytes) {
   char text[32];
@@ -257,7 +242,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     std::mutex mutex;
     std::vector<std::shared_ptr<const volume::PolarVolume>> layouts(toRead.size());
     std::vector<std::vector<std::string>> fieldNames(toRead.size());
-    onThreads(toRead.size(), [&](std::size_t k) {
+    parallelFor(toRead.size(), [&](std::size_t k) {
       auto r = readCroppedRadar(d, toRead[k]);
       if (!r) {
         std::lock_guard<std::mutex> lock(mutex);
@@ -306,7 +291,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
         if (held && held->exaggeration == context.exaggeration) parts[k] = std::move(held);
         else toMake.push_back(k);
       }
-      onThreads(toMake.size(), [&](std::size_t j) {
+      parallelFor(toMake.size(), [&](std::size_t j) {
         parts[toMake[j]] = RadarNetworkGL::prepareRadar(*radars[toMake[j]], context.exaggeration);
       });
       for (std::size_t k : toMake)
