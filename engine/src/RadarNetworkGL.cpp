@@ -283,16 +283,14 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     gl->values_ = previous->values_;
     previous->values_ = 0;
     previous->gpuBytes_ -= std::min(previous->gpuBytes_, valueBytes);
-    for (int r = 0, g = 0; r < radarCount;
-         g += static_cast<int>(gl->radars_[static_cast<std::size_t>(r)]->sweeps.size()), ++r) {
+    for (int r = 0; r < radarCount; ++r) {
       const std::vector<std::uint64_t>& own = tilesOf[static_cast<std::size_t>(r)];
       if (own.empty()) continue;
-      ++gl->tilesUploaded_;
-      for (std::size_t k = 0; k < gl->radars_[static_cast<std::size_t>(r)]->sweeps.size(); ++k) {
-        const int gk = g + static_cast<int>(k);
-        glTextureSubImage3D(gl->values_, 0, (gk % tilesPerLayer) * tileW, 0, gk / tilesPerLayer, tileW, tileH, 1,
-                            GL_RGBA, GL_HALF_FLOAT, own.data() + k * static_cast<std::size_t>(tileW) * tileH);
-      }
+      ++gl->radarsUploaded_;
+      for (int g = firstSweep[static_cast<std::size_t>(r)], k = 0; g < firstSweep[static_cast<std::size_t>(r) + 1];
+           ++g, ++k)
+        glTextureSubImage3D(gl->values_, 0, (g % tilesPerLayer) * tileW, 0, g / tilesPerLayer, tileW, tileH, 1, GL_RGBA,
+                            GL_HALF_FLOAT, own.data() + static_cast<std::size_t>(k) * tileW * tileH);
     }
   } else {
     gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
@@ -301,7 +299,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       return makeError("radar network: the GPU is out of memory for its " + megabytes(valueBytes) + " texture of " +
                        std::to_string(sweeps) + " sweeps");
     glTextureSubImage3D(gl->values_, 0, 0, 0, 0, width, tileH, layers, GL_RGBA, GL_HALF_FLOAT, texels.data());
-    gl->tilesUploaded_ = radarCount;
+    gl->radarsUploaded_ = radarCount;
   }
   gl->gpuBytes_ += valueBytes;
   gl->tileHeight_ = tileH;

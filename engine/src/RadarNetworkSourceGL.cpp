@@ -60,6 +60,13 @@ bool perRadarQuantity(volume::FieldKind kind) {
   return kind == volume::FieldKind::Velocity || kind == volume::FieldKind::DifferentialPhase;
 }
 
+// The layer's overlap rule for a field: the one it names, else per radar (integrate) for values
+// that cannot be combined and the weighted mean for the others.
+volume::OverlapRule overlapRuleOf(const VolumeLayerDescription& d, const volume::FieldInfo& field) {
+  return d.overlap.value_or(perRadarQuantity(volume::classifyField(field).kind) ? volume::OverlapRule::Integrate
+                                                                                : volume::OverlapRule::WeightedMean);
+}
+
 }  // namespace
 
 Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::openIfNetwork(const VolumeLayerDescription& d,
@@ -162,31 +169,30 @@ class RadarNetworkSourceGL::Preparer final : public StepPreparer {
     std::uint64_t bytes = 0;
     for (const auto& [site, v] : c.chosen) {
       const std::string key = volumeKey(context.layer, v->files), parts = partsKey(context.layer, v->files);
-      if (context.cache.contains(key) && context.cache.contains(parts)) continue;
+      const bool needVolume = !context.cache.contains(key), needParts = !context.cache.contains(parts);
+      if (!needVolume && !needParts) continue;
       if (!context.cache.fitsBesidesInUse(v->gates * kBudgetBytesPerGate)) break;  // the rest when shown
-      context.cache.markLoading(key);
-      context.cache.markLoading(parts);
-      std::shared_ptr<const volume::PolarVolume> volume = context.cache.get<volume::PolarVolume>(key);
-      volume::FieldKind kind = volume::FieldKind::Reflectivity;
-      if (!volume) {
+      if (needVolume) context.cache.markLoading(key);
+      if (needParts) context.cache.markLoading(parts);
+      std::shared_ptr<const volume::PolarVolume> volume = needVolume ? nullptr
+                                                                     : context.cache.get<volume::PolarVolume>(key);
+      volume::FieldInfo field;
+      if (volume) {
+        field = volume::FieldInfo{volume->fieldName, volume->fieldUnits, ""};
+      } else {
         auto r = readCroppedRadar(description_, v->files);
         if (!r) {
           context.cache.abandonLoading(key);
           context.cache.abandonLoading(parts);
           continue;
         }
-        kind = volume::classifyField(r->volume.loadedField).kind;
+        field = r->volume.loadedField;
         volume = std::make_shared<const volume::PolarVolume>(std::move(*r->layout));
         bytes += volume::polarVolumeBytes(*volume);
         context.cache.put(key, volume, volume::polarVolumeBytes(*volume));  // ends the loading mark
-      } else {
-        context.cache.abandonLoading(key);
-        kind = volume::classifyField(volume::FieldInfo{volume->fieldName, volume->fieldUnits, ""}).kind;
       }
-      // The parts of the upload under a combining rule (load() decides the rule the same way).
-      if (description_.overlap.value_or(perRadarQuantity(kind)
-                                            ? volume::OverlapRule::Integrate
-                                            : volume::OverlapRule::WeightedMean) == volume::OverlapRule::Integrate) {
+      // The parts of the upload, under a combining rule only (load() decides the rule alike).
+      if (!needParts || overlapRuleOf(description_, field) == volume::OverlapRule::Integrate) {
         context.cache.abandonLoading(parts);
         continue;
       }
@@ -268,8 +274,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     std::vector<std::shared_ptr<const volume::PolarVolume>> radars;
     for (const auto& [i, v] : chosen) radars.push_back(volumes.at(v->files));
     const volume::FieldKind kind = volume::classifyField(field_).kind;
-    const volume::OverlapRule rule =
-        d.overlap.value_or(perRadarQuantity(kind) ? volume::OverlapRule::Integrate : volume::OverlapRule::WeightedMean);
+    const volume::OverlapRule rule = overlapRuleOf(d, field_);
     auto built = std::make_shared<StepGL>();
     if (rule == volume::OverlapRule::Integrate) {
       // Each radar apart, as separate radar layers (with their vertical exaggeration).

@@ -82,7 +82,7 @@ class RadarNetworkGL final : public VolumeGL {
   double exaggeration() const { return exaggeration_; }
   /// Radars whose tiles this network's creation uploaded (all of them unless it took over a
   /// previous step's texture).
-  int radarsUploaded() const { return tilesUploaded_; }
+  int radarsUploaded() const { return radarsUploaded_; }
   /// Whether it still draws (false once a later step took its texture over).
   bool drawable() const { return values_ != 0; }
 
@@ -96,7 +96,7 @@ class RadarNetworkGL final : public VolumeGL {
   unsigned int values_ = 0, rayTable_ = 0, buffer_ = 0;
   glm::vec2 valuesSize_{1.0f};
   int tileWidth_ = 1, tileHeight_ = 1, tilesPerLayer_ = 1, layers_ = 1, rayTableRows_ = 1;
-  int tilesUploaded_ = 0;
+  int radarsUploaded_ = 0;
   int sweepBase_ = 0, cellBase_ = 0, memberBase_ = 0;
   int maxListed_ = 0;  ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
