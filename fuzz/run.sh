@@ -70,7 +70,7 @@ for t in "${targets[@]}"; do
   echo "fuzz_$t seconds=$seconds runs=${runs:-?} rc=$rc last: $last" | tee -a "$work/summary.txt"
   if [ $rc -ne 0 ]; then
     failed+=("$t")
-    grep -E 'ERROR|SUMMARY|fuzz: |Test unit written' "$log" | head -8
+    grep -E 'ERROR|SUMMARY|fuzz: |Test unit written|assertion' "$log" | grep -v '^ECCODES' | head -8
   fi
 done
 if [ ${#failed[@]} -ne 0 ]; then

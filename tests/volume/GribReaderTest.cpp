@@ -789,3 +789,28 @@ TEST(GribReader, AGaussianGridOutsideItsGaussianLatitudesIsAnErrorNotACrash) {
   EXPECT_NE(error.find("outside its Gaussian latitudes"), std::string::npos) << error;
   EXPECT_NE(error.find("N = 1000"), std::string::npos) << error;
 }
+
+// fuzz_grib finding (fuzz/corpus/grib/crash-bitmap-without-loader.grib, 9960 bytes: a mutated
+// fields_with_missing_values.grib): ecCodes 2.28 fails its check `hand->loader != 0' building the
+// bitmap of the second message and would call abort(). Its checks now throw into the reader
+// (EcCodesCheckFailed): the index skips that message with a warning naming its byte offset and
+// ecCodes' check, and the first message is still read, twice (the handler stays installed and
+// ecCodes keeps working after the failed check).
+TEST(GribReader, AMessageFailingAnEcCodesCheckIsSkippedNotAnAbort) {
+  useTestCache();
+  const std::string path = std::string(ATMOGLOBE_SOURCE_DIR) + "/fuzz/corpus/grib/crash-bitmap-without-loader.grib";
+  auto info = describeGridFile(path);
+  ASSERT_TRUE(info.ok()) << info.error();
+  ASSERT_EQ(info->warnings.size(), 1u);
+  EXPECT_NE(info->warnings.front().find("damaged GRIB message 2 (from byte 4948)"), std::string::npos)
+      << info->warnings.front();
+  EXPECT_NE(info->warnings.front().find("ecCodes failed an internal check"), std::string::npos)
+      << info->warnings.front();
+  EXPECT_NE(info->warnings.front().find("hand->loader"), std::string::npos) << info->warnings.front();
+  for (int round = 0; round < 2; ++round) {
+    auto grid = readGridVolume(path, {});
+    ASSERT_TRUE(grid.ok()) << grid.error();
+    EXPECT_EQ(grid->nx, 180u);
+    EXPECT_EQ(grid->ny, 91u);
+  }
+}

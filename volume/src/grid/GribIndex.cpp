@@ -36,9 +36,20 @@ constexpr long kMaxStepUnits = 10'000'000;
 /// Bumped when the index's content changes meaning: an index of another version is rebuilt.
 constexpr int kIndexVersion = 2;  // 2: numberOfPoints
 
+/// ecCodes' handler of a failed internal check: throws (GribInternal.h, EcCodesCheckFailed).
+void throwEcCodesCheck(const char* message) {
+  throw EcCodesCheckFailed(message ? message : "ecCodes assertion failed");
+}
+
 /// ecCodes' default context is shared: one caller at a time (reads may run on loader threads).
+/// The first use installs the handler of failed checks, before any call into ecCodes.
 std::mutex& ecCodesMutex() {
   static std::mutex m;
+  static const bool handlerSet = [] {
+    codes_set_codes_assertion_failed_proc(&throwEcCodesCheck);
+    return true;
+  }();
+  (void)handlerSet;
   return m;
 }
 
@@ -211,75 +222,84 @@ Status scan(FILE* f, const std::string& label, GribIndex& idx) {
       std::fseek(f, static_cast<long>(cut->first + 4), SEEK_SET);  // on to the next "GRIB"
       continue;
     }
-    int err = 0;
-    std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
-        codes_handle_new_from_file(nullptr, f, PRODUCT_GRIB, &err), &codes_handle_delete);
-    if (!h) {
-      if (err == CODES_SUCCESS) break;  // end of the content
-      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (from byte " +
-                             std::to_string(before) + "): " + codes_get_error_message(err) + "; skipped");
-      if (std::ftell(f) <= before) break;  // no progress: stop rather than loop
-      continue;
-    }
-    GribMessage m;
-    long offset = 0, length = 0;
-    codes_get_long(h.get(), "offset", &offset);
-    codes_get_long(h.get(), "totalLength", &length);
-    m.offset = static_cast<std::uint64_t>(offset);
-    m.length = static_cast<std::uint64_t>(length);
-    m.shortName = getString(h.get(), "shortName");
-    m.typeOfLevel = getString(h.get(), "typeOfLevel");
-    m.gridType = getString(h.get(), "gridType");
-    m.name = getString(h.get(), "name");
-    m.units = getString(h.get(), "units");
-    double level = 0;
-    if (codes_get_double(h.get(), "level", &level) == CODES_SUCCESS) m.level = level;
-    m.dataDate = getLong(h.get(), "dataDate", 0);
-    m.dataTime = getLong(h.get(), "dataTime", 0);
-    // Before the validity time: ecCodes computes it in steps of a day, so a damaged step of 1.9e9
-    // hours (fuzz_grib) takes minutes. 1e7 step units: 1141 years in hours, 116 days in seconds.
-    // A step ecCodes cannot represent in its units ("unable to represent the step") reads as
-    // nothing, and the validity time computed from it then never ends (fuzz_grib): skipped too.
-    long step = 0;
-    const int stepError = codes_get_long(h.get(), "endStep", &step);
-    if (stepError != CODES_SUCCESS && codes_is_defined(h.get(), "endStep")) {
-      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
-                             std::to_string(offset) + "): its forecast step cannot be read (" +
-                             codes_get_error_message(stepError) + "); skipped");
-      continue;
-    }
-    m.endStep = stepError == CODES_SUCCESS && step != CODES_MISSING_LONG ? step : 0;
-    if (m.endStep > kMaxStepUnits || m.endStep < -kMaxStepUnits) {
-      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
-                             std::to_string(offset) + "): a forecast step of " + std::to_string(m.endStep) +
-                             " units; skipped");
-      continue;
-    }
-    m.validityDate = getLong(h.get(), "validityDate", m.dataDate);
-    m.validityTime = getLong(h.get(), "validityTime", m.dataTime);
-    m.stepRange = getString(h.get(), "stepRange");
-    m.number = codes_is_defined(h.get(), "number") ? getLong(h.get(), "number", -1) : -1;
-    // A reduced Gaussian grid with a row of no points: ecCodes asserts (and aborts the process) when
-    // it works out the grid's points (fuzz_grib: "bottom != 0" in grib_gaussian_reduced.c). Its pl
-    // is read as stored, so the row is seen before any key computed from it is asked for.
-    if (m.gridType.find("_gg") != std::string::npos) {
-      std::size_t rows = 0;
-      if (codes_get_size(h.get(), "pl", &rows) == CODES_SUCCESS && rows > 0 && rows < (1u << 20)) {
-        std::vector<long> pl(rows);
-        if (codes_get_long_array(h.get(), "pl", pl.data(), &rows) == CODES_SUCCESS &&
-            std::any_of(pl.begin(), pl.begin() + static_cast<std::ptrdiff_t>(rows), [](long n) { return n <= 0; })) {
-          idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
-                                 std::to_string(offset) +
-                                 "): a reduced Gaussian grid with a row of no points; skipped");
-          continue;
+    // A failed check inside ecCodes (EcCodesCheckFailed, GribInternal.h) skips the message: its
+    // bytes were read before the handle was built, so the scan goes on after it.
+    try {
+      int err = 0;
+      std::unique_ptr<codes_handle, decltype(&codes_handle_delete)> h(
+          codes_handle_new_from_file(nullptr, f, PRODUCT_GRIB, &err), &codes_handle_delete);
+      if (!h) {
+        if (err == CODES_SUCCESS) break;  // end of the content
+        idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (from byte " +
+                               std::to_string(before) + "): " + codes_get_error_message(err) + "; skipped");
+        if (std::ftell(f) <= before) break;  // no progress: stop rather than loop
+        continue;
+      }
+      GribMessage m;
+      long offset = 0, length = 0;
+      codes_get_long(h.get(), "offset", &offset);
+      codes_get_long(h.get(), "totalLength", &length);
+      m.offset = static_cast<std::uint64_t>(offset);
+      m.length = static_cast<std::uint64_t>(length);
+      m.shortName = getString(h.get(), "shortName");
+      m.typeOfLevel = getString(h.get(), "typeOfLevel");
+      m.gridType = getString(h.get(), "gridType");
+      m.name = getString(h.get(), "name");
+      m.units = getString(h.get(), "units");
+      double level = 0;
+      if (codes_get_double(h.get(), "level", &level) == CODES_SUCCESS) m.level = level;
+      m.dataDate = getLong(h.get(), "dataDate", 0);
+      m.dataTime = getLong(h.get(), "dataTime", 0);
+      // Before the validity time: ecCodes computes it in steps of a day, so a damaged step of 1.9e9
+      // hours (fuzz_grib) takes minutes. 1e7 step units: 1141 years in hours, 116 days in seconds.
+      // A step ecCodes cannot represent in its units ("unable to represent the step") reads as
+      // nothing, and the validity time computed from it then never ends (fuzz_grib): skipped too.
+      long step = 0;
+      const int stepError = codes_get_long(h.get(), "endStep", &step);
+      if (stepError != CODES_SUCCESS && codes_is_defined(h.get(), "endStep")) {
+        idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                               std::to_string(offset) + "): its forecast step cannot be read (" +
+                               codes_get_error_message(stepError) + "); skipped");
+        continue;
+      }
+      m.endStep = stepError == CODES_SUCCESS && step != CODES_MISSING_LONG ? step : 0;
+      if (m.endStep > kMaxStepUnits || m.endStep < -kMaxStepUnits) {
+        idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                               std::to_string(offset) + "): a forecast step of " + std::to_string(m.endStep) +
+                               " units; skipped");
+        continue;
+      }
+      m.validityDate = getLong(h.get(), "validityDate", m.dataDate);
+      m.validityTime = getLong(h.get(), "validityTime", m.dataTime);
+      m.stepRange = getString(h.get(), "stepRange");
+      m.number = codes_is_defined(h.get(), "number") ? getLong(h.get(), "number", -1) : -1;
+      // A reduced Gaussian grid with a row of no points: ecCodes asserts (and aborts the process) when
+      // it works out the grid's points (fuzz_grib: "bottom != 0" in grib_gaussian_reduced.c). Its pl
+      // is read as stored, so the row is seen before any key computed from it is asked for.
+      if (m.gridType.find("_gg") != std::string::npos) {
+        std::size_t rows = 0;
+        if (codes_get_size(h.get(), "pl", &rows) == CODES_SUCCESS && rows > 0 && rows < (1u << 20)) {
+          std::vector<long> pl(rows);
+          if (codes_get_long_array(h.get(), "pl", pl.data(), &rows) == CODES_SUCCESS &&
+              std::any_of(pl.begin(), pl.begin() + static_cast<std::ptrdiff_t>(rows), [](long n) { return n <= 0; })) {
+            idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (at byte " +
+                                   std::to_string(offset) +
+                                   "): a reduced Gaussian grid with a row of no points; skipped");
+            continue;
+          }
         }
       }
+      m.ni = getLong(h.get(), "Ni", 0);
+      m.nj = getLong(h.get(), "Nj", 0);
+      m.points = getLong(h.get(), "numberOfPoints", 0);
+      m.edition = getLong(h.get(), "edition", 0);
+      idx.messages.push_back(std::move(m));
+    } catch (const EcCodesCheckFailed& e) {
+      idx.warnings.push_back(label + ": damaged GRIB message " + std::to_string(count + 1) + " (from byte " +
+                             std::to_string(before) + "): ecCodes failed an internal check on it (" + e.what() +
+                             "); skipped");
+      if (std::ftell(f) <= before) break;  // no progress: stop rather than loop
     }
-    m.ni = getLong(h.get(), "Ni", 0);
-    m.nj = getLong(h.get(), "Nj", 0);
-    m.points = getLong(h.get(), "numberOfPoints", 0);
-    m.edition = getLong(h.get(), "edition", 0);
-    idx.messages.push_back(std::move(m));
   }
   return Ok{};
 }

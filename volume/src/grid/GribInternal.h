@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -69,8 +70,21 @@ bool isGribSet(const std::string& spec);
 Result<GribIndex> gribIndexOf(const std::string& spec);
 
 /// ecCodes' default context is shared: every call into ecCodes holds this lock (reads may run on
-/// the loaders' threads).
+/// the loaders' threads). Taking it the first time also installs the handler of ecCodes' internal
+/// checks (below).
 std::mutex& ecCodesLock();
+
+/// Thrown from inside ecCodes when one of its internal checks (`Assert`) fails on a damaged
+/// message: ecCodes 2.28 would call abort() there (fuzz_grib found several such messages: a
+/// bitmap section without its loader, a reduced grid with a row of no points). The handler throws
+/// instead (ecCodes is C built with unwind tables, so the exception passes through its frames; what
+/// ecCodes allocated for the message on the way is lost, a few KiB per damaged message). Every
+/// caller of ecCodes catches it: the index skips the message with a warning, a read fails with an
+/// error naming the message. what(): ecCodes' text ("ecCodes assertion failed: `...' in FILE:LINE").
+class EcCodesCheckFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// The bytes of messages of the index's files: read at their offsets (plain files) or from the
 /// unwrapped content in memory (gzip/bzip2). Each message is read once per GribContent (a read

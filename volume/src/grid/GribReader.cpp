@@ -235,9 +235,10 @@ Error varError(const Context& c, const Variable& v, const std::string& what) {
   return makeError(c.label + ": variable " + v.key() + ": " + what);
 }
 
-/// `wantVertical`: its vertical grid and bottomLevel too (model levels).
-Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues,
-                       bool wantVertical = false) {
+/// `wantVertical`: its vertical grid and bottomLevel too (model levels). Without the guard of
+/// ecCodes' internal checks (decode, below).
+Result<Decoded> decodeUnguarded(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues,
+                                bool wantVertical) {
   auto bytes = c.content.read(m);
   if (!bytes) return bytes.forwardError();
   const std::lock_guard<std::mutex> lock(ecCodesLock());
@@ -381,6 +382,19 @@ Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool
         if (x == kMissingSentinel) x = std::numeric_limits<double>::quiet_NaN();
   }
   return d;
+}
+
+/// decodeUnguarded; a failed check inside ecCodes (EcCodesCheckFailed) is an error naming the
+/// message instead of the end of the process.
+Result<Decoded> decode(Context& c, const Variable& v, const GribMessage& m, bool wantAxes, bool wantValues,
+                       bool wantVertical = false) {
+  try {
+    return decodeUnguarded(c, v, m, wantAxes, wantValues, wantVertical);
+  } catch (const EcCodesCheckFailed& e) {
+    return varError(c, v,
+                    "message at byte " + std::to_string(m.offset) + ": ecCodes failed an internal check on it (" +
+                        e.what() + "); the message is damaged");
+  }
 }
 
 /// The messages of `v` at validity `t`, member `member`, one per level of `levels` (indices into
