@@ -365,7 +365,7 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
     windowBuilding_.reset();
   }
   const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
-  if (!whole || whole->reduced() || !description_.levelOfDetail || detailLevel_ > 0) return;
+  if (!whole || !description_.levelOfDetail || detailLevel_ > 0) return;
   // The window in view is found again only when the camera changed (a 0.25-degree grid: some
   // 40,000 points projected).
   const CameraPose& pose = camera.pose();

@@ -1074,6 +1074,180 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   EXPECT_NE(reducedLegend.find("at 1/2 resolution (GPU memory)"), std::string::npos) << reducedLegend;
 }
 
+// A reduced (Gaussian) GRIB grid too large for the GPU's limit: uploaded at half resolution, and
+// a close view draws the columns in view at full resolution (a reduced window, above), as a
+// rectilinear grid does. At the fixed step (the step rule takes each grid's mean level heights
+// and middle column spacing, which a window changes) the window's frame equals the whole grid's
+// drawn without a limit up to float rounding; the half-resolution grid does not.
+TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  setenv("ATMOGLOBE_CACHE_DIR", (dir + "/reduced_window_cache").c_str(), 1);
+  const double lat0 = 46.5, lon0 = 10.0;
+  testutil::ReducedGribSpec spec;  // N32: 64 rows of 20 .. 128 points
+  spec.levels = {0, 500, 1000, 2000, 3000, 4000, 5000, 6000, 7000, 8000, 10000, 12000};
+  spec.field = [=](double lat, double lon, double h) {
+    const double dLon = std::remainder(lon - lon0, 360.0) * std::cos(degreesToRadians(lat));
+    const double d2 = ((lat - lat0) * (lat - lat0) + dLon * dLon) / (8.0 * 8.0);
+    return 60.0 * std::exp(-d2 - std::pow((h - 5000.0) / 3000.0, 2));
+  };
+  const std::string path = dir + "/reduced_window.grib2";
+  ASSERT_EQ(testutil::writeReducedGrib(path, spec), "");
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  engine::VolumeLayerDescription d;
+  d.kind = engine::VolumeKind::Grid;
+  d.path = path;
+  d.settings.valueRange = glm::dvec2(0.0, 60.0);
+  d.settings.opacity = {0.0, 40.0, 0.8, 2000.0};  // opaque within a few km: the blob shows plainly
+  d.stepMeters = 2000.0;
+  d.samplesPerCell = 0.0;
+  // 3,000 km above the blob looking down: about 4,500 km across, under half of the 128 columns.
+  const Camera close(CameraPose{lat0, lon0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+  auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());
+  ASSERT_TRUE(fb);
+  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
+    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "500000", 1);  // the whole grid needs 1.0 MB
+    auto renderer = engine::SceneRendererGL::create(*loader);
+    engine::VolumeLayerDescription e = d;
+    e.levelOfDetail = levelOfDetail;
+    auto layer = (*renderer)->addVolume(e);
+    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
+    if (!layer) {
+      ADD_FAILURE() << layer.error();
+      return std::nullopt;
+    }
+    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    EXPECT_TRUE(grid.gridVolume().grid().reduced());
+    if (limited) {
+      EXPECT_LT(grid.gridVolume().grid().nx, 128u) << "the limit should reduce the grid";
+    } else {
+      EXPECT_EQ(grid.gridVolume().grid().nx, 128u);
+    }
+    auto image = (*renderer)->renderToImage(close, {}, **fb);
+    if (!image) {
+      ADD_FAILURE() << image.error();
+      return std::nullopt;
+    }
+    if (legend) *legend = grid.legendPart().subtitle;
+    if (limited && levelOfDetail) {
+      const volume::GridWindow w = grid.viewWindow();
+      EXPECT_FALSE(w.empty());
+      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      EXPECT_NE(drawn, &grid.gridVolume());
+      if (drawn) {
+        EXPECT_TRUE(drawn->grid().reduced());
+        EXPECT_EQ(drawn->grid().ny, w.rowCount);
+        EXPECT_LT(w.columnCount * 2, 128u);  // under half the circle (53 columns when written)
+        EXPECT_NEAR(drawn->grid().reducedSpacingDeg(), 360.0 / 128.0, 1e-9);  // full resolution
+      }
+    }
+    return std::move(*image);
+  };
+  std::string wholeLegend, windowLegend, reducedLegend;
+  const auto whole = draw(false, true, &wholeLegend);
+  const auto windowed = draw(true, true, &windowLegend);
+  const auto reduced = draw(true, false, &reducedLegend);
+  ASSERT_TRUE(whole && windowed && reduced);
+  EXPECT_TRUE(globe::writePng(dir + "/reduced_window.png", *windowed));
+  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+    double sum = 0.0;
+    for (int y = 0; y < close.heightPx(); ++y)
+      for (int x = 0; x < close.widthPx(); ++x) {
+        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
+        sum += e.r + e.g + e.b;
+      }
+    return sum / (3.0 * close.widthPx() * close.heightPx());
+  };
+  int drawnPixels = 0;
+  for (int y = 0; y < close.heightPx(); ++y)
+    for (int x = 0; x < close.widthPx(); ++x) drawnPixels += whole->at(x, y).a > 0 ? 1 : 0;
+  const double window = meanDiff(*windowed, *whole), half = meanDiff(*reduced, *whole);
+  std::cout << "reduced grid against the whole grid without a limit: the window in view " << window
+            << " of 255, the grid at half resolution " << half << "\n";
+  // The same points marched from another origin and row tables: float rounding only.
+  EXPECT_LT(window, 0.05);
+  EXPECT_GT(half, 10.0 * window);
+  EXPECT_GT(half, 0.1);
+  EXPECT_EQ(wholeLegend.find("resolution"), std::string::npos) << wholeLegend;
+  EXPECT_NE(windowLegend.find("the columns in view at full resolution"), std::string::npos) << windowLegend;
+  EXPECT_NE(reducedLegend.find("resolution (GPU memory)"), std::string::npos) << reducedLegend;
+}
+
+// Windows of reduced grids (global across the seam, regional): every row keeps its own points
+// from the one at or west of the window's west edge to the one at or east of its east edge, each
+// the grid's point (position, value, height), and a sample anywhere between the edges and rows
+// equals the grid's (the same neighbours: 1e-6 of values up to 60 covers the longitudes' rounding
+// after their +360 shift across the seam).
+TEST(GridVolumeWindow, AReducedGridsWindowHoldsItsPointsAndSamplesAsTheGrid) {
+  struct Case {
+    const char* name;
+    volume::GridVolume grid;
+    volume::GridWindow window;
+  };
+  const std::vector<Case> cases = {
+      {"global across the seam", reducedBlobGrid(72, 60.0, 0.0, 10.0), {270, 40, 40, 16}},
+      {"global, short rows near the pole", reducedBlobGrid(72, 80.0, 100.0, 10.0), {60, 30, 60, 10}},
+      {"regional", regionalReducedBlobGrid(-20.0, 170.0, 20.0, -15.0, 180.0, 2.0), {30, 90, 20, 50}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const volume::GridVolume& g = c.grid;
+    ASSERT_TRUE(g.reduced());
+    auto part = volume::gridWindow(g, c.window);
+    ASSERT_TRUE(part) << part.error();
+    ASSERT_TRUE(part->reduced());
+    EXPECT_FALSE(part->wrapsLongitude);
+    ASSERT_EQ(part->ny, c.window.rowCount);
+    const double west = g.lonDeg[c.window.firstColumn];
+    const double east = west + static_cast<double>(c.window.columnCount - 1) * g.reducedSpacingDeg();
+    std::size_t points = 0;
+    for (std::size_t r = 0; r < part->ny; ++r) {
+      const std::size_t j = c.window.firstRow + r;
+      EXPECT_EQ(part->latDeg[r], g.latDeg[j]);
+      const std::size_t n = part->rowLengthPoints[r];
+      EXPECT_LE(part->rowFirstLonDeg[r], west + 1e-9) << "row " << r;
+      EXPECT_GE(part->lonDegAt(r, n - 1), east - 1e-9) << "row " << r;
+      EXPECT_GT(part->rowFirstLonDeg[r], west - part->rowSpacingDeg[r] - 1e-9) << "row " << r;
+      for (std::size_t q = 0; q < n; ++q, ++points) {
+        // The grid's point at that longitude (modulo 360).
+        const double lon = part->lonDegAt(r, q);
+        const double x = std::remainder(lon - g.rowFirstLonDeg[j], 360.0) / g.rowSpacingDeg[j];
+        const double m = static_cast<double>(g.rowLengthPoints[j]);
+        const std::size_t i =
+            static_cast<std::size_t>(std::llround(std::fmod(std::fmod(x, m) + m, m))) % g.rowLengthPoints[j];
+        EXPECT_NEAR(std::remainder(g.lonDegAt(j, i) - lon, 360.0), 0.0, 1e-9);
+        for (std::size_t k = 0; k < g.nz; ++k) {
+          EXPECT_EQ(part->value(k, r, q), g.value(k, j, i));
+          EXPECT_EQ(part->heightMeters(k, r, q), g.heightMeters(k, j, i));
+        }
+      }
+    }
+    EXPECT_GT(points, 2 * c.window.rowCount);
+    const volume::GridSampler whole(g), windowed(*part);
+    const double south = g.latDeg[c.window.firstRow], north = g.latDeg[c.window.firstRow + c.window.rowCount - 1];
+    int echoes = 0;
+    for (int a = 0; a <= 12; ++a)
+      for (int b = 0; b <= 12; ++b)
+        for (double h : {1500.0, 5200.0}) {
+          const double lat = south + (north - south) * a / 12.0, lon = west + (east - west) * b / 12.0;
+          const auto s0 = whole.sampleGeodetic(lat, lon, h, volume::Interpolation::Linear);
+          const auto s1 = windowed.sampleGeodetic(lat, lon, h, volume::Interpolation::Linear);
+          ASSERT_EQ(s0.state, s1.state) << lat << " " << lon;
+          if (s0.state != volume::VolumeSample::State::Echo) continue;
+          EXPECT_NEAR(s0.value, s1.value, 1e-6) << lat << " " << lon << " " << h;
+          echoes += s0.value > 1.0 ? 1 : 0;
+        }
+    EXPECT_GT(echoes, 5) << "the windows should hold some of the blob";
+  }
+  // The whole circle of a wrapping reduced grid as a window: the rows wrap as the grid's do.
+  const volume::GridVolume g = reducedBlobGrid(36, 60.0, 0.0, 10.0);
+  auto all = volume::gridWindow(g, volume::GridWindow{0, g.nx, 5, 10});
+  ASSERT_TRUE(all) << all.error();
+  EXPECT_TRUE(all->wrapsLongitude);
+  EXPECT_EQ(all->rowLengthPoints[0], g.rowLengthPoints[5]);
+}
+
 TEST(GridVolumeWindow, WindowsAcrossTheSeamKeepThePointsAndIncreasingLongitudes) {
   volume::SyntheticGlobalGridOptions go;
   go.nx = 36;  // 10 deg

@@ -122,6 +122,75 @@ GridVolume decimateReduced(const GridVolume& g, std::size_t factor, const std::v
   return out;
 }
 
+// A window of a reduced grid (gridWindow): its columns are of the reference axis (lonDeg), the
+// longitudes lonDeg[firstColumn] .. + (columnCount - 1) x reducedSpacingDeg() (across the seam of
+// a wrapping grid). Each row of the window keeps its own points from the one at or west of the
+// window's west edge to the one at or east of its east edge, so that between the edges every
+// point has the same neighbours in the row as in the grid; a row of a regional grid keeps what it
+// has there (its nearest point when it has nothing: a row holds at least one). The rows start
+// where their first kept point is (continuous longitudes, not wrapped) and do not wrap, unless
+// the window spans every column of a wrapping grid: then the rows are the grid's.
+Result<GridVolume> reducedWindow(const GridVolume& g, const GridWindow& w) {
+  const bool whole = g.wrapsLongitude && w.columnCount >= g.nx;
+  const double west = g.lonDeg[w.firstColumn];
+  const double east = west + static_cast<double>(w.columnCount - 1) * g.reducedSpacingDeg();
+  GridVolume out = g;
+  out.ny = w.rowCount;
+  out.latDeg.assign(g.latDeg.begin() + static_cast<std::ptrdiff_t>(w.firstRow),
+                    g.latDeg.begin() + static_cast<std::ptrdiff_t>(w.firstRow + w.rowCount));
+  out.rowLengthPoints.clear();
+  out.rowFirstLonDeg.clear();
+  out.rowSpacingDeg.clear();
+  std::vector<long long> firstPoint;  // per window row: the grid row's index of its first point
+  for (std::size_t r = 0; r < w.rowCount; ++r) {
+    const std::size_t j = w.firstRow + r, n = g.rowLengthPoints[j];
+    const double first = g.rowFirstLonDeg[j], spacing = g.rowSpacingDeg[j];
+    // 1e-9 of a spacing: a point on an edge (up to the rounding of the longitudes) is taken as on it.
+    long long a = static_cast<long long>(std::floor((west - first) / spacing + 1e-9));
+    long long b = static_cast<long long>(std::ceil((east - first) / spacing - 1e-9));
+    if (whole) {
+      a = 0, b = static_cast<long long>(n) - 1;
+    } else if (!g.wrapsLongitude) {
+      const long long last = static_cast<long long>(n) - 1;
+      a = std::clamp(a, 0LL, last), b = std::clamp(b, 0LL, last);
+      if (b < a) b = a;
+    }
+    firstPoint.push_back(a);
+    out.rowLengthPoints.push_back(static_cast<std::size_t>(b - a + 1));
+    out.rowFirstLonDeg.push_back(first + static_cast<double>(a) * spacing);
+    out.rowSpacingDeg.push_back(spacing);
+  }
+  out.nx = *std::max_element(out.rowLengthPoints.begin(), out.rowLengthPoints.end());
+  out.wrapsLongitude = whole;
+  out.fileFirstRow = g.fileFirstRow + w.firstRow * static_cast<std::size_t>(std::max(1, std::abs(g.fileRowStep)));
+  const bool pressures = g.pressurePa.size() == g.values.size();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  out.values.assign(out.nx * out.ny * out.nz, nan);
+  out.heightAboveEllipsoidMeters.assign(out.values.size(), nan);
+  out.pressurePa.assign(pressures ? out.values.size() : 0, nan);
+  out.valueMin = out.valueMax = nan;
+  for (std::size_t k = 0; k < g.nz; ++k)
+    for (std::size_t r = 0; r < out.ny; ++r) {
+      const std::size_t j = w.firstRow + r;
+      const long long n = static_cast<long long>(g.rowLengthPoints[j]);
+      for (std::size_t q = 0; q < out.rowLengthPoints[r]; ++q) {
+        const long long p = firstPoint[r] + static_cast<long long>(q);
+        const std::size_t i = static_cast<std::size_t>(((p % n) + n) % n);  // a wrapping row's points modulo n
+        const float v = g.value(k, j, i);
+        out.values[out.index(k, r, q)] = v;
+        out.heightAboveEllipsoidMeters[out.index(k, r, q)] = g.heightMeters(k, j, i);
+        if (pressures) out.pressurePa[out.index(k, r, q)] = g.pressurePa[g.index(k, j, i)];
+        if (std::isfinite(v)) {
+          if (!(out.valueMin <= v)) out.valueMin = v;
+          if (!(out.valueMax >= v)) out.valueMax = v;
+        }
+      }
+    }
+  if (auto st = finishReducedGrid(out); !st)
+    return makeError(g.variable + ": window of the reduced grid: " + st.error());
+  return out;
+}
+
 }  // namespace
 
 GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
@@ -159,12 +228,12 @@ GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
 }
 
 Result<GridVolume> gridWindow(const GridVolume& g, const GridWindow& w) {
-  if (g.reduced()) return makeError(g.variable + ": a reduced grid has no rectangular windows");
   if (w.columnCount < 2 || w.rowCount < 2 || w.firstRow + w.rowCount > g.ny || w.columnCount > g.nx ||
       w.firstColumn >= g.nx || (!g.wrapsLongitude && w.firstColumn + w.columnCount > g.nx))
     return makeError(g.variable + ": window of " + std::to_string(w.columnCount) + " x " + std::to_string(w.rowCount) +
                      " points at column " + std::to_string(w.firstColumn) + ", row " + std::to_string(w.firstRow) +
                      " is not inside the " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " grid");
+  if (g.reduced()) return reducedWindow(g, w);
   std::vector<std::size_t> cols, rows, lev;
   for (std::size_t i = 0; i < w.columnCount; ++i) cols.push_back((w.firstColumn + i) % g.nx);
   for (std::size_t j = 0; j < w.rowCount; ++j) rows.push_back(w.firstRow + j);

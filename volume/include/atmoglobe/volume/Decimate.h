@@ -29,8 +29,11 @@ struct GridWindow {
 
 /// The points of `window` as a grid of their own, at the grid's resolution (values, positions,
 /// heights, pressures as they are; longitudes made increasing across the seam). It wraps only
-/// when the window is the whole grid. Errors: a reduced grid, a window of fewer than 2 x 2
-/// points or outside the grid.
+/// when the window is the whole grid. A reduced grid's window counts columns on its reference
+/// axis (lonDeg) and is a reduced grid whose rows keep their own points from the one at or west
+/// of the window's west edge to the one at or east of its east edge (between the edges a sample
+/// has the neighbours it has in the grid). Errors: a window of fewer than 2 x 2 points or outside
+/// the grid.
 Result<GridVolume> gridWindow(const GridVolume& grid, const GridWindow& window);
 
 /// Every `factor`-th gate of every sweep (gate spacing times factor, the first gate kept), and,
