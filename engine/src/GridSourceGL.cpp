@@ -5,6 +5,7 @@
 #include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Crop.h>
+#include <atmoglobe/volume/Decimate.h>
 #include <atmoglobe/volume/GridDetail.h>
 #include <atmoglobe/volume/GridReader.h>
 #include <atmoglobe/volume/SliceSource.h>
@@ -258,11 +259,11 @@ Status GridSourceGL::applyExaggeration(SourceContext context) {
 namespace {
 
 // "" for a grid drawn at its resolution, else "  at 1/2 resolution (GPU memory)" and so on.
-std::string reducedNote(const GridVolumeGL& gl, const std::string& what) {
+std::string reducedNote(const GridVolumeGL& gl) {
   const auto& whole = gl.unreducedGrid();
   if (!whole || gl.grid().nx == 0) return {};
   const long halvings = std::lround(std::log2(static_cast<double>(whole->nx) / static_cast<double>(gl.grid().nx)));
-  return "  " + what + "at 1/" + std::to_string(1L << std::max(1L, halvings)) + " resolution (GPU memory)";
+  return "  at 1/" + std::to_string(1L << std::max(1L, halvings)) + " resolution (GPU memory)";
 }
 
 }  // namespace
@@ -271,9 +272,13 @@ LegendPart GridSourceGL::legendPart() const {
   const volume::GridVolume& v = volume_->grid();
   std::string resolution;
   if (volume_->unreducedGrid()) {
-    const bool windowed = !viewWindow().empty();
-    resolution = windowed ? reducedNote(*window_->volume, "the columns in view ") : reducedNote(*volume_, "");
-    if (windowed && resolution.empty()) resolution = "  the columns in view at full resolution";
+    if (viewWindow().empty()) {
+      resolution = reducedNote(*volume_);
+    } else {
+      resolution = window_->factor > 1
+                       ? "  the columns in view at 1/" + std::to_string(window_->factor) + " resolution (GPU memory)"
+                       : "  the columns in view at full resolution";
+    }
   }
   const std::string variable = displayName(v.variable);
   // A mosaic written by `atmoglobe mosaic` is a radar product at the radars' latest time.
@@ -361,7 +366,7 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
     std::shared_ptr<const GridVolumeGL::Prepared> prepared = windowBuilding_->prepared.get();
     if (prepared && windowBuilding_->of == volume_.get())
       if (auto gl = GridVolumeGL::create(std::move(prepared)))
-        window_ = ViewWindow{windowBuilding_->of, windowBuilding_->window, std::move(*gl)};
+        window_ = ViewWindow{windowBuilding_->of, windowBuilding_->window, windowBuilding_->factor, std::move(*gl)};
     windowBuilding_.reset();
   }
   const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
@@ -385,28 +390,50 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   }
   const volume::GridWindow view = viewInSight_;
   if (view.empty()) return;
-  if (window_ && windowContains(window_->window, view, whole->nx)) {
+  // The window's resolution: the finest (every `factor`-th column and row, factor 1, 2, 4 ...)
+  // at which the window in view (widened) has no more columns x rows than the grid as uploaded,
+  // so that it fits where that did; worth making only while finer than the grid as uploaded
+  // (every `uploaded`-th column). Levels as uploaded.
+  const volume::GridVolume& drawnWhole = volume_->grid();
+  const std::size_t uploaded =
+      std::size_t{1} << std::max(0L,
+                                 std::lround(std::log2(static_cast<double>(whole->nx) /
+                                                       static_cast<double>(std::max<std::size_t>(1, drawnWhole.nx)))));
+  auto pointsAt = [](const volume::GridWindow& w, std::size_t f) {
+    return ((w.columnCount + f - 1) / f) * ((w.rowCount + f - 1) / f);
+  };
+  auto factorFor = [&](const volume::GridWindow& w) {
+    std::size_t f = 1;
+    while (f < uploaded && pointsAt(w, f) > drawnWhole.nx * drawnWhole.ny) f *= 2;
+    return f;
+  };
+  // The window made for this view would keep every `factor`-th point: the one there is serves
+  // while it holds the view at that resolution or finer (a closer view makes a finer one).
+  const volume::GridWindow window = widenWindow(view, *whole);
+  const std::size_t factor = factorFor(window);
+  if (window_ && windowContains(window_->window, view, whole->nx) && window_->factor <= factor) {
     windowUsed_ = true;
     return;
   }
-  // Worth making only where the window (widened) has no more columns x rows than the grid as
-  // uploaded: then it fits where that did, at full resolution; a larger one would be reduced too.
-  const volume::GridWindow window = widenWindow(view, *whole);
-  if (window.columnCount * window.rowCount > volume_->grid().nx * volume_->grid().ny) return;
-  auto make = [whole, window]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
+  if (factor >= uploaded) return;
+  const bool levels = drawnWhole.nz < whole->nz;
+  auto make = [whole, window, factor, levels]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
     auto part = volume::gridWindow(*whole, window);
-    if (!part || !GridVolumeGL::checkDrawable(*part)) return nullptr;
+    if (!part) return nullptr;
+    if (factor > 1) *part = volume::decimateGrid(*part, factor, levels);
+    if (!GridVolumeGL::checkDrawable(*part)) return nullptr;
     return GridVolumeGL::prepare(*part);
   };
   if (background) {  // until it is made, the grid as uploaded
-    if (!windowBuilding_) windowBuilding_ = WindowBuild{volume_.get(), window, std::async(std::launch::async, make)};
+    if (!windowBuilding_)
+      windowBuilding_ = WindowBuild{volume_.get(), window, factor, std::async(std::launch::async, make)};
     return;
   }
   std::shared_ptr<const GridVolumeGL::Prepared> prepared = make();
   if (!prepared) return;
   auto gl = GridVolumeGL::create(std::move(prepared));
   if (!gl) return;
-  window_ = ViewWindow{volume_.get(), window, std::move(*gl)};
+  window_ = ViewWindow{volume_.get(), window, factor, std::move(*gl)};
   windowUsed_ = true;
 }
 

@@ -1074,6 +1074,85 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   EXPECT_NE(reducedLegend.find("at 1/2 resolution (GPU memory)"), std::string::npos) << reducedLegend;
 }
 
+// A grid uploaded at 1/4 of its resolution (limit 0.5 MB, the whole grid's texels 3.1 MB): a view
+// whose window does not fit at full resolution takes it at the finest that fits (1/2), which is
+// closer to the whole grid drawn without a limit than the 1/4 grid; a closer view makes a window
+// at full resolution, and the legend says which.
+TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAsUploaded) {
+  testutil::glContext();
+  const std::string dir = testutil::testOutputDir();
+  volume::SyntheticGlobalGridOptions go;
+  go.nx = 144;  // 2.5 deg
+  go.ny = 73;
+  ASSERT_TRUE(volume::writeSyntheticGlobalGrid(dir + "/window_levels.nc", go));
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  const engine::VolumeLayerDescription d = wholeShellLayer(dir + "/window_levels.nc");
+  const Camera mid(CameraPose{15.0, -40.0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+  const Camera close(CameraPose{15.0, -40.0, 0.8e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+  auto fb = engine::FramebufferGL::create(mid.widthPx(), mid.heightPx());
+  ASSERT_TRUE(fb);
+  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
+    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "500000", 1);
+    auto renderer = engine::SceneRendererGL::create(*loader);
+    engine::VolumeLayerDescription e = d;
+    e.levelOfDetail = levelOfDetail;
+    auto layer = (*renderer)->addVolume(e);
+    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
+    if (!layer) {
+      ADD_FAILURE() << layer.error();
+      return std::nullopt;
+    }
+    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 36u : 144u);  // every 4th column
+    auto image = (*renderer)->renderToImage(mid, {}, **fb);
+    if (!image) {
+      ADD_FAILURE() << image.error();
+      return std::nullopt;
+    }
+    if (legend) *legend = grid.legendPart().subtitle;
+    if (limited && levelOfDetail) {
+      const volume::GridWindow w = grid.viewWindow();
+      EXPECT_FALSE(w.empty());
+      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      EXPECT_NE(drawn, &grid.gridVolume());
+      if (drawn) {
+        EXPECT_GT(w.columnCount * w.rowCount, 36u * 19u) << "the window does not fit at full resolution";
+        EXPECT_NEAR(drawn->grid().lonDeg[1] - drawn->grid().lonDeg[0], 5.0, 1e-9);  // 1/2
+      }
+      // Closer: a window at full resolution, made anew.
+      EXPECT_TRUE((*renderer)->renderToImage(close, {}, **fb));
+      const auto* nearer = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      EXPECT_NE(nearer, &grid.gridVolume());
+      if (nearer) EXPECT_NEAR(nearer->grid().lonDeg[1] - nearer->grid().lonDeg[0], 2.5, 1e-9);
+      EXPECT_NE(grid.legendPart().subtitle.find("the columns in view at full resolution"), std::string::npos)
+          << grid.legendPart().subtitle;
+    }
+    return std::move(*image);
+  };
+  std::string windowLegend, quarterLegend;
+  const auto whole = draw(false, true, nullptr);
+  const auto windowed = draw(true, true, &windowLegend);
+  const auto quarter = draw(true, false, &quarterLegend);
+  ASSERT_TRUE(whole && windowed && quarter);
+  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+    double sum = 0.0;
+    for (int y = 0; y < mid.heightPx(); ++y)
+      for (int x = 0; x < mid.widthPx(); ++x) {
+        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
+        sum += e.r + e.g + e.b;
+      }
+    return sum / (3.0 * mid.widthPx() * mid.heightPx());
+  };
+  const double half = meanDiff(*windowed, *whole), fourth = meanDiff(*quarter, *whole);
+  std::cout << "against the whole grid without a limit: the window in view at 1/2 resolution " << half
+            << " of 255, the grid at 1/4 " << fourth << "\n";
+  // Every 2nd point against every 4th: the window's frame is the closer of the two by a margin.
+  EXPECT_LT(half, 0.7 * fourth);
+  EXPECT_NE(windowLegend.find("the columns in view at 1/2 resolution (GPU memory)"), std::string::npos) << windowLegend;
+  EXPECT_NE(quarterLegend.find("at 1/4 resolution (GPU memory)"), std::string::npos) << quarterLegend;
+}
+
 // A reduced (Gaussian) GRIB grid too large for the GPU's limit: uploaded at half resolution, and
 // a close view draws the columns in view at full resolution (a reduced window, above), as a
 // rectilinear grid does. At the fixed step (the step rule takes each grid's mean level heights

@@ -109,10 +109,13 @@ class GridSourceGL final : public VolumeSourceGL {
   };
   std::optional<DetailBuild> building_;
   /// The view's window of a grid too large for the GPU (volumes()): the volume it is of, the
-  /// window, the GPU copy; and one being made on a worker thread.
+  /// window, every how many columns and rows it keeps (1: full resolution; 2, 4 ...: a window that
+  /// fits only at that resolution, still finer than the grid as uploaded), the GPU copy; and one
+  /// being made on a worker thread.
   struct ViewWindow {
     const void* of = nullptr;
     volume::GridWindow window;
+    std::size_t factor = 1;
     std::shared_ptr<GridVolumeGL> volume;
   };
   std::optional<ViewWindow> window_;
@@ -120,6 +123,7 @@ class GridSourceGL final : public VolumeSourceGL {
   struct WindowBuild {
     const void* of = nullptr;
     volume::GridWindow window;
+    std::size_t factor = 1;
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
   };
   std::optional<WindowBuild> windowBuilding_;
