@@ -14,11 +14,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -813,4 +815,15 @@ TEST(GribReader, AMessageFailingAnEcCodesCheckIsSkippedNotAnAbort) {
     EXPECT_EQ(grid->nx, 180u);
     EXPECT_EQ(grid->ny, 91u);
   }
+  // ecCodes is left usable from another thread too (the loaders' threads): no lock of its own was
+  // left held by the exception (its locks belong to a thread). The index is built afresh there
+  // (another cache directory), so the message fails its check on that thread as well.
+  useTestCache();
+  auto other = std::async(std::launch::async, [&] {
+    auto again = describeGridFile(path);
+    return again.ok() ? again->warnings.size() : std::size_t{0};
+  });
+  ASSERT_EQ(other.wait_for(std::chrono::seconds(60)), std::future_status::ready)
+      << "ecCodes blocked on another thread after a failed check";
+  EXPECT_EQ(other.get(), 1u);
 }
