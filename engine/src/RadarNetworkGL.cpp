@@ -79,7 +79,8 @@ std::shared_ptr<const NetworkRadarParts> RadarNetworkGL::prepareRadar(const volu
 
 Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
-    double exaggeration, std::vector<std::shared_ptr<const NetworkRadarParts>> parts, RadarNetworkGL* previous) {
+    double exaggeration, std::vector<std::shared_ptr<const NetworkRadarParts>> parts, RadarNetworkGL* previous,
+    PreviousTexture use) {
   using C = MarchConstants;
   if (Status s = volume::validateVerticalExaggeration(exaggeration, "radar network"); !s) return s.forwardError();
   std::vector<const volume::PolarVolume*> raw;
@@ -124,6 +125,13 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
                previous->exaggeration_ == exaggeration;
   for (std::size_t r = 0; reuse && r < radars.size(); ++r)
     reuse = previous->radars_[r]->sweeps.size() == radars[r]->sweeps.size();
+  // A copy pays for the whole texture: made only where some radar's tiles are unchanged.
+  const bool copy = use == PreviousTexture::Copy;
+  if (reuse && copy) {
+    bool anyUnchanged = false;
+    for (std::size_t r = 0; r < radars.size() && !anyUnchanged; ++r) anyUnchanged = previous->radars_[r] == radars[r];
+    reuse = anyUnchanged;
+  }
 
   std::unique_ptr<RadarNetworkGL> gl(new RadarNetworkGL());
   gl->radars_ = std::move(radars);
@@ -279,10 +287,21 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   clearErrorsGL();
   const std::size_t valueBytes = static_cast<std::size_t>(width) * tileH * layers * 8;
   if (reuse) {
-    // Taken over: `previous` no longer draws (its values are 0) and must be dropped.
-    gl->values_ = previous->values_;
-    previous->values_ = 0;
-    previous->gpuBytes_ -= std::min(previous->gpuBytes_, valueBytes);
+    if (copy) {
+      // Copied on the GPU: `previous` draws on (a loop that keeps its steps).
+      gl->values_ = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+      glTextureStorage3D(gl->values_, 1, GL_RGBA16F, width, tileH, layers);
+      if (outOfMemoryGL())
+        return makeError("radar network: the GPU is out of memory for its " + megabytes(valueBytes) + " texture of " +
+                         std::to_string(sweeps) + " sweeps");
+      glCopyImageSubData(previous->values_, GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, gl->values_, GL_TEXTURE_2D_ARRAY, 0, 0, 0,
+                         0, width, tileH, layers);
+    } else {
+      // Taken over: `previous` no longer draws (its values are 0) and must be dropped.
+      gl->values_ = previous->values_;
+      previous->values_ = 0;
+      previous->gpuBytes_ -= std::min(previous->gpuBytes_, valueBytes);
+    }
     for (int r = 0; r < radarCount; ++r) {
       const std::vector<std::uint64_t>& own = tilesOf[static_cast<std::size_t>(r)];
       if (own.empty()) continue;
@@ -332,7 +351,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
     const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
     volume::FieldKind kind, double exaggeration, const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts,
-    const std::vector<RadarNetworkGL*>& previous) {
+    const std::vector<RadarNetworkGL*>& previous, PreviousTexture use) {
   if (!parts.empty() && parts.size() != radars.size())
     return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
                      std::to_string(radars.size()));
@@ -362,14 +381,14 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
       members.push_back(radars[i]);
       if (!parts.empty()) memberParts.push_back(parts[i]);
     }
-    // A cluster of the same sites in the previous step: its values texture is taken over.
+    // A cluster of the same sites in the previous step: its values texture is taken over or copied.
     RadarNetworkGL* same = nullptr;
     for (std::size_t k = 0; k < previous.size() && !same; ++k)
       if (!taken[k] && previous[k] && sameSites(*previous[k], members)) {
         taken[k] = true;
         same = previous[k];
       }
-    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts), same);
+    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts), same, use);
     if (!gl) return gl.forwardError();
     out.push_back(std::move(*gl));
   }

@@ -301,18 +301,20 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
       });
       for (std::size_t k : toMake)
         context.cache.put(partsKey(context.layer, chosen[k].second->files), parts[k], parts[k]->bytes());
-      // A loop whose steps do not all fit the budget is never replayed from the cache when played
-      // in order (least recently used goes first), so a step takes over the textures of the step
-      // shown before, uploading only the radars whose volume changed; a loop that fits keeps
-      // every step for its replay. Only when stepping: a reload keeps the step shown until the
-      // new one is loaded (an error leaves it drawn).
+      // A step uploads only the radars whose volume changed since the step shown before, the
+      // others' tiles coming from that step's textures. A loop whose steps do not all fit the
+      // budget is never replayed from the cache when played in order (least recently used goes
+      // first), so its step takes those textures over; a loop that fits keeps every step for its
+      // replay, so its step copies them on the GPU. Only when stepping: a reload keeps the step
+      // shown until the new one is loaded (an error leaves it drawn).
       std::vector<RadarNetworkGL*> previous;
-      const bool takeOver = stepping && shown_ && rule_ == rule &&
-                            static_cast<double>(times_.size()) * static_cast<double>(shown_->gpuBytes()) >
-                                static_cast<double>(context.cache.budget());
-      if (takeOver)
+      if (stepping && shown_ && rule_ == rule)
         for (const auto& c : shown_->clusters) previous.push_back(c.get());
-      auto gl = RadarNetworkGL::createByCluster(radars, rule, kind, context.exaggeration, parts, previous);
+      const bool overBudget = shown_ && static_cast<double>(times_.size()) * static_cast<double>(shown_->gpuBytes()) >
+                                            static_cast<double>(context.cache.budget());
+      auto gl = RadarNetworkGL::createByCluster(
+          radars, rule, kind, context.exaggeration, parts, previous,
+          overBudget ? RadarNetworkGL::PreviousTexture::TakeOver : RadarNetworkGL::PreviousTexture::Copy);
       if (!gl) {
         std::string why = d.path + ": " + gl.error();
         if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";

@@ -51,6 +51,14 @@ std::string writePair(const std::string& name, bool velocity = false) {
   return dir;
 }
 
+// The pair's first volumes alone (21:00): a network of one step, uploaded whole.
+std::string firstStepOnly(const std::string& name) {
+  const std::string dir = writePair(name);
+  std::filesystem::remove(dir + "/KTLX_1.nc");
+  std::filesystem::remove(dir + "/KVNX_1.nc");
+  return dir;
+}
+
 const engine::Camera& camera() {
   // Above the middle of the pair, 600 km up, looking down at both.
   static const engine::Camera c(engine::CameraPose{36.0, -97.7, 6e5, 0.0, -90.0, 0.0}, 60.0, 160, 90);
@@ -250,11 +258,10 @@ TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChange
   const globe::ImageRGBA8 earlier = draw(*renderer);
   EXPECT_NE(earlier.pixels, latest.pixels) << "KTLX's storms move in 5 minutes";
 
-  // Pixel for pixel the network uploaded whole: a renderer that opens the set and shows step 0.
+  // Pixel for pixel the network uploaded whole: a renderer that opens step 0's volumes alone.
   auto whole = emptyRenderer();
-  ASSERT_TRUE(whole->addVolume(radarLayer(dir)));
-  ASSERT_TRUE(engine::showSceneTime(*whole, *axis, 0));
-  EXPECT_EQ(whole->layerAs<engine::RadarNetworkSourceGL>(0)->radarsUploaded(), 4u) << "a budget that holds the loop";
+  ASSERT_TRUE(whole->addVolume(radarLayer(firstStepOnly("network_take_over_whole"))));
+  EXPECT_EQ(whole->layerAs<engine::RadarNetworkSourceGL>(0)->radarsUploaded(), 2u);
   EXPECT_EQ(earlier.pixels, draw(*whole).pixels);
 
   // And back: the first picture again, one radar uploaded.
@@ -263,6 +270,35 @@ TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChange
   EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
   const auto stats = renderer->stepCache().stats();
   EXPECT_LE(stats.heldBytes, stats.budgetBytes);
+}
+
+// Within a budget that holds the loop a step keeps the step shown before (for the replay) and
+// copies its textures on the GPU, uploading only the radars that changed; the copy draws what a
+// network uploaded whole draws, and the step before still draws its own picture from the cache.
+TEST(RadarNetworkSource, AStepOfALoopWithinTheBudgetCopiesTheRadarsThatDidNotChange) {
+  const std::string dir = writePair("network_copy");
+  std::filesystem::remove(dir + "/KVNX_1.nc");  // KVNX: one volume; KTLX: two
+  auto renderer = emptyRenderer();
+  ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));  // the latest step (1): both radars uploaded
+  const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+  ASSERT_NE(source, nullptr);
+  EXPECT_EQ(source->radarsUploaded(), 2u);
+  auto axis = engine::sceneTimeAxis(*renderer);
+  ASSERT_TRUE(axis) << axis.error();
+  ASSERT_EQ(axis->times.size(), 2u);
+  const globe::ImageRGBA8 latest = draw(*renderer);
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+  EXPECT_EQ(source->radarsUploaded(), 3u) << "KTLX's tiles alone";
+  EXPECT_TRUE(renderer->stepCache().contains(engine::stepKey(0, 1, true))) << "step 1 kept for the replay";
+  const globe::ImageRGBA8 earlier = draw(*renderer);
+  EXPECT_NE(earlier.pixels, latest.pixels) << "KTLX's storms move in 5 minutes";
+  auto whole = emptyRenderer();
+  ASSERT_TRUE(whole->addVolume(radarLayer(firstStepOnly("network_copy_whole"))));
+  EXPECT_EQ(earlier.pixels, draw(*whole).pixels);
+  // The replay: step 1 from the cache, nothing uploaded, its picture as first drawn.
+  ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
+  EXPECT_EQ(source->radarsUploaded(), 3u);
+  EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
 }
 
 }  // namespace

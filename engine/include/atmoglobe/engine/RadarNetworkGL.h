@@ -43,25 +43,29 @@ class RadarNetworkGL final : public VolumeGL {
   /// local sphere, as a radar layer does; the reference is the network sampler seen through
   /// volume::ExaggeratedSampler (exact).
   /// `parts`: prepareRadar's of each radar in order, made at `exaggeration`; empty: made here.
-  /// `previous`: a network of the same sites (the step shown before) whose values texture is taken
-  /// over where its layout is this one's (the same sweep counts, tile size and tiles per layer,
+  /// `previous`: a network of the same sites (the step shown before) whose values texture serves
+  /// where its layout is this one's (the same sweep counts, tile size and tiles per layer,
   /// exaggeration): only the tiles of radars whose volume is not previous's (another shared_ptr)
-  /// are packed and uploaded. `previous` then draws nothing (drawable() false) and must be
-  /// dropped; otherwise it is left as it was and everything is uploaded.
+  /// are packed and uploaded. With PreviousTexture::TakeOver the texture is taken over:
+  /// `previous` then draws nothing (drawable() false) and must be dropped. With ::Copy (a loop
+  /// that keeps its steps) it is copied on the GPU (glCopyImageSubData) where at least one radar
+  /// is unchanged, and `previous` draws on. Otherwise `previous` is left as it was and everything
+  /// is uploaded.
+  enum class PreviousTexture { TakeOver, Copy };
   static Result<std::unique_ptr<RadarNetworkGL>> create(
       std::vector<std::shared_ptr<const volume::PolarVolume>> radars, volume::OverlapRule rule, volume::FieldKind kind,
       double exaggeration = 1.0, std::vector<std::shared_ptr<const NetworkRadarParts>> parts = {},
-      RadarNetworkGL* previous = nullptr);
+      RadarNetworkGL* previous = nullptr, PreviousTexture use = PreviousTexture::TakeOver);
   /// The radars split into the clusters whose clip spheres meet (volume::clusterBySphere), one
   /// network each, largest first (a cluster of the same sites as one of `previous` takes its
-  /// texture over, as create() does): the marcher draws clusters apart in passes of their own, each
+  /// texture over or copies it, as create() does): the marcher draws clusters apart in passes of their own, each
   /// with its own tight ray interval and empty-space grid (a national network with sites in
   /// Alaska, Hawaii, Guam and Europe would otherwise be one volume spanning the globe).
   static Result<std::vector<std::unique_ptr<RadarNetworkGL>>> createByCluster(
       const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
       volume::FieldKind kind, double exaggeration = 1.0,
       const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts = {},
-      const std::vector<RadarNetworkGL*>& previous = {});
+      const std::vector<RadarNetworkGL*>& previous = {}, PreviousTexture use = PreviousTexture::TakeOver);
   ~RadarNetworkGL() override;
   RadarNetworkGL(const RadarNetworkGL&) = delete;
   RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;
@@ -80,8 +84,8 @@ class RadarNetworkGL final : public VolumeGL {
   /// The network at true scale (its coverage index and rule).
   const volume::RadarNetworkSampler& network() const { return *sampler_; }
   double exaggeration() const { return exaggeration_; }
-  /// Radars whose tiles this network's creation uploaded (all of them unless it took over a
-  /// previous step's texture).
+  /// Radars whose tiles this network's creation uploaded (all of them unless it took over or
+  /// copied a previous step's texture).
   int radarsUploaded() const { return radarsUploaded_; }
   /// Whether it still draws (false once a later step took its texture over).
   bool drawable() const { return values_ != 0; }
