@@ -258,12 +258,18 @@ Status GridSourceGL::applyExaggeration(SourceContext context) {
 
 namespace {
 
+// 1 for a volume uploaded at the resolution it was given, else 2, 4 ... (halved to fit the GPU).
+std::size_t uploadFactor(const GridVolumeGL& gl) {
+  const auto& whole = gl.unreducedGrid();
+  if (!whole || gl.grid().nx == 0) return 1;
+  const long halvings = std::lround(std::log2(static_cast<double>(whole->nx) / static_cast<double>(gl.grid().nx)));
+  return std::size_t{1} << std::max(1L, halvings);
+}
+
 // "" for a grid drawn at its resolution, else "  at 1/2 resolution (GPU memory)" and so on.
 std::string reducedNote(const GridVolumeGL& gl) {
-  const auto& whole = gl.unreducedGrid();
-  if (!whole || gl.grid().nx == 0) return {};
-  const long halvings = std::lround(std::log2(static_cast<double>(whole->nx) / static_cast<double>(gl.grid().nx)));
-  return "  at 1/" + std::to_string(1L << std::max(1L, halvings)) + " resolution (GPU memory)";
+  const std::size_t f = uploadFactor(gl);
+  return f == 1 ? std::string() : "  at 1/" + std::to_string(f) + " resolution (GPU memory)";
 }
 
 }  // namespace
@@ -275,9 +281,10 @@ LegendPart GridSourceGL::legendPart() const {
     if (viewWindow().empty()) {
       resolution = reducedNote(*volume_);
     } else {
-      resolution = window_->factor > 1
-                       ? "  the columns in view at 1/" + std::to_string(window_->factor) + " resolution (GPU memory)"
-                       : "  the columns in view at full resolution";
+      // The window's own factor, times what its upload halved it by where it did not fit either.
+      const std::size_t f = window_->factor * uploadFactor(*window_->volume);
+      resolution = f > 1 ? "  the columns in view at 1/" + std::to_string(f) + " resolution (GPU memory)"
+                         : "  the columns in view at full resolution";
     }
   }
   const std::string variable = displayName(v.variable);
@@ -411,6 +418,9 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   // while it holds the view at that resolution or finer (a closer view makes a finer one).
   const volume::GridWindow window = widenWindow(view, *whole);
   const std::size_t factor = factorFor(window);
+  // A reduced grid's window is drawn at full resolution only: every f-th point of its rows
+  // (decimateGrid) would no longer reach the window's east edge, where each row was cut.
+  if (factor > 1 && whole->reduced()) return;
   if (window_ && windowContains(window_->window, view, whole->nx) && window_->factor <= factor) {
     windowUsed_ = true;
     return;

@@ -296,6 +296,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
                          std::to_string(sweeps) + " sweeps");
       glCopyImageSubData(previous->values_, GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, gl->values_, GL_TEXTURE_2D_ARRAY, 0, 0, 0,
                          0, width, tileH, layers);
+      // A copy that failed would leave the unchanged radars' tiles undefined: an error, not a picture.
+      if (const GLenum e = glGetError(); e != GL_NO_ERROR)
+        return makeError("radar network: copying the step before's " + megabytes(valueBytes) +
+                         " texture on the GPU failed (GL error " + std::to_string(e) + ")");
     } else {
       // Taken over: `previous` no longer draws (its values are 0) and must be dropped.
       gl->values_ = previous->values_;

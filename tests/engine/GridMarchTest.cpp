@@ -1124,7 +1124,9 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
       EXPECT_TRUE((*renderer)->renderToImage(close, {}, **fb));
       const auto* nearer = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
       EXPECT_NE(nearer, &grid.gridVolume());
-      if (nearer) EXPECT_NEAR(nearer->grid().lonDeg[1] - nearer->grid().lonDeg[0], 2.5, 1e-9);
+      if (nearer) {
+        EXPECT_NEAR(nearer->grid().lonDeg[1] - nearer->grid().lonDeg[0], 2.5, 1e-9);
+      }
       EXPECT_NE(grid.legendPart().subtitle.find("the columns in view at full resolution"), std::string::npos)
           << grid.legendPart().subtitle;
     }

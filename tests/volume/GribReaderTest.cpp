@@ -25,6 +25,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace atmoglobe::volume;
@@ -819,10 +820,13 @@ TEST(GribReader, AMessageFailingAnEcCodesCheckIsSkippedNotAnAbort) {
   // left held by the exception (its locks belong to a thread). The index is built afresh there
   // (another cache directory), so the message fails its check on that thread as well.
   useTestCache();
-  auto other = std::async(std::launch::async, [&] {
+  // A thread of its own, detached if it hangs (a std::async future would wait for it at the end).
+  auto done = std::make_shared<std::promise<std::size_t>>();
+  std::future<std::size_t> other = done->get_future();
+  std::thread([done, path] {
     auto again = describeGridFile(path);
-    return again.ok() ? again->warnings.size() : std::size_t{0};
-  });
+    done->set_value(again.ok() ? again->warnings.size() : std::size_t{0});
+  }).detach();
   ASSERT_EQ(other.wait_for(std::chrono::seconds(60)), std::future_status::ready)
       << "ecCodes blocked on another thread after a failed check";
   EXPECT_EQ(other.get(), 1u);
