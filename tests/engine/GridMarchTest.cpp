@@ -888,6 +888,47 @@ static engine::VolumeLayerDescription wholeShellLayer(const std::string& path) {
   return d;
 }
 
+// Mean |a - b| over the RGB channels of two frames of one size, in 8-bit steps; `differing`: how
+// many pixels differ at all.
+static double meanFrameDifference(const globe::ImageRGBA8& a, const globe::ImageRGBA8& b, int* differing = nullptr) {
+  double sum = 0.0;
+  int n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
+      sum += e.r + e.g + e.b;
+      if (e != glm::ivec4(0)) ++n;
+    }
+  if (differing) *differing = n;
+  return sum / (3.0 * a.width * a.height);
+}
+
+// A renderer holding the grid layer `d` (with `levelOfDetail`), uploaded under a GPU memory limit of
+// `limitBytes` ($ATMOGLOBE_MAX_TEXTURE_BYTES; nullptr: none). Null, with a test failure, when it
+// cannot be made.
+struct GridUnderLimit {
+  std::unique_ptr<engine::SceneRendererGL> renderer;
+  engine::GridSourceGL* grid = nullptr;
+};
+static std::optional<GridUnderLimit> gridUnderLimit(const std::shared_ptr<globe::TileImageLoader>& loader,
+                                                    engine::VolumeLayerDescription d, const char* limitBytes,
+                                                    bool levelOfDetail) {
+  auto renderer = engine::SceneRendererGL::create(loader);
+  if (!renderer) {
+    ADD_FAILURE() << renderer.error();
+    return std::nullopt;
+  }
+  d.levelOfDetail = levelOfDetail;
+  if (limitBytes) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", limitBytes, 1);
+  auto layer = (*renderer)->addVolume(d);
+  unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
+  if (!layer) {
+    ADD_FAILURE() << layer.error();
+    return std::nullopt;
+  }
+  return GridUnderLimit{std::move(*renderer), &dynamic_cast<engine::GridSourceGL&>(**layer)};
+}
+
 TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   testutil::glContext();
   const std::string dir = testutil::testOutputDir();
@@ -1001,19 +1042,13 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   ASSERT_TRUE(fb);
   auto draw = [&](bool limited, bool levelOfDetail, std::string* legend,
                   engine::GridSourceGL** kept = nullptr) -> std::optional<globe::ImageRGBA8> {
-    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "1500000", 1);  // the whole grid's texels are 3.1 MB
-    auto renderer = engine::SceneRendererGL::create(*loader);
-    engine::VolumeLayerDescription e = d;
-    e.levelOfDetail = levelOfDetail;
-    auto layer = (*renderer)->addVolume(e);
-    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
-    if (!layer) {
-      ADD_FAILURE() << layer.error();
-      return std::nullopt;
-    }
-    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    // The whole grid's texels are 3.1 MB.
+    auto held = gridUnderLimit(*loader, d, limited ? "1500000" : nullptr, levelOfDetail);
+    if (!held) return std::nullopt;
+    auto& renderer = held->renderer;
+    engine::GridSourceGL& grid = *held->grid;
     EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 72u : 144u);  // every 2nd column of a wrapping grid
-    auto image = (*renderer)->renderToImage(close, {}, **fb);
+    auto image = renderer->renderToImage(close, {}, **fb);
     if (!image) {
       ADD_FAILURE() << image.error();
       return std::nullopt;
@@ -1032,11 +1067,11 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
       }
       // Moved a little (50 km): the same window, not made again.
       const Camera moved(CameraPose{15.0, -39.5, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
-      EXPECT_TRUE((*renderer)->renderToImage(moved, {}, **fb));
+      EXPECT_TRUE(renderer->renderToImage(moved, {}, **fb));
       EXPECT_EQ(grid.volumes()[0], drawn);
       // From 35,000 km the view holds half the globe: no window (the coarser copies instead).
       const Camera far(CameraPose{15.0, -40.0, 35.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
-      EXPECT_TRUE((*renderer)->renderToImage(far, {}, **fb));
+      EXPECT_TRUE(renderer->renderToImage(far, {}, **fb));
       EXPECT_TRUE(grid.viewWindow().empty());
     }
     if (kept) *kept = &grid;
@@ -1047,21 +1082,9 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   const auto windowed = draw(true, true, &windowLegend);
   const auto reduced = draw(true, false, &reducedLegend);
   ASSERT_TRUE(whole && windowed && reduced);
-  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b, int* drawn) {
-    double sum = 0.0;
-    int n = 0;
-    for (int y = 0; y < close.heightPx(); ++y)
-      for (int x = 0; x < close.widthPx(); ++x) {
-        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
-        sum += e.r + e.g + e.b;
-        if (e != glm::ivec4(0)) ++n;
-      }
-    if (drawn) *drawn = n;
-    return sum / (3.0 * close.widthPx() * close.heightPx());
-  };
   int differWindow = 0, differReduced = 0;
-  const double window = meanDiff(*windowed, *whole, &differWindow);
-  const double half = meanDiff(*reduced, *whole, &differReduced);
+  const double window = meanFrameDifference(*windowed, *whole, &differWindow);
+  const double half = meanFrameDifference(*reduced, *whole, &differReduced);
   std::cout << "against the whole grid without a limit: the window in view " << window << " of 255 (" << differWindow
             << " pixels differ), the grid at half resolution " << half << " (" << differReduced << ")\n";
   // The same points marched from another origin and tables: float rounding only, well under an
@@ -1093,19 +1116,12 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
   auto fb = engine::FramebufferGL::create(mid.widthPx(), mid.heightPx());
   ASSERT_TRUE(fb);
   auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "500000", 1);
-    auto renderer = engine::SceneRendererGL::create(*loader);
-    engine::VolumeLayerDescription e = d;
-    e.levelOfDetail = levelOfDetail;
-    auto layer = (*renderer)->addVolume(e);
-    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
-    if (!layer) {
-      ADD_FAILURE() << layer.error();
-      return std::nullopt;
-    }
-    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    auto held = gridUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail);
+    if (!held) return std::nullopt;
+    auto& renderer = held->renderer;
+    engine::GridSourceGL& grid = *held->grid;
     EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 36u : 144u);  // every 4th column
-    auto image = (*renderer)->renderToImage(mid, {}, **fb);
+    auto image = renderer->renderToImage(mid, {}, **fb);
     if (!image) {
       ADD_FAILURE() << image.error();
       return std::nullopt;
@@ -1121,7 +1137,7 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
         EXPECT_NEAR(drawn->grid().lonDeg[1] - drawn->grid().lonDeg[0], 5.0, 1e-9);  // 1/2
       }
       // Closer: a window at full resolution, made anew.
-      EXPECT_TRUE((*renderer)->renderToImage(close, {}, **fb));
+      EXPECT_TRUE(renderer->renderToImage(close, {}, **fb));
       const auto* nearer = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
       EXPECT_NE(nearer, &grid.gridVolume());
       if (nearer) {
@@ -1137,16 +1153,7 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
   const auto windowed = draw(true, true, &windowLegend);
   const auto quarter = draw(true, false, &quarterLegend);
   ASSERT_TRUE(whole && windowed && quarter);
-  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
-    double sum = 0.0;
-    for (int y = 0; y < mid.heightPx(); ++y)
-      for (int x = 0; x < mid.widthPx(); ++x) {
-        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
-        sum += e.r + e.g + e.b;
-      }
-    return sum / (3.0 * mid.widthPx() * mid.heightPx());
-  };
-  const double half = meanDiff(*windowed, *whole), fourth = meanDiff(*quarter, *whole);
+  const double half = meanFrameDifference(*windowed, *whole), fourth = meanFrameDifference(*quarter, *whole);
   std::cout << "against the whole grid without a limit: the window in view at 1/2 resolution " << half
             << " of 255, the grid at 1/4 " << fourth << "\n";
   // Every 2nd point against every 4th: the window's frame is the closer of the two by a margin.
@@ -1188,24 +1195,18 @@ TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());
   ASSERT_TRUE(fb);
   auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    if (limited) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", "500000", 1);  // the whole grid needs 1.0 MB
-    auto renderer = engine::SceneRendererGL::create(*loader);
-    engine::VolumeLayerDescription e = d;
-    e.levelOfDetail = levelOfDetail;
-    auto layer = (*renderer)->addVolume(e);
-    unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
-    if (!layer) {
-      ADD_FAILURE() << layer.error();
-      return std::nullopt;
-    }
-    auto& grid = dynamic_cast<engine::GridSourceGL&>(**layer);
+    // The whole grid needs 1.0 MB.
+    auto held = gridUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail);
+    if (!held) return std::nullopt;
+    auto& renderer = held->renderer;
+    engine::GridSourceGL& grid = *held->grid;
     EXPECT_TRUE(grid.gridVolume().grid().reduced());
     if (limited) {
       EXPECT_LT(grid.gridVolume().grid().nx, 128u) << "the limit should reduce the grid";
     } else {
       EXPECT_EQ(grid.gridVolume().grid().nx, 128u);
     }
-    auto image = (*renderer)->renderToImage(close, {}, **fb);
+    auto image = renderer->renderToImage(close, {}, **fb);
     if (!image) {
       ADD_FAILURE() << image.error();
       return std::nullopt;
@@ -1231,19 +1232,10 @@ TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   const auto reduced = draw(true, false, &reducedLegend);
   ASSERT_TRUE(whole && windowed && reduced);
   EXPECT_TRUE(globe::writePng(dir + "/reduced_window.png", *windowed));
-  auto meanDiff = [&](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
-    double sum = 0.0;
-    for (int y = 0; y < close.heightPx(); ++y)
-      for (int x = 0; x < close.widthPx(); ++x) {
-        const glm::ivec4 e = glm::abs(glm::ivec4(a.at(x, y)) - glm::ivec4(b.at(x, y)));
-        sum += e.r + e.g + e.b;
-      }
-    return sum / (3.0 * close.widthPx() * close.heightPx());
-  };
   int drawnPixels = 0;
   for (int y = 0; y < close.heightPx(); ++y)
     for (int x = 0; x < close.widthPx(); ++x) drawnPixels += whole->at(x, y).a > 0 ? 1 : 0;
-  const double window = meanDiff(*windowed, *whole), half = meanDiff(*reduced, *whole);
+  const double window = meanFrameDifference(*windowed, *whole), half = meanFrameDifference(*reduced, *whole);
   std::cout << "reduced grid against the whole grid without a limit: the window in view " << window
             << " of 255, the grid at half resolution " << half << "\n";
   // The same points marched from another origin and row tables: float rounding only.

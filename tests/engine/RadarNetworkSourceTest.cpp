@@ -51,6 +51,17 @@ std::string writePair(const std::string& name, bool velocity = false) {
   return dir;
 }
 
+// A network whose step changes one radar of two: KVNX has one volume (21:00), KTLX two (21:00,
+// 21:05), so at 21:05 the network shows KTLX's second volume beside KVNX's first. Opened at its
+// latest step (both radars uploaded) and drawn.
+struct ChangingPair {
+  std::unique_ptr<engine::SceneRendererGL> renderer;
+  const engine::RadarNetworkSourceGL* source = nullptr;
+  engine::SceneTimeAxis axis;
+  globe::ImageRGBA8 latest;
+};
+std::optional<ChangingPair> openChangingPair(const std::string& name);
+
 // The pair's first volumes alone (21:00): a network of one step, uploaded whole.
 std::string firstStepOnly(const std::string& name) {
   const std::string dir = writePair(name);
@@ -233,20 +244,34 @@ TEST(RadarNetworkSource, TheStepAheadIsReadInTheBackgroundAndDrawsTheSame) {
   EXPECT_GE(aloneStats.misses, 5u) << "read on the GL thread: volumes, parts and the network missed";
 }
 
-TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChanged) {
-  // KVNX has one volume (21:00), KTLX two (21:00, 21:05): at 21:05 the network shows KTLX's second
-  // volume beside KVNX's first, so stepping changes one radar of two.
-  const std::string dir = writePair("network_take_over");
+std::optional<ChangingPair> openChangingPair(const std::string& name) {
+  const std::string dir = writePair(name);
   std::filesystem::remove(dir + "/KVNX_1.nc");
-  auto renderer = emptyRenderer();
-  ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));  // the latest step (1)
-  const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
-  ASSERT_NE(source, nullptr);
-  EXPECT_EQ(source->radarsUploaded(), 2u);
-  auto axis = engine::sceneTimeAxis(*renderer);
-  ASSERT_TRUE(axis) << axis.error();
-  ASSERT_EQ(axis->times.size(), 2u);
-  const globe::ImageRGBA8 latest = draw(*renderer);
+  ChangingPair p;
+  p.renderer = emptyRenderer();
+  if (auto added = p.renderer->addVolume(radarLayer(dir)); !added) {
+    ADD_FAILURE() << added.error();
+    return std::nullopt;
+  }
+  p.source = p.renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+  auto axis = engine::sceneTimeAxis(*p.renderer);
+  if (!p.source || !axis || axis->times.size() != 2) {
+    ADD_FAILURE() << "a network layer of two steps expected" << (axis ? "" : ": " + axis.error());
+    return std::nullopt;
+  }
+  EXPECT_EQ(p.source->radarsUploaded(), 2u);
+  p.axis = std::move(*axis);
+  p.latest = draw(*p.renderer);
+  return p;
+}
+
+TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChanged) {
+  auto pair = openChangingPair("network_take_over");
+  ASSERT_TRUE(pair);
+  auto& renderer = pair->renderer;
+  const auto* source = pair->source;
+  const engine::SceneTimeAxis* axis = &pair->axis;
+  const globe::ImageRGBA8& latest = pair->latest;
 
   // Within a budget that cannot hold both steps' GPU parts, step 0 takes over step 1's textures and
   // uploads KTLX's tiles only; step 1's GPU part leaves the cache (it no longer draws).
@@ -276,17 +301,12 @@ TEST(RadarNetworkSource, AStepOfALoopOverTheBudgetUploadsOnlyTheRadarsThatChange
 // copies its textures on the GPU, uploading only the radars that changed; the copy draws what a
 // network uploaded whole draws, and the step before still draws its own picture from the cache.
 TEST(RadarNetworkSource, AStepOfALoopWithinTheBudgetCopiesTheRadarsThatDidNotChange) {
-  const std::string dir = writePair("network_copy");
-  std::filesystem::remove(dir + "/KVNX_1.nc");  // KVNX: one volume; KTLX: two
-  auto renderer = emptyRenderer();
-  ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));  // the latest step (1): both radars uploaded
-  const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
-  ASSERT_NE(source, nullptr);
-  EXPECT_EQ(source->radarsUploaded(), 2u);
-  auto axis = engine::sceneTimeAxis(*renderer);
-  ASSERT_TRUE(axis) << axis.error();
-  ASSERT_EQ(axis->times.size(), 2u);
-  const globe::ImageRGBA8 latest = draw(*renderer);
+  auto pair = openChangingPair("network_copy");
+  ASSERT_TRUE(pair);
+  auto& renderer = pair->renderer;
+  const auto* source = pair->source;
+  const engine::SceneTimeAxis* axis = &pair->axis;
+  const globe::ImageRGBA8& latest = pair->latest;
   ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
   EXPECT_EQ(source->radarsUploaded(), 3u) << "KTLX's tiles alone";
   EXPECT_TRUE(renderer->stepCache().contains(engine::stepKey(0, 1, true))) << "step 1 kept for the replay";
