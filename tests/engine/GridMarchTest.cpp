@@ -1335,6 +1335,15 @@ TEST(GridVolumeWindow, WindowsAcrossTheSeamKeepThePointsAndIncreasingLongitudes)
   const volume::GridWindow w{34, 5, 3, 6};  // columns 34, 35, 0, 1, 2; rows 3..8
   auto part = volume::gridWindow(*g, w);
   ASSERT_TRUE(part) << part.error();
+  // The file's row of the window's first row (row 3), whichever way the file's rows run.
+  for (int step : {1, -1}) {
+    volume::GridVolume rows = *g;
+    rows.fileFirstRow = step > 0 ? 0 : 18;  // north-to-south: output row j is file row 18 - j
+    rows.fileRowStep = step;
+    auto rowsPart = volume::gridWindow(rows, w);
+    ASSERT_TRUE(rowsPart) << rowsPart.error();
+    EXPECT_EQ(rowsPart->fileFirstRow, step > 0 ? 3u : 15u);
+  }
   EXPECT_EQ(part->nx, 5u);
   EXPECT_EQ(part->ny, 6u);
   EXPECT_EQ(part->nz, g->nz);

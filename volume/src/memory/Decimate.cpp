@@ -18,6 +18,13 @@ std::vector<std::size_t> keptIndices(std::size_t n, std::size_t f, bool periodic
   return kept;
 }
 
+// The file's index of output index `i` of an axis whose output index 0 is file index `first` and
+// runs with the file index in steps of `step` (negative: a north-to-south file's rows).
+std::size_t fileIndexOf(std::size_t first, std::size_t i, int step) {
+  const long long at = static_cast<long long>(first) + static_cast<long long>(i) * step;
+  return at > 0 ? static_cast<std::size_t>(at) : 0;
+}
+
 // The points at columns `cols`, rows `rows` and levels `lev` of a grid that is not reduced, with
 // their positions, heights and pressures; the value range recomputed.
 GridVolume pickPoints(const GridVolume& g, const std::vector<std::size_t>& cols, const std::vector<std::size_t>& rows,
@@ -162,7 +169,7 @@ Result<GridVolume> reducedWindow(const GridVolume& g, const GridWindow& w) {
   }
   out.nx = *std::max_element(out.rowLengthPoints.begin(), out.rowLengthPoints.end());
   out.wrapsLongitude = whole;
-  out.fileFirstRow = g.fileFirstRow + w.firstRow * static_cast<std::size_t>(std::max(1, std::abs(g.fileRowStep)));
+  out.fileFirstRow = fileIndexOf(g.fileFirstRow, w.firstRow, g.fileRowStep);
   const bool pressures = g.pressurePa.size() == g.values.size();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   out.values.assign(out.nx * out.ny * out.nz, nan);
@@ -242,7 +249,7 @@ Result<GridVolume> gridWindow(const GridVolume& g, const GridWindow& w) {
   out.wrapsLongitude = g.wrapsLongitude && w.columnCount == g.nx && w.firstColumn == 0;
   // The file's indices of the first point; a window across the seam keeps its first column's.
   out.fileFirstColumn = g.fileFirstColumn + w.firstColumn * static_cast<std::size_t>(std::max(1, g.fileColumnStep));
-  out.fileFirstRow = g.fileFirstRow + w.firstRow * static_cast<std::size_t>(std::max(1, std::abs(g.fileRowStep)));
+  out.fileFirstRow = fileIndexOf(g.fileFirstRow, w.firstRow, g.fileRowStep);
   if (!g.curvilinear) {  // longitudes increase along the window, across the seam too
     for (std::size_t i = 1; i < out.lonDeg.size(); ++i)
       while (out.lonDeg[i] < out.lonDeg[i - 1]) out.lonDeg[i] += 360.0;
