@@ -418,9 +418,6 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   // while it holds the view at that resolution or finer (a closer view makes a finer one).
   const volume::GridWindow window = widenWindow(view, *whole);
   const std::size_t factor = factorFor(window);
-  // A reduced grid's window is drawn at full resolution only: every f-th point of its rows
-  // (decimateGrid) would no longer reach the window's east edge, where each row was cut.
-  if (factor > 1 && whole->reduced()) return;
   if (window_ && windowContains(window_->window, view, whole->nx) && window_->factor <= factor) {
     windowUsed_ = true;
     return;
@@ -428,7 +425,8 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   if (factor >= uploaded) return;
   const bool levels = drawnWhole.nz < whole->nz;
   auto make = [whole, window, factor, levels]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
-    auto part = volume::gridWindow(*whole, window);
+    // A reduced grid's rows lengthened so that every factor-th point still reaches the east edge.
+    auto part = volume::gridWindow(*whole, window, factor);
     if (!part) return nullptr;
     if (factor > 1) *part = volume::decimateGrid(*part, factor, levels);
     if (!GridVolumeGL::checkDrawable(*part)) return nullptr;

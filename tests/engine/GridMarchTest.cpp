@@ -1162,11 +1162,14 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
   EXPECT_NE(quarterLegend.find("at 1/4 resolution (GPU memory)"), std::string::npos) << quarterLegend;
 }
 
-// A reduced (Gaussian) GRIB grid too large for the GPU's limit: uploaded at half resolution, and
-// a close view draws the columns in view at full resolution (a reduced window, above), as a
-// rectilinear grid does. At the fixed step (the step rule takes each grid's mean level heights
-// and middle column spacing, which a window changes) the window's frame equals the whole grid's
-// drawn without a limit up to float rounding; the half-resolution grid does not.
+// A reduced (Gaussian) GRIB grid too large for the GPU's limit, as a rectilinear grid: under a
+// 0.5 MB limit it is uploaded at 1/2 and a close view draws the columns in view at full
+// resolution (a reduced window, above); under 0.2 MB it is uploaded at 1/4 and the same view's
+// window fits only at 1/2, each row lengthened so that every 2nd point still reaches the window's
+// east edge. At the fixed step (the step rule takes each grid's mean level heights and middle
+// column spacing, which a window changes) the full-resolution window's frame equals the whole
+// grid's drawn without a limit up to float rounding; the window at 1/2 is closer to it than the
+// grid at 1/4.
 TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   testutil::glContext();
   const std::string dir = testutil::testOutputDir();
@@ -1194,57 +1197,73 @@ TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   const Camera close(CameraPose{lat0, lon0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());
   ASSERT_TRUE(fb);
-  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    // The whole grid needs 1.0 MB.
-    auto held = gridUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail);
+  // `limit`: null for none; `uploadedNx`: the longest row as uploaded; `windowFactor`: every how
+  // many points the window keeps.
+  auto draw = [&](const char* limit, bool levelOfDetail, std::size_t uploadedNx, std::size_t windowFactor,
+                  std::string* legend) -> std::optional<globe::ImageRGBA8> {
+    auto held = gridUnderLimit(*loader, d, limit, levelOfDetail);  // the whole grid needs 1.0 MB
     if (!held) return std::nullopt;
-    auto& renderer = held->renderer;
     engine::GridSourceGL& grid = *held->grid;
     EXPECT_TRUE(grid.gridVolume().grid().reduced());
-    if (limited) {
-      EXPECT_LT(grid.gridVolume().grid().nx, 128u) << "the limit should reduce the grid";
-    } else {
-      EXPECT_EQ(grid.gridVolume().grid().nx, 128u);
-    }
-    auto image = renderer->renderToImage(close, {}, **fb);
+    EXPECT_EQ(grid.gridVolume().grid().nx, uploadedNx);
+    auto image = held->renderer->renderToImage(close, {}, **fb);
     if (!image) {
       ADD_FAILURE() << image.error();
       return std::nullopt;
     }
     if (legend) *legend = grid.legendPart().subtitle;
-    if (limited && levelOfDetail) {
+    if (limit && levelOfDetail) {
       const volume::GridWindow w = grid.viewWindow();
       EXPECT_FALSE(w.empty());
       const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
       EXPECT_NE(drawn, &grid.gridVolume());
       if (drawn) {
         EXPECT_TRUE(drawn->grid().reduced());
-        EXPECT_EQ(drawn->grid().ny, w.rowCount);
         EXPECT_LT(w.columnCount * 2, 128u);  // under half the circle (53 columns when written)
-        EXPECT_NEAR(drawn->grid().reducedSpacingDeg(), 360.0 / 128.0, 1e-9);  // full resolution
+        EXPECT_NEAR(drawn->grid().reducedSpacingDeg(), static_cast<double>(windowFactor) * 360.0 / 128.0, 1e-9);
+        // Every row reaches both edges of the window.
+        const double west = grid.gridVolume().unreducedGrid()->lonDeg[w.firstColumn];
+        const double east = west + static_cast<double>(w.columnCount - 1) * 360.0 / 128.0;
+        for (std::size_t r = 0; r < drawn->grid().ny; ++r) {
+          EXPECT_LE(drawn->grid().rowFirstLonDeg[r], west + 1e-9) << "row " << r;
+          EXPECT_GE(drawn->grid().lonDegAt(r, drawn->grid().rowLengthPoints[r] - 1), east - 1e-9) << "row " << r;
+        }
       }
     }
     return std::move(*image);
   };
-  std::string wholeLegend, windowLegend, reducedLegend;
-  const auto whole = draw(false, true, &wholeLegend);
-  const auto windowed = draw(true, true, &windowLegend);
-  const auto reduced = draw(true, false, &reducedLegend);
-  ASSERT_TRUE(whole && windowed && reduced);
-  EXPECT_TRUE(globe::writePng(dir + "/reduced_window.png", *windowed));
-  int drawnPixels = 0;
-  for (int y = 0; y < close.heightPx(); ++y)
-    for (int x = 0; x < close.widthPx(); ++x) drawnPixels += whole->at(x, y).a > 0 ? 1 : 0;
-  const double window = meanFrameDifference(*windowed, *whole), half = meanFrameDifference(*reduced, *whole);
-  std::cout << "reduced grid against the whole grid without a limit: the window in view " << window
-            << " of 255, the grid at half resolution " << half << "\n";
-  // The same points marched from another origin and row tables: float rounding only.
-  EXPECT_LT(window, 0.05);
-  EXPECT_GT(half, 10.0 * window);
-  EXPECT_GT(half, 0.1);
-  EXPECT_EQ(wholeLegend.find("resolution"), std::string::npos) << wholeLegend;
-  EXPECT_NE(windowLegend.find("the columns in view at full resolution"), std::string::npos) << windowLegend;
-  EXPECT_NE(reducedLegend.find("resolution (GPU memory)"), std::string::npos) << reducedLegend;
+  std::string legend;
+  const auto whole = draw(nullptr, true, 128, 1, &legend);
+  ASSERT_TRUE(whole);
+  EXPECT_EQ(legend.find("resolution"), std::string::npos) << legend;
+  struct Case {
+    const char* limit;
+    std::size_t uploadedNx, windowFactor;
+    const char* windowNote;
+    const char* gridNote;
+  };
+  for (const Case& c : {Case{"500000", 64, 1, "the columns in view at full resolution", "at 1/2 resolution"},
+                        Case{"200000", 32, 2, "the columns in view at 1/2 resolution", "at 1/4 resolution"}}) {
+    SCOPED_TRACE(c.limit);
+    std::string windowLegend, gridLegend;
+    const auto windowed = draw(c.limit, true, c.uploadedNx, c.windowFactor, &windowLegend);
+    const auto uploaded = draw(c.limit, false, c.uploadedNx, c.windowFactor, &gridLegend);
+    ASSERT_TRUE(windowed && uploaded);
+    EXPECT_TRUE(globe::writePng(dir + "/reduced_window_" + c.limit + ".png", *windowed));
+    const double window = meanFrameDifference(*windowed, *whole), grid = meanFrameDifference(*uploaded, *whole);
+    std::cout << "reduced grid under " << c.limit
+              << " bytes, against the whole grid without a limit: the window in view " << window
+              << " of 255, the grid as uploaded " << grid << "\n";
+    if (c.windowFactor == 1) {
+      EXPECT_LT(window, 0.05);  // the same points marched from another origin and row tables
+      EXPECT_GT(grid, 10.0 * window);
+    } else {
+      EXPECT_LT(window, 0.7 * grid);  // every 2nd point against every 4th
+    }
+    EXPECT_GT(grid, 0.1);
+    EXPECT_NE(windowLegend.find(c.windowNote), std::string::npos) << windowLegend;
+    EXPECT_NE(gridLegend.find(c.gridNote), std::string::npos) << gridLegend;
+  }
 }
 
 // Windows of reduced grids (global across the seam, regional): every row keeps its own points
@@ -1312,6 +1331,15 @@ TEST(GridVolumeWindow, AReducedGridsWindowHoldsItsPointsAndSamplesAsTheGrid) {
           echoes += s0.value > 1.0 ? 1 : 0;
         }
     EXPECT_GT(echoes, 5) << "the windows should hold some of the blob";
+    // With a stride of 2 (a window to be drawn at 1/2), every 2nd point of each row still spans
+    // the window: the rows are lengthened to an even number of spacings.
+    auto strided = volume::gridWindow(g, c.window, 2);
+    ASSERT_TRUE(strided) << strided.error();
+    const volume::GridVolume half = volume::decimateGrid(*strided, 2);
+    for (std::size_t r = 0; r < half.ny; ++r) {
+      EXPECT_LE(half.rowFirstLonDeg[r], west + 1e-9) << "row " << r;
+      EXPECT_GE(half.lonDegAt(r, half.rowLengthPoints[r] - 1), east - 1e-9) << "row " << r;
+    }
   }
   // The whole circle of a wrapping reduced grid as a window: the rows wrap as the grid's do.
   const volume::GridVolume g = reducedBlobGrid(36, 60.0, 0.0, 10.0);

@@ -137,7 +137,7 @@ GridVolume decimateReduced(const GridVolume& g, std::size_t factor, const std::v
 // has there (its nearest point when it has nothing: a row holds at least one). The rows start
 // where their first kept point is (continuous longitudes, not wrapped) and do not wrap, unless
 // the window spans every column of a wrapping grid: then the rows are the grid's.
-Result<GridVolume> reducedWindow(const GridVolume& g, const GridWindow& w) {
+Result<GridVolume> reducedWindow(const GridVolume& g, const GridWindow& w, std::size_t pointStride) {
   const bool whole = g.wrapsLongitude && w.columnCount >= g.nx;
   const double west = g.lonDeg[w.firstColumn];
   const double east = west + static_cast<double>(w.columnCount - 1) * g.reducedSpacingDeg();
@@ -155,6 +155,10 @@ Result<GridVolume> reducedWindow(const GridVolume& g, const GridWindow& w) {
     // 1e-9 of a spacing: a point on an edge (up to the rounding of the longitudes) is taken as on it.
     long long a = static_cast<long long>(std::floor((west - first) / spacing + 1e-9));
     long long b = static_cast<long long>(std::ceil((east - first) / spacing - 1e-9));
+    // A multiple of the stride's spacings from the first point (decimateGrid keeps every
+    // stride-th point of a row from its first).
+    const long long stride = static_cast<long long>(std::max<std::size_t>(1, pointStride));
+    b = a + (b - a + stride - 1) / stride * stride;
     if (whole) {
       a = 0, b = static_cast<long long>(n) - 1;
     } else if (!g.wrapsLongitude) {
@@ -234,13 +238,13 @@ GridVolume decimateGrid(const GridVolume& g, std::size_t factor, bool levels) {
   return out;
 }
 
-Result<GridVolume> gridWindow(const GridVolume& g, const GridWindow& w) {
+Result<GridVolume> gridWindow(const GridVolume& g, const GridWindow& w, std::size_t pointStride) {
   if (w.columnCount < 2 || w.rowCount < 2 || w.firstRow + w.rowCount > g.ny || w.columnCount > g.nx ||
       w.firstColumn >= g.nx || (!g.wrapsLongitude && w.firstColumn + w.columnCount > g.nx))
     return makeError(g.variable + ": window of " + std::to_string(w.columnCount) + " x " + std::to_string(w.rowCount) +
                      " points at column " + std::to_string(w.firstColumn) + ", row " + std::to_string(w.firstRow) +
                      " is not inside the " + std::to_string(g.nx) + " x " + std::to_string(g.ny) + " grid");
-  if (g.reduced()) return reducedWindow(g, w);
+  if (g.reduced()) return reducedWindow(g, w, pointStride);
   std::vector<std::size_t> cols, rows, lev;
   for (std::size_t i = 0; i < w.columnCount; ++i) cols.push_back((w.firstColumn + i) % g.nx);
   for (std::size_t j = 0; j < w.rowCount; ++j) rows.push_back(w.firstRow + j);

@@ -32,9 +32,11 @@ struct GridWindow {
 /// when the window is the whole grid. A reduced grid's window counts columns on its reference
 /// axis (lonDeg) and is a reduced grid whose rows keep their own points from the one at or west
 /// of the window's west edge to the one at or east of its east edge (between the edges a sample
-/// has the neighbours it has in the grid). Errors: a window of fewer than 2 x 2 points or outside
-/// the grid.
-Result<GridVolume> gridWindow(const GridVolume& grid, const GridWindow& window);
+/// has the neighbours it has in the grid). `pointStride` > 1 (reduced grids; a window to be
+/// decimated by that factor, decimateGrid): each such row is lengthened eastwards (within the row)
+/// to a multiple of `pointStride` spacings, so that every pointStride-th point from its first still
+/// reaches the east edge. Errors: a window of fewer than 2 x 2 points or outside the grid.
+Result<GridVolume> gridWindow(const GridVolume& grid, const GridWindow& window, std::size_t pointStride = 1);
 
 /// Every `factor`-th gate of every sweep (gate spacing times factor, the first gate kept), and,
 /// when `rays` is true, every `factor`-th ray. Value range recomputed. factor >= 2.
