@@ -1,7 +1,7 @@
 #include <atmoglobe/engine/RadarNetworkGL.h>
 
+#include <atmoglobe/globe/ParallelFor.h>
 #include "LoaderGL.h"
-#include "ParallelFor.h"
 
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -263,7 +263,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       boxes.push_back(box);
     }
   };
-  parallelFor(static_cast<std::size_t>(radarCount), [&](std::size_t r) { pack(static_cast<int>(r)); });
+  globe::parallelFor(static_cast<std::size_t>(radarCount), [&](std::size_t r) { pack(static_cast<int>(r)); });
   const double topRadius = *std::max_element(tops.begin(), tops.end());
   std::vector<volume::OccupancyBox> boxes;
   for (auto& b : boxesOf) boxes.insert(boxes.end(), b.begin(), b.end());

@@ -1,6 +1,6 @@
 #include <atmoglobe/engine/RadarNetworkSourceGL.h>
 
-#include "ParallelFor.h"
+#include <atmoglobe/globe/ParallelFor.h>
 
 #include <atmoglobe/engine/RadarSourceGL.h>
 #include <atmoglobe/engine/Readout.h>
@@ -248,7 +248,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     std::mutex mutex;
     std::vector<std::shared_ptr<const volume::PolarVolume>> layouts(toRead.size());
     std::vector<std::vector<std::string>> fieldNames(toRead.size());
-    parallelFor(toRead.size(), [&](std::size_t k) {
+    globe::parallelFor(toRead.size(), [&](std::size_t k) {
       auto r = readCroppedRadar(d, toRead[k]);
       if (!r) {
         std::lock_guard<std::mutex> lock(mutex);
@@ -296,7 +296,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
         if (held && held->exaggeration == context.exaggeration) parts[k] = std::move(held);
         else toMake.push_back(k);
       }
-      parallelFor(toMake.size(), [&](std::size_t j) {
+      globe::parallelFor(toMake.size(), [&](std::size_t j) {
         parts[toMake[j]] = RadarNetworkGL::prepareRadar(*radars[toMake[j]], context.exaggeration);
       });
       for (std::size_t k : toMake)

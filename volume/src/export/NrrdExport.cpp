@@ -1,5 +1,6 @@
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/ParallelFor.h>
 #include <atmoglobe/volume/AtomicFile.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridReader.h>
@@ -20,7 +21,6 @@
 #include <limits>
 #include <memory>
 #include <sstream>
-#include <thread>
 
 namespace atmoglobe::volume {
 
@@ -245,20 +245,15 @@ Result<std::vector<float>> resampleRegular(const VolumeSampler& sampler, const R
       }
     }
   };
-  unsigned n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = static_cast<unsigned>(std::min<std::size_t>(n, spec.nz));
-  std::vector<std::thread> pool;
   std::atomic<std::size_t> levelsDone{0};
-  for (unsigned t = 0; t < n; ++t) {
-    pool.emplace_back([&, t] {
-      for (std::size_t k = t; k < spec.nz; k += n) {
+  globe::parallelFor(
+      spec.nz,
+      [&](std::size_t k) {
         level(k);
         const std::size_t done = ++levelsDone;
         if (levelDone) levelDone(done, spec.nz);
-      }
-    });
-  }
-  for (auto& th : pool) th.join();
+      },
+      threads);
   return out;
 }
 

@@ -1,11 +1,11 @@
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/ParallelFor.h>
 #include <atmoglobe/volume/Crop.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/Geolocation.h>
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <vector>
 
 namespace atmoglobe::volume {
@@ -107,13 +107,7 @@ std::size_t cropPolar(PolarVolume& v, const CropBox& box, const GeoidGrid* geoid
       }
     }
   };
-  const unsigned threads = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(), 8u));
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (std::size_t k = t; k < v.sweeps.size(); k += threads) sweep(k);
-    });
-  for (auto& th : pool) th.join();
+  globe::parallelFor(v.sweeps.size(), sweep, 8);
   rangeOfValues(v.values, v.minValue, v.maxValue);
   std::size_t cut = 0;
   for (std::size_t c : cutPerSweep) cut += c;

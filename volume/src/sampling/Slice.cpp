@@ -1,13 +1,13 @@
 // Slices through volumes (Slice.h).
 #include <atmoglobe/volume/Slice.h>
 
+#include <atmoglobe/globe/ParallelFor.h>
 #include <atmoglobe/volume/Geoid.h>
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 namespace atmoglobe::volume {
 namespace {
@@ -176,24 +176,17 @@ SliceRaster sampleSlice(const std::vector<const VolumeSampler*>& samplers, const
   r.rows = geometry.rows();
   r.values.assign(static_cast<std::size_t>(r.columns) * static_cast<std::size_t>(r.rows),
                   std::numeric_limits<float>::quiet_NaN());
-  auto rowsFrom = [&](int first, int step) {
-    for (int j = first; j < r.rows; j += step) {
-      for (int i = 0; i < r.columns; ++i) {
-        const VolumeSample s = sampleVolumes(samplers, geometry.ecefAt(i + 0.5, j + 0.5), interpolation);
-        float& out =
-            r.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(r.columns) + static_cast<std::size_t>(i)];
-        out = s.state == VolumeSample::State::Echo     ? static_cast<float>(s.value)
-              : s.state == VolumeSample::State::NoEcho ? -std::numeric_limits<float>::infinity()
-                                                       : std::numeric_limits<float>::quiet_NaN();
-      }
+  auto row = [&](std::size_t jr) {
+    const int j = static_cast<int>(jr);
+    for (int i = 0; i < r.columns; ++i) {
+      const VolumeSample s = sampleVolumes(samplers, geometry.ecefAt(i + 0.5, j + 0.5), interpolation);
+      float& out = r.values[jr * static_cast<std::size_t>(r.columns) + static_cast<std::size_t>(i)];
+      out = s.state == VolumeSample::State::Echo     ? static_cast<float>(s.value)
+            : s.state == VolumeSample::State::NoEcho ? -std::numeric_limits<float>::infinity()
+                                                     : std::numeric_limits<float>::quiet_NaN();
     }
   };
-  int n = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  n = std::clamp(n, 1, r.rows);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(rowsFrom, t, n);
-  rowsFrom(0, n);
-  for (std::thread& t : pool) t.join();
+  globe::parallelFor(static_cast<std::size_t>(std::max(r.rows, 0)), row, static_cast<unsigned>(std::max(threads, 0)));
   summarizeSliceRaster(r);
   return r;
 }
