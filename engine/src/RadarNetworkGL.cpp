@@ -136,6 +136,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   std::unique_ptr<RadarNetworkGL> gl(new RadarNetworkGL());
   gl->radars_ = std::move(radars);
   gl->sampler_ = std::move(*sampler);
+  gl->kind_ = kind;
   gl->exaggeration_ = exaggeration;
   if (exaggeration != 1.0) gl->exaggerated_ = std::make_unique<volume::ExaggeratedSampler>(*gl->sampler_, exaggeration);
   const volume::CoverageIndex& index = gl->sampler_->coverage();
@@ -158,12 +159,27 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   // each a float (exact: below 2^24, checked).
   std::vector<glm::vec4> data(static_cast<std::size_t>(radarCount) * kRadarVec4s +
                               static_cast<std::size_t>(sweeps) * kSweepVec4s);
-  std::vector<float> table(static_cast<std::size_t>(C::kRayTableBins + 1) * (sweeps + radarCount), 0.0f);
+  // The azimuth and elevation tables: a row of kRayTableBins + 1 per sweep, then one per radar.
+  // Reusing, the rows of the radars that changed only, in a buffer per radar (its sweeps' rows,
+  // then its elevation row); the others' rows are in the table taken over or copied.
+  constexpr std::size_t kRow = static_cast<std::size_t>(C::kRayTableBins) + 1;
+  std::vector<float> table(reuse ? 0u : kRow * static_cast<std::size_t>(sweeps + radarCount));
+  std::vector<std::vector<float>> tableOf(reuse ? static_cast<std::size_t>(radarCount) : 0u);
   gl->sweepBase_ = radarCount * kRadarVec4s;
   if (!parts.empty() && parts.size() != gl->radars_.size())
     return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
                      std::to_string(radarCount));
   parts.resize(gl->radars_.size());
+  // Each radar's parts (made here where missing or made at another exaggeration), then where its
+  // empty-space boxes go in the one list of the network's boxes.
+  globe::parallelFor(parts.size(), [&](std::size_t r) {
+    const volume::PolarVolume& v = *gl->radars_[r];
+    const auto& p = parts[r];
+    if (!p || p->exaggeration != exaggeration || p->rayTables.size() != v.sweeps.size())
+      parts[r] = prepareRadar(v, exaggeration);
+  });
+  std::vector<std::size_t> firstBox(static_cast<std::size_t>(radarCount) + 1, 0);
+  for (std::size_t r = 0; r < parts.size(); ++r) firstBox[r + 1] = firstBox[r] + parts[r]->runs.size();
   // The occupancy grid's frame: east, north, up at the origin's direction.
   const glm::dvec3 up = glm::normalize(origin);
   glm::dvec3 east = glm::cross(glm::dvec3(0.0, 0.0, 1.0), up);
@@ -176,16 +192,26 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         firstSweep[static_cast<std::size_t>(r)] +
         static_cast<int>(gl->radars_[static_cast<std::size_t>(r)]->sweeps.size());
   std::vector<double> tops(static_cast<std::size_t>(radarCount), 0.0);
-  std::vector<std::vector<volume::OccupancyBox>> boxesOf(static_cast<std::size_t>(radarCount));
+  std::vector<volume::OccupancyBox> boxes(firstBox.back());
   // Radar r's records, tables, tiles and boxes: each radar writes its own parts of the arrays, so
   // radars are packed on several threads.
   auto pack = [&](int r) {
     const volume::PolarVolume& v = *gl->radars_[static_cast<std::size_t>(r)];
     const bool unchanged = reuse &&
                            previous->radars_[static_cast<std::size_t>(r)] == gl->radars_[static_cast<std::size_t>(r)];
-    std::shared_ptr<const NetworkRadarParts> p = parts[static_cast<std::size_t>(r)];
-    if (!p || p->exaggeration != exaggeration || p->rayTables.size() != v.sweeps.size())
-      p = prepareRadar(v, exaggeration);
+    const NetworkRadarParts* p = parts[static_cast<std::size_t>(r)].get();
+    // Where this radar's table rows go: the network's table, or its own buffer when reusing.
+    float* ownRows = nullptr;
+    if (reuse && !unchanged) {
+      std::vector<float>& own = tableOf[static_cast<std::size_t>(r)];
+      own.resize(kRow * (v.sweeps.size() + 1));
+      ownRows = own.data();
+    }
+    auto tableRow = [&](int row, int k) -> float* {  // k: the radar's sweep, or -1 its elevation row
+      if (!reuse) return table.data() + static_cast<std::size_t>(row) * kRow;
+      if (unchanged) return nullptr;
+      return ownRows + (k < 0 ? v.sweeps.size() : static_cast<std::size_t>(k)) * kRow;
+    };
     const volume::LocalSphereBeam beam = volume::localSphereBeam(v.site, v.beam);
     const int n = static_cast<int>(v.sweeps.size());
     const double clip = v.clipRadiusMeters > 0.0 ? v.clipRadiusMeters : v.maxRangeMeters;
@@ -202,9 +228,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     rec[5] = glm::vec4(elRange.x, elRange.y, static_cast<float>(sweeps + r), 0.0f);
     const volume::PolarCellScale cells = volume::polarCellScale(v);  // the step rule's (StepRule.h)
     rec[6] = glm::vec4(static_cast<float>(cells.gateMeters), static_cast<float>(cells.acrossRad), 0.0f, 0.0f);
-    const std::vector<float> lookup = elevationLookup(v, elRange, C::kRayTableBins + 1);
-    std::copy(lookup.begin(), lookup.end(),
-              table.begin() + static_cast<std::ptrdiff_t>(sweeps + r) * (C::kRayTableBins + 1));
+    if (float* row = tableRow(sweeps + r, -1)) {
+      const std::vector<float> lookup = elevationLookup(v, elRange, C::kRayTableBins + 1);
+      std::copy(lookup.begin(), lookup.end(), row);
+    }
     // The highest point a beam reaches: the top sweep's upper edge at the clip range.
     double top = 0.0, ground = 0.0;
     volume::beamHeightAndGroundDistance(clip, v.sweeps.back().elevationDeg + hb, beam.antennaHeightMeters,
@@ -220,8 +247,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       sw[0] = glm::vec4(static_cast<float>(s.elevationDeg), static_cast<float>(s.firstGateRangeMeters),
                         static_cast<float>(s.gateSpacingMeters), static_cast<float>(s.gateCount));
       sw[1] = glm::vec4(static_cast<float>(s.rayCount), 0.0f, 0.0f, 0.0f);
-      const std::vector<float>& rays = p->rayTables[static_cast<std::size_t>(k)];
-      std::copy(rays.begin(), rays.end(), table.begin() + static_cast<std::ptrdiff_t>(g) * (C::kRayTableBins + 1));
+      if (float* row = tableRow(g, k)) {
+        const std::vector<float>& rays = p->rayTables[static_cast<std::size_t>(k)];
+        std::copy(rays.begin(), rays.end(), row);
+      }
       const int layer = g / tilesPerLayer;
       std::uint64_t* base = nullptr;
       std::size_t pitch = static_cast<std::size_t>(width);
@@ -249,8 +278,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
       }
     }
     // Empty space: the radar's runs of occupied cells as boxes in the network's frame.
-    std::vector<volume::OccupancyBox>& boxes = boxesOf[static_cast<std::size_t>(r)];
-    boxes.reserve(p->runs.size());
+    volume::OccupancyBox* out = boxes.data() + firstBox[static_cast<std::size_t>(r)];
     for (const volume::OccupancyBox& run : p->runs) {
       volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), run.maxValue};
       for (int c = 0; c < 8; ++c) {
@@ -260,13 +288,11 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         box.lo = glm::min(box.lo, local);
         box.hi = glm::max(box.hi, local);
       }
-      boxes.push_back(box);
+      *out++ = box;
     }
   };
   globe::parallelFor(static_cast<std::size_t>(radarCount), [&](std::size_t r) { pack(static_cast<int>(r)); });
   const double topRadius = *std::max_element(tops.begin(), tops.end());
-  std::vector<volume::OccupancyBox> boxes;
-  for (auto& b : boxesOf) boxes.insert(boxes.end(), b.begin(), b.end());
   std::vector<float> floats(data.size() * 4);
   std::memcpy(floats.data(), data.data(), data.size() * sizeof(glm::vec4));
   if (index.members.size() >= (1u << 24))
@@ -331,10 +357,36 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   gl->tileWidth_ = tileW;
   gl->tilesPerLayer_ = tilesPerLayer;
   gl->rayTableRows_ = sweeps + radarCount;
-  gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
-  glTextureStorage2D(gl->rayTable_, 1, GL_R32F, C::kRayTableBins + 1, gl->rayTableRows_);
-  glTextureSubImage2D(gl->rayTable_, 0, 0, 0, C::kRayTableBins + 1, gl->rayTableRows_, GL_RED, GL_FLOAT, table.data());
-  gl->gpuBytes_ += table.size() * 4;
+  const std::size_t tableBytes = kRow * static_cast<std::size_t>(gl->rayTableRows_) * 4;
+  if (reuse && !copy) {
+    gl->rayTable_ = previous->rayTable_;
+    previous->rayTable_ = 0;
+    previous->gpuBytes_ -= std::min(previous->gpuBytes_, tableBytes);
+  } else {
+    gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
+    glTextureStorage2D(gl->rayTable_, 1, GL_R32F, C::kRayTableBins + 1, gl->rayTableRows_);
+    if (reuse) {
+      glCopyImageSubData(previous->rayTable_, GL_TEXTURE_2D, 0, 0, 0, 0, gl->rayTable_, GL_TEXTURE_2D, 0, 0, 0, 0,
+                         C::kRayTableBins + 1, gl->rayTableRows_, 1);
+      if (const GLenum e = glGetError(); e != GL_NO_ERROR)
+        return makeError("radar network: copying the step before's " + megabytes(tableBytes) +
+                         " azimuth tables on the GPU failed (GL error " + std::to_string(e) + ")");
+    } else {
+      glTextureSubImage2D(gl->rayTable_, 0, 0, 0, C::kRayTableBins + 1, gl->rayTableRows_, GL_RED, GL_FLOAT,
+                          table.data());
+    }
+  }
+  // The rows of the radars that changed: their sweeps' (consecutive), then their elevation row.
+  for (int r = 0; r < static_cast<int>(tableOf.size()); ++r) {
+    const std::vector<float>& own = tableOf[static_cast<std::size_t>(r)];
+    if (own.empty()) continue;
+    const int first = firstSweep[static_cast<std::size_t>(r)];
+    const int n = firstSweep[static_cast<std::size_t>(r) + 1] - first;
+    glTextureSubImage2D(gl->rayTable_, 0, 0, first, C::kRayTableBins + 1, n, GL_RED, GL_FLOAT, own.data());
+    glTextureSubImage2D(gl->rayTable_, 0, 0, sweeps + r, C::kRayTableBins + 1, 1, GL_RED, GL_FLOAT,
+                        own.data() + static_cast<std::size_t>(n) * kRow);
+  }
+  gl->gpuBytes_ += tableBytes;
   glCreateBuffers(1, &gl->buffer_);
   glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(floats.size() * 4), floats.data(), 0);
   gl->gpuBytes_ += floats.size() * 4;
@@ -352,10 +404,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   return gl;
 }
 
-Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
+Result<std::vector<std::shared_ptr<RadarNetworkGL>>> RadarNetworkGL::createByCluster(
     const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
     volume::FieldKind kind, double exaggeration, const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts,
-    const std::vector<RadarNetworkGL*>& previous, PreviousTexture use) {
+    const std::vector<std::shared_ptr<RadarNetworkGL>>& previous, PreviousTexture use) {
   if (!parts.empty() && parts.size() != radars.size())
     return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
                      std::to_string(radars.size()));
@@ -366,7 +418,7 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
                    [](const volume::VolumeCluster& a, const volume::VolumeCluster& b) {
                      return a.members.size() > b.members.size();
                    });
-  std::vector<std::unique_ptr<RadarNetworkGL>> out;
+  std::vector<std::shared_ptr<RadarNetworkGL>> out;
   std::vector<bool> taken(previous.size(), false);
   auto sameSites = [](const RadarNetworkGL& p, const std::vector<std::shared_ptr<const volume::PolarVolume>>& m) {
     if (p.radars_.size() != m.size()) return false;
@@ -385,14 +437,20 @@ Result<std::vector<std::unique_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
       members.push_back(radars[i]);
       if (!parts.empty()) memberParts.push_back(parts[i]);
     }
-    // A cluster of the same sites in the previous step: its values texture is taken over or copied.
-    RadarNetworkGL* same = nullptr;
+    // A cluster of the same sites in the previous step: kept whole where none of its volumes
+    // changed, else its values texture is taken over or copied.
+    std::shared_ptr<RadarNetworkGL> same;
     for (std::size_t k = 0; k < previous.size() && !same; ++k)
       if (!taken[k] && previous[k] && sameSites(*previous[k], members)) {
         taken[k] = true;
         same = previous[k];
       }
-    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts), same, use);
+    if (same && same->drawable() && same->radars_ == members && same->sampler_->rule() == rule && same->kind_ == kind &&
+        same->exaggeration_ == exaggeration) {
+      out.push_back(std::move(same));
+      continue;
+    }
+    auto gl = create(std::move(members), rule, kind, exaggeration, std::move(memberParts), same.get(), use);
     if (!gl) return gl.forwardError();
     out.push_back(std::move(*gl));
   }

@@ -307,9 +307,8 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
       // first), so its step takes those textures over; a loop that fits keeps every step for its
       // replay, so its step copies them on the GPU. Only when stepping: a reload keeps the step
       // shown until the new one is loaded (an error leaves it drawn).
-      std::vector<RadarNetworkGL*> previous;
-      if (stepping && shown_ && rule_ == rule)
-        for (const auto& c : shown_->clusters) previous.push_back(c.get());
+      std::vector<std::shared_ptr<RadarNetworkGL>> previous;
+      if (stepping && shown_ && rule_ == rule) previous = shown_->clusters;
       const bool overBudget = shown_ && static_cast<double>(times_.size()) * static_cast<double>(shown_->gpuBytes()) >
                                             static_cast<double>(context.cache.budget());
       auto gl = RadarNetworkGL::createByCluster(
@@ -320,11 +319,14 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
         if (perRadarQuantity(kind)) why += " (leave the overlap rule out, or give integrate, to draw each radar apart)";
         return makeError(why);
       }
-      built->clusters.assign(std::make_move_iterator(gl->begin()), std::make_move_iterator(gl->end()));
+      built->clusters = std::move(*gl);
       // The step shown before no longer draws where its textures were taken over: out of the cache.
-      if (std::any_of(previous.begin(), previous.end(), [](const RadarNetworkGL* c) { return !c->drawable(); }))
+      if (std::any_of(previous.begin(), previous.end(), [](const auto& c) { return !c->drawable(); }))
         context.cache.erase(stepKey(context.layer, step_, true));
-      for (const auto& c : built->clusters) radarsUploaded_ += static_cast<std::size_t>(c->radarsUploaded());
+      // A cluster kept from the step before (the same network) uploaded nothing now.
+      for (const auto& c : built->clusters)
+        if (std::find(previous.begin(), previous.end(), c) == previous.end())
+          radarsUploaded_ += static_cast<std::size_t>(c->radarsUploaded());
     }
     // Every volume and the step's GPU part under the budget: a volume read once serves every step
     // that shows it while it is held; the GPU part serves a loop played again.

@@ -1,6 +1,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
 #include <atmoglobe/engine/ShaderConstants.h>
+#include <atmoglobe/globe/ParallelFor.h>
 #include <atmoglobe/volume/StepRule.h>
 
 #include "LoaderGL.h"
@@ -77,20 +78,24 @@ std::uint16_t halfRoundedUp(float x) {
 }
 }  // namespace
 
-OccupancyGridGL::OccupancyGridGL(const volume::OccupancyGrid& grid) : grid_(grid) {
-  const glm::ivec3 size(grid.cells.x, grid.cells.y, grid.cells.z + grid.blocks.z);
+OccupancyGridGL::OccupancyGridGL(volume::OccupancyGrid occupancy) : grid_(std::move(occupancy)) {
+  const volume::OccupancyGrid& g = grid_;
+  const glm::ivec3 size(g.cells.x, g.cells.y, g.cells.z + g.blocks.z);
   std::vector<std::uint16_t> texels(static_cast<std::size_t>(size.x) * size.y * size.z,
                                     halfRoundedUp(volume::kOccupancyEmptyValue));
-  for (int z = 0; z < grid.cells.z; ++z)
-    for (int y = 0; y < grid.cells.y; ++y)
-      for (int x = 0; x < grid.cells.x; ++x)
+  // The cells layer by layer on several threads (a continental network's grid is 2^23 cells).
+  globe::parallelFor(static_cast<std::size_t>(g.cells.z), [&](std::size_t zs) {
+    const int z = static_cast<int>(zs);
+    for (int y = 0; y < g.cells.y; ++y)
+      for (int x = 0; x < g.cells.x; ++x)
         texels[(static_cast<std::size_t>(z) * size.y + y) * size.x + x] =
-            halfRoundedUp(grid.maxValues[grid.cellIndex(x, y, z)]);
-  for (int z = 0; z < grid.blocks.z; ++z)
-    for (int y = 0; y < grid.blocks.y; ++y)
-      for (int x = 0; x < grid.blocks.x; ++x)
-        texels[(static_cast<std::size_t>(grid.cells.z + z) * size.y + y) * size.x + x] =
-            halfRoundedUp(grid.blockMaxValues[(static_cast<std::size_t>(z) * grid.blocks.y + y) * grid.blocks.x + x]);
+            halfRoundedUp(g.maxValues[g.cellIndex(x, y, z)]);
+  });
+  for (int z = 0; z < g.blocks.z; ++z)
+    for (int y = 0; y < g.blocks.y; ++y)
+      for (int x = 0; x < g.blocks.x; ++x)
+        texels[(static_cast<std::size_t>(g.cells.z + z) * size.y + y) * size.x + x] =
+            halfRoundedUp(g.blockMaxValues[(static_cast<std::size_t>(z) * g.blocks.y + y) * g.blocks.x + x]);
   texture_ = makeVolumeTextureGL(GL_TEXTURE_3D);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureStorage3D(texture_, 1, GL_R16F, size.x, size.y, size.z);

@@ -21,23 +21,27 @@ namespace {
 using namespace atmoglobe;
 
 // Two overlapping SYNTHETIC radars (KTLX, KVNX: 175 km apart, 150 km range) of one storm field at
-// two times 5 minutes apart: DIR/KTLX_0.nc, DIR/KVNX_0.nc, DIR/KTLX_1.nc, DIR/KVNX_1.nc.
-std::string writePair(const std::string& name, bool velocity = false) {
+// two times 5 minutes apart: DIR/KTLX_0.nc, DIR/KVNX_0.nc, DIR/KTLX_1.nc, DIR/KVNX_1.nc. `apart`:
+// also KLBB (DIR/KLBB_0.nc, DIR/KLBB_1.nc), 420 km from KVNX: a cluster of its own. `rescan`: the
+// second time's volumes scan other elevations (as many), so their tables and records differ.
+std::string writePair(const std::string& name, bool velocity = false, bool apart = false, bool rescan = false) {
   const std::string dir = testutil::testOutputDir() + "/" + name;
   std::filesystem::create_directories(dir);
   struct Site {
     const char* id;
     double latDeg, lonDeg, altitudeMeters;
   };
-  const Site sites[] = {{"KTLX", 35.3331, -97.2778, 384.7}, {"KVNX", 36.7408, -98.1278, 378.6}};
+  std::vector<Site> sites = {{"KTLX", 35.3331, -97.2778, 384.7}, {"KVNX", 36.7408, -98.1278, 378.6}};
+  if (apart) sites.push_back({"KLBB", 33.6541, -101.8142, 993.0});
   volume::SyntheticRadarOptions o;
   o.elevationsDeg = {0.5, 1.5, 3.0, 6.0};
   o.raysPerSweep = 180;
   o.gateSpacingMeters = 1000.0;
   o.maxRangeMeters = 150000.0;
   o.radialVelocity = velocity;
-  o.networkStorms = volume::syntheticNetworkStorms(
-      {{sites[0].latDeg, sites[0].lonDeg}, {sites[1].latDeg, sites[1].lonDeg}}, 400.0, 1);
+  std::vector<std::pair<double, double>> at;
+  for (const Site& s : sites) at.emplace_back(s.latDeg, s.lonDeg);
+  o.networkStorms = volume::syntheticNetworkStorms(at, 400.0, 1);
   for (int t = 0; t < 2; ++t)
     for (const Site& s : sites) {
       volume::SyntheticRadarOptions r = o;
@@ -46,6 +50,7 @@ std::string writePair(const std::string& name, bool velocity = false) {
       r.siteLonDeg = s.lonDeg;
       r.antennaAltitudeMslMeters = s.altitudeMeters;
       r.startTimeIso8601 = t == 0 ? "2020-05-01T21:00:00Z" : "2020-05-01T21:05:00Z";
+      if (rescan && t == 1) r.elevationsDeg = {0.5, 1.0, 2.0, 7.0};
       EXPECT_TRUE(volume::writeSyntheticCfRadial(dir + "/" + s.id + "_" + std::to_string(t) + ".nc", r));
     }
   return dir;
@@ -319,6 +324,61 @@ TEST(RadarNetworkSource, AStepOfALoopWithinTheBudgetCopiesTheRadarsThatDidNotCha
   ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
   EXPECT_EQ(source->radarsUploaded(), 3u);
   EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+}
+
+// A step rebuilds only the clusters whose radars changed: a cluster of radars apart from the
+// others whose volumes are those of the step before is that step's network itself (nothing of it
+// built or uploaded again), within the budget (the step before kept) and over it (its textures
+// taken over), and the picture is the one of a network built whole. KTLX's two volumes scan
+// other elevations, so its rows of the tables taken over or copied must be replaced.
+TEST(RadarNetworkSource, AStepKeepsTheClustersWhoseRadarsDidNotChange) {
+  for (const bool overBudget : {false, true}) {
+    SCOPED_TRACE(overBudget ? "over the budget" : "within the budget");
+    const std::string name = overBudget ? "network_keep_over" : "network_keep_within";
+    const std::string dir = writePair(name, false, true, true);
+    std::filesystem::remove(dir + "/KVNX_1.nc");
+    std::filesystem::remove(dir + "/KLBB_1.nc");  // KLBB shows its 21:00 volume at both steps
+    auto renderer = emptyRenderer();
+    ASSERT_TRUE(renderer->addVolume(radarLayer(dir)));
+    const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+    ASSERT_NE(source, nullptr);
+    auto axis = engine::sceneTimeAxis(*renderer);
+    ASSERT_TRUE(axis) << axis.error();
+    ASSERT_EQ(axis->times.size(), 2u);
+    ASSERT_EQ(source->clusters().size(), 2u) << "the pair, and KLBB apart";
+    ASSERT_EQ(source->clusters()[1]->network().radarCount(), 1u);
+    const engine::RadarNetworkGL* lone = source->clusters()[1].get();
+    const engine::RadarNetworkGL* pair = source->clusters()[0].get();
+    EXPECT_EQ(source->radarsUploaded(), 3u);
+    const globe::ImageRGBA8 latest = draw(*renderer);
+    if (overBudget) {
+      const auto oneStep = renderer->stepCache().stats();
+      renderer->setMemoryBudget(oneStep.heldBytes + oneStep.heldBytes / 10);
+    }
+
+    ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 0));
+    ASSERT_EQ(source->clusters().size(), 2u);
+    EXPECT_EQ(source->clusters()[1].get(), lone) << "KLBB's network kept";
+    EXPECT_NE(source->clusters()[0].get(), pair) << "the pair's network built again (KTLX changed)";
+    EXPECT_EQ(source->radarsUploaded(), 4u) << "KTLX's tiles alone";
+    EXPECT_EQ(renderer->stepCache().contains(engine::stepKey(0, 1, true)), !overBudget);
+    const globe::ImageRGBA8 earlier = draw(*renderer);
+    EXPECT_NE(earlier.pixels, latest.pixels) << "KTLX's storms move in 5 minutes";
+
+    // Pixel for pixel the network built whole from the 21:00 volumes.
+    const std::string wholeDir = writePair(name + "_whole", false, true, true);
+    for (const char* file : {"KTLX_1.nc", "KVNX_1.nc", "KLBB_1.nc"}) std::filesystem::remove(wholeDir + "/" + file);
+    auto whole = emptyRenderer();
+    ASSERT_TRUE(whole->addVolume(radarLayer(wholeDir)));
+    EXPECT_EQ(earlier.pixels, draw(*whole).pixels);
+
+    // And back: KLBB's network still the same one, the first picture again.
+    ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
+    EXPECT_EQ(source->clusters()[1].get(), lone);
+    EXPECT_EQ(draw(*renderer).pixels, latest.pixels);
+    const auto stats = renderer->stepCache().stats();
+    EXPECT_LE(stats.heldBytes, stats.budgetBytes);
+  }
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
 // The empty-space grid (OccupancyGrid.h).
 #include <atmoglobe/volume/OccupancyGrid.h>
 
+#include <atmoglobe/globe/ParallelFor.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace atmoglobe::volume {
 
@@ -50,31 +53,55 @@ OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3&
   grid.cellSizeMeters = (hi - lo) / glm::dvec3(grid.cells - 2) + 1e-3;  // one spare cell on each side
   grid.minLocal = lo - grid.cellSizeMeters;
   grid.maxValues.assign(static_cast<std::size_t>(grid.cells.x) * grid.cells.y * grid.cells.z, kOccupancyEmptyValue);
-  for (const OccupancyBox& b : boxes) {
-    // Every cell the box touches.
-    const glm::ivec3 c0 = glm::max(glm::ivec3(glm::floor((b.lo - grid.minLocal) / grid.cellSizeMeters)), glm::ivec3(0));
-    const glm::ivec3 c1 =
-        glm::min(glm::ivec3(glm::floor((b.hi - grid.minLocal) / grid.cellSizeMeters)), grid.cells - 1);
-    for (int z = c0.z; z <= c1.z; ++z)
-      for (int y = c0.y; y <= c1.y; ++y)
-        for (int x = c0.x; x <= c1.x; ++x) {
-          float& cell = grid.maxValues[grid.cellIndex(x, y, z)];
-          cell = std::max(cell, b.maxValue);
-        }
-  }
-  // The second level: the max over blocks of kBlock^3 cells, so that a ray crosses a large empty
-  // region in a few jumps instead of one per cell.
+  // Every cell each box touches, in slabs of kBlock layers on several threads: each box's cells
+  // found once, the boxes listed by the slabs they reach, and each slab writing its own cells and
+  // blocks only (the maximum does not depend on the order).
   constexpr int kB = OccupancyGrid::kBlock;
   grid.blocks = (grid.cells + (kB - 1)) / kB;
   grid.blockMaxValues.assign(static_cast<std::size_t>(grid.blocks.x) * grid.blocks.y * grid.blocks.z,
                              kOccupancyEmptyValue);
-  for (int z = 0; z < grid.cells.z; ++z)
-    for (int y = 0; y < grid.cells.y; ++y)
-      for (int x = 0; x < grid.cells.x; ++x) {
-        float& b =
-            grid.blockMaxValues[(static_cast<std::size_t>(z / kB) * grid.blocks.y + y / kB) * grid.blocks.x + x / kB];
-        b = std::max(b, grid.maxValues[grid.cellIndex(x, y, z)]);
-      }
+  std::vector<glm::ivec3> first(boxes.size()), last(boxes.size());
+  globe::parallelFor((boxes.size() + 4095) / 4096, [&](std::size_t chunk) {
+    for (std::size_t i = chunk * 4096; i < std::min(boxes.size(), (chunk + 1) * 4096); ++i) {
+      first[i] = glm::max(glm::ivec3(glm::floor((boxes[i].lo - grid.minLocal) / grid.cellSizeMeters)), glm::ivec3(0));
+      last[i] = glm::min(glm::ivec3(glm::floor((boxes[i].hi - grid.minLocal) / grid.cellSizeMeters)), grid.cells - 1);
+    }
+  });
+  const std::size_t slabs = static_cast<std::size_t>(grid.blocks.z);
+  std::vector<std::size_t> slabStart(slabs + 1, 0);
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    for (int z = first[i].z / kB; z <= last[i].z / kB; ++z) ++slabStart[static_cast<std::size_t>(z) + 1];
+  for (std::size_t k = 0; k < slabs; ++k) slabStart[k + 1] += slabStart[k];
+  std::vector<std::uint32_t> slabBoxes(slabStart.back());
+  {
+    std::vector<std::size_t> fill(slabStart.begin(), slabStart.end() - 1);
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+      for (int z = first[i].z / kB; z <= last[i].z / kB; ++z)
+        slabBoxes[fill[static_cast<std::size_t>(z)]++] = static_cast<std::uint32_t>(i);
+  }
+  globe::parallelFor(slabs, [&](std::size_t slab) {
+    const int zLo = static_cast<int>(slab) * kB, zHi = std::min(zLo + kB, grid.cells.z) - 1;
+    for (std::size_t k = slabStart[slab]; k < slabStart[slab + 1]; ++k) {
+      const std::uint32_t i = slabBoxes[k];
+      const glm::ivec3 c0 = first[i], c1 = last[i];
+      const float value = boxes[i].maxValue;
+      for (int z = std::max(c0.z, zLo); z <= std::min(c1.z, zHi); ++z)
+        for (int y = c0.y; y <= c1.y; ++y)
+          for (int x = c0.x; x <= c1.x; ++x) {
+            float& cell = grid.maxValues[grid.cellIndex(x, y, z)];
+            cell = std::max(cell, value);
+          }
+    }
+    // The second level: the max over blocks of kBlock^3 cells, so that a ray crosses a large
+    // empty region in a few jumps instead of one per cell.
+    for (int z = zLo; z <= zHi; ++z)
+      for (int y = 0; y < grid.cells.y; ++y)
+        for (int x = 0; x < grid.cells.x; ++x) {
+          float& m =
+              grid.blockMaxValues[(static_cast<std::size_t>(z / kB) * grid.blocks.y + y / kB) * grid.blocks.x + x / kB];
+          m = std::max(m, grid.maxValues[grid.cellIndex(x, y, z)]);
+        }
+  });
   return grid;
 }
 

@@ -57,15 +57,19 @@ class RadarNetworkGL final : public VolumeGL {
       double exaggeration = 1.0, std::vector<std::shared_ptr<const NetworkRadarParts>> parts = {},
       RadarNetworkGL* previous = nullptr, PreviousTexture use = PreviousTexture::TakeOver);
   /// The radars split into the clusters whose clip spheres meet (volume::clusterBySphere), one
-  /// network each, largest first (a cluster of the same sites as one of `previous` takes its
-  /// texture over or copies it, as create() does): the marcher draws clusters apart in passes of their own, each
+  /// network each, largest first: the marcher draws clusters apart in passes of their own, each
   /// with its own tight ray interval and empty-space grid (a national network with sites in
   /// Alaska, Hawaii, Guam and Europe would otherwise be one volume spanning the globe).
-  static Result<std::vector<std::unique_ptr<RadarNetworkGL>>> createByCluster(
+  /// A cluster of the same sites as one of `previous` (the step shown before) is that network
+  /// itself, shared, where it still draws and holds the same volumes (the same shared_ptrs) at the
+  /// same rule, kind and exaggeration: nothing of it is built or uploaded again. Otherwise it
+  /// takes that network's texture over or copies it, as create() does.
+  static Result<std::vector<std::shared_ptr<RadarNetworkGL>>> createByCluster(
       const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
       volume::FieldKind kind, double exaggeration = 1.0,
       const std::vector<std::shared_ptr<const NetworkRadarParts>>& parts = {},
-      const std::vector<RadarNetworkGL*>& previous = {}, PreviousTexture use = PreviousTexture::TakeOver);
+      const std::vector<std::shared_ptr<RadarNetworkGL>>& previous = {},
+      PreviousTexture use = PreviousTexture::TakeOver);
   ~RadarNetworkGL() override;
   RadarNetworkGL(const RadarNetworkGL&) = delete;
   RadarNetworkGL& operator=(const RadarNetworkGL&) = delete;
@@ -94,6 +98,7 @@ class RadarNetworkGL final : public VolumeGL {
   RadarNetworkGL() = default;
   std::vector<std::shared_ptr<const volume::PolarVolume>> radars_;
   std::unique_ptr<volume::RadarNetworkSampler> sampler_;
+  volume::FieldKind kind_ = volume::FieldKind::Reflectivity;
   double exaggeration_ = 1.0;
   std::unique_ptr<volume::ExaggeratedSampler> exaggerated_;  ///< the reference when exaggerated
   glm::dvec3 origin_{0.0};

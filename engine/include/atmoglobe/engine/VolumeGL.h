@@ -87,7 +87,7 @@ struct SamplerBindingGL {
 class OccupancyGridGL {
  public:
   OccupancyGridGL() = default;
-  explicit OccupancyGridGL(const volume::OccupancyGrid& grid);
+  explicit OccupancyGridGL(volume::OccupancyGrid grid);
   ~OccupancyGridGL();
   OccupancyGridGL(OccupancyGridGL&& other) noexcept;
   OccupancyGridGL& operator=(OccupancyGridGL&& other) noexcept;
