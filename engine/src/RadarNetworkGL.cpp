@@ -170,16 +170,13 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
     return makeError("radar network: parts of " + std::to_string(parts.size()) + " radars for " +
                      std::to_string(radarCount));
   parts.resize(gl->radars_.size());
-  // Each radar's parts (made here where missing or made at another exaggeration), then where its
-  // empty-space boxes go in the one list of the network's boxes.
+  // Each radar's parts (made here where missing or made at another exaggeration).
   globe::parallelFor(parts.size(), [&](std::size_t r) {
     const volume::PolarVolume& v = *gl->radars_[r];
     const auto& p = parts[r];
     if (!p || p->exaggeration != exaggeration || p->rayTables.size() != v.sweeps.size())
       parts[r] = prepareRadar(v, exaggeration);
   });
-  std::vector<std::size_t> firstBox(static_cast<std::size_t>(radarCount) + 1, 0);
-  for (std::size_t r = 0; r < parts.size(); ++r) firstBox[r + 1] = firstBox[r] + parts[r]->runs.size();
   // The occupancy grid's frame: east, north, up at the origin's direction.
   const glm::dvec3 up = glm::normalize(origin);
   glm::dvec3 east = glm::cross(glm::dvec3(0.0, 0.0, 1.0), up);
@@ -192,7 +189,34 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         firstSweep[static_cast<std::size_t>(r)] +
         static_cast<int>(gl->radars_[static_cast<std::size_t>(r)]->sweeps.size());
   std::vector<double> tops(static_cast<std::size_t>(radarCount), 0.0);
-  std::vector<volume::OccupancyBox> boxes(firstBox.back());
+  // Empty space: each radar's runs of occupied cells as boxes in the network's frame, and their
+  // union. Where the previous step's empty-space grid may serve (its layout is this one's, below),
+  // the boxes of radars that did not change are placed only where a changed radar's cells need
+  // them, their union being the previous step's.
+  const bool gridCandidate = reuse && previous->occupancy_.texture() != 0 && previous->origin_ == origin &&
+                             previous->radarBoxBounds_.size() == gl->radars_.size();
+  std::vector<std::vector<volume::OccupancyBox>> boxesOf(static_cast<std::size_t>(radarCount));
+  std::vector<char> placed(static_cast<std::size_t>(radarCount), 0);  // not bool: written by several threads
+  gl->radarBoxBounds_.assign(static_cast<std::size_t>(radarCount), volume::occupancyBounds({}));
+  auto placeBoxes = [&](std::size_t r) {
+    const NetworkRadarParts& p = *parts[r];
+    std::vector<volume::OccupancyBox>& boxes = boxesOf[r];
+    boxes.resize(p.runs.size());
+    for (std::size_t i = 0; i < p.runs.size(); ++i) {
+      const volume::OccupancyBox& run = p.runs[i];
+      volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), run.maxValue};
+      for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? run.hi.x : run.lo.x, (c & 2) ? run.hi.y : run.lo.y,
+                                (c & 4) ? run.hi.z : run.lo.z);
+        const glm::dvec3 local = toFrame * (p.occupancyOriginEcef + p.occupancyToEcef * corner - origin);
+        box.lo = glm::min(box.lo, local);
+        box.hi = glm::max(box.hi, local);
+      }
+      boxes[i] = box;
+    }
+    gl->radarBoxBounds_[r] = volume::occupancyBounds(boxes);
+    placed[r] = 1;
+  };
   // Radar r's records, tables, tiles and boxes: each radar writes its own parts of the arrays, so
   // radars are packed on several threads.
   auto pack = [&](int r) {
@@ -277,18 +301,10 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
         }
       }
     }
-    // Empty space: the radar's runs of occupied cells as boxes in the network's frame.
-    volume::OccupancyBox* out = boxes.data() + firstBox[static_cast<std::size_t>(r)];
-    for (const volume::OccupancyBox& run : p->runs) {
-      volume::OccupancyBox box{glm::dvec3(1e300), glm::dvec3(-1e300), run.maxValue};
-      for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? run.hi.x : run.lo.x, (c & 2) ? run.hi.y : run.lo.y,
-                                (c & 4) ? run.hi.z : run.lo.z);
-        const glm::dvec3 local = toFrame * (p->occupancyOriginEcef + p->occupancyToEcef * corner - origin);
-        box.lo = glm::min(box.lo, local);
-        box.hi = glm::max(box.hi, local);
-      }
-      *out++ = box;
+    if (gridCandidate && unchanged) {
+      gl->radarBoxBounds_[static_cast<std::size_t>(r)] = previous->radarBoxBounds_[static_cast<std::size_t>(r)];
+    } else {
+      placeBoxes(static_cast<std::size_t>(r));
     }
   };
   globe::parallelFor(static_cast<std::size_t>(radarCount), [&](std::size_t r) { pack(static_cast<int>(r)); });
@@ -399,8 +415,68 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   // frame is tangent at the origin, so a continental cluster's box is hundreds of km deep with
   // the Earth's curvature, and 32 fixed layers were 15 km each; a lone radar's are about what
   // 256 x 256 x 32 gave it (docs/networks.md).
-  const glm::ivec3 cells = volume::occupancyCellsFor(boxes, glm::dvec3(2000.0, 2000.0, 500.0), std::size_t{1} << 23);
-  gl->occupancy_ = OccupancyGridGL(volume::buildOccupancyGrid(origin, frame, boxes, cells));
+  volume::OccupancyBox bounds = volume::occupancyBounds({});
+  for (const volume::OccupancyBox& b : gl->radarBoxBounds_) bounds = volume::occupancyBounds(bounds, b);
+  const glm::ivec3 cells = volume::occupancyCellsOver(bounds, glm::dvec3(2000.0, 2000.0, 500.0), std::size_t{1} << 23);
+  auto sourcesWhere = [&](auto&& reaches) {
+    std::vector<std::span<const volume::OccupancyBox>> sources;
+    for (std::size_t r = 0; r < boxesOf.size(); ++r)
+      if (reaches(r)) sources.emplace_back(boxesOf[r]);
+    return sources;
+  };
+  // The previous step's grid serves where its layout is this one's (the union of the boxes did
+  // not move): only the cells of the changed radars' old and new boxes are computed again, from
+  // the boxes of every radar that reaches them, and uploaded (volume::rebuildOccupancyCells;
+  // equal to the grid built whole, OccupancyGridTest).
+  if (gridCandidate && !volume::empty(bounds) && !previous->occupancy_.grid().maxValues.empty() &&
+      volume::sameOccupancyLayout(volume::occupancyLayout(origin, frame, bounds, cells), previous->occupancy_.grid())) {
+    const volume::OccupancyGrid& before = previous->occupancy_.grid();
+    auto cellsOf = [&](const volume::OccupancyBox& b) {
+      return volume::empty(b) ? volume::OccupancyCellRange{} : volume::occupancyCellsOf(before, b.lo, b.hi);
+    };
+    std::vector<volume::OccupancyCellRange> ranges;
+    for (std::size_t r = 0; r < gl->radars_.size(); ++r) {
+      if (previous->radars_[r] == gl->radars_[r]) continue;
+      const volume::OccupancyCellRange a = cellsOf(previous->radarBoxBounds_[r]), b = cellsOf(gl->radarBoxBounds_[r]);
+      if (a.empty() && b.empty()) continue;
+      ranges.push_back(a.empty()   ? b
+                       : b.empty() ? a
+                                   : volume::OccupancyCellRange{glm::min(a.first, b.first), glm::max(a.last, b.last)});
+    }
+    auto reachesAny = [&](std::size_t r) {
+      const volume::OccupancyCellRange c = cellsOf(gl->radarBoxBounds_[r]);
+      return std::any_of(ranges.begin(), ranges.end(),
+                         [&](const volume::OccupancyCellRange& range) { return volume::overlaps(c, range); });
+    };
+    std::vector<std::size_t> toPlace;
+    for (std::size_t r = 0; r < boxesOf.size(); ++r)
+      if (!placed[r] && reachesAny(r)) toPlace.push_back(r);
+    globe::parallelFor(toPlace.size(), [&](std::size_t k) { placeBoxes(toPlace[k]); });
+    std::vector<std::vector<std::span<const volume::OccupancyBox>>> sources;
+    for (const volume::OccupancyCellRange& range : ranges)
+      sources.push_back(
+          sourcesWhere([&](std::size_t r) { return volume::overlaps(cellsOf(gl->radarBoxBounds_[r]), range); }));
+    if (copy) {
+      auto copied = previous->occupancy_.copyGL();
+      if (!copied) return makeError("radar network: " + copied.error());
+      gl->occupancy_ = std::move(*copied);
+    } else {
+      gl->occupancy_ = std::move(previous->occupancy_);
+    }
+    gl->occupancy_.rebuildCells(ranges, sources);
+    for (const volume::OccupancyCellRange& range : ranges)
+      gl->occupancyCellsBuilt_ += static_cast<std::size_t>(range.last.x - range.first.x + 1) *
+                                  static_cast<std::size_t>(range.last.y - range.first.y + 1) *
+                                  static_cast<std::size_t>(range.last.z - range.first.z + 1);
+    return gl;
+  }
+  std::vector<std::size_t> toPlace;
+  for (std::size_t r = 0; r < boxesOf.size(); ++r)
+    if (!placed[r]) toPlace.push_back(r);
+  globe::parallelFor(toPlace.size(), [&](std::size_t k) { placeBoxes(toPlace[k]); });
+  gl->occupancy_ = OccupancyGridGL(
+      volume::buildOccupancyGrid(origin, frame, sourcesWhere([](std::size_t) { return true; }), bounds, cells));
+  gl->occupancyCellsBuilt_ = gl->occupancy_.grid().maxValues.size();
   return gl;
 }
 

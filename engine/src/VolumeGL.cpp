@@ -103,17 +103,66 @@ OccupancyGridGL::OccupancyGridGL(volume::OccupancyGrid occupancy) : grid_(std::m
   gpuBytes_ = texels.size() * 2;
 }
 
+Result<OccupancyGridGL> OccupancyGridGL::copyGL() const {
+  OccupancyGridGL copy;
+  copy.grid_ = grid_;
+  const glm::ivec3 size(grid_.cells.x, grid_.cells.y, grid_.cells.z + grid_.blocks.z);
+  copy.texture_ = makeVolumeTextureGL(GL_TEXTURE_3D);
+  glTextureStorage3D(copy.texture_, 1, GL_R16F, size.x, size.y, size.z);
+  clearErrorsGL();
+  glCopyImageSubData(texture_, GL_TEXTURE_3D, 0, 0, 0, 0, copy.texture_, GL_TEXTURE_3D, 0, 0, 0, 0, size.x, size.y,
+                     size.z);
+  if (const GLenum e = glGetError(); e != GL_NO_ERROR)
+    return makeError("copying an empty-space grid of " + std::to_string(size.x) + " x " + std::to_string(size.y) +
+                     " x " + std::to_string(size.z) + " cells on the GPU failed (GL error " + std::to_string(e) + ")");
+  copy.gpuBytes_ = gpuBytes_;
+  return copy;
+}
+
+void OccupancyGridGL::rebuildCells(const std::vector<volume::OccupancyCellRange>& ranges,
+                                   const std::vector<std::vector<std::span<const volume::OccupancyBox>>>& sources) {
+  volume::OccupancyGrid& g = grid_;
+  constexpr int kB = volume::OccupancyGrid::kBlock;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  std::vector<std::uint16_t> texels;
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    const volume::OccupancyCellRange r{glm::max(ranges[k].first, glm::ivec3(0)), glm::min(ranges[k].last, g.cells - 1)};
+    if (r.empty()) continue;
+    volume::rebuildOccupancyCells(g, r, sources[k]);
+    // The range's cells, then the blocks over it (above the cells in the texture).
+    const glm::ivec3 n = r.last - r.first + 1;
+    texels.resize(static_cast<std::size_t>(n.x) * n.y * n.z);
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x)
+          texels[(static_cast<std::size_t>(z) * n.y + y) * n.x + x] =
+              halfRoundedUp(g.maxValues[g.cellIndex(r.first.x + x, r.first.y + y, r.first.z + z)]);
+    glTextureSubImage3D(texture_, 0, r.first.x, r.first.y, r.first.z, n.x, n.y, n.z, GL_RED, GL_HALF_FLOAT,
+                        texels.data());
+    const glm::ivec3 b0 = r.first / kB, nb = r.last / kB - b0 + 1;
+    texels.resize(static_cast<std::size_t>(nb.x) * nb.y * nb.z);
+    for (int z = 0; z < nb.z; ++z)
+      for (int y = 0; y < nb.y; ++y)
+        for (int x = 0; x < nb.x; ++x)
+          texels[(static_cast<std::size_t>(z) * nb.y + y) * nb.x + x] = halfRoundedUp(
+              g.blockMaxValues[(static_cast<std::size_t>(b0.z + z) * g.blocks.y + b0.y + y) * g.blocks.x + b0.x + x]);
+    glTextureSubImage3D(texture_, 0, b0.x, b0.y, g.cells.z + b0.z, nb.x, nb.y, nb.z, GL_RED, GL_HALF_FLOAT,
+                        texels.data());
+  }
+}
+
 OccupancyGridGL::~OccupancyGridGL() {
   if (texture_) glDeleteTextures(1, &texture_);
 }
 OccupancyGridGL::OccupancyGridGL(OccupancyGridGL&& other) noexcept
-    : grid_(std::move(other.grid_)), texture_(std::exchange(other.texture_, 0)), gpuBytes_(other.gpuBytes_) {}
+    : grid_(std::move(other.grid_)), texture_(std::exchange(other.texture_, 0)),
+      gpuBytes_(std::exchange(other.gpuBytes_, 0)) {}
 OccupancyGridGL& OccupancyGridGL::operator=(OccupancyGridGL&& other) noexcept {
   if (this != &other) {
     if (texture_) glDeleteTextures(1, &texture_);
     grid_ = std::move(other.grid_);
     texture_ = std::exchange(other.texture_, 0);
-    gpuBytes_ = other.gpuBytes_;
+    gpuBytes_ = std::exchange(other.gpuBytes_, 0);
   }
   return *this;
 }

@@ -290,4 +290,71 @@ TEST(RadarNetworkGL, ANetworkOfOneRadarIsThatRadar) {
   }
 }
 
+// The empty-space grid's texels as the GPU holds them (cells, then blocks).
+std::vector<std::uint16_t> occupancyTexels(const engine::OccupancyGridGL& o) {
+  const volume::OccupancyGrid& g = o.grid();
+  std::vector<std::uint16_t> texels(static_cast<std::size_t>(g.cells.x) * g.cells.y * (g.cells.z + g.blocks.z));
+  glGetTextureImage(o.texture(), 0, GL_RED, GL_HALF_FLOAT, static_cast<GLsizei>(texels.size() * 2), texels.data());
+  return texels;
+}
+
+// A step that changes one radar's values but not where it has echoes keeps the layout of the
+// empty-space grid, so only the cells of that radar's boxes are computed again and uploaded
+// (taking the step before's grid over, or copying it): cells, blocks and texels equal those of the
+// network built whole, and so do the pictures; a copied step before draws on as before.
+TEST(RadarNetworkGL, AStepRebuildsOnlyTheChangedRadarsCellsOfTheEmptySpaceGrid) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
+  // The second radar 3 dB stronger wherever it has echoes: the same runs, other maxima.
+  volume::PolarVolume stronger = *radars[1];
+  for (float& v : stronger.values)
+    if (volume::isMeasuredValue(v)) v += 3.0f;
+  stronger.maxValue += 3.0f;
+  std::vector<std::shared_ptr<const volume::PolarVolume>> next = radars;
+  next[1] = std::make_shared<const volume::PolarVolume>(std::move(stronger));
+  const Camera camera = cameraOnTheStorm();
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  options.render.mode = volume::VolumeRenderMode::Mip;  // every echo shows, through the grid's skipping
+  auto whole = engine::RadarNetworkGL::create(next, volume::OverlapRule::Maximum, volume::FieldKind::Reflectivity);
+  ASSERT_TRUE(whole) << whole.error();
+  EXPECT_EQ((*whole)->occupancyCellsBuilt(), (*whole)->occupancyCells());
+  const volume::VolumeImage wholeImage = testutil::renderVolumesGpu(**renderer, camera, {{whole->get(), options}});
+  for (auto use : {engine::RadarNetworkGL::PreviousTexture::TakeOver, engine::RadarNetworkGL::PreviousTexture::Copy}) {
+    SCOPED_TRACE(use == engine::RadarNetworkGL::PreviousTexture::Copy ? "copied" : "taken over");
+    auto first = engine::RadarNetworkGL::create(radars, volume::OverlapRule::Maximum, volume::FieldKind::Reflectivity);
+    ASSERT_TRUE(first) << first.error();
+    const volume::VolumeImage firstImage = testutil::renderVolumesGpu(**renderer, camera, {{first->get(), options}});
+    const std::vector<float> firstCells = (*first)->occupancy().grid().maxValues;
+    ASSERT_NE(firstCells, (*whole)->occupancy().grid().maxValues) << "the stronger echoes raise cells";
+    auto step = engine::RadarNetworkGL::create(next, volume::OverlapRule::Maximum, volume::FieldKind::Reflectivity, 1.0,
+                                               {}, first->get(), use);
+    ASSERT_TRUE(step) << step.error();
+    const engine::RadarNetworkGL& s = **step;
+    std::cout << "empty-space grid: " << s.occupancyCellsBuilt() << " of " << s.occupancyCells()
+              << " cells built again\n";
+    EXPECT_GT(s.occupancyCellsBuilt(), 0u);
+    // The three radars see one storm, so the changed one's boxes reach most of the grid (87 %):
+    // a part of it all the same (a continental network's step redoes a small part).
+    EXPECT_LT(s.occupancyCellsBuilt(), s.occupancyCells()) << "a part, not the grid";
+    EXPECT_EQ(s.occupancy().grid().maxValues, (*whole)->occupancy().grid().maxValues);
+    EXPECT_EQ(s.occupancy().grid().blockMaxValues, (*whole)->occupancy().grid().blockMaxValues);
+    EXPECT_EQ(occupancyTexels(s.occupancy()), occupancyTexels((*whole)->occupancy()));
+    EXPECT_EQ(volume::compareImages(testutil::renderVolumesGpu(**renderer, camera, {{&s, options}}), wholeImage).maxAbs,
+              0.0);
+    if (use == engine::RadarNetworkGL::PreviousTexture::Copy) {
+      EXPECT_EQ((*first)->occupancy().grid().maxValues, firstCells);
+      EXPECT_EQ(
+          volume::compareImages(testutil::renderVolumesGpu(**renderer, camera, {{first->get(), options}}), firstImage)
+              .maxAbs,
+          0.0);
+    } else {
+      EXPECT_FALSE((*first)->drawable());
+    }
+  }
+}
+
 }  // namespace

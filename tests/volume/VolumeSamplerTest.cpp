@@ -16,6 +16,7 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <span>
 
 namespace {
 
@@ -135,6 +136,69 @@ TEST(OccupancyGrid, CellsFollowTheExtentWithinTheTotal) {
   EXPECT_LE(flat.x * flat.y * flat.z, 80000);
   EXPECT_GE(flat.x * flat.y * flat.z, 80000 - 2 * 8 * 100);
   EXPECT_EQ(volume::occupancyCellsFor({}, target, 1000), glm::ivec3(8));
+}
+
+// A network step redoes only the cells of the radars that changed: the grid rebuilt within the
+// range of a radar's old and new boxes, from the boxes of the radars that reach that range, is
+// bit for bit the grid built whole from the new boxes (cells and blocks).
+TEST(OccupancyGrid, CellsRebuiltWithinARangeEqualTheGridBuiltWhole) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // Eight "radars" of 300 random boxes each within 400 x 400 x 15 km squares on a 4 x 2 pattern
+  // 300 km apart (neighbours overlap), values -10..70.
+  auto radarBoxes = [&](int k) {
+    const glm::dvec3 centre(300e3 * (k % 4), 300e3 * (k / 4), 0.0);
+    std::vector<volume::OccupancyBox> boxes;
+    for (int i = 0; i < 300; ++i) {
+      const glm::dvec3 lo = centre + glm::dvec3(400e3 * (unit(rng) - 0.5), 400e3 * (unit(rng) - 0.5), 12e3 * unit(rng));
+      const glm::dvec3 size(30e3 * unit(rng), 8e3 * unit(rng), 3e3 * unit(rng));
+      boxes.push_back({lo, lo + size, static_cast<float>(-10.0 + 80.0 * unit(rng))});
+    }
+    return boxes;
+  };
+  std::vector<std::vector<volume::OccupancyBox>> radars;
+  for (int k = 0; k < 8; ++k) radars.push_back(radarBoxes(k));
+  // Anchors that fix the union, so that the layout stays when radar 1 changes.
+  radars[0].push_back({glm::dvec3(-260e3, -260e3, -1e3), glm::dvec3(-250e3, -250e3, 0.0), 1.0f});
+  radars[7].push_back({glm::dvec3(1150e3, 550e3, 20e3), glm::dvec3(1160e3, 560e3, 21e3), 1.0f});
+  auto sourcesOf = [](const std::vector<std::vector<volume::OccupancyBox>>& r) {
+    std::vector<std::span<const volume::OccupancyBox>> out;
+    for (const auto& b : r) out.emplace_back(b);
+    return out;
+  };
+  auto boundsOf = [](const std::vector<std::vector<volume::OccupancyBox>>& r) {
+    volume::OccupancyBox u = volume::occupancyBounds(std::span<const volume::OccupancyBox>());
+    for (const auto& b : r) u = volume::occupancyBounds(u, volume::occupancyBounds(b));
+    return u;
+  };
+  const glm::dvec3 origin(6378137.0, 0.0, 0.0);
+  const glm::dmat3 frame(glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0));
+  const glm::ivec3 cells(120, 90, 30);
+  volume::OccupancyGrid grid = volume::buildOccupancyGrid(origin, frame, sourcesOf(radars), boundsOf(radars), cells);
+  // The one-list build is the same grid.
+  std::vector<volume::OccupancyBox> joined;
+  for (const auto& b : radars) joined.insert(joined.end(), b.begin(), b.end());
+  EXPECT_EQ(volume::buildOccupancyGrid(origin, frame, joined, cells).maxValues, grid.maxValues);
+
+  const volume::OccupancyBox oldExtent = volume::occupancyBounds(radars[1]);
+  radars[1] = radarBoxes(1);
+  const volume::OccupancyBox newExtent = volume::occupancyBounds(radars[1]);
+  const volume::OccupancyGrid whole =
+      volume::buildOccupancyGrid(origin, frame, sourcesOf(radars), boundsOf(radars), cells);
+  ASSERT_TRUE(volume::sameOccupancyLayout(volume::occupancyLayout(origin, frame, boundsOf(radars), cells), grid));
+  ASSERT_NE(whole.maxValues, grid.maxValues) << "radar 1's new boxes change cells";
+  const volume::OccupancyCellRange before = volume::occupancyCellsOf(grid, oldExtent.lo, oldExtent.hi);
+  const volume::OccupancyCellRange after = volume::occupancyCellsOf(grid, newExtent.lo, newExtent.hi);
+  const volume::OccupancyCellRange range{glm::min(before.first, after.first), glm::max(before.last, after.last)};
+  std::vector<std::span<const volume::OccupancyBox>> reaching;
+  for (const auto& b : radars) {
+    const volume::OccupancyBox e = volume::occupancyBounds(b);
+    if (volume::overlaps(volume::occupancyCellsOf(grid, e.lo, e.hi), range)) reaching.emplace_back(b);
+  }
+  EXPECT_LT(reaching.size(), radars.size()) << "the radars far away are not visited";
+  volume::rebuildOccupancyCells(grid, range, reaching);
+  EXPECT_EQ(grid.maxValues, whole.maxValues);
+  EXPECT_EQ(grid.blockMaxValues, whole.blockMaxValues);
 }
 
 // The band of straight elevations holds every beam point out to the clip radius.

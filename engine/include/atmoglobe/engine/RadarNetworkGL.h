@@ -91,6 +91,11 @@ class RadarNetworkGL final : public VolumeGL {
   /// Radars whose tiles this network's creation uploaded (all of them unless it took over or
   /// copied a previous step's texture).
   int radarsUploaded() const { return radarsUploaded_; }
+  /// Cells of the empty-space grid this network's creation computed: all of them, or where a
+  /// previous step's grid served, those of the changed radars' old and new boxes.
+  std::size_t occupancyCellsBuilt() const { return occupancyCellsBuilt_; }
+  /// Cells of its empty-space grid.
+  std::size_t occupancyCells() const { return occupancy_.grid().maxValues.size(); }
   /// Whether it still draws (false once a later step took its texture over).
   bool drawable() const { return values_ != 0; }
 
@@ -107,6 +112,8 @@ class RadarNetworkGL final : public VolumeGL {
   int tileWidth_ = 1, tileHeight_ = 1, tilesPerLayer_ = 1, layers_ = 1, rayTableRows_ = 1;
   int radarsUploaded_ = 0;
   int sweepBase_ = 0, cellBase_ = 0, memberBase_ = 0;
+  std::vector<volume::OccupancyBox> radarBoxBounds_;  ///< per radar, the union of its boxes in the grid's frame
+  std::size_t occupancyCellsBuilt_ = 0;
   int maxListed_ = 0;  ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
   std::size_t gpuBytes_ = 0;

@@ -13,6 +13,7 @@
 // The marcher includes the file once per volume with VOL_ replaced by that volume's prefix.
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/engine/VolumeLayer.h>
+#include <atmoglobe/globe/Result.h>
 #include <atmoglobe/volume/OccupancyGrid.h>
 #include <atmoglobe/volume/VolumeRenderSettings.h>
 #include <atmoglobe/volume/VolumeSampler.h>
@@ -20,6 +21,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -93,6 +95,12 @@ class OccupancyGridGL {
   OccupancyGridGL& operator=(OccupancyGridGL&& other) noexcept;
   unsigned int texture() const { return texture_; }
   const volume::OccupancyGrid& grid() const { return grid_; }
+  /// A copy, its texture copied on the GPU (glCopyImageSubData). Error: the copy failed.
+  Result<OccupancyGridGL> copyGL() const;
+  /// The cells of each range computed again from that range's sources
+  /// (volume::rebuildOccupancyCells), and only those cells and the blocks over them uploaded.
+  void rebuildCells(const std::vector<volume::OccupancyCellRange>& ranges,
+                    const std::vector<std::vector<std::span<const volume::OccupancyBox>>>& sources);
   std::size_t gpuBytes() const { return gpuBytes_; }
 
  private:

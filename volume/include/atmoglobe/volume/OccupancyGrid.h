@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 namespace atmoglobe::volume {
@@ -43,15 +44,55 @@ struct OccupancyBox {
   float maxValue = kOccupancyEmptyValue;
 };
 
+/// The union of the boxes (lo the smallest corner, hi the largest, maxValue the largest value);
+/// none: lo +1e300, hi -1e300 (empty()).
+OccupancyBox occupancyBounds(std::span<const OccupancyBox> boxes);
+/// The union of two such unions.
+OccupancyBox occupancyBounds(const OccupancyBox& a, const OccupancyBox& b);
+inline bool empty(const OccupancyBox& b) { return !(b.lo.x <= b.hi.x && b.lo.y <= b.hi.y && b.lo.z <= b.hi.z); }
+
 /// Cells for a grid over the union of `boxes`: about `targetCellMeters` a cell along each axis,
 /// at least 8 per axis, and, where that would be more than `maxCells` in all, every axis scaled
 /// down alike until it fits (the cells then grow alike in proportion). No boxes: 8 per axis.
 glm::ivec3 occupancyCellsFor(const std::vector<OccupancyBox>& boxes, const glm::dvec3& targetCellMeters,
                              std::size_t maxCells);
+/// The same over their union `bounds` (occupancyBounds).
+glm::ivec3 occupancyCellsOver(const OccupancyBox& bounds, const glm::dvec3& targetCellMeters, std::size_t maxCells);
 
 /// The grid of `cells` over the union of the boxes (one spare cell on each side), each cell the
 /// largest value of the boxes it touches, and its block level. No boxes: a single empty cell.
 OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3& localToEcef,
                                  const std::vector<OccupancyBox>& boxes, const glm::ivec3& cells);
+/// The same from boxes in several lists (a network's radars), `bounds` their union.
+OccupancyGrid buildOccupancyGrid(const glm::dvec3& originEcef, const glm::dmat3& localToEcef,
+                                 const std::vector<std::span<const OccupancyBox>>& sources, const OccupancyBox& bounds,
+                                 const glm::ivec3& cells);
+
+/// The frame, cells and cell size buildOccupancyGrid gives over `bounds` (not empty), without
+/// its values (maxValues and blockMaxValues empty): to tell whether a grid built before has the
+/// layout a new one would have (sameOccupancyLayout), so that only a part of it need be redone.
+OccupancyGrid occupancyLayout(const glm::dvec3& originEcef, const glm::dmat3& localToEcef, const OccupancyBox& bounds,
+                              const glm::ivec3& cells);
+/// Frames, cells and cell sizes equal bit for bit.
+bool sameOccupancyLayout(const OccupancyGrid& a, const OccupancyGrid& b);
+
+/// A box of cells, inclusive; empty where any last < first.
+struct OccupancyCellRange {
+  glm::ivec3 first{0}, last{-1};
+  bool empty() const { return last.x < first.x || last.y < first.y || last.z < first.z; }
+};
+/// The cells that a box from lo to hi touches, as buildOccupancyGrid counts them (clamped to the
+/// grid).
+OccupancyCellRange occupancyCellsOf(const OccupancyGrid& grid, const glm::dvec3& lo, const glm::dvec3& hi);
+/// Whether two ranges share a cell.
+bool overlaps(const OccupancyCellRange& a, const OccupancyCellRange& b);
+
+/// Computes the cells of `range` again from `sources` (every box that may touch them; boxes are
+/// clipped to the range) and the blocks over them. Afterwards the grid is what buildOccupancyGrid
+/// gives for the boxes in its layout wherever the boxes outside `sources` touch no cell of the
+/// range and the cells outside it were built from the same boxes: a network step whose changed
+/// radars' old and new boxes lie within the range (OccupancyGridTest checks the equality).
+void rebuildOccupancyCells(OccupancyGrid& grid, const OccupancyCellRange& range,
+                           const std::vector<std::span<const OccupancyBox>>& sources);
 
 }  // namespace atmoglobe::volume
