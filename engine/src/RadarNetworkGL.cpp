@@ -125,6 +125,9 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
                previous->exaggeration_ == exaggeration;
   for (std::size_t r = 0; reuse && r < radars.size(); ++r)
     reuse = previous->radars_[r]->sweeps.size() == radars[r]->sweeps.size();
+  // A network that later steps kept whole is held by several steps: taking its textures over
+  // would leave the others drawing nothing, so it is copied instead.
+  if (previous && previous->keptByLaterSteps_) use = PreviousTexture::Copy;
   // A copy pays for the whole texture: made only where some radar's tiles are unchanged.
   const bool copy = use == PreviousTexture::Copy;
   if (reuse && copy) {
@@ -381,6 +384,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   } else {
     gl->rayTable_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
     glTextureStorage2D(gl->rayTable_, 1, GL_R32F, C::kRayTableBins + 1, gl->rayTableRows_);
+    if (outOfMemoryGL())
+      return makeError("radar network: the GPU is out of memory for its " + megabytes(tableBytes) + " azimuth tables");
     if (reuse) {
       glCopyImageSubData(previous->rayTable_, GL_TEXTURE_2D, 0, 0, 0, 0, gl->rayTable_, GL_TEXTURE_2D, 0, 0, 0, 0,
                          C::kRayTableBins + 1, gl->rayTableRows_, 1);
@@ -523,6 +528,7 @@ Result<std::vector<std::shared_ptr<RadarNetworkGL>>> RadarNetworkGL::createByClu
       }
     if (same && same->drawable() && same->radars_ == members && same->sampler_->rule() == rule && same->kind_ == kind &&
         same->exaggeration_ == exaggeration) {
+      same->keptByLaterSteps_ = true;
       out.push_back(std::move(same));
       continue;
     }

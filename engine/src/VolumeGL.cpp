@@ -108,8 +108,11 @@ Result<OccupancyGridGL> OccupancyGridGL::copyGL() const {
   copy.grid_ = grid_;
   const glm::ivec3 size(grid_.cells.x, grid_.cells.y, grid_.cells.z + grid_.blocks.z);
   copy.texture_ = makeVolumeTextureGL(GL_TEXTURE_3D);
-  glTextureStorage3D(copy.texture_, 1, GL_R16F, size.x, size.y, size.z);
   clearErrorsGL();
+  glTextureStorage3D(copy.texture_, 1, GL_R16F, size.x, size.y, size.z);
+  if (outOfMemoryGL())
+    return makeError("the GPU is out of memory for a copy of an empty-space grid of " + std::to_string(size.x) + " x " +
+                     std::to_string(size.y) + " x " + std::to_string(size.z) + " cells");
   glCopyImageSubData(texture_, GL_TEXTURE_3D, 0, 0, 0, 0, copy.texture_, GL_TEXTURE_3D, 0, 0, 0, 0, size.x, size.y,
                      size.z);
   if (const GLenum e = glGetError(); e != GL_NO_ERROR)

@@ -357,4 +357,50 @@ TEST(RadarNetworkGL, AStepRebuildsOnlyTheChangedRadarsCellsOfTheEmptySpaceGrid) 
   }
 }
 
+// A network kept whole by a later step is held by both steps: a third step that changes one of
+// its radars copies its textures even when asked to take them over, so the first step (still
+// cached in a viewer) draws on as before.
+TEST(RadarNetworkGL, ANetworkKeptByALaterStepIsNeverTakenOver) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
+  volume::PolarVolume stronger = *radars[1];
+  for (float& v : stronger.values)
+    if (volume::isMeasuredValue(v)) v += 3.0f;
+  stronger.maxValue += 3.0f;
+  std::vector<std::shared_ptr<const volume::PolarVolume>> next = radars;
+  next[1] = std::make_shared<const volume::PolarVolume>(std::move(stronger));
+  const auto rule = volume::OverlapRule::Maximum;
+  const auto kind = volume::FieldKind::Reflectivity;
+  const auto takeOver = engine::RadarNetworkGL::PreviousTexture::TakeOver;
+  auto first = engine::RadarNetworkGL::createByCluster(radars, rule, kind);
+  ASSERT_TRUE(first) << first.error();
+  ASSERT_EQ(first->size(), 1u);
+  auto second = engine::RadarNetworkGL::createByCluster(radars, rule, kind, 1.0, {}, *first, takeOver);
+  ASSERT_TRUE(second) << second.error();
+  ASSERT_EQ(second->front(), first->front()) << "nothing changed: kept whole";
+  const Camera camera = cameraOnTheStorm();
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  options.render.mode = volume::VolumeRenderMode::Mip;
+  const volume::VolumeImage before = testutil::renderVolumesGpu(**renderer, camera, {{first->front().get(), options}});
+  auto third = engine::RadarNetworkGL::createByCluster(next, rule, kind, 1.0, {}, *second, takeOver);
+  ASSERT_TRUE(third) << third.error();
+  EXPECT_NE(third->front(), first->front());
+  EXPECT_EQ(third->front()->radarsUploaded(), 1) << "the changed radar's tiles, the others' copied";
+  EXPECT_TRUE(first->front()->drawable());
+  EXPECT_EQ(
+      volume::compareImages(testutil::renderVolumesGpu(**renderer, camera, {{first->front().get(), options}}), before)
+          .maxAbs,
+      0.0);
+  auto whole = engine::RadarNetworkGL::create(next, rule, kind);
+  ASSERT_TRUE(whole) << whole.error();
+  EXPECT_EQ(volume::compareImages(testutil::renderVolumesGpu(**renderer, camera, {{third->front().get(), options}}),
+                                  testutil::renderVolumesGpu(**renderer, camera, {{whole->get(), options}}))
+                .maxAbs,
+            0.0);
+}
+
 }  // namespace

@@ -63,7 +63,8 @@ class RadarNetworkGL final : public VolumeGL {
   /// A cluster of the same sites as one of `previous` (the step shown before) is that network
   /// itself, shared, where it still draws and holds the same volumes (the same shared_ptrs) at the
   /// same rule, kind and exaggeration: nothing of it is built or uploaded again. Otherwise it
-  /// takes that network's texture over or copies it, as create() does.
+  /// takes that network's texture over or copies it, as create() does; a network once kept whole
+  /// is held by several steps and is copied, never taken over.
   static Result<std::vector<std::shared_ptr<RadarNetworkGL>>> createByCluster(
       const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars, volume::OverlapRule rule,
       volume::FieldKind kind, double exaggeration = 1.0,
@@ -92,7 +93,8 @@ class RadarNetworkGL final : public VolumeGL {
   /// copied a previous step's texture).
   int radarsUploaded() const { return radarsUploaded_; }
   /// Cells of the empty-space grid this network's creation computed: all of them, or where a
-  /// previous step's grid served, those of the changed radars' old and new boxes.
+  /// previous step's grid served, those of the changed radars' old and new boxes (a cell in the
+  /// ranges of two changed radars counted twice).
   std::size_t occupancyCellsBuilt() const { return occupancyCellsBuilt_; }
   /// Cells of its empty-space grid.
   std::size_t occupancyCells() const { return occupancy_.grid().maxValues.size(); }
@@ -114,7 +116,8 @@ class RadarNetworkGL final : public VolumeGL {
   int sweepBase_ = 0, cellBase_ = 0, memberBase_ = 0;
   std::vector<volume::OccupancyBox> radarBoxBounds_;  ///< per radar, the union of its boxes in the grid's frame
   std::size_t occupancyCellsBuilt_ = 0;
-  int maxListed_ = 0;  ///< the most radars a coverage cell lists (a variant constant of the march)
+  bool keptByLaterSteps_ = false;  ///< createByCluster kept it whole for a later step: never taken over
+  int maxListed_ = 0;              ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
   std::size_t gpuBytes_ = 0;
 };
