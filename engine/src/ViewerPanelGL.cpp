@@ -28,6 +28,9 @@ constexpr const char* kUiFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
 bool gPanelAlive = false;
 constexpr int kHistogramBins = 96;
 constexpr float kEditorMaxWidth = 300.0f, kEditorHeight = 110.0f;
+// Where the main panel's text wraps: 40 % of the window's width within these (pixels; the colour
+// key is 260 wide).
+constexpr float kPanelTextMinWidth = 280.0f, kPanelTextMaxWidth = 420.0f;
 }  // namespace
 
 struct ViewerPanelGL::Editing {
@@ -95,6 +98,10 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   // As tall as its contents, at most the window's height (then it scrolls).
   ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(FLT_MAX, std::max(100.0f, display.y - 20.0f)));
   ImGui::Begin("atmoglobe", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  // Long lines (a network's subtitle, a readout) wrap: the panel sizes itself to its contents, and
+  // one unwrapped line made it as wide as the window, dimming the whole picture under its
+  // background.
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + std::clamp(0.4f * display.x, kPanelTextMinWidth, kPanelTextMaxWidth));
   ImGui::PushItemWidth(kEditorMaxWidth - 120.0f);
   if (s.timePositions > 1) {
     ImGui::TextUnformatted(("Valid time  " + s.timeLabel).c_str());
@@ -164,6 +171,7 @@ bool ViewerPanelGL::draw(ViewerPanelState& s) {
   ImGui::SameLine();
   if (ImGui::Button("Save scene")) s.saveSceneRequested = true;
   ImGui::PopItemWidth();
+  ImGui::PopTextWrapPos();
   const ImVec2 panelMin = ImGui::GetWindowPos();
   const ImVec2 panelMax(panelMin.x + ImGui::GetWindowSize().x, panelMin.y + ImGui::GetWindowSize().y);
   ImGui::End();
