@@ -298,6 +298,19 @@ std::vector<std::uint16_t> occupancyTexels(const engine::OccupancyGridGL& o) {
   return texels;
 }
 
+// The same radars with the second 3 dB stronger wherever it has echoes (another volume): the
+// same empty-space runs, other maxima.
+std::vector<std::shared_ptr<const volume::PolarVolume>> withTheSecondStronger(
+    const std::vector<std::shared_ptr<const volume::PolarVolume>>& radars) {
+  volume::PolarVolume stronger = *radars[1];
+  for (float& v : stronger.values)
+    if (volume::isMeasuredValue(v)) v += 3.0f;
+  stronger.maxValue += 3.0f;
+  std::vector<std::shared_ptr<const volume::PolarVolume>> next = radars;
+  next[1] = std::make_shared<const volume::PolarVolume>(std::move(stronger));
+  return next;
+}
+
 // A step that changes one radar's values but not where it has echoes keeps the layout of the
 // empty-space grid, so only the cells of that radar's boxes are computed again and uploaded
 // (taking the step before's grid over, or copying it): cells, blocks and texels equal those of the
@@ -307,13 +320,7 @@ TEST(RadarNetworkGL, AStepRebuildsOnlyTheChangedRadarsCellsOfTheEmptySpaceGrid) 
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
   const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  // The second radar 3 dB stronger wherever it has echoes: the same runs, other maxima.
-  volume::PolarVolume stronger = *radars[1];
-  for (float& v : stronger.values)
-    if (volume::isMeasuredValue(v)) v += 3.0f;
-  stronger.maxValue += 3.0f;
-  std::vector<std::shared_ptr<const volume::PolarVolume>> next = radars;
-  next[1] = std::make_shared<const volume::PolarVolume>(std::move(stronger));
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> next = withTheSecondStronger(radars);
   const Camera camera = cameraOnTheStorm();
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
@@ -365,12 +372,7 @@ TEST(RadarNetworkGL, ANetworkKeptByALaterStepIsNeverTakenOver) {
   auto renderer = engine::VolumeRendererGL::create();
   ASSERT_TRUE(renderer) << renderer.error();
   const std::vector<std::shared_ptr<const volume::PolarVolume>> radars = threeRadarsAroundTheStorm();
-  volume::PolarVolume stronger = *radars[1];
-  for (float& v : stronger.values)
-    if (volume::isMeasuredValue(v)) v += 3.0f;
-  stronger.maxValue += 3.0f;
-  std::vector<std::shared_ptr<const volume::PolarVolume>> next = radars;
-  next[1] = std::make_shared<const volume::PolarVolume>(std::move(stronger));
+  const std::vector<std::shared_ptr<const volume::PolarVolume>> next = withTheSecondStronger(radars);
   const auto rule = volume::OverlapRule::Maximum;
   const auto kind = volume::FieldKind::Reflectivity;
   const auto takeOver = engine::RadarNetworkGL::PreviousTexture::TakeOver;
