@@ -330,6 +330,12 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
 
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   clearErrorsGL();
+  // The records first: what can fail after the step before's textures are taken over is nothing
+  // (the take-over allocates nothing), so a failure here leaves the step before drawing.
+  glCreateBuffers(1, &gl->buffer_);
+  glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(floats.size() * 4), floats.data(), 0);
+  gl->gpuBytes_ += floats.size() * 4;
+  if (outOfMemoryGL()) return makeError("radar network: the GPU is out of memory for its tables");
   const std::size_t valueBytes = static_cast<std::size_t>(width) * tileH * layers * 8;
   if (reuse) {
     if (copy) {
@@ -408,10 +414,6 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
                         own.data() + static_cast<std::size_t>(n) * kRow);
   }
   gl->gpuBytes_ += tableBytes;
-  glCreateBuffers(1, &gl->buffer_);
-  glNamedBufferStorage(gl->buffer_, static_cast<GLsizeiptr>(floats.size() * 4), floats.data(), 0);
-  gl->gpuBytes_ += floats.size() * 4;
-  if (outOfMemoryGL()) return makeError("radar network: the GPU is out of memory for its tables");
 
   const volume::BoundingSphere enclosing = gl->referenceSampler().boundingSphere();
   gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
