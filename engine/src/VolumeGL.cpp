@@ -76,31 +76,40 @@ std::uint16_t halfRoundedUp(float x) {
   }
   return h;
 }
+
+// Uploads the cells of `r` and the blocks over them (the blocks' layers above the cells' in the
+// texture) as half floats rounded up, the layers converted on several threads.
+void uploadOccupancyGL(GLuint texture, const volume::OccupancyGrid& g, const volume::OccupancyCellRange& r) {
+  constexpr int kB = volume::OccupancyGrid::kBlock;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  auto upload = [&](const std::vector<float>& values, glm::ivec3 dims, glm::ivec3 first, glm::ivec3 last, int zOffset) {
+    const glm::ivec3 n = last - first + 1;
+    std::vector<std::uint16_t> texels(static_cast<std::size_t>(n.x) * n.y * n.z);
+    globe::parallelFor(static_cast<std::size_t>(n.z), [&](std::size_t zs) {
+      const int z = static_cast<int>(zs);
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x)
+          texels[(static_cast<std::size_t>(z) * n.y + y) * n.x + x] = halfRoundedUp(
+              values[(static_cast<std::size_t>(first.z + z) * dims.y + first.y + y) * dims.x + first.x + x]);
+    });
+    glTextureSubImage3D(texture, 0, first.x, first.y, zOffset + first.z, n.x, n.y, n.z, GL_RED, GL_HALF_FLOAT,
+                        texels.data());
+  };
+  upload(g.maxValues, g.cells, r.first, r.last, 0);
+  upload(g.blockMaxValues, g.blocks, r.first / kB, r.last / kB, g.cells.z);
+}
 }  // namespace
 
 OccupancyGridGL::OccupancyGridGL(volume::OccupancyGrid occupancy) : grid_(std::move(occupancy)) {
   const volume::OccupancyGrid& g = grid_;
   const glm::ivec3 size(g.cells.x, g.cells.y, g.cells.z + g.blocks.z);
-  std::vector<std::uint16_t> texels(static_cast<std::size_t>(size.x) * size.y * size.z,
-                                    halfRoundedUp(volume::kOccupancyEmptyValue));
-  // The cells layer by layer on several threads (a continental network's grid is 2^23 cells).
-  globe::parallelFor(static_cast<std::size_t>(g.cells.z), [&](std::size_t zs) {
-    const int z = static_cast<int>(zs);
-    for (int y = 0; y < g.cells.y; ++y)
-      for (int x = 0; x < g.cells.x; ++x)
-        texels[(static_cast<std::size_t>(z) * size.y + y) * size.x + x] =
-            halfRoundedUp(g.maxValues[g.cellIndex(x, y, z)]);
-  });
-  for (int z = 0; z < g.blocks.z; ++z)
-    for (int y = 0; y < g.blocks.y; ++y)
-      for (int x = 0; x < g.blocks.x; ++x)
-        texels[(static_cast<std::size_t>(g.cells.z + z) * size.y + y) * size.x + x] =
-            halfRoundedUp(g.blockMaxValues[(static_cast<std::size_t>(z) * g.blocks.y + y) * g.blocks.x + x]);
   texture_ = makeVolumeTextureGL(GL_TEXTURE_3D);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureStorage3D(texture_, 1, GL_R16F, size.x, size.y, size.z);
-  glTextureSubImage3D(texture_, 0, 0, 0, 0, size.x, size.y, size.z, GL_RED, GL_HALF_FLOAT, texels.data());
-  gpuBytes_ = texels.size() * 2;
+  // Empty where no block is (the block layers are as wide as the cells').
+  const std::uint16_t empty = halfRoundedUp(volume::kOccupancyEmptyValue);
+  glClearTexImage(texture_, 0, GL_RED, GL_HALF_FLOAT, &empty);
+  uploadOccupancyGL(texture_, g, {glm::ivec3(0), g.cells - 1});
+  gpuBytes_ = static_cast<std::size_t>(size.x) * size.y * size.z * 2;
 }
 
 Result<OccupancyGridGL> OccupancyGridGL::copyGL() const {
@@ -124,33 +133,12 @@ Result<OccupancyGridGL> OccupancyGridGL::copyGL() const {
 
 void OccupancyGridGL::rebuildCells(const std::vector<volume::OccupancyCellRange>& ranges,
                                    const std::vector<std::vector<std::span<const volume::OccupancyBox>>>& sources) {
-  volume::OccupancyGrid& g = grid_;
-  constexpr int kB = volume::OccupancyGrid::kBlock;
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  std::vector<std::uint16_t> texels;
   for (std::size_t k = 0; k < ranges.size(); ++k) {
-    const volume::OccupancyCellRange r{glm::max(ranges[k].first, glm::ivec3(0)), glm::min(ranges[k].last, g.cells - 1)};
+    const volume::OccupancyCellRange r{glm::max(ranges[k].first, glm::ivec3(0)),
+                                       glm::min(ranges[k].last, grid_.cells - 1)};
     if (r.empty()) continue;
-    volume::rebuildOccupancyCells(g, r, sources[k]);
-    // The range's cells, then the blocks over it (above the cells in the texture).
-    const glm::ivec3 n = r.last - r.first + 1;
-    texels.resize(static_cast<std::size_t>(n.x) * n.y * n.z);
-    for (int z = 0; z < n.z; ++z)
-      for (int y = 0; y < n.y; ++y)
-        for (int x = 0; x < n.x; ++x)
-          texels[(static_cast<std::size_t>(z) * n.y + y) * n.x + x] =
-              halfRoundedUp(g.maxValues[g.cellIndex(r.first.x + x, r.first.y + y, r.first.z + z)]);
-    glTextureSubImage3D(texture_, 0, r.first.x, r.first.y, r.first.z, n.x, n.y, n.z, GL_RED, GL_HALF_FLOAT,
-                        texels.data());
-    const glm::ivec3 b0 = r.first / kB, nb = r.last / kB - b0 + 1;
-    texels.resize(static_cast<std::size_t>(nb.x) * nb.y * nb.z);
-    for (int z = 0; z < nb.z; ++z)
-      for (int y = 0; y < nb.y; ++y)
-        for (int x = 0; x < nb.x; ++x)
-          texels[(static_cast<std::size_t>(z) * nb.y + y) * nb.x + x] = halfRoundedUp(
-              g.blockMaxValues[(static_cast<std::size_t>(b0.z + z) * g.blocks.y + b0.y + y) * g.blocks.x + b0.x + x]);
-    glTextureSubImage3D(texture_, 0, b0.x, b0.y, g.cells.z + b0.z, nb.x, nb.y, nb.z, GL_RED, GL_HALF_FLOAT,
-                        texels.data());
+    volume::rebuildOccupancyCells(grid_, r, sources[k]);
+    uploadOccupancyGL(texture_, grid_, r);
   }
 }
 

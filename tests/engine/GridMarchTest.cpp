@@ -929,6 +929,44 @@ static std::optional<GridUnderLimit> gridUnderLimit(const std::shared_ptr<globe:
   return GridUnderLimit{std::move(*renderer), &dynamic_cast<engine::GridSourceGL&>(**layer)};
 }
 
+// A SYNTHETIC global grid of 2.5 deg (144 x 73 columns) written to the test directory as
+// NAME.nc, as a layer of its whole shell.
+static engine::VolumeLayerDescription globalGridLayer(const std::string& name) {
+  volume::SyntheticGlobalGridOptions go;
+  go.nx = 144;
+  go.ny = 73;
+  const std::string path = testutil::testOutputDir() + "/" + name + ".nc";
+  EXPECT_TRUE(volume::writeSyntheticGlobalGrid(path, go));
+  return wholeShellLayer(path);
+}
+
+// That layer drawn once from `camera` into `fb`: the picture, the legend's subtitle, the window of
+// the columns in view (empty where none) and the grid volume drawn first (a window's, or the grid
+// as uploaded). Null, with a test failure, when it cannot be drawn.
+struct DrawnUnderLimit {
+  GridUnderLimit held;
+  globe::ImageRGBA8 image;
+  std::string legend;
+  volume::GridWindow window;
+  const engine::GridVolumeGL* drawn = nullptr;
+};
+static std::optional<DrawnUnderLimit> drawUnderLimit(const std::shared_ptr<globe::TileImageLoader>& loader,
+                                                     const engine::VolumeLayerDescription& d, const char* limitBytes,
+                                                     bool levelOfDetail, const Camera& camera,
+                                                     engine::FramebufferGL& fb) {
+  auto held = gridUnderLimit(loader, d, limitBytes, levelOfDetail);
+  if (!held) return std::nullopt;
+  auto image = held->renderer->renderToImage(camera, {}, fb);
+  if (!image) {
+    ADD_FAILURE() << image.error();
+    return std::nullopt;
+  }
+  const engine::GridSourceGL& grid = *held->grid;
+  DrawnUnderLimit out{std::move(*held), std::move(*image), grid.legendPart().subtitle, grid.viewWindow(),
+                      dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0])};
+  return out;
+}
+
 TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
   testutil::glContext();
   const std::string dir = testutil::testOutputDir();
@@ -1028,36 +1066,25 @@ TEST(GridMarch, LevelOfDetailFollowsThePixelFootprint) {
 // sees a small part of it, as the grid drawn whole without a limit.
 TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   testutil::glContext();
-  const std::string dir = testutil::testOutputDir();
-  volume::SyntheticGlobalGridOptions go;
-  go.nx = 144;  // 2.5 deg
-  go.ny = 73;
-  ASSERT_TRUE(volume::writeSyntheticGlobalGrid(dir + "/window_global.nc", go));
   auto loader = engine::openImagery({}, {});
   ASSERT_TRUE(loader);
-  const engine::VolumeLayerDescription d = wholeShellLayer(dir + "/window_global.nc");
+  const engine::VolumeLayerDescription d = globalGridLayer("window_global");
   // 3,000 km above 15 N 40 W looking down: about 2,500 km of the globe across, 10 of 144 columns.
   const Camera close(CameraPose{15.0, -40.0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(close.widthPx(), close.heightPx());
   ASSERT_TRUE(fb);
-  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend,
-                  engine::GridSourceGL** kept = nullptr) -> std::optional<globe::ImageRGBA8> {
+  auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
     // The whole grid's texels are 3.1 MB.
-    auto held = gridUnderLimit(*loader, d, limited ? "1500000" : nullptr, levelOfDetail);
-    if (!held) return std::nullopt;
-    auto& renderer = held->renderer;
-    engine::GridSourceGL& grid = *held->grid;
+    auto shown = drawUnderLimit(*loader, d, limited ? "1500000" : nullptr, levelOfDetail, close, **fb);
+    if (!shown) return std::nullopt;
+    auto& renderer = shown->held.renderer;
+    engine::GridSourceGL& grid = *shown->held.grid;
     EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 72u : 144u);  // every 2nd column of a wrapping grid
-    auto image = renderer->renderToImage(close, {}, **fb);
-    if (!image) {
-      ADD_FAILURE() << image.error();
-      return std::nullopt;
-    }
-    if (legend) *legend = grid.legendPart().subtitle;
+    if (legend) *legend = shown->legend;
     if (limited && levelOfDetail) {
-      const volume::GridWindow w = grid.viewWindow();
+      const volume::GridWindow& w = shown->window;
       EXPECT_FALSE(w.empty());
-      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      const engine::GridVolumeGL* drawn = shown->drawn;
       EXPECT_NE(drawn, &grid.gridVolume());
       if (drawn) {
         EXPECT_EQ(drawn->grid().nx, w.columnCount);
@@ -1074,8 +1101,7 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
       EXPECT_TRUE(renderer->renderToImage(far, {}, **fb));
       EXPECT_TRUE(grid.viewWindow().empty());
     }
-    if (kept) *kept = &grid;
-    return std::move(*image);
+    return std::move(shown->image);
   };
   std::string wholeLegend, windowLegend, reducedLegend;
   const auto whole = draw(false, true, &wholeLegend);
@@ -1103,34 +1129,24 @@ TEST(GridMarch, AGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
 // at full resolution, and the legend says which.
 TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAsUploaded) {
   testutil::glContext();
-  const std::string dir = testutil::testOutputDir();
-  volume::SyntheticGlobalGridOptions go;
-  go.nx = 144;  // 2.5 deg
-  go.ny = 73;
-  ASSERT_TRUE(volume::writeSyntheticGlobalGrid(dir + "/window_levels.nc", go));
   auto loader = engine::openImagery({}, {});
   ASSERT_TRUE(loader);
-  const engine::VolumeLayerDescription d = wholeShellLayer(dir + "/window_levels.nc");
+  const engine::VolumeLayerDescription d = globalGridLayer("window_levels");
   const Camera mid(CameraPose{15.0, -40.0, 3.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
   const Camera close(CameraPose{15.0, -40.0, 0.8e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(mid.widthPx(), mid.heightPx());
   ASSERT_TRUE(fb);
   auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    auto held = gridUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail);
-    if (!held) return std::nullopt;
-    auto& renderer = held->renderer;
-    engine::GridSourceGL& grid = *held->grid;
+    auto shown = drawUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail, mid, **fb);
+    if (!shown) return std::nullopt;
+    auto& renderer = shown->held.renderer;
+    engine::GridSourceGL& grid = *shown->held.grid;
     EXPECT_EQ(grid.gridVolume().grid().nx, limited ? 36u : 144u);  // every 4th column
-    auto image = renderer->renderToImage(mid, {}, **fb);
-    if (!image) {
-      ADD_FAILURE() << image.error();
-      return std::nullopt;
-    }
-    if (legend) *legend = grid.legendPart().subtitle;
+    if (legend) *legend = shown->legend;
     if (limited && levelOfDetail) {
-      const volume::GridWindow w = grid.viewWindow();
+      const volume::GridWindow& w = shown->window;
       EXPECT_FALSE(w.empty());
-      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      const engine::GridVolumeGL* drawn = shown->drawn;
       EXPECT_NE(drawn, &grid.gridVolume());
       if (drawn) {
         EXPECT_GT(w.columnCount * w.rowCount, 36u * 19u) << "the window does not fit at full resolution";
@@ -1146,7 +1162,7 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
       EXPECT_NE(grid.legendPart().subtitle.find("the columns in view at full resolution"), std::string::npos)
           << grid.legendPart().subtitle;
     }
-    return std::move(*image);
+    return std::move(shown->image);
   };
   std::string windowLegend, quarterLegend;
   const auto whole = draw(false, true, nullptr);
@@ -1201,21 +1217,16 @@ TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
   // many points the window keeps.
   auto draw = [&](const char* limit, bool levelOfDetail, std::size_t uploadedNx, std::size_t windowFactor,
                   std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    auto held = gridUnderLimit(*loader, d, limit, levelOfDetail);  // the whole grid needs 1.0 MB
-    if (!held) return std::nullopt;
-    engine::GridSourceGL& grid = *held->grid;
+    auto shown = drawUnderLimit(*loader, d, limit, levelOfDetail, close, **fb);  // the whole grid needs 1.0 MB
+    if (!shown) return std::nullopt;
+    engine::GridSourceGL& grid = *shown->held.grid;
     EXPECT_TRUE(grid.gridVolume().grid().reduced());
     EXPECT_EQ(grid.gridVolume().grid().nx, uploadedNx);
-    auto image = held->renderer->renderToImage(close, {}, **fb);
-    if (!image) {
-      ADD_FAILURE() << image.error();
-      return std::nullopt;
-    }
-    if (legend) *legend = grid.legendPart().subtitle;
+    if (legend) *legend = shown->legend;
     if (limit && levelOfDetail) {
-      const volume::GridWindow w = grid.viewWindow();
+      const volume::GridWindow& w = shown->window;
       EXPECT_FALSE(w.empty());
-      const auto* drawn = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+      const engine::GridVolumeGL* drawn = shown->drawn;
       EXPECT_NE(drawn, &grid.gridVolume());
       if (drawn) {
         EXPECT_TRUE(drawn->grid().reduced());
@@ -1230,7 +1241,7 @@ TEST(GridMarch, AReducedGridTooLargeForTheGpuIsDrawnFromTheColumnsInView) {
         }
       }
     }
-    return std::move(*image);
+    return std::move(shown->image);
   };
   std::string legend;
   const auto whole = draw(nullptr, true, 128, 1, &legend);
