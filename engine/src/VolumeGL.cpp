@@ -107,7 +107,7 @@ OccupancyGridGL::OccupancyGridGL(volume::OccupancyGrid occupancy) : grid_(std::m
   glTextureStorage3D(texture_, 1, GL_R16F, size.x, size.y, size.z);
   // Empty where no block is (the block layers are as wide as the cells').
   const std::uint16_t empty = halfRoundedUp(volume::kOccupancyEmptyValue);
-  glClearTexImage(texture_, 0, GL_RED, GL_HALF_FLOAT, &empty);
+  glClearTexSubImage(texture_, 0, 0, 0, g.cells.z, size.x, size.y, g.blocks.z, GL_RED, GL_HALF_FLOAT, &empty);
   uploadOccupancyGL(texture_, g, {glm::ivec3(0), g.cells - 1});
   gpuBytes_ = static_cast<std::size_t>(size.x) * size.y * size.z * 2;
 }
