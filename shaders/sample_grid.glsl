@@ -36,6 +36,14 @@ uniform vec4 VOL_levelMap;      // lowest height (m), (entries - 1) per metre, b
 uniform vec4 VOL_cellScale;     // the step rule's (volume::CellScale): column spacing (m; 0: no rule), first
                                 // height (m), entries per metre
 uniform float VOL_levelSpacing[CELL_SCALE_ENTRIES];  // reference level spacing by height (m)
+uniform vec4 VOL_hole;          // a latitude/longitude box with no data in this frame (engine::VolumeLayerGL::hole):
+                                // west, span (deg; < 0: none), south, north
+
+// In the hole (volume::LonLatBox::contains, the reference's volume::SamplerOutsideBox).
+bool VOL_inHole(vec2 latLon) {
+  return VOL_hole.y >= 0.0 && latLon.x >= VOL_hole.z && latLon.x <= VOL_hole.w &&
+         (VOL_hole.y >= 360.0 || mod(latLon.y - VOL_hole.x, 360.0) <= VOL_hole.y);
+}
 
 // WGS84 geodetic latitude, longitude (deg) and height (m) of an ECEF point, Bowring's formula
 // (one step from the parametric latitude). The angles come out of atan as small differences from
@@ -151,7 +159,7 @@ bool VOL_locate(vec3 p, out ivec3 c, out vec3 f, out int lo, out float fk, out v
   lo = 0;
   fk = 0.0;
   vec3 g = VOL_geodetic(p);
-  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y) return false;
+  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y || VOL_inHole(g.xy)) return false;
   // The row as for a rectilinear grid.
   float y = (g.x - VOL_lonLat.z) / VOL_lonLat.w * float(VOL_lookupSize.x - 1);
   if (y < 0.0 || y > float(VOL_lookupSize.x - 1)) return false;
@@ -245,7 +253,7 @@ bool VOL_locate(vec3 p, out ivec2 c, out vec2 f, out int lo, out float fk, out v
   lo = 0;
   fk = 0.0;
   vec3 g = VOL_geodetic(p);
-  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y) return false;
+  if (g.z < VOL_heightRange.x || g.z > VOL_heightRange.y || VOL_inHole(g.xy)) return false;
   vec2 ij;
   if (!VOL_columnRow(g.xy, ij)) return false;
   c = clamp(ivec2(floor(ij)), ivec2(0), VOL_texSize.xy - 2);

@@ -149,6 +149,11 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                  "Grid level of detail: on (default: a coarser copy of the grid where a pixel spans several of its "
                  "columns, docs/grids.md \"Level of detail\") or off (always the grid itself)")
       ->check(CLI::IsMember({"on", "off"}));
+  gg->add_option("--grid-near-window", o.gridNearWindow,
+                 "A grid too large for the GPU, drawn coarser than its own resolution: the columns nearest the eye at "
+                 "full resolution with the rest (on, default; docs/grids.md \"Near and far in one frame\") or one "
+                 "resolution throughout (off)")
+      ->check(CLI::IsMember({"on", "off"}));
   auto* sf = c.add_option_group(
       "Surface fields (maps)",
       "A grid's 2-D field draped on the globe, filled and/or contoured; each option below is given once (all) or "
@@ -516,11 +521,11 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   };
   if (ng == 0 && (!o.variables.empty() || !o.times.empty() || !o.members.empty() || !o.ensembles.empty() ||
                   !o.gridIndex.empty() || !o.gridColors.empty() || !o.gridModes.empty() || !o.gridSteps.empty() ||
-                  !o.gridSettings.empty() || !o.gridLod.empty() || !o.gridSamplesPerCell.empty() ||
-                  !o.gridImageScales.empty() || !o.gridRefineThresholds.empty())) {
+                  !o.gridSettings.empty() || !o.gridLod.empty() || !o.gridNearWindow.empty() ||
+                  !o.gridSamplesPerCell.empty() || !o.gridImageScales.empty() || !o.gridRefineThresholds.empty())) {
     return makeError(
         "--var/--time/--member/--ensemble/--grid-index/--grid-colors/--grid-mode/--grid-step/--grid-samples-per-cell/"
-        "--grid-image-scale/--grid-refine-threshold/--grid-lod/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
+        "--grid-image-scale/--grid-refine-threshold/--grid-lod/--grid-near-window/--grid-range/--grid-opacity/--grid-crop/--grid-crop-heights "
         "need a --grid");
   }
   std::vector<engine::VolumeLayerDescription> grids;
@@ -551,6 +556,9 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     std::string lod;
     if (auto st = pickGrid(o.gridLod, "--grid-lod", i, lod); !st) return st.forwardError();
     if (!lod.empty()) d.levelOfDetail = lod == "on";
+    std::string nearWindow;
+    if (auto st = pickGrid(o.gridNearWindow, "--grid-near-window", i, nearWindow); !st) return st.forwardError();
+    if (!nearWindow.empty()) d.nearWindow = nearWindow == "on";
     if (auto st = pickLayerSettings(o.gridSettings, "--grid-", pickGrid, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--grid"); !st) return st.forwardError();
     if (d.refineThreshold >= 0.0 && d.imageScale >= 1.0)

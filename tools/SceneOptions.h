@@ -43,6 +43,7 @@ struct SceneOptions {
   std::vector<double> gridSamplesPerCell;
   std::vector<double> gridImageScales, gridRefineThresholds;  ///< --grid-image-scale, --grid-refine-threshold
   std::vector<std::string> gridLod;                           ///< --grid-lod on|off
+  std::vector<std::string> gridNearWindow;                    ///< --grid-near-window on|off
   std::vector<double> samplesPerCell;                         ///< radars' step rule
   /// --surface FILE and its settings, each once (all) or once per --surface.
   std::vector<std::string> surfaces, surfaceVars, surfaceTimes, surfaceEnsembles, surfaceColors, surfaceRanges,

@@ -280,11 +280,16 @@ LegendPart GridSourceGL::legendPart() const {
   if (volume_->unreducedGrid()) {
     if (viewWindow().empty()) {
       resolution = reducedNote(*volume_);
+      if (nearUsed_)
+        resolution = "  the nearest columns at full resolution, the rest at 1/" +
+                     std::to_string(uploadFactor(*volume_)) + " (GPU memory)";
     } else {
       // The window's own factor, times what its upload halved it by where it did not fit either.
       const std::size_t f = window_->factor * uploadFactor(*window_->volume);
       resolution = f > 1 ? "  the columns in view at 1/" + std::to_string(f) + " resolution (GPU memory)"
                          : "  the columns in view at full resolution";
+      if (nearUsed_)
+        resolution = "  the nearest columns at full resolution, the rest at 1/" + std::to_string(f) + " (GPU memory)";
     }
   }
   const std::string variable = displayName(v.variable);
@@ -310,6 +315,10 @@ LayerMemory GridSourceGL::memory() const {
     cpu += volume::gridVolumeBytes(window_->volume->grid());
     gpu += window_->volume->gpuBytes();
   }
+  if (near_ && near_->of == volume_.get()) {
+    cpu += volume::gridVolumeBytes(near_->volume->grid());
+    gpu += near_->volume->gpuBytes();
+  }
   if (const auto& whole = volume_->unreducedGrid()) cpu += volume::gridVolumeBytes(*whole);
   if (detailOf_ == volume_.get())
     for (const auto& d : detail_)
@@ -324,18 +333,29 @@ std::vector<const VolumeGL*> GridSourceGL::volumes() const {
   if (detailLevel_ > 0 && detailOf_ == volume_.get() && static_cast<std::size_t>(detailLevel_) <= detail_.size() &&
       detail_[static_cast<std::size_t>(detailLevel_) - 1])
     return {detail_[static_cast<std::size_t>(detailLevel_) - 1].get()};
+  if (nearUsed_) return {near_->volume.get(), &coarseAroundNear()};
   if (windowUsed_ && window_ && window_->of == volume_.get()) return {window_->volume.get()};
   return {volume_.get()};
 }
 
+const GridVolumeGL& GridSourceGL::coarseAroundNear() const {
+  return windowUsed_ && window_ && window_->of == volume_.get() ? *window_->volume : *volume_;
+}
+
+std::optional<volume::LonLatBox> GridSourceGL::holeOf(const VolumeGL* volume) const {
+  if (nearUsed_ && volume == &coarseAroundNear()) return nearBox_;
+  return std::nullopt;
+}
+
 volume::GridWindow GridSourceGL::viewWindow() const {
-  if (volumes().front() == (window_ ? window_->volume.get() : nullptr)) return window_->window;
+  if (window_ && volumes().back() == window_->volume.get()) return window_->window;
   return {};
 }
 
 void GridSourceGL::chooseDetail(const Camera& camera, bool background) {
   chooseCoarserCopy(camera, background);
   chooseViewWindow(camera, background);
+  chooseNearWindow(camera, background);
 }
 
 namespace {
@@ -366,6 +386,84 @@ volume::GridWindow widenWindow(const volume::GridWindow& w, const volume::GridVo
 
 }  // namespace
 
+namespace {
+
+// What a window in view depends on of a camera.
+std::vector<double> cameraKey(const Camera& camera) {
+  const CameraPose& pose = camera.pose();
+  return {pose.latDeg,
+          pose.lonDeg,
+          pose.heightMeters,
+          pose.headingDeg,
+          pose.pitchDeg,
+          pose.rollDeg,
+          camera.fovYDeg(),
+          static_cast<double>(camera.widthPx()),
+          static_cast<double>(camera.heightPx())};
+}
+
+// The latitude/longitude box a rectilinear window's grid has data in: its first to last column's
+// longitude (increasing across the seam), every longitude when it wraps; its rows' latitudes.
+volume::LonLatBox windowBox(const volume::GridVolume& w) {
+  volume::LonLatBox box;
+  box.westDeg = w.lonDeg.front();
+  box.spanDeg = w.wrapsLongitude ? 360.0 : w.lonDeg.back() - w.lonDeg.front();
+  box.southDeg = std::min(w.latDeg.front(), w.latDeg.back());
+  box.northDeg = std::max(w.latDeg.front(), w.latDeg.back());
+  return box;
+}
+
+}  // namespace
+
+void GridSourceGL::chooseNearWindow(const Camera& camera, bool background) {
+  nearUsed_ = false;
+  if (near_ && near_->of != volume_.get()) near_.reset();  // another step or a reload
+  if (nearBuilding_ && nearBuilding_->prepared.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    std::shared_ptr<const GridVolumeGL::Prepared> prepared = nearBuilding_->prepared.get();
+    if (prepared && nearBuilding_->of == volume_.get())
+      if (auto gl = GridVolumeGL::create(std::move(prepared)); gl && !(*gl)->unreducedGrid())
+        near_ = ViewWindow{nearBuilding_->of, nearBuilding_->window, 1, std::move(*gl)};
+    nearBuilding_.reset();
+  }
+  const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
+  if (!description_.nearWindow || !whole || whole->reduced() || !description_.levelOfDetail || detailLevel_ > 0) return;
+  // Only where the coarser level is coarser than the grid.
+  const GridVolumeGL& coarse = coarseAroundNear();
+  const std::size_t coarseFactor = &coarse == volume_.get() ? uploadFactor(coarse)
+                                                            : window_->factor * uploadFactor(*window_->volume);
+  if (coarseFactor <= 1) return;
+  if (const std::vector<double> key = cameraKey(camera); key != nearKey_ || nearOf_ != whole.get()) {
+    nearKey_ = key;
+    nearOf_ = whole.get();
+    nearInSight_ = nearGridWindow(camera, *whole, volume_->grid().nx * volume_->grid().ny);
+  }
+  const volume::GridWindow wanted = nearInSight_;
+  if (wanted.empty()) return;
+  // The window there is serves while it holds the middle half of the one wanted (each side an
+  // eighth of a move keeps it); meanwhile a new one is made.
+  volume::GridWindow middle = wanted;
+  middle.firstRow += wanted.rowCount / 4, middle.rowCount -= 2 * (wanted.rowCount / 4);
+  middle.firstColumn = (wanted.firstColumn + wanted.columnCount / 4) % whole->nx;
+  middle.columnCount -= 2 * (wanted.columnCount / 4);
+  const bool holds = near_ && windowContains(near_->window, middle, whole->nx);
+  if (!holds) {
+    auto make = [whole, wanted]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
+      auto part = volume::gridWindow(*whole, wanted);
+      if (!part || !GridVolumeGL::checkDrawable(*part)) return nullptr;
+      return GridVolumeGL::prepare(*part);
+    };
+    if (background) {
+      if (!nearBuilding_) nearBuilding_ = WindowBuild{volume_.get(), wanted, 1, std::async(std::launch::async, make)};
+    } else if (std::shared_ptr<const GridVolumeGL::Prepared> prepared = make()) {
+      if (auto gl = GridVolumeGL::create(std::move(prepared)); gl && !(*gl)->unreducedGrid())
+        near_ = ViewWindow{volume_.get(), wanted, 1, std::move(*gl)};
+    }
+  }
+  if (!near_) return;  // until one is made, the coarser level alone
+  nearBox_ = windowBox(near_->volume->grid());
+  nearUsed_ = true;
+}
+
 void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   windowUsed_ = false;
   if (window_ && window_->of != volume_.get()) window_.reset();  // another step or a reload
@@ -380,16 +478,7 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   if (!whole || !description_.levelOfDetail || detailLevel_ > 0) return;
   // The window in view is found again only when the camera changed (a 0.25-degree grid: some
   // 40,000 points projected).
-  const CameraPose& pose = camera.pose();
-  const std::vector<double> key{pose.latDeg,
-                                pose.lonDeg,
-                                pose.heightMeters,
-                                pose.headingDeg,
-                                pose.pitchDeg,
-                                pose.rollDeg,
-                                camera.fovYDeg(),
-                                static_cast<double>(camera.widthPx()),
-                                static_cast<double>(camera.heightPx())};
+  const std::vector<double> key = cameraKey(camera);
   if (key != viewKey_ || viewOf_ != whole.get()) {
     viewKey_ = key;
     viewOf_ = whole.get();
@@ -524,8 +613,14 @@ std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const 
   // The grid itself, or its window in view at full resolution where it is drawn from one (not the
   // coarser copies of the level of detail: the readout gives the data's values).
   const GridVolumeGL& shown = windowUsed_ && window_ && window_->of == volume_.get() ? *window_->volume : *volume_;
-  const auto hit =
-      firstValueAlong(shown.referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+  auto hit = firstValueAlong(shown.referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+  if (nearUsed_) {  // the near window at full resolution where it holds the point
+    auto nearHit = firstValueAlong(near_->volume->referenceSampler(), eye, dir, tMaxMeters, stepMeters,
+                                   volume::Interpolation::Linear);
+    const auto g = hit ? globe::ecefToGeodetic(hit->ecef) : globe::Geodetic{};
+    if (hit && nearBox_.contains(g.latDeg, g.lonDeg)) hit.reset();
+    if (nearHit && (!hit || glm::length(nearHit->ecef - eye) <= glm::length(hit->ecef - eye))) hit = nearHit;
+  }
   if (!hit) return std::nullopt;
   const volume::GridVolume& v = volume_->grid();
   const globe::Geodetic g = globe::ecefToGeodetic(hit->ecef);

@@ -150,7 +150,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   if (radar) {
     keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes"});
   } else {
-    keys.insert(keys.end(), {"time", "member", "ensemble", "index", "level_of_detail"});
+    keys.insert(keys.end(), {"time", "member", "ensemble", "index", "level_of_detail", "near_window"});
   }
   if (auto st = r.checkObject(keys); !st) return st;
   double iso = 0.0;
@@ -191,6 +191,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       },
       [&] { return radar ? Status(Ok{}) : r.indices("index", d.gridIndex, 1000000000); },
       [&] { return radar ? Status(Ok{}) : r.boolean("level_of_detail", d.levelOfDetail); },
+      [&] { return radar ? Status(Ok{}) : r.boolean("near_window", d.nearWindow); },
       [&] { return r.number("step_m", d.stepMeters, 1.0, 1e6, "m"); },
       [&] {
         double n = 0.0;

@@ -78,6 +78,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
   j["step_m"] = d.stepMeters;
   if (d.samplesPerCell) j["samples_per_cell"] = *d.samplesPerCell;
   if (d.kind == VolumeKind::Grid && !d.levelOfDetail) j["level_of_detail"] = false;
+  if (d.kind == VolumeKind::Grid && !d.nearWindow) j["near_window"] = false;
   j["image_scale"] = d.imageScale;
   if (d.refineThreshold >= 0.0) j["refine_threshold"] = d.refineThreshold;
   if (d.isoValue) j[radar ? "iso_dbz" : "iso_value"] = *d.isoValue;

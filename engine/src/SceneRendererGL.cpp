@@ -147,7 +147,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     VolumeSourceGL& source = *layers_[i];
     if (!source.visible) continue;
     source.chooseDetail(camera, detailInBackground_);  // a grid's level of detail for this camera
-    for (const VolumeGL* v : source.volumes()) layers.push_back(VolumeLayerGL{v, source.options()});
+    for (const VolumeGL* v : source.volumes()) layers.push_back(VolumeLayerGL{v, source.options(), source.holeOf(v)});
     for (const Marker& site : source.siteMarkers()) all.push_back(site);
   }
   if (!layers.empty() && referenceThreads_ > 0) {

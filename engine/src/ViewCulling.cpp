@@ -99,39 +99,66 @@ std::size_t visibleGridStride(const volume::GridVolume& g) {
   return std::max<std::size_t>(1, std::max(g.nx, g.ny) / 256);
 }
 
-volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& g) {
+namespace {
+
+// A grid point visibleGridWindow tests: its column (a reduced grid's on its reference axis), row,
+// and the distance from the eye to the nearer of its bottom and top.
+struct VisiblePoint {
+  std::size_t column = 0, row = 0;
+  double distanceMeters = 0.0;
+};
+
+// The points (every stride-th column and row) whose bottom or top projects into the frame (4 %
+// margin) and is not hidden by the ellipsoid.
+std::vector<VisiblePoint> visibleGridPoints(const Camera& camera, const volume::GridVolume& g) {
+  std::vector<VisiblePoint> points;
   const std::size_t nx = g.nx, ny = g.ny, nz = g.nz;
-  volume::GridWindow window;
-  if (nx == 0 || ny == 0 || nz == 0) return window;
+  if (nx == 0 || ny == 0 || nz == 0) return points;
   const std::size_t stride = visibleGridStride(g);
   const double w = camera.widthPx(), h = camera.heightPx(), mx = 0.04 * w, my = 0.04 * h;
   const glm::dvec3 eye = camera.eyeEcef();
+  // The distance to the point when it is visible, else a negative number.
   auto visible = [&](double lat, double lon, double height) {
     const glm::dvec3 p = globe::geodeticToEcef({lat, lon, height});
     const auto px = camera.projectToPixel(p);
-    if (!px || px->x < -mx || px->x > w + mx || px->y < -my || px->y > h + my) return false;
+    if (!px || px->x < -mx || px->x > w + mx || px->y < -my || px->y > h + my) return -1.0;
     // Behind the ellipsoid: the segment from the eye meets it (1 m short of the point itself).
     const glm::dvec3 d = p - eye;
     const auto hit = globe::intersectRayEllipsoid(eye, d);
-    return !hit || glm::length(*hit - eye) >= glm::length(d) - 1.0;
+    return !hit || glm::length(*hit - eye) >= glm::length(d) - 1.0 ? glm::length(d) : -1.0;
   };
-  std::vector<char> column(nx, 0);
-  std::size_t rowMin = ny, rowMax = 0;
   for (std::size_t j = 0; j < ny; j += stride) {
     for (std::size_t i = 0; i < g.rowLength(j); i += stride) {
       const double lat = g.latDegAt(j, i), lon = g.lonDegAt(j, i);
-      if (!visible(lat, lon, g.heightMeters(0, j, i)) && !visible(lat, lon, g.heightMeters(nz - 1, j, i))) continue;
+      const double bottom = visible(lat, lon, g.heightMeters(0, j, i));
+      const double top = visible(lat, lon, g.heightMeters(nz - 1, j, i));
+      if (bottom < 0.0 && top < 0.0) continue;
       std::size_t c = i;
       if (g.reduced()) {
         const double x = std::fmod(std::fmod(lon - g.reducedWestDeg(), 360.0) + 360.0, 360.0) / g.reducedSpacingDeg();
         c = std::min(nx - 1, static_cast<std::size_t>(std::llround(x)) % nx);
         c -= c % stride;
       }
-      column[c] = 1;
-      rowMin = std::min(rowMin, j), rowMax = std::max(rowMax, j);
+      points.push_back({c, j, bottom < 0.0 ? top : top < 0.0 ? bottom : std::min(bottom, top)});
     }
   }
-  if (rowMin > rowMax) return window;
+  return points;
+}
+
+}  // namespace
+
+volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVolume& g) {
+  const std::size_t nx = g.nx, ny = g.ny;
+  volume::GridWindow window;
+  const std::vector<VisiblePoint> points = visibleGridPoints(camera, g);
+  if (points.empty()) return window;
+  const std::size_t stride = visibleGridStride(g);
+  std::vector<char> column(nx, 0);
+  std::size_t rowMin = ny, rowMax = 0;
+  for (const VisiblePoint& p : points) {
+    column[p.column] = 1;
+    rowMin = std::min(rowMin, p.row), rowMax = std::max(rowMax, p.row);
+  }
   // Rows: a stride of margin (the untested rows between).
   const std::size_t j0 = rowMin >= stride ? rowMin - stride : 0, j1 = std::min(ny - 1, rowMax + stride);
   window.firstRow = j0;
@@ -158,6 +185,54 @@ volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVol
     const std::size_t i0 = on.front() >= stride ? on.front() - stride : 0, i1 = std::min(nx - 1, on.back() + stride);
     window.firstColumn = i0;
     window.columnCount = i1 - i0 + 1;
+  }
+  return window;
+}
+
+volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& g, std::size_t maxPoints) {
+  volume::GridWindow window;
+  if (g.reduced()) return window;
+  std::vector<VisiblePoint> points = visibleGridPoints(camera, g);
+  if (points.empty()) return window;
+  std::stable_sort(points.begin(), points.end(),
+                   [](const VisiblePoint& a, const VisiblePoint& b) { return a.distanceMeters < b.distanceMeters; });
+  const long nx = static_cast<long>(g.nx), ny = static_cast<long>(g.ny);
+  const long stride = static_cast<long>(visibleGridStride(g));
+  const long c0 = static_cast<long>(points.front().column);
+  // Columns as signed offsets from the nearest point's (on a wrapping grid the shorter way round).
+  auto offset = [&](std::size_t c) {
+    long d = static_cast<long>(c) - c0;
+    if (g.wrapsLongitude) d = ((d % nx) + nx + nx / 2) % nx - nx / 2;
+    return d;
+  };
+  // The window of offsets [a, b] x rows [r, s] with a stride of margin, clipped to the grid.
+  auto windowOf = [&](long a, long b, long r, long s) {
+    volume::GridWindow w;
+    const long first = std::max(0L, r - stride), last = std::min(ny - 1, s + stride);
+    w.firstRow = static_cast<std::size_t>(first);
+    w.rowCount = static_cast<std::size_t>(last - first + 1);
+    if (g.wrapsLongitude) {
+      const long count = std::min(nx, b - a + 1 + 2 * stride);
+      w.columnCount = static_cast<std::size_t>(count);
+      w.firstColumn = count == nx ? 0 : static_cast<std::size_t>(((c0 + a - stride) % nx + nx) % nx);
+    } else {
+      const long lo = std::max(0L, c0 + a - stride), hi = std::min(nx - 1, c0 + b + stride);
+      w.firstColumn = static_cast<std::size_t>(lo);
+      w.columnCount = static_cast<std::size_t>(hi - lo + 1);
+    }
+    return w;
+  };
+  long a = 0, b = 0, r = static_cast<long>(points.front().row), s = r;
+  for (const VisiblePoint& p : points) {
+    const long o = offset(p.column), row = static_cast<long>(p.row);
+    const long na = std::min(a, o), nb = std::max(b, o), nr = std::min(r, row), ns = std::max(s, row);
+    const volume::GridWindow w = windowOf(na, nb, nr, ns);
+    if (w.columnCount * w.rowCount > maxPoints) {
+      if (window.empty()) return window;  // the nearest point's window alone does not fit
+      break;
+    }
+    a = na, b = nb, r = nr, s = ns;
+    window = w;
   }
   return window;
 }

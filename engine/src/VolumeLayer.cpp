@@ -116,7 +116,7 @@ LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescri
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
       a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.refineThreshold != b.refineThreshold ||
       a.isoValue != b.isoValue || a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
-      a.levelOfDetail != b.levelOfDetail || !sameLook(a.settings, b.settings))
+      a.levelOfDetail != b.levelOfDetail || a.nearWindow != b.nearWindow || !sameLook(a.settings, b.settings))
     return LayerChange::Options;
   return LayerChange::None;
 }

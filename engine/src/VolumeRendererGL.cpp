@@ -218,7 +218,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
     auto v = [&](const char* name) { return location(std::string(p).append(name)); };
     l.volumes.push_back({v("eyeRel"), v("ecefToLocal"), v("gridMinLocal"), v("gridCellSize"), v("gridCells"),
                          v("isoValue"), v("opacityZeroValue"), v("mipVisibleMin"), v("tfRange"), v("isoColor"),
-                         v("samplesPerCell")});
+                         v("samplesPerCell"), v("hole")});
     glProgramUniform1i(id, v("grid"), gridUnit(static_cast<int>(k)));
   }
   entry.slots.resize(variant.volumes.size());
@@ -380,6 +380,12 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     const glm::dvec4 isoColor = s.transfer.classify(s.isoValue);
     generic.insert(generic.end(), {static_cast<float>(isoColor.r), static_cast<float>(isoColor.g),
                                    static_cast<float>(isoColor.b), static_cast<float>(s.samplesPerCell)});
+    // The hole (VolumeLayerGL::hole): west, span, south, north (deg); span -1: none.
+    const std::optional<volume::LonLatBox>& hole = layers[k].hole;
+    generic.insert(
+        generic.end(),
+        {hole ? static_cast<float>(hole->westDeg) : 0.0f, hole ? static_cast<float>(hole->spanDeg) : -1.0f,
+         hole ? static_cast<float>(hole->southDeg) : 0.0f, hole ? static_cast<float>(hole->northDeg) : 0.0f});
     if (generic != slot.generic) {
       glUniformMatrix3fv(vl.ecefToLocal, 1, GL_FALSE, generic.data());
       glUniform3fv(vl.eyeRel, 1, generic.data() + 9);
@@ -392,7 +398,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       glUniform2f(vl.tfRange, generic[24], generic[25]);
       glUniform3fv(vl.isoColor, 1, generic.data() + 26);
       glUniform1f(vl.samplesPerCell, generic[29]);
-      uniformUploads_ += 11;
+      glUniform4fv(vl.hole, 1, generic.data() + 30);
+      uniformUploads_ += 12;
       slot.generic = std::move(generic);
     }
     glBindTextureUnit(static_cast<GLuint>(gridUnit(k)), vol.occupancy().texture());
@@ -715,8 +722,12 @@ void VolumeRendererGL::drawReference(const Camera& camera, const std::vector<Vol
   for (const PassGL& pass : planPasses(camera, layers)) {
     // The marcher's passes (the reference needs one mode and step per call).
     std::vector<volume::ReferenceLayer> group;
-    for (const VolumeLayerGL& l : pass.layers)
-      group.push_back(volume::ReferenceLayer{&l.volume->referenceSampler(), l.options.render});
+    std::vector<std::unique_ptr<volume::SamplerOutsideBox>> holed;  // the layers' holes
+    for (const VolumeLayerGL& l : pass.layers) {
+      const volume::VolumeSampler* sampler = &l.volume->referenceSampler();
+      if (l.hole) sampler = holed.emplace_back(std::make_unique<volume::SamplerOutsideBox>(*sampler, *l.hole)).get();
+      group.push_back(volume::ReferenceLayer{sampler, l.options.render});
+    }
     // Occluded by what the frame's depth holds (globe tiles, models), as the marcher is.
     lastReference_ = volume::renderReference(group, rc, occluders, false, threads);
     const int w = lastReference_.widthPx, h = lastReference_.heightPx;

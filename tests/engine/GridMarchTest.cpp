@@ -14,6 +14,7 @@
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/SceneRendererGL.h>
 #include <atmoglobe/engine/SceneTime.h>
+#include <atmoglobe/engine/ViewCulling.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
@@ -912,13 +913,14 @@ struct GridUnderLimit {
 };
 static std::optional<GridUnderLimit> gridUnderLimit(const std::shared_ptr<globe::TileImageLoader>& loader,
                                                     engine::VolumeLayerDescription d, const char* limitBytes,
-                                                    bool levelOfDetail) {
+                                                    bool levelOfDetail, bool nearWindow = true) {
   auto renderer = engine::SceneRendererGL::create(loader);
   if (!renderer) {
     ADD_FAILURE() << renderer.error();
     return std::nullopt;
   }
   d.levelOfDetail = levelOfDetail;
+  d.nearWindow = nearWindow;
   if (limitBytes) setenv("ATMOGLOBE_MAX_TEXTURE_BYTES", limitBytes, 1);
   auto layer = (*renderer)->addVolume(d);
   unsetenv("ATMOGLOBE_MAX_TEXTURE_BYTES");
@@ -941,8 +943,9 @@ static engine::VolumeLayerDescription globalGridLayer(const std::string& name) {
 }
 
 // That layer drawn once from `camera` into `fb`: the picture, the legend's subtitle, the window of
-// the columns in view (empty where none) and the grid volume drawn first (a window's, or the grid
-// as uploaded). Null, with a test failure, when it cannot be drawn.
+// the columns in view (empty where none) and the grid volume drawn last (a window's, or the grid
+// as uploaded; the near window at full resolution comes before it where one is drawn). Null, with
+// a test failure, when it cannot be drawn.
 struct DrawnUnderLimit {
   GridUnderLimit held;
   globe::ImageRGBA8 image;
@@ -953,8 +956,8 @@ struct DrawnUnderLimit {
 static std::optional<DrawnUnderLimit> drawUnderLimit(const std::shared_ptr<globe::TileImageLoader>& loader,
                                                      const engine::VolumeLayerDescription& d, const char* limitBytes,
                                                      bool levelOfDetail, const Camera& camera,
-                                                     engine::FramebufferGL& fb) {
-  auto held = gridUnderLimit(loader, d, limitBytes, levelOfDetail);
+                                                     engine::FramebufferGL& fb, bool nearWindow = true) {
+  auto held = gridUnderLimit(loader, d, limitBytes, levelOfDetail, nearWindow);
   if (!held) return std::nullopt;
   auto image = held->renderer->renderToImage(camera, {}, fb);
   if (!image) {
@@ -963,7 +966,7 @@ static std::optional<DrawnUnderLimit> drawUnderLimit(const std::shared_ptr<globe
   }
   const engine::GridSourceGL& grid = *held->grid;
   DrawnUnderLimit out{std::move(*held), std::move(*image), grid.legendPart().subtitle, grid.viewWindow(),
-                      dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0])};
+                      dynamic_cast<const engine::GridVolumeGL*>(grid.volumes().back())};
   return out;
 }
 
@@ -1137,7 +1140,8 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
   auto fb = engine::FramebufferGL::create(mid.widthPx(), mid.heightPx());
   ASSERT_TRUE(fb);
   auto draw = [&](bool limited, bool levelOfDetail, std::string* legend) -> std::optional<globe::ImageRGBA8> {
-    auto shown = drawUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail, mid, **fb);
+    // One resolution throughout (the near window at full resolution: the test below).
+    auto shown = drawUnderLimit(*loader, d, limited ? "500000" : nullptr, levelOfDetail, mid, **fb, false);
     if (!shown) return std::nullopt;
     auto& renderer = shown->held.renderer;
     engine::GridSourceGL& grid = *shown->held.grid;
@@ -1176,6 +1180,130 @@ TEST(GridMarch, AWindowThatFitsOnlyAtACoarserResolutionIsStillFinerThanTheGridAs
   EXPECT_LT(half, 0.7 * fourth);
   EXPECT_NE(windowLegend.find("the columns in view at 1/2 resolution (GPU memory)"), std::string::npos) << windowLegend;
   EXPECT_NE(quarterLegend.find("at 1/4 resolution (GPU memory)"), std::string::npos) << quarterLegend;
+}
+
+// A global 2.5-degree grid (2 levels, 0 and 15 km) seen obliquely across the antimeridian: the
+// near window holds the visible point nearest the eye, keeps within the cap, crosses the seam,
+// and grows with the cap; the view's window holds it. No point in view: empty.
+TEST(NearGridWindow, HoldsTheNearestColumnsInViewWithinTheCap) {
+  volume::GridVolume g;
+  g.nx = 144, g.ny = 73, g.nz = 2;
+  for (std::size_t i = 0; i < g.nx; ++i) g.lonDeg.push_back(-180.0 + 2.5 * static_cast<double>(i));
+  for (std::size_t j = 0; j < g.ny; ++j) g.latDeg.push_back(-90.0 + 2.5 * static_cast<double>(j));
+  g.wrapsLongitude = true;
+  g.values.assign(g.nx * g.ny * g.nz, 1.0f);
+  g.heightAboveEllipsoidMeters.assign(g.nx * g.ny, 0.0f);
+  g.heightAboveEllipsoidMeters.resize(g.nx * g.ny * g.nz, 15000.0f);
+  // 2,000 km above 10 N 179 E looking north-east, 35 degrees down.
+  const Camera camera(CameraPose{10.0, 179.0, 2.0e6, 45.0, -35.0, 0.0}, 45.0, 160, 90);
+  const volume::GridWindow view = engine::visibleGridWindow(camera, g);
+  const volume::GridWindow small = engine::nearGridWindow(camera, g, 120);
+  const volume::GridWindow large = engine::nearGridWindow(camera, g, 360);
+  ASSERT_FALSE(view.empty());
+  ASSERT_FALSE(small.empty());
+  ASSERT_FALSE(large.empty());
+  EXPECT_LE(small.columnCount * small.rowCount, 120u);
+  EXPECT_LE(large.columnCount * large.rowCount, 360u);
+  EXPECT_GT(large.columnCount * large.rowCount, 2 * small.columnCount * small.rowCount);
+  EXPECT_LT(large.columnCount * large.rowCount, view.columnCount * view.rowCount);
+  // Columns modulo nx: does `w` hold column i, row j?
+  auto holds = [&](const volume::GridWindow& w, std::size_t i, std::size_t j) {
+    return j >= w.firstRow && j < w.firstRow + w.rowCount && (i + g.nx - w.firstColumn) % g.nx < w.columnCount;
+  };
+  // The nearest grid point to the eye among those in view: brute force over every column and row
+  // (the ground under the bottom row's middle pixel is seen, and the grid points around it).
+  const auto ground = globe::intersectRayEllipsoid(camera.eyeEcef(), camera.pixelRayDirection(80.0, 89.5));
+  ASSERT_TRUE(ground);
+  const globe::Geodetic under = globe::ecefToGeodetic(*ground);
+  const std::size_t i0 = static_cast<std::size_t>(std::lround((under.lonDeg + 180.0) / 2.5)) % g.nx;
+  const std::size_t j0 = static_cast<std::size_t>(std::lround((under.latDeg + 90.0) / 2.5));
+  EXPECT_TRUE(holds(small, i0, j0)) << under.latDeg << ", " << under.lonDeg;
+  EXPECT_TRUE(holds(large, i0, j0));
+  EXPECT_TRUE(holds(view, i0, j0));
+  // The view reaches both sides of the antimeridian, and so does the larger near window.
+  EXPECT_TRUE(holds(large, 0, j0 + 4) && holds(large, g.nx - 1, j0 + 4))
+      << large.firstColumn << " + " << large.columnCount << ", rows " << large.firstRow << " + " << large.rowCount;
+  // Looking away from the Earth: nothing in view.
+  const Camera away(CameraPose{10.0, 179.0, 2.0e6, 45.0, 60.0, 0.0}, 45.0, 160, 90);
+  EXPECT_TRUE(engine::nearGridWindow(away, g, 800).empty());
+  // The scene key that turns it off, written back.
+  const std::string dir = testutil::testOutputDir();
+  auto scene = engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "near_window": false}]})", "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  EXPECT_FALSE(engine::volumesOfKind(*scene, engine::VolumeKind::Grid)[0].nearWindow);
+  EXPECT_NE(engine::sceneToJson(*scene).find("\"near_window\": false"), std::string::npos);
+  EXPECT_FALSE(engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "near_window": 2}]})", "s.json", dir, dir));
+}
+
+// A grid uploaded at 1/4 (limit 0.5 MB) seen obliquely from 3,000 km: the view's window fits only
+// at a coarser resolution, so the columns nearest the eye are drawn at full resolution with it in
+// one march (two volumes, the coarser one with the near window's box as its hole). Against the
+// whole grid drawn without a limit this frame is closer than one resolution throughout; the
+// marcher and the CPU reference agree on both levels and their seam; a small move keeps the near
+// window; the legend says what is drawn.
+TEST(GridMarch, TheColumnsNearestTheEyeAreDrawnAtFullResolutionAndTheRestCoarser) {
+  testutil::glContext();
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  const engine::VolumeLayerDescription d = globalGridLayer("near_window");
+  const Camera oblique(CameraPose{0.0, -40.0, 3.0e6, 0.0, -35.0, 0.0}, 45.0, 160, 90);
+  auto fb = engine::FramebufferGL::create(oblique.widthPx(), oblique.heightPx());
+  ASSERT_TRUE(fb);
+  const auto whole = drawUnderLimit(*loader, d, nullptr, true, oblique, **fb);
+  const auto single = drawUnderLimit(*loader, d, "500000", true, oblique, **fb, false);
+  auto two = drawUnderLimit(*loader, d, "500000", true, oblique, **fb);
+  ASSERT_TRUE(whole && single && two);
+  engine::GridSourceGL& grid = *two->held.grid;
+  const std::vector<const engine::VolumeGL*> volumes = grid.volumes();
+  ASSERT_EQ(volumes.size(), 2u);
+  const auto* nearest = dynamic_cast<const engine::GridVolumeGL*>(volumes[0]);
+  const auto* coarse = dynamic_cast<const engine::GridVolumeGL*>(volumes[1]);
+  ASSERT_TRUE(nearest && coarse);
+  const volume::GridVolume& n = nearest->grid();
+  EXPECT_NEAR(n.lonDeg[1] - n.lonDeg[0], 2.5, 1e-9);  // full resolution
+  EXPECT_GT(coarse->grid().lonDeg[1] - coarse->grid().lonDeg[0], 4.9);
+  EXPECT_LE(n.nx * n.ny, 36u * 19u) << "no more columns x rows than the grid as uploaded";
+  // The hole is the coarser volume's alone, and it is the near window's box.
+  const std::optional<volume::LonLatBox> hole = grid.holeOf(coarse);
+  ASSERT_TRUE(hole);
+  EXPECT_FALSE(grid.holeOf(nearest));
+  EXPECT_DOUBLE_EQ(hole->westDeg, n.lonDeg.front());
+  EXPECT_DOUBLE_EQ(hole->spanDeg, n.lonDeg.back() - n.lonDeg.front());
+  EXPECT_DOUBLE_EQ(hole->southDeg, std::min(n.latDeg.front(), n.latDeg.back()));
+  // It holds the ground nearest the eye in view (under the bottom row's middle pixel).
+  const auto ground = globe::intersectRayEllipsoid(oblique.eyeEcef(), oblique.pixelRayDirection(80.0, 89.5));
+  ASSERT_TRUE(ground);
+  const globe::Geodetic g = globe::ecefToGeodetic(*ground);
+  EXPECT_TRUE(hole->contains(g.latDeg, g.lonDeg)) << g.latDeg << ", " << g.lonDeg;
+  int differSingle = 0, differTwo = 0;
+  const double one = meanFrameDifference(single->image, whole->image, &differSingle);
+  const double both = meanFrameDifference(two->image, whole->image, &differTwo);
+  std::cout << "against the whole grid without a limit: one resolution throughout " << one << " of 255 ("
+            << differSingle << " pixels differ), the nearest columns at full resolution " << both << " (" << differTwo
+            << ")\n";
+  // The near window covers the lower part of the view, where most of the grid's columns are seen
+  // closest: the frame is nearer the whole grid's by a margin (a hole that let both levels
+  // draw the near box would double its extinction and be further away than either).
+  EXPECT_LT(both, 0.7 * one);
+  EXPECT_GT(one, 0.2);
+  EXPECT_NE(two->legend.find("the nearest columns at full resolution, the rest at 1/"), std::string::npos)
+      << two->legend;
+  // The CPU reference of the same two volumes and hole (double precision): the marcher's frame
+  // within half an 8-bit step on average, the seam included.
+  auto& renderer = *two->held.renderer;
+  renderer.setReferenceVolumes(2);
+  auto reference = renderer.renderToImage(oblique, {}, **fb);
+  renderer.setReferenceVolumes(0);
+  ASSERT_TRUE(reference) << reference.error();
+  EXPECT_EQ(grid.volumes()[0], volumes[0]);
+  const double gpuVsReference = meanFrameDifference(two->image, *reference);
+  std::cout << "the marcher against the reference: " << gpuVsReference << " of 255\n";
+  EXPECT_LT(gpuVsReference, 0.5);
+  // A 20 km move keeps the near window.
+  const Camera moved(CameraPose{0.0, -39.8, 3.0e6, 0.0, -35.0, 0.0}, 45.0, 160, 90);
+  EXPECT_TRUE(renderer.renderToImage(moved, {}, **fb));
+  ASSERT_EQ(grid.volumes().size(), 2u);
+  EXPECT_EQ(grid.volumes()[0], volumes[0]);
 }
 
 // A reduced (Gaussian) GRIB grid too large for the GPU's limit, as a rectilinear grid: under a

@@ -278,9 +278,9 @@ TEST(VolumeKinds, UniformsAreSetOncePerChange) {
   const volume::VolumeImage again = testutil::renderVolumesGpu(**renderer, camera, layers);
   EXPECT_EQ((*renderer)->uniformUploads(), afterFirst) << "an unchanged frame must set no uniform";
   EXPECT_EQ(volume::compareImages(first, again).maxAbs, 0.0);
-  // A camera move: the 7 shared uniforms and each volume's 10 generic ones (eye), no sampler's.
+  // A camera move: the 7 shared uniforms and each volume's 12 generic ones (eye), no sampler's.
   testutil::renderVolumesGpu(**renderer, moved, layers);
-  EXPECT_EQ((*renderer)->uniformUploads(), afterFirst + 7 + 2 * 11);
+  EXPECT_EQ((*renderer)->uniformUploads(), afterFirst + 7 + 2 * 12);
   const std::uint64_t afterMove = (*renderer)->uniformUploads();
   // A beam change compiles another variant (BEAM is a define): a program of its own, set in full.
   (*glA)->setBeamApproximation(engine::BeamApproximation::StraightLine);
@@ -291,7 +291,7 @@ TEST(VolumeKinds, UniformsAreSetOncePerChange) {
   // again (1), the camera and both volumes' eyes too; the picture is the first one.
   const std::uint64_t beforeBack = (*renderer)->uniformUploads();
   const volume::VolumeImage back = testutil::renderVolumesGpu(**renderer, camera, layers);
-  EXPECT_EQ((*renderer)->uniformUploads(), beforeBack + 7 + 2 * 11 + 1);
+  EXPECT_EQ((*renderer)->uniformUploads(), beforeBack + 7 + 2 * 12 + 1);
   EXPECT_EQ(volume::compareImages(first, back).maxAbs, 0.0);
   // A fresh renderer draws the same picture.
   auto fresh = engine::VolumeRendererGL::create();

@@ -235,6 +235,44 @@ TEST(UniformShell, SamplesAndPathLength) {
   EXPECT_TRUE(s.provablyEmpty(c + glm::dvec3(5000.0, 0, 0)));
 }
 
+// A box of latitudes and longitudes: edges included, longitudes modulo 360 (across the
+// antimeridian), a span of 360 every longitude; a sampler outside it has no data inside and the
+// inner sampler's samples elsewhere.
+TEST(SamplerOutsideBox, HasNoDataInTheBoxAndTheInnerSamplesElsewhere) {
+  const volume::LonLatBox seam{170.0, 20.0, -10.0, 10.0};  // 170 E .. 170 W
+  EXPECT_TRUE(seam.contains(0.0, 175.0));
+  EXPECT_TRUE(seam.contains(0.0, -175.0));
+  EXPECT_TRUE(seam.contains(10.0, 190.0));    // edges, a longitude past 180
+  EXPECT_TRUE(seam.contains(-10.0, -190.0));  // = 170 E
+  EXPECT_FALSE(seam.contains(0.0, -169.0));
+  EXPECT_FALSE(seam.contains(0.0, 169.0));
+  EXPECT_FALSE(seam.contains(10.001, 175.0));
+  const volume::LonLatBox ring{0.0, 360.0, 60.0, 90.0};
+  EXPECT_TRUE(ring.contains(70.0, -123.0));
+  EXPECT_FALSE(ring.contains(59.0, -123.0));
+
+  volume::UniformShell shell;
+  shell.centre = {10.0, 20.0, 5000.0};
+  shell.innerRadiusMeters = 1000.0;
+  shell.outerRadiusMeters = 3000.0;
+  const volume::UniformShellSampler inner(shell);
+  // The box holds the shell's northern half (north of its centre's latitude).
+  const volume::SamplerOutsideBox outside(inner, volume::LonLatBox{19.0, 2.0, 10.0, 11.0});
+  const glm::dvec3 c = inner.centreEcef();
+  const glm::dvec3 north = globe::geodeticToEcef({10.015, 20.0, 5000.0});  // 1.66 km north: in the shell
+  const glm::dvec3 south = globe::geodeticToEcef({9.985, 20.0, 5000.0});
+  EXPECT_EQ(inner.sample(north, volume::Interpolation::Linear).state, volume::VolumeSample::State::Echo);
+  EXPECT_EQ(outside.sample(north, volume::Interpolation::Linear).state, volume::VolumeSample::State::NoData);
+  const volume::VolumeSample a = outside.sample(south, volume::Interpolation::Linear);
+  const volume::VolumeSample b = inner.sample(south, volume::Interpolation::Linear);
+  EXPECT_EQ(a.state, volume::VolumeSample::State::Echo);
+  EXPECT_EQ(a.value, b.value);
+  EXPECT_EQ(outside.boundingSphere().radiusMeters, inner.boundingSphere().radiusMeters);
+  const glm::dvec3 eye = c + glm::dvec3(0, 0, -10000.0);
+  const volume::RayInterval ri = outside.rayInterval(eye, glm::dvec3(0, 0, 1));
+  EXPECT_EQ(ri.tEnterMeters, inner.rayInterval(eye, glm::dvec3(0, 0, 1)).tEnterMeters);
+}
+
 // Two layers: where they do not overlap, each pixel is that layer's own picture exactly.
 TEST(ReferenceRenderer, SeveralLayersEqualEachAloneWhereTheyDoNotOverlap) {
   volume::UniformShell a, b;

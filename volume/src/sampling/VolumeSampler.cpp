@@ -1,6 +1,8 @@
 // Shared geometry of the samplers (VolumeSampler.h).
 #include <atmoglobe/volume/VolumeSampler.h>
 
+#include <atmoglobe/globe/Ellipsoid.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -64,6 +66,20 @@ void sortBackToFront(std::vector<VolumeCluster>& clusters, const glm::dvec3& eye
   };
   std::stable_sort(clusters.begin(), clusters.end(),
                    [&](const VolumeCluster& a, const VolumeCluster& b) { return power(a) > power(b); });
+}
+
+bool LonLatBox::contains(double latDeg, double lonDeg) const {
+  if (!(latDeg >= southDeg && latDeg <= northDeg)) return false;
+  if (spanDeg >= 360.0) return true;
+  double d = std::fmod(lonDeg - westDeg, 360.0);
+  if (d < 0.0) d += 360.0;
+  return d <= spanDeg;
+}
+
+VolumeSample SamplerOutsideBox::sample(const glm::dvec3& ecef, Interpolation interpolation) const {
+  const globe::Geodetic g = globe::ecefToGeodetic(ecef);
+  if (hole_.contains(g.latDeg, g.lonDeg)) return VolumeSample{};
+  return inner_.sample(ecef, interpolation);
 }
 
 }  // namespace atmoglobe::volume

@@ -41,8 +41,17 @@ class GridSourceGL final : public VolumeSourceGL {
   /// eighth on each side so that small moves keep it) at full resolution where that window has no
   /// more columns x rows than the grid as uploaded (so it fits where that did); the window is made
   /// again when the view leaves it. Both follow `level_of_detail` (off: the grid as uploaded).
+  ///
+  /// Where that window (or the grid as uploaded, where no window is finer) is coarser than the
+  /// grid, the part of the view nearest the eye is drawn with it at full resolution
+  /// (engine::nearGridWindow, as many columns x rows as the grid as uploaded; not for reduced
+  /// grids): volumes() then gives the near window and the coarser one, whose hole (holeOf) is the
+  /// near window's latitude/longitude box, so every point is drawn from exactly one of them.
   std::vector<const VolumeGL*> volumes() const override;
+  std::optional<volume::LonLatBox> holeOf(const VolumeGL* volume) const override;
   void chooseDetail(const Camera& camera, bool background) override;
+  /// The near window drawn at full resolution for the last camera (empty: none).
+  volume::GridWindow nearWindow() const { return nearUsed_ ? near_->window : volume::GridWindow{}; }
   /// The level chosen for the last camera (0: the grid itself).
   int detailLevel() const { return detailLevel_; }
   /// The window of the grid drawn for the last camera (empty: the grid as uploaded, or a coarser copy).
@@ -127,11 +136,23 @@ class GridSourceGL final : public VolumeSourceGL {
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
   };
   std::optional<WindowBuild> windowBuilding_;
+  /// The near window at full resolution (volumes()), its latitude/longitude box, whether the last
+  /// camera draws it, one being made, and the camera its place was last found for.
+  std::optional<ViewWindow> near_;
+  volume::LonLatBox nearBox_;
+  bool nearUsed_ = false;
+  std::optional<WindowBuild> nearBuilding_;
+  std::vector<double> nearKey_;
+  const void* nearOf_ = nullptr;
+  volume::GridWindow nearInSight_;
   std::vector<double> viewKey_;     ///< the camera the window in view was last found for
   const void* viewOf_ = nullptr;    ///< and the grid
   volume::GridWindow viewInSight_;  ///< what visibleGridWindow gave then
   void chooseCoarserCopy(const Camera& camera, bool background);
   void chooseViewWindow(const Camera& camera, bool background);
+  void chooseNearWindow(const Camera& camera, bool background);
+  /// The coarser volume drawn around the near window: the view's window, or the grid as uploaded.
+  const GridVolumeGL& coarseAroundNear() const;
   const MemberGrids& memberGrids() const;
 };
 

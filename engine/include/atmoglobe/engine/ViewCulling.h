@@ -41,6 +41,15 @@ volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVol
 /// The stride visibleGridWindow tests points at (and widens its window by): max(1, max(nx, ny) / 256).
 std::size_t visibleGridStride(const volume::GridVolume& grid);
 
+/// The part of the view's columns and rows nearest the eye that fits in `maxPoints` columns x
+/// rows: the points visibleGridWindow finds visible (the same stride and test) taken in order of
+/// their distance from the eye (the nearer of their bottom and top), each widening the window
+/// (with a stride of margin on each side, across the seam of a wrapping grid) while it stays
+/// within maxPoints. What a grid too large for the GPU draws at full resolution where the rest of
+/// the view is drawn coarser (GridSourceGL). Empty: no point visible, a reduced grid, or the
+/// nearest point's window alone over maxPoints.
+volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& grid, std::size_t maxPoints);
+
 /// Where a radar is and how far its volume reaches, from a metadata read (radarFootprint).
 struct RadarFootprint {
   volume::BoundingSphere sphere;

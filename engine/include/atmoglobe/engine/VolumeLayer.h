@@ -144,6 +144,10 @@ struct VolumeLayerDescription {
   /// Grids: march a coarser copy where a pixel spans several grid columns (volume/GridDetail.h;
   /// scene "level_of_detail", CLI --grid-lod on|off). Off: always the grid itself.
   bool levelOfDetail = true;
+  /// Grids drawn from a window of the columns in view at a resolution coarser than the grid (too
+  /// large for the GPU): the columns nearest the eye drawn at full resolution with it (engine::
+  /// GridSourceGL; scene "near_window", CLI --grid-near-window on|off). Off: one resolution throughout.
+  bool nearWindow = true;
   /// The isosurface value (field units). Empty: the kind's default (defaultIsoValue).
   std::optional<double> isoValue;
   Classification classification = Classification::Point;                  ///< DVR only

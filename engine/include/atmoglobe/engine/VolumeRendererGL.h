@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -25,8 +26,14 @@ volume::RenderCamera referenceCameraFor(const Camera& camera);
 
 /// One volume of a draw: the GPU volume (not owned) and its options.
 struct VolumeLayerGL {
+  VolumeLayerGL(const VolumeGL* v = nullptr, VolumeRenderOptions o = {}, std::optional<volume::LonLatBox> h = {})
+      : volume(v), options(std::move(o)), hole(std::move(h)) {}
   const VolumeGL* volume = nullptr;
   VolumeRenderOptions options;
+  /// Where the volume has no data in this frame (a grid's far part around the finer near part
+  /// drawn with it: GridSourceGL): sample_grid.glsl's VOL_hole on the GPU,
+  /// volume::SamplerOutsideBox in the reference. Only grids honour it.
+  std::optional<volume::LonLatBox> hole;
 };
 
 /// A march program variant: what is compiled into one program.
@@ -132,7 +139,7 @@ class VolumeRendererGL {
         coarseSizePx = -1, refineThreshold = -1;
     struct Volume {
       int eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
-          opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1, samplesPerCell = -1;
+          opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1, samplesPerCell = -1, hole = -1;
     };
     std::vector<Volume> volumes;
   };

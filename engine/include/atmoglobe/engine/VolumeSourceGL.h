@@ -109,6 +109,12 @@ class VolumeSourceGL {
   /// Every GPU volume the layer draws: volume() alone, except for a radar network split into
   /// clusters apart (RadarNetworkSourceGL).
   virtual std::vector<const VolumeGL*> volumes() const { return {&volume()}; }
+  /// Where one of volumes() has no data in this frame (VolumeLayerGL::hole): a grid's far part
+  /// around its near part drawn at a finer resolution (GridSourceGL). Default: none.
+  virtual std::optional<volume::LonLatBox> holeOf(const VolumeGL* volume) const {
+    (void)volume;
+    return std::nullopt;
+  }
   /// Picks what volumes() gives for a frame of `camera` (grids: a coarser copy where a pixel spans
   /// several grid columns at the layer's own image scale, GridSourceGL). Called by the scene before it
   /// marches; the default keeps volume(). `background`: what is not ready yet is made on a worker

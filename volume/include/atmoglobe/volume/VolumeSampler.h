@@ -109,4 +109,36 @@ class VolumeSampler {
   virtual std::string description() const = 0;
 };
 
+/// A latitude/longitude box: longitudes westDeg .. westDeg + spanDeg (taken modulo 360; span 360:
+/// every longitude), latitudes southDeg .. northDeg, edges included.
+struct LonLatBox {
+  double westDeg = 0.0, spanDeg = 0.0, southDeg = 0.0, northDeg = 0.0;
+  bool contains(double latDeg, double lonDeg) const;
+};
+
+/// A volume sampled everywhere except in a latitude/longitude box (at every height), where it has
+/// no data: the far part of a grid drawn with a finer copy of the near part in the box
+/// (engine::GridSourceGL; the GPU's twin is sample_grid.glsl's hole). Everything else is the
+/// inner sampler's. Keeps a reference to `inner`.
+class SamplerOutsideBox final : public VolumeSampler {
+ public:
+  SamplerOutsideBox(const VolumeSampler& inner, const LonLatBox& hole) : inner_(inner), hole_(hole) {}
+  RayInterval rayInterval(const glm::dvec3& eyeEcef, const glm::dvec3& unitDirEcef) const override {
+    return inner_.rayInterval(eyeEcef, unitDirEcef);
+  }
+  VolumeSample sample(const glm::dvec3& ecef, Interpolation interpolation) const override;
+  bool provablyEmpty(const glm::dvec3& ecef) const override { return inner_.provablyEmpty(ecef); }
+  double cellCrossingMeters(const glm::dvec3& ecef, const glm::dvec3& unitDirEcef) const override {
+    return inner_.cellCrossingMeters(ecef, unitDirEcef);
+  }
+  ValueRange valueRange() const override { return inner_.valueRange(); }
+  BoundingSphere boundingSphere() const override { return inner_.boundingSphere(); }
+  std::string description() const override { return inner_.description(); }
+  const LonLatBox& hole() const { return hole_; }
+
+ private:
+  const VolumeSampler& inner_;
+  LonLatBox hole_;
+};
+
 }  // namespace atmoglobe::volume
