@@ -212,9 +212,11 @@ volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume
     w.firstRow = static_cast<std::size_t>(first);
     w.rowCount = static_cast<std::size_t>(last - first + 1);
     if (g.wrapsLongitude) {
-      const long count = std::min(nx, b - a + 1 + 2 * stride);
+      // Never every column: such a window would wrap and close polar caps of its own over the
+      // rows it leaves out (volume::GridSampler), where the rest of the grid is drawn.
+      const long count = std::min(nx - 1, b - a + 1 + 2 * stride);
       w.columnCount = static_cast<std::size_t>(count);
-      w.firstColumn = count == nx ? 0 : static_cast<std::size_t>(((c0 + a - stride) % nx + nx) % nx);
+      w.firstColumn = static_cast<std::size_t>(((c0 + a - stride) % nx + nx) % nx);
     } else {
       const long lo = std::max(0L, c0 + a - stride), hi = std::min(nx - 1, c0 + b + stride);
       w.firstColumn = static_cast<std::size_t>(lo);

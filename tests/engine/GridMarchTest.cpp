@@ -1223,6 +1223,13 @@ TEST(NearGridWindow, HoldsTheNearestColumnsInViewWithinTheCap) {
   // The view reaches both sides of the antimeridian, and so does the larger near window.
   EXPECT_TRUE(holds(large, 0, j0 + 4) && holds(large, g.nx - 1, j0 + 4))
       << large.firstColumn << " + " << large.columnCount << ", rows " << large.firstRow << " + " << large.rowCount;
+  // Straight down on the north pole every column is in view: the near window leaves one out (a
+  // window of every column would wrap and close a polar cap of its own over the rest of the grid).
+  const Camera pole(CameraPose{90.0, 0.0, 2.0e6, 0.0, -90.0, 0.0}, 45.0, 160, 90);
+  const volume::GridWindow polar = engine::nearGridWindow(pole, g, 720);
+  ASSERT_FALSE(polar.empty());
+  EXPECT_EQ(polar.columnCount, g.nx - 1);
+  EXPECT_EQ(polar.firstRow + polar.rowCount, g.ny);
   // Looking away from the Earth: nothing in view.
   const Camera away(CameraPose{10.0, 179.0, 2.0e6, 45.0, 60.0, 0.0}, 45.0, 160, 90);
   EXPECT_TRUE(engine::nearGridWindow(away, g, 800).empty());

@@ -45,7 +45,8 @@ std::size_t visibleGridStride(const volume::GridVolume& grid);
 /// rows: the points visibleGridWindow finds visible (the same stride and test) taken in order of
 /// their distance from the eye (the nearer of their bottom and top), each widening the window
 /// (with a stride of margin on each side, across the seam of a wrapping grid) while it stays
-/// within maxPoints. What a grid too large for the GPU draws at full resolution where the rest of
+/// within maxPoints; on a wrapping grid at most nx - 1 columns (a window of every column wraps and
+/// closes polar caps of its own). What a grid too large for the GPU draws at full resolution where the rest of
 /// the view is drawn coarser (GridSourceGL). Empty: no point visible, a reduced grid, or the
 /// nearest point's window alone over maxPoints.
 volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& grid, std::size_t maxPoints);
