@@ -311,11 +311,11 @@ LayerMemory GridSourceGL::memory() const {
   std::uint64_t cpu = (v.values.size() + v.heightAboveEllipsoidMeters.size()) * sizeof(float) +
                       (v.lonDeg.size() + v.latDeg.size()) * sizeof(double);
   std::uint64_t gpu = volume_->gpuBytes();
-  if (window_ && window_->of == volume_.get()) {
+  if (window_ && window_->of == volume_->id()) {
     cpu += volume::gridVolumeBytes(window_->volume->grid());
     gpu += window_->volume->gpuBytes();
   }
-  if (near_ && near_->of == volume_.get()) {
+  if (near_ && near_->of == volume_->id()) {
     cpu += volume::gridVolumeBytes(near_->volume->grid());
     gpu += near_->volume->gpuBytes();
   }
@@ -334,12 +334,12 @@ std::vector<const VolumeGL*> GridSourceGL::volumes() const {
       detail_[static_cast<std::size_t>(detailLevel_) - 1])
     return {detail_[static_cast<std::size_t>(detailLevel_) - 1].get()};
   if (nearUsed_) return {near_->volume.get(), &coarseAroundNear()};
-  if (windowUsed_ && window_ && window_->of == volume_.get()) return {window_->volume.get()};
+  if (windowUsed_ && window_ && window_->of == volume_->id()) return {window_->volume.get()};
   return {volume_.get()};
 }
 
 const GridVolumeGL& GridSourceGL::coarseAroundNear() const {
-  return windowUsed_ && window_ && window_->of == volume_.get() ? *window_->volume : *volume_;
+  return windowUsed_ && window_ && window_->of == volume_->id() ? *window_->volume : *volume_;
 }
 
 std::optional<volume::LonLatBox> GridSourceGL::holeOf(const VolumeGL* volume) const {
@@ -388,6 +388,11 @@ volume::GridWindow widenWindow(const volume::GridWindow& w, const volume::GridVo
 
 namespace {
 
+bool sameWindow(const volume::GridWindow& a, const volume::GridWindow& b) {
+  return a.firstColumn == b.firstColumn && a.columnCount == b.columnCount && a.firstRow == b.firstRow &&
+         a.rowCount == b.rowCount;
+}
+
 // What a window in view depends on of a camera.
 std::vector<double> cameraKey(const Camera& camera) {
   const CameraPose& pose = camera.pose();
@@ -417,28 +422,40 @@ volume::LonLatBox windowBox(const volume::GridVolume& w) {
 
 void GridSourceGL::chooseNearWindow(const Camera& camera, bool background) {
   nearUsed_ = false;
-  if (near_ && near_->of != volume_.get()) near_.reset();  // another step or a reload
+  if (near_ && near_->of != volume_->id()) near_.reset();  // another step or a reload
   if (nearBuilding_ && nearBuilding_->prepared.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     std::shared_ptr<const GridVolumeGL::Prepared> prepared = nearBuilding_->prepared.get();
-    if (prepared && nearBuilding_->of == volume_.get())
-      if (auto gl = GridVolumeGL::create(std::move(prepared)); gl && !(*gl)->unreducedGrid())
+    if (prepared && nearBuilding_->of == volume_->id()) {
+      // A window the GPU takes only at a lower resolution is no near window: not tried again.
+      auto gl = GridVolumeGL::create(std::move(prepared));
+      if (gl && !(*gl)->unreducedGrid())
         near_ = ViewWindow{nearBuilding_->of, nearBuilding_->window, 1, std::move(*gl)};
+      else nearRefused_ = NearRefused{nearBuilding_->of, nearBuilding_->window};
+    }
     nearBuilding_.reset();
   }
   const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
-  if (!description_.nearWindow || !whole || whole->reduced() || !description_.levelOfDetail || detailLevel_ > 0) return;
-  // Only where the coarser level is coarser than the grid.
+  // Only where the coarser level is coarser than the grid (rectilinear grids: the hole is a
+  // latitude/longitude box); otherwise what there is is dropped.
   const GridVolumeGL& coarse = coarseAroundNear();
-  const std::size_t coarseFactor = &coarse == volume_.get() ? uploadFactor(coarse)
-                                                            : window_->factor * uploadFactor(*window_->volume);
-  if (coarseFactor <= 1) return;
+  const std::size_t coarseFactor = !whole                     ? 1
+                                   : &coarse == volume_.get() ? uploadFactor(coarse)
+                                                              : window_->factor * uploadFactor(*window_->volume);
+  if (!description_.nearWindow || !whole || whole->reduced() || whole->curvilinear || !description_.levelOfDetail ||
+      detailLevel_ > 0 || coarseFactor <= 1) {
+    near_.reset();
+    return;
+  }
   if (const std::vector<double> key = cameraKey(camera); key != nearKey_ || nearOf_ != whole.get()) {
     nearKey_ = key;
     nearOf_ = whole.get();
-    nearInSight_ = nearGridWindow(camera, *whole, volume_->grid().nx * volume_->grid().ny);
+    // No more columns x rows than the grid as uploaded, nor columns or rows than its texture.
+    const volume::GridVolume& uploaded = volume_->grid();
+    nearInSight_ = nearGridWindow(camera, *whole, uploaded.nx * uploaded.ny, uploaded.nx, uploaded.ny);
   }
   const volume::GridWindow wanted = nearInSight_;
   if (wanted.empty()) return;
+  const bool refused = nearRefused_ && nearRefused_->of == volume_->id() && sameWindow(nearRefused_->window, wanted);
   // The window there is serves while it holds the middle half of the one wanted (each side an
   // eighth of a move keeps it); meanwhile a new one is made.
   volume::GridWindow middle = wanted;
@@ -446,17 +463,20 @@ void GridSourceGL::chooseNearWindow(const Camera& camera, bool background) {
   middle.firstColumn = (wanted.firstColumn + wanted.columnCount / 4) % whole->nx;
   middle.columnCount -= 2 * (wanted.columnCount / 4);
   const bool holds = near_ && windowContains(near_->window, middle, whole->nx);
-  if (!holds) {
+  if (!holds && !refused) {
     auto make = [whole, wanted]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
       auto part = volume::gridWindow(*whole, wanted);
       if (!part || !GridVolumeGL::checkDrawable(*part)) return nullptr;
       return GridVolumeGL::prepare(*part);
     };
     if (background) {
-      if (!nearBuilding_) nearBuilding_ = WindowBuild{volume_.get(), wanted, 1, std::async(std::launch::async, make)};
+      if (!nearBuilding_) nearBuilding_ = WindowBuild{volume_->id(), wanted, 1, std::async(std::launch::async, make)};
     } else if (std::shared_ptr<const GridVolumeGL::Prepared> prepared = make()) {
-      if (auto gl = GridVolumeGL::create(std::move(prepared)); gl && !(*gl)->unreducedGrid())
-        near_ = ViewWindow{volume_.get(), wanted, 1, std::move(*gl)};
+      auto gl = GridVolumeGL::create(std::move(prepared));
+      if (gl && !(*gl)->unreducedGrid()) near_ = ViewWindow{volume_->id(), wanted, 1, std::move(*gl)};
+      else nearRefused_ = NearRefused{volume_->id(), wanted};
+    } else {
+      nearRefused_ = NearRefused{volume_->id(), wanted};
     }
   }
   if (!near_) return;  // until one is made, the coarser level alone
@@ -466,10 +486,10 @@ void GridSourceGL::chooseNearWindow(const Camera& camera, bool background) {
 
 void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   windowUsed_ = false;
-  if (window_ && window_->of != volume_.get()) window_.reset();  // another step or a reload
+  if (window_ && window_->of != volume_->id()) window_.reset();  // another step or a reload
   if (windowBuilding_ && windowBuilding_->prepared.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     std::shared_ptr<const GridVolumeGL::Prepared> prepared = windowBuilding_->prepared.get();
-    if (prepared && windowBuilding_->of == volume_.get())
+    if (prepared && windowBuilding_->of == volume_->id())
       if (auto gl = GridVolumeGL::create(std::move(prepared)))
         window_ = ViewWindow{windowBuilding_->of, windowBuilding_->window, windowBuilding_->factor, std::move(*gl)};
     windowBuilding_.reset();
@@ -523,14 +543,14 @@ void GridSourceGL::chooseViewWindow(const Camera& camera, bool background) {
   };
   if (background) {  // until it is made, the grid as uploaded
     if (!windowBuilding_)
-      windowBuilding_ = WindowBuild{volume_.get(), window, factor, std::async(std::launch::async, make)};
+      windowBuilding_ = WindowBuild{volume_->id(), window, factor, std::async(std::launch::async, make)};
     return;
   }
   std::shared_ptr<const GridVolumeGL::Prepared> prepared = make();
   if (!prepared) return;
   auto gl = GridVolumeGL::create(std::move(prepared));
   if (!gl) return;
-  window_ = ViewWindow{volume_.get(), window, factor, std::move(*gl)};
+  window_ = ViewWindow{volume_->id(), window, factor, std::move(*gl)};
   windowUsed_ = true;
 }
 
@@ -542,7 +562,7 @@ void GridSourceGL::chooseCoarserCopy(const Camera& camera, bool background) {
   // A copy made on the worker: uploaded here (GL thread) when done, dropped when of an old grid.
   if (building_ && building_->prepared.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     std::shared_ptr<const GridVolumeGL::Prepared> prepared = building_->prepared.get();
-    if (prepared && building_->of == volume_.get())
+    if (prepared && building_->of == volume_->id())
       if (auto gl = GridVolumeGL::create(std::move(prepared)))
         detail_[static_cast<std::size_t>(building_->level) - 1] = std::move(*gl);
     building_.reset();
@@ -562,7 +582,7 @@ void GridSourceGL::chooseCoarserCopy(const Camera& camera, bool background) {
     if (!building_) {
       std::shared_ptr<const GridVolumeGL> source = volume_;
       building_ = DetailBuild{
-          level, volume_.get(),
+          level, volume_->id(),
           std::async(std::launch::async, [source, level]() -> std::shared_ptr<const GridVolumeGL::Prepared> {
             const volume::GridVolume& g = source->grid();
             auto coarse =
@@ -612,13 +632,15 @@ std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const 
                                                    double stepMeters) const {
   // The grid itself, or its window in view at full resolution where it is drawn from one (not the
   // coarser copies of the level of detail: the readout gives the data's values).
-  const GridVolumeGL& shown = windowUsed_ && window_ && window_->of == volume_.get() ? *window_->volume : *volume_;
-  auto hit = firstValueAlong(shown.referenceSampler(), eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
-  if (nearUsed_) {  // the near window at full resolution where it holds the point
+  const GridVolumeGL& shown = windowUsed_ && window_ && window_->of == volume_->id() ? *window_->volume : *volume_;
+  // Where a near window is drawn: the coarser level (shown) outside its box, the near window
+  // inside, the nearer hit.
+  const volume::SamplerOutsideBox holed(shown.referenceSampler(), nearBox_);
+  auto hit = firstValueAlong(nearUsed_ ? static_cast<const volume::VolumeSampler&>(holed) : shown.referenceSampler(),
+                             eye, dir, tMaxMeters, stepMeters, volume::Interpolation::Linear);
+  if (nearUsed_) {
     auto nearHit = firstValueAlong(near_->volume->referenceSampler(), eye, dir, tMaxMeters, stepMeters,
                                    volume::Interpolation::Linear);
-    const auto g = hit ? globe::ecefToGeodetic(hit->ecef) : globe::Geodetic{};
-    if (hit && nearBox_.contains(g.latDeg, g.lonDeg)) hit.reset();
     if (nearHit && (!hit || glm::length(nearHit->ecef - eye) <= glm::length(hit->ecef - eye))) hit = nearHit;
   }
   if (!hit) return std::nullopt;

@@ -189,9 +189,10 @@ volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVol
   return window;
 }
 
-volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& g, std::size_t maxPoints) {
+volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& g, std::size_t maxPoints,
+                                  std::size_t maxColumns, std::size_t maxRows) {
   volume::GridWindow window;
-  if (g.reduced()) return window;
+  if (g.reduced() || g.curvilinear) return window;
   std::vector<VisiblePoint> points = visibleGridPoints(camera, g);
   if (points.empty()) return window;
   std::stable_sort(points.begin(), points.end(),
@@ -229,7 +230,7 @@ volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume
     const long o = offset(p.column), row = static_cast<long>(p.row);
     const long na = std::min(a, o), nb = std::max(b, o), nr = std::min(r, row), ns = std::max(s, row);
     const volume::GridWindow w = windowOf(na, nb, nr, ns);
-    if (w.columnCount * w.rowCount > maxPoints) {
+    if (w.columnCount * w.rowCount > maxPoints || w.columnCount > maxColumns || w.rowCount > maxRows) {
       if (window.empty()) return window;  // the nearest point's window alone does not fit
       break;
     }

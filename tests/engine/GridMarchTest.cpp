@@ -1230,6 +1230,15 @@ TEST(NearGridWindow, HoldsTheNearestColumnsInViewWithinTheCap) {
   ASSERT_FALSE(polar.empty());
   EXPECT_EQ(polar.columnCount, g.nx - 1);
   EXPECT_EQ(polar.firstRow + polar.rowCount, g.ny);
+  // At most so many columns and rows (what one texture holds), and no curvilinear grids (their
+  // windows are not latitude/longitude boxes).
+  const volume::GridWindow narrow = engine::nearGridWindow(camera, g, 360, 8, 100);
+  ASSERT_FALSE(narrow.empty());
+  EXPECT_LE(narrow.columnCount, 8u);
+  EXPECT_TRUE(holds(narrow, i0, j0));
+  volume::GridVolume curved = g;
+  curved.curvilinear = true;
+  EXPECT_TRUE(engine::nearGridWindow(camera, curved, 360).empty());
   // Looking away from the Earth: nothing in view.
   const Camera away(CameraPose{10.0, 179.0, 2.0e6, 45.0, 60.0, 0.0}, 45.0, 160, 90);
   EXPECT_TRUE(engine::nearGridWindow(away, g, 800).empty());
@@ -1306,6 +1315,19 @@ TEST(GridMarch, TheColumnsNearestTheEyeAreDrawnAtFullResolutionAndTheRestCoarser
   const double gpuVsReference = meanFrameDifference(two->image, *reference);
   std::cout << "the marcher against the reference: " << gpuVsReference << " of 255\n";
   EXPECT_LT(gpuVsReference, 0.5);
+  // The cursor readout near the bottom of the view reads the near window (the first value along
+  // the ray lies in its box).
+  const glm::dvec3 down = oblique.pixelRayDirection(80.0, 80.0);
+  const auto nearHit = engine::firstValueAlong(nearest->referenceSampler(), oblique.eyeEcef(), down, 1e8, 500.0,
+                                               volume::Interpolation::Linear);
+  ASSERT_TRUE(nearHit);
+  const globe::Geodetic at = globe::ecefToGeodetic(nearHit->ecef);
+  ASSERT_TRUE(hole->contains(at.latDeg, at.lonDeg));
+  const std::optional<std::string> readout = grid.readoutAt(oblique.eyeEcef(), down, 1e8, 500.0);
+  ASSERT_TRUE(readout);
+  char value[32];
+  std::snprintf(value, sizeof value, "%.4g", nearHit->value);
+  EXPECT_NE(readout->find(std::string(": ") + value + " "), std::string::npos) << *readout << " / " << value;
   // A 20 km move keeps the near window.
   const Camera moved(CameraPose{0.0, -39.8, 3.0e6, 0.0, -35.0, 0.0}, 45.0, 160, 90);
   EXPECT_TRUE(renderer.renderToImage(moved, {}, **fb));

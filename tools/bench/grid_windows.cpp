@@ -132,7 +132,10 @@ std::vector<std::string> splitCommas(const std::string& text) {
 int main(int argc, char** argv) {
   std::string grid, out = "out/bench", limitsText = "100,30", sizesText = "640x360,1280x720";
   int runs = 3, frames = 3;
-  CLI::App app{"A grid too large for the GPU drawn near and far: frame time and difference from the whole grid"};
+  CLI::App app{
+      "Benchmark: a grid too large for the GPU drawn near and far: frame time and difference from the whole "
+      "grid (docs/grids.md)",
+      "bench_grid_windows"};
   app.add_option("--grid", grid, "The grid file (default: the SYNTHETIC global 0.25-degree grid in --out/grids)");
   app.add_option("--limits", limitsText, "GPU texture limits in MB, comma-separated (default 100,30)");
   app.add_option("--sizes", sizesText, "Image sizes WxH, comma-separated (default 640x360,1280x720)");

@@ -9,6 +9,7 @@
 #include <atmoglobe/volume/GridSampler.h>
 #include <atmoglobe/volume/GridVolume.h>
 
+#include <cstdint>
 #include <future>
 #include <map>
 #include <memory>
@@ -113,7 +114,7 @@ class GridSourceGL final : public VolumeSourceGL {
   /// volume it is of, and its CPU part when done.
   struct DetailBuild {
     int level = 0;
-    const void* of = nullptr;
+    std::uint64_t of = 0;  ///< the id (VolumeGL::id) of the grid volume it is of
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
   };
   std::optional<DetailBuild> building_;
@@ -122,7 +123,7 @@ class GridSourceGL final : public VolumeSourceGL {
   /// fits only at that resolution, still finer than the grid as uploaded), the GPU copy; and one
   /// being made on a worker thread.
   struct ViewWindow {
-    const void* of = nullptr;
+    std::uint64_t of = 0;  ///< the id (VolumeGL::id) of the grid volume it is of
     volume::GridWindow window;
     std::size_t factor = 1;
     std::shared_ptr<GridVolumeGL> volume;
@@ -130,7 +131,7 @@ class GridSourceGL final : public VolumeSourceGL {
   std::optional<ViewWindow> window_;
   bool windowUsed_ = false;  ///< window_ covers the last camera's view
   struct WindowBuild {
-    const void* of = nullptr;
+    std::uint64_t of = 0;  ///< the id (VolumeGL::id) of the grid volume it is of
     volume::GridWindow window;
     std::size_t factor = 1;
     std::future<std::shared_ptr<const GridVolumeGL::Prepared>> prepared;
@@ -142,6 +143,12 @@ class GridSourceGL final : public VolumeSourceGL {
   volume::LonLatBox nearBox_;
   bool nearUsed_ = false;
   std::optional<WindowBuild> nearBuilding_;
+  /// A near window the GPU took only at a lower resolution (not made again for that grid).
+  struct NearRefused {
+    std::uint64_t of = 0;
+    volume::GridWindow window;
+  };
+  std::optional<NearRefused> nearRefused_;
   std::vector<double> nearKey_;
   const void* nearOf_ = nullptr;
   volume::GridWindow nearInSight_;

@@ -21,6 +21,8 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
+
 #include <string>
 #include <vector>
 
@@ -42,14 +44,15 @@ volume::GridWindow visibleGridWindow(const Camera& camera, const volume::GridVol
 std::size_t visibleGridStride(const volume::GridVolume& grid);
 
 /// The part of the view's columns and rows nearest the eye that fits in `maxPoints` columns x
-/// rows: the points visibleGridWindow finds visible (the same stride and test) taken in order of
-/// their distance from the eye (the nearer of their bottom and top), each widening the window
-/// (with a stride of margin on each side, across the seam of a wrapping grid) while it stays
-/// within maxPoints; on a wrapping grid at most nx - 1 columns (a window of every column wraps and
-/// closes polar caps of its own). What a grid too large for the GPU draws at full resolution where the rest of
-/// the view is drawn coarser (GridSourceGL). Empty: no point visible, a reduced grid, or the
-/// nearest point's window alone over maxPoints.
-volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& grid, std::size_t maxPoints);
+/// rows, at most `maxColumns` columns and `maxRows` rows (what one texture can hold): the points visibleGridWindow
+/// finds visible (the same stride and test) taken in order of their distance from the eye (the nearer of their bottom
+/// and top), each widening the window (with a stride of margin on each side, across the seam of a wrapping grid) while
+/// it stays within maxPoints; on a wrapping grid at most nx - 1 columns (a window of every column wraps and closes
+/// polar caps of its own). What a grid too large for the GPU draws at full resolution where the rest of the view is
+/// drawn coarser (GridSourceGL). Empty: no point visible, a reduced grid, a curvilinear grid, or the nearest point's
+/// window alone over the caps.
+volume::GridWindow nearGridWindow(const Camera& camera, const volume::GridVolume& grid, std::size_t maxPoints,
+                                  std::size_t maxColumns = SIZE_MAX, std::size_t maxRows = SIZE_MAX);
 
 /// Where a radar is and how far its volume reaches, from a metadata read (radarFootprint).
 struct RadarFootprint {
