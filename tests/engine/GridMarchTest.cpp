@@ -1261,7 +1261,11 @@ TEST(GridMarch, TheColumnsNearestTheEyeAreDrawnAtFullResolutionAndTheRestCoarser
   testutil::glContext();
   auto loader = engine::openImagery({}, {});
   ASSERT_TRUE(loader);
-  const engine::VolumeLayerDescription d = globalGridLayer("near_window");
+  // At a fixed step: the step rule takes each grid's middle column spacing, which a window
+  // changes, so the frames would differ by their steps as well as by their resolutions.
+  engine::VolumeLayerDescription d = globalGridLayer("near_window");
+  d.stepMeters = 2000.0;
+  d.samplesPerCell = 0.0;
   const Camera oblique(CameraPose{0.0, -40.0, 3.0e6, 0.0, -35.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(oblique.widthPx(), oblique.heightPx());
   ASSERT_TRUE(fb);
@@ -1333,6 +1337,57 @@ TEST(GridMarch, TheColumnsNearestTheEyeAreDrawnAtFullResolutionAndTheRestCoarser
   EXPECT_TRUE(renderer.renderToImage(moved, {}, **fb));
   ASSERT_EQ(grid.volumes().size(), 2u);
   EXPECT_EQ(grid.volumes()[0], volumes[0]);
+}
+
+// The same across the antimeridian and near a pole. Across the seam (the near window's
+// longitudes increasing past 180) the frame is nearer the whole grid's than one resolution
+// throughout. Looking north from 75 N the near window is a band of high latitudes where this
+// field changes little: the frame is no further from the whole grid's. In both, the marcher
+// agrees with the reference.
+TEST(GridMarch, NearAndFarHoldAcrossTheAntimeridianAndAtAPole) {
+  testutil::glContext();
+  auto loader = engine::openImagery({}, {});
+  ASSERT_TRUE(loader);
+  engine::VolumeLayerDescription d = globalGridLayer("near_window_seam");
+  d.stepMeters = 2000.0;  // the fixed step, as above
+  d.samplesPerCell = 0.0;
+  for (const CameraPose& pose :
+       {CameraPose{-5.0, 175.0, 3.0e6, 20.0, -35.0, 0.0}, CameraPose{75.0, -170.0, 3.0e6, 0.0, -50.0, 0.0}}) {
+    const bool seam = pose.latDeg < 0.0;
+    const Camera camera(pose, 45.0, 160, 90);
+    auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+    ASSERT_TRUE(fb);
+    const auto whole = drawUnderLimit(*loader, d, nullptr, true, camera, **fb);
+    const auto single = drawUnderLimit(*loader, d, "500000", true, camera, **fb, false);
+    auto two = drawUnderLimit(*loader, d, "500000", true, camera, **fb);
+    ASSERT_TRUE(whole && single && two);
+    engine::GridSourceGL& grid = *two->held.grid;
+    ASSERT_EQ(grid.volumes().size(), 2u) << pose.latDeg;
+    const auto* nearest = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
+    ASSERT_TRUE(nearest);
+    const std::optional<volume::LonLatBox> hole = grid.holeOf(grid.volumes()[1]);
+    ASSERT_TRUE(hole);
+    const double one = meanFrameDifference(single->image, whole->image);
+    const double both = meanFrameDifference(two->image, whole->image);
+    auto& renderer = *two->held.renderer;
+    renderer.setReferenceVolumes(2);
+    auto reference = renderer.renderToImage(camera, {}, **fb);
+    renderer.setReferenceVolumes(0);
+    ASSERT_TRUE(reference) << reference.error();
+    const double gpuVsReference = meanFrameDifference(two->image, *reference);
+    std::cout << "at " << pose.latDeg << ", " << pose.lonDeg << ": near window longitudes " << hole->westDeg << " + "
+              << hole->spanDeg << ", latitudes " << hole->southDeg << " .. " << hole->northDeg
+              << "; against the whole grid: one resolution " << one << ", near and far " << both
+              << "; the marcher against the reference " << gpuVsReference << "\n";
+    if (seam) {
+      EXPECT_GT(hole->westDeg + hole->spanDeg, 180.0);  // the box crosses the antimeridian
+      EXPECT_LT(both, 0.7 * one);
+    } else {
+      EXPECT_GE(hole->northDeg, 80.0);
+      EXPECT_LE(both, one + 0.01);  // 0.01 of 255: rounding of a few pixels by one step
+    }
+    EXPECT_LT(gpuVsReference, 0.5);
+  }
 }
 
 // A reduced (Gaussian) GRIB grid too large for the GPU's limit, as a rectilinear grid: under a
