@@ -14,9 +14,11 @@
 # 4. several volumes (bench_volume_overlap);
 # 5. networks of 1, 10, 40 and 160 SYNTHETIC radars and the rules on the Belgian pair
 #    (bench_radar_network);
-# 6. the scene-load bench (1/4/16 synthetic radars, 1/10 steps).
+# 6. the scene-load bench (1/4/16 synthetic radars, 1/10 steps);
+# 7. the SYNTHETIC global grid under texture limits, near and far (bench_grid_windows; its table is
+#    appended to grid_bench.md: a lent machine returns at most 8 files).
 # GPU_BENCH_STAGES="grids radar ..." runs only those stages (grids compare radar overlap networks
-# scenes), e.g. to finish a run that a machine's time cut short.
+# scenes windows), e.g. to finish a run that a machine's time cut short.
 # Every bench writes into one directory whose reference-cache/ starts as the bundle's, and runs
 # from the bundle's run/ so that the radar files are ../shared/data/... as the cache keys say.
 # Each stage is bounded by `timeout` so the rest still run; OUT_DIR gets the reports (at most 8
@@ -55,7 +57,7 @@ cp "$work"/reference-cache/*.ref "$bench/reference-cache/" 2>/dev/null
 cd "$work/run" || exit 1
 say "atmoglobe $(cat "$work/REVISION"), $(ls "$bench/reference-cache" | wc -l) cached references; $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
 "$ag" --version >> "$log" 2>&1 || { say "the binary does not start"; ldd "$ag" | grep "not found" | tee -a "$log"; exit 1; }
-stages=" ${GPU_BENCH_STAGES:-grids compare radar overlap networks scenes} "
+stages=" ${GPU_BENCH_STAGES:-grids compare radar overlap networks scenes windows} "
 want() { [[ $stages == *" $1 "* ]]; }
 stage() {  # stage NAME SECONDS COMMAND...
   local name=$1 limit=$2
@@ -105,4 +107,10 @@ if want networks; then
 fi
 stage scenes 150 "$ag" bench --scenes --load-runs 1 --out "$bench" -q
 cp "$bench/scenes/scene-load.md" "$out/" 2>/dev/null
+if want windows; then
+  say "windows"
+  timeout 90 "$work/bin/bench_grid_windows" --runs 3 --frames 3 --out "$bench" > "$bench/grid_windows.md" 2>> "$log"
+  say "windows: rc $?"
+  { echo; echo "# Near and far (bench_grid_windows)"; echo; cat "$bench/grid_windows.md"; } >> "$out/grid_bench.md"
+fi
 say "done"

@@ -33,7 +33,8 @@ while [[ $# -gt 0 ]]; do
     *) echo "gpu-bundle.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-programs=("$build/tools/atmoglobe" "$build/tools/bench/bench_volume_overlap" "$build/tools/bench/bench_radar_network")
+programs=("$build/tools/atmoglobe" "$build/tools/bench/bench_volume_overlap" "$build/tools/bench/bench_radar_network"
+  "$build/tools/bench/bench_grid_windows")
 for p in "${programs[@]}"; do
   [[ -x $p ]] || { echo "gpu-bundle.sh: $p: not built (./scripts/build.sh)" >&2; exit 1; }
 done
