@@ -334,7 +334,13 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
       context.cache.put(volumeKey(context.layer, files), v, volume::polarVolumeBytes(*v));
       built->read[files] = v;
     }
-    context.cache.put(gpuKey, built, built->gpuBytes());
+    // The clusters as shared parts: one kept from the step before (the same network) counts once
+    // in the budget however many steps hold it.
+    std::vector<volume::StepCache::SharedPart> parts;
+    for (const auto& c : built->clusters) parts.push_back({c.get(), c->gpuBytes()});
+    std::uint64_t apartBytes = 0;
+    for (const auto& r : built->apart) apartBytes += r->gpuBytes() + volume::polarVolumeBytes(r->polar());
+    context.cache.put(gpuKey, built, apartBytes, std::move(parts));
     shown_ = std::move(built);
     rule_ = rule;
   }

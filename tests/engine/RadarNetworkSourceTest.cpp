@@ -372,6 +372,16 @@ TEST(RadarNetworkSource, AStepKeepsTheClustersWhoseRadarsDidNotChange) {
     ASSERT_TRUE(whole->addVolume(radarLayer(wholeDir)));
     EXPECT_EQ(earlier.pixels, draw(*whole).pixels);
 
+    // Within the budget both steps are cached and hold KLBB's network, which counts once: taking
+    // the later step out frees its pair's network alone.
+    if (!overBudget) {
+      const std::uint64_t before = renderer->stepCache().stats().heldBytes, pairBytes = pair->gpuBytes();
+      renderer->stepCache().erase(engine::stepKey(0, 1, true));
+      EXPECT_EQ(before - renderer->stepCache().stats().heldBytes, pairBytes)
+          << "KLBB's network (" << lone->gpuBytes() << " bytes) is still held by the step shown";
+      renderer->stepCache().releaseDropped();
+    }
+
     // And back: KLBB's network still the same one, the first picture again.
     ASSERT_TRUE(engine::showSceneTime(*renderer, *axis, 1));
     EXPECT_EQ(source->clusters()[1].get(), lone);

@@ -87,6 +87,41 @@ TEST(StepCache, BudgetChangeAndReplacement) {
   EXPECT_EQ(cache.stats().heldBytes, 50u);
 }
 
+// Parts several entries share (a network's clusters a later step keeps) count once: three steps
+// of 10 bytes each sharing a 60-byte part fit a budget of 100 (counted per entry they would take
+// 210); the part leaves the count with the last entry holding it, in use or not; what is in use
+// counts it once too.
+TEST(StepCache, SharedPartsCountOnce) {
+  volume::StepCache cache(100);
+  const int part = 0, other = 0;
+  const volume::StepCache::SharedPart big{&part, 60};
+  cache.put("s0", value(0), 10, {big});
+  cache.put("s1", value(1), 10, {big});
+  cache.put("s2", value(2), 10, {big});
+  EXPECT_EQ(cache.stats().heldBytes, 90u);
+  EXPECT_EQ(cache.stats().entries, 3u);
+  EXPECT_EQ(cache.stats().drops, 0u);
+  // A fourth step with a part of its own: 90 + 10 + 10 > 100, so s0 goes (the shared part stays).
+  cache.put("s3", value(3), 10, {big, {&other, 10}});
+  EXPECT_FALSE(cache.contains("s0"));
+  EXPECT_TRUE(cache.contains("s1"));
+  EXPECT_EQ(cache.stats().heldBytes, 100u);
+  EXPECT_EQ(cache.stats().pendingBytes, 10u);  // s0's own bytes only
+  // In use: s1 and s3 held outside; the shared part counts once.
+  const auto held1 = cache.get<int>("s1"), held3 = cache.get<int>("s3");
+  EXPECT_EQ(cache.stats().inUseBytes, 10u + 10u + 60u + 10u);
+  EXPECT_FALSE(cache.fitsBesidesInUse(11));
+  EXPECT_TRUE(cache.fitsBesidesInUse(10));
+  // Replacing s1 by an entry without the part, then erasing the others: the part goes with the last.
+  cache.put("s1", value(11), 10);
+  cache.erase("s2");
+  EXPECT_EQ(cache.stats().heldBytes, 10u + 10u + 60u + 10u);
+  cache.erase("s3");
+  EXPECT_EQ(cache.stats().heldBytes, 10u);
+  cache.releaseDropped();
+  EXPECT_EQ(cache.stats().pendingBytes, 0u);
+}
+
 TEST(StepCache, DefaultBudgetIsAQuarterOfMemory) {
   const std::uint64_t ram = volume::physicalMemoryBytes();
   ASSERT_GT(ram, 0u);

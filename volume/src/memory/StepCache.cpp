@@ -69,16 +69,52 @@ std::uint64_t StepCache::budget() const {
   return budget_;
 }
 
-void StepCache::put(const std::string& key, std::shared_ptr<const void> data, std::uint64_t bytes) {
+void StepCache::dropLocked(Entry&& e) {
+  std::uint64_t freed = e.bytes;
+  for (const SharedPart& p : e.parts) {
+    const auto it = parts_.find(p.id);
+    if (it == parts_.end() || --it->second.entries > 0) continue;
+    freed += it->second.bytes;
+    parts_.erase(it);
+  }
+  held_ -= freed;
+  pending_ += freed;
+  dropped_.push_back(std::move(e));
+}
+
+template <class Counted>
+std::uint64_t StepCache::bytesOfLocked(Counted counted) const {
+  std::uint64_t bytes = 0;
+  std::vector<const void*> seen;
+  for (const Entry& e : lru_) {
+    if (!counted(e)) continue;
+    bytes += e.bytes;
+    for (const SharedPart& p : e.parts)
+      if (std::find(seen.begin(), seen.end(), p.id) == seen.end()) {
+        seen.push_back(p.id);
+        bytes += p.bytes;
+      }
+  }
+  return bytes;
+}
+
+void StepCache::put(const std::string& key, std::shared_ptr<const void> data, std::uint64_t bytes,
+                    std::vector<SharedPart> parts) {
   std::lock_guard lock(mutex_);
+  // The new entry's parts first, so that one the replaced entry shares is not freed meanwhile.
+  for (const SharedPart& p : parts) {
+    PartCount& count = parts_[p.id];
+    if (count.entries++ == 0) {
+      count.bytes = p.bytes;
+      held_ += p.bytes;
+    }
+  }
   if (auto it = index_.find(key); it != index_.end()) {
-    held_ -= it->second->bytes;
-    pending_ += it->second->bytes;
-    dropped_.push_back(std::move(*it->second));
+    dropLocked(std::move(*it->second));
     lru_.erase(it->second);
     index_.erase(it);
   }
-  lru_.push_front(Entry{key, std::move(data), bytes});
+  lru_.push_front(Entry{key, std::move(data), bytes, std::move(parts)});
   index_[key] = lru_.begin();
   held_ += bytes;
   enforceLocked();
@@ -110,11 +146,9 @@ void StepCache::enforceLocked() {
   for (auto it = lru_.end(); held_ > budget_ && it != lru_.begin();) {
     --it;
     if (it->data.use_count() > 1) continue;
-    held_ -= it->bytes;
-    pending_ += it->bytes;
     ++drops_;
     index_.erase(it->key);
-    dropped_.push_back(std::move(*it));
+    dropLocked(std::move(*it));
     it = lru_.erase(it);
   }
 }
@@ -140,9 +174,7 @@ void StepCache::erase(const std::string& key) {
   std::lock_guard lock(mutex_);
   const auto it = index_.find(key);
   if (it == index_.end()) return;
-  held_ -= it->second->bytes;
-  pending_ += it->second->bytes;
-  dropped_.push_back(std::move(*it->second));
+  dropLocked(std::move(*it->second));
   lru_.erase(it->second);
   index_.erase(it);
 }
@@ -154,19 +186,15 @@ void StepCache::erasePrefix(const std::string& prefix) {
       ++it;
       continue;
     }
-    held_ -= it->bytes;
-    pending_ += it->bytes;
     index_.erase(it->key);
-    dropped_.push_back(std::move(*it));
+    dropLocked(std::move(*it));
     it = lru_.erase(it);
   }
 }
 
 bool StepCache::fitsBesidesInUse(std::uint64_t bytes) const {
   std::lock_guard lock(mutex_);
-  std::uint64_t inUse = 0;
-  for (const Entry& e : lru_)
-    if (e.data.use_count() > 1) inUse += e.bytes;
+  const std::uint64_t inUse = bytesOfLocked([](const Entry& e) { return e.data.use_count() > 1; });
   return inUse + bytes <= budget_;
 }
 
@@ -193,8 +221,7 @@ StepCache::Stats StepCache::stats() const {
   s.budgetBytes = budget_;
   s.heldBytes = held_;
   s.peakHeldBytes = peak_;
-  for (const Entry& e : lru_)
-    if (e.data.use_count() > 1) s.inUseBytes += e.bytes;
+  s.inUseBytes = bytesOfLocked([](const Entry& e) { return e.data.use_count() > 1; });
   s.pendingBytes = pending_;
   s.entries = lru_.size();
   s.hits = hits_;

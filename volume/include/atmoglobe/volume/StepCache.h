@@ -11,6 +11,10 @@
 // die on the GL thread): they wait in a list that releaseDropped() empties on the caller's
 // thread; their bytes are no longer counted as held, but pendingBytes() says what waits.
 //
+// Shared parts: an entry may name parts it shares with other entries (a radar network's clusters
+// that a later time step keeps as they were), each counted once however many entries hold it, and
+// freed (no longer counted) when the last entry holding it leaves the cache.
+//
 // Thread-safe: every member locks one mutex.
 #include <atmoglobe/volume/GridVolume.h>
 #include <atmoglobe/volume/PolarVolume.h>
@@ -51,9 +55,17 @@ class StepCache {
   void setBudget(std::uint64_t bytes);
   std::uint64_t budget() const;
 
+  /// Something an entry holds that other entries may hold too: its identity (the object's
+  /// address, alive while any entry holds it) and its bytes.
+  struct SharedPart {
+    const void* id = nullptr;
+    std::uint64_t bytes = 0;
+  };
   /// Adds `data` under `key` (replacing an entry of that key) as the most recently used, then
-  /// drops least recently used entries not in use until the budget holds.
-  void put(const std::string& key, std::shared_ptr<const void> data, std::uint64_t bytes);
+  /// drops least recently used entries not in use until the budget holds. `bytes`: what the entry
+  /// holds besides `parts`, which count once over all the entries that hold them.
+  void put(const std::string& key, std::shared_ptr<const void> data, std::uint64_t bytes,
+           std::vector<SharedPart> parts = {});
   /// The entry's data (marked most recently used), or null (counted as a miss).
   template <class T>
   std::shared_ptr<const T> get(const std::string& key) {
@@ -97,7 +109,18 @@ class StepCache {
     std::string key;
     std::shared_ptr<const void> data;
     std::uint64_t bytes = 0;
+    std::vector<SharedPart> parts;
   };
+  /// Takes `e` out of the count (its bytes and the parts no other entry holds) into dropped_.
+  void dropLocked(Entry&& e);
+  /// What the entries for which `counted` holds take: their bytes and their parts, each once.
+  template <class Counted>
+  std::uint64_t bytesOfLocked(Counted counted) const;
+  struct PartCount {
+    std::size_t entries = 0;
+    std::uint64_t bytes = 0;
+  };
+  std::unordered_map<const void*, PartCount> parts_;
   mutable std::mutex mutex_;
   std::condition_variable loaded_;
   std::vector<std::string> loading_;
