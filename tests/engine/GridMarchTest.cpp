@@ -1251,6 +1251,21 @@ TEST(NearGridWindow, HoldsTheNearestColumnsInViewWithinTheCap) {
   EXPECT_FALSE(engine::parseSceneJson(R"({"grids": [{"path": "g.nc", "near_window": 2}]})", "s.json", dir, dir));
 }
 
+// The layer `d` drawn from `camera` into `fb` three ways: the whole grid without a limit, and
+// under a 0.5 MB limit at one resolution throughout and near and far (the default).
+struct NearAndFar {
+  std::optional<DrawnUnderLimit> whole, single, two;
+};
+static NearAndFar drawNearAndFar(const std::shared_ptr<globe::TileImageLoader>& loader,
+                                 const engine::VolumeLayerDescription& d, const Camera& camera,
+                                 engine::FramebufferGL& fb) {
+  NearAndFar out;
+  out.whole = drawUnderLimit(loader, d, nullptr, true, camera, fb);
+  out.single = drawUnderLimit(loader, d, "500000", true, camera, fb, false);
+  out.two = drawUnderLimit(loader, d, "500000", true, camera, fb);
+  return out;
+}
+
 // A grid uploaded at 1/4 (limit 0.5 MB) seen obliquely from 3,000 km: the view's window fits only
 // at a coarser resolution, so the columns nearest the eye are drawn at full resolution with it in
 // one march (two volumes, the coarser one with the near window's box as its hole). Against the
@@ -1269,10 +1284,11 @@ TEST(GridMarch, TheColumnsNearestTheEyeAreDrawnAtFullResolutionAndTheRestCoarser
   const Camera oblique(CameraPose{0.0, -40.0, 3.0e6, 0.0, -35.0, 0.0}, 45.0, 160, 90);
   auto fb = engine::FramebufferGL::create(oblique.widthPx(), oblique.heightPx());
   ASSERT_TRUE(fb);
-  const auto whole = drawUnderLimit(*loader, d, nullptr, true, oblique, **fb);
-  const auto single = drawUnderLimit(*loader, d, "500000", true, oblique, **fb, false);
-  auto two = drawUnderLimit(*loader, d, "500000", true, oblique, **fb);
-  ASSERT_TRUE(whole && single && two);
+  NearAndFar drawn = drawNearAndFar(*loader, d, oblique, **fb);
+  ASSERT_TRUE(drawn.whole && drawn.single && drawn.two);
+  const auto& whole = drawn.whole;
+  const auto& single = drawn.single;
+  auto& two = drawn.two;
   engine::GridSourceGL& grid = *two->held.grid;
   const std::vector<const engine::VolumeGL*> volumes = grid.volumes();
   ASSERT_EQ(volumes.size(), 2u);
@@ -1357,24 +1373,22 @@ TEST(GridMarch, NearAndFarHoldAcrossTheAntimeridianAndAtAPole) {
     const Camera camera(pose, 45.0, 160, 90);
     auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
     ASSERT_TRUE(fb);
-    const auto whole = drawUnderLimit(*loader, d, nullptr, true, camera, **fb);
-    const auto single = drawUnderLimit(*loader, d, "500000", true, camera, **fb, false);
-    auto two = drawUnderLimit(*loader, d, "500000", true, camera, **fb);
-    ASSERT_TRUE(whole && single && two);
-    engine::GridSourceGL& grid = *two->held.grid;
+    NearAndFar drawn = drawNearAndFar(*loader, d, camera, **fb);
+    ASSERT_TRUE(drawn.whole && drawn.single && drawn.two);
+    engine::GridSourceGL& grid = *drawn.two->held.grid;
     ASSERT_EQ(grid.volumes().size(), 2u) << pose.latDeg;
     const auto* nearest = dynamic_cast<const engine::GridVolumeGL*>(grid.volumes()[0]);
     ASSERT_TRUE(nearest);
     const std::optional<volume::LonLatBox> hole = grid.holeOf(grid.volumes()[1]);
     ASSERT_TRUE(hole);
-    const double one = meanFrameDifference(single->image, whole->image);
-    const double both = meanFrameDifference(two->image, whole->image);
-    auto& renderer = *two->held.renderer;
+    const double one = meanFrameDifference(drawn.single->image, drawn.whole->image);
+    const double both = meanFrameDifference(drawn.two->image, drawn.whole->image);
+    auto& renderer = *drawn.two->held.renderer;
     renderer.setReferenceVolumes(2);
     auto reference = renderer.renderToImage(camera, {}, **fb);
     renderer.setReferenceVolumes(0);
     ASSERT_TRUE(reference) << reference.error();
-    const double gpuVsReference = meanFrameDifference(two->image, *reference);
+    const double gpuVsReference = meanFrameDifference(drawn.two->image, *reference);
     std::cout << "at " << pose.latDeg << ", " << pose.lonDeg << ": near window longitudes " << hole->westDeg << " + "
               << hole->spanDeg << ", latitudes " << hole->southDeg << " .. " << hole->northDeg
               << "; against the whole grid: one resolution " << one << ", near and far " << both
