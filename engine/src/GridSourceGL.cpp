@@ -278,19 +278,13 @@ LegendPart GridSourceGL::legendPart() const {
   const volume::GridVolume& v = volume_->grid();
   std::string resolution;
   if (volume_->unreducedGrid()) {
-    if (viewWindow().empty()) {
-      resolution = reducedNote(*volume_);
-      if (nearUsed_)
-        resolution = "  the nearest columns at full resolution, the rest at 1/" +
-                     std::to_string(uploadFactor(*volume_)) + " (GPU memory)";
-    } else {
-      // The window's own factor, times what its upload halved it by where it did not fit either.
-      const std::size_t f = window_->factor * uploadFactor(*window_->volume);
+    const std::size_t f = windowOrGridFactor();
+    if (nearUsed_)
+      resolution = "  the nearest columns at full resolution, the rest at 1/" + std::to_string(f) + " (GPU memory)";
+    else if (viewWindow().empty()) resolution = reducedNote(*volume_);
+    else
       resolution = f > 1 ? "  the columns in view at 1/" + std::to_string(f) + " resolution (GPU memory)"
                          : "  the columns in view at full resolution";
-      if (nearUsed_)
-        resolution = "  the nearest columns at full resolution, the rest at 1/" + std::to_string(f) + " (GPU memory)";
-    }
   }
   const std::string variable = displayName(v.variable);
   // A mosaic written by `atmoglobe mosaic` is a radar product at the radars' latest time.
@@ -333,17 +327,22 @@ std::vector<const VolumeGL*> GridSourceGL::volumes() const {
   if (detailLevel_ > 0 && detailOf_ == volume_.get() && static_cast<std::size_t>(detailLevel_) <= detail_.size() &&
       detail_[static_cast<std::size_t>(detailLevel_) - 1])
     return {detail_[static_cast<std::size_t>(detailLevel_) - 1].get()};
-  if (nearUsed_) return {near_->volume.get(), &coarseAroundNear()};
-  if (windowUsed_ && window_ && window_->of == volume_->id()) return {window_->volume.get()};
-  return {volume_.get()};
+  if (nearUsed_) return {near_->volume.get(), &windowOrGrid()};
+  return {&windowOrGrid()};
 }
 
-const GridVolumeGL& GridSourceGL::coarseAroundNear() const {
+const GridVolumeGL& GridSourceGL::windowOrGrid() const {
   return windowUsed_ && window_ && window_->of == volume_->id() ? *window_->volume : *volume_;
 }
 
+std::size_t GridSourceGL::windowOrGridFactor() const {
+  // A window's own factor, times what its upload halved it by where it did not fit either.
+  const GridVolumeGL& drawn = windowOrGrid();
+  return &drawn == volume_.get() ? uploadFactor(drawn) : window_->factor * uploadFactor(drawn);
+}
+
 std::optional<volume::LonLatBox> GridSourceGL::holeOf(const VolumeGL* volume) const {
-  if (nearUsed_ && volume == &coarseAroundNear()) return nearBox_;
+  if (nearUsed_ && volume == &windowOrGrid()) return nearBox_;
   return std::nullopt;
 }
 
@@ -408,11 +407,12 @@ std::vector<double> cameraKey(const Camera& camera) {
 }
 
 // The latitude/longitude box a rectilinear window's grid has data in: its first to last column's
-// longitude (increasing across the seam), every longitude when it wraps; its rows' latitudes.
+// longitude (increasing across the seam; a near window never wraps: nearGridWindow), its rows'
+// latitudes.
 volume::LonLatBox windowBox(const volume::GridVolume& w) {
   volume::LonLatBox box;
   box.westDeg = w.lonDeg.front();
-  box.spanDeg = w.wrapsLongitude ? 360.0 : w.lonDeg.back() - w.lonDeg.front();
+  box.spanDeg = w.lonDeg.back() - w.lonDeg.front();
   box.southDeg = std::min(w.latDeg.front(), w.latDeg.back());
   box.northDeg = std::max(w.latDeg.front(), w.latDeg.back());
   return box;
@@ -437,10 +437,7 @@ void GridSourceGL::chooseNearWindow(const Camera& camera, bool background) {
   const std::shared_ptr<const volume::GridVolume> whole = volume_->unreducedGrid();
   // Only where the coarser level is coarser than the grid (rectilinear grids: the hole is a
   // latitude/longitude box); otherwise what there is is dropped.
-  const GridVolumeGL& coarse = coarseAroundNear();
-  const std::size_t coarseFactor = !whole                     ? 1
-                                   : &coarse == volume_.get() ? uploadFactor(coarse)
-                                                              : window_->factor * uploadFactor(*window_->volume);
+  const std::size_t coarseFactor = windowOrGridFactor();
   if (!description_.nearWindow || !whole || whole->reduced() || whole->curvilinear || !description_.levelOfDetail ||
       detailLevel_ > 0 || coarseFactor <= 1) {
     near_.reset();
@@ -632,7 +629,7 @@ std::optional<std::string> GridSourceGL::readoutAt(const glm::dvec3& eye, const 
                                                    double stepMeters) const {
   // The grid itself, or its window in view at full resolution where it is drawn from one (not the
   // coarser copies of the level of detail: the readout gives the data's values).
-  const GridVolumeGL& shown = windowUsed_ && window_ && window_->of == volume_->id() ? *window_->volume : *volume_;
+  const GridVolumeGL& shown = windowOrGrid();
   // Where a near window is drawn: the coarser level (shown) outside its box, the near window
   // inside, the nearer hit.
   const volume::SamplerOutsideBox holed(shown.referenceSampler(), nearBox_);

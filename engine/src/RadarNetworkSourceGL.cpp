@@ -127,10 +127,15 @@ Result<std::unique_ptr<RadarNetworkSourceGL>> RadarNetworkSourceGL::openIfNetwor
   return s;
 }
 
-std::uint64_t RadarNetworkSourceGL::StepGL::gpuBytes() const {
+std::uint64_t RadarNetworkSourceGL::StepGL::apartBytes() const {
   std::uint64_t bytes = 0;
-  for (const auto& c : clusters) bytes += c->gpuBytes();
   for (const auto& r : apart) bytes += r->gpuBytes() + volume::polarVolumeBytes(r->polar());  // with its own copy
+  return bytes;
+}
+
+std::uint64_t RadarNetworkSourceGL::StepGL::gpuBytes() const {
+  std::uint64_t bytes = apartBytes();
+  for (const auto& c : clusters) bytes += c->gpuBytes();
   return bytes;
 }
 
@@ -338,9 +343,7 @@ Status RadarNetworkSourceGL::load(const VolumeLayerDescription& d, std::size_t s
     // in the budget however many steps hold it.
     std::vector<volume::StepCache::SharedPart> parts;
     for (const auto& c : built->clusters) parts.push_back({c.get(), c->gpuBytes()});
-    std::uint64_t apartBytes = 0;
-    for (const auto& r : built->apart) apartBytes += r->gpuBytes() + volume::polarVolumeBytes(r->polar());
-    context.cache.put(gpuKey, built, apartBytes, std::move(parts));
+    context.cache.put(gpuKey, built, built->apartBytes(), std::move(parts));
     shown_ = std::move(built);
     rule_ = rule;
   }

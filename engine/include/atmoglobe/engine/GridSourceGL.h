@@ -158,8 +158,11 @@ class GridSourceGL final : public VolumeSourceGL {
   void chooseCoarserCopy(const Camera& camera, bool background);
   void chooseViewWindow(const Camera& camera, bool background);
   void chooseNearWindow(const Camera& camera, bool background);
-  /// The coarser volume drawn around the near window: the view's window, or the grid as uploaded.
-  const GridVolumeGL& coarseAroundNear() const;
+  /// The view's window where it is drawn, else the grid as uploaded (around a near window: the
+  /// coarser level).
+  const GridVolumeGL& windowOrGrid() const;
+  /// Every how many of the grid's columns windowOrGrid() keeps (1: full resolution).
+  std::size_t windowOrGridFactor() const;
   const MemberGrids& memberGrids() const;
 };
 

@@ -95,7 +95,8 @@ class RadarNetworkSourceGL final : public VolumeSourceGL {
     std::vector<std::shared_ptr<RadarNetworkGL>> clusters;
     std::vector<std::shared_ptr<RadarVolumeGL>> apart;
     std::map<std::string, std::shared_ptr<const volume::PolarVolume>> read;
-    std::uint64_t gpuBytes() const;
+    std::uint64_t gpuBytes() const;    ///< the clusters' and apartBytes()
+    std::uint64_t apartBytes() const;  ///< the volumes drawn apart, with their CPU copies
   };
   /// The volumes a step shows: each site's latest at or before its time, at most the window old.
   struct Choice {
