@@ -102,7 +102,7 @@ fi
 if want networks; then
   say "networks"
   timeout 200 "$work/bin/bench_radar_network" --counts 1,10,40,160 --sizes 320x180,1280x720 --runs 3 --frames 5 \
-    --separate-max 10 --out "$bench/network" --data ../shared/data > "$out/network.md" 2>> "$log"
+    --separate-max 10 --far-field 1 --out "$bench/network" --data ../shared/data > "$out/network.md" 2>> "$log"
   say "networks: rc $?"
 fi
 stage scenes 150 "$ag" bench --scenes --load-runs 1 --out "$bench" -q

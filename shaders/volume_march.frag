@@ -21,7 +21,8 @@
 // MARCH_PREINTEGRATED (DVR: 0 each sample classified alone; 1 neighbouring samples of a volume
 // as a linear segment, u_tfIntegral), MARCH_STEP_RULE (1: some volume follows the step rule; 0:
 // every level is 0 at compile time, the fixed-step march), MARCH_ADAPTIVE (1: the refinement
-// pass of adaptive refinement, below), VOLUME_COUNT.
+// pass of adaptive refinement, below), MARCH_COLUMNS (1: the far field's columns, below),
+// VOLUME_COUNT.
 
 in vec2 v_uv;
 
@@ -42,8 +43,20 @@ uniform sampler2D u_coarse;
 uniform vec2 u_coarseSizePx;
 uniform float u_refineThreshold;  // in units of 1 (255 8-bit steps)
 
+// The far field's columns (MARCH_COLUMNS; engine/FarFieldGL.h, docs/networks.md "The far
+// field"): pixel (i, j) is the column at longitude u_columnBox.x + (i + 0.5) u_columnBox.z and
+// latitude u_columnBox.y + (j + 0.5) u_columnBox.w (deg), marched down the ellipsoid's normal from
+// height u_columnHeights.x to u_columnHeights.y (m). The "eye" of the volumes' uniforms is
+// u_columnAnchor (ECEF relative to the Earth's centre, float: only the difference to the column's
+// top point is used, which stays metres-accurate); the column's top is g_rayOffset from it.
+uniform vec4 u_columnBox;
+uniform vec2 u_columnHeights;
+uniform vec3 u_columnAnchor;
+vec3 g_rayOffset = vec3(0.0);
+
 layout(location = 0) out vec4 o_color;
 
+const int kColumns = MARCH_COLUMNS;
 const int kMode = MARCH_MODE;
 const int kSkipEmpty = MARCH_SKIP_EMPTY;
 const int kPreintegrated = MARCH_PREINTEGRATED;
@@ -130,6 +143,14 @@ void main() {
   vec2 pixel = vec2(v_uv.x * u_imageSizePx.x, (1.0 - v_uv.y) * u_imageSizePx.y);  // from the top
   vec3 dirEye = vec3((pixel.x - 0.5 * u_imageSizePx.x) / u_focalPx, (0.5 * u_imageSizePx.y - pixel.y) / u_focalPx, -1.0);
   vec3 dir = normalize(u_cameraToEcef * dirEye);
+  if (kColumns == 1) {
+    vec2 lonLat = radians(u_columnBox.xy + gl_FragCoord.xy * u_columnBox.zw);
+    float cl = cos(lonLat.y), sl = sin(lonLat.y), co = cos(lonLat.x), so = sin(lonLat.x);
+    float n = WGS84_A / sqrt(1.0 - WGS84_E2 * sl * sl);
+    float h = u_columnHeights.x;
+    g_rayOffset = vec3((n + h) * cl * co, (n + h) * cl * so, (n * (1.0 - WGS84_E2) + h) * sl) - u_columnAnchor;
+    dir = -vec3(cl * co, cl * so, sl);
+  }
 
   if (kMode == 3) {
     o_color = vec4(volDebug(0, volEyeRel(0) + u_debugT * dir), 1.0);
@@ -137,7 +158,7 @@ void main() {
   }
 
   // The globe hides what is behind it: reverse-Z depth = near / view distance.
-  float depth = textureLod(u_globeDepth, v_uv, 0.0).r;
+  float depth = kColumns == 1 ? 0.0 : textureLod(u_globeDepth, v_uv, 0.0).r;
 
   if (kAdaptive == 1) {
     // The four small-image pixels around this one (their centres at (j + 0.5) / size, the
@@ -164,6 +185,7 @@ void main() {
     }
   }
   float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
+  if (kColumns == 1) tGround = u_columnHeights.x - u_columnHeights.y;  // the column's bottom
   o_color = vec4(0.0);
 
   // Each volume's sample indices [first, last] and, for skipping, its ray in the grid's frame.

@@ -216,6 +216,10 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   g->add_option("--classification", o.classifications,
                 "DVR between samples: point (default; each sample over one step) or preintegrated (neighbouring "
                 "samples as a linear segment: lower error at any step for 5-12 % more time)");
+  g->add_option("--far-field", o.farFields,
+                "Networks seen from far away (every pixel over them 2 km or wider): auto draws them from slabs "
+                "integrated down the vertical once instead of a march per pixel; off (default) always marches "
+                "(docs/networks.md, \"The far field\")");
   addLayerSettingOptions(*g, "--", o.radarSettings, "gates outside are not drawn");
   g->add_flag("--no-geoid", o.noGeoid, "Take antenna heights as ellipsoidal (no EGM96 conversion)");
 }
@@ -472,12 +476,14 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
   auto pick = [&](const auto& values, const char* name, std::size_t i, auto& out) {
     return pickPerLayer(values, name, "--radar", nr, i, out);
   };
-  if (nr == 0 && (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() ||
-                  !o.interpolations.empty() || !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() ||
-                  !o.windowMinutes.empty() || !o.imageScales.empty() || !o.refineThresholds.empty() ||
-                  !o.isoValues.empty() || !o.radarSettings.empty() || !o.samplesPerCell.empty())) {
+  if (nr == 0 &&
+      (!o.fields.empty() || !o.colors.empty() || !o.modes.empty() || !o.steps.empty() || !o.interpolations.empty() ||
+       !o.beams.empty() || !o.classifications.empty() || !o.overlaps.empty() || !o.farFields.empty() ||
+       !o.windowMinutes.empty() || !o.imageScales.empty() || !o.refineThresholds.empty() || !o.isoValues.empty() ||
+       !o.radarSettings.empty() || !o.samplesPerCell.empty())) {
     return makeError(
-        "--field/--colors/--mode/--step/--samples-per-cell/--interpolation/--beam/--classification/--overlap/--window-minutes/"
+        "--field/--colors/--mode/--step/--samples-per-cell/--interpolation/--beam/--classification/--overlap/--far-field/"
+        "--window-minutes/"
         "--image-scale/--refine-threshold/--iso/--range/--opacity/"
         "--crop/--crop-heights need a --radar");
   }
@@ -494,7 +500,8 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
           pickEnum(o.interpolations, "--interpolation", "--radar", nr, i, d.interpolation),
           pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
           pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
-          pick(o.steps, "--step", i, d.stepMeters), pick(o.samplesPerCell, "--samples-per-cell", i, d.samplesPerCell),
+          pickEnum(o.farFields, "--far-field", "--radar", nr, i, d.farField), pick(o.steps, "--step", i, d.stepMeters),
+          pick(o.samplesPerCell, "--samples-per-cell", i, d.samplesPerCell),
           pick(o.imageScales, "--image-scale", i, d.imageScale),
           pick(o.refineThresholds, "--refine-threshold", i, d.refineThreshold), pick(o.isoValues, "--iso", i, iso),
           pick(o.windowMinutes, "--window-minutes", i, d.windowMinutes)}) {

@@ -29,7 +29,7 @@ struct SceneOptions {
   // Radar volumes: one entry per --radar; each per-radar option is given once (applies to
   // every radar) or once per radar, in order.
   std::vector<std::string> radars;
-  std::vector<std::string> fields, colors, modes, interpolations, beams, classifications, overlaps;
+  std::vector<std::string> fields, colors, modes, interpolations, beams, classifications, overlaps, farFields;
   std::vector<double> windowMinutes;
   std::vector<double> steps, imageScales, refineThresholds, isoValues;
   bool noGeoid = false;

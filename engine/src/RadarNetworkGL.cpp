@@ -418,6 +418,7 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   const volume::BoundingSphere enclosing = gl->referenceSampler().boundingSphere();
   gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
   gl->top_ = glm::vec4(glm::vec3(-origin), static_cast<float>(topRadius));
+  gl->topRadiusMeters_ = topRadius;
   // Empty-space cells of about 2 km across and 500 m up, at most 2^23 (32 MiB of floats): the
   // frame is tangent at the origin, so a continental cluster's box is hundreds of km deep with
   // the Earth's curvature, and 32 fixed layers were 15 km each; a lone radar's are about what
@@ -554,6 +555,23 @@ std::vector<std::string> RadarNetworkGL::samplerDefines(const VolumeRenderOption
   return {std::string("INTERPOLATION ") + (options.render.interpolation == volume::Interpolation::Nearest ? "0" : "1"),
           "RULE " + std::to_string(rule), std::string("EXAGGERATED ") + (exaggeration_ != 1.0 ? "1" : "0"),
           "LISTED_UNROLLED " + std::to_string(maxListed_ <= kUnrolledListed ? maxListed_ : 0)};
+}
+
+std::optional<FarFieldExtent> RadarNetworkGL::farFieldExtent() const {
+  // Its slabs are at true heights (FarFieldGL::kSlabBoundariesMeters): none when exaggerated.
+  if (exaggeration_ != 1.0) return std::nullopt;
+  const volume::CoverageIndex& index = sampler_->coverage();
+  FarFieldExtent e;
+  // The index's rows are in geocentric latitude, which differs from the geodetic by under 0.2 deg.
+  e.southDeg = std::max(-90.0, index.latMinDeg - 0.2);
+  e.northDeg = std::min(90.0, index.latMinDeg + index.rows * index.cellDeg + 0.2);
+  e.westDeg = index.lonOriginDeg;
+  e.eastDeg = index.lonOriginDeg + std::min(360.0, index.columns * index.cellDeg);
+  // Every beam is below the sphere of topRadiusMeters_; over the box the ellipsoid is nowhere
+  // nearer the centre than at its latitude farthest from the equator.
+  const double farthestDeg = std::max(std::abs(e.southDeg), std::abs(e.northDeg));
+  e.topMeters = topRadiusMeters_ - glm::length(globe::geodeticToEcef({farthestDeg, 0.0, 0.0}));
+  return e;
 }
 
 void RadarNetworkGL::setSamplerUniforms(const SamplerBindingGL& b) const {

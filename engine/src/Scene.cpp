@@ -148,7 +148,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
   const char* isoKey = radar ? "iso_dbz" : "iso_value";
   keys.insert(keys.end(), {fieldKey, isoKey});
   if (radar) {
-    keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes"});
+    keys.insert(keys.end(), {"beam", "label", "overlap", "window_minutes", "far_field"});
   } else {
     keys.insert(keys.end(), {"time", "member", "ensemble", "index", "level_of_detail", "near_window"});
   }
@@ -169,6 +169,7 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       [&] { return parseEnum(r, "mode", d.mode); }, [&] { return parseEnum(r, "interpolation", d.interpolation); },
       [&] { return parseEnum(r, "classification", d.classification); },
       [&] { return radar ? parseEnum(r, "beam", d.beam) : Status(Ok{}); },
+      [&] { return radar ? parseEnum(r, "far_field", d.farField) : Status(Ok{}); },
       [&] { return radar ? r.string("label", d.label) : r.string("time", d.time); },
       [&] {
         if (!radar || !r.has("overlap")) return Status(Ok{});

@@ -498,6 +498,8 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
           }
           ImGui::EndCombo();
         }
+        // Seen from far away: slabs integrated once instead of a march per pixel (FarFieldGL.h).
+        edited = enumCombo("far field", d.farField) || edited;
       }
       if (const auto* grid = dynamic_cast<const GridSourceGL*>(&layer)) {
         const volume::GridVolume& g = grid->gridVolume().grid();

@@ -22,6 +22,8 @@ const char* nameOf(volume::Interpolation interpolation) {
   return interpolation == volume::Interpolation::Nearest ? "nearest" : "linear";
 }
 
+const char* nameOf(FarField farField) { return farField == FarField::Auto ? "auto" : "off"; }
+
 const char* nameOf(Classification classification) {
   return classification == Classification::Preintegrated ? "preintegrated" : "point";
 }
@@ -44,6 +46,12 @@ const std::vector<volume::Interpolation>& allValues<volume::Interpolation>() {
   static const std::vector<volume::Interpolation> values{volume::Interpolation::Nearest, volume::Interpolation::Linear};
   return values;
 }
+template <>
+const std::vector<FarField>& allValues<FarField>() {
+  static const std::vector<FarField> values{FarField::Off, FarField::Auto};
+  return values;
+}
+
 template <>
 const std::vector<Classification>& allValues<Classification>() {
   static const std::vector<Classification> values{Classification::Point, Classification::Preintegrated};
@@ -116,7 +124,8 @@ LayerChange layerChange(const VolumeLayerDescription& a, const VolumeLayerDescri
   if (a.colors != b.colors || a.mode != b.mode || a.interpolation != b.interpolation || a.stepMeters != b.stepMeters ||
       a.samplesPerCell != b.samplesPerCell || a.imageScale != b.imageScale || a.refineThreshold != b.refineThreshold ||
       a.isoValue != b.isoValue || a.beam != b.beam || a.classification != b.classification || a.label != b.label ||
-      a.levelOfDetail != b.levelOfDetail || a.nearWindow != b.nearWindow || !sameLook(a.settings, b.settings))
+      a.levelOfDetail != b.levelOfDetail || a.nearWindow != b.nearWindow || a.farField != b.farField ||
+      !sameLook(a.settings, b.settings))
     return LayerChange::Options;
   return LayerChange::None;
 }

@@ -47,7 +47,7 @@ int modeIndex(volume::VolumeRenderMode m) {
 
 // The generated dispatch: vol*(int k, ...) -> vK_*(...). Loops over k run to a constant, so after
 // unrolling each call site names one volume and the chain folds away.
-std::string dispatchSource(int count) {
+std::string dispatchSource(int count, bool columns) {
   struct Fn {
     const char* signature;  // with {ARGS} for the argument list
     const char* returnType;
@@ -78,8 +78,10 @@ std::string dispatchSource(int count) {
   for (const Fn& f : fns) {
     s << f.signature << " {\n";
     if (std::string(f.signature).find("out float value") != std::string::npos) s << "  value = 0.0;\n";
+    // The far field's columns start at g_rayOffset from the eye (volume_march.frag, MARCH_COLUMNS).
+    const std::string call = columns ? replaceAll(f.call, "VOL_eyeRel", "(VOL_eyeRel + g_rayOffset)") : f.call;
     for (int k = 0; k < count; ++k)
-      s << "  if (k == " << k << ") return " << replaceAll(f.call, "VOL_", volumePrefix(static_cast<std::size_t>(k)))
+      s << "  if (k == " << k << ") return " << replaceAll(call, "VOL_", volumePrefix(static_cast<std::size_t>(k)))
         << ";\n";
     s << "  return " << f.fallback << ";\n}\n";
   }
@@ -125,6 +127,9 @@ Result<std::unique_ptr<VolumeRendererGL>> VolumeRendererGL::create() {
   r->transferIntegral_ = makeVolumeTextureGL(GL_TEXTURE_2D, GL_LINEAR);
   glTextureStorage2D(r->transferIntegral_, 1, GL_RGBA32F, C::kTransferEntries + 1, C::kMaxVolumes);
   r->transferRows_.assign(C::kMaxVolumes, {});
+  auto farField = FarFieldGL::create();
+  if (!farField) return farField.forwardError();
+  r->farField_ = std::move(*farField);
   // A 1x1 "nothing drawn" depth (0 = infinitely far in reverse-Z) for volume-only renders.
   r->emptyDepth_ = makeVolumeTextureGL(GL_TEXTURE_2D);
   glTextureStorage2D(r->emptyDepth_, 1, GL_R32F, 1, 1);
@@ -183,7 +188,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
     for (const std::string& d : variant.volumes[k].second) volumes << "#define " << prefix << d << "\n";
     volumes << replaceAll(*common, "VOL_", prefix) << "\n" << replaceAll(*sampler, "VOL_", prefix) << "\n";
   }
-  volumes << dispatchSource(static_cast<int>(variant.volumes.size()));
+  volumes << dispatchSource(static_cast<int>(variant.volumes.size()), variant.columns);
   std::string source = main->substr(0, at) + volumes.str() + main->substr(at + marker.size());
   std::vector<std::string> defines = marchShaderDefines();
   defines.push_back("MARCH_MODE " + std::to_string(variant.mode));
@@ -191,6 +196,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   defines.push_back(std::string("MARCH_PREINTEGRATED ") + (variant.preintegrated ? "1" : "0"));
   defines.push_back(std::string("MARCH_STEP_RULE ") + (variant.stepRule ? "1" : "0"));
   defines.push_back(std::string("MARCH_ADAPTIVE ") + (variant.adaptive ? "1" : "0"));
+  defines.push_back(std::string("MARCH_COLUMNS ") + (variant.columns ? "1" : "0"));
   defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
   auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
   if (!program) return fail(program.error());
@@ -208,6 +214,9 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   l.debugT = location("u_debugT");
   l.coarseSizePx = location("u_coarseSizePx");
   l.refineThreshold = location("u_refineThreshold");
+  l.columnBox = location("u_columnBox");
+  l.columnHeights = location("u_columnHeights");
+  l.columnAnchor = location("u_columnAnchor");
   // Texture units are fixed per program: set once.
   glProgramUniform1i(id, location("u_globeDepth"), kDepthUnit);
   glProgramUniform1i(id, location("u_transfer"), kTransferUnit);
@@ -238,7 +247,7 @@ void VolumeRendererGL::ensureTarget(int widthPx, int heightPx, GLenum format) {
 }
 
 bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, int count, GLuint depthTexture,
-                             int debugMode, double debugT, const CoarseGL* coarse) {
+                             int debugMode, double debugT, const CoarseGL* coarse, const ColumnsGL* columns) {
   using C = MarchConstants;
   const VolumeRenderOptions& first = layers[0].options;
   const volume::VolumeRenderSettings& rs = first.render;
@@ -249,10 +258,13 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   variant.skipEmpty = first.skipEmptySpace;
   variant.preintegrated = preintegrated;
   variant.adaptive = coarse != nullptr && !debugMode;
+  variant.columns = columns != nullptr && !debugMode;
   for (int k = 0; k < count; ++k) {
     variant.volumes.emplace_back(std::string(layers[k].volume->samplerShaderFile()),
                                  layers[k].volume->samplerDefines(layers[k].options));
-    variant.stepRule = variant.stepRule || (!debugMode && layers[k].options.render.samplesPerCell > 0.0);
+    // Columns take the fixed step (their samples are made once and kept).
+    variant.stepRule = variant.stepRule ||
+                       (!debugMode && !variant.columns && layers[k].options.render.samplesPerCell > 0.0);
   }
   // The step rule never goes above a pixel's footprint t / focal: where the volumes' far side is
   // nearer than 2 steps' worth of footprint, every level is 0 and the fixed-step program draws the
@@ -295,6 +307,13 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
       uniformUploads_ += 2;
     }
     entry.shared = std::move(shared);
+  }
+  if (variant.columns) {
+    // Set every call: each slab has its own heights.
+    glUniform4fv(loc.columnBox, 1, glm::value_ptr(columns->box));
+    glUniform2fv(loc.columnHeights, 1, glm::value_ptr(columns->heights));
+    glUniform3fv(loc.columnAnchor, 1, glm::value_ptr(columns->anchor));
+    uniformUploads_ += 3;
   }
   if (variant.adaptive) glBindTextureUnit(kCoarseUnit, coarse->texture);
   glBindTextureUnit(kDepthUnit, depthTexture);
@@ -513,9 +532,9 @@ std::vector<double> progressKey(const Camera& camera, const std::vector<VolumeLa
     key.insert(key.end(),
                {double(l.volume->id()), double(l.volume->uniformVersion()), withScale ? l.options.imageScale : 0.0,
                 withScale ? l.options.refineThreshold : -1.0, double(l.options.skipEmptySpace),
-                double(l.options.classification), double(r.mode), double(r.interpolation), r.stepMeters,
-                r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue, r.transfer.opacityFullValue,
-                r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
+                double(l.options.classification), double(l.options.farField), double(r.mode), double(r.interpolation),
+                r.stepMeters, r.earlyTerminationAlpha, r.isoValue, r.transfer.opacityZeroValue,
+                r.transfer.opacityFullValue, r.transfer.maxOpacity, r.transfer.opacityReferenceMeters});
     for (const glm::dvec2& q : r.transfer.opacityPoints) key.insert(key.end(), {q.x, q.y});
   }
   return key;
@@ -542,6 +561,11 @@ glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target,
 bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                 const FramebufferGL& image, const glm::ivec4& box, const FramebufferGL& target,
                                 const CoarseGL* coarse) {
+  // One volume seen from far enough: its far field (FarFieldGL.h) instead of the march.
+  std::optional<FarFieldPlan> plan;
+  if (layers.size() == 1) plan = FarFieldGL::planFor(camera, layers[0]);
+  const bool hidden = plan && !plan->view.rect;  // all of it behind the Earth
+  if (plan && !hidden && !farField_->prepare(*this, layers[0], *plan)) plan.reset();
   image.bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
@@ -549,9 +573,35 @@ bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLa
   glScissor(box.x, box.y, box.z - box.x, box.w - box.y);
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
-  const bool ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0, coarse);
+  bool ok = true;
+  if (hidden) {
+    // Nothing of it can be seen.
+  } else if (plan) {
+    farField_->draw(camera, layers[0], *plan->view.rect, target.depthTexture());
+  } else {
+    ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0, coarse);
+  }
   glDisable(GL_SCISSOR_TEST);
   return ok;
+}
+
+bool VolumeRendererGL::marchColumns(const VolumeLayerGL& layer, const FarFieldPlan& plan, int slab) {
+  const double lonMid = plan.westDeg + 0.5 * plan.columns * plan.lonStepDeg;
+  const double latMid = plan.southDeg + 0.5 * plan.rows * plan.latStepDeg;
+  const double top = plan.boundariesMeters[static_cast<std::size_t>(slab)];
+  const double bottom = plan.boundariesMeters[static_cast<std::size_t>(slab) + 1];
+  // The volumes' "eye" is a point above the middle of the grid (only its ECEF position is used).
+  CameraPose pose;
+  pose.latDeg = latMid;
+  pose.lonDeg = lonMid;
+  pose.heightMeters = top;
+  const Camera anchor(pose, 60.0, plan.columns, plan.rows);
+  ColumnsGL columns;
+  columns.box = glm::vec4(static_cast<float>(plan.westDeg), static_cast<float>(plan.southDeg),
+                          static_cast<float>(plan.lonStepDeg), static_cast<float>(plan.latStepDeg));
+  columns.heights = glm::vec2(static_cast<float>(top), static_cast<float>(bottom));
+  columns.anchor = glm::vec3(anchor.eyeEcef());
+  return march(anchor, &layer, 1, emptyDepth_, 0, 0.0, nullptr, &columns);
 }
 
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,

@@ -70,6 +70,7 @@ Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& d, 
   o.imageScale = d.imageScale;
   o.refineThreshold = d.refineThreshold;
   o.classification = d.classification;
+  o.farField = d.farField;
   return o;
 }
 

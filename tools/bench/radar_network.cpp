@@ -3,7 +3,8 @@
 //
 //   build/tools/bench/bench_radar_network [--runs N] [--frames N] [--counts 1,10,40,160]
 //       [--sizes 320x180,1280x720] [--gate M] [--separate-max N] [--skip 0|1] [--samples-per-cell N]
-//       [--out DIR] [--data DIR]   (--help: the options, their defaults and bounds)
+//       [--views continental,regional] [--far-field 0|1] [--out DIR] [--data DIR]
+//       (--help: the options, their defaults and bounds)
 //
 // The radars: SYNTHETIC volumes of one storm field (volume::syntheticNetworkStorms, seed 1; VCP 212
 // angles, 360 rays, gates of --gate m to 230 km) at the NEXRAD sites of the built-in table nearest
@@ -19,7 +20,11 @@
 // --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
 // volumes: one cluster of up to 8 volumes per pass), for comparison. --samples-per-cell N > 0:
 // every volume follows the step rule (volume/StepRule.h) at N samples per cell; the samples and
-// visits columns count the fixed step's samples, so they are left out then.
+// visits columns count the fixed step's samples, so they are left out then. --far-field 1: each
+// case is drawn again with the far field on (engine/FarFieldGL.h, FarField::Auto), timed in the same
+// run, with the first frame (which makes the slabs) and the mean difference of the far field's
+// frame from the marched one (8-bit RGB): a second table; both frames are written to
+// OUT/far_field/N_VIEW_WxH_{marched,far_field}.png.
 //
 // Then the rules on real data, when --data DIR (default ../shared/data) holds the overlapping
 // Belgian pair (radar_odim/bewid.pvol.hdf and behel_loop/20200207130000...dbzh.scanz.hdf, DBZH):
@@ -33,6 +38,7 @@
 #include <atmoglobe/engine/RadarVolumeGL.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/RadarLoad.h>
 #include <atmoglobe/volume/RenderCamera.h>
 #include <atmoglobe/volume/StationList.h>
@@ -109,9 +115,10 @@ Visits countVisits(const engine::Camera& camera, const volume::RadarNetworkSampl
 
 int main(int argc, char** argv) {
   int runs = 3, frames = 3, separateMax = 10;
-  bool skip = true;
+  bool skip = true, farField = false;
   double gateMeters = 1000.0, samplesPerCell = 0.0;
   std::vector<int> counts = {1, 10, 40, 160};
+  std::string viewNames = "continental,regional";
   std::vector<std::pair<int, int>> sizes = {{320, 180}, {1280, 720}};
   fs::path out = "out/bench";
   fs::path data = "../shared/data";
@@ -165,6 +172,11 @@ int main(int argc, char** argv) {
   app.add_option("--samples-per-cell", samplesPerCell,
                  "> 0: every volume follows the step rule at N samples per cell (0 to 64, default 0: the fixed step)")
       ->check(benchcli::numberIn(0.0, 64.0));
+  app.add_option("--views", viewNames, "Views, comma-separated: continental, regional (default both)")
+      ->type_name("NAME,...");
+  app.add_option("--far-field", farField,
+                 "1: each case also drawn with the far field on (FarFieldGL.h), a second table (default 0)")
+      ->type_name("0|1");
   app.add_option("--out", out, "Output directory (the SYNTHETIC volumes under DIR/network_volumes; default out/bench)");
   app.add_option("--data", data,
                  "Directory holding the Belgian pair for the overlap rules on real data (default ../shared/data)");
@@ -245,8 +257,14 @@ int main(int argc, char** argv) {
     engine::CameraPose pose;
   };
   const globe::GeodesicPoint sw = globe::geodesicDirect(lat0, lon0, 225.0, 200e3);
-  const std::vector<View> views = {{"continental", {38.5, -97.0, 4.5e6, 0.0, -90.0, 0.0}},
-                                   {"regional", {sw.latDeg, sw.lonDeg, 6e4, 45.0, -15.0, 0.0}}};
+  std::vector<View> views;
+  for (const View& v : {View{"continental", {38.5, -97.0, 4.5e6, 0.0, -90.0, 0.0}},
+                        View{"regional", {sw.latDeg, sw.lonDeg, 6e4, 45.0, -15.0, 0.0}}})
+    if (("," + viewNames + ",").find("," + std::string(v.name) + ",") != std::string::npos) views.push_back(v);
+  if (views.empty()) {
+    std::cerr << "bench_radar_network: --views " << viewNames << ": expected continental and/or regional\n";
+    return 2;
+  }
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.skipEmptySpace = skip;
@@ -256,6 +274,8 @@ int main(int argc, char** argv) {
       "| radars | view | size | network frame (ms) | / 1 radar | separate volumes (ms) | samples (M) | radars "
       "visited per sample (mean, max) | GPU MB | read + upload (s) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<double> oneRadar(views.size() * sizes.size(), 0.0);
+  std::vector<double> oneRadarFar(views.size() * sizes.size(), 0.0);
+  std::ostringstream farTable;
   std::vector<std::shared_ptr<const volume::PolarVolume>> loaded;
   double readSeconds = 0.0;
   for (int count : counts) {
@@ -336,7 +356,57 @@ int main(int argc, char** argv) {
                     sizes[s].first, sizes[s].second, ms, ms / oneRadar[v * sizes.size() + s], separateMs.c_str(),
                     samples.c_str(), visits.c_str(), static_cast<double>(gpuBytes) / 1e6, readSeconds + uploadSeconds);
         std::fflush(stdout);
+        if (farField) {
+          const globe::ImageRGBA8 marched = (*target)->readColor();
+          std::vector<engine::VolumeLayerGL> farLayers = networkLayers;
+          for (engine::VolumeLayerGL& l : farLayers) l.options.farField = engine::FarField::Auto;
+          const std::size_t madeBefore = (*renderer)->farField().slabSetsMade();
+          const auto tFirst = Clock::now();
+          (*target)->bind();
+          glClearDepth(0.0);
+          glClearColor(0, 0, 0, 1);
+          glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+          (*renderer)->draw(camera, farLayers, **target);
+          glFinish();
+          const double firstMs = secondsSince(tFirst) * 1e3;
+          const std::size_t made = (*renderer)->farField().slabSetsMade() - madeBefore;
+          const double farMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs);
+          if (count == counts.front()) oneRadarFar[v * sizes.size() + s] = farMs;
+          const globe::ImageRGBA8 far = (*target)->readColor();
+          // Both frames, to look at: OUT/far_field/N_VIEW_WxH_{marched,far_field}.png.
+          const fs::path pictures = out / "far_field";
+          fs::create_directories(pictures, ec);
+          const std::string stem = (pictures / (std::to_string(n) + "_" + views[v].name + "_" +
+                                                std::to_string(sizes[s].first) + "x" + std::to_string(sizes[s].second)))
+                                       .string();
+          (void)globe::writePng(stem + "_marched.png", marched);
+          (void)globe::writePng(stem + "_far_field.png", far);
+          double sum = 0.0;
+          int maxDiff = 0;
+          for (std::size_t i = 0; i < far.pixels.size(); ++i)
+            if (i % 4 != 3) {
+              const int d = std::abs(int(far.pixels[i]) - int(marched.pixels[i]));
+              sum += d;
+              maxDiff = std::max(maxDiff, d);
+            }
+          char row[256];
+          std::snprintf(row, sizeof row, "| %zu | %s | %dx%d | %.2f | %.2f | %.1fx | %.2f | %zu | %.3f | %d | %.0f |\n",
+                        n, views[v].name, sizes[s].first, sizes[s].second, ms, farMs, ms / farMs,
+                        farMs / oneRadarFar[v * sizes.size() + s], made,
+                        sum / static_cast<double>(far.pixels.size() / 4 * 3), maxDiff,
+                        static_cast<double>((*renderer)->farField().gpuBytes()) / 1e6);
+          farTable << row << "  (first frame, slabs made: " << firstMs << " ms)\n";
+        }
       }
+  }
+
+  if (farField) {
+    std::printf(
+        "\nThe far field (FarField::Auto) against the march, same run\n\n| radars | view | size | marched (ms) | far "
+        "field (ms) | faster | / 1 radar (far field) | slab sets made | mean abs vs marched (8-bit RGB) | max | slabs "
+        "kept (MB) |\n|---|---|---|---|---|---|---|---|---|---|---|\n%s",
+        farTable.str().c_str());
+    std::fflush(stdout);
   }
 
   // The rules on the real Belgian pair.

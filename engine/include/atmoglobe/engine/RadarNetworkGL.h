@@ -83,6 +83,8 @@ class RadarNetworkGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return sampler_->valueRange(); }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return sampler_->description(); }
+  /// The coverage index's box, up to the highest beam.
+  std::optional<FarFieldExtent> farFieldExtent() const override;
   const volume::VolumeSampler& referenceSampler() const override {
     return exaggerated_ ? static_cast<const volume::VolumeSampler&>(*exaggerated_) : *sampler_;
   }
@@ -119,6 +121,7 @@ class RadarNetworkGL final : public VolumeGL {
   bool keptByLaterSteps_ = false;  ///< createByCluster kept it whole for a later step: never taken over
   int maxListed_ = 0;              ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
+  double topRadiusMeters_ = 0.0;  ///< from the Earth's centre: above every beam (top_, in double)
   std::size_t gpuBytes_ = 0;
 };
 

@@ -21,6 +21,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -61,6 +62,17 @@ struct VolumeRenderOptions {
   double refineThreshold = -1.0;
   bool skipEmptySpace = true;  ///< jump over cells of the empty-space grid that cannot contribute
   Classification classification = Classification::Point;  ///< DVR only
+  /// DVR of a volume with a far-field extent (VolumeGL::farFieldExtent): drawn from its far field
+  /// where every pixel over it is wide enough (FarFieldGL.h).
+  FarField farField = FarField::Off;
+};
+
+/// Where a volume's data can be, for its far field (FarFieldGL.h): a latitude/longitude box and
+/// the height above the ellipsoid above which it has none.
+struct FarFieldExtent {
+  double southDeg = 0.0, northDeg = 0.0;
+  double westDeg = 0.0, eastDeg = 0.0;  ///< east > west; east - west <= 360
+  double topMeters = 0.0;
 };
 
 /// Uniform locations of one program, looked up once per name and kept.
@@ -142,6 +154,8 @@ class VolumeGL {
   /// the volume through it: `render --reference`, tests). Lives as long as this volume.
   virtual const volume::VolumeSampler& referenceSampler() const = 0;
   const OccupancyGridGL& occupancy() const { return occupancy_; }
+  /// Where its data can be, for a far field (FarFieldGL.h); none: the kind has no far field.
+  virtual std::optional<FarFieldExtent> farFieldExtent() const { return std::nullopt; }
 
  protected:
   void uniformsChanged() { ++uniformVersion_; }

@@ -35,6 +35,14 @@ enum class Classification {
                   ///< (volume::transferIntegralTable)
 };
 
+/// Whether a volume seen from far away is drawn from its far field (engine/FarFieldGL.h): its
+/// emission and absorption integrated down the vertical in horizontal slabs once, then laid along
+/// each pixel's ray, instead of a march per pixel. Radar networks only.
+enum class FarField {
+  Off,   ///< always marched
+  Auto,  ///< the far field where every pixel over the volume spans FarFieldGL::kMinFootprintMeters or more
+};
+
 /// How the GPU maps a point to a radar's antenna coordinates (radars only).
 enum class BeamApproximation {
   /// The effective-Earth model (ke, R from the volume's BeamModel) on a local sphere whose
@@ -54,6 +62,7 @@ const char* nameOf(volume::VolumeRenderMode mode);
 const char* nameOf(volume::Interpolation interpolation);
 const char* nameOf(Classification classification);
 const char* nameOf(BeamApproximation beam);
+const char* nameOf(FarField farField);
 
 /// Every value of an enum, in its table's order (the choices offered and listed in messages).
 template <class E>
@@ -69,6 +78,8 @@ template <>
 const std::vector<Classification>& allValues<Classification>();
 template <>
 const std::vector<BeamApproximation>& allValues<BeamApproximation>();
+template <>
+const std::vector<FarField>& allValues<FarField>();
 
 /// The value spelled `name` (exactly, as nameOf writes it), or nullopt.
 template <class E>
@@ -150,7 +161,10 @@ struct VolumeLayerDescription {
   bool nearWindow = true;
   /// The isosurface value (field units). Empty: the kind's default (defaultIsoValue).
   std::optional<double> isoValue;
-  Classification classification = Classification::Point;                  ///< DVR only
+  Classification classification = Classification::Point;  ///< DVR only
+  /// Radar networks seen from far away: drawn from their far field (engine/FarFieldGL.h; scene
+  /// "far_field", CLI --far-field auto|off). Off: always marched.
+  FarField farField = FarField::Off;
   BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;  ///< radars only
   std::string label;  ///< radars: the site marker's label; empty: the site name from the file
   /// Radar networks: how overlapping radars make one value (volume/RadarNetwork.h; not Integrate).

@@ -6,6 +6,7 @@
 // add, colours weighted by extinction), the rule of the CPU reference
 // (volume/ReferenceRenderer.h). docs/volume-rendering.md.
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FarFieldGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/ShaderProgramGL.h>
 #include <atmoglobe/engine/VolumeGL.h>
@@ -47,6 +48,8 @@ struct MarchVariant {
   /// The refinement pass of adaptive refinement (VolumeRenderOptions::refineThreshold): pixels
   /// whose small-image neighbourhood agrees take its bilinear value, the others are marched.
   bool adaptive = false;
+  /// The far field's columns (FarFieldGL.h): pixels are columns down the vertical, not camera rays.
+  bool columns = false;
   /// Per volume: its sampler file and its sampler defines.
   std::vector<std::pair<std::string, std::vector<std::string>>> volumes;
   auto operator<=>(const MarchVariant&) const = default;
@@ -131,12 +134,19 @@ class VolumeRendererGL {
   /// compile log on stderr (once) if it fails.
   const ShaderProgramGL* marchProgram(const MarchVariant& variant);
 
+  /// The far field's slab `slab` of `plan` (FarFieldGL.h): one column per pixel of the bound
+  /// framebuffer (plan.columns x plan.rows), marched down the vertical through that slab with
+  /// the layer's settings at the fixed step. False if the program failed.
+  bool marchColumns(const VolumeLayerGL& layer, const FarFieldPlan& plan, int slab);
+  /// The far field's slab sets made so far and their GPU bytes (FarFieldGL).
+  const FarFieldGL& farField() const { return *farField_; }
+
  private:
   VolumeRendererGL() = default;
   /// Uniform locations of the march program's own uniforms, resolved once when it is built.
   struct MarchLocationsGL {
     int cameraToEcef = -1, focalPx = -1, imageSizePx = -1, near = -1, step = -1, earlyTermination = -1, debugT = -1,
-        coarseSizePx = -1, refineThreshold = -1;
+        coarseSizePx = -1, refineThreshold = -1, columnBox = -1, columnHeights = -1, columnAnchor = -1;
     struct Volume {
       int eyeRel = -1, ecefToLocal = -1, gridMinLocal = -1, gridCellSize = -1, gridCells = -1, isoValue = -1,
           opacityZeroValue = -1, mipVisibleMin = -1, tfRange = -1, isoColor = -1, samplesPerCell = -1, hole = -1;
@@ -161,10 +171,17 @@ class VolumeRendererGL {
     glm::ivec2 sizePx{0};
     double thresholdSteps = 0.0;  ///< 8-bit steps
   };
+  /// The far field's columns (MarchVariant::columns).
+  struct ColumnsGL {
+    glm::vec4 box{0.0f};      ///< lonWestDeg, latSouthDeg, lonStepDeg, latStepDeg
+    glm::vec2 heights{0.0f};  ///< the column's top and bottom (m above the ellipsoid)
+    glm::vec3 anchor{0.0f};   ///< ECEF of the camera given to march (its eye)
+  };
   /// Marches one group into the bound target; false if its program failed. `coarse`: the
-  /// refinement pass of adaptive refinement over that small image.
+  /// refinement pass of adaptive refinement over that small image; `columns`: the far field's
+  /// columns instead of the camera's rays.
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
-             double debugT, const CoarseGL* coarse = nullptr);
+             double debugT, const CoarseGL* coarse = nullptr, const ColumnsGL* columns = nullptr);
   void ensureTarget(int widthPx, int heightPx, unsigned int format);
   /// Clears `box` (x0, y0, x1, y1) of `image` and marches `layers` there (scissored), against the
   /// depth of `target`: draw()'s work per pass, drawProgressive's per preview and tile.
@@ -187,6 +204,7 @@ class VolumeRendererGL {
   /// leaves it bound.
   void compositeOver(unsigned int volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
 
+  std::unique_ptr<FarFieldGL> farField_;
   std::map<MarchVariant, ProgramEntry> programs_;
   std::map<MarchVariant, std::string> programErrors_;
   ShaderProgramGL composite_;

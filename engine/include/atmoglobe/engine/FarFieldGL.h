@@ -1,0 +1,113 @@
+#pragma once
+// The far field of a volume seen from far away (docs/networks.md, "The far field"): a radar
+// network seen from a continent away covers hundreds of thousands of pixels, and marching each
+// of them through every radar over it costs about 100 times one radar's frame. Where every
+// pixel over the volume spans kMinFootprintMeters or more, the volume is drawn instead from its
+// far field:
+//  1. Slabs. The marcher (volume_march.frag, MARCH_COLUMNS) integrates the volume's emission and
+//     absorption down the ellipsoid's normal through horizontal slabs (boundaries kSlabTopsMeters
+//     and the volume's top), one column per texel of a latitude/longitude grid over the volume's
+//     extent whose texels are no wider than half the pixels' footprint: premultiplied RGBA per slab.
+//     Made once per volume, transfer function, step and texel size, and kept.
+//  2. Per pixel (shaders/far_field.frag), the ray's piece in each slab takes the slab's texel at
+//     the piece's middle, its optical depth scaled by the piece's length over the slab's
+//     thickness, composited front to back down to the globe's depth.
+// What it assumes: along a ray's piece in a slab the volume is as it is down the vertical at the
+// piece's middle. Its error against the march is measured (tests, bench), not bounded here.
+// DVR only (point or pre-integrated classification); MIP and isosurfaces are marched.
+#include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/ShaderProgramGL.h>
+#include <atmoglobe/engine/VolumeGL.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace atmoglobe::engine {
+
+class VolumeRendererGL;
+struct VolumeLayerGL;
+
+/// What one far field is made of.
+struct FarFieldPlan {
+  /// How the camera sees the box (not part of what the slabs are).
+  struct View {
+    std::optional<glm::dvec4> rect;  ///< frame pixels (x0, y0, x1, y1 from the top left) that can see it; none: none
+    double maxIncidenceDeg = 0.0;    ///< the largest angle from the vertical at which the eye sees its ground
+  };
+  View view;
+  double westDeg = 0.0, southDeg = 0.0;       ///< the texel grid's corner
+  double lonStepDeg = 0.0, latStepDeg = 0.0;  ///< a texel's size
+  int columns = 0, rows = 0;
+  std::vector<double> boundariesMeters;  ///< the slabs' boundaries above the ellipsoid, from the top down (slabs + 1)
+};
+
+class FarFieldGL {
+ public:
+  /// The narrowest a pixel over the volume may be for the far field (Auto): the network's cells
+  /// are 1-2 km (1 km gates, 0.5-1 deg between rays at 100-230 km), and a ray's slant piece
+  /// through a 2 km slab moves under 2.4 km sideways up to 50 deg from the vertical.
+  static constexpr double kMinFootprintMeters = 2000.0;
+  /// Slab boundaries (m above the ellipsoid) up to the volume's top, which closes the last slab.
+  static constexpr std::array<double, 9> kSlabBoundariesMeters{0.0,     2000.0,  4000.0,  6000.0, 8000.0,
+                                                               10000.0, 12000.0, 15000.0, 20000.0};
+  static constexpr int kMaxSlabs = static_cast<int>(kSlabBoundariesMeters.size());
+  /// Texels per side at most, and per slab (2^21 texels: 16 MB a slab at RGBA16F).
+  static constexpr int kMaxTexels = 4096;
+  static constexpr double kMaxTexelsPerSlab = 2097152.0;
+  /// The slabs kept in all (the least recently used go first), GPU bytes.
+  static constexpr std::size_t kMaxKeptBytes = std::size_t{512} << 20;
+  /// The most a ray may lean from the vertical where it meets the ground under the box (the far
+  /// field is marched otherwise): at 70 deg a ray's piece of a 2 km slab runs 5.5 km sideways.
+  static constexpr double kMaxIncidenceDeg = 70.0;
+  /// Volumes whose slabs are kept (the least recently used go first): the 159 NEXRAD sites are 9
+  /// clusters.
+  static constexpr std::size_t kKeptVolumes = 16;
+
+  static Result<std::unique_ptr<FarFieldGL>> create();
+  ~FarFieldGL();
+  FarFieldGL(const FarFieldGL&) = delete;
+  FarFieldGL& operator=(const FarFieldGL&) = delete;
+
+  /// The far field of `layer` under `camera`, or none: off, not DVR, a kind without a far-field
+  /// extent, the eye not above its top, some pixel over the volume narrower than
+  /// kMinFootprintMeters (the eye's distance to its bounding sphere, or its height above the top,
+  /// whichever is more, / the focal length in pixels), or its ground seen more slantwise than
+  /// kMaxIncidenceDeg. A plan whose view.rect is empty draws nothing (it is behind the Earth).
+  static std::optional<FarFieldPlan> planFor(const Camera& camera, const VolumeLayerGL& layer);
+
+  /// Makes the slabs of `layer` for `plan` unless those kept for that volume, transfer function,
+  /// step and slabs have texels as fine or finer; `marcher` marches the columns. Leaves no
+  /// framebuffer bound.
+  bool prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan);
+  /// Draws the prepared slabs of `layer` into the bound framebuffer (its viewport and scissor as
+  /// set, within `rectPx`: the plan's view.rect), premultiplied, occluded by `depthTexture`
+  /// (reverse-Z of the frame).
+  void draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx, unsigned int depthTexture);
+
+  /// Slab sets made so far (tests: a second frame of the same view makes none).
+  std::size_t slabSetsMade() const { return made_; }
+  /// GPU bytes of the slabs kept.
+  std::size_t gpuBytes() const;
+
+ private:
+  FarFieldGL() = default;
+  struct Slabs {
+    std::uint64_t volumeId = 0, uniformVersion = 0;
+    std::vector<double> settings;  ///< the transfer function, step, classification
+    FarFieldPlan plan;
+    unsigned int texture = 0;
+  };
+  static std::vector<double> settingsKey(const VolumeLayerGL& layer);
+  using BoxView = FarFieldPlan::View;
+  static BoxView viewOf(const Camera& camera, const FarFieldPlan& plan);
+  const Slabs* find(const VolumeLayerGL& layer) const;
+  ShaderProgramGL program_;
+  unsigned int vao_ = 0, fbo_ = 0;
+  std::vector<Slabs> kept_;  ///< the latest slabs per volume (a few volumes)
+  std::size_t made_ = 0;
+};
+
+}  // namespace atmoglobe::engine

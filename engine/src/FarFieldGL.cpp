@@ -1,0 +1,293 @@
+#include <atmoglobe/engine/FarFieldGL.h>
+
+#include "LoaderGL.h"
+
+#include <atmoglobe/engine/ShaderConstants.h>
+#include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/globe/Ellipsoid.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace atmoglobe::engine {
+
+Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
+  std::vector<std::string> defines = ellipsoidShaderDefines();
+  defines.push_back("FAR_FIELD_MAX_SLABS " + std::to_string(kMaxSlabs));
+  auto program = ShaderProgramGL::create("fullscreen.vert", "far_field.frag", defines);
+  if (!program) return program.forwardError();
+  std::unique_ptr<FarFieldGL> f(new FarFieldGL());
+  f->program_ = std::move(*program);
+  glCreateVertexArrays(1, &f->vao_);
+  glCreateFramebuffers(1, &f->fbo_);
+  return f;
+}
+
+FarFieldGL::~FarFieldGL() {
+  for (const Slabs& s : kept_) glDeleteTextures(1, &s.texture);
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+}
+
+std::optional<FarFieldPlan> FarFieldGL::planFor(const Camera& camera, const VolumeLayerGL& layer) {
+  const VolumeRenderOptions& o = layer.options;
+  if (o.farField != FarField::Auto || o.render.mode != volume::VolumeRenderMode::Dvr || !layer.volume) return {};
+  const std::optional<FarFieldExtent> extent = layer.volume->farFieldExtent();
+  if (!extent || !(extent->topMeters > 0.0) || !(extent->eastDeg > extent->westDeg) ||
+      !(extent->northDeg > extent->southDeg))
+    return {};
+  // The narrowest pixel over the volume: at its nearest point, no nearer than its bounding
+  // sphere, nor than the eye's height above the top (nothing of it is higher).
+  const volume::BoundingSphere sphere = layer.volume->referenceSampler().boundingSphere();
+  const double eyeHeight = globe::ecefToGeodetic(camera.eyeEcef()).heightMeters;
+  if (!(eyeHeight > extent->topMeters)) return {};
+  const double nearest =
+      std::max(glm::length(sphere.centreEcef - camera.eyeEcef()) - sphere.radiusMeters, eyeHeight - extent->topMeters);
+  const double footprint = nearest / camera.focalLengthPx();
+  if (!(footprint >= kMinFootprintMeters)) return {};
+
+  FarFieldPlan plan;
+  // Texels no wider than half the footprint (with texels a pixel wide the bilinear lookup blurs
+  // what the march resolves: 38.5 against 43.5 dB in FarFieldTest): a latitude step of 0.005 deg x
+  // 2^L, L the largest that keeps it under that (so that nearby views share slabs), and a
+  // longitude step as wide at the box's latitude nearest the equator (narrower elsewhere).
+  constexpr double kMetersPerDeg = 111320.0;
+  const double wantedDeg = 0.5 * footprint / kMetersPerDeg;
+  double latStep = 0.005;
+  while (latStep * 2.0 <= wantedDeg) latStep *= 2.0;
+  const double nearestEquator = extent->southDeg <= 0.0 && extent->northDeg >= 0.0
+                                    ? 0.0
+                                    : std::min(89.0, std::min(std::abs(extent->southDeg), std::abs(extent->northDeg)));
+  double lonStep = std::min(360.0, latStep / std::cos(glm::radians(nearestEquator)));
+  const double latSpan = extent->northDeg - extent->southDeg, lonSpan = extent->eastDeg - extent->westDeg;
+  // At most kMaxTexels a side and kMaxTexelsPerSlab in all: coarser where the box needs more.
+  latStep = std::max(latStep, latSpan / kMaxTexels);
+  lonStep = std::max(lonStep, lonSpan / kMaxTexels);
+  const double texels = std::ceil(latSpan / latStep) * std::ceil(lonSpan / lonStep);
+  if (texels > kMaxTexelsPerSlab) {
+    const double coarser = std::sqrt(texels / kMaxTexelsPerSlab) * 1.001;
+    latStep *= coarser;
+    lonStep *= coarser;
+  }
+  plan.westDeg = extent->westDeg;
+  plan.southDeg = extent->southDeg;
+  plan.latStepDeg = latStep;
+  plan.lonStepDeg = lonStep;
+  plan.columns = std::max(1, static_cast<int>(std::ceil(lonSpan / lonStep)));
+  plan.rows = std::max(1, static_cast<int>(std::ceil(latSpan / latStep)));
+  // Slabs from the top down: the volume's top, then the fixed boundaries below it.
+  plan.boundariesMeters.push_back(extent->topMeters);
+  for (auto it = kSlabBoundariesMeters.rbegin(); it != kSlabBoundariesMeters.rend(); ++it)
+    if (*it < extent->topMeters) plan.boundariesMeters.push_back(*it);
+  // Seen too slantwise somewhere (near the limb), a ray's piece of a slab runs far from the column
+  // it reads: marched instead.
+  plan.view = viewOf(camera, plan);
+  if (plan.view.rect && plan.view.maxIncidenceDeg > kMaxIncidenceDeg) return {};
+  return plan;
+}
+
+std::vector<double> FarFieldGL::settingsKey(const VolumeLayerGL& layer) {
+  const VolumeRenderOptions& o = layer.options;
+  const volume::VolumeRenderSettings& r = o.render;
+  const volume::TransferFunction& tf = r.transfer;
+  std::vector<double> key{r.stepMeters,
+                          r.earlyTerminationAlpha,
+                          double(r.interpolation),
+                          double(o.classification),
+                          double(o.skipEmptySpace),
+                          tf.opacityZeroValue,
+                          tf.opacityFullValue,
+                          tf.maxOpacity,
+                          tf.opacityReferenceMeters,
+                          tf.colors.offset(),
+                          tf.colors.scale()};
+  for (const glm::dvec2& p : tf.opacityPoints) key.insert(key.end(), {p.x, p.y});
+  for (const auto& stop : tf.colors.stops()) {
+    key.push_back(stop.value);
+    for (const volume::Rgba8& c : {stop.start, stop.end})
+      key.insert(key.end(), {double(c.r), double(c.g), double(c.b), double(c.a)});
+  }
+  return key;
+}
+
+const FarFieldGL::Slabs* FarFieldGL::find(const VolumeLayerGL& layer) const {
+  for (const Slabs& s : kept_)
+    if (s.volumeId == layer.volume->id()) return &s;
+  return nullptr;
+}
+
+bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan) {
+  const std::vector<double> settings = settingsKey(layer);
+  auto it = std::find_if(kept_.begin(), kept_.end(), [&](const Slabs& s) { return s.volumeId == layer.volume->id(); });
+  // The most recently used last.
+  if (it != kept_.end()) {
+    std::rotate(it, it + 1, kept_.end());
+    it = kept_.end() - 1;
+    // Slabs as fine as the plan's or finer serve it (a view moving away makes none).
+    const FarFieldPlan& kept = it->plan;
+    if (it->uniformVersion == layer.volume->uniformVersion() && it->settings == settings &&
+        kept.boundariesMeters == plan.boundariesMeters && kept.westDeg == plan.westDeg &&
+        kept.southDeg == plan.southDeg && kept.latStepDeg <= plan.latStepDeg && kept.lonStepDeg <= plan.lonStepDeg)
+      return true;
+  } else {
+    // Room for kKeptVolumes volumes (a national network's clusters): the least recently used goes.
+    if (kept_.size() >= kKeptVolumes) {
+      glDeleteTextures(1, &kept_.front().texture);
+      kept_.erase(kept_.begin());
+    }
+    kept_.push_back({});
+    it = kept_.end() - 1;
+  }
+  Slabs& s = *it;
+  if (s.texture) glDeleteTextures(1, &s.texture);
+  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+  s.texture = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+  clearErrorsGL();
+  glTextureStorage3D(s.texture, 1, GL_RGBA16F, plan.columns, plan.rows, slabs);
+  if (outOfMemoryGL()) {
+    glDeleteTextures(1, &s.texture);
+    kept_.erase(it);
+    return false;
+  }
+  s.volumeId = layer.volume->id();
+  s.uniformVersion = layer.volume->uniformVersion();
+  s.settings = settings;
+  s.plan = plan;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, plan.columns, plan.rows);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  bool ok = true;
+  for (int k = 0; k < slabs && ok; ++k) {
+    glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, k);
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, zero);
+    ok = marcher.marchColumns(layer, plan, k);
+  }
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);  // so that a deleted texture is freed
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glEnable(GL_DEPTH_TEST);
+  if (!ok) {
+    glDeleteTextures(1, &s.texture);
+    kept_.erase(it);
+    return false;
+  }
+  ++made_;
+  // Within kMaxKeptBytes: the least recently used others go.
+  while (kept_.size() > 1 && gpuBytes() > kMaxKeptBytes) {
+    glDeleteTextures(1, &kept_.front().texture);
+    kept_.erase(kept_.begin());
+  }
+  return true;
+}
+
+FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan& plan) {
+  // A grid of points over the texel grid's box at the ground and at the top: the rectangle of
+  // those the eye sees (in front, not behind the Earth), widened by the largest step between
+  // neighbouring points on the screen, so that what lies between them is inside; and the largest
+  // angle between the eye's direction and the vertical at the ground points it sees.
+  constexpr int kN = 16;
+  BoxView view;
+  glm::dvec2 lo(1e300), hi(-1e300);
+  double spacing = 0.0;
+  const double heights[2] = {0.0, plan.boundariesMeters.front()};
+  for (double h : heights) {
+    std::vector<std::optional<glm::dvec2>> row(kN + 1), previous(kN + 1);
+    for (int j = 0; j <= kN; ++j) {
+      for (int i = 0; i <= kN; ++i) {
+        const double lat = std::min(90.0, plan.southDeg + plan.rows * plan.latStepDeg * j / kN);
+        const double lon = plan.westDeg + plan.columns * plan.lonStepDeg * i / kN;
+        const glm::dvec3 p = globe::geodeticToEcef({lat, lon, h});
+        std::optional<glm::dvec2> px = camera.projectToPixel(p);
+        // A point behind the eye: the box crosses the image plane, whose edges it may reach anywhere.
+        if (!px) {
+          view.rect = glm::dvec4(-1e8, -1e8, 1e8, 1e8);
+          view.maxIncidenceDeg = 90.0;
+          return view;
+        }
+        // Behind the Earth: the ray from the eye meets the ellipsoid well before the point.
+        const glm::dvec3 d = p - camera.eyeEcef();
+        const double dist = glm::length(d);
+        if (auto hit = globe::intersectRayEllipsoid(camera.eyeEcef(), d / dist))
+          if (glm::length(*hit - camera.eyeEcef()) < dist - 1000.0) px.reset();
+        row[static_cast<std::size_t>(i)] = px;
+        if (!px) continue;
+        if (h == 0.0) {
+          const double cosIncidence = glm::dot(-d / dist, globe::surfaceNormal(lat, lon));
+          view.maxIncidenceDeg =
+              std::max(view.maxIncidenceDeg, glm::degrees(std::acos(std::clamp(cosIncidence, -1.0, 1.0))));
+        }
+        lo = glm::min(lo, *px);
+        hi = glm::max(hi, *px);
+        if (i > 0 && row[static_cast<std::size_t>(i) - 1])
+          spacing = std::max(spacing, glm::length(*px - *row[static_cast<std::size_t>(i) - 1]));
+        if (j > 0 && previous[static_cast<std::size_t>(i)])
+          spacing = std::max(spacing, glm::length(*px - *previous[static_cast<std::size_t>(i)]));
+      }
+      previous = row;
+    }
+  }
+  if (lo.x > hi.x) return view;
+  // Clamped: points just in front of the image plane project far outside it.
+  view.rect = glm::clamp(glm::dvec4(lo - spacing - 2.0, hi + spacing + 2.0), -1e8, 1e8);
+  return view;
+}
+
+void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx,
+                      unsigned int depthTexture) {
+  const Slabs* s = find(layer);
+  if (!s) return;
+  const FarFieldPlan& plan = s->plan;
+  // Only the pixels that can see it (a cluster's pass may span the image).
+  const glm::dvec4* rect = &rectPx;
+  GLint viewport[4], scissor[4];
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  glGetIntegerv(GL_SCISSOR_BOX, scissor);
+  const double sx = viewport[2] / static_cast<double>(camera.widthPx());
+  const double sy = viewport[3] / static_cast<double>(camera.heightPx());
+  // Pixel rows from the top -> GL rows from the bottom, in the bound image's pixels.
+  const int x0 = std::max(scissor[0], static_cast<int>(std::floor(rect->x * sx)));
+  const int x1 = std::min(scissor[0] + scissor[2], static_cast<int>(std::ceil(rect->z * sx)));
+  const int y0 = std::max(scissor[1], static_cast<int>(std::floor(viewport[3] - rect->w * sy)));
+  const int y1 = std::min(scissor[1] + scissor[3], static_cast<int>(std::ceil(viewport[3] - rect->y * sy)));
+  if (x1 <= x0 || y1 <= y0) return;
+  glScissor(x0, y0, x1 - x0, y1 - y0);
+  program_.use();
+  const glm::mat3 cameraToEcef(camera.cameraToEcef());
+  glUniformMatrix3fv(program_.uniform("u_cameraToEcef"), 1, GL_FALSE, glm::value_ptr(cameraToEcef));
+  glUniform1f(program_.uniform("u_focalPx"), static_cast<float>(camera.focalLengthPx()));
+  glUniform2f(program_.uniform("u_imageSizePx"), static_cast<float>(camera.widthPx()),
+              static_cast<float>(camera.heightPx()));
+  glUniform1f(program_.uniform("u_near"), static_cast<float>(camera.nearMeters()));
+  const glm::vec3 eye(camera.eyeEcef());
+  glUniform3fv(program_.uniform("u_eyeEcef"), 1, glm::value_ptr(eye));
+  glUniform4f(program_.uniform("u_box"), static_cast<float>(plan.westDeg), static_cast<float>(plan.southDeg),
+              static_cast<float>(plan.lonStepDeg), static_cast<float>(plan.latStepDeg));
+  glUniform2f(program_.uniform("u_texels"), static_cast<float>(plan.columns), static_cast<float>(plan.rows));
+  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+  glUniform1i(program_.uniform("u_slabCount"), slabs);
+  std::vector<float> heights(plan.boundariesMeters.begin(), plan.boundariesMeters.end());
+  glUniform1fv(program_.uniform("u_heights"), static_cast<GLsizei>(heights.size()), heights.data());
+  glBindTextureUnit(0, s->texture);
+  glBindTextureUnit(1, depthTexture);
+  glUniform1i(program_.uniform("u_slabs"), 0);
+  glUniform1i(program_.uniform("u_globeDepth"), 1);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glScissor(scissor[0], scissor[1], scissor[2], scissor[3]);
+}
+
+std::size_t FarFieldGL::gpuBytes() const {
+  std::size_t bytes = 0;
+  for (const Slabs& s : kept_)
+    bytes += static_cast<std::size_t>(s.plan.columns) * static_cast<std::size_t>(s.plan.rows) *
+             (s.plan.boundariesMeters.size() - 1) * 8;
+  return bytes;
+}
+
+}  // namespace atmoglobe::engine
