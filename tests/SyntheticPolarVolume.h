@@ -1,6 +1,7 @@
 #pragma once
 // In-memory synthetic radar volumes for the renderer tests (no file, no ../shared): PPI sweeps at
 // 1-degree steps, regular rays and gates, a field given as a function of antenna coordinates.
+#include <atmoglobe/volume/Geolocation.h>
 #include <atmoglobe/volume/PolarVolume.h>
 #include <atmoglobe/volume/RadarVolume.h>
 
@@ -8,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 namespace atmoglobe::testutil {
 
@@ -58,6 +60,28 @@ inline volume::PolarVolume polarOf(const volume::RadarVolume& radar) {
   auto p = volume::buildPolarVolume(radar, site, volume::BeamModel{});
   EXPECT_TRUE(p) << (p ? "" : p.error());
   return p ? *p : volume::PolarVolume{};
+}
+
+/// A radar at (latDeg, lonDeg), antenna 400 m above the ellipsoid, seeing a field given at
+/// geodetic places: field(latDeg, lonDeg, heightMeters) at each gate centre (the exact geolocation,
+/// 4/3 Earth). 8 sweeps 0.5..7.5 deg, 180 rays, 240 gates of 500 m (to 122 km): the networks'
+/// test radars.
+inline std::shared_ptr<const volume::PolarVolume> radarSeeingField(
+    double latDeg, double lonDeg, const std::function<float(double, double, double)>& field) {
+  SyntheticPolarGeometry g;
+  g.latDeg = latDeg;
+  g.lonDeg = lonDeg;
+  g.antennaHeightMeters = 400.0;
+  g.sweeps = 8;
+  g.rays = 180;
+  g.gates = 240;
+  g.gateSpacingMeters = 500.0;
+  const volume::GeolocationSite site{latDeg, lonDeg, g.antennaHeightMeters};
+  return std::make_shared<const volume::PolarVolume>(
+      polarOf(syntheticRadarVolume(g, [&](double r, double az, double el) {
+        const volume::GatePosition p = volume::geolocateGateExact(site, volume::BeamModel{}, az, el, r);
+        return field(p.latDeg, p.lonDeg, p.heightMeters);
+      })));
 }
 
 }  // namespace atmoglobe::testutil

@@ -462,6 +462,9 @@ LegendPart RadarNetworkSourceGL::legendPart() const {
     subtitle += " (each radar apart: values of different sites are not combined)";
   else subtitle += " (each radar apart, integrated where they overlap)";
   if (!missingSites_.empty()) subtitle += "; " + std::to_string(missingSites_.size()) + " sites missing";
+  // The far field (FarFieldGL.h) draws DVR from slabs where every pixel is 2 km or wider.
+  if (options_.farField == FarField::Auto && options_.render.mode == volume::VolumeRenderMode::Dvr)
+    subtitle += "; from afar drawn from vertical slabs";
   const std::string name = "network " + field_.name;
   return LegendPart{name, subtitle, LegendKey{name, field_.units, options_.render.transfer.colors}, synthetic_};
 }

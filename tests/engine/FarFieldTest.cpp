@@ -41,22 +41,9 @@ float stormAt(double latDeg, double lonDeg, double heightMeters) {
   return dbz < 5.0 ? volume::kNoEcho : static_cast<float>(dbz);
 }
 
-// A radar at (lat, lon) seeing the storm: 8 sweeps 0.5..7.5 deg, 180 rays, 240 gates of 500 m.
+// A radar at (lat, lon) seeing the storm (testutil::radarSeeingField).
 std::shared_ptr<const volume::PolarVolume> radarAt(double latDeg, double lonDeg) {
-  testutil::SyntheticPolarGeometry g;
-  g.latDeg = latDeg;
-  g.lonDeg = lonDeg;
-  g.antennaHeightMeters = 400.0;
-  g.sweeps = 8;
-  g.rays = 180;
-  g.gates = 240;
-  g.gateSpacingMeters = 500.0;
-  const volume::GeolocationSite site{latDeg, lonDeg, g.antennaHeightMeters};
-  return std::make_shared<const volume::PolarVolume>(
-      testutil::polarOf(testutil::syntheticRadarVolume(g, [&](double r, double az, double el) {
-        const volume::GatePosition p = volume::geolocateGateExact(site, volume::BeamModel{}, az, el, r);
-        return stormAt(p.latDeg, p.lonDeg, p.heightMeters);
-      })));
+  return testutil::radarSeeingField(latDeg, lonDeg, stormAt);
 }
 
 // A volume image over black, 8-bit (to look at).

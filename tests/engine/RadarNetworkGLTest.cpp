@@ -29,25 +29,14 @@ using engine::CameraPose;
 constexpr double kStormLatDeg = 35.4, kStormLonDeg = -97.3;
 
 // A radar at (lat, lon) seeing one storm (a 3-D Gaussian around (kStormLatDeg, kStormLonDeg,
-// 3 km), 55 dBZ at its centre, 30 km wide) with a calibration bias of `biasDb`: 8 sweeps
-// 0.5..7.5 deg, 180 rays, 240 gates of 500 m (to 122 km).
+// 3 km), 55 dBZ at its centre, 30 km wide) with a calibration bias of `biasDb`
+// (testutil::radarSeeingField: 8 sweeps 0.5..7.5 deg, 180 rays, 240 gates of 500 m, to 122 km).
 std::shared_ptr<const volume::PolarVolume> radarSeeingTheStorm(double latDeg, double lonDeg, double biasDb) {
-  testutil::SyntheticPolarGeometry g;
-  g.latDeg = latDeg;
-  g.lonDeg = lonDeg;
-  g.antennaHeightMeters = 400.0;
-  g.sweeps = 8;
-  g.rays = 180;
-  g.gates = 240;
-  g.gateSpacingMeters = 500.0;
-  const volume::GeolocationSite site{latDeg, lonDeg, g.antennaHeightMeters};
-  return std::make_shared<const volume::PolarVolume>(
-      testutil::polarOf(testutil::syntheticRadarVolume(g, [&](double r, double az, double el) {
-        const volume::GatePosition p = volume::geolocateGateExact(site, volume::BeamModel{}, az, el, r);
-        const double d = globe::geodesicInverse(kStormLatDeg, kStormLonDeg, p.latDeg, p.lonDeg).distanceMeters;
-        const double x = 55.0 * std::exp(-std::pow(d / 30e3, 2) - std::pow((p.heightMeters - 3000.0) / 3000.0, 2));
-        return x < 5.0 ? volume::kNoEcho : static_cast<float>(x + biasDb);
-      })));
+  return testutil::radarSeeingField(latDeg, lonDeg, [biasDb](double lat, double lon, double heightMeters) {
+    const double d = globe::geodesicInverse(kStormLatDeg, kStormLonDeg, lat, lon).distanceMeters;
+    const double x = 55.0 * std::exp(-std::pow(d / 30e3, 2) - std::pow((heightMeters - 3000.0) / 3000.0, 2));
+    return x < 5.0 ? volume::kNoEcho : static_cast<float>(x + biasDb);
+  });
 }
 
 // Three radars around the storm (60-90 km from it, overlapping) with different biases.

@@ -143,6 +143,23 @@ TEST(RadarNetworkSource, IntegrateDrawsEachRadarAsSeparateRadarLayersDo) {
   EXPECT_LE(e.maxAbs, 1.0);
 }
 
+TEST(RadarNetworkSource, TheLegendSaysWhenTheFarFieldMayDrawIt) {
+  // A forecaster must be able to tell a frame drawn from the far field's slabs (FarFieldGL.h).
+  const std::string dir = writePair("network_far_field_legend", false);
+  for (engine::FarField f : {engine::FarField::Off, engine::FarField::Auto}) {
+    auto renderer = emptyRenderer();
+    engine::VolumeLayerDescription d = radarLayer(dir);
+    d.farField = f;
+    auto added = renderer->addVolume(d);
+    ASSERT_TRUE(added) << added.error();
+    const auto* source = renderer->layerAs<engine::RadarNetworkSourceGL>(0);
+    ASSERT_NE(source, nullptr);
+    EXPECT_EQ(source->options().farField, f);
+    EXPECT_EQ(source->legendPart().subtitle.find("vertical slabs") != std::string::npos, f == engine::FarField::Auto)
+        << source->legendPart().subtitle;
+  }
+}
+
 TEST(RadarNetworkSource, VelocityIsDrawnPerRadarAndACombiningRuleIsRefused) {
   // The mean of radial velocities from two sites is meaningless: without a rule the network draws
   // each radar apart; a combining rule asked for is refused, saying why and what to do.
