@@ -92,24 +92,9 @@ std::optional<FarFieldPlan> FarFieldGL::planFor(const Camera& camera, const Volu
 std::vector<double> FarFieldGL::settingsKey(const VolumeLayerGL& layer) {
   const VolumeRenderOptions& o = layer.options;
   const volume::VolumeRenderSettings& r = o.render;
-  const volume::TransferFunction& tf = r.transfer;
-  std::vector<double> key{r.stepMeters,
-                          r.earlyTerminationAlpha,
-                          double(r.interpolation),
-                          double(o.classification),
-                          double(o.skipEmptySpace),
-                          tf.opacityZeroValue,
-                          tf.opacityFullValue,
-                          tf.maxOpacity,
-                          tf.opacityReferenceMeters,
-                          tf.colors.offset(),
-                          tf.colors.scale()};
-  for (const glm::dvec2& p : tf.opacityPoints) key.insert(key.end(), {p.x, p.y});
-  for (const auto& stop : tf.colors.stops()) {
-    key.push_back(stop.value);
-    for (const volume::Rgba8& c : {stop.start, stop.end})
-      key.insert(key.end(), {double(c.r), double(c.g), double(c.b), double(c.a)});
-  }
+  std::vector<double> key{r.stepMeters, r.earlyTerminationAlpha, double(r.interpolation), double(o.classification),
+                          double(o.skipEmptySpace)};
+  appendTransferKey(r.transfer, key);
   return key;
 }
 
@@ -243,17 +228,16 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const gl
   if (!s) return;
   const FarFieldPlan& plan = s->plan;
   // Only the pixels that can see it (a cluster's pass may span the image).
-  const glm::dvec4* rect = &rectPx;
   GLint viewport[4], scissor[4];
   glGetIntegerv(GL_VIEWPORT, viewport);
   glGetIntegerv(GL_SCISSOR_BOX, scissor);
   const double sx = viewport[2] / static_cast<double>(camera.widthPx());
   const double sy = viewport[3] / static_cast<double>(camera.heightPx());
   // Pixel rows from the top -> GL rows from the bottom, in the bound image's pixels.
-  const int x0 = std::max(scissor[0], static_cast<int>(std::floor(rect->x * sx)));
-  const int x1 = std::min(scissor[0] + scissor[2], static_cast<int>(std::ceil(rect->z * sx)));
-  const int y0 = std::max(scissor[1], static_cast<int>(std::floor(viewport[3] - rect->w * sy)));
-  const int y1 = std::min(scissor[1] + scissor[3], static_cast<int>(std::ceil(viewport[3] - rect->y * sy)));
+  const int x0 = std::max(scissor[0], static_cast<int>(std::floor(rectPx.x * sx)));
+  const int x1 = std::min(scissor[0] + scissor[2], static_cast<int>(std::ceil(rectPx.z * sx)));
+  const int y0 = std::max(scissor[1], static_cast<int>(std::floor(viewport[3] - rectPx.w * sy)));
+  const int y1 = std::min(scissor[1] + scissor[3], static_cast<int>(std::ceil(viewport[3] - rectPx.y * sy)));
   if (x1 <= x0 || y1 <= y0) return;
   glScissor(x0, y0, x1 - x0, y1 - y0);
   program_.use();

@@ -90,6 +90,17 @@ std::string dispatchSource(int count, bool columns) {
 
 }  // namespace
 
+void appendTransferKey(const volume::TransferFunction& tf, std::vector<double>& key) {
+  key.insert(key.end(), {tf.opacityZeroValue, tf.opacityFullValue, tf.maxOpacity, tf.opacityReferenceMeters,
+                         tf.colors.offset(), tf.colors.scale()});
+  for (const glm::dvec2& p : tf.opacityPoints) key.insert(key.end(), {p.x, p.y});
+  for (const auto& stop : tf.colors.stops()) {
+    key.push_back(stop.value);
+    for (const volume::Rgba8& c : {stop.start, stop.end})
+      key.insert(key.end(), {double(c.r), double(c.g), double(c.b), double(c.a)});
+  }
+}
+
 volume::RenderCamera referenceCameraFor(const Camera& camera) {
   volume::RenderCamera c;
   c.eyeEcef = camera.eyeEcef();
@@ -336,23 +347,8 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
     const volume::ValueRange range = vol.valueRange();
     const double tfLo = std::min(range.minValue, s.isoValue) - 1.0;
     const double tfHi = std::max(range.maxValue, s.isoValue) + 1.0;
-    std::vector<double> fingerprint{tfLo,
-                                    tfHi,
-                                    static_cast<double>(mode),
-                                    preintegrated ? 1.0 : 0.0,
-                                    s.stepMeters,
-                                    s.transfer.opacityZeroValue,
-                                    s.transfer.opacityFullValue,
-                                    s.transfer.maxOpacity,
-                                    s.transfer.opacityReferenceMeters,
-                                    s.transfer.colors.offset(),
-                                    s.transfer.colors.scale()};
-    for (const glm::dvec2& p : s.transfer.opacityPoints) fingerprint.insert(fingerprint.end(), {p.x, p.y});
-    for (const auto& stop : stops) {
-      fingerprint.push_back(stop.value);
-      for (const volume::Rgba8& c : {stop.start, stop.end})
-        fingerprint.insert(fingerprint.end(), {double(c.r), double(c.g), double(c.b), double(c.a)});
-    }
+    std::vector<double> fingerprint{tfLo, tfHi, static_cast<double>(mode), preintegrated ? 1.0 : 0.0, s.stepMeters};
+    appendTransferKey(s.transfer, fingerprint);
     TransferKey key{&s.transfer, fingerprint};
     if (!(transferRows_[k] == key)) {
       std::vector<glm::vec4> table(C::kTransferEntries);

@@ -22,6 +22,11 @@
 
 namespace atmoglobe::engine {
 
+/// Appends what a transfer function's tables are made from (its opacity ramp and points, colour
+/// stops, offset and scale) to `key`: the marcher's transfer rows and the far field's slabs are
+/// made again when it changes.
+void appendTransferKey(const volume::TransferFunction& tf, std::vector<double>& key);
+
 /// The reference renderer's camera for an engine camera (same convention, plain data).
 volume::RenderCamera referenceCameraFor(const Camera& camera);
 
