@@ -128,6 +128,10 @@ constexpr double kSettleSeconds = 0.3;
 constexpr double kRefineBudgetMs = 20.0;
 /// Milliseconds a frame may spend reading and building map lines (MapRendererGL::setBuildBudgetMs).
 constexpr double kMapBuildBudgetMs = 8.0;
+/// Milliseconds a frame may spend making a network's far-field slabs (FarFieldGL.h), the network
+/// marched meanwhile: 159 radars' slabs took 20 s at once at 1280x720 on llvmpipe, a stalled
+/// viewer (VolumeRendererGL::setFarFieldBuildBudgetMs).
+constexpr double kFarFieldBuildBudgetMs = 20.0;
 /// A script's clock runs at this many seconds per frame (flights take a fixed number of frames).
 constexpr double kScriptFrameSeconds = 0.25;
 constexpr double kPanFraction = 0.1;      ///< arrows/WASD: a tenth of the view
@@ -889,6 +893,7 @@ int runView(const ViewOptions& o) {
       // milliseconds a frame, the level before drawn meanwhile (a flight across a level took
       // 84 ms in one frame without it); whole for a screenshot and --frames runs.
       (*renderer)->map().setBuildBudgetMs(interactiveFrame ? kMapBuildBudgetMs : 0.0);
+      (*renderer)->volumeRenderer().setFarFieldBuildBudgetMs(interactiveFrame ? kFarFieldBuildBudgetMs : 0.0);
       // The first frame at rest takes the last moving frame's volume image as its preview.
       (*renderer)->volumeRenderer().setPreviewScale(lastMovingScale);
       // Our own target has a float depth buffer (reverse-Z); the window's may not.

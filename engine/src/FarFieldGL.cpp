@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -27,7 +28,10 @@ Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
 }
 
 FarFieldGL::~FarFieldGL() {
-  for (const Slabs& s : kept_) glDeleteTextures(1, &s.texture);
+  for (Kept& k : kept_) {
+    release(k.ready);
+    release(k.building);
+  }
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
 }
@@ -98,76 +102,131 @@ std::vector<double> FarFieldGL::settingsKey(const VolumeLayerGL& layer) {
   return key;
 }
 
-const FarFieldGL::Slabs* FarFieldGL::find(const VolumeLayerGL& layer) const {
-  for (const Slabs& s : kept_)
-    if (s.volumeId == layer.volume->id()) return &s;
-  return nullptr;
+void FarFieldGL::release(Slabs& s) {
+  if (s.texture) glDeleteTextures(1, &s.texture);
+  s = Slabs{};
+}
+
+void FarFieldGL::beginFrame(double budgetMs) {
+  budgetMs_ = budgetMs;
+  spentMs_ = 0.0;
+  bandsThisFrame_ = 0;
+  pending_ = false;
 }
 
 bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan) {
   const std::vector<double> settings = settingsKey(layer);
-  auto it = std::find_if(kept_.begin(), kept_.end(), [&](const Slabs& s) { return s.volumeId == layer.volume->id(); });
+  const std::uint64_t id = layer.volume->id();
+  auto it = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) { return k.volumeId == id; });
   // The most recently used last.
   if (it != kept_.end()) {
     std::rotate(it, it + 1, kept_.end());
-    it = kept_.end() - 1;
-    // Slabs as fine as the plan's or finer serve it (a view moving away makes none).
-    const FarFieldPlan& kept = it->plan;
-    if (it->uniformVersion == layer.volume->uniformVersion() && it->settings == settings &&
-        kept.boundariesMeters == plan.boundariesMeters && kept.westDeg == plan.westDeg &&
-        kept.southDeg == plan.southDeg && kept.latStepDeg <= plan.latStepDeg && kept.lonStepDeg <= plan.lonStepDeg)
-      return true;
   } else {
     // Room for kKeptVolumes volumes (a national network's clusters): the least recently used goes.
     if (kept_.size() >= kKeptVolumes) {
-      glDeleteTextures(1, &kept_.front().texture);
+      release(kept_.front().ready);
+      release(kept_.front().building);
       kept_.erase(kept_.begin());
     }
     kept_.push_back({});
-    it = kept_.end() - 1;
+    kept_.back().volumeId = id;
   }
-  Slabs& s = *it;
-  if (s.texture) glDeleteTextures(1, &s.texture);
-  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
-  s.texture = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
-  clearErrorsGL();
-  glTextureStorage3D(s.texture, 1, GL_RGBA16F, plan.columns, plan.rows, slabs);
-  if (outOfMemoryGL()) {
-    glDeleteTextures(1, &s.texture);
-    kept_.erase(it);
+  Kept& k = kept_.back();
+  // Slabs of this volume's field as it is now (the same settings, slabs and grid corner)...
+  const auto sameField = [&](const Slabs& s) {
+    return s.texture && s.uniformVersion == layer.volume->uniformVersion() && s.settings == settings &&
+           s.plan.boundariesMeters == plan.boundariesMeters && s.plan.westDeg == plan.westDeg &&
+           s.plan.southDeg == plan.southDeg;
+  };
+  // ...as fine as the plan's or finer serve it (a view moving away makes none).
+  const auto serves = [&](const Slabs& s) {
+    return sameField(s) && s.plan.latStepDeg <= plan.latStepDeg && s.plan.lonStepDeg <= plan.lonStepDeg;
+  };
+  if (serves(k.ready)) return true;
+  if (!serves(k.building)) {
+    release(k.building);
+    const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+    Slabs s;
+    s.texture = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
+    clearErrorsGL();
+    glTextureStorage3D(s.texture, 1, GL_RGBA16F, plan.columns, plan.rows, slabs);
+    if (outOfMemoryGL()) {
+      release(s);
+      return sameField(k.ready);
+    }
+    // Columns the march leaves (outside every radar) stay clear.
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearTexImage(s.texture, 0, GL_RGBA, GL_FLOAT, zero);
+    s.uniformVersion = layer.volume->uniformVersion();
+    s.settings = settings;
+    s.plan = plan;
+    k.building = std::move(s);
+  }
+  if (!build(marcher, layer, k.building)) {
+    release(k.building);
     return false;
   }
-  s.volumeId = layer.volume->id();
-  s.uniformVersion = layer.volume->uniformVersion();
-  s.settings = settings;
-  s.plan = plan;
+  if (k.building.slabsDone < static_cast<int>(k.building.plan.boundariesMeters.size()) - 1) {
+    pending_ = true;
+    return sameField(k.ready);  // coarser slabs meanwhile, or the march
+  }
+  release(k.ready);
+  k.ready = std::move(k.building);
+  k.building = Slabs{};
+  ++made_;
+  // Within kMaxKeptBytes: the least recently used others go.
+  while (kept_.size() > 1 && gpuBytes() > kMaxKeptBytes) {
+    release(kept_.front().ready);
+    release(kept_.front().building);
+    kept_.erase(kept_.begin());
+  }
+  return true;
+}
+
+bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s) {
+  const FarFieldPlan& plan = s.plan;
+  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+  const bool bounded = budgetMs_ > 0.0;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, plan.columns, plan.rows);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_SCISSOR_TEST);
   bool ok = true;
-  for (int k = 0; k < slabs && ok; ++k) {
-    glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, k);
-    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, zero);
-    ok = marcher.marchColumns(layer, plan, k);
+  while (ok && s.slabsDone < slabs) {
+    // With a budget: at least one band a frame, then while time is left.
+    if (bounded && bandsThisFrame_ > 0 && spentMs_ >= budgetMs_) break;
+    const int left = plan.rows - s.rowsDone;
+    int rows = left;  // without a budget: the rest of the slab
+    if (bounded) {
+      // As many rows as the time left allows at the last band's cost per texel; the first band
+      // measured is a small one (about 4096 texels).
+      const double texels = msPerTexel_ > 0.0 ? std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_ : 4096.0;
+      rows = std::clamp(static_cast<int>(texels / plan.columns), 1, left);
+    }
+    glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, s.slabsDone);
+    glScissor(0, s.rowsDone, plan.columns, rows);
+    const auto start = std::chrono::steady_clock::now();
+    ok = marcher.marchColumns(layer, plan, s.slabsDone);
+    if (bounded) {
+      glFinish();  // the time taken, not the time to queue
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      spentMs_ += ms;
+      msPerTexel_ = ms / (static_cast<double>(rows) * plan.columns);
+    }
+    ++bandsThisFrame_;
+    ++bands_;
+    s.rowsDone += rows;
+    if (s.rowsDone == plan.rows) {
+      ++s.slabsDone;
+      s.rowsDone = 0;
+    }
   }
   glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);  // so that a deleted texture is freed
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_SCISSOR_TEST);
   glEnable(GL_DEPTH_TEST);
-  if (!ok) {
-    glDeleteTextures(1, &s.texture);
-    kept_.erase(it);
-    return false;
-  }
-  ++made_;
-  // Within kMaxKeptBytes: the least recently used others go.
-  while (kept_.size() > 1 && gpuBytes() > kMaxKeptBytes) {
-    glDeleteTextures(1, &kept_.front().texture);
-    kept_.erase(kept_.begin());
-  }
-  return true;
+  return ok;
 }
 
 FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan& plan) {
@@ -224,8 +283,9 @@ FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan&
 
 void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx,
                       unsigned int depthTexture) {
-  const Slabs* s = find(layer);
-  if (!s) return;
+  auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) { return k.volumeId == layer.volume->id(); });
+  if (kept == kept_.end() || !kept->ready.texture) return;
+  const Slabs* s = &kept->ready;
   const FarFieldPlan& plan = s->plan;
   // Only the pixels that can see it (a cluster's pass may span the image).
   GLint viewport[4], scissor[4];
@@ -268,9 +328,11 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const gl
 
 std::size_t FarFieldGL::gpuBytes() const {
   std::size_t bytes = 0;
-  for (const Slabs& s : kept_)
-    bytes += static_cast<std::size_t>(s.plan.columns) * static_cast<std::size_t>(s.plan.rows) *
-             (s.plan.boundariesMeters.size() - 1) * 8;
+  for (const Kept& k : kept_)
+    for (const Slabs* s : {&k.ready, &k.building})
+      if (s->texture)
+        bytes += static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows) *
+                 (s->plan.boundariesMeters.size() - 1) * 8;
   return bytes;
 }
 

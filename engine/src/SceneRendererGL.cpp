@@ -155,9 +155,11 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     volumeRenderer_->drawReference(camera, layers, target, referenceThreads_);
     stats.referenceSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   } else if (!layers.empty() && progressiveBudgetMs_ > 0.0) {
-    volumesComplete_ = volumeRenderer_->drawProgressive(camera, layers, target, progressiveBudgetMs_);
+    volumesComplete_ = volumeRenderer_->drawProgressive(camera, layers, target, progressiveBudgetMs_) &&
+                       !volumeRenderer_->farFieldPending();
   } else if (!layers.empty()) {
     volumeRenderer_->draw(camera, layers, target);
+    volumesComplete_ = !volumeRenderer_->farFieldPending();  // slabs made over frames (viewer)
   }
   if (exaggeration_ != 1.0)
     for (Marker& m : all) m.heightMeters *= exaggeration_;

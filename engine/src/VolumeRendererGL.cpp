@@ -517,10 +517,11 @@ void VolumeRendererGL::compositeOver(GLuint volumeTexture, const FramebufferGL& 
 namespace {
 
 // What a frame's volumes are: the camera, the frame size, each layer's volume and settings (with
-// or without the image scale).
+// or without the image scale), and the far-field slab sets made so far.
 std::vector<double> progressKey(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
-                                const FramebufferGL& target, bool withScale) {
+                                const FramebufferGL& target, bool withScale, std::size_t farFieldSets) {
   std::vector<double> key(glm::value_ptr(camera.cameraToEcef()), glm::value_ptr(camera.cameraToEcef()) + 9);
+  key.push_back(double(farFieldSets));
   key.insert(key.end(), {camera.eyeEcef().x, camera.eyeEcef().y, camera.eyeEcef().z, camera.focalLengthPx(),
                          camera.nearMeters(), double(target.widthPx()), double(target.heightPx())});
   for (const VolumeLayerGL& l : layers) {
@@ -600,12 +601,15 @@ bool VolumeRendererGL::marchColumns(const VolumeLayerGL& layer, const FarFieldPl
   return march(anchor, &layer, 1, emptyDepth_, 0, 0.0, nullptr, &columns);
 }
 
+bool VolumeRendererGL::farFieldPending() const { return farField_->pending(); }
+
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                             const FramebufferGL& target) {
+  farField_->beginFrame(farFieldBuildBudgetMs_);
   const std::vector<PassGL> passes = planPasses(camera, layers);
   // One pass: its volume image stays in volumeTarget_ (drawProgressive's preview may take it).
   lastDrawValid_ = passes.size() == 1;
-  if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true);
+  if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true, farField_->slabSetsMade());
   for (const PassGL& pass : passes) {
     const VolumeRenderOptions& o = pass.layers[0].options;
     const glm::ivec2 size = volumeImageSize(target, o.imageScale);
@@ -636,8 +640,11 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
 
 bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                        const FramebufferGL& target, double budgetMs) {
+  farField_->beginFrame(farFieldBuildBudgetMs_);
   const std::vector<PassGL> passes = planPasses(camera, layers);
-  const std::vector<double> key = progressKey(camera, layers, target, true);
+  // A far field completed since (slabs made over frames) starts the refinement again: the
+  // refined frame is then draw()'s, drawn from it.
+  const std::vector<double> key = progressKey(camera, layers, target, true, farField_->slabSetsMade());
   Progress& p = progress_;
   const bool lastDrawValid = lastDrawValid_;
   lastDrawValid_ = false;
@@ -679,7 +686,7 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
         }
         small = volumeImageSize(target, preview[0].options.imageScale);
         if (passes.size() == 1 && lastDrawValid && volumeTarget_ &&
-            lastDrawKey_ == progressKey(camera, preview, target, true)) {
+            lastDrawKey_ == progressKey(camera, preview, target, true, farField_->slabSetsMade())) {
           ++previewsReused_;
         } else {
           ensureTarget(small.x, small.y, GL_RGBA16F);

@@ -8,7 +8,10 @@
 //     absorption down the ellipsoid's normal through horizontal slabs (boundaries kSlabTopsMeters
 //     and the volume's top), one column per texel of a latitude/longitude grid over the volume's
 //     extent whose texels are no wider than half the pixels' footprint: premultiplied RGBA per slab.
-//     Made once per volume, transfer function, step and texel size, and kept.
+//     Made once per volume, transfer function, step and texel size, and kept. Made whole when
+//     first needed (render, bench), or, with a budget a frame (the viewer), in bands of rows over
+//     frames: until they are complete the volume is drawn from coarser slabs of the same settings
+//     made before, or else marched.
 //  2. Per pixel (shaders/far_field.frag), the ray's piece in each slab takes the slab's texel at
 //     the piece's middle, its optical depth scaled by the piece's length over the slab's
 //     thickness, composited front to back down to the globe's depth.
@@ -20,6 +23,7 @@
 #include <atmoglobe/engine/VolumeGL.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -78,36 +82,60 @@ class FarFieldGL {
   /// kMaxIncidenceDeg. A plan whose view.rect is empty draws nothing (it is behind the Earth).
   static std::optional<FarFieldPlan> planFor(const Camera& camera, const VolumeLayerGL& layer);
 
-  /// Makes the slabs of `layer` for `plan` unless those kept for that volume, transfer function,
-  /// step and slabs have texels as fine or finer; `marcher` marches the columns. Leaves no
-  /// framebuffer bound.
+  /// Starts a frame in which making slabs may take `budgetMs` in all (wall time, the GPU
+  /// finished after each band). <= 0: no limit, a volume's slabs are made whole when first needed.
+  /// With a limit, at least one band of rows is made each frame, so that slabs are completed
+  /// however slow the machine.
+  void beginFrame(double budgetMs);
+  /// Whether, since beginFrame, some volume's slabs were not complete when asked for.
+  bool pending() const { return pending_; }
+
+  /// Makes (or goes on making, within the frame's budget) the slabs of `layer` for `plan`, unless
+  /// those kept for that volume, transfer function, step and slabs have texels as fine or finer;
+  /// `marcher` marches the columns. Returns whether draw() has slabs for it: those of the plan,
+  /// or while they are being made, coarser ones of the same settings made before; false: march
+  /// it. Leaves no framebuffer bound.
   bool prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan);
-  /// Draws the prepared slabs of `layer` into the bound framebuffer (its viewport and scissor as
-  /// set, within `rectPx`: the plan's view.rect), premultiplied, occluded by `depthTexture`
-  /// (reverse-Z of the frame).
+  /// Draws the slabs prepare() chose for `layer` into the bound framebuffer (its viewport and
+  /// scissor as set, within `rectPx`: the plan's view.rect), premultiplied, occluded by
+  /// `depthTexture` (reverse-Z of the frame).
   void draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx, unsigned int depthTexture);
 
-  /// Slab sets made so far (tests: a second frame of the same view makes none).
+  /// Slab sets completed so far (tests: a second frame of the same view makes none).
   std::size_t slabSetsMade() const { return made_; }
-  /// GPU bytes of the slabs kept.
+  /// Bands of rows marched so far (tests: a set made over frames).
+  std::size_t bandsMarched() const { return bands_; }
+  /// GPU bytes of the slabs kept and being made.
   std::size_t gpuBytes() const;
 
  private:
   FarFieldGL() = default;
   struct Slabs {
-    std::uint64_t volumeId = 0, uniformVersion = 0;
+    std::uint64_t uniformVersion = 0;
     std::vector<double> settings;  ///< the transfer function, step, classification
     FarFieldPlan plan;
-    unsigned int texture = 0;
+    unsigned int texture = 0;  ///< 0: none
+    int slabsDone = 0, rowsDone = 0;  ///< made so far: whole slabs from the top, then rows of the next
+  };
+  /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
+  struct Kept {
+    std::uint64_t volumeId = 0;
+    Slabs ready, building;
   };
   static std::vector<double> settingsKey(const VolumeLayerGL& layer);
   using BoxView = FarFieldPlan::View;
   static BoxView viewOf(const Camera& camera, const FarFieldPlan& plan);
-  const Slabs* find(const VolumeLayerGL& layer) const;
+  static void release(Slabs& s);
+  /// Marches bands of `s` within the frame's budget; false if the program failed.
+  bool build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s);
   ShaderProgramGL program_;
   unsigned int vao_ = 0, fbo_ = 0;
-  std::vector<Slabs> kept_;  ///< the latest slabs per volume (a few volumes)
-  std::size_t made_ = 0;
+  std::vector<Kept> kept_;  ///< per volume (a few volumes), the least recently used first
+  std::size_t made_ = 0, bands_ = 0;
+  double budgetMs_ = 0.0, spentMs_ = 0.0;  ///< this frame's
+  int bandsThisFrame_ = 0;
+  bool pending_ = false;
+  double msPerTexel_ = 0.0;  ///< the last band's cost (0: none measured yet)
 };
 
 }  // namespace atmoglobe::engine

@@ -142,7 +142,8 @@ class SceneRendererGL {
   /// tiles for at most `budgetMs` (VolumeRendererGL::drawProgressive), the rest of the picture
   /// showing a coarse preview until done. 0 (the default): every frame's volumes whole.
   void setProgressiveBudget(double budgetMs) { progressiveBudgetMs_ = budgetMs; }
-  /// Whether the last frame's volumes were complete (always true without a budget).
+  /// Whether the last frame's volumes were complete (always true without a budget, a progressive
+  /// one or the far field's: VolumeRendererGL::setFarFieldBuildBudgetMs).
   bool volumesComplete() const { return volumesComplete_; }
   GlobeRendererGL& globe() { return *globe_; }
   VolumeRendererGL& volumeRenderer() { return *volumeRenderer_; }

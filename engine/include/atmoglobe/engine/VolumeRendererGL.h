@@ -145,6 +145,13 @@ class VolumeRendererGL {
   bool marchColumns(const VolumeLayerGL& layer, const FarFieldPlan& plan, int slab);
   /// The far field's slab sets made so far and their GPU bytes (FarFieldGL).
   const FarFieldGL& farField() const { return *farField_; }
+  /// The time each draw() or drawProgressive() call may spend making far-field slabs
+  /// (FarFieldGL::beginFrame): <= 0 (the default: render, bench) makes them whole when first
+  /// needed; the viewer makes them over frames, marching the volume until they are complete.
+  void setFarFieldBuildBudgetMs(double ms) { farFieldBuildBudgetMs_ = ms; }
+  /// Whether the last draw() or drawProgressive() call left some far field incomplete (the
+  /// volume was marched, or drawn from coarser slabs, meanwhile): draw again to complete it.
+  bool farFieldPending() const;
 
  private:
   VolumeRendererGL() = default;
@@ -210,6 +217,7 @@ class VolumeRendererGL {
   void compositeOver(unsigned int volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
 
   std::unique_ptr<FarFieldGL> farField_;
+  double farFieldBuildBudgetMs_ = 0.0;
   std::map<MarchVariant, ProgramEntry> programs_;
   std::map<MarchVariant, std::string> programErrors_;
   ShaderProgramGL composite_;
