@@ -69,8 +69,18 @@ for t in "${targets[@]}"; do
   runs="$(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}')"
   echo "fuzz_$t seconds=$seconds runs=${runs:-?} rc=$rc last: $last" | tee -a "$work/summary.txt"
   if [ $rc -ne 0 ]; then
-    failed+=("$t")
     grep -E 'ERROR|SUMMARY|fuzz: |Test unit written|assertion' "$log" | grep -v '^ECCODES' | head -8
+    # A timeout is confirmed by running its input again alone: a hang repeats; a unit that ran
+    # 27 s once on CI's shared machine (an 858-byte GeoJSON, fuzz_overlay) and took milliseconds
+    # again, and in a million executions locally under -timeout=4, is the machine stalling, not
+    # the code. The input stays in findings/ either way.
+    unit="$(sed -n 's/.*Test unit written to \(.*timeout-[0-9a-f]*\).*/\1/p' "$log" | tail -1)"
+    if grep -q 'libFuzzer: timeout' "$log" && [ -n "$unit" ] && [ -f "$unit" ] &&
+      "$exe" "$unit" -timeout=20 -rss_limit_mb=2560 > "$log.rerun" 2>&1; then
+      echo "fuzz_$t: the timeout did not repeat: $unit ran again in $(sed -n 's/.*Executed .* in \([0-9]*\) ms.*/\1/p' "$log.rerun" | tail -1) ms (kept in findings, not a failure)"
+    else
+      failed+=("$t")
+    fi
   fi
 done
 if [ ${#failed[@]} -ne 0 ]; then
