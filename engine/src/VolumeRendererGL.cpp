@@ -640,10 +640,13 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
 
 bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                        const FramebufferGL& target, double budgetMs) {
-  farField_->beginFrame(farFieldBuildBudgetMs_);
   const std::vector<PassGL> passes = planPasses(camera, layers);
-  // A far field completed since (slabs made over frames) starts the refinement again: the
-  // refined frame is then draw()'s, drawn from it.
+  // Slabs made over frames: those in the making take the refinement's time too, and the tiles
+  // wait for them (marched now, they would be drawn again from the far field). A set completed
+  // starts the refinement again: the refined frame is then draw()'s, drawn from it.
+  farField_->beginFrame(farFieldBuildBudgetMs_ > 0.0 ? farFieldBuildBudgetMs_ + std::max(0.0, budgetMs) : 0.0);
+  advanceFarFields(camera, passes);
+  const bool slabsPending = farField_->pending();
   const std::vector<double> key = progressKey(camera, layers, target, true, farField_->slabSetsMade());
   Progress& p = progress_;
   const bool lastDrawValid = lastDrawValid_;
@@ -718,7 +721,7 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
   }
   // Tiles until the budget is spent (at least one), each as draw() marches its box.
   const auto start = std::chrono::steady_clock::now();
-  for (bool first = true; p.next < p.tiles.size(); first = false) {
+  for (bool first = true; !slabsPending && p.next < p.tiles.size(); first = false) {
     if (!first &&
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() >= budgetMs)
       break;
@@ -736,7 +739,15 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
   for (std::size_t i = 0; i < passes.size(); ++i) compositeOver(p.images[i]->colorTexture(), target, passes[i].rectPx);
   target.bind();
   glEnable(GL_DEPTH_TEST);
-  return p.next == p.tiles.size();
+  return !slabsPending && p.next == p.tiles.size();
+}
+
+void VolumeRendererGL::advanceFarFields(const Camera& camera, const std::vector<PassGL>& passes) {
+  for (const PassGL& pass : passes) {
+    if (pass.layers.size() != 1) continue;  // as marchBox: the far field serves one volume alone
+    const std::optional<FarFieldPlan> plan = FarFieldGL::planFor(camera, pass.layers[0]);
+    if (plan && plan->view.rect) farField_->prepare(*this, pass.layers[0], *plan);
+  }
 }
 
 static std::vector<double> occluderDistancesGL(const Camera& camera, const FramebufferGL& target) {

@@ -6,6 +6,7 @@
 #include "TestOutputDir.h"
 
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/RadarNetworkGL.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
@@ -238,6 +239,52 @@ TEST_F(FarField, MadeOverFramesTheSlabsEndAsThoseMadeAtOnce) {
   // finer slabs' 0.76 (35.2 dB; 80 x 45 pixels 20 km wide). Within 3x the finer slabs' error: a
   // stand-in for a few frames, not a wrong picture.
   EXPECT_LT(coarse.meanAbs, 3.0 * fineError.meanAbs);
+}
+
+TEST_F(FarField, AtRestTheTilesWaitForTheSlabsAndTheRefinedFrameIsDrawnFromThem) {
+  const Camera far(CameraPose{kCentreLatDeg, kCentreLonDeg, 2e6, 0.0, -90.0, 0.0}, 40.0, 80, 45);
+  engine::VolumeRenderOptions on = options_;
+  on.farField = engine::FarField::Auto;
+  auto fb = engine::FramebufferGL::create(far.widthPx(), far.heightPx());
+  ASSERT_TRUE(fb);
+  const auto clear = [&] {
+    (*fb)->bind();
+    glClearDepth(0.0);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  };
+  clear();
+  renderer_->draw(far, {{network_, on}}, **fb);  // slabs made at once
+  const globe::ImageRGBA8 oneShot = (*fb)->readColor();
+
+  auto made = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(made) << made.error();
+  engine::VolumeRendererGL& r = **made;
+  r.setFarFieldBuildBudgetMs(1e-3);  // one band of rows a call
+  int calls = 0, callsWithSlabsPending = 0;
+  bool done = false;
+  while (!done && calls < 5000) {
+    clear();
+    done = r.drawProgressive(far, {{network_, on}}, **fb, 0.0);  // one tile a call
+    ++calls;
+    if (r.farFieldPending()) {
+      ++callsWithSlabsPending;
+      EXPECT_FALSE(done);
+      EXPECT_EQ(r.progressiveTiles().first, 0u) << "a tile marched while the slabs are being made";
+    }
+  }
+  std::cout << "at rest: " << calls << " calls, " << callsWithSlabsPending << " of them making slabs, "
+            << r.progressiveTiles().second << " tiles\n";
+  ASSERT_TRUE(done);
+  EXPECT_EQ(r.farField().slabSetsMade(), 1u);
+  EXPECT_GT(callsWithSlabsPending, 20);
+  // After the slabs: the tiles, one a call, from the far field.
+  EXPECT_EQ(calls - callsWithSlabsPending, static_cast<int>(r.progressiveTiles().second));
+  const globe::ImageRGBA8 refined = (*fb)->readColor();
+  int differing = 0;
+  for (int y = 0; y < refined.height; ++y)
+    for (int x = 0; x < refined.width; ++x) differing += refined.at(x, y) != oneShot.at(x, y);
+  EXPECT_EQ(differing, 0) << "the refined frame must be draw()'s with the slabs made at once";
 }
 
 TEST(FarFieldScene, TheSceneKeyRoundTrips) {

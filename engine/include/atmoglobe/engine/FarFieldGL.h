@@ -114,7 +114,7 @@ class FarFieldGL {
     std::uint64_t uniformVersion = 0;
     std::vector<double> settings;  ///< the transfer function, step, classification
     FarFieldPlan plan;
-    unsigned int texture = 0;  ///< 0: none
+    unsigned int texture = 0;         ///< 0: none
     int slabsDone = 0, rowsDone = 0;  ///< made so far: whole slabs from the top, then rows of the next
   };
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).

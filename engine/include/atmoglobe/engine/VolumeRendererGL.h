@@ -101,7 +101,9 @@ class VolumeRendererGL {
   /// layers (their volumes, uniform versions, image scales) or restartProgressive() fills the
   /// image from a march at previewScale(), so tiles not refined yet show that. Once every tile is
   /// marched the frame is draw()'s, pixel for pixel (the same program at the same pixels; tests).
-  /// Returns whether every tile is marched.
+  /// While a far field is being made over frames (setFarFieldBuildBudgetMs), the tiles wait: the
+  /// call makes slabs for the far-field budget and `budgetMs` together, and a completed set
+  /// starts the refinement again, drawn from it. Returns whether every tile is marched.
   bool drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
                        double budgetMs);
   void restartProgressive() { progress_.valid = false; }
@@ -212,6 +214,9 @@ class VolumeRendererGL {
   /// (volume::clusterBySphere), clusters back to front, within a cluster the groups of groupEnd
   /// in layer order; each pass limited to its cluster's projected bounding box.
   static std::vector<PassGL> planPasses(const Camera& camera, const std::vector<VolumeLayerGL>& layers);
+  /// Makes (or goes on making, within the frame's budget) the far fields of the passes that would
+  /// be drawn from one (FarFieldGL::prepare), before anything is marched.
+  void advanceFarFields(const Camera& camera, const std::vector<PassGL>& passes);
   /// Lays a premultiplied volume image (any size: bilinear) over `target` inside `rectPx`;
   /// leaves it bound.
   void compositeOver(unsigned int volumeTexture, const FramebufferGL& target, const glm::ivec4& rectPx);
