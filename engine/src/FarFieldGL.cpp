@@ -108,6 +108,7 @@ void FarFieldGL::release(Slabs& s) {
 }
 
 void FarFieldGL::beginFrame(double budgetMs) {
+  ++frame_;
   budgetMs_ = budgetMs;
   spentMs_ = 0.0;
   bandsThisFrame_ = 0;
@@ -122,16 +123,14 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   if (it != kept_.end()) {
     std::rotate(it, it + 1, kept_.end());
   } else {
-    // Room for kKeptVolumes volumes (a national network's clusters): the least recently used goes.
-    if (kept_.size() >= kKeptVolumes) {
-      release(kept_.front().ready);
-      release(kept_.front().building);
-      kept_.erase(kept_.begin());
-    }
+    // Room for kKeptVolumes volumes (a national network's clusters): the least recently used not
+    // drawn in this frame goes; more in one frame than that are marched.
+    if (kept_.size() >= kKeptVolumes && !evictOne()) return false;
     kept_.push_back({});
     kept_.back().volumeId = id;
   }
   Kept& k = kept_.back();
+  k.usedInFrame = frame_;
   // Slabs of this volume's field as it is now (the same settings, slabs and grid corner)...
   const auto sameField = [&](const Slabs& s) {
     return s.texture && s.uniformVersion == layer.volume->uniformVersion() && s.settings == settings &&
@@ -142,7 +141,10 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   const auto serves = [&](const Slabs& s) {
     return sameField(s) && s.plan.latStepDeg <= plan.latStepDeg && s.plan.lonStepDeg <= plan.lonStepDeg;
   };
-  if (serves(k.ready)) return true;
+  if (serves(k.ready)) {
+    release(k.building);  // finer slabs begun for a nearer view: not finished, not kept
+    return true;
+  }
   if (!serves(k.building)) {
     release(k.building);
     const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
@@ -174,13 +176,22 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   k.ready = std::move(k.building);
   k.building = Slabs{};
   ++made_;
-  // Within kMaxKeptBytes: the least recently used others go.
-  while (kept_.size() > 1 && gpuBytes() > kMaxKeptBytes) {
-    release(kept_.front().ready);
-    release(kept_.front().building);
-    kept_.erase(kept_.begin());
+  // Within kMaxKeptBytes: the least recently used others go, never one drawn in this frame (its
+  // slabs would be made again next frame, and the next completed set would take another's).
+  while (gpuBytes() > kMaxKeptBytes && evictOne()) {
   }
   return true;
+}
+
+bool FarFieldGL::evictOne() {
+  for (auto it = kept_.begin(); it != kept_.end(); ++it) {
+    if (it->usedInFrame == frame_) continue;
+    release(it->ready);
+    release(it->building);
+    kept_.erase(it);
+    return true;
+  }
+  return false;
 }
 
 bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s) {
@@ -192,6 +203,8 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glEnable(GL_SCISSOR_TEST);
+  // Bands are timed alone: what the frame queued before (the globe, other passes) finished first.
+  if (bounded) glFinish();
   bool ok = true;
   while (ok && s.slabsDone < slabs) {
     // With a budget: at least one band a frame, then while time is left.
@@ -199,10 +212,13 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
     const int left = plan.rows - s.rowsDone;
     int rows = left;  // without a budget: the rest of the slab
     if (bounded) {
-      // As many rows as the time left allows at the last band's cost per texel; the first band
-      // measured is a small one (about 4096 texels).
-      const double texels = msPerTexel_ > 0.0 ? std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_ : 4096.0;
-      rows = std::clamp(static_cast<int>(texels / plan.columns), 1, left);
+      // As many rows as the time left allows at the last band's cost per texel, but at most twice
+      // the last band's texels (the cost differs from slab to slab and volume to volume); the
+      // first band measured is a small one (about 4096 texels).
+      double texels = 4096.0;
+      if (msPerTexel_ > 0.0)
+        texels = std::min(std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_, 2.0 * lastBandTexels_);
+      rows = static_cast<int>(std::clamp(texels / plan.columns, 1.0, static_cast<double>(left)));
     }
     glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, s.slabsDone);
     glScissor(0, s.rowsDone, plan.columns, rows);
@@ -212,7 +228,8 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
       glFinish();  // the time taken, not the time to queue
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       spentMs_ += ms;
-      msPerTexel_ = ms / (static_cast<double>(rows) * plan.columns);
+      lastBandTexels_ = static_cast<double>(rows) * plan.columns;
+      msPerTexel_ = ms / lastBandTexels_;
     }
     ++bandsThisFrame_;
     ++bands_;

@@ -609,7 +609,6 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
   const std::vector<PassGL> passes = planPasses(camera, layers);
   // One pass: its volume image stays in volumeTarget_ (drawProgressive's preview may take it).
   lastDrawValid_ = passes.size() == 1;
-  if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true, farField_->slabSetsMade());
   for (const PassGL& pass : passes) {
     const VolumeRenderOptions& o = pass.layers[0].options;
     const glm::ivec2 size = volumeImageSize(target, o.imageScale);
@@ -636,6 +635,8 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
       glEnable(GL_DEPTH_TEST);
     }
   }
+  // After the passes: a far field they completed is part of what the image is.
+  if (lastDrawValid_) lastDrawKey_ = progressKey(camera, layers, target, true, farField_->slabSetsMade());
 }
 
 bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,

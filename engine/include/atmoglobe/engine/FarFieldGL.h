@@ -120,8 +120,11 @@ class FarFieldGL {
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
   struct Kept {
     std::uint64_t volumeId = 0;
+    std::uint64_t usedInFrame = 0;  ///< the frame (beginFrame's count) that last asked for it
     Slabs ready, building;
   };
+  /// Frees the least recently used volume's slabs not asked for in this frame; false if none.
+  bool evictOne();
   static std::vector<double> settingsKey(const VolumeLayerGL& layer);
   using BoxView = FarFieldPlan::View;
   static BoxView viewOf(const Camera& camera, const FarFieldPlan& plan);
@@ -135,7 +138,9 @@ class FarFieldGL {
   double budgetMs_ = 0.0, spentMs_ = 0.0;  ///< this frame's
   int bandsThisFrame_ = 0;
   bool pending_ = false;
+  std::uint64_t frame_ = 0;  ///< beginFrame calls
   double msPerTexel_ = 0.0;  ///< the last band's cost (0: none measured yet)
+  double lastBandTexels_ = 0.0;
 };
 
 }  // namespace atmoglobe::engine
