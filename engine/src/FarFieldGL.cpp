@@ -118,7 +118,7 @@ void FarFieldGL::beginFrame(double budgetMs) {
 bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan) {
   const std::vector<double> settings = settingsKey(layer);
   const std::uint64_t id = layer.volume->id();
-  auto it = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) { return k.volumeId == id; });
+  auto it = findKept(id);
   // The most recently used last.
   if (it != kept_.end()) {
     std::rotate(it, it + 1, kept_.end());
@@ -147,7 +147,7 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   }
   if (!serves(k.building)) {
     release(k.building);
-    const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+    const int slabs = plan.slabCount();
     Slabs s;
     s.texture = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
     clearErrorsGL();
@@ -168,7 +168,7 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
     release(k.building);
     return false;
   }
-  if (k.building.slabsDone < static_cast<int>(k.building.plan.boundariesMeters.size()) - 1) {
+  if (k.building.slabsDone < k.building.plan.slabCount()) {
     pending_ = true;
     return sameField(k.ready);  // coarser slabs meanwhile, or the march
   }
@@ -181,6 +181,10 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   while (gpuBytes() > kMaxKeptBytes && evictOne()) {
   }
   return true;
+}
+
+std::vector<FarFieldGL::Kept>::iterator FarFieldGL::findKept(std::uint64_t volumeId) {
+  return std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) { return k.volumeId == volumeId; });
 }
 
 bool FarFieldGL::evictOne() {
@@ -196,7 +200,7 @@ bool FarFieldGL::evictOne() {
 
 bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s) {
   const FarFieldPlan& plan = s.plan;
-  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+  const int slabs = plan.slabCount();
   const bool bounded = budgetMs_ > 0.0;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, plan.columns, plan.rows);
@@ -300,7 +304,7 @@ FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan&
 
 void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx,
                       unsigned int depthTexture) {
-  auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) { return k.volumeId == layer.volume->id(); });
+  auto kept = findKept(layer.volume->id());
   if (kept == kept_.end() || !kept->ready.texture) return;
   const Slabs* s = &kept->ready;
   const FarFieldPlan& plan = s->plan;
@@ -329,7 +333,7 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const gl
   glUniform4f(program_.uniform("u_box"), static_cast<float>(plan.westDeg), static_cast<float>(plan.southDeg),
               static_cast<float>(plan.lonStepDeg), static_cast<float>(plan.latStepDeg));
   glUniform2f(program_.uniform("u_texels"), static_cast<float>(plan.columns), static_cast<float>(plan.rows));
-  const int slabs = static_cast<int>(plan.boundariesMeters.size()) - 1;
+  const int slabs = plan.slabCount();
   glUniform1i(program_.uniform("u_slabCount"), slabs);
   std::vector<float> heights(plan.boundariesMeters.begin(), plan.boundariesMeters.end());
   glUniform1fv(program_.uniform("u_heights"), static_cast<GLsizei>(heights.size()), heights.data());
@@ -349,7 +353,7 @@ std::size_t FarFieldGL::gpuBytes() const {
     for (const Slabs* s : {&k.ready, &k.building})
       if (s->texture)
         bytes += static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows) *
-                 (s->plan.boundariesMeters.size() - 1) * 8;
+                 static_cast<std::size_t>(s->plan.slabCount()) * 8;
   return bytes;
 }
 

@@ -46,6 +46,7 @@ struct FarFieldPlan {
   double lonStepDeg = 0.0, latStepDeg = 0.0;  ///< a texel's size
   int columns = 0, rows = 0;
   std::vector<double> boundariesMeters;  ///< the slabs' boundaries above the ellipsoid, from the top down (slabs + 1)
+  int slabCount() const { return static_cast<int>(boundariesMeters.size()) - 1; }
 };
 
 class FarFieldGL {
@@ -125,6 +126,7 @@ class FarFieldGL {
   };
   /// Frees the least recently used volume's slabs not asked for in this frame; false if none.
   bool evictOne();
+  std::vector<Kept>::iterator findKept(std::uint64_t volumeId);
   static std::vector<double> settingsKey(const VolumeLayerGL& layer);
   using BoxView = FarFieldPlan::View;
   static BoxView viewOf(const Camera& camera, const FarFieldPlan& plan);
