@@ -17,6 +17,8 @@ uniform vec4 u_box;      // the slabs' texels: lonWestDeg, latSouthDeg, lonStepD
 uniform vec2 u_texels;   // columns, rows
 uniform int u_slabCount;
 uniform float u_heights[FAR_FIELD_MAX_SLABS + 1];  // the slabs' boundaries (m above the ellipsoid), from the top down
+uniform sampler2D u_mask;  // R8 with levels: 1 where a column holds anything (FarFieldGL::makeMask)
+uniform int u_hasMask;     // 0: no mask, every pixel visits the slabs
 
 layout(location = 0) out vec4 o_color;
 
@@ -36,16 +38,55 @@ vec2 shellInterval(vec3 o, vec3 d, float h) {
   return vec2((-b - sq) / len, (-b + sq) / len);
 }
 
+// Texel coordinates (columns, rows from the box's corner, longitude unwrapped: x may run past the
+// grid's width or below 0 where the box spans the antimeridian's side) and geodetic latitude of
+// the ellipsoid's point below p (within 100 m at 20 km).
+vec3 texelAt(vec3 p) {
+  float lon = degrees(atan(p.y, p.x));
+  float lat = degrees(atan(p.z, (1.0 - WGS84_E2) * length(p.xy)));
+  return vec3(mod(lon - u_box.x, 360.0) / u_box.z, (lat - u_box.y) / u_box.w, lat);
+}
+
+// The ray's texel coordinates: exact at its ends in the slabs (g_tA, g_tB), interpolated in t
+// between them where the chord is under 50 km and below 75 deg of latitude (g_linear); each
+// piece's exact otherwise. There the interpolated point is within 240 m of the exact one (computed
+// for chords of 50 km at every heading, 0-75 deg, from 0-40 km up: 140 m at 60 deg, 240 m at 75;
+// docs/networks.md); pixels here are 2 km or wider.
+bool g_linear = false;
+float g_tA = 0.0, g_tB = 1.0;
+vec2 g_uvA = vec2(0.0), g_uvB = vec2(0.0);
+
+// Whether the mask holds nothing over texel coordinates lo..hi (widened by a texel: a bilinear
+// lookup at uv reads texels floor(uv - 0.5) and the next): at the smallest level whose texels are
+// as wide as that span, which it crosses in at most two texels a side (FarFieldGL::makeMask: level
+// 0's texel x is in texel min(x >> l, size - 1) of level l). False where a longitude wrap could
+// bring a piece into the box from the other side.
+bool emptyAlong(vec2 lo, vec2 hi) {
+  float wrap = 360.0 / u_box.z;
+  if ((lo.x < 0.0 && lo.x + wrap <= u_texels.x + 1.0) || (hi.x >= wrap && hi.x - wrap >= -1.0)) return false;
+  ivec2 size0 = ivec2(u_texels);
+  ivec2 i0 = clamp(ivec2(floor(lo)) - 1, ivec2(0), size0 - 1);
+  ivec2 i1 = clamp(ivec2(floor(hi)) + 1, ivec2(0), size0 - 1);
+  if (lo.x > u_texels.x + 1.0 || lo.y > u_texels.y + 1.0 || hi.x < -1.0 || hi.y < -1.0) return true;  // outside the box
+  int span = max(i1.x - i0.x, i1.y - i0.y) + 1;
+  int level = min(findMSB(span) + ((span & (span - 1)) != 0 ? 1 : 0), textureQueryLevels(u_mask) - 1);
+  ivec2 size = textureSize(u_mask, level);
+  ivec2 c0 = min(i0 >> level, size - 1), c1 = min(i1 >> level, size - 1);
+  float m = texelFetch(u_mask, c0, level).r + texelFetch(u_mask, ivec2(c1.x, c0.y), level).r +
+            texelFetch(u_mask, ivec2(c0.x, c1.y), level).r + texelFetch(u_mask, c1, level).r;
+  return m <= 0.0;
+}
+
 // Slab k's piece [t0, t1] of the ray, composited into acc.
 void piece(int k, float t0, float t1, vec3 dir, inout vec4 acc) {
   if (t1 <= t0) return;
-  vec3 p = u_eyeEcef + 0.5 * (t0 + t1) * dir;
-  float lon = degrees(atan(p.y, p.x));
-  float lat = degrees(atan(p.z, (1.0 - WGS84_E2) * length(p.xy)));  // geodetic at the surface below p (within 100 m at 20 km)
-  float x = mod(lon - u_box.x, 360.0) / u_box.z;
-  float y = (lat - u_box.y) / u_box.w;
-  if (x < 0.0 || x > u_texels.x || y < 0.0 || y > u_texels.y) return;
-  vec4 c = textureLod(u_slabs, vec3(x / u_texels.x, y / u_texels.y, float(k)), 0.0);
+  float tm = 0.5 * (t0 + t1);
+  vec2 uv = g_linear ? mix(g_uvA, g_uvB, clamp((tm - g_tA) / (g_tB - g_tA), 0.0, 1.0))
+                     : texelAt(u_eyeEcef + tm * dir).xy;
+  float wrap = 360.0 / u_box.z;
+  uv.x = uv.x < 0.0 ? uv.x + wrap : (uv.x >= wrap ? uv.x - wrap : uv.x);
+  if (uv.x < 0.0 || uv.x > u_texels.x || uv.y < 0.0 || uv.y > u_texels.y) return;
+  vec4 c = textureLod(u_slabs, vec3(uv / u_texels, float(k)), 0.0);
   if (c.a <= 0.0 && all(lessThanEqual(c.rgb, vec3(0.0)))) return;
   // Optical depth over the piece: the slab's, times the piece's length over the slab's thickness.
   float ratio = (t1 - t0) / (u_heights[k] - u_heights[k + 1]);
@@ -63,17 +104,33 @@ void main() {
   vec3 dir = normalize(u_cameraToEcef * dirEye);
   float depth = textureLod(u_globeDepth, v_uv, 0.0).r;
   float tGround = depth > 0.0 ? (u_near / depth) / (-dirEye.z / length(dirEye)) : 1e30;
-  vec2 shells[FAR_FIELD_MAX_SLABS + 1];
-  for (int j = 0; j <= FAR_FIELD_MAX_SLABS; ++j)
-    shells[j] = j <= u_slabCount ? shellInterval(u_eyeEcef, dir, u_heights[j]) : vec2(1.0, 0.0);
   vec4 acc = vec4(0.0);
-  if (shells[0].x > shells[0].y) {
+  vec2 top = shellInterval(u_eyeEcef, dir, u_heights[0]);
+  if (top.x > top.y) {
     o_color = acc;
     return;
   }
   // The lowest boundary is the ground (the volume's columns end there): a ray that meets it ends.
-  bool ground = shells[u_slabCount].x <= shells[u_slabCount].y;
-  float tEnd = min(tGround, ground ? shells[u_slabCount].x : 1e30);
+  vec2 bottom = shellInterval(u_eyeEcef, dir, u_heights[u_slabCount]);
+  bool ground = bottom.x <= bottom.y;
+  float tEnd = min(tGround, ground ? bottom.x : 1e30);
+  g_tA = max(top.x, 0.0);
+  g_tB = max(min(tEnd, top.y), g_tA);
+  vec3 a = texelAt(u_eyeEcef + g_tA * dir), b = texelAt(u_eyeEcef + g_tB * dir);
+  // The longitude unwrapped from a to b (the shorter way round).
+  float dLon = (b.x - a.x) * u_box.z;
+  dLon -= 360.0 * round(dLon / 360.0);
+  g_uvA = a.xy;
+  g_uvB = vec2(a.x + dLon / u_box.z, b.y);
+  g_linear = g_tB - g_tA < 5.0e4 && g_tB > g_tA && max(abs(a.z), abs(b.z)) < 75.0;
+  // Only empty columns along the chord (every piece's bilinear texels within a texel of it): none.
+  if (g_linear && u_hasMask != 0 && emptyAlong(min(g_uvA, g_uvB), max(g_uvA, g_uvB))) {
+    o_color = acc;
+    return;
+  }
+  vec2 shells[FAR_FIELD_MAX_SLABS + 1];
+  for (int j = 0; j <= FAR_FIELD_MAX_SLABS; ++j)
+    shells[j] = j <= u_slabCount ? shellInterval(u_eyeEcef, dir, u_heights[j]) : vec2(1.0, 0.0);
   // Going down: slab k from where the ray enters its upper boundary to where it enters the
   // lower one (or leaves the upper one, if it passes above the lower boundary) ...
   for (int k = 0; k < FAR_FIELD_MAX_SLABS; ++k) {

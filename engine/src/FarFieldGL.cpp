@@ -20,8 +20,11 @@ Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
   defines.push_back("FAR_FIELD_MAX_SLABS " + std::to_string(kMaxSlabs));
   auto program = ShaderProgramGL::create("fullscreen.vert", "far_field.frag", defines);
   if (!program) return program.forwardError();
+  auto mask = ShaderProgramGL::create("fullscreen.vert", "far_field_mask.frag", {});
+  if (!mask) return mask.forwardError();
   std::unique_ptr<FarFieldGL> f(new FarFieldGL());
   f->program_ = std::move(*program);
+  f->maskProgram_ = std::move(*mask);
   glCreateVertexArrays(1, &f->vao_);
   glCreateFramebuffers(1, &f->fbo_);
   return f;
@@ -103,7 +106,8 @@ std::vector<double> FarFieldGL::settingsKey(const VolumeLayerGL& layer) {
 }
 
 void FarFieldGL::release(Slabs& s) {
-  if (s.texture) glDeleteTextures(1, &s.texture);
+  for (unsigned int t : {s.texture, s.mask})
+    if (t) glDeleteTextures(1, &t);
   s = Slabs{};
 }
 
@@ -172,6 +176,7 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
     pending_ = true;
     return sameField(k.ready);  // coarser slabs meanwhile, or the march
   }
+  makeMask(k.building);
   release(k.ready);
   k.ready = std::move(k.building);
   k.building = Slabs{};
@@ -248,6 +253,80 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
   glDisable(GL_SCISSOR_TEST);
   glEnable(GL_DEPTH_TEST);
   return ok;
+}
+
+std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::uint8_t> level0, int width,
+                                                               int height) {
+  std::vector<std::vector<std::uint8_t>> levels;
+  levels.push_back(std::move(level0));
+  int bw = width, bh = height;
+  for (int l = 1; (std::max(width, height) >> l) > 0; ++l) {
+    const std::vector<std::uint8_t>& below = levels.back();
+    const int lw = std::max(1, width >> l), lh = std::max(1, height >> l);
+    std::vector<std::uint8_t> level(static_cast<std::size_t>(lw) * static_cast<std::size_t>(lh), 0);
+    for (int j = 0; j < lh; ++j) {
+      const int y1 = j == lh - 1 ? bh - 1 : 2 * j + 1;
+      for (int i = 0; i < lw; ++i) {
+        const int x1 = i == lw - 1 ? bw - 1 : 2 * i + 1;
+        std::uint8_t m = 0;
+        for (int y = 2 * j; y <= y1; ++y)
+          for (int x = 2 * i; x <= x1; ++x)
+            m = std::max(
+                m, below[static_cast<std::size_t>(y) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(x)]);
+        level[static_cast<std::size_t>(j) * static_cast<std::size_t>(lw) + static_cast<std::size_t>(i)] = m;
+      }
+    }
+    levels.push_back(std::move(level));
+    bw = lw;
+    bh = lh;
+  }
+  return levels;
+}
+
+void FarFieldGL::makeMask(Slabs& s) {
+  const int w = s.plan.columns, h = s.plan.rows;
+  int levels = 1;
+  while ((std::max(w, h) >> levels) > 0) ++levels;
+  unsigned int mask = makeVolumeTextureGL(GL_TEXTURE_2D, GL_NEAREST);
+  clearErrorsGL();
+  glTextureStorage2D(mask, levels, GL_R8, w, h);
+  if (outOfMemoryGL()) {
+    glDeleteTextures(1, &mask);
+    return;
+  }
+  glTextureParameteri(mask, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  // Level 0 from the slabs.
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, mask, 0);
+  glViewport(0, 0, w, h);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  maskProgram_.use();
+  glUniform1i(maskProgram_.uniform("u_slabCount"), s.plan.slabCount());
+  glUniform1i(maskProgram_.uniform("u_slabs"), 0);
+  glBindTextureUnit(0, s.texture);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glEnable(GL_DEPTH_TEST);
+  // The coarser levels: each texel the largest of those it covers.
+  GLint packAlignment = 4, unpackAlignment = 4;
+  glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  std::vector<std::uint8_t> below(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  glGetTextureImage(mask, 0, GL_RED, GL_UNSIGNED_BYTE, static_cast<GLsizei>(below.size()), below.data());
+  const std::vector<std::vector<std::uint8_t>> pyramid = maskPyramid(std::move(below), w, h);
+  for (std::size_t l = 1; l < pyramid.size(); ++l)
+    glTextureSubImage2D(mask, static_cast<GLint>(l), 0, 0, std::max(1, w >> l), std::max(1, h >> l), GL_RED,
+                        GL_UNSIGNED_BYTE, pyramid[l].data());
+  glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
+  s.mask = mask;
 }
 
 FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan& plan) {
@@ -339,8 +418,11 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const gl
   glUniform1fv(program_.uniform("u_heights"), static_cast<GLsizei>(heights.size()), heights.data());
   glBindTextureUnit(0, s->texture);
   glBindTextureUnit(1, depthTexture);
+  glBindTextureUnit(2, s->mask);
   glUniform1i(program_.uniform("u_slabs"), 0);
   glUniform1i(program_.uniform("u_globeDepth"), 1);
+  glUniform1i(program_.uniform("u_mask"), 2);
+  glUniform1i(program_.uniform("u_hasMask"), s->mask != 0 && maskSkipping_ ? 1 : 0);
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -351,9 +433,11 @@ std::size_t FarFieldGL::gpuBytes() const {
   std::size_t bytes = 0;
   for (const Kept& k : kept_)
     for (const Slabs* s : {&k.ready, &k.building})
-      if (s->texture)
-        bytes += static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows) *
-                 static_cast<std::size_t>(s->plan.slabCount()) * 8;
+      if (s->texture) {
+        const std::size_t texels = static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows);
+        bytes += texels * static_cast<std::size_t>(s->plan.slabCount()) * 8;
+        if (s->mask) bytes += texels + texels / 3;  // R8 and its levels
+      }
   return bytes;
 }
 

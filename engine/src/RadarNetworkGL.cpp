@@ -74,6 +74,25 @@ std::shared_ptr<const NetworkRadarParts> RadarNetworkGL::prepareRadar(const volu
         parts->runs.push_back({og.minLocal + glm::dvec3(x0, y, z) * og.cellSizeMeters,
                                og.minLocal + glm::dvec3(x, y + 1, z + 1) * og.cellSizeMeters, m});
       }
+  // The highest echo: the highest corner of the occupied cells, a top corner (the frame's up is the
+  // vertical at its origin, the radar). A corner (x, y, z) of the frame is about z + (x^2 + y^2) / 2R
+  // above the origin's height (R = 6,371 km; the Earth's radii of curvature, 6,335-6,400 km, move
+  // that by under 50 m at 300 km): the corners within 1 km of the highest by that are converted
+  // exactly (globe::ecefToGeodetic), the others cannot be the highest.
+  constexpr double kTwoR = 2.0 * 6371000.0;
+  auto approxHeight = [&](const glm::dvec3& c) { return c.z + (c.x * c.x + c.y * c.y) / kTwoR; };
+  auto corners = [](const volume::OccupancyBox& run, auto&& f) {
+    for (int c = 0; c < 4; ++c) f(glm::dvec3((c & 1) ? run.hi.x : run.lo.x, (c & 2) ? run.hi.y : run.lo.y, run.hi.z));
+  };
+  double highest = -1e300;
+  for (const volume::OccupancyBox& run : parts->runs)
+    corners(run, [&](const glm::dvec3& c) { highest = std::max(highest, approxHeight(c)); });
+  for (const volume::OccupancyBox& run : parts->runs)
+    corners(run, [&](const glm::dvec3& c) {
+      if (approxHeight(c) < highest - 1000.0) return;
+      parts->echoTopMeters =
+          std::max(parts->echoTopMeters, globe::ecefToGeodetic(og.originEcef + og.localToEcef * c).heightMeters);
+    });
   return parts;
 }
 
@@ -419,6 +438,8 @@ Result<std::unique_ptr<RadarNetworkGL>> RadarNetworkGL::create(
   gl->enclosing_ = glm::vec4(glm::vec3(enclosing.centreEcef - origin), static_cast<float>(enclosing.radiusMeters));
   gl->top_ = glm::vec4(glm::vec3(-origin), static_cast<float>(topRadius));
   gl->topRadiusMeters_ = topRadius;
+  gl->echoTopMeters_ = -std::numeric_limits<double>::infinity();
+  for (const auto& p : parts) gl->echoTopMeters_ = std::max(gl->echoTopMeters_, p->echoTopMeters);
   // Empty-space cells of about 2 km across and 500 m up, at most 2^23 (32 MiB of floats): the
   // frame is tangent at the origin, so a continental cluster's box is hundreds of km deep with
   // the Earth's curvature, and 32 fixed layers were 15 km each; a lone radar's are about what
@@ -571,6 +592,10 @@ std::optional<FarFieldExtent> RadarNetworkGL::farFieldExtent() const {
   // nearer the centre than at its latitude farthest from the equator.
   const double farthestDeg = std::max(std::abs(e.southDeg), std::abs(e.northDeg));
   e.topMeters = topRadiusMeters_ - glm::length(globe::geodeticToEcef({farthestDeg, 0.0, 0.0}));
+  // Nothing is drawn above the highest echo (NoEcho and NoData classify clear): the slabs stop
+  // there (a 230 km VCP's top beam reaches tens of km, storms a third of that).
+  if (!(echoTopMeters_ > 0.0)) return std::nullopt;
+  e.topMeters = std::min(e.topMeters, echoTopMeters_);
   return e;
 }
 

@@ -6,6 +6,7 @@
 #include "TestOutputDir.h"
 
 #include <atmoglobe/engine/Camera.h>
+#include <atmoglobe/engine/FarFieldGL.h>
 #include <atmoglobe/engine/FramebufferGL.h>
 #include <atmoglobe/engine/RadarNetworkGL.h>
 #include <atmoglobe/engine/Scene.h>
@@ -18,9 +19,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <memory>
+#include <vector>
 
 namespace {
 
@@ -87,9 +91,10 @@ class FarField : public ::testing::Test {
     options_.render.transfer = volume::defaultReflectivityTransfer();
     options_.render.stepMeters = 250.0;
   }
-  // The network drawn with the far field on (auto) and off, the far field's slab sets made.
+  // The network drawn with the far field on (auto) and off, the far field's slab sets made, and
+  // the far field again with every pixel visiting the slabs (no skipping by the mask).
   struct Frames {
-    volume::VolumeImage farField, marched;
+    volume::VolumeImage farField, marched, unmasked;
     std::size_t slabSets = 0;
     int drawn = 0;  ///< pixels of the marched frame with alpha above 0.05
   };
@@ -100,6 +105,9 @@ class FarField : public ::testing::Test {
     const std::size_t before = renderer_->farField().slabSetsMade();
     f.farField = testutil::renderVolumesGpu(*renderer_, camera, {{network_, on}});
     f.slabSets = renderer_->farField().slabSetsMade() - before;
+    renderer_->farField().setMaskSkipping(false);
+    f.unmasked = testutil::renderVolumesGpu(*renderer_, camera, {{network_, on}});
+    renderer_->farField().setMaskSkipping(true);
     f.marched = testutil::renderVolumesGpu(*renderer_, camera, {{network_, options_}});
     for (int y = 0; y < camera.heightPx(); ++y)
       for (int x = 0; x < camera.widthPx(); ++x) f.drawn += f.marched.at(x, y).a > 0.05;
@@ -141,6 +149,10 @@ TEST_F(FarField, FromFarAwayTheSlabsDrawWhatTheMarchDraws) {
               << " slab sets; against the march mean " << e.meanAbs << " max " << e.maxAbs << " PSNR " << e.psnrDb
               << " dB; against the reference mean " << eRef.meanAbs << " (the march: " << marchRef.meanAbs << ")\n";
     ASSERT_GT(f.drawn, 1500) << "the storm must fill part of the view";
+    // Pixels whose ray the mask finds over empty columns only draw nothing: exactly what visiting
+    // the slabs draws there (mask pyramid: MaskPyramidCoversEveryTexel).
+    const volume::ImageError masked = volume::compareImages(f.farField, f.unmasked);
+    EXPECT_EQ(masked.maxAbs, 0.0) << "skipping by the mask changed " << masked.meanAbs << " of 255 on average";
     // The first view makes the slabs; the second, as wide a footprint, takes the same ones.
     EXPECT_EQ(f.slabSets, camera.pose().pitchDeg == -90.0 ? 1u : 0u);
     EXPECT_GT(e.maxAbs, 0.0) << "the far field drew the marched picture exactly: was it used?";
@@ -154,6 +166,53 @@ TEST_F(FarField, FromFarAwayTheSlabsDrawWhatTheMarchDraws) {
     // slant scaling of each piece's optical depth the oblique view loses 7.8 %.
     EXPECT_LT(std::abs(opacityChange), 0.02);
   }
+}
+
+TEST(FarFieldMask, MaskPyramidCoversEveryTexel) {
+  // Odd, even, one-texel and lopsided sizes; a few set texels each (a sparse storm field).
+  const int sizes[][2] = {{1, 1}, {2, 1}, {5, 3}, {7, 7}, {64, 32}, {65, 33}, {129, 2}, {1, 77}, {2078, 17}};
+  std::uint32_t seed = 12345u;
+  auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+  for (const auto& size : sizes) {
+    const int w = size[0], h = size[1];
+    for (int trial = 0; trial < 4; ++trial) {
+      std::vector<std::uint8_t> level0(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+      for (int n = 0; n < 1 + trial * 3; ++n) level0[next() % level0.size()] = 255;
+      if (trial == 3) level0.back() = 255;  // the last texel: the one an odd size's edge covers
+      const auto levels = engine::FarFieldGL::maskPyramid(level0, w, h);
+      int expected = 1;
+      while ((std::max(w, h) >> expected) > 0) ++expected;
+      ASSERT_EQ(levels.size(), static_cast<std::size_t>(expected)) << w << "x" << h;
+      ASSERT_EQ(levels.back().size(), 1u);
+      for (std::size_t l = 0; l < levels.size(); ++l) {
+        const int lw = std::max(1, w >> l), lh = std::max(1, h >> l);
+        ASSERT_EQ(levels[l].size(), static_cast<std::size_t>(lw) * static_cast<std::size_t>(lh));
+        // Each texel of level l is set exactly when a level-0 texel mapping to it is.
+        std::vector<std::uint8_t> want(levels[l].size(), 0);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            const int cx = std::min(x >> l, lw - 1), cy = std::min(y >> l, lh - 1);
+            auto& m = want[static_cast<std::size_t>(cy) * static_cast<std::size_t>(lw) + static_cast<std::size_t>(cx)];
+            m = std::max(
+                m, level0[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)]);
+          }
+        EXPECT_EQ(levels[l], want) << w << "x" << h << " level " << l;
+      }
+    }
+  }
+}
+
+TEST_F(FarField, TheSlabsEndAtTheHighestEcho) {
+  // stormAt echoes (5 dBZ or more) up to 9.73 km: 60 exp(-((h - 5 km) / 3 km)^2) = 5 there. The
+  // network interpolates between beam centres, so a sweep's echo reaches up to the next sweep's
+  // centre, 1 deg higher: 2.1 km at the radars' last gate (120 km); the empty-space cells (500 m
+  // up) round it up by at most a cell: 12.33 km at most. The highest beam (7.5 deg, 0.5 deg wide
+  // above its centre, at 120 km) is 17.9 km up, where the slabs ended before.
+  const std::optional<engine::FarFieldExtent> e = network_->farFieldExtent();
+  ASSERT_TRUE(e);
+  std::cout << "far field top " << e->topMeters << " m\n";
+  EXPECT_GT(e->topMeters, 9730.0);
+  EXPECT_LT(e->topMeters, 12500.0);
 }
 
 TEST_F(FarField, ACloseViewIsMarchedAndASecondFrameMakesNoSlabs) {

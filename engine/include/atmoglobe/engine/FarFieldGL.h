@@ -14,7 +14,9 @@
 //     made before, or else marched.
 //  2. Per pixel (shaders/far_field.frag), the ray's piece in each slab takes the slab's texel at
 //     the piece's middle, its optical depth scaled by the piece's length over the slab's
-//     thickness, composited front to back down to the globe's depth.
+//     thickness, composited front to back down to the globe's depth. A pixel whose ray crosses
+//     only empty columns (the slabs' mask: a pyramid of "anything in this column", made when a set
+//     is complete) draws nothing without visiting the slabs.
 // What it assumes: along a ray's piece in a slab the volume is as it is down the vertical at the
 // piece's middle. Its error against the march is measured (tests, bench), not bounded here.
 // DVR only (point or pre-integrated classification); MIP and isosurfaces are marched.
@@ -102,6 +104,16 @@ class FarFieldGL {
   /// `depthTexture` (reverse-Z of the frame).
   void draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx, unsigned int depthTexture);
 
+  /// The levels of a slab set's mask from its level 0 (`width` x `height`, row by row): level l is
+  /// max(1, width >> l) x max(1, height >> l), as GL sizes them, down to 1 x 1; its texel i covers
+  /// texels 2i and 2i + 1 of the level below, its last one the rest (an odd size's last three), so
+  /// that level 0's texel x lies in texel min(x >> l, size_l - 1) of level l. Each texel is the
+  /// largest it covers.
+  static std::vector<std::vector<std::uint8_t>> maskPyramid(std::vector<std::uint8_t> level0, int width, int height);
+  /// Whether pixels may skip the slabs where the mask says their ray crosses only empty columns
+  /// (on by default; tests draw both ways and compare).
+  void setMaskSkipping(bool on) { maskSkipping_ = on; }
+
   /// Slab sets completed so far (tests: a second frame of the same view makes none).
   std::size_t slabSetsMade() const { return made_; }
   /// Bands of rows marched so far (tests: a set made over frames).
@@ -116,6 +128,7 @@ class FarFieldGL {
     std::vector<double> settings;  ///< the transfer function, step, classification
     FarFieldPlan plan;
     unsigned int texture = 0;         ///< 0: none
+    unsigned int mask = 0;            ///< R8 with every level: 1 where a column holds anything; 0: none
     int slabsDone = 0, rowsDone = 0;  ///< made so far: whole slabs from the top, then rows of the next
   };
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
@@ -133,13 +146,19 @@ class FarFieldGL {
   static void release(Slabs& s);
   /// Marches bands of `s` within the frame's budget; false if the program failed.
   bool build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s);
-  ShaderProgramGL program_;
+  /// The mask of a complete set: level 0 on the GPU from the slabs, the coarser levels on the CPU
+  /// (texel i of a level covers texels 2i and 2i + 1 of the one below, the last one the rest), so
+  /// that texel x of level 0 is in texel min(x >> l, size_l - 1) of level l. None if out of memory
+  /// (the pixels then visit the slabs).
+  void makeMask(Slabs& s);
+  ShaderProgramGL program_, maskProgram_;
   unsigned int vao_ = 0, fbo_ = 0;
   std::vector<Kept> kept_;  ///< per volume (a few volumes), the least recently used first
   std::size_t made_ = 0, bands_ = 0;
   double budgetMs_ = 0.0, spentMs_ = 0.0;  ///< this frame's
   int bandsThisFrame_ = 0;
   bool pending_ = false;
+  bool maskSkipping_ = true;
   std::uint64_t frame_ = 0;  ///< beginFrame calls
   double msPerTexel_ = 0.0;  ///< the last band's cost (0: none measured yet)
   double lastBandTexels_ = 0.0;

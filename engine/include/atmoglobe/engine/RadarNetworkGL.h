@@ -14,6 +14,7 @@
 #include <atmoglobe/volume/VerticalExaggeration.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct NetworkRadarParts {
   glm::dmat3 occupancyToEcef{1.0};            ///< the radar's empty-space frame (east, north, up columns)
   std::vector<volume::OccupancyBox> runs;     ///< runs of occupied cells along x, in that frame
   std::vector<std::vector<float>> rayTables;  ///< per sweep: volume::rayCoordinateTable
+  /// Above the ellipsoid, the highest corner of its occupied cells (runs): no echo above it
+  /// (-infinity: no echo anywhere).
+  double echoTopMeters = -std::numeric_limits<double>::infinity();
   std::uint64_t bytes() const;
 };
 
@@ -83,7 +87,8 @@ class RadarNetworkGL final : public VolumeGL {
   volume::ValueRange valueRange() const override { return sampler_->valueRange(); }
   std::size_t gpuBytes() const override { return gpuBytes_ + occupancy_.gpuBytes(); }
   std::string description() const override { return sampler_->description(); }
-  /// The coverage index's box, up to the highest beam.
+  /// The coverage index's box, up to the highest echo (the highest corner of any radar's occupied
+  /// empty-space cells), or the highest beam if that is lower; none without echoes.
   std::optional<FarFieldExtent> farFieldExtent() const override;
   const volume::VolumeSampler& referenceSampler() const override {
     return exaggerated_ ? static_cast<const volume::VolumeSampler&>(*exaggerated_) : *sampler_;
@@ -122,6 +127,7 @@ class RadarNetworkGL final : public VolumeGL {
   int maxListed_ = 0;              ///< the most radars a coverage cell lists (a variant constant of the march)
   glm::vec4 enclosing_{0.0f}, top_{0.0f};
   double topRadiusMeters_ = 0.0;  ///< from the Earth's centre: above every beam (top_, in double)
+  double echoTopMeters_ = 0.0;    ///< above the ellipsoid: the radars' highest echo (NetworkRadarParts)
   std::size_t gpuBytes_ = 0;
 };
 

@@ -147,6 +147,7 @@ class VolumeRendererGL {
   bool marchColumns(const VolumeLayerGL& layer, const FarFieldPlan& plan, int slab);
   /// The far field's slab sets made so far and their GPU bytes (FarFieldGL).
   const FarFieldGL& farField() const { return *farField_; }
+  FarFieldGL& farField() { return *farField_; }
   /// The time each draw() or drawProgressive() call may spend making far-field slabs
   /// (FarFieldGL::beginFrame): <= 0 (the default: render, bench) makes them whole when first
   /// needed; the viewer makes them over frames, marching the volume until they are complete.
