@@ -218,30 +218,47 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
   while (ok && s.slabsDone < slabs) {
     // With a budget: at least one band a frame, then while time is left.
     if (bounded && bandsThisFrame_ > 0 && spentMs_ >= budgetMs_) break;
+    // A band: whole rows, or within a block of kBandBlock rows, kBandBlock columns at a time.
     const int left = plan.rows - s.rowsDone;
-    int rows = left;  // without a budget: the rest of the slab
+    const int blockRows = std::min(kBandBlock, left);
+    int x = 0, width = plan.columns, rows = left;  // without a budget: the rest of the slab
     if (bounded) {
-      // As many rows as the time left allows at the last band's cost per texel, but at most twice
-      // the last band's texels (the cost differs from slab to slab and volume to volume); the
-      // first band measured is a small one (about 4096 texels).
-      double texels = 4096.0;
+      // As many texels as the time left allows at the last band's cost per texel, but at most
+      // twice the last band's texels (the cost differs from slab to slab and volume to volume);
+      // the first band measured is one block (kBandBlock^2 texels).
+      double texels = double(kBandBlock) * kBandBlock;
       if (msPerTexel_ > 0.0)
         texels = std::min(std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_, 2.0 * lastBandTexels_);
-      rows = static_cast<int>(std::clamp(texels / plan.columns, 1.0, static_cast<double>(left)));
+      if (s.columnsDone == 0 && texels >= double(plan.columns) * blockRows) {
+        // Whole blocks of rows.
+        const int blocks = static_cast<int>(texels / (double(plan.columns) * kBandBlock));
+        rows = std::min(left, std::max(1, blocks) * kBandBlock);
+      } else {
+        // Part of a block's row: whole blocks of columns.
+        const int blocks = static_cast<int>(std::ceil(texels / (double(blockRows) * kBandBlock)));
+        x = s.columnsDone;
+        width = std::min(plan.columns - x, std::max(1, blocks) * kBandBlock);
+        rows = blockRows;
+      }
     }
     glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, s.slabsDone);
-    glScissor(0, s.rowsDone, plan.columns, rows);
+    glScissor(x, s.rowsDone, width, rows);
     const auto start = std::chrono::steady_clock::now();
     ok = marcher.marchColumns(layer, plan, s.slabsDone);
     if (bounded) {
       glFinish();  // the time taken, not the time to queue
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       spentMs_ += ms;
-      lastBandTexels_ = static_cast<double>(rows) * plan.columns;
+      lastBandTexels_ = static_cast<double>(rows) * width;
       msPerTexel_ = ms / lastBandTexels_;
     }
     ++bandsThisFrame_;
     ++bands_;
+    if (x + width < plan.columns) {
+      s.columnsDone = x + width;
+      continue;
+    }
+    s.columnsDone = 0;
     s.rowsDone += rows;
     if (s.rowsDone == plan.rows) {
       ++s.slabsDone;

@@ -247,8 +247,9 @@ TEST_F(FarField, ACloseViewIsMarchedAndASecondFrameMakesNoSlabs) {
 }
 
 TEST_F(FarField, MadeOverFramesTheSlabsEndAsThoseMadeAtOnce) {
-  // 80 x 45 pixels 2,000 km up: texels of 0.16 deg, a few dozen rows a slab.
-  const Camera far(CameraPose{kCentreLatDeg, kCentreLonDeg, 2e6, 0.0, -90.0, 0.0}, 40.0, 80, 45);
+  // 160 x 90 pixels 2,000 km up: slabs of more than a band's block (FarFieldGL::kBandBlock) each
+  // way, so that bands meet along rows and along columns.
+  const Camera far(CameraPose{kCentreLatDeg, kCentreLonDeg, 2e6, 0.0, -90.0, 0.0}, 40.0, 160, 90);
   engine::VolumeRenderOptions on = options_;
   on.farField = engine::FarField::Auto;
   const Frames atOnce = draw(far);  // no budget: made whole in the frame
@@ -256,8 +257,8 @@ TEST_F(FarField, MadeOverFramesTheSlabsEndAsThoseMadeAtOnce) {
   ASSERT_FALSE(renderer_->farFieldPending());
   ASSERT_GT(volume::compareImages(atOnce.farField, atOnce.marched).maxAbs, 0.0);
 
-  // A budget of a microsecond a frame: after the first band (about 4096 texels, a slab here), one
-  // row a frame.
+  // A budget of a microsecond a frame: one band a frame, each a block of kBandBlock x kBandBlock
+  // texels (or what is left of a row of blocks).
   auto made = engine::VolumeRendererGL::create();
   ASSERT_TRUE(made) << made.error();
   engine::VolumeRendererGL& r = **made;
@@ -272,16 +273,22 @@ TEST_F(FarField, MadeOverFramesTheSlabsEndAsThoseMadeAtOnce) {
     last = testutil::renderVolumesGpu(r, far, {{network_, on}});
     ++frames;
   }
-  std::cout << "far field made over " << frames << " frames, " << r.farField().bandsMarched() << " bands\n";
+  const std::optional<engine::FarFieldPlan> plan = engine::FarFieldGL::planFor(far, {network_, on});
+  ASSERT_TRUE(plan);
+  std::cout << "far field made over " << frames << " frames, " << r.farField().bandsMarched() << " bands; "
+            << plan->columns << " x " << plan->rows << " texels, " << plan->slabCount() << " slabs\n";
   ASSERT_FALSE(r.farFieldPending());
   EXPECT_EQ(r.farField().slabSetsMade(), 1u);
   EXPECT_EQ(r.farField().bandsMarched(), static_cast<std::size_t>(frames)) << "one band a frame";
-  EXPECT_GT(frames, 20) << "the slabs must have been made in bands of rows";
+  ASSERT_GT(plan->columns, engine::FarFieldGL::kBandBlock);
+  ASSERT_GT(plan->rows, engine::FarFieldGL::kBandBlock);
+  // At least 2 x 2 blocks a slab.
+  EXPECT_GE(frames, 4 * plan->slabCount()) << "the slabs must have been made in bands";
   // The same texels whether marched in bands or whole: the same picture, pixel for pixel.
   EXPECT_EQ(volume::compareImages(last, atOnce.farField).maxAbs, 0.0);
 
   // Nearer (texels twice as fine needed): drawn from the coarser slabs while the finer are made.
-  const Camera nearer(CameraPose{kCentreLatDeg, kCentreLonDeg, 1e6, 0.0, -90.0, 0.0}, 40.0, 80, 45);
+  const Camera nearer(CameraPose{kCentreLatDeg, kCentreLonDeg, 1e6, 0.0, -90.0, 0.0}, 40.0, 160, 90);
   const Frames fine = draw(nearer);
   ASSERT_EQ(fine.slabSets, 1u) << "nearer, finer slabs are needed";
   const std::size_t bands = r.farField().bandsMarched();
@@ -294,14 +301,14 @@ TEST_F(FarField, MadeOverFramesTheSlabsEndAsThoseMadeAtOnce) {
   const volume::ImageError fineError = volume::compareImages(fine.farField, fine.marched);
   std::cout << "nearer, against the march: the coarser slabs mean " << coarse.meanAbs << " (" << coarse.psnrDb
             << " dB), the finer " << fineError.meanAbs << " (" << fineError.psnrDb << " dB)\n";
-  // Texels twice as wide as the view needs: measured 1.59 of 255 mean (30.1 dB) against the
-  // finer slabs' 0.76 (35.2 dB; 80 x 45 pixels 20 km wide). Within 3x the finer slabs' error: a
+  // Texels twice as wide as the view needs: measured 0.74 of 255 mean (35.6 dB) against the
+  // finer slabs' 0.40 (39.9 dB; 160 x 90 pixels 9 km wide). Within 3x the finer slabs' error: a
   // stand-in for a few frames, not a wrong picture.
   EXPECT_LT(coarse.meanAbs, 3.0 * fineError.meanAbs);
 }
 
 TEST_F(FarField, AtRestTheTilesWaitForTheSlabsAndTheRefinedFrameIsDrawnFromThem) {
-  const Camera far(CameraPose{kCentreLatDeg, kCentreLonDeg, 2e6, 0.0, -90.0, 0.0}, 40.0, 80, 45);
+  const Camera far(CameraPose{kCentreLatDeg, kCentreLonDeg, 2e6, 0.0, -90.0, 0.0}, 40.0, 160, 90);
   engine::VolumeRenderOptions on = options_;
   on.farField = engine::FarField::Auto;
   auto fb = engine::FramebufferGL::create(far.widthPx(), far.heightPx());
@@ -319,7 +326,7 @@ TEST_F(FarField, AtRestTheTilesWaitForTheSlabsAndTheRefinedFrameIsDrawnFromThem)
   auto made = engine::VolumeRendererGL::create();
   ASSERT_TRUE(made) << made.error();
   engine::VolumeRendererGL& r = **made;
-  r.setFarFieldBuildBudgetMs(1e-3);  // one band of rows a call
+  r.setFarFieldBuildBudgetMs(1e-3);  // one band a call
   int calls = 0, callsWithSlabsPending = 0;
   bool done = false;
   while (!done && calls < 5000) {
@@ -336,7 +343,11 @@ TEST_F(FarField, AtRestTheTilesWaitForTheSlabsAndTheRefinedFrameIsDrawnFromThem)
             << r.progressiveTiles().second << " tiles\n";
   ASSERT_TRUE(done);
   EXPECT_EQ(r.farField().slabSetsMade(), 1u);
-  EXPECT_GT(callsWithSlabsPending, 20);
+  // One band a call, at least 2 x 2 blocks a slab (MadeOverFramesTheSlabsEndAsThoseMadeAtOnce);
+  // the call that completes the set is not pending.
+  const std::optional<engine::FarFieldPlan> plan = engine::FarFieldGL::planFor(far, {network_, on});
+  ASSERT_TRUE(plan);
+  EXPECT_GE(callsWithSlabsPending, 4 * plan->slabCount() - 1);
   // After the slabs: the tiles, one a call, from the far field.
   EXPECT_EQ(calls - callsWithSlabsPending, static_cast<int>(r.progressiveTiles().second));
   const globe::ImageRGBA8 refined = (*fb)->readColor();

@@ -9,7 +9,7 @@
 //     and the volume's top), one column per texel of a latitude/longitude grid over the volume's
 //     extent whose texels are no wider than half the pixels' footprint: premultiplied RGBA per slab.
 //     Made once per volume, transfer function, step and texel size, and kept. Made whole when
-//     first needed (render, bench), or, with a budget a frame (the viewer), in bands of rows over
+//     first needed (render, bench), or, with a budget a frame (the viewer), in bands (kBandBlock) over
 //     frames: until they are complete the volume is drawn from coarser slabs of the same settings
 //     made before, or else marched.
 //  2. Per pixel (shaders/far_field.frag), the ray's piece in each slab takes the slab's texel at
@@ -69,6 +69,12 @@ class FarFieldGL {
   /// The most a ray may lean from the vertical where it meets the ground under the box (the far
   /// field is marched otherwise): at 70 deg a ray's piece of a 2 km slab runs 5.5 km sideways.
   static constexpr double kMaxIncidenceDeg = 70.0;
+  /// Slabs made over frames go in bands aligned to blocks of kBandBlock x kBandBlock texels: whole
+  /// blocks of rows, or a block's row a few blocks of columns at a time. llvmpipe shades in tiles
+  /// of 64 x 64 pixels, and a band of one row of 2078 texels cost 4-11 ms where 64 rows cost 42-217
+  /// ms (159 radars at 1280x720): the 2078 x 1008 slabs took 1,218 frames in bands of rows, about
+  /// 110 in bands of 64 rows (docs/networks.md).
+  static constexpr int kBandBlock = 64;
   /// Volumes whose slabs are kept (the least recently used go first): the 159 NEXRAD sites are 9
   /// clusters.
   static constexpr std::size_t kKeptVolumes = 16;
@@ -127,9 +133,11 @@ class FarFieldGL {
     std::uint64_t uniformVersion = 0;
     std::vector<double> settings;  ///< the transfer function, step, classification
     FarFieldPlan plan;
-    unsigned int texture = 0;         ///< 0: none
-    unsigned int mask = 0;            ///< R8 with every level: 1 where a column holds anything; 0: none
-    int slabsDone = 0, rowsDone = 0;  ///< made so far: whole slabs from the top, then rows of the next
+    unsigned int texture = 0;  ///< 0: none
+    unsigned int mask = 0;     ///< R8 with every level: 1 where a column holds anything; 0: none
+    /// Made so far: whole slabs from the top, then rows of the next, then columns of its next
+    /// block of rows (kBandBlock rows, or those left).
+    int slabsDone = 0, rowsDone = 0, columnsDone = 0;
   };
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
   struct Kept {
