@@ -71,9 +71,8 @@ class FarFieldGL {
   static constexpr double kMaxIncidenceDeg = 70.0;
   /// Slabs made over frames go in bands aligned to blocks of kBandBlock x kBandBlock texels: whole
   /// blocks of rows, or a block's row a few blocks of columns at a time. llvmpipe shades in tiles
-  /// of 64 x 64 pixels, and a band of one row of 2078 texels cost 4-11 ms where 64 rows cost 42-217
-  /// ms (159 radars at 1280x720): the 2078 x 1008 slabs took 1,218 frames in bands of rows, about
-  /// 110 in bands of 64 rows (docs/networks.md).
+  /// of 64 x 64 pixels: bands of a row of 2078 texels cost 4-11 ms, blocks of 4096 texels 0.7-2 ms
+  /// (159 radars at 1280x720; docs/networks.md).
   static constexpr int kBandBlock = 64;
   /// Volumes whose slabs are kept (the least recently used go first): the 159 NEXRAD sites are 9
   /// clusters.
