@@ -63,7 +63,7 @@ vec2 g_uvA = vec2(0.0), g_uvB = vec2(0.0);
 // bring a piece into the box from the other side.
 bool emptyAlong(vec2 lo, vec2 hi) {
   float wrap = 360.0 / u_box.z;
-  if ((lo.x < 0.0 && lo.x + wrap <= u_texels.x + 1.0) || (hi.x >= wrap && hi.x - wrap >= -1.0)) return false;
+  if ((lo.x < 0.0 && lo.x + wrap <= u_texels.x + 1.0) || hi.x >= wrap) return false;
   ivec2 size0 = ivec2(u_texels);
   ivec2 i0 = clamp(ivec2(floor(lo)) - 1, ivec2(0), size0 - 1);
   ivec2 i1 = clamp(ivec2(floor(hi)) + 1, ivec2(0), size0 - 1);

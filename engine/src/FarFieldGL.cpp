@@ -176,7 +176,11 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
     pending_ = true;
     return sameField(k.ready);  // coarser slabs meanwhile, or the march
   }
+  // The mask: a pass over the slabs and a read-back, counted in the frame's budget.
+  const auto maskStart = std::chrono::steady_clock::now();
   makeMask(k.building);
+  if (budgetMs_ > 0.0)
+    spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - maskStart).count();
   release(k.ready);
   k.ready = std::move(k.building);
   k.building = Slabs{};
@@ -222,11 +226,11 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
     const int left = plan.rows - s.rowsDone;
     const int blockRows = std::min(kBandBlock, left);
     int x = 0, width = plan.columns, rows = left;  // without a budget: the rest of the slab
+    double texels = double(kBandBlock) * kBandBlock;
     if (bounded) {
       // As many texels as the time left allows at the last band's cost per texel, but at most
       // twice the last band's texels (the cost differs from slab to slab and volume to volume);
       // the first band measured is one block (kBandBlock^2 texels).
-      double texels = double(kBandBlock) * kBandBlock;
       if (msPerTexel_ > 0.0)
         texels = std::min(std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_, 2.0 * lastBandTexels_);
       if (s.columnsDone == 0 && texels >= double(plan.columns) * blockRows) {
@@ -249,8 +253,10 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
       glFinish();  // the time taken, not the time to queue
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       spentMs_ += ms;
-      lastBandTexels_ = static_cast<double>(rows) * width;
-      msPerTexel_ = ms / lastBandTexels_;
+      msPerTexel_ = ms / (static_cast<double>(rows) * width);
+      // What was asked for, not what the grid's edge cut it to (a band clipped at the end of a
+      // row would hold the next ones to twice its size).
+      lastBandTexels_ = std::max(texels, static_cast<double>(rows) * width);
     }
     ++bandsThisFrame_;
     ++bands_;

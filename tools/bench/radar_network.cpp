@@ -371,7 +371,7 @@ int main(int argc, char** argv) {
           glFinish();
           const double firstMs = secondsSince(tFirst) * 1e3;
           const std::size_t made = (*renderer)->farField().slabSetsMade() - madeBefore;
-          // Every pixel visiting the slabs, without the mask's skipping, timed alternately with it.
+          // Every pixel visiting the slabs, without the mask's skipping, timed just before it.
           (*renderer)->farField().setMaskSkipping(false);
           const double unmaskedMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs);
           (*renderer)->farField().setMaskSkipping(true);
