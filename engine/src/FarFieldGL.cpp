@@ -15,6 +15,17 @@
 
 namespace atmoglobe::engine {
 
+namespace {
+
+// Levels of a full GL mip chain of width x height, down to 1 x 1.
+int maskLevelCount(int width, int height) {
+  int levels = 1;
+  while ((std::max(width, height) >> levels) > 0) ++levels;
+  return levels;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
   std::vector<std::string> defines = ellipsoidShaderDefines();
   defines.push_back("FAR_FIELD_MAX_SLABS " + std::to_string(kMaxSlabs));
@@ -283,7 +294,7 @@ std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::
   std::vector<std::vector<std::uint8_t>> levels;
   levels.push_back(std::move(level0));
   int bw = width, bh = height;
-  for (int l = 1; (std::max(width, height) >> l) > 0; ++l) {
+  for (int l = 1; l < maskLevelCount(width, height); ++l) {
     const std::vector<std::uint8_t>& below = levels.back();
     const int lw = std::max(1, width >> l), lh = std::max(1, height >> l);
     std::vector<std::uint8_t> level(static_cast<std::size_t>(lw) * static_cast<std::size_t>(lh), 0);
@@ -308,8 +319,7 @@ std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::
 
 void FarFieldGL::makeMask(Slabs& s) {
   const int w = s.plan.columns, h = s.plan.rows;
-  int levels = 1;
-  while ((std::max(w, h) >> levels) > 0) ++levels;
+  const int levels = maskLevelCount(w, h);
   unsigned int mask = makeVolumeTextureGL(GL_TEXTURE_2D, GL_NEAREST);
   clearErrorsGL();
   glTextureStorage2D(mask, levels, GL_R8, w, h);

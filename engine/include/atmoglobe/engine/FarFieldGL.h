@@ -121,7 +121,7 @@ class FarFieldGL {
 
   /// Slab sets completed so far (tests: a second frame of the same view makes none).
   std::size_t slabSetsMade() const { return made_; }
-  /// Bands of rows marched so far (tests: a set made over frames).
+  /// Bands marched so far (tests: a set made over frames).
   std::size_t bandsMarched() const { return bands_; }
   /// GPU bytes of the slabs kept and being made.
   std::size_t gpuBytes() const;
@@ -154,9 +154,7 @@ class FarFieldGL {
   /// Marches bands of `s` within the frame's budget; false if the program failed.
   bool build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s);
   /// The mask of a complete set: level 0 on the GPU from the slabs, the coarser levels on the CPU
-  /// (texel i of a level covers texels 2i and 2i + 1 of the one below, the last one the rest), so
-  /// that texel x of level 0 is in texel min(x >> l, size_l - 1) of level l. None if out of memory
-  /// (the pixels then visit the slabs).
+  /// (maskPyramid). None if out of memory (the pixels then visit the slabs).
   void makeMask(Slabs& s);
   ShaderProgramGL program_, maskProgram_;
   unsigned int vao_ = 0, fbo_ = 0;
