@@ -87,7 +87,7 @@ Result<std::optional<Shard>> shardToRender(const std::string& option) {
 // NAME.png -> NAME_007.png (frame 7 of a series).
 std::string seriesPath(const std::string& output, std::size_t frame) {
   const std::filesystem::path p(output);
-  char number[16];
+  char number[24];  // "_" and up to 20 digits of a size_t
   std::snprintf(number, sizeof number, "_%03zu", frame);
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
 }

@@ -868,6 +868,11 @@ int runView(const ViewOptions& o) {
                              !(*renderer)->globe().lastFrameComplete() || !(*renderer)->map().lastFrameComplete() ||
                              !(*renderer)->volumesComplete();
     if (sceneNeeded) {
+      // At rest with nothing changed since the last frame (no input, edit, time step or motion):
+      // only the volumes are still refining, so the frame may start from the last one's
+      // background instead of drawing the globe and map lines again.
+      (*renderer)->setBackgroundReuse(!state.dirty && !moving && !wasMoving && !state.playing && !resized &&
+                                      !state.screenshotRequested);
       // A motion's first frame: the scale the last view's full-quality march says meets the target.
       if (moving && !wasMoving) pacing.seedFromFullMarch((*renderer)->volumeRenderer().fullMarchEstimateMs());
       const double movingScale = o.movingScale > 0.0 ? o.movingScale : pacing.scale();

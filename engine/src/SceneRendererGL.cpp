@@ -50,13 +50,18 @@ Result<std::unique_ptr<SceneRendererGL>> SceneRendererGL::create(std::shared_ptr
   return r;
 }
 
-Status SceneRendererGL::setMapContext(bool enabled) { return map_->setBuiltinLayers(enabled); }
+Status SceneRendererGL::setMapContext(bool enabled) {
+  ++version_;
+  return map_->setBuiltinLayers(enabled);
+}
 
 Result<std::string> SceneRendererGL::addOverlay(const MapOverlayDescription& d) {
+  ++version_;
   return map_->addOverlay(d.path, MapLineStyle{d.color, d.widthPx, 1.0f});
 }
 
 Status SceneRendererGL::addModel(const std::string& glbPath) {
+  ++version_;
   auto model = GltfModelRendererGL::load(glbPath);
   if (!model) return model.forwardError();
   models_.push_back(std::move(*model));
@@ -64,6 +69,7 @@ Status SceneRendererGL::addModel(const std::string& glbPath) {
 }
 
 Status SceneRendererGL::setVerticalExaggeration(double factor) {
+  ++version_;
   if (auto st = volume::validateVerticalExaggeration(factor, "scene"); !st) return st;
   if (volumeLayerCount() > 0 || (slices_ && slices_->size() > 0))
     return makeError("the vertical exaggeration must be set before volumes and slices are added");
@@ -72,6 +78,7 @@ Status SceneRendererGL::setVerticalExaggeration(double factor) {
 }
 
 Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
+  ++version_;
   if (!slices_) {
     auto s = SliceRendererGL::create();
     if (!s) return s.forwardError();
@@ -82,6 +89,7 @@ Result<std::string> SceneRendererGL::addSlice(const SliceLayerDescription& d) {
 }
 
 Result<std::string> SceneRendererGL::addSurface(const SurfaceLayerDescription& d) {
+  ++version_;
   auto data = readSurfaceData(d);
   if (!data) return data.forwardError();
   auto surface = SurfaceFieldGL::create(std::move(*data), d);
@@ -102,11 +110,13 @@ Result<VolumeSourceGL*> SceneRendererGL::addVolume(const VolumeLayerDescription&
 }
 
 VolumeSourceGL& SceneRendererGL::addSource(std::unique_ptr<VolumeSourceGL> source) {
+  ++version_;
   layers_.push_back(std::move(source));
   return *layers_.back();
 }
 
 Status SceneRendererGL::setLayerStep(std::size_t index, std::size_t step, double fraction) {
+  ++version_;  // slices of its volumes
   if (index >= layers_.size()) return makeError("no volume layer " + std::to_string(index));
   return layers_[index]->showStep(step, fraction, contextFor(index));
 }
@@ -124,20 +134,40 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   glDepthMask(GL_TRUE);
   glClearDepth(0.0);
   glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glDisable(GL_CULL_FACE);
-  stats.globe = globe_->draw(camera);
-  for (const auto& model : models_) model->draw(camera);
-  if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
-  for (const auto& surface : surfaces_)
-    if (surface->visible) surface->drawFill(camera);  // no depth written: under the volumes
-  for (; rangeRings_ && layersWithRings_ < layers_.size(); ++layersWithRings_) {
-    if (auto rings = layers_[layersWithRings_]->rangeRings(); !rings.empty())
-      map_->addLines(rings, MapLineStyle{glm::vec3(0.95f, 0.9f, 0.55f), 1.0f, 0.7f});
+  // Range rings of layers added since the last frame change the map: drawn, not reused.
+  const bool ringsPending = rangeRings_ && layersWithRings_ < layers_.size();
+  if (backgroundReuse_ && !ringsPending && backgroundMatches(camera, target)) {
+    // Nothing but the volumes changed (the caller's word) and the camera is the same: the
+    // background kept from the last refining frame, colour and depth (the march reads the depth).
+    const FramebufferGL& kept = *background_.image;
+    glCopyImageSubData(kept.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, target.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                       target.widthPx(), target.heightPx(), 1);
+    glCopyImageSubData(kept.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, target.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                       target.widthPx(), target.heightPx(), 1);
+    stats.globe = background_.globe;
+    stats.map = background_.map;
+    ++backgroundsReused_;
+  } else {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    stats.globe = globe_->draw(camera);
+    for (const auto& model : models_) model->draw(camera);
+    if (slices_) slices_->draw(camera);  // before the volumes: the march stops at their depth
+    for (const auto& surface : surfaces_)
+      if (surface->visible) surface->drawFill(camera);  // no depth written: under the volumes
+    for (; rangeRings_ && layersWithRings_ < layers_.size(); ++layersWithRings_) {
+      if (auto rings = layers_[layersWithRings_]->rangeRings(); !rings.empty())
+        map_->addLines(rings, MapLineStyle{glm::vec3(0.95f, 0.9f, 0.55f), 1.0f, 0.7f});
+    }
+    stats.map = map_->draw(camera);  // writes no depth: the march sees the globe's
+    for (const auto& surface : surfaces_)
+      if (surface->visible) surface->drawContours(camera);
+    // Kept for the frames that follow while the volumes refine, once nothing is still loading.
+    background_.valid = false;
+    if (progressiveBudgetMs_ > 0.0 && globe_->lastFrameComplete() && map_->lastFrameComplete())
+      keepBackground(camera, target, stats);
   }
-  stats.map = map_->draw(camera);  // writes no depth: the march sees the globe's
-  for (const auto& surface : surfaces_)
-    if (surface->visible) surface->drawContours(camera);
+  target.bind();
   // Every volume in one draw: where volumes overlap, the march integrates them together.
   std::vector<Marker> all = markers;
   for (const auto& surface : surfaces_)
@@ -166,6 +196,40 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   markers_->draw(camera, all);
   stats.cpuMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
+}
+
+bool SceneRendererGL::backgroundMatches(const Camera& camera, const FramebufferGL& target) const {
+  const KeptBackground& b = background_;
+  if (!b.valid || !b.image || b.version != version_ || b.fovYDeg != camera.fovYDeg()) return false;
+  if (b.image->widthPx() != target.widthPx() || b.image->heightPx() != target.heightPx()) return false;
+  const CameraPose& p = camera.pose();
+  return b.pose.latDeg == p.latDeg && b.pose.lonDeg == p.lonDeg && b.pose.heightMeters == p.heightMeters &&
+         b.pose.headingDeg == p.headingDeg && b.pose.pitchDeg == p.pitchDeg && b.pose.rollDeg == p.rollDeg;
+}
+
+void SceneRendererGL::keepBackground(const Camera& camera, const FramebufferGL& target, const SceneFrameStats& stats) {
+  KeptBackground& b = background_;
+  // The same sized formats as the target's (glCopyImageSubData copies texels as they are).
+  GLint format = 0;
+  glGetTextureLevelParameteriv(target.colorTexture(), 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  if (!b.image || b.image->widthPx() != target.widthPx() || b.image->heightPx() != target.heightPx() ||
+      b.colorFormat != format) {
+    b.image.reset();
+    b.colorFormat = format;
+    auto made = FramebufferGL::create(target.widthPx(), target.heightPx(), static_cast<unsigned int>(format));
+    if (!made) return;  // no memory for it: every frame draws its background
+    b.image = std::move(*made);
+  }
+  glCopyImageSubData(target.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, b.image->colorTexture(), GL_TEXTURE_2D, 0, 0, 0,
+                     0, target.widthPx(), target.heightPx(), 1);
+  glCopyImageSubData(target.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, b.image->depthTexture(), GL_TEXTURE_2D, 0, 0, 0,
+                     0, target.widthPx(), target.heightPx(), 1);
+  b.pose = camera.pose();
+  b.fovYDeg = camera.fovYDeg();
+  b.version = version_;
+  b.globe = stats.globe;
+  b.map = stats.map;
+  b.valid = true;
 }
 
 Result<globe::ImageRGBA8> SceneRendererGL::renderToImage(const Camera& camera, const std::vector<Marker>& markers,
@@ -226,6 +290,7 @@ const VolumeLayerDescription& SceneRendererGL::volumeDescription(std::size_t ind
 }
 
 Status SceneRendererGL::setVolumeDescription(std::size_t index, const VolumeLayerDescription& d) {
+  ++version_;
   if (index >= volumeLayerCount()) return makeError("no volume layer " + std::to_string(index));
   if (d.kind != volumeDescription(index).kind)
     return makeError(d.path + ": a " + nameOf(volumeDescription(index).kind) + " layer cannot become a " +
@@ -235,6 +300,7 @@ Status SceneRendererGL::setVolumeDescription(std::size_t index, const VolumeLaye
 }
 
 Status SceneRendererGL::setSurfaceDescription(std::size_t index, const SurfaceLayerDescription& d) {
+  ++version_;
   if (index >= surfaces_.size()) return makeError("no surface layer " + std::to_string(index));
   if (auto st = validateSurfaceLayer(d, d.path); !st) return st;
   const SurfaceFieldGL& now = *surfaces_[index];
@@ -249,10 +315,12 @@ Status SceneRendererGL::setSurfaceDescription(std::size_t index, const SurfaceLa
 }
 
 void SceneRendererGL::setSurfaceVisible(std::size_t index, bool visible) {
+  ++version_;
   if (index < surfaces_.size()) surfaces_[index]->visible = visible;
 }
 
 Status SceneRendererGL::changeVerticalExaggeration(double factor) {
+  ++version_;
   if (auto st = volume::validateVerticalExaggeration(factor, "scene"); !st) return st;
   if (factor == exaggeration_) return Ok{};
   if (slices_ && slices_->size() > 0)
@@ -270,6 +338,7 @@ Status SceneRendererGL::changeVerticalExaggeration(double factor) {
 }
 
 Status SceneRendererGL::setVolumeOrder(const std::vector<std::size_t>& order) {
+  ++version_;
   std::vector<std::size_t> sorted = order;
   std::sort(sorted.begin(), sorted.end());
   for (std::size_t i = 0; i < sorted.size(); ++i)

@@ -544,3 +544,74 @@ TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
   // Progressive refinement of an adaptive layer: draw()'s frame.
   EXPECT_EQ(compare(frameOf(loose, true), adaptiveLoose).pixels, 0);
 }
+
+// The viewer at rest while a volume refines: frames that start from the background kept from the
+// last refining frame (SceneRendererGL::setBackgroundReuse) end in the frame drawn whole, pixel for
+// pixel; a camera moved or a scene changed draws the background again.
+TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
+  testutil::glContext();
+  auto loader =
+      engine::openImagery({{engine::ImageryLayerDescription::Type::Pyramid, testutil::worldPyramidDir()}}, {});
+  ASSERT_TRUE(loader) << loader.error();
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  options.render.stepMeters = 500.0;
+  // A radar over the globe with coastlines and borders, seen obliquely: the storm stands on the
+  // globe, whose depth (kept with the colour) hides what is below the ground.
+  const auto sceneWithRadar = [&] {
+    auto scene = engine::SceneRendererGL::create(*loader);
+    EXPECT_TRUE(scene) << scene.error();
+    EXPECT_TRUE((*scene)->setMapContext(true));
+    auto gl = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
+    EXPECT_TRUE(gl) << gl.error();
+    (*scene)->addSource(engine::RadarSourceGL::fromVolume(
+        std::move(*gl), options, engine::Marker{35.0, -98.0, 1000.0, glm::vec3(1.0f), 12.0f, "SITE"}));
+    return std::move(*scene);
+  };
+  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 120e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 40e3, 0.0, -25.0, 0.0}, 50.0, 200, 100);
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  auto whole = sceneWithRadar();
+  const auto oneShot = whole->renderToImage(camera, {}, **fb);
+  ASSERT_TRUE(oneShot) << oneShot.error();
+
+  auto refining = sceneWithRadar();
+  refining->setProgressiveBudget(1e-3);  // one tile a frame
+  // The first frame at rest draws its background (the imagery loaded first) and keeps it ...
+  ASSERT_TRUE(refining->renderToImage(camera, {}, **fb));
+  ASSERT_FALSE(refining->volumesComplete()) << "one tile a frame: the volume must take several frames";
+  // ... the next ones start from it.
+  refining->setBackgroundReuse(true);
+  int frames = 1;
+  while (!refining->volumesComplete() && frames < 1000) {
+    refining->renderFrame(camera, {}, **fb);
+    ++frames;
+  }
+  ASSERT_TRUE(refining->volumesComplete());
+  std::cout << "refined in " << frames << " frames, " << refining->backgroundsReused() << " from the kept background\n";
+  EXPECT_EQ(refining->backgroundsReused(), static_cast<std::size_t>(frames - 1));
+  EXPECT_GE(frames, 4);
+  const globe::ImageRGBA8 refined = (*fb)->readColor();
+  EXPECT_TRUE(globe::writePng(testutil::testOutputDir() + "/kept_background_refined.png", refined));
+  int differing = 0, ground = 0;
+  for (int y = 0; y < refined.height; ++y)
+    for (int x = 0; x < refined.width; ++x) {
+      differing += refined.at(x, y) != oneShot->at(x, y);
+      ground += refined.at(x, y) != glm::u8vec4(0, 0, 0, 255);
+    }
+  ASSERT_GT(ground, refined.width * refined.height / 2) << "the globe must fill most of the view";
+  EXPECT_EQ(differing, 0) << "the refined frame must be the frame drawn whole";
+
+  // Another camera: the background is drawn again, not taken from the one kept.
+  const std::size_t reused = refining->backgroundsReused();
+  const Camera turned(CameraPose{eye.latDeg, eye.lonDeg, 40e3, 10.0, -25.0, 0.0}, 50.0, 200, 100);
+  refining->renderFrame(turned, {}, **fb);
+  EXPECT_EQ(refining->backgroundsReused(), reused);
+  // The scene changed (the map lines off): drawn again too, even with the camera kept.
+  refining->renderFrame(turned, {}, **fb);
+  EXPECT_EQ(refining->backgroundsReused(), reused + 1);
+  ASSERT_TRUE(refining->setMapContext(false));
+  refining->renderFrame(turned, {}, **fb);
+  EXPECT_EQ(refining->backgroundsReused(), reused + 1);
+}
