@@ -146,7 +146,9 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
     glCopyImageSubData(kept.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, target.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0,
                        target.widthPx(), target.heightPx(), 1);
     stats.globe = background_.globe;
+    stats.globe.meshesBuilt = stats.globe.texturesUploaded = 0;  // nothing built or uploaded this frame
     stats.map = background_.map;
+    stats.map.chunksBuilt = 0;
     ++backgroundsReused_;
   } else {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -202,6 +204,9 @@ bool SceneRendererGL::backgroundMatches(const Camera& camera, const FramebufferG
   const KeptBackground& b = background_;
   if (!b.valid || !b.image || b.version != version_ || b.fovYDeg != camera.fovYDeg()) return false;
   if (b.image->widthPx() != target.widthPx() || b.image->heightPx() != target.heightPx()) return false;
+  GLint format = 0;  // glCopyImageSubData copies texels as they are: the same format only
+  glGetTextureLevelParameteriv(target.colorTexture(), 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  if (format != b.colorFormat) return false;
   const CameraPose& p = camera.pose();
   return b.pose.latDeg == p.latDeg && b.pose.lonDeg == p.lonDeg && b.pose.heightMeters == p.heightMeters &&
          b.pose.headingDeg == p.headingDeg && b.pose.pitchDeg == p.pitchDeg && b.pose.rollDeg == p.rollDeg;

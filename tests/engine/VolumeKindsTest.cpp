@@ -581,10 +581,18 @@ TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
   // The first frame at rest draws its background (the imagery loaded first) and keeps it ...
   ASSERT_TRUE(refining->renderToImage(camera, {}, **fb));
   ASSERT_FALSE(refining->volumesComplete()) << "one tile a frame: the volume must take several frames";
-  // ... the next ones start from it.
+  // ... the next ones start from it. The target is filled with other values before each, so
+  // that every pixel's colour and depth must come from the kept background.
+  const auto scribble = [&] {
+    (*fb)->bind();
+    glClearColor(1.0f, 0.0f, 1.0f, 1.0f);
+    glClearDepth(0.5);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  };
   refining->setBackgroundReuse(true);
   int frames = 1;
   while (!refining->volumesComplete() && frames < 1000) {
+    scribble();
     refining->renderFrame(camera, {}, **fb);
     ++frames;
   }
@@ -603,15 +611,35 @@ TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
   ASSERT_GT(ground, refined.width * refined.height / 2) << "the globe must fill most of the view";
   EXPECT_EQ(differing, 0) << "the refined frame must be the frame drawn whole";
 
-  // Another camera: the background is drawn again, not taken from the one kept.
+  // Another camera: the background is drawn again, not taken from the one kept (renderToImage
+  // waits for the imagery, then draws the frame and keeps its background) ...
   const std::size_t reused = refining->backgroundsReused();
   const Camera turned(CameraPose{eye.latDeg, eye.lonDeg, 40e3, 10.0, -25.0, 0.0}, 50.0, 200, 100);
-  refining->renderFrame(turned, {}, **fb);
+  ASSERT_TRUE(refining->renderToImage(turned, {}, **fb));
   EXPECT_EQ(refining->backgroundsReused(), reused);
-  // The scene changed (the map lines off): drawn again too, even with the camera kept.
   refining->renderFrame(turned, {}, **fb);
   EXPECT_EQ(refining->backgroundsReused(), reused + 1);
+  // ... and so it is when the scene changed (the map lines off), the camera kept: the refined
+  // frame is then the whole frame without the lines.
   ASSERT_TRUE(refining->setMapContext(false));
+  scribble();
   refining->renderFrame(turned, {}, **fb);
-  EXPECT_EQ(refining->backgroundsReused(), reused + 1);
+  EXPECT_EQ(refining->backgroundsReused(), reused + 1) << "the background kept with the lines was reused";
+  // The frames after start from the background kept without them.
+  for (int n = 0; n < 1000 && !refining->volumesComplete(); ++n) {
+    scribble();
+    refining->renderFrame(turned, {}, **fb);
+  }
+  EXPECT_GT(refining->backgroundsReused(), reused + 1);
+  ASSERT_TRUE(whole->setMapContext(false));
+  const auto turnedWhole = whole->renderToImage(turned, {}, **fb);
+  ASSERT_TRUE(turnedWhole) << turnedWhole.error();
+  ASSERT_TRUE(refining->volumesComplete());
+  refining->renderFrame(turned, {}, **fb);  // complete: the same frame again
+  const globe::ImageRGBA8 withoutLines = (*fb)->readColor();
+  int differingWithoutLines = 0;
+  for (int y = 0; y < withoutLines.height; ++y)
+    for (int x = 0; x < withoutLines.width; ++x)
+      differingWithoutLines += withoutLines.at(x, y) != turnedWhole->at(x, y);
+  EXPECT_EQ(differingWithoutLines, 0);
 }

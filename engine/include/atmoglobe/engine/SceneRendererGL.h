@@ -151,7 +151,10 @@ class SceneRendererGL {
   /// kept then (colour and depth of everything drawn before the volumes: globe, models, slices,
   /// surfaces, map lines; kept from a refining frame whose imagery and lines were complete)
   /// instead of drawing it again: the same picture, without the globe and map lines' cost (40-56
-  /// ms of a 1280x720 continental frame on llvmpipe). Off by default.
+  /// ms of a 1280x720 continental frame on llvmpipe). Off by default. This class's own changes
+  /// (adding or editing layers, surfaces, slices, models, overlays, steps) invalidate the kept
+  /// background; changes made through the accessors (map(), globe(), layer(i)) are the caller's
+  /// to report by passing false.
   void setBackgroundReuse(bool allowed) { backgroundReuse_ = allowed; }
   /// Frames that started from the kept background.
   std::size_t backgroundsReused() const { return backgroundsReused_; }
