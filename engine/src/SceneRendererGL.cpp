@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace atmoglobe::engine {
 
@@ -121,6 +122,15 @@ Status SceneRendererGL::setLayerStep(std::size_t index, std::size_t step, double
   return layers_[index]->showStep(step, fraction, contextFor(index));
 }
 
+namespace {
+// Colour and depth of `from` into `to`, texel for texel (the same size and formats).
+void copyColorAndDepthGL(const FramebufferGL& from, const FramebufferGL& to) {
+  for (const auto& [src, dst] :
+       {std::pair{from.colorTexture(), to.colorTexture()}, std::pair{from.depthTexture(), to.depthTexture()}})
+    glCopyImageSubData(src, GL_TEXTURE_2D, 0, 0, 0, 0, dst, GL_TEXTURE_2D, 0, 0, 0, 0, to.widthPx(), to.heightPx(), 1);
+}
+}  // namespace
+
 SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::vector<Marker>& markers,
                                              const FramebufferGL& target) {
   const auto start = std::chrono::steady_clock::now();
@@ -140,11 +150,7 @@ SceneFrameStats SceneRendererGL::renderFrame(const Camera& camera, const std::ve
   if (backgroundReuse_ && !ringsPending && backgroundMatches(camera, target)) {
     // Nothing but the volumes changed (the caller's word) and the camera is the same: the
     // background kept from the last refining frame, colour and depth (the march reads the depth).
-    const FramebufferGL& kept = *background_.image;
-    glCopyImageSubData(kept.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, target.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                       target.widthPx(), target.heightPx(), 1);
-    glCopyImageSubData(kept.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, target.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                       target.widthPx(), target.heightPx(), 1);
+    copyColorAndDepthGL(*background_.image, target);
     stats.globe = background_.globe;
     stats.globe.meshesBuilt = stats.globe.texturesUploaded = 0;  // nothing built or uploaded this frame
     stats.map = background_.map;
@@ -225,10 +231,7 @@ void SceneRendererGL::keepBackground(const Camera& camera, const FramebufferGL& 
     if (!made) return;  // no memory for it: every frame draws its background
     b.image = std::move(*made);
   }
-  glCopyImageSubData(target.colorTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, b.image->colorTexture(), GL_TEXTURE_2D, 0, 0, 0,
-                     0, target.widthPx(), target.heightPx(), 1);
-  glCopyImageSubData(target.depthTexture(), GL_TEXTURE_2D, 0, 0, 0, 0, b.image->depthTexture(), GL_TEXTURE_2D, 0, 0, 0,
-                     0, target.widthPx(), target.heightPx(), 1);
+  copyColorAndDepthGL(target, *b.image);
   b.pose = camera.pose();
   b.fovYDeg = camera.fovYDeg();
   b.version = version_;

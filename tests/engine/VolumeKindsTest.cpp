@@ -589,27 +589,34 @@ TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
     glClearDepth(0.5);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   };
+  // Frames until the volume is complete (at most 1000); how many.
+  const auto refineUntilComplete = [&](const Camera& c) {
+    int n = 0;
+    for (; n < 1000 && !refining->volumesComplete(); ++n) {
+      scribble();
+      refining->renderFrame(c, {}, **fb);
+    }
+    return n;
+  };
+  const auto differingPixels = [](const globe::ImageRGBA8& a, const globe::ImageRGBA8& b) {
+    int n = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) n += a.at(x, y) != b.at(x, y);
+    return n;
+  };
   refining->setBackgroundReuse(true);
-  int frames = 1;
-  while (!refining->volumesComplete() && frames < 1000) {
-    scribble();
-    refining->renderFrame(camera, {}, **fb);
-    ++frames;
-  }
+  const int frames = 1 + refineUntilComplete(camera);
   ASSERT_TRUE(refining->volumesComplete());
   std::cout << "refined in " << frames << " frames, " << refining->backgroundsReused() << " from the kept background\n";
   EXPECT_EQ(refining->backgroundsReused(), static_cast<std::size_t>(frames - 1));
   EXPECT_GE(frames, 4);
   const globe::ImageRGBA8 refined = (*fb)->readColor();
   EXPECT_TRUE(globe::writePng(testutil::testOutputDir() + "/kept_background_refined.png", refined));
-  int differing = 0, ground = 0;
+  int ground = 0;
   for (int y = 0; y < refined.height; ++y)
-    for (int x = 0; x < refined.width; ++x) {
-      differing += refined.at(x, y) != oneShot->at(x, y);
-      ground += refined.at(x, y) != glm::u8vec4(0, 0, 0, 255);
-    }
+    for (int x = 0; x < refined.width; ++x) ground += refined.at(x, y) != glm::u8vec4(0, 0, 0, 255);
   ASSERT_GT(ground, refined.width * refined.height / 2) << "the globe must fill most of the view";
-  EXPECT_EQ(differing, 0) << "the refined frame must be the frame drawn whole";
+  EXPECT_EQ(differingPixels(refined, *oneShot), 0) << "the refined frame must be the frame drawn whole";
 
   // Another camera: the background is drawn again, not taken from the one kept (renderToImage
   // waits for the imagery, then draws the frame and keeps its background) ...
@@ -626,20 +633,12 @@ TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
   refining->renderFrame(turned, {}, **fb);
   EXPECT_EQ(refining->backgroundsReused(), reused + 1) << "the background kept with the lines was reused";
   // The frames after start from the background kept without them.
-  for (int n = 0; n < 1000 && !refining->volumesComplete(); ++n) {
-    scribble();
-    refining->renderFrame(turned, {}, **fb);
-  }
+  refineUntilComplete(turned);
   EXPECT_GT(refining->backgroundsReused(), reused + 1);
   ASSERT_TRUE(whole->setMapContext(false));
   const auto turnedWhole = whole->renderToImage(turned, {}, **fb);
   ASSERT_TRUE(turnedWhole) << turnedWhole.error();
   ASSERT_TRUE(refining->volumesComplete());
   refining->renderFrame(turned, {}, **fb);  // complete: the same frame again
-  const globe::ImageRGBA8 withoutLines = (*fb)->readColor();
-  int differingWithoutLines = 0;
-  for (int y = 0; y < withoutLines.height; ++y)
-    for (int x = 0; x < withoutLines.width; ++x)
-      differingWithoutLines += withoutLines.at(x, y) != turnedWhole->at(x, y);
-  EXPECT_EQ(differingWithoutLines, 0);
+  EXPECT_EQ(differingPixels((*fb)->readColor(), *turnedWhole), 0);
 }

@@ -192,8 +192,8 @@ class SceneRendererGL {
   KeptBackground background_;
   bool backgroundReuse_ = false;
   std::size_t backgroundsReused_ = 0;
-  std::uint64_t version_ =
-      0;  ///< bumped by every change this class makes to the scene (a background kept before is stale)
+  /// Bumped by every change this class makes to the scene (a background kept before is stale).
+  std::uint64_t version_ = 0;
   bool backgroundMatches(const Camera& camera, const FramebufferGL& target) const;
   void keepBackground(const Camera& camera, const FramebufferGL& target, const SceneFrameStats& stats);
   std::vector<std::size_t> volumeOrder_;  ///< empty: the order added
