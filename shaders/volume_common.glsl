@@ -60,8 +60,7 @@ float VOL_emptyUntil(vec3 oL, vec3 dL, vec2 box, float ts, float threshold) {
   if (outside) return box.x > box.y || box.y < ts ? 1e30 : max(box.x, ts);
   if (texelFetch(VOL_grid, cell, 0).r >= threshold) return ts;
   ivec3 block = cell / GRID_BLOCK;
-  float tOut = texelFetch(VOL_grid, ivec3(block.xy, VOL_gridCells.z + block.z), 0).r < threshold
-                   ? VOL_cellExit(oL, dL, block * GRID_BLOCK, float(GRID_BLOCK))
-                   : VOL_cellExit(oL, dL, cell, 1.0);
+  bool blockEmpty = texelFetch(VOL_grid, ivec3(block.xy, VOL_gridCells.z + block.z), 0).r < threshold;
+  float tOut = VOL_cellExit(oL, dL, blockEmpty ? block * GRID_BLOCK : cell, blockEmpty ? float(GRID_BLOCK) : 1.0);
   return tOut > ts ? tOut : ts;  // degenerate slab (NaN): no jump
 }
