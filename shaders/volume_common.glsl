@@ -39,28 +39,22 @@ vec2 VOL_gridBoxInterval(vec3 oL, vec3 dL) {
   return vec2(tNear, tFar);
 }
 
-// Where the ray leaves the box of `size` cells starting at cell `cell`.
-float VOL_cellExit(vec3 oL, vec3 dL, ivec3 cell, float size) {
-  vec3 lo = VOL_gridMinLocal + vec3(cell) * VOL_gridCellSize;
-  vec3 hi = lo + size * VOL_gridCellSize;
-  vec3 inv = 1.0 / dL;
-  vec3 t0 = (lo - oL) * inv, t1 = (hi - oL) * inv;
-  vec3 tFar = max(t0, t1);
-  return min(tFar.x, min(tFar.y, tFar.z));
-}
-
 // Empty-space skipping at ray parameter ts: ts itself when the cell there may hold a value at or
 // above `threshold`, else where the ray leaves the empty cell (or its whole block when the block
 // is below the threshold too); outside the box, where the ray next enters it (`box`, 1e30 when
-// never).
-float VOL_emptyUntil(vec3 oL, vec3 dL, vec2 box, float ts, float threshold) {
-  vec3 l = oL + ts * dL;
-  ivec3 cell = ivec3(floor((l - VOL_gridMinLocal) / VOL_gridCellSize));
+// never). The ray in the grid's cell units, made once per ray by the caller: oC = (oL - the grid's
+// lower corner) / cell size, dC = dL / cell size, iC = 1 / dC (no division per sample).
+float VOL_emptyUntil(vec3 oC, vec3 dC, vec3 iC, vec2 box, float ts, float threshold) {
+  ivec3 cell = ivec3(floor(oC + ts * dC));
   bool outside = any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, VOL_gridCells));
   if (outside) return box.x > box.y || box.y < ts ? 1e30 : max(box.x, ts);
   if (texelFetch(VOL_grid, cell, 0).r >= threshold) return ts;
   ivec3 block = cell / GRID_BLOCK;
   bool blockEmpty = texelFetch(VOL_grid, ivec3(block.xy, VOL_gridCells.z + block.z), 0).r < threshold;
-  float tOut = VOL_cellExit(oL, dL, blockEmpty ? block * GRID_BLOCK : cell, blockEmpty ? float(GRID_BLOCK) : 1.0);
+  // Where the ray leaves the empty block or cell.
+  vec3 lo = vec3(blockEmpty ? block * GRID_BLOCK : cell) - oC;
+  vec3 t0 = lo * iC, t1 = (lo + (blockEmpty ? float(GRID_BLOCK) : 1.0)) * iC;
+  vec3 tFar = max(t0, t1);
+  float tOut = min(tFar.x, min(tFar.y, tFar.z));
   return tOut > ts ? tOut : ts;  // degenerate slab (NaN): no jump
 }

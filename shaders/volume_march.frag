@@ -190,16 +190,19 @@ void main() {
 
   // Each volume's sample indices [first, last] and, for skipping, its ray in the grid's frame.
   ivec2 range[VOLUME_COUNT];
-  vec3 oL[VOLUME_COUNT], dL[VOLUME_COUNT];
+  vec3 oC[VOLUME_COUNT], dC[VOLUME_COUNT], iC[VOLUME_COUNT];  // the ray in the grid's cell units, 1 / dC
   vec2 box[VOLUME_COUNT];
   float a = 1e30, b = -1e30;
   for (int k = 0; k < VOLUME_COUNT; ++k) {
     vec2 s = volInterval(k, dir, tGround);
-    oL[k] = volEcefToLocal(k) * volEyeRel(k);
-    dL[k] = volEcefToLocal(k) * dir;
+    vec3 oL = volEcefToLocal(k) * volEyeRel(k);
+    vec3 dL = volEcefToLocal(k) * dir;
+    oC[k] = (oL - volGridMinLocal(k)) / volGridCellSize(k);
+    dC[k] = dL / volGridCellSize(k);
+    iC[k] = 1.0 / dC[k];
     // Outside the grid's box every sample is empty (the box holds every measured value's
     // support): with skipping on, march only across the box.
-    box[k] = kSkipEmpty == 1 ? volGridBox(k, oL[k], dL[k]) : vec2(-1e30, 1e30);
+    box[k] = kSkipEmpty == 1 ? volGridBox(k, oL, dL) : vec2(-1e30, 1e30);
     s.x = max(s.x, box[k].x);
     s.y = min(s.y, box[k].y);
     range[k] = s.x <= s.y ? ivec2(int(ceil(s.x / u_step - 0.5)), int(floor(s.y / u_step - 0.5))) : ivec2(1, 0);
@@ -256,7 +259,7 @@ void main() {
             tNext = min(tNext, (float(range[k].x) + 0.5) * u_step);  // the volume starts later
           } else if (i <= range[k].y) {
             float threshold = kMode == 0 ? volOpacityZero(k) : (kMode == 1 ? max(maxValue[k], volMipVisibleMin(k)) : volIso(k));
-            float e = volEmptyUntil(k, oL[k], dL[k], box[k], ts, threshold);
+            float e = volEmptyUntil(k, oC[k], dC[k], iC[k], box[k], ts, threshold);
             if (e <= ts) empty = false;
             tNext = min(tNext, e);
           }
