@@ -17,7 +17,8 @@
 // the volumes its ray crosses.
 //
 // Variant constants: MARCH_MODE (0 DVR, 1 MIP, 2 isosurface, 3 debug: volume 0's coordinates at
-// u_debugT), MARCH_SKIP_EMPTY (1: jump over grid cells that cannot contribute),
+// u_debugT), MARCH_COUNT (1: the same march, but the output is the samples taken: one per volume
+// per position sampled, in .r), MARCH_SKIP_EMPTY (1: jump over grid cells that cannot contribute),
 // MARCH_PREINTEGRATED (DVR: 0 each sample classified alone; 1 neighbouring samples of a volume
 // as a linear segment, u_tfIntegral), MARCH_STEP_RULE (1: some volume follows the step rule; 0:
 // every level is 0 at compile time, the fixed-step march), MARCH_ADAPTIVE (1: the refinement
@@ -62,6 +63,8 @@ const int kSkipEmpty = MARCH_SKIP_EMPTY;
 const int kPreintegrated = MARCH_PREINTEGRATED;
 const int kStepRule = MARCH_STEP_RULE;
 const int kAdaptive = MARCH_ADAPTIVE;
+const int kCount = MARCH_COUNT;
+float g_samplesTaken = 0.0;  // MARCH_COUNT
 
 vec2 sphereInterval(vec3 o, vec3 d, float radius) {
   float b = dot(o, d);
@@ -292,6 +295,7 @@ void main() {
       bool inRange = i >= range[k].x && i <= range[k].y;
       float v = 0.0;
       int state = inRange ? volSample(k, volEyeRel(k) + t * dir, v) : STATE_NOT_ECHO;
+      if (kCount == 1 && inRange) g_samplesTaken += 1.0;
       if (kMode == 0 && kPreintegrated == 1 && inRange) {
         // A run is made of echo samples above the zero-opacity value: the samples the empty-space
         // grid may skip are all at or below it, so the runs, and the picture, do not depend on
@@ -362,6 +366,7 @@ void main() {
         float mid = 0.5 * (lo + hi);
         float vm;
         int sm = volSample(hitK, volEyeRel(hitK) + mid * dir, vm);
+        if (kCount == 1) g_samplesTaken += 1.0;
         if (sm == STATE_ECHO && vm >= volIso(hitK)) hi = mid; else lo = mid;
       }
       hitT = hi;
@@ -406,6 +411,7 @@ void main() {
       float vp, vm;
       int sp = volSample(hitK, p + e, vp);
       int sm = volSample(hitK, p - e, vm);
+      if (kCount == 1) g_samplesTaken += 2.0;
       if (sp != STATE_ECHO) vp = volOpacityZero(hitK);
       if (sm != STATE_ECHO) vm = volOpacityZero(hitK);
       grad[axis] = (vp - vm) / (2.0 * h);
@@ -413,4 +419,5 @@ void main() {
     vec3 n = length(grad) > 0.0 ? -normalize(grad) : -dir;
     o_color = vec4(volIsoColor(hitK) * (0.3 + 0.7 * abs(dot(n, dir))), 1.0);
   }
+  if (kCount == 1) o_color = vec4(g_samplesTaken, 0.0, 0.0, 1.0);
 }

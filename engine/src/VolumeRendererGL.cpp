@@ -210,6 +210,7 @@ const ShaderProgramGL* VolumeRendererGL::marchProgram(const MarchVariant& varian
   defines.push_back(std::string("MARCH_STEP_RULE ") + (variant.stepRule ? "1" : "0"));
   defines.push_back(std::string("MARCH_ADAPTIVE ") + (variant.adaptive ? "1" : "0"));
   defines.push_back(std::string("MARCH_COLUMNS ") + (variant.columns ? "1" : "0"));
+  defines.push_back(std::string("MARCH_COUNT ") + (variant.countSamples ? "1" : "0"));
   defines.push_back("VOLUME_COUNT " + std::to_string(variant.volumes.size()));
   auto program = ShaderProgramGL::createFromSource("fullscreen.vert", "volume_march.frag", source, defines);
   if (!program) return fail(program.error());
@@ -265,19 +266,21 @@ bool VolumeRendererGL::march(const Camera& camera, const VolumeLayerGL* layers, 
   const VolumeRenderOptions& first = layers[0].options;
   const volume::VolumeRenderSettings& rs = first.render;
   const int mode = modeIndex(rs.mode);
-  const bool preintegrated = !debugMode && mode == 0 && first.classification == Classification::Preintegrated;
+  const bool coordinates = debugMode == 1;
+  const bool preintegrated = !coordinates && mode == 0 && first.classification == Classification::Preintegrated;
   MarchVariant variant;
-  variant.mode = debugMode ? 3 : mode;
+  variant.mode = coordinates ? 3 : mode;
   variant.skipEmpty = first.skipEmptySpace;
   variant.preintegrated = preintegrated;
   variant.adaptive = coarse != nullptr && !debugMode;
   variant.columns = columns != nullptr && !debugMode;
+  variant.countSamples = debugMode == 2;
   for (int k = 0; k < count; ++k) {
     variant.volumes.emplace_back(std::string(layers[k].volume->samplerShaderFile()),
                                  layers[k].volume->samplerDefines(layers[k].options));
     // Columns take the fixed step (their samples are made once and kept).
     variant.stepRule = variant.stepRule ||
-                       (!debugMode && !variant.columns && layers[k].options.render.samplesPerCell > 0.0);
+                       (!coordinates && !variant.columns && layers[k].options.render.samplesPerCell > 0.0);
   }
   // The step rule never goes above a pixel's footprint t / focal: where the volumes' far side is
   // nearer than 2 steps' worth of footprint, every level is 0 and the fixed-step program draws the
@@ -850,6 +853,25 @@ std::vector<glm::vec4> VolumeRendererGL::debugCoordinatesAt(const Camera& camera
   glEnable(GL_DEPTH_TEST);
   if (!ok) return {};
   return readVolumeImage();
+}
+
+std::vector<float> VolumeRendererGL::sampleCounts(const Camera& camera, const std::vector<VolumeLayerGL>& layers) {
+  if (layers.empty()) return {};
+  lastDrawValid_ = false;                                         // volumeTarget_ is taken
+  ensureTarget(camera.widthPx(), camera.heightPx(), GL_RGBA32F);  // counts exact to 2^24
+  lastImage_ = volumeTarget_.get();
+  volumeTarget_->bind();
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  const bool ok = march(camera, layers.data(), static_cast<int>(layers.size()), emptyDepth_, 2, 0.0);
+  glEnable(GL_DEPTH_TEST);
+  if (!ok) return {};
+  std::vector<float> counts;
+  counts.reserve(static_cast<std::size_t>(camera.widthPx()) * static_cast<std::size_t>(camera.heightPx()));
+  for (const glm::vec4& p : readVolumeImage()) counts.push_back(p.r);
+  return counts;
 }
 
 }  // namespace atmoglobe::engine

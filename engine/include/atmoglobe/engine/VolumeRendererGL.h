@@ -55,6 +55,9 @@ struct MarchVariant {
   bool adaptive = false;
   /// The far field's columns (FarFieldGL.h): pixels are columns down the vertical, not camera rays.
   bool columns = false;
+  /// Measurement: the same march, writing per pixel the samples it took (one per volume per
+  /// position sampled, the isosurface's bisection and gradient included) instead of the image.
+  bool countSamples = false;
   /// Per volume: its sampler file and its sampler defines.
   std::vector<std::pair<std::string, std::vector<std::string>>> volumes;
   auto operator<=>(const MarchVariant&) const = default;
@@ -129,6 +132,12 @@ class VolumeRendererGL {
   /// pixel's ray. RGBA32F read back, row 0 = top.
   std::vector<glm::vec4> debugCoordinatesAt(const Camera& camera, const VolumeGL& volume, double tMeters);
 
+  /// Measurement: for each pixel, the samples the march of these layers (one group: marched
+  /// together, as draw() marches a cluster) takes over an empty background at full resolution:
+  /// one per volume per position sampled, after empty-space skipping and early termination as
+  /// configured. Row 0 = top. Empty if the program failed.
+  std::vector<float> sampleCounts(const Camera& camera, const std::vector<VolumeLayerGL>& layers);
+
   /// The last volume image composited by draw() (premultiplied RGBA, float; an adaptive pass's
   /// full-resolution image), row 0 = top.
   std::vector<glm::vec4> readVolumeImage() const;
@@ -192,7 +201,8 @@ class VolumeRendererGL {
     glm::vec2 heights{0.0f};  ///< the column's top and bottom (m above the ellipsoid)
     glm::vec3 anchor{0.0f};   ///< ECEF of the camera given to march (its eye)
   };
-  /// Marches one group into the bound target; false if its program failed. `coarse`: the
+  /// Marches one group into the bound target; false if its program failed. debugMode 1: the
+  /// kind's coordinates at debugT (mode 3), 2: the samples taken (MarchVariant::countSamples). `coarse`: the
   /// refinement pass of adaptive refinement over that small image; `columns`: the far field's
   /// columns instead of the camera's rays.
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
