@@ -16,9 +16,11 @@
 #    (bench_radar_network);
 # 6. the scene-load bench (1/4/16 synthetic radars, 1/10 steps);
 # 7. the SYNTHETIC global grid under texture limits, near and far (bench_grid_windows; its table is
-#    appended to grid_bench.md: a lent machine returns at most 8 files).
+#    appended to grid_bench.md: a lent machine returns at most 8 files);
+# 8. samples per second against the fetch rate (bench_sample_rate, KLBB; appended to
+#    volume_bench_1280.md).
 # GPU_BENCH_STAGES="grids radar ..." runs only those stages (grids compare radar overlap networks
-# scenes windows), e.g. to finish a run that a machine's time cut short.
+# scenes windows rate), e.g. to finish a run that a machine's time cut short.
 # Every bench writes into one directory whose reference-cache/ starts as the bundle's, and runs
 # from the bundle's run/ so that the radar files are ../shared/data/... as the cache keys say.
 # Each stage is bounded by `timeout` so the rest still run; OUT_DIR gets the reports (at most 8
@@ -57,7 +59,7 @@ cp "$work"/reference-cache/*.ref "$bench/reference-cache/" 2>/dev/null
 cd "$work/run" || exit 1
 say "atmoglobe $(cat "$work/REVISION"), $(ls "$bench/reference-cache" | wc -l) cached references; $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null)"
 "$ag" --version >> "$log" 2>&1 || { say "the binary does not start"; ldd "$ag" | grep "not found" | tee -a "$log"; exit 1; }
-stages=" ${GPU_BENCH_STAGES:-grids compare radar overlap networks scenes windows} "
+stages=" ${GPU_BENCH_STAGES:-grids compare radar overlap networks scenes windows rate} "
 want() { [[ $stages == *" $1 "* ]]; }
 stage() {  # stage NAME SECONDS COMMAND...
   local name=$1 limit=$2
@@ -112,5 +114,12 @@ if want windows; then
   timeout 90 "$work/bin/bench_grid_windows" --runs 3 --frames 3 --out "$bench" > "$bench/grid_windows.md" 2>> "$log"
   say "windows: rc $?"
   { echo; echo "# Near and far (bench_grid_windows)"; echo; cat "$bench/grid_windows.md"; } >> "$out/grid_bench.md"
+fi
+if want rate; then
+  say "rate"
+  timeout 60 "$work/bin/bench_sample_rate" --radar ../shared/data/radar_nexrad/KLBB20160601_150025_V06 --runs 3 \
+    --frames 7 > "$bench/sample_rate.md" 2>> "$log"
+  say "rate: rc $?"
+  { echo; cat "$bench/sample_rate.md"; } >> "$out/volume_bench_1280.md"
 fi
 say "done"

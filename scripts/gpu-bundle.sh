@@ -34,7 +34,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 programs=("$build/tools/atmoglobe" "$build/tools/bench/bench_volume_overlap" "$build/tools/bench/bench_radar_network"
-  "$build/tools/bench/bench_grid_windows")
+  "$build/tools/bench/bench_grid_windows" "$build/tools/bench/bench_sample_rate")
 for p in "${programs[@]}"; do
   [[ -x $p ]] || { echo "gpu-bundle.sh: $p: not built (./scripts/build.sh)" >&2; exit 1; }
 done
