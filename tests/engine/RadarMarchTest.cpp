@@ -57,6 +57,17 @@ class RadarMarch : public ::testing::Test {
   std::unique_ptr<engine::VolumeRendererGL> renderer_;
 };
 
+// The largest differences between the shader's coordinates and expected ones.
+struct InverseErrors {
+  double rangeMeters = 0.0, azimuthDeg = 0.0, elevationDeg = 0.0;
+  void add(const glm::vec4& shader, const volume::AntennaCoordinates& expected) {
+    rangeMeters = std::max(rangeMeters, std::abs(shader.x - expected.rangeMeters));
+    const double dAz = std::abs(shader.y - expected.azimuthDeg);
+    azimuthDeg = std::max(azimuthDeg, std::min(dAz, 360.0 - dAz));
+    elevationDeg = std::max(elevationDeg, std::abs(shader.z - expected.elevationDeg));
+  }
+};
+
 // 120 km south of the radar, 60 km up, looking north and down at the storm.
 const CameraPose kObliquePose{32.6, -101.814, 6e4, 10.0, -25.0, 0.0};
 
@@ -68,7 +79,7 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
   auto gl = engine::RadarVolumeGL::create(pv);
   ASSERT_TRUE(gl) << gl.error();
   const Camera camera(kObliquePose, 50.0, 64, 48);
-  double maxRange = 0, maxAz = 0, maxEl = 0;
+  InverseErrors errors;
   for (double t : {80e3, 120e3, 160e3}) {
     const auto coords = renderer_->debugCoordinatesAt(camera, **gl, t);
     ASSERT_EQ(coords.size(), 64u * 48u);
@@ -77,15 +88,11 @@ TEST_F(RadarMarch, GlslInverseAgreesWithTheExactInverse) {
         const glm::dvec3 p = camera.eyeEcef() + t * camera.pixelRayDirection(x + 0.5, y + 0.5);
         const volume::AntennaCoordinates exact = volume::antennaCoordinatesExact(pv.site, pv.beam, p);
         if (exact.rangeMeters > 460e3 || exact.rangeMeters < 1e3) continue;
-        const glm::vec4 g = coords[static_cast<std::size_t>(y) * 64 + x];
-        maxRange = std::max(maxRange, std::abs(g.x - exact.rangeMeters));
-        double dAz = std::abs(g.y - exact.azimuthDeg);
-        dAz = std::min(dAz, 360.0 - dAz);
-        maxAz = std::max(maxAz, dAz);
-        maxEl = std::max(maxEl, std::abs(g.z - exact.elevationDeg));
+        errors.add(coords[static_cast<std::size_t>(y) * 64 + x], exact);
       }
     }
   }
+  const double maxRange = errors.rangeMeters, maxAz = errors.azimuthDeg, maxEl = errors.elevationDeg;
   std::cout << "GLSL inverse vs exact: max |range| " << maxRange << " m, |azimuth| " << maxAz << " deg, |elevation| "
             << maxEl << " deg\n";
   RecordProperty("max_range_error_m", std::to_string(maxRange));
@@ -122,21 +129,18 @@ TEST_F(RadarMarch, GlslInverseHoldsFarFromTheAntenna) {
   const double t = 3.99e6;
   const auto coords = renderer_->debugCoordinatesAt(camera, **gl, t);
   ASSERT_EQ(coords.size(), 64u * 64u);
-  double maxRange = 0, maxAz = 0, maxEl = 0, farthest = 0;
+  InverseErrors errors;
+  double farthest = 0.0;
   for (int y = 0; y < 64; ++y) {
     for (int x = 0; x < 64; ++x) {
       const glm::dvec3 p = camera.eyeEcef() + t * camera.pixelRayDirection(x + 0.5, y + 0.5);
       const volume::AntennaCoordinates expected = model.antennaCoordinates(model.enuOfEcef(p));
       if (expected.rangeMeters > 2.5e6) continue;
       farthest = std::max(farthest, expected.rangeMeters);
-      const glm::vec4 g = coords[static_cast<std::size_t>(y) * 64 + x];
-      maxRange = std::max(maxRange, std::abs(g.x - expected.rangeMeters));
-      double dAz = std::abs(g.y - expected.azimuthDeg);
-      dAz = std::min(dAz, 360.0 - dAz);
-      maxAz = std::max(maxAz, dAz);
-      maxEl = std::max(maxEl, std::abs(g.z - expected.elevationDeg));
+      errors.add(coords[static_cast<std::size_t>(y) * 64 + x], expected);
     }
   }
+  const double maxRange = errors.rangeMeters, maxAz = errors.azimuthDeg, maxEl = errors.elevationDeg;
   std::cout << "GLSL inverse vs the local sphere in double, to " << farthest << " m: max |range| " << maxRange
             << " m, |azimuth| " << maxAz << " deg, |elevation| " << maxEl << " deg\n";
   EXPECT_GT(farthest, 2.3e6);  // the test reaches the series' far end
