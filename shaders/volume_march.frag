@@ -191,7 +191,7 @@ void main() {
   if (kColumns == 1) tGround = u_columnHeights.x - u_columnHeights.y;  // the column's bottom
   o_color = vec4(0.0);
 
-  // Each volume's sample indices [first, last] and, for skipping, its ray in the grid's frame.
+  // Each volume's sample indices [first, last] and, for skipping, its ray in its grid's cell units.
   ivec2 range[VOLUME_COUNT];
   vec3 oC[VOLUME_COUNT], dC[VOLUME_COUNT], iC[VOLUME_COUNT];  // the ray in the grid's cell units, 1 / dC
   vec2 box[VOLUME_COUNT];

@@ -11,6 +11,8 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace atmoglobe::benchcli {
 
@@ -43,6 +45,27 @@ inline bool parseSize(const std::string& text, int& width, int& height) {
   width = w;
   height = h;
   return true;
+}
+
+/// Adds --sizes "WxH,WxH,...": each item as parseSize takes it, at least one; a bad item is a
+/// usage error naming it.
+inline void addSizesOption(CLI::App& app, std::vector<std::pair<int, int>>& sizes, const std::string& description) {
+  app.add_option_function<std::string>(
+         "--sizes",
+         [&sizes](const std::string& text) {
+           std::vector<std::pair<int, int>> list;
+           std::stringstream s(text);
+           std::string item;
+           while (std::getline(s, item, ',')) {
+             int w = 0, h = 0;
+             if (!parseSize(item, w, h)) throw CLI::ValidationError("--sizes " + item + ": expected WxH, each >= 16");
+             list.emplace_back(w, h);
+           }
+           if (list.empty()) throw CLI::ValidationError("--sizes " + text + ": expected WxH, each >= 16");
+           sizes = std::move(list);
+         },
+         description)
+      ->type_name("WxH,...");
 }
 
 /// Parses argv into `app`. Returns -1 when the program goes on; else the status to exit with: 0

@@ -148,23 +148,7 @@ int main(int argc, char** argv) {
          },
          "Radar counts, comma-separated (the sites nearest KTLX; default 1,10,40,160)")
       ->type_name("N,N,...");
-  app.add_option_function<std::string>(
-         "--sizes",
-         [&sizes](const std::string& text) {
-           std::vector<std::pair<int, int>> list;
-           std::stringstream s(text);
-           std::string item;
-           while (std::getline(s, item, ',')) {
-             int w = 0, h = 0;
-             if (!benchcli::parseSize(item, w, h))
-               throw CLI::ValidationError("--sizes " + item + ": expected WxH, each >= 16");
-             list.emplace_back(w, h);
-           }
-           if (list.empty()) throw CLI::ValidationError("--sizes " + text + ": expected WxH, each >= 16");
-           sizes = std::move(list);
-         },
-         "Image sizes, comma-separated (default 320x180,1280x720)")
-      ->type_name("WxH,...");
+  benchcli::addSizesOption(app, sizes, "Image sizes, comma-separated (default 320x180,1280x720)");
   app.add_option("--gate", gateMeters, "Gate spacing of the SYNTHETIC radars (m; at least 50, default 1000)")
       ->check(benchcli::numberIn(50.0));
   app.add_option("--separate-max", separateMax,

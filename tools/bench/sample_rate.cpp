@@ -39,7 +39,6 @@
 #include <filesystem>
 #include <iostream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -83,21 +82,7 @@ int main(int argc, char** argv) {
   app.add_option("--radar", radarPath,
                  "Radar file (default: ../shared/data/radar_nexrad/KLBB20160601_150025_V06, else the default "
                  "SYNTHETIC KTLX)");
-  app.add_option_function<std::string>(
-         "--sizes",
-         [&sizes](const std::string& text) {
-           sizes.clear();
-           std::stringstream list(text);
-           std::string item;
-           while (std::getline(list, item, ',')) {
-             int w = 0, h = 0;
-             if (!benchcli::parseSize(item, w, h))
-               throw CLI::ValidationError("--sizes " + item + ": expected WxH, each >= 16");
-             sizes.emplace_back(w, h);
-           }
-         },
-         "Image sizes, comma-separated (default 320x180,1280x720)")
-      ->type_name("WxH,...");
+  benchcli::addSizesOption(app, sizes, "Image sizes, comma-separated (default 320x180,1280x720)");
   app.add_option("--runs", runs, "Runs per size (median of the runs' medians; default 3)")
       ->check(benchcli::numberIn(1));
   app.add_option("--frames", frames, "Timed frames per run (median; default 5)")->check(benchcli::numberIn(1));
