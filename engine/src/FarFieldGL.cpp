@@ -233,28 +233,34 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
   while (ok && s.slabsDone < slabs) {
     // With a budget: at least one band a frame, then while time is left.
     if (bounded && bandsThisFrame_ > 0 && spentMs_ >= budgetMs_) break;
-    // A band: whole rows, or within a block of kBandBlock rows, kBandBlock columns at a time.
+    // A band: whole rows (the rest of the slab) without a budget; with one, one or two blocks of
+    // kBandBlock x kBandBlock texels along the current block row, as many as the time left allows
+    // at each block's predicted cost: the same block's in the slab before, else the last band's.
+    // (A band grown from the last band's cost alone ran to 40-150 ms where it reached storms.)
     const int left = plan.rows - s.rowsDone;
     const int blockRows = std::min(kBandBlock, left);
-    int x = 0, width = plan.columns, rows = left;  // without a budget: the rest of the slab
-    double texels = double(kBandBlock) * kBandBlock;
+    int x = 0, width = plan.columns, rows = left;
+    const int blocksAcross = (plan.columns + kBandBlock - 1) / kBandBlock;
+    const int blockRow = s.rowsDone / kBandBlock;
     if (bounded) {
-      // As many texels as the time left allows at the last band's cost per texel, but at most
-      // twice the last band's texels (the cost differs from slab to slab and volume to volume);
-      // the first band measured is one block (kBandBlock^2 texels).
-      if (msPerTexel_ > 0.0)
-        texels = std::min(std::max(0.0, budgetMs_ - spentMs_) / msPerTexel_, 2.0 * lastBandTexels_);
-      if (s.columnsDone == 0 && texels >= double(plan.columns) * blockRows) {
-        // Whole blocks of rows.
-        const int blocks = static_cast<int>(texels / (double(plan.columns) * kBandBlock));
-        rows = std::min(left, std::max(1, blocks) * kBandBlock);
-      } else {
-        // Part of a block's row: whole blocks of columns.
-        const int blocks = static_cast<int>(std::ceil(texels / (double(blockRows) * kBandBlock)));
-        x = s.columnsDone;
-        width = std::min(plan.columns - x, std::max(1, blocks) * kBandBlock);
-        rows = blockRows;
+      const double timeLeftMs = budgetMs_ - spentMs_;
+      double predictedMs = 0.0;
+      int blocks = 0;
+      // Until a band's cost is known, one block.
+      const int most = msPerTexel_ > 0.0 ? kMaxBandBlocks : 1;
+      for (int b = s.columnsDone / kBandBlock; b < blocksAcross && blocks < most; ++b) {
+        const double before = s.costBefore.empty() ? 0.0 : s.costBefore[std::size_t(blockRow) * blocksAcross + b];
+        const double texels = double(std::min(kBandBlock, plan.columns - b * kBandBlock)) * blockRows;
+        const double ms = (before > 0.0 ? before : msPerTexel_) * texels;
+        if (blocks > 0 && predictedMs + ms > timeLeftMs) break;
+        predictedMs += ms;
+        ++blocks;
       }
+      // Not even one block fits what is left (at least one band a frame): the next frame.
+      if (bandsThisFrame_ > 0 && predictedMs > timeLeftMs) break;
+      x = s.columnsDone;
+      width = std::min(plan.columns - x, blocks * kBandBlock);
+      rows = blockRows;
     }
     glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, s.slabsDone);
     glScissor(x, s.rowsDone, width, rows);
@@ -265,9 +271,10 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       spentMs_ += ms;
       msPerTexel_ = ms / (static_cast<double>(rows) * width);
-      // What was asked for, not what the grid's edge cut it to (a band clipped at the end of a
-      // row would hold the next ones to twice its size).
-      lastBandTexels_ = std::max(texels, static_cast<double>(rows) * width);
+      if (s.costNow.empty())
+        s.costNow.assign(std::size_t(blocksAcross) * ((plan.rows + kBandBlock - 1) / kBandBlock), 0.0);
+      for (int b = x / kBandBlock; b * kBandBlock < x + width; ++b)
+        s.costNow[std::size_t(blockRow) * blocksAcross + b] = msPerTexel_;
     }
     ++bandsThisFrame_;
     ++bands_;
@@ -280,6 +287,8 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
     if (s.rowsDone == plan.rows) {
       ++s.slabsDone;
       s.rowsDone = 0;
+      s.costBefore = std::move(s.costNow);
+      s.costNow.clear();
     }
   }
   glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);  // so that a deleted texture is freed

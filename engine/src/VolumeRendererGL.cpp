@@ -523,10 +523,11 @@ namespace {
 
 // What a frame's volumes are: the camera, the frame size, each layer's volume and settings (with
 // or without the image scale), and the far-field slab sets made so far.
+constexpr std::size_t kProgressKeyFarFieldSets = 9;  // after the camera's 3 x 3 rotation
 std::vector<double> progressKey(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                 const FramebufferGL& target, bool withScale, std::size_t farFieldSets) {
   std::vector<double> key(glm::value_ptr(camera.cameraToEcef()), glm::value_ptr(camera.cameraToEcef()) + 9);
-  key.push_back(double(farFieldSets));
+  key.push_back(double(farFieldSets));  // at kProgressKeyFarFieldSets
   key.insert(key.end(), {camera.eyeEcef().x, camera.eyeEcef().y, camera.eyeEcef().z, camera.focalLengthPx(),
                          camera.nearMeters(), double(target.widthPx()), double(target.heightPx())});
   for (const VolumeLayerGL& l : layers) {
@@ -646,17 +647,35 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
 
 bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                        const FramebufferGL& target, double budgetMs) {
+  // The frame's volume work is bounded by `budgetMs` in all: what the frame queued before (the
+  // globe, or the kept background) is finished first and counts against it, and so do the slabs
+  // and the preview made in this call; at least a quarter of it is left to each of slabs and tiles.
+  const auto frameStart = std::chrono::steady_clock::now();
+  glFinish();
+  const auto leftMs = [&] {
+    const double spent =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
+    return std::max(budgetMs - spent, 0.25 * budgetMs);
+  };
   const std::vector<PassGL> passes = planPasses(camera, layers);
-  // Slabs made over frames: those in the making take the refinement's time too, and the tiles
-  // wait for them (marched now, they would be drawn again from the far field). A set completed
-  // starts the refinement again: the refined frame is then draw()'s, drawn from it.
-  farField_->beginFrame(farFieldBuildBudgetMs_ > 0.0 ? farFieldBuildBudgetMs_ + std::max(0.0, budgetMs) : 0.0);
+  // Slabs made over frames take the refinement's time, and the tiles wait for them (marched now,
+  // they would be drawn again from the far field). A set completed starts the refinement again:
+  // the refined frame is then draw()'s, drawn from it.
+  // (Without a budget, one tile a call, they take the far field's own.)
+  farField_->beginFrame(farFieldBuildBudgetMs_ > 0.0 ? (budgetMs > 0.0 ? leftMs() : farFieldBuildBudgetMs_) : 0.0);
   advanceFarFields(camera, passes);
   const bool slabsPending = farField_->pending();
   const std::vector<double> key = progressKey(camera, layers, target, true, farField_->slabSetsMade());
   Progress& p = progress_;
   const bool lastDrawValid = lastDrawValid_;
   lastDrawValid_ = false;
+  // A far-field set completed before any tile was marched changes nothing drawn yet: the preview
+  // stays (marched again, a network's preview took 0.4-0.6 s at a quarter of 1280x720).
+  if (p.valid && p.next == 0 && p.key != key && p.key.size() == key.size() && p.images.size() == passes.size()) {
+    std::vector<double> without = p.key;
+    without[kProgressKeyFarFieldSets] = key[kProgressKeyFarFieldSets];
+    if (without == key) p.key = key;
+  }
   if (!p.valid || p.key != key) {
     p = Progress{};
     p.valid = true;
@@ -698,10 +717,27 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
             lastDrawKey_ == progressKey(camera, preview, target, true, farField_->slabSetsMade())) {
           ++previewsReused_;
         } else {
+          // Within the frame's budget (shared by the passes) at the last preview's cost a pixel: a
+          // network whose far field is being made, or a view first seen, would otherwise march
+          // for hundreds of milliseconds here (159 radars at a quarter of 1280x720: 0.4-0.6 s).
+          const double passPixels = double(pass.rectPx.z) * double(pass.rectPx.w);
+          const double scaleNow = preview[0].options.imageScale;
+          if (previewMsPerPixel_ > 0.0 && budgetMs > 0.0 && passPixels > 0.0) {
+            const double fits = std::sqrt(budgetMs / double(passes.size()) / (previewMsPerPixel_ * passPixels));
+            if (fits < scaleNow)
+              for (VolumeLayerGL& l : preview) l.options.imageScale = std::max(kMinPreviewScale, fits);
+            small = volumeImageSize(target, preview[0].options.imageScale);
+          }
           ensureTarget(small.x, small.y, GL_RGBA16F);
+          ++previewsMarched_;
+          lastPreviewScale_ = preview[0].options.imageScale;
           const auto previewStart = std::chrono::steady_clock::now();
           ok = marchBox(camera, preview, *volumeTarget_, volumeImageBox(pass.rectPx, target, small), target);
           glFinish();
+          const double previewMs =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - previewStart).count();
+          const double marched = passPixels * preview[0].options.imageScale * preview[0].options.imageScale;
+          if (ok && marched >= 1.0) previewMsPerPixel_ = previewMs / marched;
           const double scale = preview[0].options.imageScale / std::max(1e-6, o.imageScale);
           if (ok && passes.size() == 1 && scale > 0.0)
             fullMarchEstimateMs_ =
@@ -726,18 +762,12 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
     }
   }
   // Tiles until the budget is spent (at least one), each as draw() marches its box. What the frame
-  // queued before (the globe, the preview) is finished first and counts against the budget, but
-  // at least a quarter of the budget goes to tiles: counted into the first tile's time, it left one
-  // tile a frame whatever its cost (159 radars from afar: 1,016 tiles of 0.3-0.5 ms each, the first
-  // timed at 25-33 ms, refined in over 1,000 frames).
-  double tileBudgetMs = budgetMs;
-  if (!slabsPending && p.next < p.tiles.size()) {
-    const auto queued = std::chrono::steady_clock::now();
-    glFinish();
-    const double queuedMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - queued).count();
-    tileBudgetMs = std::max(budgetMs - queuedMs, 0.25 * budgetMs);
-  }
+  // did before (the queued globe, the preview, slabs) counts against the budget, but at least a
+  // quarter of the budget goes to tiles: counted into the first tile's time, it left one tile a
+  // frame whatever its cost (159 radars from afar: 1,016 tiles of 0.3-0.5 ms each, the first timed
+  // at 25-33 ms, refined in over 1,000 frames).
+  glFinish();  // the preview's march, if any, counted
+  const double tileBudgetMs = leftMs();
   const auto start = std::chrono::steady_clock::now();
   for (bool first = true; !slabsPending && p.next < p.tiles.size(); first = false) {
     if (!first &&

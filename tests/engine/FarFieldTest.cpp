@@ -440,6 +440,9 @@ TEST_F(FarField, AtRestTheTilesWaitForTheSlabsAndTheRefinedFrameIsDrawnFromThem)
   const std::optional<engine::FarFieldPlan> plan = engine::FarFieldGL::planFor(far, {network_, on});
   ASSERT_TRUE(plan);
   EXPECT_GE(callsWithSlabsPending, 4 * plan->slabCount() - 1);
+  // The set completed before any tile was marched: the first call's preview stays (marched again,
+  // a network's preview took 0.4-0.6 s in the viewer).
+  EXPECT_EQ(r.previewsMarched(), 1u);
   // After the slabs: the tiles, one a call, from the far field.
   EXPECT_EQ(calls - callsWithSlabsPending, static_cast<int>(r.progressiveTiles().second));
   const globe::ImageRGBA8 refined = (*fb)->readColor();

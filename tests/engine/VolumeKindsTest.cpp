@@ -548,6 +548,37 @@ TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
 // The viewer at rest while a volume refines: frames that start from the background kept from the
 // last refining frame (SceneRendererGL::setBackgroundReuse) end in the frame drawn whole, pixel for
 // pixel; a camera moved or a scene changed draws the background again.
+// A preview marched at rest fits the call's budget once a preview's cost a pixel is known: the
+// first (nothing known) at the preview scale, then at the least scale a budget of a microsecond
+// allows, and at the preview scale again when the budget is ample.
+TEST(VolumeKinds, APreviewFitsTheBudgetOnceItsCostIsKnown) {
+  testutil::glContext();
+  auto renderer = engine::VolumeRendererGL::create();
+  ASSERT_TRUE(renderer) << renderer.error();
+  auto radar = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
+  ASSERT_TRUE(radar);
+  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
+  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 320, 160);
+  engine::VolumeRenderOptions options;
+  options.render.transfer = volume::defaultReflectivityTransfer();
+  auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
+  ASSERT_TRUE(fb);
+  const auto previewAt = [&](double budgetMs) {
+    (*renderer)->restartProgressive();
+    (*fb)->bind();
+    glClearDepth(0.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    (*renderer)->drawProgressive(camera, {{radar->get(), options}}, **fb, budgetMs);
+    return (*renderer)->lastPreviewScale();
+  };
+  using R = engine::VolumeRendererGL;
+  EXPECT_EQ(previewAt(1e-3), R::kPreviewScale) << "no cost known yet";
+  EXPECT_EQ((*renderer)->previewsMarched(), 1u);
+  EXPECT_EQ(previewAt(1e-3), R::kMinPreviewScale) << "a microsecond fits no preview: the least scale";
+  EXPECT_EQ(previewAt(1e6), R::kPreviewScale) << "a budget that fits it: the preview scale";
+  EXPECT_EQ((*renderer)->previewsMarched(), 3u);
+}
+
 TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
   testutil::glContext();
   auto loader =

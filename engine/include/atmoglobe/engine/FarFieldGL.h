@@ -69,11 +69,14 @@ class FarFieldGL {
   /// The most a ray may lean from the vertical where it meets the ground under the box (the far
   /// field is marched otherwise): at 70 deg a ray's piece of a 2 km slab runs 5.5 km sideways.
   static constexpr double kMaxIncidenceDeg = 70.0;
-  /// Slabs made over frames go in bands aligned to blocks of kBandBlock x kBandBlock texels: whole
-  /// blocks of rows, or a block's row a few blocks of columns at a time. llvmpipe shades in tiles
-  /// of 64 x 64 pixels: bands of a row of 2078 texels cost 4-11 ms, blocks of 4096 texels 0.7-2 ms
-  /// (159 radars at 1280x720; docs/networks.md).
+  /// Slabs made over frames go in bands of one or two blocks of kBandBlock x kBandBlock texels
+  /// along a row of blocks, as many as the frame's time left allows at each block's cost in the
+  /// slab before (or the last band's). llvmpipe shades in tiles of 64 x 64 pixels: bands of a row
+  /// of 2078 texels cost 4-11 ms, blocks of 4096 texels 0.7-2 ms, over storms up to 20 ms (159
+  /// radars at 1280x720; docs/networks.md).
   static constexpr int kBandBlock = 64;
+  /// Blocks a band may take (two: llvmpipe's two threads each shade one).
+  static constexpr int kMaxBandBlocks = 2;
   /// Volumes whose slabs are kept (the least recently used go first): the 159 NEXRAD sites are 9
   /// clusters.
   static constexpr std::size_t kKeptVolumes = 16;
@@ -137,6 +140,9 @@ class FarFieldGL {
     /// Made so far: whole slabs from the top, then rows of the next, then columns of its next
     /// block of rows (kBandBlock rows, or those left).
     int slabsDone = 0, rowsDone = 0, columnsDone = 0;
+    /// Made over frames: each block's cost (ms a texel) in the slab being made and in the slab
+    /// before (0: not measured), row-major over blocks of kBandBlock x kBandBlock texels.
+    std::vector<double> costNow, costBefore;
   };
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
   struct Kept {
@@ -166,7 +172,6 @@ class FarFieldGL {
   bool maskSkipping_ = true;
   std::uint64_t frame_ = 0;  ///< beginFrame calls
   double msPerTexel_ = 0.0;  ///< the last band's cost (0: none measured yet)
-  double lastBandTexels_ = 0.0;
 };
 
 }  // namespace atmoglobe::engine

@@ -104,9 +104,11 @@ class VolumeRendererGL {
   /// layers (their volumes, uniform versions, image scales) or restartProgressive() fills the
   /// image from a march at previewScale(), so tiles not refined yet show that. Once every tile is
   /// marched the frame is draw()'s, pixel for pixel (the same program at the same pixels; tests).
+  /// `budgetMs` bounds the call's volume work in all: the work the frame queued before (finished
+  /// first), a preview, slabs and tiles; at least a quarter of it goes to slabs or tiles.
   /// While a far field is being made over frames (setFarFieldBuildBudgetMs), the tiles wait: the
-  /// call makes slabs for the far-field budget and `budgetMs` together, and a completed set
-  /// starts the refinement again, drawn from it. Returns whether every tile is marched.
+  /// call makes slabs within that budget, and a completed set starts the refinement again, drawn
+  /// from it. Returns whether every tile is marched.
   bool drawProgressive(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& target,
                        double budgetMs);
   void restartProgressive() { progress_.valid = false; }
@@ -119,11 +121,18 @@ class VolumeRendererGL {
   static constexpr int kTilePx = 32;
   /// Refinements whose preview was the last draw()'s image (no march of its own).
   std::size_t previewsReused() const { return previewsReused_; }
+  /// Previews marched (one per pass of a refinement that did not reuse one), and the image scale
+  /// of the last: previewScale(), or less where the last preview's cost a pixel says that scale
+  /// would not fit the call's budget (down to kMinPreviewScale).
+  std::size_t previewsMarched() const { return previewsMarched_; }
+  double lastPreviewScale() const { return lastPreviewScale_; }
   static constexpr double kPreviewScale = 0.25;
   /// The preview's image scale (kPreviewScale by default; the viewer sets its last moving scale,
   /// so that the last moving frame is the preview: 0.02..1).
   void setPreviewScale(double scale) { previewScale_ = std::clamp(scale, 0.02, 1.0); }
   double previewScale() const { return previewScale_; }
+  /// The least preview scale a budget may ask for (the viewer's moving frames' floor).
+  static constexpr double kMinPreviewScale = 1.0 / 16.0;
   /// The last group's reference image from drawReference (row 0 = top).
   const volume::VolumeImage& lastReferenceImage() const { return lastReference_; }
 
@@ -266,6 +275,11 @@ class VolumeRendererGL {
   std::vector<double> lastDrawKey_;  ///< of that call (progressKey)
   std::size_t previewsReused_ = 0;
   double previewScale_ = kPreviewScale;
+  /// The last preview march's cost per volume-image pixel (ms; 0: none yet): a preview is marched
+  /// at a smaller scale (down to kMinPreviewScale) where previewScale_ would not fit the budget.
+  double previewMsPerPixel_ = 0.0;
+  std::size_t previewsMarched_ = 0;
+  double lastPreviewScale_ = 0.0;
   unsigned int volumeFormat_ = 0;
   unsigned int emptyDepth_ = 0;
   /// The transfer rows last uploaded, per row: what they were made from (uploaded again only on change).
