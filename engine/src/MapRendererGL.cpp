@@ -233,38 +233,82 @@ struct MapRendererGL::Wanted {
   const MapLineStyle* style = nullptr;
 };
 
+namespace {
+// The eye's distance (m) to the nearest point of a bin, approximately: to the point of the box
+// nearest the eye's sub-point in latitude and longitude (on a meridian edge the true nearest
+// point lies a little poleward: a few percent nearer in the worst case, well within the factor
+// of 5 between the levels' point spacings), never less than the eye's height.
+double binDistanceMeters(const glm::dvec3& eyeEcef, const globe::Geodetic& eye, const map::GshhgBinBox& box) {
+  const double halfLon = 0.5 * (box.eastDeg - box.westDeg);
+  const double midLon = box.westDeg + halfLon;
+  const double dLon = std::remainder(eye.lonDeg - midLon, 360.0);
+  const double lon = midLon + std::clamp(dLon, -halfLon, halfLon);
+  const double lat = std::clamp(eye.latDeg, box.southDeg, box.northDeg);
+  return std::max(std::abs(eye.heightMeters), glm::distance(eyeEcef, surface(lon, lat)));
+}
+}  // namespace
+
+map::GshhgResolution MapRendererGL::levelAt(const Camera& camera, double distanceMeters) {
+  return map::gshhgResolutionForScale(distanceMeters / camera.focalLengthPx());
+}
+
 std::vector<MapRendererGL::Wanted> MapRendererGL::wantedChunks(const Camera& camera, const globe::ViewState& view,
-                                                               map::GshhgResolution res, int* binsInView) {
+                                                               MapFrameStats* stats) {
   std::vector<Wanted> wanted;
-  const double maxSegment = map::maxSegmentMetersFor(res);
+  const glm::dvec3 eyeEcef = camera.eyeEcef();
+  const globe::Geodetic eye = globe::ecefToGeodetic(eyeEcef);
   if (builtin_) {
-    // Bins of the chosen resolution inside the crude (20-degree) bins in view.
-    const map::GshhgFile* coarse = file(map::GshhgKind::Shoreline, map::GshhgResolution::Crude);
-    const map::GshhgFile* shore = file(map::GshhgKind::Shoreline, res);
-    const map::GshhgFile* border = file(map::GshhgKind::Border, res);
-    std::vector<int> bins;
-    if (coarse && (shore || border)) {
-      const map::GshhgFile& fine = shore ? *shore : *border;
-      for (int cb = 0; cb < coarse->binCount(); ++cb) {
-        const map::GshhgBinBox box = coarse->binBox(cb);
-        if (!binVisible(camera, view, box)) continue;
-        for (int b :
-             fine.binsOverlapping(box.westDeg + 1e-6, box.southDeg + 1e-6, box.eastDeg - 1e-6, box.northDeg - 1e-6))
-          if (res == map::GshhgResolution::Crude || binVisible(camera, view, fine.binBox(b))) bins.push_back(b);
+    // Each part of the view at the level its distance asks for (the level whose published point
+    // spacing is at most two pixels there): bins nest, 20 (crude) > 10 (low) > 5 (intermediate)
+    // and 10 > 2 (high) > 1 (full) degrees, so a bin is drawn whole at the level of its nearest
+    // point or handed to the finer bins inside it, and no part of the view is drawn twice.
+    using R = map::GshhgResolution;
+    std::vector<std::pair<R, int>> bins;  // (level, bin of that level's files)
+    const auto gather = [&](R res, const map::GshhgBinBox& box, const auto& self) -> void {
+      const map::GshhgFile* shore = file(map::GshhgKind::Shoreline, res);
+      const map::GshhgFile* border = file(map::GshhgKind::Border, res);
+      if (!shore && !border) return;
+      const map::GshhgFile& f = shore ? *shore : *border;
+      for (int b : f.binsInside(box)) {
+        const map::GshhgBinBox bb = f.binBox(b);
+        if (!binVisible(camera, view, bb)) continue;
+        const R need = std::max(res, levelAt(camera, binDistanceMeters(eyeEcef, eye, bb)));
+        if (need == res || res == R::Full) {
+          bins.emplace_back(res, b);
+        } else if (res == R::Crude) {
+          self(R::Low, bb, self);
+        } else if (res == R::Low) {
+          self(need == R::Intermediate ? R::Intermediate : R::High, bb, self);
+        } else if (res == R::High) {
+          self(R::Full, bb, self);
+        } else {
+          bins.emplace_back(res, b);  // intermediate bins (5 deg) hold no whole high ones (2 deg)
+        }
+      }
+    };
+    gather(R::Crude, map::GshhgBinBox{-180.0, -90.0, 180.0, 90.0}, gather);
+    if (stats) {
+      stats->binsInView = static_cast<int>(bins.size());
+      for (const auto& [res, b] : bins) {
+        stats->resolution = std::max(stats->resolution, res);
+        ++stats->binsAtLevel[static_cast<std::size_t>(res)];
       }
     }
-    if (binsInView) *binsInView = static_cast<int>(bins.size());
-    const struct {
-      const map::GshhgFile* file;
-      unsigned levels;
-    } layers[3] = {{shore, map::kCoastLevels}, {border, map::kNationalBorderLevels}, {border, map::kStateBorderLevels}};
-    for (int layer = 0; layer < 3; ++layer) {
-      if (!layers[layer].file) continue;
-      // State/province borders clutter whole-hemisphere views: shown from the low level down.
-      if (layer == 2 && res == map::GshhgResolution::Crude) continue;
-      const map::GshhgFile* f = layers[layer].file;
-      const unsigned levels = layers[layer].levels;
-      for (int b : bins)
+    for (const auto& [res, b] : bins) {
+      const map::GshhgFile* shore = file(map::GshhgKind::Shoreline, res);
+      const map::GshhgFile* border = file(map::GshhgKind::Border, res);
+      const struct {
+        const map::GshhgFile* file;
+        unsigned levels;
+      } layers[3] = {
+          {shore, map::kCoastLevels}, {border, map::kNationalBorderLevels}, {border, map::kStateBorderLevels}};
+      const double maxSegment = map::maxSegmentMetersFor(res);
+      for (int layer = 0; layer < 3; ++layer) {
+        if (!layers[layer].file) continue;
+        // State/province borders clutter whole-hemisphere views: shown from the low level down.
+        if (layer == 2 && res == R::Crude) continue;
+        const map::GshhgFile* f = layers[layer].file;
+        const unsigned levels = layers[layer].levels;
         wanted.push_back({{layer, static_cast<int>(res), b},
                           [f, b, levels, maxSegment]() -> std::unique_ptr<ChunkGL> {
                             auto lines = f->readBin(b, levels);
@@ -275,6 +319,7 @@ std::vector<MapRendererGL::Wanted> MapRendererGL::wantedChunks(const Camera& cam
                             return uploadChunk(map::buildLineChunk(*lines, maxSegment));
                           },
                           &builtinStyle_[layer]});
+      }
     }
   }
   for (std::size_t o = 0; o < overlays_.size(); ++o) {
@@ -285,6 +330,11 @@ std::vector<MapRendererGL::Wanted> MapRendererGL::wantedChunks(const Camera& cam
       for (const glm::dvec4& plane : view.frustumPlanesEcef)
         outside = outside || glm::dot(glm::dvec3(plane), glm::dvec3(sphere)) + plane.w < -sphere.w;
       if (outside) continue;
+      // Densified for the nearest point of the group's sphere (the chord sag: maxSegmentMetersFor).
+      const double nearest =
+          std::max(std::abs(eye.heightMeters), glm::distance(eyeEcef, glm::dvec3(sphere)) - sphere.w);
+      const map::GshhgResolution res = levelAt(camera, nearest);
+      const double maxSegment = map::maxSegmentMetersFor(res);
       const std::vector<map::GeoPolyline>* piece = &overlay.pieces[g];
       wanted.push_back({{3 + static_cast<int>(o), static_cast<int>(res), static_cast<int>(g)},
                         [piece, maxSegment] { return uploadChunk(map::buildLineChunk(*piece, maxSegment)); },
@@ -299,18 +349,15 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   ++frame_;
   lastFrameComplete_ = true;
   if (!builtin_ && overlays_.empty()) return stats;
-  const double heightMeters = globe::ecefToGeodetic(camera.eyeEcef()).heightMeters;
-  const map::GshhgResolution res = map::gshhgResolutionForHeight(heightMeters);
-  stats.resolution = res;
   const globe::ViewState view = camera.viewState();
-  std::vector<Wanted> wanted = wantedChunks(camera, view, res, &stats.binsInView);
+  std::vector<Wanted> wanted = wantedChunks(camera, view, &stats);
 
   // Missing chunks are read and built (GSHHG bins, geodesic densification, upload): all of them
   // without a budget (render, the first frame), else while the budget lasts. Until every chunk of
-  // the view's resolution is made, the resolution drawn before stays (its chunks as cached), so a
-  // flight that crosses a level does not stall on the new level's reads.
+  // the view is made, the chunks of the last complete view stay (as cached), so a flight that
+  // changes levels does not stall on the new level's reads.
   const auto t0 = std::chrono::steady_clock::now();
-  const bool unbounded = buildBudgetMs_ <= 0.0 || shownResolution_ < 0;
+  const bool unbounded = buildBudgetMs_ <= 0.0 || !shownValid_;
   bool missing = false, builtOne = false;
   for (const Wanted& w : wanted) {
     if (chunks_.count(w.key)) continue;
@@ -327,12 +374,14 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
     ++stats.chunksBuilt;
     chunks_.emplace(w.key, std::move(c));
   }
+  std::vector<std::pair<ChunkKey, const MapLineStyle*>> drawn;
   if (missing) {
     lastFrameComplete_ = false;
-    if (shownResolution_ != static_cast<int>(res))
-      wanted = wantedChunks(camera, view, static_cast<map::GshhgResolution>(shownResolution_), nullptr);
+    drawn = shown_;
   } else {
-    shownResolution_ = static_cast<int>(res);
+    for (const Wanted& w : wanted) drawn.emplace_back(w.key, w.style);
+    shown_ = drawn;
+    shownValid_ = true;
   }
 
   program_.use();
@@ -343,12 +392,12 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
   beginOverGlobeGL();
   glBindVertexArray(vao_);
-  for (const Wanted& w : wanted) {
-    auto it = chunks_.find(w.key);
-    if (it == chunks_.end()) continue;  // not made yet (a bin just come into view): next frame
+  for (const auto& [key, style] : drawn) {
+    auto it = chunks_.find(key);
+    if (it == chunks_.end()) continue;  // not made yet, or dropped
     it->second->lastFrame = frame_;
     if (it->second->segments > 0) {
-      drawChunk(camera, *it->second, *w.style);
+      drawChunk(camera, *it->second, *style);
       ++stats.chunksDrawn;
       stats.segmentsDrawn += static_cast<std::size_t>(it->second->segments);
     }

@@ -126,6 +126,22 @@ std::vector<int> GshhgFile::binsOverlapping(double westDeg, double southDeg, dou
   return bins;
 }
 
+std::vector<int> GshhgFile::binsInside(const GshhgBinBox& box) const {
+  std::vector<int> bins;
+  if (binsAcross_ <= 0 || binSizeDeg_ <= 0.0) return bins;
+  const int rows = binCount() / binsAcross_;
+  constexpr double kEdge = 1e-9;  // box edges on the bin grid, up to rounding
+  const int j0 = std::clamp(static_cast<int>(std::floor((90.0 - box.northDeg) / binSizeDeg_ + kEdge)), 0, rows);
+  const int j1 = std::clamp(static_cast<int>(std::ceil((90.0 - box.southDeg) / binSizeDeg_ - kEdge)), j0, rows);
+  const double west = box.westDeg < 0.0 ? box.westDeg + 360.0 : box.westDeg;  // columns start at 0 deg
+  const int i0 = static_cast<int>(std::floor(west / binSizeDeg_ + kEdge)) % binsAcross_;
+  const int across =
+      std::clamp(static_cast<int>(std::lround((box.eastDeg - box.westDeg) / binSizeDeg_)), 0, binsAcross_);
+  for (int j = j0; j < j1; ++j)
+    for (int k = 0; k < across; ++k) bins.push_back(j * binsAcross_ + (i0 + k) % binsAcross_);
+  return bins;
+}
+
 Result<std::vector<GeoPolyline>> GshhgFile::readBin(int bin, unsigned levelMask) const {
   std::vector<GeoPolyline> lines;
   if (bin < 0 || bin >= binCount()) return makeError(path_ + ": no bin " + std::to_string(bin));

@@ -139,6 +139,34 @@ TEST_F(MapRender, LinesBehindTheEarthAreHidden) {
   EXPECT_EQ(countLinePixels(render(camera, false)), 0);  // the analytic horizon cut, not the depth
 }
 
+// Each part of the view at the level its distance asks for: from 45 km east of Lisbon looking
+// out to sea, the bins near the eye at the level of the eye's height and those toward the
+// horizon (760 km away) coarser; the coast at Cabo da Roca, 70 km away, still drawn where it is.
+TEST_F(MapRender, FarBinsAreDrawnAtCoarserLevels) {
+  if (!gshhgInstalled()) GTEST_SKIP() << crudeCoast() << " missing (apt-get install gmt-gshhg)";
+  ASSERT_TRUE(useMagentaCoastlines());
+  const engine::Camera camera({38.75, -8.90, 45e3, 280.0, -20.0, 0.0}, 60.0, 320, 240);
+  const globe::ImageRGBA8 image = render(camera, false);
+  const engine::MapFrameStats stats = renderer_->map().draw(camera);
+  const auto near = map::gshhgResolutionForScale(45e3 / camera.focalLengthPx());
+  std::cout << "bins at each level (crude .. full):";
+  int levels = 0;
+  for (int n : stats.binsAtLevel) {
+    std::cout << " " << n;
+    levels += n > 0;
+  }
+  std::cout << "\n";
+  EXPECT_EQ(stats.resolution, near) << "the finest level: the eye's height's";
+  EXPECT_GT(stats.binsAtLevel[static_cast<std::size_t>(near)], 0);
+  int coarser = 0;
+  for (int r = 0; r < static_cast<int>(near); ++r) coarser += stats.binsAtLevel[static_cast<std::size_t>(r)];
+  EXPECT_GT(coarser, 0) << "bins toward the horizon at a coarser level";
+  EXPECT_GE(levels, 2);
+  const auto cape = camera.projectToPixel(globe::geodeticToEcef({38.7804, -9.4989, 0.0}));
+  ASSERT_TRUE(cape);
+  EXPECT_TRUE(lineNear(image, *cape, 3));
+}
+
 // With a build budget (the viewer's) a view of a new level draws the level before until every
 // chunk of the new one is made, a few each frame, and then draws what an unbounded frame does.
 TEST_F(MapRender, ABuildBudgetKeepsTheLevelBeforeUntilTheNewOneIsMade) {
@@ -149,7 +177,8 @@ TEST_F(MapRender, ABuildBudgetKeepsTheLevelBeforeUntilTheNewOneIsMade) {
   map.setBuildBudgetMs(0.001);
   const engine::Camera far({38.0, -9.0, 1e7, 0.0, -90.0, 0.0}, 60.0, 240, 180);
   const engine::Camera near({38.7, -9.3, 3.0e5, 0.0, -90.0, 0.0}, 60.0, 240, 180);
-  ASSERT_NE(atmoglobe::map::gshhgResolutionForHeight(1e7), atmoglobe::map::gshhgResolutionForHeight(3.0e5));
+  ASSERT_NE(map::gshhgResolutionForScale(1e7 / far.focalLengthPx()),
+            map::gshhgResolutionForScale(3.0e5 / near.focalLengthPx()));
   // The first frame has no level to keep: made whole.
   const globe::ImageRGBA8 farImage = render(far, false);
   EXPECT_TRUE(map.lastFrameComplete());

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -111,6 +112,36 @@ TEST(Gshhg, BinsTileTheGlobeAndReadOnlyTheirPoints) {
   EXPECT_EQ((*f)->binsOverlapping(170.0, -5.0, -170.0, 5.0).size(), 2u);
 }
 
+// binsInside (index arithmetic) lists what binsOverlapping (a scan) lists inside a box of whole
+// bins: the globe, every crude (20 deg) bin and every low (10 deg) bin, at every finer level whose
+// bins nest in them.
+TEST(Gshhg, BinsInsideAreTheBinsOverlappingANestingBox) {
+  using R = map::GshhgResolution;
+  SKIP_WITHOUT_GSHHG(map::GshhgKind::Shoreline, R::Full);
+  std::unique_ptr<map::GshhgFile> files[5];
+  for (int r = 0; r < 5; ++r) {
+    auto f = map::GshhgFile::open(map::gshhgPath(map::defaultGshhgDirectory(), map::GshhgKind::Shoreline, R(r)),
+                                  map::GshhgKind::Shoreline);
+    ASSERT_TRUE(f) << f.error();
+    files[r] = std::move(*f);
+  }
+  const auto same = [](const map::GshhgFile& f, const map::GshhgBinBox& box) {
+    std::vector<int> inside = f.binsInside(box);
+    std::vector<int> scanned =
+        f.binsOverlapping(box.westDeg + 1e-6, box.southDeg + 1e-6, box.eastDeg - 1e-6, box.northDeg - 1e-6);
+    std::sort(inside.begin(), inside.end());
+    std::sort(scanned.begin(), scanned.end());
+    return inside == scanned && !inside.empty();
+  };
+  for (int r = 0; r < 5; ++r) EXPECT_TRUE(same(*files[r], {-180.0, -90.0, 180.0, 90.0})) << "level " << r;
+  EXPECT_EQ(files[0]->binsInside({-180.0, -90.0, 180.0, 90.0}).size(), 162u);
+  for (int parent = 0; parent < 2; ++parent)
+    for (int b = 0; b < files[parent]->binCount(); ++b)
+      for (int r = parent + 1; r < 5; ++r) {
+        ASSERT_TRUE(same(*files[r], files[parent]->binBox(b))) << "level " << r << " in bin " << b << " of " << parent;
+      }
+}
+
 TEST(Gshhg, BadFilesAreNamed) {
   const std::string dir = ATMOGLOBE_TEST_OUTPUT_DIR;
   std::filesystem::create_directories(dir);
@@ -125,11 +156,12 @@ TEST(Gshhg, BadFilesAreNamed) {
 }
 
 TEST(MapLod, CoarseFarFineNear) {
-  EXPECT_EQ(map::gshhgResolutionForHeight(1e7), map::GshhgResolution::Crude);
-  EXPECT_EQ(map::gshhgResolutionForHeight(5e6), map::GshhgResolution::Low);
-  EXPECT_EQ(map::gshhgResolutionForHeight(1e6), map::GshhgResolution::Intermediate);
-  EXPECT_EQ(map::gshhgResolutionForHeight(2e5), map::GshhgResolution::High);
-  EXPECT_EQ(map::gshhgResolutionForHeight(1.0), map::GshhgResolution::Full);
+  // Metres a pixel spans: the coarsest level whose published point spacing is at most 2 pixels.
+  EXPECT_EQ(map::gshhgResolutionForScale(13000.0), map::GshhgResolution::Crude);
+  EXPECT_EQ(map::gshhgResolutionForScale(5000.0), map::GshhgResolution::Low);
+  EXPECT_EQ(map::gshhgResolutionForScale(1000.0), map::GshhgResolution::Intermediate);
+  EXPECT_EQ(map::gshhgResolutionForScale(200.0), map::GshhgResolution::High);
+  EXPECT_EQ(map::gshhgResolutionForScale(1e-3), map::GshhgResolution::Full);
   for (int r = 0; r + 1 < 5; ++r)
     EXPECT_GT(map::maxSegmentMetersFor(static_cast<map::GshhgResolution>(r)),
               map::maxSegmentMetersFor(static_cast<map::GshhgResolution>(r + 1)));

@@ -3,8 +3,10 @@
 // gmt-gshhg, map/Gshhg.h), user vector files (map/VectorFile.h) and range rings, as lines on the
 // ellipsoid.
 //
-// - Level of detail by camera height (map/MapLod.h): one GSHHG resolution per frame, coarse at
-//   global views, finer when close; only the bins in view are read (a bin is dropped when its
+// - Level of detail by distance (map/MapLod.h): each bin in view at the coarsest GSHHG level
+//   whose point spacing is at most two pixels at its nearest point (bins nest: a bin is drawn
+//   whole or handed to the finer bins inside it), so an oblique view is fine near the eye and
+//   coarse toward the horizon; only the bins in view are read (a bin is dropped when its
 //   bounding sphere is outside the frustum or all its samples are behind the horizon) and built
 //   (densified along the geodesic to the level's segment length), then kept in a cache. State
 //   and province borders are left out at the crude level (whole-hemisphere views).
@@ -23,6 +25,7 @@
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/map/Gshhg.h>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -51,8 +54,9 @@ struct MapLineStyle {
 };
 
 struct MapFrameStats {
-  map::GshhgResolution resolution = map::GshhgResolution::Crude;
+  map::GshhgResolution resolution = map::GshhgResolution::Crude;  ///< the finest level in view
   int binsInView = 0;
+  std::array<int, 5> binsAtLevel{};  ///< built-in bins drawn at each level (crude .. full)
   int chunksDrawn = 0;
   int chunksBuilt = 0;
   std::size_t segmentsDrawn = 0;
@@ -104,9 +108,13 @@ class MapRendererGL {
     std::vector<glm::dvec3> samples;
   };
   struct Wanted;
-  /// The chunks a view wants at resolution `res` (built-in bins in view, overlay groups in the frustum).
-  std::vector<Wanted> wantedChunks(const Camera& camera, const globe::ViewState& view, map::GshhgResolution res,
-                                   int* binsInView);
+  using ChunkKey = std::tuple<int, int, int>;  ///< (layer, resolution, bin or group)
+  /// The chunks a view wants: built-in bins in view, each at the level its distance asks for
+  /// (levelAt), and overlay groups in the frustum; `stats` gets the bins and the finest level.
+  std::vector<Wanted> wantedChunks(const Camera& camera, const globe::ViewState& view, MapFrameStats* stats);
+  /// The GSHHG level for lines `distanceMeters` from the eye: the coarsest whose published point
+  /// spacing is at most two pixels there (map::gshhgResolutionForScale).
+  static map::GshhgResolution levelAt(const Camera& camera, double distanceMeters);
   bool binVisible(const Camera& camera, const globe::ViewState& view, const map::GshhgBinBox& box) const;
   const map::GshhgFile* file(map::GshhgKind kind, map::GshhgResolution r);
   void drawChunk(const Camera& camera, const ChunkGL& chunk, const MapLineStyle& style);
@@ -119,12 +127,14 @@ class MapRendererGL {
   std::map<std::pair<int, int>, std::unique_ptr<map::GshhgFile>> files_;  ///< (kind, resolution)
   std::map<std::pair<int, int>, bool> fileFailed_;
   /// Cached chunks: key (layer, resolution, bin or group).
-  std::map<std::tuple<int, int, int>, std::unique_ptr<ChunkGL>> chunks_;
+  std::map<ChunkKey, std::unique_ptr<ChunkGL>> chunks_;
   std::size_t chunkBytes_ = 0;
   std::vector<Overlay> overlays_;
   std::uint64_t frame_ = 0;
   double buildBudgetMs_ = 0.0;
-  int shownResolution_ = -1;  ///< the resolution drawn when every chunk of it was made (-1: none yet)
+  /// The chunks of the last view whose every chunk was made (drawn while a new view's are made).
+  std::vector<std::pair<ChunkKey, const MapLineStyle*>> shown_;
+  bool shownValid_ = false;
   bool lastFrameComplete_ = true;
 };
 

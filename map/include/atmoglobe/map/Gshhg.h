@@ -58,6 +58,10 @@ class GshhgFile {
   GshhgBinBox binBox(int bin) const;
   /// Bins overlapping [west, east] x [south, north] (degrees; west > east crosses the antimeridian).
   std::vector<int> binsOverlapping(double westDeg, double southDeg, double eastDeg, double northDeg) const;
+  /// The bins inside `box`, a box of whole bins of this file (the whole globe, or a coarser
+  /// file's bin: 20-degree bins hold whole 10, 5, 2 and 1-degree ones, 10-degree bins 5, 2 and 1),
+  /// by index arithmetic: binsOverlapping scans every bin (64,800 at the full level).
+  std::vector<int> binsInside(const GshhgBinBox& box) const;
   /// The segments of `bin` whose level is in `levelMask` (1 << level), as polylines in
   /// [-180, 180] longitudes.
   Result<std::vector<GeoPolyline>> readBin(int bin, unsigned levelMask) const;

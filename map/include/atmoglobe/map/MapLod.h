@@ -1,6 +1,6 @@
 #pragma once
-// The map context's level of detail (GL-free): which GSHHG resolution a camera height asks for,
-// and how finely lines are densified along the geodesic at that level.
+// The map context's level of detail (GL-free): which GSHHG resolution a pixel's footprint asks
+// for, and how finely lines are densified along the geodesic at that level.
 #include <atmoglobe/globe/Result.h>
 #include <atmoglobe/map/GeoLines.h>
 #include <atmoglobe/map/Gshhg.h>
@@ -10,17 +10,12 @@
 
 namespace atmoglobe::map {
 
-/// Camera heights above the ellipsoid (m) at and above which each coarser resolution is used:
-/// crude from 6e6 m (a hemisphere in view; its 20-deg bins hold ~0.2 km accuracy, below a
-/// pixel there), low from 2e6, intermediate from 5e5, high from 8e4, full below (GMT's own
-/// resolutions are published for map scales of that order: c 25 km, l 5 km, i 1 km, h 200 m,
-/// f 40 m per point, roughly a pixel or less at each level's lowest height).
-GshhgResolution gshhgResolutionForHeight(double heightMeters);
-
 /// Longest segment (m) lines are cut into along the geodesic at a level: 50 km, 20 km, 5 km,
 /// 1 km, 250 m. The chord sag below the surface (GeoLines.h chordSagMeters: 49 m, 7.9 m, 0.49 m,
-/// 2 cm, 1.2 mm) stays below 1e-5 of the camera height down to each level's lowest height,
-/// except full below 120 m (1.2 mm at 1 m: the renderer's depth lift covers twice the sag).
+/// 2 cm, 1.2 mm) stays below 1e-5 of the eye's distance down to each level's nearest distance
+/// (gshhgResolutionForScale at a focal length of 869 px, 1280x720 at 45 deg; 4e-5 at 200 px),
+/// except full below 120 m (1.2 mm at 1 m): the renderer's depth lift (1 % of the distance)
+/// covers it.
 double maxSegmentMetersFor(GshhgResolution r);
 
 }  // namespace atmoglobe::map
