@@ -374,13 +374,11 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
     ++stats.chunksBuilt;
     chunks_.emplace(w.key, std::move(c));
   }
-  std::vector<std::pair<ChunkKey, const MapLineStyle*>> drawn;
   if (missing) {
     lastFrameComplete_ = false;
-    drawn = shown_;
   } else {
-    for (const Wanted& w : wanted) drawn.emplace_back(w.key, w.style);
-    shown_ = drawn;
+    shown_.clear();
+    for (const Wanted& w : wanted) shown_.push_back(w.key);
     shownValid_ = true;
   }
 
@@ -392,12 +390,16 @@ MapFrameStats MapRendererGL::draw(const Camera& camera) {
   glUniform1f(program_.uniform("u_depthLift"), kMapDepthLift);
   beginOverGlobeGL();
   glBindVertexArray(vao_);
-  for (const auto& [key, style] : drawn) {
+  for (const ChunkKey& key : shown_) {
     auto it = chunks_.find(key);
-    if (it == chunks_.end()) continue;  // not made yet, or dropped
+    if (it == chunks_.end()) continue;  // dropped (a layer removed)
+    // The style by the key's layer (an overlay's may have gone since the view was complete).
+    const int layer = std::get<0>(key);
+    if (layer >= 3 && static_cast<std::size_t>(layer - 3) >= overlays_.size()) continue;
+    const MapLineStyle& style = layer < 3 ? builtinStyle_[layer] : overlays_[static_cast<std::size_t>(layer - 3)].style;
     it->second->lastFrame = frame_;
     if (it->second->segments > 0) {
-      drawChunk(camera, *it->second, *style);
+      drawChunk(camera, *it->second, style);
       ++stats.chunksDrawn;
       stats.segmentsDrawn += static_cast<std::size_t>(it->second->segments);
     }

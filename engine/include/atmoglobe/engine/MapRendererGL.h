@@ -133,7 +133,7 @@ class MapRendererGL {
   std::uint64_t frame_ = 0;
   double buildBudgetMs_ = 0.0;
   /// The chunks of the last view whose every chunk was made (drawn while a new view's are made).
-  std::vector<std::pair<ChunkKey, const MapLineStyle*>> shown_;
+  std::vector<ChunkKey> shown_;
   bool shownValid_ = false;
   bool lastFrameComplete_ = true;
 };
