@@ -6,7 +6,7 @@ set -euo pipefail
 PKGS=(
   cmake g++ make pkg-config
   libgeographiclib-dev libglfw3-dev libglm-dev libtinygltf-dev nlohmann-json3-dev
-  libnetcdf-dev libhdf5-dev libstb-dev libgtest-dev libepoxy-dev libegl-dev libgl-dev
+  libnetcdf-dev libhdf5-dev libstb-dev libpng-dev libgtest-dev libepoxy-dev libegl-dev libgl-dev
   libegl-mesa0 libgl1-mesa-dri libbz2-dev libzip-dev
   libcli11-dev
   libeccodes-dev libeccodes-tools   # GRIB grids (volume/src/grid/Grib*); grib_get_data in the tests

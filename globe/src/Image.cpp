@@ -6,12 +6,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 
+#include <png.h>
 #include <stb/stb_image.h>
-#include <stb/stb_image_write.h>
 
 namespace atmoglobe::globe {
 
@@ -109,22 +110,32 @@ Result<ImageRGBA8> decodeImageFile(const std::string& path) {
   return decodeImageMemory(bytes.data(), bytes.size(), path);
 }
 
-namespace {
-void appendToVector(void* context, void* data, int size) {
-  auto* out = static_cast<std::vector<std::uint8_t>*>(context);
-  const auto* bytes = static_cast<const std::uint8_t*>(data);
-  out->insert(out->end(), bytes, bytes + size);
-}
-}  // namespace
-
 Result<std::vector<std::uint8_t>> encodePng(const ImageRGBA8& image, const std::string& nameForErrors) {
   assert(image.width > 0 && image.height > 0 &&
          image.pixels.size() == static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4);
+  // libpng's simplified API in its fast mode, written into memory: 33 ms for the default
+  // 1280x720 render against stb's encoder's 160-180 ms (whatever its compression level), the
+  // file about as large (575 against 555 kB; medians of 7, side by side, 2026-12-02, this machine).
+  char* buffer = nullptr;
+  std::size_t length = 0;
+  FILE* stream = open_memstream(&buffer, &length);
+  if (!stream) return makeError(nameForErrors + ": PNG encoding failed (" + std::strerror(errno) + ")");
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = PNG_FORMAT_RGBA;
+  png.flags = PNG_IMAGE_FLAG_FAST;
+  const int written = png_image_write_to_stdio(&png, stream, 0, image.pixels.data(), image.width * 4, nullptr);
+  const std::string message = png.message;
+  png_image_free(&png);
+  const bool closed = std::fclose(stream) == 0;  // sets buffer and length
   std::vector<std::uint8_t> encoded;
-  if (!stbi_write_png_to_func(appendToVector, &encoded, image.width, image.height, 4, image.pixels.data(),
-                              image.width * 4)) {
-    return makeError(nameForErrors + ": PNG encoding failed");
-  }
+  if (written && closed && buffer) encoded.assign(buffer, buffer + length);
+  std::free(buffer);
+  if (!written || !closed)
+    return makeError(nameForErrors + ": PNG encoding failed" + (message.empty() ? "" : ": " + message));
   return encoded;
 }
 

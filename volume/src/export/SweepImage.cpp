@@ -5,8 +5,7 @@
 #include <cmath>
 #include <numeric>
 
-// stb_image_write is compiled into libstb.a (linked by atmoglobe::globe); only the declarations here.
-#include <stb/stb_image_write.h>
+#include <atmoglobe/globe/Image.h>
 
 namespace atmoglobe::volume {
 
@@ -110,15 +109,10 @@ double sweepImageU(const SweepImage& image, double rangeMeters) {
 }
 
 std::vector<std::uint8_t> encodeSweepImagePng(const SweepImage& image) {
-  std::vector<std::uint8_t> out;
-  auto sink = [](void* context, void* data, int size) {
-    auto* v = static_cast<std::vector<std::uint8_t>*>(context);
-    const auto* bytes = static_cast<const std::uint8_t*>(data);
-    v->insert(v->end(), bytes, bytes + size);
-  };
-  if (!stbi_write_png_to_func(sink, &out, image.width, image.height, 4, image.rgba.data(), image.width * 4))
-    out.clear();
-  return out;
+  if (image.width <= 0 || image.height <= 0) return {};
+  globe::ImageRGBA8 rgba{image.width, image.height, image.rgba};
+  auto encoded = globe::encodePng(rgba, "sweep image");  // the one PNG encoder (libpng)
+  return encoded ? std::move(*encoded) : std::vector<std::uint8_t>{};
 }
 
 }  // namespace atmoglobe::volume

@@ -40,7 +40,7 @@ double sweepImageV(const SweepImage& image, double azimuthDeg);
 /// [first + (j - 0.5) spacing, first + (j + 0.5) spacing).
 double sweepImageU(const SweepImage& image, double rangeMeters);
 
-/// PNG bytes of the image (stb_image_write, zlib-compressed). Empty on an encoder failure.
+/// PNG bytes of the image (globe::encodePng). Empty on an encoder failure.
 std::vector<std::uint8_t> encodeSweepImagePng(const SweepImage& image);
 
 }  // namespace atmoglobe::volume
