@@ -43,6 +43,12 @@ volume::PolarVolume syntheticRadarAt(double latDeg, double lonDeg, double stormR
   }));
 }
 
+// The radars' test view: 150 km south of 35 N 98 W, 25 km up, looking north 6 deg down.
+Camera fromSouthOfTheRadar(int widthPx, int heightPx) {
+  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
+  return Camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, widthPx, heightPx);
+}
+
 }  // namespace
 
 // The analytic shell: the reference against the closed form, the GPU against the reference.
@@ -316,8 +322,7 @@ TEST(VolumeKinds, ApartVolumesAreDrawnBackToFront) {
   ASSERT_TRUE(glNear && glFar);
   const volume::PolarSampler sNear(nearV), sFar(farV);
   // From 150 km south of the near radar, 25 km up, looking north along the pair.
-  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 96, 48);
+  const Camera camera = fromSouthOfTheRadar(96, 48);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.render.stepMeters = 500.0;
@@ -373,8 +378,7 @@ TEST(VolumeKinds, ProgressiveRefinementEndsInTheOneShotFrame) {
   auto glNear = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
   auto glFar = engine::RadarVolumeGL::create(syntheticRadarAt(farSite.latDeg, farSite.lonDeg, 60e3, 180.0));
   ASSERT_TRUE(glNear && glFar);
-  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 300, 150);
+  const Camera camera = fromSouthOfTheRadar(300, 150);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   options.render.stepMeters = 500.0;
@@ -450,7 +454,9 @@ TEST(VolumeKinds, ProgressiveRefinementEndsInTheOneShotFrame) {
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
   ASSERT_TRUE(fb);
   EXPECT_TRUE((*renderer)->drawProgressive(camera, one, **fb, 0.0));
-  const Camera moved(CameraPose{eye.latDeg, eye.lonDeg, 26e3, 0.0, -6.0, 0.0}, 40.0, 300, 150);
+  CameraPose raised = camera.pose();
+  raised.heightMeters = 26e3;
+  const Camera moved(raised, 40.0, 300, 150);
   EXPECT_FALSE((*renderer)->drawProgressive(moved, one, **fb, 0.0));
 }
 
@@ -466,8 +472,7 @@ TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
   ASSERT_TRUE(renderer) << renderer.error();
   auto gl = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
   ASSERT_TRUE(gl);
-  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 400, 200);
+  const Camera camera = fromSouthOfTheRadar(400, 200);
   engine::VolumeRenderOptions full;
   full.render.transfer = volume::defaultReflectivityTransfer();
   full.render.stepMeters = 500.0;
@@ -545,9 +550,6 @@ TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
   EXPECT_EQ(compare(frameOf(loose, true), adaptiveLoose).pixels, 0);
 }
 
-// The viewer at rest while a volume refines: frames that start from the background kept from the
-// last refining frame (SceneRendererGL::setBackgroundReuse) end in the frame drawn whole, pixel for
-// pixel; a camera moved or a scene changed draws the background again.
 // A preview marched at rest fits the call's budget once a preview's cost a pixel is known: the
 // first (nothing known) at the preview scale, then at the least scale a budget of a microsecond
 // allows, and at the preview scale again when the budget is ample.
@@ -557,8 +559,7 @@ TEST(VolumeKinds, APreviewFitsTheBudgetOnceItsCostIsKnown) {
   ASSERT_TRUE(renderer) << renderer.error();
   auto radar = engine::RadarVolumeGL::create(syntheticRadarAt(35.0, -98.0, 60e3, 0.0));
   ASSERT_TRUE(radar);
-  const globe::GeodesicPoint eye = globe::geodesicDirect(35.0, -98.0, 180.0, 150e3);
-  const Camera camera(CameraPose{eye.latDeg, eye.lonDeg, 25e3, 0.0, -6.0, 0.0}, 40.0, 320, 160);
+  const Camera camera = fromSouthOfTheRadar(320, 160);
   engine::VolumeRenderOptions options;
   options.render.transfer = volume::defaultReflectivityTransfer();
   auto fb = engine::FramebufferGL::create(camera.widthPx(), camera.heightPx());
@@ -579,6 +580,9 @@ TEST(VolumeKinds, APreviewFitsTheBudgetOnceItsCostIsKnown) {
   EXPECT_EQ((*renderer)->previewsMarched(), 3u);
 }
 
+// The viewer at rest while a volume refines: frames that start from the background kept from the
+// last refining frame (SceneRendererGL::setBackgroundReuse) end in the frame drawn whole, pixel for
+// pixel; a camera moved or a scene changed draws the background again.
 TEST(VolumeKinds, RefiningFramesFromTheKeptBackgroundEndInTheWholeFrame) {
   testutil::glContext();
   auto loader =
