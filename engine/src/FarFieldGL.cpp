@@ -187,11 +187,12 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
     pending_ = true;
     return sameField(k.ready);  // coarser slabs meanwhile, or the march
   }
-  // The mask: a pass over the slabs and a read-back, counted in the frame's budget.
-  const auto maskStart = std::chrono::steady_clock::now();
-  makeMask(k.building);
-  if (budgetMs_ > 0.0)
-    spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - maskStart).count();
+  // The mask: a pass over the slabs (in bands of rows with a budget) and a read-back, counted in
+  // the frame's budget.
+  if (!makeMask(k.building)) {
+    pending_ = true;
+    return sameField(k.ready);
+  }
   release(k.ready);
   k.ready = std::move(k.building);
   k.building = Slabs{};
@@ -326,49 +327,74 @@ std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::
   return levels;
 }
 
-void FarFieldGL::makeMask(Slabs& s) {
+bool FarFieldGL::makeMask(Slabs& s) {
   const int w = s.plan.columns, h = s.plan.rows;
   const int levels = maskLevelCount(w, h);
-  unsigned int mask = makeVolumeTextureGL(GL_TEXTURE_2D, GL_NEAREST);
-  clearErrorsGL();
-  glTextureStorage2D(mask, levels, GL_R8, w, h);
-  if (outOfMemoryGL()) {
-    glDeleteTextures(1, &mask);
-    return;
+  if (s.maskFailed) return true;
+  if (!s.mask) {
+    s.mask = makeVolumeTextureGL(GL_TEXTURE_2D, GL_NEAREST);
+    clearErrorsGL();
+    glTextureStorage2D(s.mask, levels, GL_R8, w, h);
+    if (outOfMemoryGL()) {  // no mask: every pixel visits the slabs
+      glDeleteTextures(1, &s.mask);
+      s.mask = 0;
+      s.maskFailed = true;
+      return true;
+    }
+    glTextureParameteri(s.mask, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   }
-  glTextureParameteri(mask, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-  // Level 0 from the slabs.
+  // Level 0 from the slabs: whole without a budget, else bands of kBandBlock rows while the
+  // frame's time lasts (at least one band a frame; 2078 x 1008 texels took about 130 ms at once).
+  const bool bounded = budgetMs_ > 0.0;
+  if (bounded) glFinish();  // bands are timed alone
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, mask, 0);
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, s.mask, 0);
   glViewport(0, 0, w, h);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_SCISSOR_TEST);
   maskProgram_.use();
   glUniform1i(maskProgram_.uniform("u_slabCount"), s.plan.slabCount());
   glUniform1i(maskProgram_.uniform("u_slabs"), 0);
   glBindTextureUnit(0, s.texture);
   glBindVertexArray(vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  while (s.maskRowsDone < h) {
+    if (bounded && bandsThisFrame_ > 0 && spentMs_ >= budgetMs_) break;
+    const int rows = bounded ? std::min(kBandBlock, h - s.maskRowsDone) : h - s.maskRowsDone;
+    const auto start = std::chrono::steady_clock::now();
+    glScissor(0, s.maskRowsDone, w, rows);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (bounded) {
+      glFinish();
+      spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+    s.maskRowsDone += rows;
+    ++bandsThisFrame_;
+    ++bands_;
+  }
   glBindVertexArray(0);
   glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_SCISSOR_TEST);
   glEnable(GL_DEPTH_TEST);
+  if (s.maskRowsDone < h) return false;
   // The coarser levels: each texel the largest of those it covers.
+  const auto start = std::chrono::steady_clock::now();
   GLint packAlignment = 4, unpackAlignment = 4;
   glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
   glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   std::vector<std::uint8_t> below(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  glGetTextureImage(mask, 0, GL_RED, GL_UNSIGNED_BYTE, static_cast<GLsizei>(below.size()), below.data());
+  glGetTextureImage(s.mask, 0, GL_RED, GL_UNSIGNED_BYTE, static_cast<GLsizei>(below.size()), below.data());
   const std::vector<std::vector<std::uint8_t>> pyramid = maskPyramid(std::move(below), w, h);
   for (std::size_t l = 1; l < pyramid.size(); ++l)
-    glTextureSubImage2D(mask, static_cast<GLint>(l), 0, 0, std::max(1, w >> l), std::max(1, h >> l), GL_RED,
+    glTextureSubImage2D(s.mask, static_cast<GLint>(l), 0, 0, std::max(1, w >> l), std::max(1, h >> l), GL_RED,
                         GL_UNSIGNED_BYTE, pyramid[l].data());
   glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
   glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-  s.mask = mask;
+  if (bounded) spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return true;
 }
 
 FarFieldGL::BoxView FarFieldGL::viewOf(const Camera& camera, const FarFieldPlan& plan) {

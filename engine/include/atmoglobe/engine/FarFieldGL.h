@@ -143,6 +143,8 @@ class FarFieldGL {
     /// Made over frames: each block's cost (ms a texel) in the slab being made and in the slab
     /// before (0: not measured), row-major over blocks of kBandBlock x kBandBlock texels.
     std::vector<double> costNow, costBefore;
+    int maskRowsDone = 0;     ///< rows of the mask's level 0 made
+    bool maskFailed = false;  ///< no memory for a mask
   };
   /// A volume's slabs: the latest complete set (drawn), and the set being made (not drawn yet).
   struct Kept {
@@ -159,9 +161,10 @@ class FarFieldGL {
   static void release(Slabs& s);
   /// Marches bands of `s` within the frame's budget; false if the program failed.
   bool build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Slabs& s);
-  /// The mask of a complete set: level 0 on the GPU from the slabs, the coarser levels on the CPU
-  /// (maskPyramid). None if out of memory (the pixels then visit the slabs).
-  void makeMask(Slabs& s);
+  /// The mask of a complete set: level 0 on the GPU from the slabs (in bands of rows within the
+  /// frame's budget), then the coarser levels on the CPU (maskPyramid). True once made, or once
+  /// out of memory (no mask: the pixels then visit the slabs).
+  bool makeMask(Slabs& s);
   ShaderProgramGL program_, maskProgram_;
   unsigned int vao_ = 0, fbo_ = 0;
   std::vector<Kept> kept_;  ///< per volume (a few volumes), the least recently used first
