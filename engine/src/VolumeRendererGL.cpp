@@ -717,13 +717,16 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
             lastDrawKey_ == progressKey(camera, preview, target, true, farField_->slabSetsMade())) {
           ++previewsReused_;
         } else {
-          // Within the frame's budget (shared by the passes) at the last preview's cost a pixel: a
-          // network whose far field is being made, or a view first seen, would otherwise march
-          // for hundreds of milliseconds here (159 radars at a quarter of 1280x720: 0.4-0.6 s).
+          // Within the frame's budget (shared by the passes) at the last preview's cost a pixel,
+          // and at the least scale while no cost is known: a network whose far field is being
+          // made, or a view first seen, would otherwise march for hundreds of milliseconds here
+          // (159 radars at a quarter of 1280x720: 0.3-0.6 s).
           const double passPixels = double(pass.rectPx.z) * double(pass.rectPx.w);
           const double scaleNow = preview[0].options.imageScale;
-          if (previewMsPerPixel_ > 0.0 && budgetMs > 0.0 && passPixels > 0.0) {
-            const double fits = std::sqrt(budgetMs / double(passes.size()) / (previewMsPerPixel_ * passPixels));
+          if (budgetMs > 0.0 && passPixels > 0.0) {
+            const double fits = previewMsPerPixel_ > 0.0
+                                    ? std::sqrt(budgetMs / double(passes.size()) / (previewMsPerPixel_ * passPixels))
+                                    : kMinPreviewScale;
             if (fits < scaleNow)
               for (VolumeLayerGL& l : preview) l.options.imageScale = std::max(kMinPreviewScale, fits);
             small = volumeImageSize(target, preview[0].options.imageScale);

@@ -550,9 +550,9 @@ TEST(VolumeKinds, AdaptiveRefinementMarchesWhereTheSmallImageVaries) {
   EXPECT_EQ(compare(frameOf(loose, true), adaptiveLoose).pixels, 0);
 }
 
-// A preview marched at rest fits the call's budget once a preview's cost a pixel is known: the
-// first (nothing known) at the preview scale, then at the least scale a budget of a microsecond
-// allows, and at the preview scale again when the budget is ample.
+// A preview marched at rest fits the call's budget: the first (no cost known) at the least scale
+// whatever the budget, then at the preview scale where an ample budget fits it, and at the least
+// scale again where a budget of a microsecond fits nothing.
 TEST(VolumeKinds, APreviewFitsTheBudgetOnceItsCostIsKnown) {
   testutil::glContext();
   auto renderer = engine::VolumeRendererGL::create();
@@ -573,10 +573,10 @@ TEST(VolumeKinds, APreviewFitsTheBudgetOnceItsCostIsKnown) {
     return (*renderer)->lastPreviewScale();
   };
   using R = engine::VolumeRendererGL;
-  EXPECT_EQ(previewAt(1e-3), R::kPreviewScale) << "no cost known yet";
+  EXPECT_EQ(previewAt(1e6), R::kMinPreviewScale) << "no cost known yet: the least scale, whatever the budget";
   EXPECT_EQ((*renderer)->previewsMarched(), 1u);
-  EXPECT_EQ(previewAt(1e-3), R::kMinPreviewScale) << "a microsecond fits no preview: the least scale";
   EXPECT_EQ(previewAt(1e6), R::kPreviewScale) << "a budget that fits it: the preview scale";
+  EXPECT_EQ(previewAt(1e-3), R::kMinPreviewScale) << "a microsecond fits no preview: the least scale";
   EXPECT_EQ((*renderer)->previewsMarched(), 3u);
 }
 
