@@ -671,11 +671,12 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
   lastDrawValid_ = false;
   // A far-field set completed before any tile was marched changes nothing drawn yet: the preview
   // stays (marched again, a network's preview took 0.4-0.6 s at a quarter of 1280x720).
-  if (p.valid && p.next == 0 && p.key != key && p.key.size() == key.size() && p.images.size() == passes.size()) {
-    std::vector<double> without = p.key;
-    without[kProgressKeyFarFieldSets] = key[kProgressKeyFarFieldSets];
-    if (without == key) p.key = key;
-  }
+  const auto sameButFarFieldSets = [&](const std::vector<double>& a) {
+    const auto at = static_cast<std::ptrdiff_t>(kProgressKeyFarFieldSets);
+    return a.size() == key.size() && std::equal(a.begin(), a.begin() + at, key.begin()) &&
+           std::equal(a.begin() + at + 1, a.end(), key.begin() + at + 1);
+  };
+  if (p.valid && p.next == 0 && p.images.size() == passes.size() && sameButFarFieldSets(p.key)) p.key = key;
   if (!p.valid || p.key != key) {
     p = Progress{};
     p.valid = true;
