@@ -264,27 +264,25 @@ std::vector<MapRendererGL::Wanted> MapRendererGL::wantedChunks(const Camera& cam
     // point or handed to the finer bins inside it, and no part of the view is drawn twice.
     using R = map::GshhgResolution;
     std::vector<std::pair<R, int>> bins;  // (level, bin of that level's files)
-    const auto gather = [&](R res, const map::GshhgBinBox& box, const auto& self) -> void {
+    // False when the level's files are missing (the coarser bin is drawn instead).
+    const auto gather = [&](R res, const map::GshhgBinBox& box, const auto& self) -> bool {
       const map::GshhgFile* shore = file(map::GshhgKind::Shoreline, res);
       const map::GshhgFile* border = file(map::GshhgKind::Border, res);
-      if (!shore && !border) return;
+      if (!shore && !border) return false;
       const map::GshhgFile& f = shore ? *shore : *border;
       for (int b : f.binsInside(box)) {
         const map::GshhgBinBox bb = f.binBox(b);
         if (!binVisible(camera, view, bb)) continue;
         const R need = std::max(res, levelAt(camera, binDistanceMeters(eyeEcef, eye, bb)));
-        if (need == res || res == R::Full) {
-          bins.emplace_back(res, b);
-        } else if (res == R::Crude) {
-          self(R::Low, bb, self);
-        } else if (res == R::Low) {
-          self(need == R::Intermediate ? R::Intermediate : R::High, bb, self);
-        } else if (res == R::High) {
-          self(R::Full, bb, self);
-        } else {
-          bins.emplace_back(res, b);  // intermediate bins (5 deg) hold no whole high ones (2 deg)
-        }
+        // The finer bins inside: low in crude, intermediate or high in low (5 and 2 deg do not
+        // nest), full in high; intermediate bins hold no whole high ones.
+        R finer = res;
+        if (res == R::Crude) finer = R::Low;
+        if (res == R::Low) finer = need == R::Intermediate ? R::Intermediate : R::High;
+        if (res == R::High) finer = R::Full;
+        if (need == res || finer == res || !self(finer, bb, self)) bins.emplace_back(res, b);
       }
+      return true;
     };
     gather(R::Crude, map::GshhgBinBox{-180.0, -90.0, 180.0, 90.0}, gather);
     if (stats) {
