@@ -2,8 +2,10 @@
 // volume's emission and absorption integrated down the ellipsoid's normal in horizontal slabs
 // (volume_march.frag with MARCH_COLUMNS), laid along each pixel's ray. In each slab the ray's
 // piece takes the slab's texel at the piece's middle, its optical depth scaled by the piece's
-// length over the slab's thickness (the slab taken as uniform along the piece); pieces are
-// composited front to back and end at the globe's depth.
+// length over the slab's thickness (the slab taken as uniform along the piece); seen slantwise
+// (FAR_FIELD_MAX_SUBPIECES > 1) a piece is cut into sub-pieces that each run at most a pixel
+// sideways, each taking its own texel. Pieces are composited front to back and end at the globe's
+// depth.
 in vec2 v_uv;
 
 uniform sampler2DArray u_slabs;  // RGBA16F premultiplied, linear: layer k = slab k, from the top down
@@ -77,25 +79,51 @@ bool emptyAlong(vec2 lo, vec2 hi) {
   return m <= 0.0;
 }
 
-// Slab k's piece [t0, t1] of the ray, composited into acc.
-void piece(int k, float t0, float t1, vec3 dir, inout vec4 acc) {
-  if (t1 <= t0) return;
-  float tm = 0.5 * (t0 + t1);
-  vec2 uv = g_linear ? mix(g_uvA, g_uvB, clamp((tm - g_tA) / (g_tB - g_tA), 0.0, 1.0))
-                     : texelAt(u_eyeEcef + tm * dir).xy;
+// The ray's texel coordinates at t (see g_linear), x brought into the grid's width where a
+// longitude wrap puts it outside.
+vec2 uvAt(float t, vec3 dir) {
+  vec2 uv = g_linear ? mix(g_uvA, g_uvB, clamp((t - g_tA) / (g_tB - g_tA), 0.0, 1.0)) : texelAt(u_eyeEcef + t * dir).xy;
   float wrap = 360.0 / u_box.z;
   uv.x = uv.x < 0.0 ? uv.x + wrap : (uv.x >= wrap ? uv.x - wrap : uv.x);
+  return uv;
+}
+
+// Sub-pieces a metre of the ray needs (see piece()): the sine of its angle from the vertical
+// where that is largest (its lowest point in the slabs) over the pixel's width where that is
+// smallest (where it enters them).
+float g_subPiecesPerMeter = 0.0;
+
+// Slab k's piece [t0, t1] of the ray, composited into acc: in sub-pieces that each run at most a
+// pixel's width sideways, each taking the texel at its middle, so that a ray seen slantwise (near
+// the limb a piece of a 2 km slab runs tens of km sideways) reads the columns it passes over, not
+// one column far from most of it. Seen within about 50 deg of the vertical a piece is one
+// sub-piece.
+// Slab k's texel at the ray's point at t, its optical depth scaled by `ratio` (a length of ray
+// over the slab's thickness: the slab taken as uniform along it), composited into acc.
+void subPiece(int k, float t, float ratio, vec3 dir, inout vec4 acc) {
+  vec2 uv = uvAt(t, dir);
   if (uv.x < 0.0 || uv.x > u_texels.x || uv.y < 0.0 || uv.y > u_texels.y) return;
   vec4 c = textureLod(u_slabs, vec3(uv / u_texels, float(k)), 0.0);
   if (c.a <= 0.0 && all(lessThanEqual(c.rgb, vec3(0.0)))) return;
-  // Optical depth over the piece: the slab's, times the piece's length over the slab's thickness.
-  float ratio = (t1 - t0) / (u_heights[k] - u_heights[k + 1]);
   float alpha = min(c.a, 0.99999);
   float tau = -log(1.0 - alpha) * ratio;
   float scaled = 1.0 - exp(-tau);
   vec4 s = alpha > 1e-6 ? c * (scaled / alpha) : c * ratio;
   acc.rgb += (1.0 - acc.a) * s.rgb;
   acc.a += (1.0 - acc.a) * s.a;
+}
+
+void piece(int k, float t0, float t1, vec3 dir, inout vec4 acc) {
+  if (t1 <= t0) return;
+#if FAR_FIELD_MAX_SUBPIECES > 1
+  int n = int(clamp(ceil((t1 - t0) * g_subPiecesPerMeter), 1.0, float(FAR_FIELD_MAX_SUBPIECES)));
+  float dt = (t1 - t0) / float(n);
+  float ratio = dt / (u_heights[k] - u_heights[k + 1]);
+  for (int i = 0; i < n; ++i) subPiece(k, t0 + (float(i) + 0.5) * dt, ratio, dir, acc);
+#else
+  // No piece of the view runs a pixel sideways (FarFieldPlan::View::subPieces): one texel.
+  subPiece(k, 0.5 * (t0 + t1), (t1 - t0) / (u_heights[k] - u_heights[k + 1]), dir, acc);
+#endif
 }
 
 void main() {
@@ -123,6 +151,13 @@ void main() {
   g_uvA = a.xy;
   g_uvB = vec2(a.x + dLon / u_box.z, b.y);
   g_linear = g_tB - g_tA < 5.0e4 && g_tB > g_tA && max(abs(a.z), abs(b.z)) < 75.0;
+  // The lowest point of the ray in the slabs: where it ends, or its perigee if it passes above the
+  // ground.
+#if FAR_FIELD_MAX_SUBPIECES > 1
+  vec3 lowest = u_eyeEcef + clamp(-dot(u_eyeEcef, dir), g_tA, g_tB) * dir;
+  float cosZ = dot(dir, normalize(lowest));
+  g_subPiecesPerMeter = sqrt(max(0.0, 1.0 - cosZ * cosZ)) / max(g_tA / u_focalPx, 1.0);
+#endif
   // Only empty columns along the chord (every piece's bilinear texels within a texel of it): none.
   if (g_linear && u_hasMask != 0 && emptyAlong(min(g_uvA, g_uvB), max(g_uvA, g_uvB))) {
     o_color = acc;

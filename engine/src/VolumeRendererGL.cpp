@@ -580,7 +580,7 @@ bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLa
   if (hidden) {
     // Nothing of it can be seen.
   } else if (plan) {
-    farField_->draw(camera, layers[0], *plan->view.rect, target.depthTexture());
+    farField_->draw(camera, layers[0], plan->view, target.depthTexture());
   } else {
     ok = march(camera, layers.data(), static_cast<int>(layers.size()), target.depthTexture(), 0, 0.0, coarse);
   }

@@ -42,6 +42,10 @@ struct FarFieldPlan {
   struct View {
     std::optional<glm::dvec4> rect;  ///< frame pixels (x0, y0, x1, y1 from the top left) that can see it; none: none
     double maxIncidenceDeg = 0.0;    ///< the largest angle from the vertical at which the eye sees its ground
+    /// Whether a ray's piece of some slab may run more than a pixel's width sideways (the
+    /// thickest slab x tan(maxIncidenceDeg) over the narrowest pixel's width): then pieces are cut
+    /// into sub-pieces that each run at most a pixel's width (shaders/far_field.frag).
+    bool subPieces = false;
   };
   View view;
   double westDeg = 0.0, southDeg = 0.0;       ///< the texel grid's corner
@@ -66,9 +70,13 @@ class FarFieldGL {
   static constexpr double kMaxTexelsPerSlab = 2097152.0;
   /// The slabs kept in all (the least recently used go first), GPU bytes.
   static constexpr std::size_t kMaxKeptBytes = std::size_t{512} << 20;
-  /// The most a ray may lean from the vertical where it meets the ground under the box (the far
-  /// field is marched otherwise): at 70 deg a ray's piece of a 2 km slab runs 5.5 km sideways.
-  static constexpr double kMaxIncidenceDeg = 70.0;
+  /// The most a slab's thickness may span across a ray, in pixels: thickness x sin(the largest
+  /// angle from the vertical at which the eye sees the box's ground) over the narrowest pixel's
+  /// width (the far field is marched otherwise). Half a pixel, as a texel's width.
+  static constexpr double kMaxSlabAcrossPixels = 0.5;
+  /// The most sub-pieces a ray's piece of a slab is cut into (each runs at most a pixel's width
+  /// sideways; shaders/far_field.frag).
+  static constexpr int kMaxSubPieces = 64;
   /// Slabs made over frames go in bands of one or two blocks of kBandBlock x kBandBlock texels
   /// along a row of blocks, as many as the frame's time left allows at each block's cost in the
   /// slab before (or the last band's). llvmpipe shades in tiles of 64 x 64 pixels: bands of a row
@@ -89,8 +97,8 @@ class FarFieldGL {
   /// The far field of `layer` under `camera`, or none: off, not DVR, a kind without a far-field
   /// extent, the eye not above its top, some pixel over the volume narrower than
   /// kMinFootprintMeters (the eye's distance to its bounding sphere, or its height above the top,
-  /// whichever is more, / the focal length in pixels), or its ground seen more slantwise than
-  /// kMaxIncidenceDeg. A plan whose view.rect is empty draws nothing (it is behind the Earth).
+  /// whichever is more, / the focal length in pixels), or a slab seen across the ray wider than
+  /// kMaxSlabAcrossPixels. A plan whose view.rect is empty draws nothing (it is behind the Earth).
   static std::optional<FarFieldPlan> planFor(const Camera& camera, const VolumeLayerGL& layer);
 
   /// Starts a frame in which making slabs may take `budgetMs` in all (wall time, the GPU
@@ -108,9 +116,10 @@ class FarFieldGL {
   /// it. Leaves no framebuffer bound.
   bool prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, const FarFieldPlan& plan);
   /// Draws the slabs prepare() chose for `layer` into the bound framebuffer (its viewport and
-  /// scissor as set, within `rectPx`: the plan's view.rect), premultiplied, occluded by
+  /// scissor as set, within `view.rect`, the current plan's view), premultiplied, occluded by
   /// `depthTexture` (reverse-Z of the frame).
-  void draw(const Camera& camera, const VolumeLayerGL& layer, const glm::dvec4& rectPx, unsigned int depthTexture);
+  void draw(const Camera& camera, const VolumeLayerGL& layer, const FarFieldPlan::View& view,
+            unsigned int depthTexture);
 
   /// The levels of a slab set's mask from its level 0 (`width` x `height`, row by row): level l is
   /// max(1, width >> l) x max(1, height >> l), as GL sizes them, down to 1 x 1; its texel i covers
@@ -165,7 +174,7 @@ class FarFieldGL {
   /// frame's budget), then the coarser levels on the CPU (maskPyramid). True once made, or once
   /// out of memory (no mask: the pixels then visit the slabs).
   bool makeMask(Slabs& s);
-  ShaderProgramGL program_, maskProgram_;
+  ShaderProgramGL program_, subPiecesProgram_, maskProgram_;
   unsigned int vao_ = 0, fbo_ = 0;
   std::vector<Kept> kept_;  ///< per volume (a few volumes), the least recently used first
   std::size_t made_ = 0, bands_ = 0;
