@@ -19,6 +19,15 @@ uniform vec4 u_box;      // the slabs' texels: lonWestDeg, latSouthDeg, lonStepD
 uniform vec2 u_texels;   // columns, rows
 uniform int u_slabCount;
 uniform float u_heights[FAR_FIELD_MAX_SLABS + 1];  // the slabs' boundaries (m above the ellipsoid), from the top down
+// The levels of merged slabs (FarFieldGL::levelsOf): level 0 the slabs above, each level above it
+// their pairs merged; per level its first slab in the slab arrays, its count and its thickest.
+uniform int u_levelCount;
+uniform int u_levelFirst[FAR_FIELD_MAX_LEVELS];
+uniform int u_levelSlabs[FAR_FIELD_MAX_LEVELS];
+uniform float u_levelThickest[FAR_FIELD_MAX_LEVELS];
+uniform int u_slabLayer[FAR_FIELD_MAX_LEVEL_SLABS];     // the slab's layer of u_slabs
+uniform float u_slabTop[FAR_FIELD_MAX_LEVEL_SLABS];     // its boundaries (m above the ellipsoid)
+uniform float u_slabBottom[FAR_FIELD_MAX_LEVEL_SLABS];
 uniform sampler2D u_mask;  // R8 with levels: 1 where a column holds anything (FarFieldGL::makeMask)
 uniform int u_hasMask;     // 0: no mask, every pixel visits the slabs
 
@@ -98,12 +107,13 @@ float g_subPiecesPerMeter = 0.0;
 // the limb a piece of a 2 km slab runs tens of km sideways) reads the columns it passes over, not
 // one column far from most of it. Seen within about 50 deg of the vertical a piece is one
 // sub-piece.
-// Slab k's texel at the ray's point at t, its optical depth scaled by `ratio` (a length of ray
-// over the slab's thickness: the slab taken as uniform along it), composited into acc.
-void subPiece(int k, float t, float ratio, vec3 dir, inout vec4 acc) {
+// The slab texture's layer's texel at the ray's point at t, its optical depth scaled by `ratio` (a
+// length of ray over the slab's thickness: the slab taken as uniform along it), composited into
+// acc.
+void subPiece(int layer, float t, float ratio, vec3 dir, inout vec4 acc) {
   vec2 uv = uvAt(t, dir);
   if (uv.x < 0.0 || uv.x > u_texels.x || uv.y < 0.0 || uv.y > u_texels.y) return;
-  vec4 c = textureLod(u_slabs, vec3(uv / u_texels, float(k)), 0.0);
+  vec4 c = textureLod(u_slabs, vec3(uv / u_texels, float(layer)), 0.0);
   if (c.a <= 0.0 && all(lessThanEqual(c.rgb, vec3(0.0)))) return;
   float alpha = min(c.a, 0.99999);
   float tau = -log(1.0 - alpha) * ratio;
@@ -113,16 +123,17 @@ void subPiece(int k, float t, float ratio, vec3 dir, inout vec4 acc) {
   acc.a += (1.0 - acc.a) * s.a;
 }
 
-void piece(int k, float t0, float t1, vec3 dir, inout vec4 acc) {
+// A slab's piece [t0, t1] of the ray (the slab `thickness` m thick, in `layer`).
+void piece(int layer, float thickness, float t0, float t1, vec3 dir, inout vec4 acc) {
   if (t1 <= t0) return;
 #if FAR_FIELD_MAX_SUBPIECES > 1
   int n = int(clamp(ceil((t1 - t0) * g_subPiecesPerMeter), 1.0, float(FAR_FIELD_MAX_SUBPIECES)));
   float dt = (t1 - t0) / float(n);
-  float ratio = dt / (u_heights[k] - u_heights[k + 1]);
-  for (int i = 0; i < n; ++i) subPiece(k, t0 + (float(i) + 0.5) * dt, ratio, dir, acc);
+  float ratio = dt / thickness;
+  for (int i = 0; i < n; ++i) subPiece(layer, t0 + (float(i) + 0.5) * dt, ratio, dir, acc);
 #else
   // No piece of the view runs a pixel sideways (FarFieldPlan::View::subPieces): one texel.
-  subPiece(k, 0.5 * (t0 + t1), (t1 - t0) / (u_heights[k] - u_heights[k + 1]), dir, acc);
+  subPiece(layer, 0.5 * (t0 + t1), (t1 - t0) / thickness, dir, acc);
 #endif
 }
 
@@ -151,33 +162,55 @@ void main() {
   g_uvA = a.xy;
   g_uvB = vec2(a.x + dLon / u_box.z, b.y);
   g_linear = g_tB - g_tA < 5.0e4 && g_tB > g_tA && max(abs(a.z), abs(b.z)) < 75.0;
-  // The lowest point of the ray in the slabs: where it ends, or its perigee if it passes above the
-  // ground.
-#if FAR_FIELD_MAX_SUBPIECES > 1
+  // The ray's angle z from the vertical where it is largest in the slabs (its lowest point there:
+  // where it ends, or its perigee if it passes above the ground), and the pixel's width w where it
+  // is smallest (where the ray enters them).
   vec3 lowest = u_eyeEcef + clamp(-dot(u_eyeEcef, dir), g_tA, g_tB) * dir;
-  float cosZ = dot(dir, normalize(lowest));
-  g_subPiecesPerMeter = sqrt(max(0.0, 1.0 - cosZ * cosZ)) / max(g_tA / u_focalPx, 1.0);
+  float cosZ = abs(dot(dir, normalize(lowest)));
+  float sinZ = max(sqrt(max(0.0, 1.0 - cosZ * cosZ)), 1e-6);
+  float w = max(g_tA / u_focalPx, 1.0);
+  // The thickest level whose slabs span at most a quarter of a pixel across the ray (a slab
+  // spreads what it holds over its thickness: T sin z <= w / 4; at half a pixel the far field seen
+  // 55 deg from the vertical went from 0.18 to 0.23 of 255 from the march, FarFieldTest) and,
+  // without sub-pieces, whose pieces run at most a pixel sideways (T tan z <= w). Level 0 is the
+  // plan's (FarFieldGL::planFor).
+#if FAR_FIELD_MAX_SUBPIECES > 1
+  g_subPiecesPerMeter = sinZ / w;
+  float allowed = 0.25 * w / sinZ;
+#else
+  float allowed = w * min(0.25, cosZ) / sinZ;
 #endif
+  int level = 0;
+  for (int l = 1; l < FAR_FIELD_MAX_LEVELS; ++l)
+    if (l < u_levelCount && u_levelThickest[l] <= allowed) level = l;
+  int first = u_levelFirst[level], count = u_levelSlabs[level];
   // Only empty columns along the chord (every piece's bilinear texels within a texel of it): none.
   if (g_linear && u_hasMask != 0 && emptyAlong(min(g_uvA, g_uvB), max(g_uvA, g_uvB))) {
     o_color = acc;
     return;
   }
+  // The ray's interval in each boundary's raised ellipsoid: boundary e is slab e's top, boundary
+  // count the last slab's bottom.
   vec2 shells[FAR_FIELD_MAX_SLABS + 1];
-  for (int j = 0; j <= FAR_FIELD_MAX_SLABS; ++j)
-    shells[j] = j <= u_slabCount ? shellInterval(u_eyeEcef, dir, u_heights[j]) : vec2(1.0, 0.0);
-  // Going down: slab k from where the ray enters its upper boundary to where it enters the
-  // lower one (or leaves the upper one, if it passes above the lower boundary) ...
-  for (int k = 0; k < FAR_FIELD_MAX_SLABS; ++k) {
-    if (k >= u_slabCount) break;
-    bool down = shells[k + 1].x <= shells[k + 1].y;
-    piece(k, max(shells[k].x, 0.0), min(down ? shells[k + 1].x : shells[k].y, tEnd), dir, acc);
+  for (int e = 0; e <= FAR_FIELD_MAX_SLABS; ++e) {
+    if (e > count) break;
+    shells[e] = shellInterval(u_eyeEcef, dir, e < count ? u_slabTop[first + e] : u_slabBottom[first + count - 1]);
+  }
+  // Going down: slab e from where the ray enters its upper boundary to where it enters the lower
+  // one (or leaves the upper one, if it passes above the lower boundary) ...
+  for (int e = 0; e < FAR_FIELD_MAX_SLABS; ++e) {
+    if (e >= count) break;
+    bool down = shells[e + 1].x <= shells[e + 1].y;
+    piece(u_slabLayer[first + e], u_slabTop[first + e] - u_slabBottom[first + e], max(shells[e].x, 0.0),
+          min(down ? shells[e + 1].x : shells[e].y, tEnd), dir, acc);
   }
   // ... and, above the ground, coming back up where it went below a boundary and out again.
   if (!ground) {
-    for (int k = FAR_FIELD_MAX_SLABS - 1; k >= 0; --k) {
-      if (k >= u_slabCount) continue;
-      if (shells[k + 1].x <= shells[k + 1].y) piece(k, max(shells[k + 1].y, 0.0), min(shells[k].y, tEnd), dir, acc);
+    for (int e = FAR_FIELD_MAX_SLABS - 1; e >= 0; --e) {
+      if (e >= count) continue;
+      if (shells[e + 1].x <= shells[e + 1].y)
+        piece(u_slabLayer[first + e], u_slabTop[first + e] - u_slabBottom[first + e], max(shells[e + 1].y, 0.0),
+              min(shells[e].y, tEnd), dir, acc);
     }
   }
   o_color = acc;

@@ -34,6 +34,8 @@ std::vector<std::string> withDefine(std::vector<std::string> defines, const std:
 Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
   std::vector<std::string> defines = ellipsoidShaderDefines();
   defines.push_back("FAR_FIELD_MAX_SLABS " + std::to_string(kMaxSlabs));
+  defines.push_back("FAR_FIELD_MAX_LEVELS " + std::to_string(kMaxLevels));
+  defines.push_back("FAR_FIELD_MAX_LEVEL_SLABS " + std::to_string(kMaxLevelSlabs));
   auto program = ShaderProgramGL::create("fullscreen.vert", "far_field.frag", withDefine(defines, "FAR_FIELD_MAX_SUBPIECES 1"));
   if (!program) return program.forwardError();
   auto subPieces = ShaderProgramGL::create(
@@ -42,10 +44,13 @@ Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
   if (!subPieces) return subPieces.forwardError();
   auto mask = ShaderProgramGL::create("fullscreen.vert", "far_field_mask.frag", {});
   if (!mask) return mask.forwardError();
+  auto merge = ShaderProgramGL::create("fullscreen.vert", "far_field_merge.frag", {});
+  if (!merge) return merge.forwardError();
   std::unique_ptr<FarFieldGL> f(new FarFieldGL());
   f->program_ = std::move(*program);
   f->subPiecesProgram_ = std::move(*subPieces);
   f->maskProgram_ = std::move(*mask);
+  f->mergeProgram_ = std::move(*merge);
   glCreateVertexArrays(1, &f->vao_);
   glCreateFramebuffers(1, &f->fbo_);
   return f;
@@ -110,6 +115,10 @@ std::optional<FarFieldPlan> FarFieldGL::planFor(const Camera& camera, const Volu
   plan.boundariesMeters.push_back(extent->topMeters);
   for (auto it = kSlabBoundariesMeters.rbegin(); it != kSlabBoundariesMeters.rend(); ++it)
     if (*it < extent->topMeters) plan.boundariesMeters.push_back(*it);
+  // A top slab less than half as thick as the one below it joins that one (a top 200 m above a
+  // boundary would cost every pixel a piece for a sliver).
+  std::vector<double>& b = plan.boundariesMeters;
+  if (b.size() >= 3 && b[0] - b[1] < 0.5 * (b[1] - b[2])) b.erase(b.begin() + 1);
   plan.view = viewOf(camera, plan);
   double thickest = 0.0;
   for (std::size_t i = 0; i + 1 < plan.boundariesMeters.size(); ++i)
@@ -182,11 +191,12 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
   }
   if (!serves(k.building)) {
     release(k.building);
-    const int slabs = plan.slabCount();
+    const std::vector<FarFieldLevel> levels = levelsOf(plan.boundariesMeters);
     Slabs s;
+    s.layers = levels.back().slabs.front().layer + 1;  // the whole column's merged slab is the last layer
     s.texture = makeVolumeTextureGL(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
     clearErrorsGL();
-    glTextureStorage3D(s.texture, 1, GL_RGBA16F, plan.columns, plan.rows, slabs);
+    glTextureStorage3D(s.texture, 1, GL_RGBA16F, plan.columns, plan.rows, s.layers);
     if (outOfMemoryGL()) {
       release(s);
       return sameField(k.ready);
@@ -207,9 +217,9 @@ bool FarFieldGL::prepare(VolumeRendererGL& marcher, const VolumeLayerGL& layer, 
     pending_ = true;
     return sameField(k.ready);  // coarser slabs meanwhile, or the march
   }
-  // The mask: a pass over the slabs (in bands of rows with a budget) and a read-back, counted in
-  // the frame's budget.
-  if (!makeMask(k.building)) {
+  // The merged slabs, then the mask (a pass over the slabs in bands of rows with a budget, and a
+  // read-back), counted in the frame's budget.
+  if (!makeMerged(k.building) || !makeMask(k.building)) {
     pending_ = true;
     return sameField(k.ready);
   }
@@ -317,6 +327,73 @@ bool FarFieldGL::build(VolumeRendererGL& marcher, const VolumeLayerGL& layer, Sl
   glDisable(GL_SCISSOR_TEST);
   glEnable(GL_DEPTH_TEST);
   return ok;
+}
+
+std::vector<FarFieldLevel> FarFieldGL::levelsOf(const std::vector<double>& boundariesMeters) {
+  std::vector<FarFieldLevel> levels(1);
+  for (std::size_t i = 0; i + 1 < boundariesMeters.size(); ++i)
+    levels[0].slabs.push_back({static_cast<int>(i), boundariesMeters[i], boundariesMeters[i + 1]});
+  int nextLayer = static_cast<int>(levels[0].slabs.size());
+  while (levels.back().slabs.size() > 1) {
+    const std::vector<FarFieldLevel::Slab>& below = levels.back().slabs;
+    std::vector<FarFieldLevel::Slab> merged;
+    // Pairs from the ground up (the slabs are listed from the top down).
+    int i = static_cast<int>(below.size()) - 1;
+    for (; i >= 1; i -= 2) {
+      const FarFieldLevel::Slab& upper = below[std::size_t(i) - 1];
+      const FarFieldLevel::Slab& lower = below[std::size_t(i)];
+      merged.push_back({nextLayer++, upper.topMeters, lower.bottomMeters, upper.layer, lower.layer});
+    }
+    if (i == 0) merged.push_back({below[0].layer, below[0].topMeters, below[0].bottomMeters});
+    std::reverse(merged.begin(), merged.end());
+    levels.push_back({std::move(merged), 0.0});
+  }
+  for (FarFieldLevel& level : levels)
+    for (const FarFieldLevel::Slab& slab : level.slabs)
+      level.thickestMeters = std::max(level.thickestMeters, slab.topMeters - slab.bottomMeters);
+  return levels;
+}
+
+bool FarFieldGL::makeMerged(Slabs& s) {
+  std::vector<const FarFieldLevel::Slab*> merges;
+  const std::vector<FarFieldLevel> levels = levelsOf(s.plan.boundariesMeters);
+  for (const FarFieldLevel& level : levels)
+    for (const FarFieldLevel::Slab& slab : level.slabs)
+      if (slab.upperLayer >= 0) merges.push_back(&slab);
+  if (s.mergesDone >= static_cast<int>(merges.size())) return true;
+  const bool bounded = budgetMs_ > 0.0;
+  if (bounded) glFinish();  // timed alone
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, s.plan.columns, s.plan.rows);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  mergeProgram_.use();
+  glUniform1i(mergeProgram_.uniform("u_slabs"), 0);
+  glBindTextureUnit(0, s.texture);
+  glBindVertexArray(vao_);
+  // Merged slabs are listed level by level: each reads layers made before it.
+  while (s.mergesDone < static_cast<int>(merges.size())) {
+    if (bounded && bandsThisFrame_ > 0 && spentMs_ >= budgetMs_) break;
+    const FarFieldLevel::Slab& m = *merges[std::size_t(s.mergesDone)];
+    const auto start = std::chrono::steady_clock::now();
+    glNamedFramebufferTextureLayer(fbo_, GL_COLOR_ATTACHMENT0, s.texture, 0, m.layer);
+    glUniform1i(mergeProgram_.uniform("u_upper"), m.upperLayer);
+    glUniform1i(mergeProgram_.uniform("u_lower"), m.lowerLayer);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (bounded) {
+      glFinish();
+      spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+    ++s.mergesDone;
+    ++bandsThisFrame_;
+    ++bands_;
+  }
+  glBindVertexArray(0);
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, 0, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glEnable(GL_DEPTH_TEST);
+  return s.mergesDone >= static_cast<int>(merges.size());
 }
 
 std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::uint8_t> level0, int width,
@@ -507,6 +584,30 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const Fa
   glUniform1i(program.uniform("u_slabCount"), slabs);
   std::vector<float> heights(plan.boundariesMeters.begin(), plan.boundariesMeters.end());
   glUniform1fv(program.uniform("u_heights"), static_cast<GLsizei>(heights.size()), heights.data());
+  // The levels of merged slabs: per level its first slab, count and thickest slab; per slab its
+  // layer and its top and bottom heights.
+  const std::vector<FarFieldLevel> levels = levelsOf(plan.boundariesMeters);
+  const int levelCount = mergedLevels_ ? static_cast<int>(levels.size()) : 1;
+  std::vector<GLint> levelFirst, levelSlabs, layers;
+  std::vector<float> thickest, tops, bottoms;
+  for (int l = 0; l < levelCount; ++l) {
+    levelFirst.push_back(static_cast<GLint>(layers.size()));
+    levelSlabs.push_back(static_cast<GLint>(levels[std::size_t(l)].slabs.size()));
+    thickest.push_back(static_cast<float>(levels[std::size_t(l)].thickestMeters));
+    for (const FarFieldLevel::Slab& slab : levels[std::size_t(l)].slabs) {
+      layers.push_back(slab.layer);
+      tops.push_back(static_cast<float>(slab.topMeters));
+      bottoms.push_back(static_cast<float>(slab.bottomMeters));
+    }
+  }
+  glUniform1i(program.uniform("u_levelCount"), levelCount);
+  glUniform1iv(program.uniform("u_levelFirst"), levelCount, levelFirst.data());
+  glUniform1iv(program.uniform("u_levelSlabs"), levelCount, levelSlabs.data());
+  glUniform1fv(program.uniform("u_levelThickest"), levelCount, thickest.data());
+  const GLsizei entries = static_cast<GLsizei>(layers.size());
+  glUniform1iv(program.uniform("u_slabLayer"), entries, layers.data());
+  glUniform1fv(program.uniform("u_slabTop"), entries, tops.data());
+  glUniform1fv(program.uniform("u_slabBottom"), entries, bottoms.data());
   glBindTextureUnit(0, s->texture);
   glBindTextureUnit(1, depthTexture);
   glBindTextureUnit(2, s->mask);
@@ -526,7 +627,7 @@ std::size_t FarFieldGL::gpuBytes() const {
     for (const Slabs* s : {&k.ready, &k.building})
       if (s->texture) {
         const std::size_t texels = static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows);
-        bytes += texels * static_cast<std::size_t>(s->plan.slabCount()) * 8;
+        bytes += texels * static_cast<std::size_t>(s->layers) * 8;
         if (s->mask) bytes += texels + texels / 3;  // R8 and its levels
       }
   return bytes;

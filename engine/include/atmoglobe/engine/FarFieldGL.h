@@ -5,18 +5,21 @@
 // pixel over the volume spans kMinFootprintMeters or more, the volume is drawn instead from its
 // far field:
 //  1. Slabs. The marcher (volume_march.frag, MARCH_COLUMNS) integrates the volume's emission and
-//     absorption down the ellipsoid's normal through horizontal slabs (boundaries kSlabTopsMeters
+//     absorption down the ellipsoid's normal through horizontal slabs (boundaries kSlabBoundariesMeters
 //     and the volume's top), one column per texel of a latitude/longitude grid over the volume's
 //     extent whose texels are no wider than half the pixels' footprint: premultiplied RGBA per slab.
 //     Made once per volume, transfer function, step and texel size, and kept. Made whole when
 //     first needed (render, bench), or, with a budget a frame (the viewer), in bands (kBandBlock) over
 //     frames: until they are complete the volume is drawn from coarser slabs of the same settings
-//     made before, or else marched.
-//  2. Per pixel (shaders/far_field.frag), the ray's piece in each slab takes the slab's texel at
-//     the piece's middle, its optical depth scaled by the piece's length over the slab's
-//     thickness, composited front to back down to the globe's depth. A pixel whose ray crosses
-//     only empty columns (the slabs' mask: a pyramid of "anything in this column", made when a set
-//     is complete) draws nothing without visiting the slabs.
+//     made before, or else marched. Once complete, the slabs are merged in pairs into levels of
+//     thicker slabs (levelsOf), up to one over the whole column.
+//  2. Per pixel (shaders/far_field.frag), from the thickest level whose slabs span at most a
+//     quarter of the pixel across its ray, the ray's piece in each slab takes the slab's texel at
+//     the piece's middle (seen slantwise, in sub-pieces that each run at most a pixel sideways),
+//     its optical depth scaled by the piece's length over the slab's thickness, composited front
+//     to back down to the globe's depth. A pixel whose ray crosses only empty columns (the slabs'
+//     mask: a pyramid of "anything in this column", made when a set is complete) draws nothing
+//     without visiting the slabs.
 // What it assumes: along a ray's piece in a slab the volume is as it is down the vertical at the
 // piece's middle. Its error against the march is measured (tests, bench), not bounded here.
 // DVR only (point or pre-integrated classification); MIP and isosurfaces are marched.
@@ -55,6 +58,21 @@ struct FarFieldPlan {
   int slabCount() const { return static_cast<int>(boundariesMeters.size()) - 1; }
 };
 
+/// The slabs at one level of thickness (FarFieldGL::levelsOf): level 0 is the plan's slabs; each
+/// level above merges the slabs of the one below in pairs from the ground up (an odd one left at
+/// the top stays as it is), down to one slab over the whole column.
+struct FarFieldLevel {
+  struct Slab {
+    int layer = 0;  ///< the slab texture's layer
+    double topMeters = 0.0, bottomMeters = 0.0;
+    /// For a merged slab: the layers of the level below merged (upper, lower); -1: made by the march
+    /// or carried over.
+    int upperLayer = -1, lowerLayer = -1;
+  };
+  std::vector<Slab> slabs;  ///< from the top down
+  double thickestMeters = 0.0;
+};
+
 class FarFieldGL {
  public:
   /// The narrowest a pixel over the volume may be for the far field (Auto): the network's cells
@@ -74,6 +92,10 @@ class FarFieldGL {
   /// angle from the vertical at which the eye sees the box's ground) over the narrowest pixel's
   /// width (the far field is marched otherwise). Half a pixel, as a texel's width.
   static constexpr double kMaxSlabAcrossPixels = 0.5;
+  /// The most levels of merged slabs (9 slabs: 9, 5, 3, 2, 1).
+  static constexpr int kMaxLevels = 5;
+  /// The most slabs over all levels.
+  static constexpr int kMaxLevelSlabs = 20;
   /// The most sub-pieces a ray's piece of a slab is cut into (each runs at most a pixel's width
   /// sideways; shaders/far_field.frag).
   static constexpr int kMaxSubPieces = 64;
@@ -127,6 +149,12 @@ class FarFieldGL {
   /// that level 0's texel x lies in texel min(x >> l, size_l - 1) of level l. Each texel is the
   /// largest it covers.
   static std::vector<std::vector<std::uint8_t>> maskPyramid(std::vector<std::uint8_t> level0, int width, int height);
+  /// The levels of merged slabs for `boundariesMeters` (the plan's, from the top down): level 0
+  /// takes layers 0..slabs-1, each merged slab a further layer. A pixel draws from the thickest
+  /// level whose slabs span at most half its width across its ray (shaders/far_field.frag).
+  static std::vector<FarFieldLevel> levelsOf(const std::vector<double>& boundariesMeters);
+  /// Whether pixels may draw from merged slabs (on by default; tests draw both ways and compare).
+  void setMergedLevels(bool on) { mergedLevels_ = on; }
   /// Whether pixels may skip the slabs where the mask says their ray crosses only empty columns
   /// (on by default; tests draw both ways and compare).
   void setMaskSkipping(bool on) { maskSkipping_ = on; }
@@ -152,6 +180,8 @@ class FarFieldGL {
     /// Made over frames: each block's cost (ms a texel) in the slab being made and in the slab
     /// before (0: not measured), row-major over blocks of kBandBlock x kBandBlock texels.
     std::vector<double> costNow, costBefore;
+    int layers = 0;           ///< the texture's layers: every level's slabs
+    int mergesDone = 0;       ///< merged slabs made (after every slab of level 0)
     int maskRowsDone = 0;     ///< rows of the mask's level 0 made
     bool maskFailed = false;  ///< no memory for a mask
   };
@@ -174,7 +204,11 @@ class FarFieldGL {
   /// frame's budget), then the coarser levels on the CPU (maskPyramid). True once made, or once
   /// out of memory (no mask: the pixels then visit the slabs).
   bool makeMask(Slabs& s);
-  ShaderProgramGL program_, subPiecesProgram_, maskProgram_;
+  /// The merged slabs of a complete level 0, one a pass within the frame's budget (at least one a
+  /// frame); true once all are made.
+  bool makeMerged(Slabs& s);
+  ShaderProgramGL program_, subPiecesProgram_, maskProgram_, mergeProgram_;
+  bool mergedLevels_ = true;
   unsigned int vao_ = 0, fbo_ = 0;
   std::vector<Kept> kept_;  ///< per volume (a few volumes), the least recently used first
   std::size_t made_ = 0, bands_ = 0;
