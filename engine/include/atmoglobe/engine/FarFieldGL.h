@@ -90,8 +90,9 @@ class FarFieldGL {
   static constexpr std::size_t kMaxKeptBytes = std::size_t{512} << 20;
   /// The most a slab's thickness may span across a ray, in pixels: thickness x sin(the largest
   /// angle from the vertical at which the eye sees the box's ground) over the narrowest pixel's
-  /// width (the far field is marched otherwise). Half a pixel, as a texel's width.
-  static constexpr double kMaxSlabAcrossPixels = 0.5;
+  /// width (the far field is marched otherwise). One pixel: at half a pixel, the continental
+  /// view's 3 km slab (12-15 km) seen 65 deg from the vertical under 5 km pixels was marched.
+  static constexpr double kMaxSlabAcrossPixels = 1.0;
   /// The most levels of merged slabs (9 slabs: 9, 5, 3, 2, 1).
   static constexpr int kMaxLevels = 5;
   /// The most slabs over all levels.
