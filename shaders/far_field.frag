@@ -102,11 +102,6 @@ vec2 uvAt(float t, vec3 dir) {
 // smallest (where it enters them).
 float g_subPiecesPerMeter = 0.0;
 
-// Slab k's piece [t0, t1] of the ray, composited into acc: in sub-pieces that each run at most a
-// pixel's width sideways, each taking the texel at its middle, so that a ray seen slantwise (near
-// the limb a piece of a 2 km slab runs tens of km sideways) reads the columns it passes over, not
-// one column far from most of it. Seen within about 50 deg of the vertical a piece is one
-// sub-piece.
 // The slab texture's layer's texel at the ray's point at t, its optical depth scaled by `ratio` (a
 // length of ray over the slab's thickness: the slab taken as uniform along it), composited into
 // acc.
@@ -123,7 +118,10 @@ void subPiece(int layer, float t, float ratio, vec3 dir, inout vec4 acc) {
   acc.a += (1.0 - acc.a) * s.a;
 }
 
-// A slab's piece [t0, t1] of the ray (the slab `thickness` m thick, in `layer`).
+// A slab's piece [t0, t1] of the ray (the slab `thickness` m thick, in `layer`), composited into
+// acc: seen slantwise, in sub-pieces that each run at most a pixel's width sideways, each taking
+// the texel at its middle, so that a ray near the limb (where a piece of a 2 km slab runs tens of
+// km sideways) reads the columns it passes over, not one column far from most of it.
 void piece(int layer, float thickness, float t0, float t1, vec3 dir, inout vec4 acc) {
   if (t1 <= t0) return;
 #if FAR_FIELD_MAX_SUBPIECES > 1
@@ -162,6 +160,11 @@ void main() {
   g_uvA = a.xy;
   g_uvB = vec2(a.x + dLon / u_box.z, b.y);
   g_linear = g_tB - g_tA < 5.0e4 && g_tB > g_tA && max(abs(a.z), abs(b.z)) < 75.0;
+  // Only empty columns along the chord (every piece's bilinear texels within a texel of it): none.
+  if (g_linear && u_hasMask != 0 && emptyAlong(min(g_uvA, g_uvB), max(g_uvA, g_uvB))) {
+    o_color = acc;
+    return;
+  }
   // The ray's angle z from the vertical where it is largest in the slabs (its lowest point there:
   // where it ends, or its perigee if it passes above the ground), and the pixel's width w where it
   // is smallest (where the ray enters them).
@@ -184,11 +187,6 @@ void main() {
   for (int l = 1; l < FAR_FIELD_MAX_LEVELS; ++l)
     if (l < u_levelCount && u_levelThickest[l] <= allowed) level = l;
   int first = u_levelFirst[level], count = u_levelSlabs[level];
-  // Only empty columns along the chord (every piece's bilinear texels within a texel of it): none.
-  if (g_linear && u_hasMask != 0 && emptyAlong(min(g_uvA, g_uvB), max(g_uvA, g_uvB))) {
-    o_color = acc;
-    return;
-  }
   // The ray's interval in each boundary's raised ellipsoid: boundary e is slab e's top, boundary
   // count the last slab's bottom.
   vec2 shells[FAR_FIELD_MAX_SLABS + 1];
