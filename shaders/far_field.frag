@@ -28,8 +28,14 @@ uniform float u_levelThickest[FAR_FIELD_MAX_LEVELS];
 uniform int u_slabLayer[FAR_FIELD_MAX_LEVEL_SLABS];     // the slab's layer of u_slabs
 uniform float u_slabTop[FAR_FIELD_MAX_LEVEL_SLABS];     // its boundaries (m above the ellipsoid)
 uniform float u_slabBottom[FAR_FIELD_MAX_LEVEL_SLABS];
-uniform sampler2D u_mask;  // R8 with levels: 1 where a column holds anything (FarFieldGL::makeMask)
-uniform int u_hasMask;     // 0: no mask, every pixel visits the slabs
+// The mask (FarFieldGL::makeMask): R8, 1 where a column holds anything, its levels regions of one
+// texture (x, y, width, height: FarFieldGL::maskAtlas). Not GL mip levels: pixels side by side
+// ask for different levels, and llvmpipe's textureSize(sampler, level) is wrong where the level
+// varies from pixel to pixel (it skipped storms' pixels: FarFieldMask.PixelsAskingFor...).
+uniform sampler2D u_mask;
+uniform int u_hasMask;  // 0: no mask, every pixel visits the slabs
+uniform int u_maskLevels;
+uniform ivec4 u_maskLevel[FAR_FIELD_MAX_MASK_LEVELS];
 
 layout(location = 0) out vec4 o_color;
 
@@ -80,11 +86,11 @@ bool emptyAlong(vec2 lo, vec2 hi) {
   ivec2 i1 = clamp(ivec2(floor(hi)) + 1, ivec2(0), size0 - 1);
   if (lo.x > u_texels.x + 1.0 || lo.y > u_texels.y + 1.0 || hi.x < -1.0 || hi.y < -1.0) return true;  // outside the box
   int span = max(i1.x - i0.x, i1.y - i0.y) + 1;
-  int level = min(findMSB(span) + ((span & (span - 1)) != 0 ? 1 : 0), textureQueryLevels(u_mask) - 1);
-  ivec2 size = textureSize(u_mask, level);
-  ivec2 c0 = min(i0 >> level, size - 1), c1 = min(i1 >> level, size - 1);
-  float m = texelFetch(u_mask, c0, level).r + texelFetch(u_mask, ivec2(c1.x, c0.y), level).r +
-            texelFetch(u_mask, ivec2(c0.x, c1.y), level).r + texelFetch(u_mask, c1, level).r;
+  int level = min(findMSB(span) + ((span & (span - 1)) != 0 ? 1 : 0), u_maskLevels - 1);
+  ivec4 region = u_maskLevel[level];
+  ivec2 c0 = region.xy + min(i0 >> level, region.zw - 1), c1 = region.xy + min(i1 >> level, region.zw - 1);
+  float m = texelFetch(u_mask, c0, 0).r + texelFetch(u_mask, ivec2(c1.x, c0.y), 0).r +
+            texelFetch(u_mask, ivec2(c0.x, c1.y), 0).r + texelFetch(u_mask, c1, 0).r;
   return m <= 0.0;
 }
 

@@ -36,6 +36,7 @@ Result<std::unique_ptr<FarFieldGL>> FarFieldGL::create() {
   defines.push_back("FAR_FIELD_MAX_SLABS " + std::to_string(kMaxSlabs));
   defines.push_back("FAR_FIELD_MAX_LEVELS " + std::to_string(kMaxLevels));
   defines.push_back("FAR_FIELD_MAX_LEVEL_SLABS " + std::to_string(kMaxLevelSlabs));
+  defines.push_back("FAR_FIELD_MAX_MASK_LEVELS " + std::to_string(kMaxMaskLevels));
   auto program =
       ShaderProgramGL::create("fullscreen.vert", "far_field.frag", withDefine(defines, "FAR_FIELD_MAX_SUBPIECES 1"));
   if (!program) return program.forwardError();
@@ -428,21 +429,45 @@ std::vector<std::vector<std::uint8_t>> FarFieldGL::maskPyramid(std::vector<std::
   return levels;
 }
 
+FarFieldGL::MaskAtlas FarFieldGL::maskAtlas(int width, int height) {
+  MaskAtlas atlas;
+  atlas.levels.push_back({0, 0, width, height});
+  // Past the shorter side, along the longer one: level l's side there is max(1, side >> l), and
+  // levels go down to 1 x 1 where the longer side ends, so they sum to less than it.
+  const bool wide = width >= height;
+  int along = 0;
+  for (int l = 1; l < maskLevelCount(width, height); ++l) {
+    const int lw = std::max(1, width >> l), lh = std::max(1, height >> l);
+    atlas.levels.push_back(wide ? std::array<int, 4>{along, height, lw, lh} : std::array<int, 4>{width, along, lw, lh});
+    along += wide ? lw : lh;
+  }
+  const int across = atlas.levels.size() > 1 ? (wide ? atlas.levels[1][3] : atlas.levels[1][2]) : 0;
+  atlas.width = wide ? std::max(width, along) : width + across;
+  atlas.height = wide ? height + across : std::max(height, along);
+  return atlas;
+}
+
 bool FarFieldGL::makeMask(Slabs& s) {
   const int w = s.plan.columns, h = s.plan.rows;
-  const int levels = maskLevelCount(w, h);
   if (s.maskFailed) return true;
   if (!s.mask) {
+    const MaskAtlas atlas = maskAtlas(w, h);
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    if (atlas.width > maxSize || atlas.height > maxSize ||
+        atlas.levels.size() > static_cast<std::size_t>(kMaxMaskLevels)) {  // no mask: every pixel visits the slabs
+      s.maskFailed = true;
+      return true;
+    }
     s.mask = makeVolumeTextureGL(GL_TEXTURE_2D, GL_NEAREST);
     clearErrorsGL();
-    glTextureStorage2D(s.mask, levels, GL_R8, w, h);
-    if (outOfMemoryGL()) {  // no mask: every pixel visits the slabs
+    glTextureStorage2D(s.mask, 1, GL_R8, atlas.width, atlas.height);
+    if (outOfMemoryGL()) {
       glDeleteTextures(1, &s.mask);
       s.mask = 0;
       s.maskFailed = true;
       return true;
     }
-    glTextureParameteri(s.mask, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   }
   // Level 0 from the slabs: whole without a budget, else bands of kBandBlock rows while the
   // frame's time lasts (at least one band a frame; 2078 x 1008 texels took about 130 ms at once).
@@ -487,11 +512,14 @@ bool FarFieldGL::makeMask(Slabs& s) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   std::vector<std::uint8_t> below(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  glGetTextureImage(s.mask, 0, GL_RED, GL_UNSIGNED_BYTE, static_cast<GLsizei>(below.size()), below.data());
+  glGetTextureSubImage(s.mask, 0, 0, 0, 0, w, h, 1, GL_RED, GL_UNSIGNED_BYTE, static_cast<GLsizei>(below.size()),
+                       below.data());
   const std::vector<std::vector<std::uint8_t>> pyramid = maskPyramid(std::move(below), w, h);
-  for (std::size_t l = 1; l < pyramid.size(); ++l)
-    glTextureSubImage2D(s.mask, static_cast<GLint>(l), 0, 0, std::max(1, w >> l), std::max(1, h >> l), GL_RED,
-                        GL_UNSIGNED_BYTE, pyramid[l].data());
+  const MaskAtlas atlas = maskAtlas(w, h);
+  for (std::size_t l = 1; l < pyramid.size(); ++l) {
+    const std::array<int, 4>& r = atlas.levels[l];
+    glTextureSubImage2D(s.mask, 0, r[0], r[1], r[2], r[3], GL_RED, GL_UNSIGNED_BYTE, pyramid[l].data());
+  }
   glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
   glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
   if (bounded) spentMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -619,6 +647,13 @@ void FarFieldGL::draw(const Camera& camera, const VolumeLayerGL& layer, const Fa
   glUniform1i(program.uniform("u_globeDepth"), 1);
   glUniform1i(program.uniform("u_mask"), 2);
   glUniform1i(program.uniform("u_hasMask"), s->mask != 0 && maskSkipping_ ? 1 : 0);
+  if (s->mask) {
+    const MaskAtlas atlas = maskAtlas(s->plan.columns, s->plan.rows);
+    std::vector<GLint> regions;
+    for (const std::array<int, 4>& r : atlas.levels) regions.insert(regions.end(), r.begin(), r.end());
+    glUniform1i(program.uniform("u_maskLevels"), static_cast<GLint>(atlas.levels.size()));
+    glUniform4iv(program.uniform("u_maskLevel"), static_cast<GLsizei>(atlas.levels.size()), regions.data());
+  }
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -632,7 +667,10 @@ std::size_t FarFieldGL::gpuBytes() const {
       if (s->texture) {
         const std::size_t texels = static_cast<std::size_t>(s->plan.columns) * static_cast<std::size_t>(s->plan.rows);
         bytes += texels * static_cast<std::size_t>(s->layers) * 8;
-        if (s->mask) bytes += texels + texels / 3;  // R8 and its levels
+        if (s->mask) {  // R8, every level in one
+          const MaskAtlas atlas = maskAtlas(s->plan.columns, s->plan.rows);
+          bytes += static_cast<std::size_t>(atlas.width) * static_cast<std::size_t>(atlas.height);
+        }
       }
   return bytes;
 }

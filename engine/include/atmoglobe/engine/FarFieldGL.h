@@ -106,6 +106,8 @@ class FarFieldGL {
   /// of 2078 texels cost 4-11 ms, blocks of 4096 texels 0.7-2 ms, over storms up to 20 ms (159
   /// radars at 1280x720; docs/networks.md).
   static constexpr int kBandBlock = 64;
+  /// Levels of a mask at most (a side of at most 2^21 texels: 22 levels).
+  static constexpr int kMaxMaskLevels = 24;
   /// Blocks a band may take (two: llvmpipe's two threads each shade one).
   static constexpr int kMaxBandBlocks = 2;
   /// Volumes whose slabs are kept (the least recently used go first): the 159 NEXRAD sites are 9
@@ -150,6 +152,15 @@ class FarFieldGL {
   /// that level 0's texel x lies in texel min(x >> l, size_l - 1) of level l. Each texel is the
   /// largest it covers.
   static std::vector<std::vector<std::uint8_t>> maskPyramid(std::vector<std::uint8_t> level0, int width, int height);
+  /// Where each level of a mask of `width` x `height` lies in the one-level texture that holds them
+  /// all (the far-field pass reads a level per pixel, and llvmpipe's textureSize(sampler, level)
+  /// is wrong where the level varies between pixels, so the levels are regions of one GL level):
+  /// level 0 at the corner, the coarser ones side by side along the longer side, past the shorter.
+  struct MaskAtlas {
+    int width = 0, height = 0;               ///< the texture's size
+    std::vector<std::array<int, 4>> levels;  ///< per level: x, y, width, height in the texture
+  };
+  static MaskAtlas maskAtlas(int width, int height);
   /// The levels of merged slabs for `boundariesMeters` (the plan's, from the top down): level 0
   /// takes layers 0..slabs-1, each merged slab a further layer. A pixel draws from the thickest
   /// level whose slabs span at most half its width across its ray (shaders/far_field.frag).
@@ -174,7 +185,7 @@ class FarFieldGL {
     std::vector<double> settings;  ///< the transfer function, step, classification
     FarFieldPlan plan;
     unsigned int texture = 0;  ///< 0: none
-    unsigned int mask = 0;     ///< R8 with every level: 1 where a column holds anything; 0: none
+    unsigned int mask = 0;     ///< R8, every level in one (maskAtlas): 1 where a column holds anything; 0: none
     /// Made so far: whole slabs from the top, then rows of the next, then columns of its next
     /// block of rows (kBandBlock rows, or those left).
     int slabsDone = 0, rowsDone = 0, columnsDone = 0;
