@@ -11,10 +11,10 @@
 // KTLX: 1 (KTLX), 10, 40, and 160 (every site of the table, 159). Written once under
 // DIR/network_volumes. Two views: "continental" (above the central US, 4500 km up, looking down)
 // and "regional" (200 km south-west of KTLX, 60 km up, looking north-east). Per count, view and
-// size: the median frame time (glFinish per frame; median of --frames frames per run, then of
-// --runs runs) of the network under the mean rule with empty-space skipping (one volume per cluster
-// of radars whose clip spheres meet: RadarNetworkGL::createByCluster), against the one-radar
-// scene of the same view; the samples a frame takes inside the network's ray interval and the
+// size: the median frame time (glFinish per frame, the rays ended at the ellipsoid as the globe
+// would end them; median of --frames frames per run, then of --runs runs) of the network under the mean rule with
+// empty-space skipping (one volume per cluster of radars whose clip spheres meet: RadarNetworkGL::createByCluster),
+// against the one-radar scene of the same view; the samples a frame takes inside the network's ray interval and the
 // radars each one visits (the coverage index's list at the sample: computed on the CPU from the
 // same index, the cost rule); GPU memory; the time to read the files and upload the network. Up to
 // --separate-max radars (default 10) also as separate volumes (the march's rule for overlapping
@@ -31,6 +31,7 @@
 // Belgian pair (radar_odim/bewid.pvol.hdf and behel_loop/20200207130000...dbzh.scanz.hdf, DBZH):
 // the frame time of each overlap rule (mean, lowest, max as one network; integrate as the two
 // radars apart) above the pair, against Wideumont alone, at each size.
+#include <atmoglobe/bench/GridViews.h>
 #include <atmoglobe/bench/Measure.h>
 #include <atmoglobe/engine/Camera.h>
 #include <atmoglobe/engine/ContextGL.h>
@@ -77,9 +78,10 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 // The median over `runs` runs of the median frame time of each.
 double timeFrames(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
                   const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames,
-                  int runs) {
+                  int runs, const std::vector<float>& depth) {
   std::vector<double> runMedians;
-  for (int r = 0; r < runs; ++r) runMedians.push_back(bench::timeLayersGL(renderer, camera, layers, target, frames));
+  for (int r = 0; r < runs; ++r)
+    runMedians.push_back(bench::timeLayersGL(renderer, camera, layers, target, frames, &depth));
   return bench::median(runMedians);
 }
 
@@ -300,6 +302,9 @@ int main(int argc, char** argv) {
     for (std::size_t v = 0; v < views.size(); ++v)
       for (std::size_t s = 0; s < sizes.size(); ++s) {
         const engine::Camera camera(views[v].pose, 60.0, sizes[s].first, sizes[s].second);
+        // The rays end at the ground, as the globe ends them (without it, the continental view's
+        // march drew radars of Korea and Okinawa through the Earth).
+        const std::vector<float> depth = bench::ellipsoidDepth(camera);
         auto target = engine::FramebufferGL::create(sizes[s].first, sizes[s].second);
         if (!target) {
           std::cerr << "bench_radar_network: " << target.error() << "\n";
@@ -311,14 +316,14 @@ int main(int argc, char** argv) {
           networkLayers.push_back({c.get(), options});
           gpuBytes += c->gpuBytes();
         }
-        const double ms = timeFrames(**renderer, camera, networkLayers, **target, frames, runs);
+        const double ms = timeFrames(**renderer, camera, networkLayers, **target, frames, runs, depth);
         if (count == counts.front()) oneRadar[v * sizes.size() + s] = ms;
         std::string separateMs = "-";
         if (!separate.empty()) {
           std::vector<engine::VolumeLayerGL> layers;
           for (const auto& g : separate) layers.push_back({g.get(), options});
           char b[32];
-          std::snprintf(b, sizeof b, "%.2f", timeFrames(**renderer, camera, layers, **target, frames, runs));
+          std::snprintf(b, sizeof b, "%.2f", timeFrames(**renderer, camera, layers, **target, frames, runs, depth));
           separateMs = b;
         }
         // The visits at the smaller size only (the CPU walks every sample).
@@ -347,19 +352,17 @@ int main(int argc, char** argv) {
           for (engine::VolumeLayerGL& l : farLayers) l.options.farField = engine::FarField::Auto;
           const std::size_t madeBefore = (*renderer)->farField().slabSetsMade();
           const auto tFirst = Clock::now();
-          (*target)->bind();
-          glClearDepth(0.0);
-          glClearColor(0, 0, 0, 1);
-          glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+          bench::uploadDepthGL(**target, depth);
+          bench::clearTargetGL(**target, &depth);
           (*renderer)->draw(camera, farLayers, **target);
           glFinish();
           const double firstMs = secondsSince(tFirst) * 1e3;
           const std::size_t made = (*renderer)->farField().slabSetsMade() - madeBefore;
           // Every pixel visiting the slabs, without the mask's skipping, timed just before it.
           (*renderer)->farField().setMaskSkipping(false);
-          const double unmaskedMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs);
+          const double unmaskedMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs, depth);
           (*renderer)->farField().setMaskSkipping(true);
-          const double farMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs);
+          const double farMs = timeFrames(**renderer, camera, farLayers, **target, frames, runs, depth);
           if (count == counts.front()) oneRadarFar[v * sizes.size() + s] = farMs;
           const globe::ImageRGBA8 far = (*target)->readColor();
           // Both frames, to look at: OUT/far_field/N_VIEW_WxH_{marched,far_field}.png.
@@ -430,25 +433,26 @@ int main(int argc, char** argv) {
       "the middle looking down\n\n| rule | size | frame (ms) | / Wideumont alone |\n|---|---|---|---|\n");
   for (const auto& [w, h] : sizes) {
     const engine::Camera camera(engine::CameraPose{50.5, 5.45, 3e5, 0.0, -90.0, 0.0}, 60.0, w, h);
+    const std::vector<float> depth = bench::ellipsoidDepth(camera);
     auto target = engine::FramebufferGL::create(w, h);
     if (!target) {
       std::cerr << "bench_radar_network: " << target.error() << "\n";
       return 1;
     }
-    const double alone = timeFrames(**renderer, camera, {{apart[0].get(), options}}, **target, frames, runs);
+    const double alone = timeFrames(**renderer, camera, {{apart[0].get(), options}}, **target, frames, runs, depth);
     for (auto rule : {volume::OverlapRule::WeightedMean, volume::OverlapRule::LowestBeam, volume::OverlapRule::Maximum,
                       volume::OverlapRule::Integrate}) {
       double ms = 0.0;
       if (rule == volume::OverlapRule::Integrate) {
         ms = timeFrames(**renderer, camera, {{apart[0].get(), options}, {apart[1].get(), options}}, **target, frames,
-                        runs);
+                        runs, depth);
       } else {
         auto network = engine::RadarNetworkGL::create(pair, rule, volume::FieldKind::Reflectivity);
         if (!network) {
           std::cerr << "bench_radar_network: " << network.error() << "\n";
           return 1;
         }
-        ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs);
+        ms = timeFrames(**renderer, camera, {{network->get(), options}}, **target, frames, runs, depth);
       }
       std::printf("| %s | %dx%d | %.2f | %.2f |\n", volume::toString(rule), w, h, ms, ms / alone);
       std::fflush(stdout);

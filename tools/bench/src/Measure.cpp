@@ -17,22 +17,32 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+void uploadDepthGL(const engine::FramebufferGL& target, const std::vector<float>& depth) {
+  glTextureSubImage2D(target.depthTexture(), 0, 0, 0, target.widthPx(), target.heightPx(), GL_DEPTH_COMPONENT, GL_FLOAT,
+                      depth.data());
+}
+
+void clearTargetGL(const engine::FramebufferGL& target, const std::vector<float>* depth) {
+  target.bind();
+  glClearDepth(0.0);
+  glClearColor(0, 0, 0, 1);
+  glClear(depth ? GL_COLOR_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
 double timeLayersGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
-                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames) {
-  auto frame = [&] {
-    target.bind();
-    glClearDepth(0.0);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames,
+                    const std::vector<float>* depth) {
+  std::vector<double> ms;
+  for (int f = -1; f < frames; ++f) {  // frame -1: the warm-up
+    if (depth) {                       // untimed
+      uploadDepthGL(target, *depth);
+      glFinish();
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    clearTargetGL(target, depth);
     renderer.draw(camera, layers, target);
     glFinish();
-  };
-  frame();
-  std::vector<double> ms;
-  for (int f = 0; f < frames; ++f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    frame();
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if (f >= 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
   return median(ms);
 }

@@ -36,9 +36,17 @@ GpuRun timeFramesGL(engine::VolumeRendererGL& renderer, const engine::Camera& ca
 
 /// The median time (ms) of `frames` frames of `layers` drawn together over black into `target`,
 /// each ended by glFinish, after one untimed warm-up frame (programs, transfer rows): the
-/// stand-alone benches of several volumes (bench_volume_overlap, bench_radar_network).
+/// stand-alone benches of several volumes (bench_volume_overlap, bench_radar_network). `depth`
+/// (GL rows, bottom first; ellipsoidDepth), when given, is put into the target's depth before each
+/// frame, untimed, so that the rays end at the ground as the globe would end them.
 double timeLayersGL(engine::VolumeRendererGL& renderer, const engine::Camera& camera,
-                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames);
+                    const std::vector<engine::VolumeLayerGL>& layers, const engine::FramebufferGL& target, int frames,
+                    const std::vector<float>* depth = nullptr);
+/// Puts `depth` (GL rows, bottom first) into the target's depth.
+void uploadDepthGL(const engine::FramebufferGL& target, const std::vector<float>& depth);
+/// Binds `target` and clears its colour to opaque black and, without `depth` (already uploaded),
+/// its depth to the far plane: the start of a frame of timeLayersGL.
+void clearTargetGL(const engine::FramebufferGL& target, const std::vector<float>* depth = nullptr);
 /// timeFramesGL for every cell, frames taken round-robin over the cells (frame 1 of every
 /// cell, then frame 2, ...) after one untimed round: a slow spell of a shared machine then
 /// lands on every cell alike instead of on whichever cells it happened to overlap (in per-cell
