@@ -552,6 +552,17 @@ glm::ivec2 volumeImageSize(const FramebufferGL& target, double imageScale) {
 
 // The pass's rectangle in a w x h volume image (x0, y0, x1, y1), two texels wider: the
 // composite's bilinear lookups inside the frame rectangle read only texels cleared and marched.
+// A far-field view's rectangle (pixels, rows from the top: x0, y0, x1, y1) within a pass's
+// rectangle (GL: x, y from the bottom left, width, height), as a GL rectangle.
+glm::ivec4 farFieldRectGL(const glm::dvec4& rectPx, const glm::ivec4& passRect, const FramebufferGL& target) {
+  const int x0 = std::max(passRect.x, static_cast<int>(std::floor(std::max(rectPx.x, -1e6))));
+  const int x1 = std::min(passRect.x + passRect.z, static_cast<int>(std::ceil(std::min(rectPx.z, 1e6))));
+  const int y0 = std::max(passRect.y, static_cast<int>(std::floor(target.heightPx() - std::min(rectPx.w, 1e6))));
+  const int y1 =
+      std::min(passRect.y + passRect.w, static_cast<int>(std::ceil(target.heightPx() - std::max(rectPx.y, -1e6))));
+  return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
+}
+
 glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target, glm::ivec2 size) {
   const double sx = double(size.x) / target.widthPx(), sy = double(size.y) / target.heightPx();
   return {std::max(0, int(std::floor(rectPx.x * sx)) - 2), std::max(0, int(std::floor(rectPx.y * sy)) - 2),
@@ -561,14 +572,22 @@ glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target,
 
 }  // namespace
 
+VolumeRendererGL::FarFieldChoice VolumeRendererGL::chooseFarField(const Camera& camera,
+                                                                  const std::vector<VolumeLayerGL>& layers) {
+  // One volume seen from far enough: its far field (FarFieldGL.h) instead of the march.
+  FarFieldChoice c;
+  if (layers.size() == 1) c.plan = FarFieldGL::planFor(camera, layers[0]);
+  c.hidden = c.plan && !c.plan->view.rect;  // all of it behind the Earth
+  if (c.plan && !c.hidden && !farField_->prepare(*this, layers[0], *c.plan)) c.plan.reset();
+  return c;
+}
+
 bool VolumeRendererGL::marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                                 const FramebufferGL& image, const glm::ivec4& box, const FramebufferGL& target,
-                                const CoarseGL* coarse) {
-  // One volume seen from far enough: its far field (FarFieldGL.h) instead of the march.
-  std::optional<FarFieldPlan> plan;
-  if (layers.size() == 1) plan = FarFieldGL::planFor(camera, layers[0]);
-  const bool hidden = plan && !plan->view.rect;  // all of it behind the Earth
-  if (plan && !hidden && !farField_->prepare(*this, layers[0], *plan)) plan.reset();
+                                const CoarseGL* coarse, const FarFieldChoice* farField) {
+  const FarFieldChoice chosen = farField ? *farField : chooseFarField(camera, layers);
+  const std::optional<FarFieldPlan>& plan = chosen.plan;
+  const bool hidden = chosen.hidden;
   image.bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
@@ -617,9 +636,18 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
   lastDrawValid_ = passes.size() == 1;
   for (const PassGL& pass : passes) {
     const VolumeRenderOptions& o = pass.layers[0].options;
+    const FarFieldChoice farField = chooseFarField(camera, pass.layers);
+    // Drawn from its far field, only the far field's rectangle can hold anything: the image is
+    // laid over the frame there only (the continental view's cluster: 0.46 instead of 0.92
+    // megapixels at 1280x720).
+    const glm::ivec4 overRect = farField.plan && !refines(o)
+                                    ? farFieldRectGL(*farField.plan->view.rect, pass.rectPx, target)
+                                : farField.hidden ? glm::ivec4(0)
+                                                  : pass.rectPx;
     const glm::ivec2 size = volumeImageSize(target, o.imageScale);
     ensureTarget(size.x, size.y, GL_RGBA16F);
-    bool ok = marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target);
+    bool ok = marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target, nullptr,
+                       &farField);
     lastImage_ = volumeTarget_.get();
     if (ok && refines(o)) {
       // Adaptive refinement: the small image just marched, then the frame-sized pass over it.
@@ -635,7 +663,7 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
       lastImage_ = refineTarget_.get();
     }
     if (ok) {
-      compositeOver(lastImage_->colorTexture(), target, pass.rectPx);
+      if (overRect.z > 0 && overRect.w > 0) compositeOver(lastImage_->colorTexture(), target, overRect);
     } else {
       target.bind();
       glEnable(GL_DEPTH_TEST);

@@ -217,10 +217,18 @@ class VolumeRendererGL {
   bool march(const Camera& camera, const VolumeLayerGL* layers, int count, unsigned int depthTexture, int debugMode,
              double debugT, const CoarseGL* coarse = nullptr, const ColumnsGL* columns = nullptr);
   void ensureTarget(int widthPx, int heightPx, unsigned int format);
+  /// Whether a pass is drawn from its far field: the plan (prepared: its slabs made, or coarser
+  /// ones drawn meanwhile), or none (marched); `hidden` where all of it is behind the Earth.
+  struct FarFieldChoice {
+    std::optional<FarFieldPlan> plan;
+    bool hidden = false;
+  };
+  FarFieldChoice chooseFarField(const Camera& camera, const std::vector<VolumeLayerGL>& layers);
   /// Clears `box` (x0, y0, x1, y1) of `image` and marches `layers` there (scissored), against the
   /// depth of `target`: draw()'s work per pass, drawProgressive's per preview and tile.
   bool marchBox(const Camera& camera, const std::vector<VolumeLayerGL>& layers, const FramebufferGL& image,
-                const glm::ivec4& box, const FramebufferGL& target, const CoarseGL* coarse = nullptr);
+                const glm::ivec4& box, const FramebufferGL& target, const CoarseGL* coarse = nullptr,
+                const FarFieldChoice* farField = nullptr);
   /// Whether a group is drawn by adaptive refinement (image scale < 1, threshold >= 0).
   static bool refines(const VolumeRenderOptions& o) { return o.imageScale < 1.0 && o.refineThreshold >= 0.0; }
   /// One past the last layer of the group starting at `begin` (layers one program marches together).
