@@ -218,8 +218,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                 "samples as a linear segment: lower error at any step for 5-12 % more time)");
   g->add_option("--far-field", o.farFields,
                 "Networks seen from far away (every pixel over them 2 km or wider): auto draws them from slabs "
-                "integrated down the vertical once instead of a march per pixel; off (default) always marches "
-                "(docs/networks.md, \"The far field\")");
+                "integrated down the vertical once instead of a march per pixel; off always marches. Default: "
+                "auto in view (the slabs are made over frames), off in render (its one frame would pay for "
+                "making them) (docs/networks.md, \"The far field\")");
   addLayerSettingOptions(*g, "--", o.radarSettings, "gates outside are not drawn");
   g->add_flag("--no-geoid", o.noGeoid, "Take antenna heights as ellipsoidal (no EGM96 conversion)");
 }
@@ -494,13 +495,14 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
     d.path = o.radars[i];
     d.useGeoid = !o.noGeoid;
     double iso = 0.0;
+    engine::FarField farField = engine::FarField::Off;
     for (const Status& st :
          {pick(o.fields, "--field", i, d.field), pick(o.colors, "--colors", i, d.colors),
           pickEnum(o.modes, "--mode", "--radar", nr, i, d.mode),
           pickEnum(o.interpolations, "--interpolation", "--radar", nr, i, d.interpolation),
           pickEnum(o.beams, "--beam", "--radar", nr, i, d.beam),
           pickEnum(o.classifications, "--classification", "--radar", nr, i, d.classification),
-          pickEnum(o.farFields, "--far-field", "--radar", nr, i, d.farField), pick(o.steps, "--step", i, d.stepMeters),
+          pickEnum(o.farFields, "--far-field", "--radar", nr, i, farField), pick(o.steps, "--step", i, d.stepMeters),
           pick(o.samplesPerCell, "--samples-per-cell", i, d.samplesPerCell),
           pick(o.imageScales, "--image-scale", i, d.imageScale),
           pick(o.refineThresholds, "--refine-threshold", i, d.refineThreshold), pick(o.isoValues, "--iso", i, iso),
@@ -515,6 +517,7 @@ Result<engine::SceneDescription> resolveScene(const SceneOptions& o) {
       d.overlap = *parsed;
     }
     if (!o.isoValues.empty()) d.isoValue = iso;
+    if (!o.farFields.empty()) d.farField = farField;  // else the command's default (engine::setUnsetFarField)
     if (auto st = pickLayerSettings(o.radarSettings, "--", pick, i, d.settings); !st) return st.forwardError();
     if (auto st = engine::validateVolumeLayer(d, "--radar"); !st) return st.forwardError();
     if (d.refineThreshold >= 0.0 && d.imageScale >= 1.0)

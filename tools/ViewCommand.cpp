@@ -582,6 +582,8 @@ int runView(const ViewOptions& o) {
   }
   auto scene = resolveScene(o.scene);
   if (!scene) return fail("view", scene.error());
+  // Networks seen from far away drawn from their far field unless the scene or --far-field says off.
+  engine::setUnsetFarField(*scene, engine::FarField::Auto);
   auto window = engine::WindowGL::create(scene->widthPx, scene->heightPx, "atmoglobe");
   if (!window) return fail("view", window.error());
   auto loader = engine::openImagery(scene->imagery, {});

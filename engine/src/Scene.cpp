@@ -169,7 +169,13 @@ Status parseVolumeLayer(const Object& r, VolumeKind kind, const std::string& bas
       [&] { return parseEnum(r, "mode", d.mode); }, [&] { return parseEnum(r, "interpolation", d.interpolation); },
       [&] { return parseEnum(r, "classification", d.classification); },
       [&] { return radar ? parseEnum(r, "beam", d.beam) : Status(Ok{}); },
-      [&] { return radar ? parseEnum(r, "far_field", d.farField) : Status(Ok{}); },
+      [&] {
+        if (!radar || !r.has("far_field")) return Status(Ok{});
+        FarField f = FarField::Off;
+        if (auto parsed = parseEnum(r, "far_field", f); !parsed) return parsed;
+        d.farField = f;
+        return Status(Ok{});
+      },
       [&] { return radar ? r.string("label", d.label) : r.string("time", d.time); },
       [&] {
         if (!radar || !r.has("overlap")) return Status(Ok{});
@@ -231,6 +237,11 @@ std::vector<VolumeLayerDescription> volumesOfKind(const SceneDescription& scene,
   for (const VolumeLayerDescription& d : scene.volumes)
     if (d.kind == kind) out.push_back(d);
   return out;
+}
+
+void setUnsetFarField(SceneDescription& scene, FarField farField) {
+  for (VolumeLayerDescription& d : scene.volumes)
+    if (d.kind == VolumeKind::Radar && !d.farField) d.farField = farField;
 }
 
 std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback) {

@@ -87,7 +87,7 @@ json volumeLayerJson(const VolumeLayerDescription& d) {
     j["beam"] = nameOf(d.beam);
     if (!d.label.empty()) j["label"] = d.label;
     if (d.overlap) j["overlap"] = volume::toString(*d.overlap);
-    if (d.farField != FarField::Off) j["far_field"] = nameOf(d.farField);
+    if (d.farField) j["far_field"] = nameOf(*d.farField);
     if (d.windowMinutes != defaults.windowMinutes) j["window_minutes"] = d.windowMinutes;
   } else {
     if (!d.time.empty()) j["time"] = d.time;

@@ -499,7 +499,11 @@ bool ViewerPanelGL::drawLayers(SceneRendererGL& scene) {
           ImGui::EndCombo();
         }
         // Seen from far away: slabs integrated once instead of a march per pixel (FarFieldGL.h).
-        edited = enumCombo("far field", d.farField) || edited;
+        FarField farField = d.farField.value_or(FarField::Off);
+        if (enumCombo("far field", farField)) {
+          d.farField = farField;
+          edited = true;
+        }
       }
       if (const auto* grid = dynamic_cast<const GridSourceGL*>(&layer)) {
         const volume::GridVolume& g = grid->gridVolume().grid();

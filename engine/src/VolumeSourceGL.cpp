@@ -70,7 +70,7 @@ Result<VolumeRenderOptions> layerRenderOptions(const VolumeLayerDescription& d, 
   o.imageScale = d.imageScale;
   o.refineThreshold = d.refineThreshold;
   o.classification = d.classification;
-  o.farField = d.farField;
+  o.farField = d.farField.value_or(FarField::Off);
   return o;
 }
 

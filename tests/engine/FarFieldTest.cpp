@@ -11,6 +11,7 @@
 #include <atmoglobe/engine/RadarNetworkGL.h>
 #include <atmoglobe/engine/Scene.h>
 #include <atmoglobe/engine/VolumeRendererGL.h>
+#include <atmoglobe/engine/VolumeSourceGL.h>
 #include <atmoglobe/globe/Ellipsoid.h>
 #include <atmoglobe/globe/Image.h>
 #include <atmoglobe/volume/Geolocation.h>
@@ -679,6 +680,36 @@ TEST(FarFieldScene, TheSceneKeyRoundTrips) {
   const auto bad = engine::parseSceneJson(R"({"radars": [{"path": "n/*.nc", "far_field": "on"}]})", "s.json", dir, dir);
   ASSERT_FALSE(bad);
   EXPECT_NE(bad.error().find("far_field"), std::string::npos) << bad.error();
+}
+
+// Without "far_field" (or --far-field) a network takes the command's default: the viewer sets it
+// to auto (it makes the slabs over frames), render leaves it unset, which draws it marched; an
+// explicit "off" stays off in the viewer, and an unset one is not written back.
+TEST(FarFieldScene, UnsetTheViewerDrawsTheFarFieldAndRenderMarches) {
+  const std::string dir = atmoglobe_test::freshTestDir("far_field_default");
+  auto scene = engine::parseSceneJson(
+      R"({"radars": [{"path": "a/*.nc"}, {"path": "b/*.nc", "far_field": "off"}, {"path": "c/*.nc", "far_field": "auto"}],
+          "grids": [{"path": "g.nc", "variable": "T"}]})",
+      "s.json", dir, dir);
+  ASSERT_TRUE(scene) << scene.error();
+  std::vector<engine::VolumeLayerDescription> radars = engine::volumesOfKind(*scene, engine::VolumeKind::Radar);
+  ASSERT_EQ(radars.size(), 3u);
+  EXPECT_FALSE(radars[0].farField.has_value());
+  EXPECT_EQ(engine::sceneToJson(*scene).find("\"far_field\": \"auto\""),
+            engine::sceneToJson(*scene).rfind("\"far_field\": \"auto\""))
+      << "only the third radar's is written";
+  engine::SceneDescription viewed = *scene;
+  engine::setUnsetFarField(viewed, engine::FarField::Auto);
+  radars = engine::volumesOfKind(viewed, engine::VolumeKind::Radar);
+  EXPECT_EQ(radars[0].farField, engine::FarField::Auto);
+  EXPECT_EQ(radars[1].farField, engine::FarField::Off);
+  EXPECT_EQ(radars[2].farField, engine::FarField::Auto);
+  EXPECT_FALSE(engine::volumesOfKind(viewed, engine::VolumeKind::Grid)[0].farField.has_value()) << "grids have none";
+  // Unset, the layer's options draw it marched (render).
+  auto unset = engine::layerRenderOptions(engine::volumesOfKind(*scene, engine::VolumeKind::Radar)[0],
+                                          volume::FieldInfo{"DBZH", "dBZ", ""}, 0.0, volume::ValueRange{0.0, 60.0});
+  ASSERT_TRUE(unset) << unset.error();
+  EXPECT_EQ(unset->farField, engine::FarField::Off);
 }
 
 }  // namespace

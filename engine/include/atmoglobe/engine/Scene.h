@@ -91,6 +91,12 @@ struct SceneDescription {
 /// The scene's volume layers of one kind, in order.
 std::vector<VolumeLayerDescription> volumesOfKind(const SceneDescription& scene, VolumeKind kind);
 
+/// Sets the far field of every radar layer that leaves it unset (no "far_field" key, no
+/// --far-field) to `farField`: the viewer's default, auto (it makes the slabs over frames; 159
+/// radars at 1280x720 then draw in tens of milliseconds a frame instead of seconds). `render`
+/// leaves them unset, which draws them marched (VolumeLayerDescription::farField).
+void setUnsetFarField(SceneDescription& scene, FarField farField);
+
 /// origins[index], or `fallback` when there is none.
 std::string layerOrigin(const std::vector<std::string>& origins, std::size_t index, const std::string& fallback);
 

@@ -163,8 +163,10 @@ struct VolumeLayerDescription {
   std::optional<double> isoValue;
   Classification classification = Classification::Point;  ///< DVR only
   /// Radar networks seen from far away: drawn from their far field (engine/FarFieldGL.h; scene
-  /// "far_field", CLI --far-field auto|off). Off: always marched.
-  FarField farField = FarField::Off;
+  /// "far_field", CLI --far-field auto|off). Off: always marched. Empty: the command's default
+  /// (auto in the viewer, which makes the slabs over frames: setUnsetFarField; off elsewhere, as
+  /// in `render`, whose one frame would pay for making them).
+  std::optional<FarField> farField;
   BeamApproximation beam = BeamApproximation::EffectiveEarthLocalSphere;  ///< radars only
   std::string label;  ///< radars: the site marker's label; empty: the site name from the file
   /// Radar networks: how overlapping radars make one value (volume/RadarNetwork.h; not Integrate).
