@@ -628,6 +628,23 @@ bool VolumeRendererGL::marchColumns(const VolumeLayerGL& layer, const FarFieldPl
 
 bool VolumeRendererGL::farFieldPending() const { return farField_->pending(); }
 
+glm::ivec4 VolumeRendererGL::overRectOf(const Camera& camera, const PassGL& pass, const FramebufferGL& target,
+                                        const FarFieldChoice* farField) {
+  if (refines(pass.layers[0].options)) return pass.rectPx;
+  std::optional<FarFieldPlan> plan;
+  if (farField) {
+    if (farField->hidden) return glm::ivec4(0);
+    plan = farField->plan;
+  } else if (pass.layers.size() == 1) {
+    plan = FarFieldGL::planFor(camera, pass.layers[0]);
+    if (plan && !plan->view.rect) return glm::ivec4(0);  // all of it behind the Earth
+  }
+  // Drawn from its far field, only the far field's rectangle can hold anything: the image is
+  // laid over the frame there only (the continental view's cluster: 0.46 instead of 0.92
+  // megapixels at 1280x720).
+  return plan && plan->view.rect ? farFieldRectGL(*plan->view.rect, pass.rectPx, target) : pass.rectPx;
+}
+
 void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerGL>& layers,
                             const FramebufferGL& target) {
   farField_->beginFrame(farFieldBuildBudgetMs_);
@@ -637,13 +654,7 @@ void VolumeRendererGL::draw(const Camera& camera, const std::vector<VolumeLayerG
   for (const PassGL& pass : passes) {
     const VolumeRenderOptions& o = pass.layers[0].options;
     const FarFieldChoice farField = chooseFarField(camera, pass.layers);
-    // Drawn from its far field, only the far field's rectangle can hold anything: the image is
-    // laid over the frame there only (the continental view's cluster: 0.46 instead of 0.92
-    // megapixels at 1280x720).
-    const glm::ivec4 overRect = farField.plan && !refines(o)
-                                    ? farFieldRectGL(*farField.plan->view.rect, pass.rectPx, target)
-                                : farField.hidden ? glm::ivec4(0)
-                                                  : pass.rectPx;
+    const glm::ivec4 overRect = overRectOf(camera, pass, target, &farField);
     const glm::ivec2 size = volumeImageSize(target, o.imageScale);
     ensureTarget(size.x, size.y, GL_RGBA16F);
     bool ok = marchBox(camera, pass.layers, *volumeTarget_, volumeImageBox(pass.rectPx, target, size), target, nullptr,
@@ -784,11 +795,15 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
       if (ok)
         glBlitNamedFramebuffer(previewImage->id(), (*image)->id(), 0, 0, small.x, small.y, 0, 0, size.x, size.y,
                                GL_COLOR_BUFFER_BIT, GL_LINEAR);
-      // The tiles of the box draw() marches, row by row from the top of the picture.
-      const glm::ivec4 box = volumeImageBox(pass.rectPx, target, size);
-      for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
-        for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
-          p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
+      // The tiles of the box draw() marches, row by row from the top of the picture, within where
+      // the pass's image can hold anything (a far field's rectangle: overRectOf).
+      const glm::ivec4 over = overRectOf(camera, pass, target, nullptr);
+      p.overRects.push_back(over);
+      const glm::ivec4 box = volumeImageBox(over, target, size);
+      if (over.z > 0 && over.w > 0)
+        for (int y1 = box.w; y1 > box.y; y1 -= kTilePx)
+          for (int x0 = box.x; x0 < box.z; x0 += kTilePx)
+            p.tiles.push_back({i, glm::ivec4(x0, std::max(box.y, y1 - kTilePx), std::min(box.z, x0 + kTilePx), y1)});
       p.coarse.push_back(std::move(coarse));
       p.images.push_back(std::move(*image));
     }
@@ -816,7 +831,9 @@ bool VolumeRendererGL::drawProgressive(const Camera& camera, const std::vector<V
     p.marchedMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tileStart).count();
     if (p.next == p.tiles.size()) fullMarchEstimateMs_ = p.marchedMs;
   }
-  for (std::size_t i = 0; i < passes.size(); ++i) compositeOver(p.images[i]->colorTexture(), target, passes[i].rectPx);
+  for (std::size_t i = 0; i < passes.size() && i < p.images.size() && i < p.overRects.size(); ++i)
+    if (p.overRects[i].z > 0 && p.overRects[i].w > 0)
+      compositeOver(p.images[i]->colorTexture(), target, p.overRects[i]);
   target.bind();
   glEnable(GL_DEPTH_TEST);
   return !slabsPending && p.next == p.tiles.size();

@@ -238,6 +238,11 @@ class VolumeRendererGL {
     std::vector<VolumeLayerGL> layers;
     glm::ivec4 rectPx{0};  ///< x, y (GL: from the bottom left), width, height in target pixels
   };
+  /// Where a pass's image can hold anything, in target pixels (GL rectangle): a pass drawn from
+  /// its far field (`farField`, or where null its plan alone), only the far field's rectangle,
+  /// none if it is all behind the Earth; any other pass, its rectangle.
+  static glm::ivec4 overRectOf(const Camera& camera, const PassGL& pass, const FramebufferGL& target,
+                               const FarFieldChoice* farField);
   /// The passes of a draw, in drawing order: volumes clustered by their bounding spheres
   /// (volume::clusterBySphere), clusters back to front, within a cluster the groups of groupEnd
   /// in layer order; each pass limited to its cluster's projected bounding box.
@@ -274,6 +279,8 @@ class VolumeRendererGL {
       glm::ivec4 box{0};
     };
     std::vector<Tile> tiles;
+    /// Per pass: where its image is laid over the frame (overRectOf).
+    std::vector<glm::ivec4> overRects;
     std::size_t next = 0;
     double marchedMs = 0.0;  ///< the tiles' time so far
   };
