@@ -550,8 +550,6 @@ glm::ivec2 volumeImageSize(const FramebufferGL& target, double imageScale) {
           std::max(1, static_cast<int>(std::lround(target.heightPx() * scale)))};
 }
 
-// The pass's rectangle in a w x h volume image (x0, y0, x1, y1), two texels wider: the
-// composite's bilinear lookups inside the frame rectangle read only texels cleared and marched.
 // A far-field view's rectangle (pixels, rows from the top: x0, y0, x1, y1) within a pass's
 // rectangle (GL: x, y from the bottom left, width, height), as a GL rectangle.
 glm::ivec4 farFieldRectGL(const glm::dvec4& rectPx, const glm::ivec4& passRect, const FramebufferGL& target) {
@@ -563,6 +561,8 @@ glm::ivec4 farFieldRectGL(const glm::dvec4& rectPx, const glm::ivec4& passRect, 
   return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
 }
 
+// The pass's rectangle in a w x h volume image (x0, y0, x1, y1), two texels wider: the
+// composite's bilinear lookups inside the frame rectangle read only texels cleared and marched.
 glm::ivec4 volumeImageBox(const glm::ivec4& rectPx, const FramebufferGL& target, glm::ivec2 size) {
   const double sx = double(size.x) / target.widthPx(), sy = double(size.y) / target.heightPx();
   return {std::max(0, int(std::floor(rectPx.x * sx)) - 2), std::max(0, int(std::floor(rectPx.y * sy)) - 2),
