@@ -250,15 +250,32 @@ AntennaCoordinates LocalSphereBeam::antennaCoordinates(const glm::dvec3& l) cons
   return out;
 }
 
-glm::dvec3 LocalSphereBeam::enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const {
-  double h = 0.0, s = 0.0;
-  beamHeightAndGroundDistance(rangeMeters, elevationDeg, antennaHeightMeters, effectiveRadiusMeters, &h, &s);
+LocalSphereBeam::Along LocalSphereBeam::along(double rangeMeters, double elevationDeg) const {
+  Along a;
+  beamHeightAndGroundDistance(rangeMeters, elevationDeg, antennaHeightMeters, effectiveRadiusMeters, &a.heightMeters,
+                              &a.groundDistanceMeters);
+  return a;
+}
+
+LocalSphereBeam::Across LocalSphereBeam::across(double azimuthDeg) const {
   const double az = degreesToRadians(azimuthDeg);
-  const double ca = std::cos(az), sa = std::sin(az);
-  const double rAlpha = 1.0 / (ca * ca / meridionalRadiusMeters + sa * sa / primeVerticalRadiusMeters);
-  const double psi = s / rAlpha, d = rAlpha + h;
+  Across c;
+  c.cosAzimuth = std::cos(az);
+  c.sinAzimuth = std::sin(az);
+  c.normalSectionRadiusMeters = 1.0 / (c.cosAzimuth * c.cosAzimuth / meridionalRadiusMeters +
+                                       c.sinAzimuth * c.sinAzimuth / primeVerticalRadiusMeters);
+  return c;
+}
+
+glm::dvec3 LocalSphereBeam::enuOf(const Along& a, const Across& c) const {
+  const double rAlpha = c.normalSectionRadiusMeters;
+  const double psi = a.groundDistanceMeters / rAlpha, d = rAlpha + a.heightMeters;
   const double horizontal = d * std::sin(psi);
-  return {horizontal * sa, horizontal * ca, d * std::cos(psi) - (rAlpha + antennaHeightMeters)};
+  return {horizontal * c.sinAzimuth, horizontal * c.cosAzimuth, d * std::cos(psi) - (rAlpha + antennaHeightMeters)};
+}
+
+glm::dvec3 LocalSphereBeam::enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const {
+  return enuOf(along(rangeMeters, elevationDeg), across(azimuthDeg));
 }
 
 namespace {

@@ -4,8 +4,10 @@
 
 #include <atmoglobe/globe/Angles.h>
 #include <atmoglobe/globe/Ellipsoid.h>
+#include <atmoglobe/globe/ParallelFor.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -412,13 +414,41 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
   const LocalSphereBeam beam = localSphereBeam(v.site, v.beam);
   const int n = static_cast<int>(v.sweeps.size());
   const double hb = 0.5 * v.beamWidthDeg;
-  std::vector<OccupancyBox> boxes;
   constexpr int kRays = 2, kGates = 4;
-  for (int k = 0; k < n; ++k) {
-    const auto& s = v.sweeps[k];
+  // A box per block of kRays x kGates gates holding a value, from the forward map at 3 x 3 x 3
+  // points of its support. A gate block's ranges and the sweep's elevations are the same for
+  // every ray block, and a ray block's azimuths for every gate block: the map's factors
+  // (LocalSphereBeam::along, ::across) are made once each. Sweeps on the cores, their boxes
+  // kept in sweep order.
+  std::vector<std::vector<OccupancyBox>> sweepBoxes(static_cast<std::size_t>(n));
+  globe::parallelFor(static_cast<std::size_t>(n), [&](std::size_t sweep) {
+    const int k = static_cast<int>(sweep);
+    const auto& s = v.sweeps[sweep];
+    std::vector<OccupancyBox>& boxes = sweepBoxes[sweep];
     const double elLo = k > 0 ? v.sweeps[k - 1].elevationDeg : s.elevationDeg - hb;
     const double elHi = k + 1 < n ? v.sweeps[k + 1].elevationDeg : s.elevationDeg + hb;
+    const double els[3] = {elLo, 0.5 * (elLo + elHi), elHi};
+    // Support: one gate and one ray beyond the block on each side (linear interpolation).
+    const auto rangesOf = [&](int g0, double* r) {
+      const double rA = std::max(0.0, s.firstGateRangeMeters + (g0 - 1.0) * s.gateSpacingMeters);
+      const double rB = s.firstGateRangeMeters + (std::min(g0 + kGates, s.gateCount) + 0.5) * s.gateSpacingMeters;
+      r[0] = rA;
+      r[1] = 0.5 * (rA + rB);
+      r[2] = rB;
+    };
+    const int gateBlocks = (s.gateCount + kGates - 1) / kGates;
+    std::vector<std::array<LocalSphereBeam::Along, 9>> alongs(static_cast<std::size_t>(gateBlocks));
+    for (int gb = 0; gb < gateBlocks; ++gb) {
+      double r[3];
+      rangesOf(gb * kGates, r);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) alongs[static_cast<std::size_t>(gb)][3 * i + j] = beam.along(r[i], els[j]);
+    }
     for (int r0 = 0; r0 < s.rayCount; r0 += kRays) {
+      const double azA = s.azimuthDeg[(r0 + s.rayCount - 1) % s.rayCount];
+      double azB = s.azimuthDeg[std::min(r0 + kRays, s.rayCount) % s.rayCount];
+      if (azB <= azA) azB += 360.0;
+      const LocalSphereBeam::Across acrosses[3] = {beam.across(azA), beam.across(0.5 * (azA + azB)), beam.across(azB)};
       for (int g0 = 0; g0 < s.gateCount; g0 += kGates) {
         float m = kOccupancyEmptyValue;
         for (int ray = r0; ray < std::min(r0 + kRays, s.rayCount); ++ray)
@@ -427,21 +457,20 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
             if (std::isfinite(x)) m = std::max(m, x);
           }
         if (m == kOccupancyEmptyValue) continue;
-        // Support: one gate and one ray beyond the block on each side (linear interpolation).
-        const double rA = std::max(0.0, s.firstGateRangeMeters + (g0 - 1.0) * s.gateSpacingMeters);
-        const double rB = s.firstGateRangeMeters + (std::min(g0 + kGates, s.gateCount) + 0.5) * s.gateSpacingMeters;
-        const double azA = s.azimuthDeg[(r0 + s.rayCount - 1) % s.rayCount];
-        double azB = s.azimuthDeg[std::min(r0 + kRays, s.rayCount) % s.rayCount];
-        if (azB <= azA) azB += 360.0;
+        const auto& along = alongs[static_cast<std::size_t>(g0 / kGates)];
         OccupancyBox b{glm::dvec3(1e30), glm::dvec3(-1e30), m};
-        for (double r : {rA, 0.5 * (rA + rB), rB})
-          for (double az : {azA, 0.5 * (azA + azB), azB})
-            for (double el : {elLo, 0.5 * (elLo + elHi), elHi}) {
-              const glm::dvec3 p = exaggeration == 1.0 ? beam.enuOf(r, az, el)
-                                                       : beam.exaggerateEnu(beam.enuOf(r, az, el), exaggeration);
+        for (int i = 0; i < 3; ++i)
+          for (const LocalSphereBeam::Across& c : acrosses)
+            for (int j = 0; j < 3; ++j) {
+              const glm::dvec3 p = exaggeration == 1.0
+                                       ? beam.enuOf(along[3 * i + j], c)
+                                       : beam.exaggerateEnu(beam.enuOf(along[3 * i + j], c), exaggeration);
               b.lo = glm::min(b.lo, p);
               b.hi = glm::max(b.hi, p);
             }
+        double r[3];
+        rangesOf(g0, r);
+        const double rB = r[2];
         // Between the sampled points the support bulges out of their box by at most the
         // sagitta of an arc of radius rB over the whole azimuth span plus that over the whole
         // elevation span (each r (1 - cos(span / 2)); the points are half a span apart, so this
@@ -459,7 +488,12 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
         boxes.push_back(b);
       }
     }
-  }
+  });
+  std::size_t total = 0;
+  for (const auto& sb : sweepBoxes) total += sb.size();
+  std::vector<OccupancyBox> boxes;
+  boxes.reserve(total);
+  for (const auto& sb : sweepBoxes) boxes.insert(boxes.end(), sb.begin(), sb.end());
   // 256 x 256 x 32 cells (4 MB as half floats; KLBB: 3.6 x 3.6 km x ~600 m): the fastest of
   // 64..384 x 64..384 x 32..128 in `atmoglobe bench` (llvmpipe, docs/bench-volume.md; with the
   // second level 32 layers beat 48 and 64 by 3-6 %).

@@ -140,6 +140,19 @@ struct LocalSphereBeam {
   AntennaCoordinates antennaCoordinates(const glm::dvec3& enu) const;
   /// The forward map: ENU position (m) of (range, azimuth, elevation).
   glm::dvec3 enuOf(double rangeMeters, double azimuthDeg, double elevationDeg) const;
+  /// The forward map in its two factors, for many points that share ranges and elevations or
+  /// azimuths (an empty-space grid's boxes): what depends on range and elevation only (the
+  /// beam's height and ground distance) and what depends on azimuth only (its direction and
+  /// normal-section radius). enuOf(along(r, el), across(az)) equals enuOf(r, az, el) exactly.
+  struct Along {
+    double heightMeters = 0.0, groundDistanceMeters = 0.0;
+  };
+  struct Across {
+    double cosAzimuth = 1.0, sinAzimuth = 0.0, normalSectionRadiusMeters = 0.0;
+  };
+  Along along(double rangeMeters, double elevationDeg) const;
+  Across across(double azimuthDeg) const;
+  glm::dvec3 enuOf(const Along& a, const Across& c) const;
   /// Vertical exaggeration on the local sphere (VerticalExaggeration.h): the point at height h
   /// above the sphere (of this azimuth's normal-section radius) moved along the sphere's normal
   /// to height e h (exaggerateEnu), and back (unexaggerateEnu). Exact inverses of each other.
