@@ -16,6 +16,26 @@
 
 namespace atmoglobe::globe {
 
+ImageRGBA8 halfSize(const ImageRGBA8& image) {
+  assert(image.width > 0 && image.height > 0);
+  ImageRGBA8 half;
+  half.width = std::max(1, image.width / 2);
+  half.height = std::max(1, image.height / 2);
+  half.pixels.resize(static_cast<std::size_t>(half.width) * static_cast<std::size_t>(half.height) * 4);
+  const std::size_t w = static_cast<std::size_t>(image.width);
+  // The second column and row: the next ones, or the same where that side is 1 pixel.
+  const std::size_t dx = image.width > 1 ? 4 : 0, dy = image.height > 1 ? w * 4 : 0;
+  std::uint8_t* out = half.pixels.data();
+  for (int j = 0; j < half.height; ++j)
+    for (int i = 0; i < half.width; ++i, out += 4) {
+      const std::uint8_t* a =
+          &image.pixels[((2 * static_cast<std::size_t>(j)) * w + 2 * static_cast<std::size_t>(i)) * 4];
+      const std::uint8_t* b = a + dy;
+      for (int c = 0; c < 4; ++c) out[c] = static_cast<std::uint8_t>((a[c] + a[c + dx] + b[c] + b[c + dx] + 2) / 4);
+    }
+  return half;
+}
+
 ImageRGBA8 ImageRGBA8::filled(int width, int height, glm::u8vec4 fill) {
   assert(width >= 0 && height >= 0);
   ImageRGBA8 image;

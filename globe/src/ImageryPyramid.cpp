@@ -87,16 +87,12 @@ class PyramidWriter {
 
   /// 2x2 box filter of `child` (256 px) into the 128 px quadrant of `out` at (x0, y0).
   static void boxFilterInto(const ImageRGBA8& child, int x0, int y0, ImageRGBA8& out) {
-    const std::size_t w = static_cast<std::size_t>(child.width);
-    for (int j = 0; j < kTileSizePx / 2; ++j) {
-      for (int i = 0; i < kTileSizePx / 2; ++i) {
-        const std::uint8_t* a = &child.pixels[((2 * j) * w + 2 * i) * 4];
-        const std::uint8_t* b = a + w * 4;
-        glm::u8vec4 p;
-        for (int c = 0; c < 4; ++c) p[c] = static_cast<std::uint8_t>((a[c] + a[c + 4] + b[c] + b[c + 4] + 2) / 4);
-        out.set(x0 + i, y0 + j, p);
+    const ImageRGBA8 half = halfSize(child);
+    for (int j = 0; j < half.height; ++j)
+      for (int i = 0; i < half.width; ++i) {
+        const std::uint8_t* p = &half.pixels[(static_cast<std::size_t>(j) * half.width + i) * 4];
+        out.set(x0 + i, y0 + j, glm::u8vec4(p[0], p[1], p[2], p[3]));
       }
-    }
   }
 
   const ImageRGBA8& source_;

@@ -139,5 +139,32 @@ TEST(ImageTest, SampleBilinearUsesPixelCentresAndClampsAtEdges) {
   EXPECT_EQ(sampleBilinear(ramp, 0.375, 0.5).b, 0);
 }
 
+// The next mip level: GL's sizes (floor, at least 1) and the rounded mean of each 2 x 2.
+TEST(ImageTest, HalfSizeIsTheRoundedMeanOfEach2x2) {
+  ImageRGBA8 image = ImageRGBA8::filled(5, 3, glm::u8vec4(0));
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) image.set(x, y, glm::u8vec4(10 * x + y, 255 - x, 7 * y, 255));
+  const ImageRGBA8 half = halfSize(image);
+  ASSERT_EQ(half.width, 2);  // the odd column and row are left out
+  ASSERT_EQ(half.height, 1);
+  // (0,0) (1,0) (0,1) (1,1): red 0, 10, 1, 11 -> 22/4 = 5.5 -> 6; green 255, 254 twice -> 254.5 -> 255.
+  EXPECT_EQ(half.at(0, 0), glm::u8vec4(6, 255, 4, 255));  // blue 0, 0, 7, 7 -> 3.5 -> 4
+  EXPECT_EQ(half.at(1, 0),
+            glm::u8vec4(26, 253, 4, 255));  // red 20, 30, 21, 31 -> 25.5 -> 26; green 253, 252 -> 252.5 -> 253
+
+  // A side of one pixel: the mean along the other side.
+  ImageRGBA8 column = ImageRGBA8::filled(1, 4, glm::u8vec4(0));
+  for (int y = 0; y < 4; ++y) column.set(0, y, glm::u8vec4(static_cast<std::uint8_t>(100 * (y % 2)), 0, 0, 255));
+  const ImageRGBA8 c = halfSize(column);
+  ASSERT_EQ(c.width, 1);
+  ASSERT_EQ(c.height, 2);
+  EXPECT_EQ(c.at(0, 0), glm::u8vec4(50, 0, 0, 255));
+  EXPECT_EQ(c.at(0, 1), glm::u8vec4(50, 0, 0, 255));
+  const ImageRGBA8 row = halfSize(ImageRGBA8::filled(2, 1, glm::u8vec4(9, 8, 7, 6)));
+  EXPECT_EQ(row.width, 1);
+  EXPECT_EQ(row.height, 1);
+  EXPECT_EQ(row.at(0, 0), glm::u8vec4(9, 8, 7, 6));
+}
+
 }  // namespace
 }  // namespace atmoglobe::globe

@@ -32,6 +32,12 @@ struct ImageRGBA8 {
   void set(int x, int y, glm::u8vec4 rgba);
 };
 
+/// The next mip level of `image`, max(1, w / 2) x max(1, h / 2) as GL sizes its levels: each
+/// pixel the rounded mean of the 2 x 2 pixels at twice its coordinates (a box filter, what
+/// glGenerateMipmap does for RGBA8). A side of 1 pixel averages along the other side only; an
+/// odd side's last row or column is left out.
+ImageRGBA8 halfSize(const ImageRGBA8& image);
+
 /// Decodes a PNG or JPEG (anything stb_image reads) into RGBA8 (grey/RGB get alpha 255).
 /// Errors name the file and give stb's reason (or the OS error when the file can't be read).
 Result<ImageRGBA8> decodeImageFile(const std::string& path);
