@@ -1,11 +1,9 @@
 // Contour lines through GDAL (Contours.h).
 #include <atmoglobe/map/Contours.h>
 
-#include <atmoglobe/globe/Text.h>
+#include "GdalLibrary.h"
 
-#include <gdal.h>
-#include <gdal_alg.h>
-#include <ogr_api.h>
+#include <atmoglobe/globe/Text.h>
 
 #include <algorithm>
 #include <charconv>
@@ -25,7 +23,7 @@ constexpr double kMissing = -1.0e30;  // GDAL's NODATA for the raster handed ove
 
 struct DatasetCloser {
   void operator()(void* ds) const {
-    if (ds) GDALClose(static_cast<GDALDatasetH>(ds));
+    if (ds) detail::gdal().GDALClose(static_cast<GDALDatasetH>(ds));
   }
 };
 
@@ -105,26 +103,26 @@ Result<std::vector<ContourLine>> contourLines(const ContourRaster& r, const Cont
     return makeError("contours: " + std::to_string(fixed.size()) + " values; at most " + std::to_string(kMaxLevels));
   if (fixed.empty()) return out;
 
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
-  GDALDriverH memRaster = GDALGetDriverByName("MEM");
-  GDALDriverH memVector = GDALGetDriverByName("Memory");
+  if (auto loaded = detail::loadGdal(); !loaded) return makeError("contours: " + loaded.error());
+  GDALDriverH memRaster = detail::gdal().GDALGetDriverByName("MEM");
+  GDALDriverH memVector = detail::gdal().GDALGetDriverByName("Memory");
   if (!memRaster || !memVector) return makeError("contours: GDAL's MEM and Memory drivers are not available");
-  std::unique_ptr<void, DatasetCloser> raster(GDALCreate(memRaster, "", r.columns, r.rows, 1, GDT_Float32, nullptr));
+  std::unique_ptr<void, DatasetCloser> raster(
+      detail::gdal().GDALCreate(memRaster, "", r.columns, r.rows, 1, GDT_Float32, nullptr));
   if (!raster) return makeError("contours: GDAL could not make a raster of " + std::to_string(n) + " values");
   double transform[6] = {r.westDeg, r.dxDeg, 0.0, r.northDeg, 0.0, -r.dyDeg};
-  GDALSetGeoTransform(raster.get(), transform);
-  GDALRasterBandH band = GDALGetRasterBand(raster.get(), 1);
-  if (GDALRasterIO(band, GF_Write, 0, 0, r.columns, r.rows, values.data(), r.columns, r.rows, GDT_Float32, 0, 0) !=
-      CE_None)
-    return makeError(std::string("contours: GDAL: ") + CPLGetLastErrorMsg());
-  GDALSetRasterNoDataValue(band, kMissing);
-  std::unique_ptr<void, DatasetCloser> vector(GDALCreate(memVector, "", 0, 0, 0, GDT_Unknown, nullptr));
+  detail::gdal().GDALSetGeoTransform(raster.get(), transform);
+  GDALRasterBandH band = detail::gdal().GDALGetRasterBand(raster.get(), 1);
+  if (detail::gdal().GDALRasterIO(band, GF_Write, 0, 0, r.columns, r.rows, values.data(), r.columns, r.rows,
+                                  GDT_Float32, 0, 0) != CE_None)
+    return makeError(std::string("contours: GDAL: ") + detail::gdal().CPLGetLastErrorMsg());
+  detail::gdal().GDALSetRasterNoDataValue(band, kMissing);
+  std::unique_ptr<void, DatasetCloser> vector(detail::gdal().GDALCreate(memVector, "", 0, 0, 0, GDT_Unknown, nullptr));
   if (!vector) return makeError("contours: GDAL could not make a vector dataset");
-  OGRLayerH layer = GDALDatasetCreateLayer(vector.get(), "contours", nullptr, wkbLineString, nullptr);
-  OGRFieldDefnH field = OGR_Fld_Create("value", OFTReal);
-  OGR_L_CreateField(layer, field, TRUE);
-  OGR_Fld_Destroy(field);
+  OGRLayerH layer = detail::gdal().GDALDatasetCreateLayer(vector.get(), "contours", nullptr, wkbLineString, nullptr);
+  OGRFieldDefnH field = detail::gdal().OGR_Fld_Create("value", OFTReal);
+  detail::gdal().OGR_L_CreateField(layer, field, TRUE);
+  detail::gdal().OGR_Fld_Destroy(field);
 
   std::string list = "FIXED_LEVELS=";
   for (std::size_t i = 0; i < fixed.size(); ++i) {
@@ -136,17 +134,18 @@ Result<std::vector<ContourLine>> contourLines(const ContourRaster& r, const Cont
   char nodata[40];
   std::snprintf(nodata, sizeof nodata, "NODATA=%.17g", kMissing);
   const char* options[] = {list.c_str(), nodata, "ELEV_FIELD=0", nullptr};
-  if (GDALContourGenerateEx(band, layer, const_cast<char**>(options), nullptr, nullptr) != CE_None)
-    return makeError(std::string("contours: GDAL: ") + CPLGetLastErrorMsg());
+  if (detail::gdal().GDALContourGenerateEx(band, layer, const_cast<char**>(options), nullptr, nullptr) != CE_None)
+    return makeError(std::string("contours: GDAL: ") + detail::gdal().CPLGetLastErrorMsg());
 
-  OGR_L_ResetReading(layer);
-  while (OGRFeatureH feature = OGR_L_GetNextFeature(layer)) {
+  detail::gdal().OGR_L_ResetReading(layer);
+  while (OGRFeatureH feature = detail::gdal().OGR_L_GetNextFeature(layer)) {
     ContourLine line;
-    line.value = OGR_F_GetFieldAsDouble(feature, 0);
-    OGRGeometryH g = OGR_F_GetGeometryRef(feature);
-    const int points = g ? OGR_G_GetPointCount(g) : 0;
-    for (int i = 0; i < points; ++i) line.line.lonLatDeg.emplace_back(OGR_G_GetX(g, i), OGR_G_GetY(g, i));
-    OGR_F_Destroy(feature);
+    line.value = detail::gdal().OGR_F_GetFieldAsDouble(feature, 0);
+    OGRGeometryH g = detail::gdal().OGR_F_GetGeometryRef(feature);
+    const int points = g ? detail::gdal().OGR_G_GetPointCount(g) : 0;
+    for (int i = 0; i < points; ++i)
+      line.line.lonLatDeg.emplace_back(detail::gdal().OGR_G_GetX(g, i), detail::gdal().OGR_G_GetY(g, i));
+    detail::gdal().OGR_F_Destroy(feature);
     if (line.line.lonLatDeg.size() >= 2) out.push_back(std::move(line));
   }
   return out;

@@ -1,11 +1,8 @@
 #include <atmoglobe/map/VectorFile.h>
 
-#include <atmoglobe/io/NetcdfLock.h>
+#include "GdalLibrary.h"
 
-#include <cpl_error.h>
-#include <gdal.h>
-#include <ogr_api.h>
-#include <ogr_srs_api.h>
+#include <atmoglobe/io/NetcdfLock.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,20 +15,22 @@ namespace atmoglobe::map {
 namespace {
 
 struct DatasetCloser {
-  void operator()(void* ds) const { GDALClose(ds); }
+  void operator()(void* ds) const { detail::gdal().GDALClose(ds); }
 };
 struct SrsDeleter {
-  void operator()(void* s) const { OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(s)); }
+  void operator()(void* s) const { detail::gdal().OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(s)); }
 };
 struct TransformDeleter {
-  void operator()(void* t) const { OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(t)); }
+  void operator()(void* t) const {
+    detail::gdal().OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(t));
+  }
 };
 
 // GDAL's errors while the layers are read: kept (the first failure), not printed to stderr.
 struct GdalErrors {
   std::string firstFailure;
   static void CPL_STDCALL handler(CPLErr type, CPLErrorNum, const char* message) {
-    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
+    auto* self = static_cast<GdalErrors*>(detail::gdal().CPLGetErrorHandlerUserData());
     if (self && type >= CE_Failure && self->firstFailure.empty())
       self->firstFailure = message ? message : "(no message)";
   }
@@ -42,8 +41,8 @@ bool mentionsCrs(const std::string& message) {
   return false;
 }
 struct ErrorHandlerScope {
-  explicit ErrorHandlerScope(GdalErrors* e) { CPLPushErrorHandlerEx(GdalErrors::handler, e); }
-  ~ErrorHandlerScope() { CPLPopErrorHandler(); }
+  explicit ErrorHandlerScope(GdalErrors* e) { detail::gdal().CPLPushErrorHandlerEx(GdalErrors::handler, e); }
+  ~ErrorHandlerScope() { detail::gdal().CPLPopErrorHandler(); }
   ErrorHandlerScope(const ErrorHandlerScope&) = delete;
   ErrorHandlerScope& operator=(const ErrorHandlerScope&) = delete;
 };
@@ -52,24 +51,24 @@ struct ErrorHandlerScope {
 Status collect(OGRGeometryH g, OGRCoordinateTransformationH transform, const std::string& path,
                VectorFileContents& out) {
   if (!g) return Ok{};
-  const OGRwkbGeometryType type = wkbFlatten(OGR_G_GetGeometryType(g));
+  const OGRwkbGeometryType type = detail::gdal().OGR_GT_Flatten(detail::gdal().OGR_G_GetGeometryType(g));
   switch (type) {
     case wkbPoint:
     case wkbMultiPoint:
-      out.points += type == wkbPoint ? 1u : static_cast<std::size_t>(OGR_G_GetGeometryCount(g));
+      out.points += type == wkbPoint ? 1u : static_cast<std::size_t>(detail::gdal().OGR_G_GetGeometryCount(g));
       return Ok{};
     case wkbLineString:
     case wkbLinearRing: {
-      const int n = OGR_G_GetPointCount(g);
+      const int n = detail::gdal().OGR_G_GetPointCount(g);
       if (n < 2) return Ok{};
       std::vector<double> x(static_cast<std::size_t>(n)), y(x.size());
       for (int i = 0; i < n; ++i) {
-        x[static_cast<std::size_t>(i)] = OGR_G_GetX(g, i);
-        y[static_cast<std::size_t>(i)] = OGR_G_GetY(g, i);
+        x[static_cast<std::size_t>(i)] = detail::gdal().OGR_G_GetX(g, i);
+        y[static_cast<std::size_t>(i)] = detail::gdal().OGR_G_GetY(g, i);
       }
       if (transform) {
         std::vector<int> ok(x.size(), 0);
-        if (!OCTTransformEx(transform, n, x.data(), y.data(), nullptr, ok.data()))
+        if (!detail::gdal().OCTTransformEx(transform, n, x.data(), y.data(), nullptr, ok.data()))
           return makeError(path + ": a geometry could not be transformed to WGS84");
         for (int v : ok)
           if (!v) return makeError(path + ": a point could not be transformed to WGS84");
@@ -87,8 +86,8 @@ Status collect(OGRGeometryH g, OGRCoordinateTransformationH transform, const std
       return Ok{};
     }
     case wkbPolygon:
-      for (int i = 0; i < OGR_G_GetGeometryCount(g); ++i) {
-        OGRGeometryH ring = OGR_G_GetGeometryRef(g, i);
+      for (int i = 0; i < detail::gdal().OGR_G_GetGeometryCount(g); ++i) {
+        OGRGeometryH ring = detail::gdal().OGR_G_GetGeometryRef(g, i);
         // Rings report as line strings through the C API: count them as rings.
         const std::size_t before = out.lineStrings;
         if (auto st = collect(ring, transform, path, out); !st) return st;
@@ -99,17 +98,17 @@ Status collect(OGRGeometryH g, OGRCoordinateTransformationH transform, const std
       }
       return Ok{};
     default: {
-      const int n = OGR_G_GetGeometryCount(g);
+      const int n = detail::gdal().OGR_G_GetGeometryCount(g);
       if (n > 0) {
         for (int i = 0; i < n; ++i)
-          if (auto st = collect(OGR_G_GetGeometryRef(g, i), transform, path, out); !st) return st;
+          if (auto st = collect(detail::gdal().OGR_G_GetGeometryRef(g, i), transform, path, out); !st) return st;
         return Ok{};
       }
       // Curves and other types: linearised.
-      if (OGR_GT_IsCurve(type) || OGR_GT_IsSurface(type)) {
-        OGRGeometryH linear = OGR_G_GetLinearGeometry(g, 0.0, nullptr);
+      if (detail::gdal().OGR_GT_IsCurve(type) || detail::gdal().OGR_GT_IsSurface(type)) {
+        OGRGeometryH linear = detail::gdal().OGR_G_GetLinearGeometry(g, 0.0, nullptr);
         Status st = collect(linear, transform, path, out);
-        OGR_G_DestroyGeometry(linear);
+        detail::gdal().OGR_G_DestroyGeometry(linear);
         return st;
       }
       return Ok{};
@@ -131,8 +130,7 @@ const std::vector<std::string>& overlayDriverNames() {
 }
 
 Result<VectorFileContents> readVectorFile(const std::string& path) {
-  static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
+  if (auto loaded = detail::loadGdal(); !loaded) return makeError(path + ": " + loaded.error());
   if (!std::filesystem::exists(path)) return makeError(path + ": no such file");
   // GDAL's netCDF and HDF5 drivers (an overlay in a .nc or .h5 file) call netCDF-C and HDF5: the
   // whole read, the dataset's close included, holds the one library lock (io/NetcdfLock.h).
@@ -144,7 +142,8 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   allowed.push_back(nullptr);
   {
     ErrorHandlerScope quietOpen(&openErrors);
-    ds.reset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, allowed.data(), nullptr, nullptr));
+    ds.reset(
+        detail::gdal().GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, allowed.data(), nullptr, nullptr));
   }
   const std::string& gdalMessage = openErrors.firstFailure;
   if (!ds) {
@@ -153,8 +152,9 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
     {
       GdalErrors identifyErrors;
       ErrorHandlerScope quietIdentify(&identifyErrors);
-      if (GDALDriverH d = GDALIdentifyDriverEx(path.c_str(), GDAL_OF_VECTOR, nullptr, nullptr))
-        other = std::string(GDALGetDriverLongName(d)) + " (GDAL driver " + GDALGetDriverShortName(d) + ")";
+      if (GDALDriverH d = detail::gdal().GDALIdentifyDriverEx(path.c_str(), GDAL_OF_VECTOR, nullptr, nullptr))
+        other = std::string(detail::gdal().GDALGetDriverLongName(d)) + " (GDAL driver " +
+                detail::gdal().GDALGetDriverShortName(d) + ")";
     }
     std::string formats;
     for (const std::string& name : overlayDriverNames()) formats.append(formats.empty() ? "" : ", ").append(name);
@@ -169,49 +169,50 @@ Result<VectorFileContents> readVectorFile(const std::string& path) {
   if (mentionsCrs(gdalMessage))
     return makeError(path + ": its CRS cannot be read (GDAL: " + gdalMessage +
                      "); the coordinates would be taken as WGS 84 longitude/latitude");
-  const int layers = GDALDatasetGetLayerCount(ds.get());
+  const int layers = detail::gdal().GDALDatasetGetLayerCount(ds.get());
   if (layers <= 0) return makeError(path + ": no vector layer in the file");
   VectorFileContents out;
-  std::unique_ptr<void, SrsDeleter> wgs84(OSRNewSpatialReference(nullptr));
-  OSRImportFromEPSG(static_cast<OGRSpatialReferenceH>(wgs84.get()), 4326);
-  OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(wgs84.get()), OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<void, SrsDeleter> wgs84(detail::gdal().OSRNewSpatialReference(nullptr));
+  detail::gdal().OSRImportFromEPSG(static_cast<OGRSpatialReferenceH>(wgs84.get()), 4326);
+  detail::gdal().OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(wgs84.get()), OAMS_TRADITIONAL_GIS_ORDER);
   // A feature GDAL cannot read (a truncated or corrupt file) ends or skips the layer with an error
   // that GDAL would print: it is kept and the file refused instead of read in part.
   GdalErrors gdalErrors;
   ErrorHandlerScope quiet(&gdalErrors);
   for (int l = 0; l < layers; ++l) {
-    OGRLayerH layer = GDALDatasetGetLayer(ds.get(), l);
-    OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+    OGRLayerH layer = detail::gdal().GDALDatasetGetLayer(ds.get(), l);
+    OGRSpatialReferenceH srs = detail::gdal().OGR_L_GetSpatialRef(layer);
     if (mentionsCrs(gdalErrors.firstFailure))
-      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": its CRS cannot be read (GDAL: " +
+      return makeError(path + ": layer " + detail::gdal().OGR_L_GetName(layer) + ": its CRS cannot be read (GDAL: " +
                        gdalErrors.firstFailure + "); the coordinates would be taken as WGS 84 longitude/latitude");
     std::unique_ptr<void, TransformDeleter> transform;
     if (srs) {
-      out.layerCrs.push_back(OSRGetName(srs) ? OSRGetName(srs) : "(unnamed)");
-      std::unique_ptr<void, SrsDeleter> source(OSRClone(srs));
-      OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(source.get()), OAMS_TRADITIONAL_GIS_ORDER);
-      CPLPushErrorHandler(CPLQuietErrorHandler);
-      transform.reset(OCTNewCoordinateTransformation(static_cast<OGRSpatialReferenceH>(source.get()),
-                                                     static_cast<OGRSpatialReferenceH>(wgs84.get())));
-      const std::string msg = CPLGetLastErrorMsg();
-      CPLPopErrorHandler();
+      out.layerCrs.push_back(detail::gdal().OSRGetName(srs) ? detail::gdal().OSRGetName(srs) : "(unnamed)");
+      std::unique_ptr<void, SrsDeleter> source(detail::gdal().OSRClone(srs));
+      detail::gdal().OSRSetAxisMappingStrategy(static_cast<OGRSpatialReferenceH>(source.get()),
+                                               OAMS_TRADITIONAL_GIS_ORDER);
+      detail::gdal().CPLPushErrorHandler(detail::gdal().CPLQuietErrorHandler);
+      transform.reset(detail::gdal().OCTNewCoordinateTransformation(static_cast<OGRSpatialReferenceH>(source.get()),
+                                                                    static_cast<OGRSpatialReferenceH>(wgs84.get())));
+      const std::string msg = detail::gdal().CPLGetLastErrorMsg();
+      detail::gdal().CPLPopErrorHandler();
       if (!transform)
-        return makeError(path + ": layer " + OGR_L_GetName(layer) + ": its CRS (" + out.layerCrs.back() +
+        return makeError(path + ": layer " + detail::gdal().OGR_L_GetName(layer) + ": its CRS (" + out.layerCrs.back() +
                          ") cannot be transformed to WGS84" + (msg.empty() ? std::string() : ": " + msg));
     } else {
       out.layerCrs.push_back("(none: taken as WGS 84 longitude/latitude)");
     }
-    OGR_L_ResetReading(layer);
-    while (OGRFeatureH f = OGR_L_GetNextFeature(layer)) {
+    detail::gdal().OGR_L_ResetReading(layer);
+    while (OGRFeatureH f = detail::gdal().OGR_L_GetNextFeature(layer)) {
       ++out.features;
-      Status st =
-          collect(OGR_F_GetGeometryRef(f), static_cast<OGRCoordinateTransformationH>(transform.get()), path, out);
-      OGR_F_Destroy(f);
+      Status st = collect(detail::gdal().OGR_F_GetGeometryRef(f),
+                          static_cast<OGRCoordinateTransformationH>(transform.get()), path, out);
+      detail::gdal().OGR_F_Destroy(f);
       if (!st) return st.forwardError();
       if (!gdalErrors.firstFailure.empty()) break;
     }
     if (!gdalErrors.firstFailure.empty())
-      return makeError(path + ": layer " + OGR_L_GetName(layer) + ": GDAL could not read feature " +
+      return makeError(path + ": layer " + detail::gdal().OGR_L_GetName(layer) + ": GDAL could not read feature " +
                        std::to_string(out.features + 1) +
                        " (the file is corrupt or truncated): " + gdalErrors.firstFailure);
   }
