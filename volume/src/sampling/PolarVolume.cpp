@@ -428,21 +428,21 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
     const double elLo = k > 0 ? v.sweeps[k - 1].elevationDeg : s.elevationDeg - hb;
     const double elHi = k + 1 < n ? v.sweeps[k + 1].elevationDeg : s.elevationDeg + hb;
     const double els[3] = {elLo, 0.5 * (elLo + elHi), elHi};
-    // Support: one gate and one ray beyond the block on each side (linear interpolation).
-    const auto rangesOf = [&](int g0, double* r) {
+    // A gate block's support (one gate and one ray beyond the block on each side: linear
+    // interpolation): its outer range and the map's range/elevation factor at its 3 x 3 points.
+    struct GateBlock {
+      double outerRangeMeters = 0.0;
+      std::array<LocalSphereBeam::Along, 9> along;
+    };
+    std::vector<GateBlock> gateBlocks(static_cast<std::size_t>((s.gateCount + kGates - 1) / kGates));
+    for (std::size_t gb = 0; gb < gateBlocks.size(); ++gb) {
+      const int g0 = static_cast<int>(gb) * kGates;
       const double rA = std::max(0.0, s.firstGateRangeMeters + (g0 - 1.0) * s.gateSpacingMeters);
       const double rB = s.firstGateRangeMeters + (std::min(g0 + kGates, s.gateCount) + 0.5) * s.gateSpacingMeters;
-      r[0] = rA;
-      r[1] = 0.5 * (rA + rB);
-      r[2] = rB;
-    };
-    const int gateBlocks = (s.gateCount + kGates - 1) / kGates;
-    std::vector<std::array<LocalSphereBeam::Along, 9>> alongs(static_cast<std::size_t>(gateBlocks));
-    for (int gb = 0; gb < gateBlocks; ++gb) {
-      double r[3];
-      rangesOf(gb * kGates, r);
+      const double ranges[3] = {rA, 0.5 * (rA + rB), rB};
+      gateBlocks[gb].outerRangeMeters = rB;
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) alongs[static_cast<std::size_t>(gb)][3 * i + j] = beam.along(r[i], els[j]);
+        for (int j = 0; j < 3; ++j) gateBlocks[gb].along[3 * i + j] = beam.along(ranges[i], els[j]);
     }
     for (int r0 = 0; r0 < s.rayCount; r0 += kRays) {
       const double azA = s.azimuthDeg[(r0 + s.rayCount - 1) % s.rayCount];
@@ -457,7 +457,8 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
             if (std::isfinite(x)) m = std::max(m, x);
           }
         if (m == kOccupancyEmptyValue) continue;
-        const auto& along = alongs[static_cast<std::size_t>(g0 / kGates)];
+        const GateBlock& block = gateBlocks[static_cast<std::size_t>(g0 / kGates)];
+        const auto& along = block.along;
         OccupancyBox b{glm::dvec3(1e30), glm::dvec3(-1e30), m};
         for (int i = 0; i < 3; ++i)
           for (const LocalSphereBeam::Across& c : acrosses)
@@ -468,9 +469,7 @@ OccupancyGrid buildOccupancyGrid(const PolarVolume& v, double exaggeration) {
               b.lo = glm::min(b.lo, p);
               b.hi = glm::max(b.hi, p);
             }
-        double r[3];
-        rangesOf(g0, r);
-        const double rB = r[2];
+        const double rB = block.outerRangeMeters;
         // Between the sampled points the support bulges out of their box by at most the
         // sagitta of an arc of radius rB over the whole azimuth span plus that over the whole
         // elevation span (each r (1 - cos(span / 2)); the points are half a span apart, so this
